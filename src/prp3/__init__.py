@@ -1,0 +1,75 @@
+"""prp3: kinematics and complete inverse dynamics of the 3-PRP planar parallel robot.
+
+After S. Staicu and D. Chablat, *Internal joint forces in dynamics of a 3-PRP
+planar parallel robot*.  The robot is an immutable :class:`Robot`; the
+algorithms are pure functions of ``(robot, motion)`` that return typed
+result dataclasses.
+
+>>> import prp3
+>>> kin, dyn = prp3.inverse_dynamics(prp3.Robot(), prp3.paper_motion("vertical"))
+>>> dyn.f10.shape
+(301, 3)
+"""
+
+from __future__ import annotations
+
+from importlib.metadata import PackageNotFoundError, version
+
+from .dynamics import (
+    METHODS,
+    BodyWrenches,
+    InverseDynamics,
+    body_wrenches,
+    inverse_dynamics,
+    newton_euler,
+    paper_method,
+)
+from .errors import (
+    InputFileError,
+    ParameterError,
+    Prp3Error,
+    SingularPoseError,
+    TrajectoryError,
+    UnreachablePoseError,
+)
+from .geometry import LEGS, InverseGeometry, inverse_geometry, platform_vertices
+from .kinematics import Kinematics, inverse_kinematics, jacobian
+from .model import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
+from .motion import Motion, law_motion, paper_motion
+
+try:
+    __version__ = version("prp3")
+except PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0.0.0"
+
+__all__ = [
+    "LEGS",
+    "METHODS",
+    "BodyWrenches",
+    "InputFileError",
+    "InverseDynamics",
+    "InverseGeometry",
+    "Kinematics",
+    "Limits",
+    "LinkParameters",
+    "Motion",
+    "ParameterError",
+    "PistonParameters",
+    "PlatformParameters",
+    "Prp3Error",
+    "Robot",
+    "SingularPoseError",
+    "TrajectoryError",
+    "UnreachablePoseError",
+    "__version__",
+    "body_wrenches",
+    "inverse_dynamics",
+    "inverse_geometry",
+    "inverse_kinematics",
+    "jacobian",
+    "law_motion",
+    "newton_euler",
+    "paper_method",
+    "paper_motion",
+    "platform_vertices",
+]

@@ -1,0 +1,302 @@
+"""Inverse geometry of the 3-PRP robot (paper eqs. 1, 7–10).
+
+Conventions (``MODEL.md``): fixed frame ``O x0 y0``, legs ``i = A, B, C`` with
+``α = (π/3, π, −π/3)`` (eq. 1), actuator axis ``e_i = (cos α_i, sin α_i)``,
+normal ``n_i = (−sin α_i, cos α_i)``, revolute joint centre
+``P_i = B_i0 + (l0/√3 + λ10_i)·e_i`` and platform edge direction
+``d_i = (cos β_i, sin β_i)``, ``β_i = α_i + φ − π/3``.  The closure (eq. 10)
+
+    G = P_i + λ32_i·d_i + Rot(α_i + φ)·c,    c = (l0/2)·(1/√3, 1),
+
+is, per leg, the 2×2 linear system ``[e_i d_i]·[l0/√3 + λ10_i, λ32_i]ᵀ = r_i``
+with ``r_i = G − B_i0 − Rot(α_i + φ)·c``, solved here by Cramer's rule.  Its
+determinant ``e_i × d_i = sin(φ − π/3)`` is the same for the three legs: the
+robot is singular at ``φ ≡ π/3 (mod π)``.  Poses with
+``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` are refused.
+
+Array conventions: a pose is ``(..., 3)`` = ``(x, y, φ)``; per-leg scalars are
+``(..., 3)`` (legs A, B, C on the last axis); per-leg plane vectors are
+``(..., 3, 2)``.  A single pose ``(3,)`` gives per-leg arrays ``(3,)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from .model import Robot
+
+__all__ = [
+    "ALPHA",
+    "LEGS",
+    "LEG_AXIS",
+    "LEG_NORMAL",
+    "SINGULARITY_THRESHOLD",
+    "InverseGeometry",
+    "base_vertices",
+    "check_poses",
+    "cross2",
+    "dot2",
+    "inverse_geometry",
+    "perp",
+    "platform_vertices",
+    "singularity_measure",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Leg names, in the order of the last axis of every per-leg array.
+LEGS: tuple[str, str, str] = ("A", "B", "C")
+
+#: Orientation angles ``α_i`` of the base edges (eq. 1), rad.
+ALPHA: FloatArray = np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
+ALPHA.flags.writeable = False
+
+#: Actuator axes ``e_i = (cos α_i, sin α_i)``, shape (3, 2).
+LEG_AXIS: FloatArray = np.stack([np.cos(ALPHA), np.sin(ALPHA)], axis=-1)
+LEG_AXIS.flags.writeable = False
+
+#: Normals ``n_i = (−sin α_i, cos α_i)`` of the actuator axes, shape (3, 2).
+LEG_NORMAL: FloatArray = np.stack([-np.sin(ALPHA), np.cos(ALPHA)], axis=-1)
+LEG_NORMAL.flags.writeable = False
+
+#: Poses with ``|sin(φ − π/3)|`` below this value are refused as singular.
+#: At the threshold the actuator velocities are 10⁴ times the platform's.
+SINGULARITY_THRESHOLD: float = 1e-4
+
+
+def cross2(a: ArrayLike, b: ArrayLike) -> FloatArray:
+    """Scalar cross product ``a × b = a_x b_y − a_y b_x`` of plane vectors ``(..., 2)``.
+
+    >>> float(cross2([1.0, 0.0], [0.0, 1.0]))
+    1.0
+    """
+    a = np.asarray(a, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
+    return np.asarray(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
+
+
+def dot2(a: ArrayLike, b: ArrayLike) -> FloatArray:
+    """Dot product of plane vectors ``(..., 2)`` over the last axis.
+
+    >>> float(dot2([1.0, 2.0], [3.0, 4.0]))
+    11.0
+    """
+    a = np.asarray(a, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
+    return np.asarray(a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1])
+
+
+def perp(a: ArrayLike) -> FloatArray:
+    """Rotate plane vectors ``(..., 2)`` by +90°: ``J·a = (−a_y, a_x)`` (``ũ3`` of eq. 9).
+
+    >>> perp([1.0, 0.0]).tolist()
+    [-0.0, 1.0]
+    """
+    a = np.asarray(a, dtype=np.float64)
+    return np.stack([-a[..., 1], a[..., 0]], axis=-1)
+
+
+def _unit(angle: FloatArray) -> FloatArray:
+    return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+
+
+def base_vertices(robot: Robot) -> FloatArray:
+    """Base vertices ``A0, B0, C0`` (eq. 9, ``r00^i``), shape (3, 2), m.
+
+    >>> base_vertices(Robot()).round(4).tolist()
+    [[0.0, -0.3], [0.2598, 0.15], [-0.2598, 0.15]]
+    """
+    s3 = math.sqrt(3.0)
+    return robot.l0 * np.array([[0.0, -1.0], [s3 / 2.0, 0.5], [-s3 / 2.0, 0.5]])
+
+
+def platform_vertices(robot: Robot, pose: ArrayLike) -> FloatArray:
+    """Vertices of the platform triangle for poses ``(..., 3)``, shape ``(..., 3, 2)``.
+
+    The platform edge of leg ``i`` lies on the line through ``P_i`` along
+    ``d_i``; at the central configuration the platform is the base triangle
+    turned by 180° (vertices at angles 90°, 210°, 330° at distance ``l0``).
+
+    >>> platform_vertices(Robot(), [0.0, 0.0, 0.0]).round(4).tolist()
+    [[0.0, 0.3], [-0.2598, -0.15], [0.2598, -0.15]]
+    """
+    pose = np.asarray(pose, dtype=np.float64)
+    angles = np.array([math.pi / 2.0, 7.0 * math.pi / 6.0, 11.0 * math.pi / 6.0])
+    corner = robot.l0 * _unit(pose[..., None, 2] + angles)
+    return np.asarray(pose[..., None, :2] + corner)
+
+
+def singularity_measure(phi: ArrayLike) -> FloatArray:
+    """Determinant ``D = e_i × d_i = sin(φ − π/3)`` of every leg's system (eq. 10).
+
+    >>> float(singularity_measure(0.0)).__round__(6)
+    -0.866025
+    """
+    return np.asarray(np.sin(np.asarray(phi, dtype=np.float64) - math.pi / 3.0))
+
+
+def check_poses(pose: ArrayLike, name: str = "pose") -> FloatArray:
+    """Validate platform poses: float array ``(..., 3)``, finite, not singular.
+
+    Returns the poses as a float64 array.
+
+    Raises
+    ------
+    TrajectoryError
+        Wrong shape or non-finite value (names the sample index).
+    SingularPoseError
+        ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` (names sample index and pose).
+    """
+    try:
+        array = np.asarray(pose, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TrajectoryError(f"{name} must be an array of numbers, got {pose!r}") from None
+    if array.ndim not in (1, 2) or array.shape[-1] != 3:
+        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
+    flat = array.reshape(-1, 3)
+    bad = ~np.isfinite(flat).all(axis=1)
+    if bad.any():
+        index = int(np.argmax(bad))
+        raise TrajectoryError(
+            f"{name}: non-finite value at sample {index}: {flat[index].tolist()!r}"
+        )
+    near = np.abs(singularity_measure(flat[:, 2])) < SINGULARITY_THRESHOLD
+    if near.any():
+        index = int(np.argmax(near))
+        x, y, phi = flat[index].tolist()
+        raise SingularPoseError(
+            f"{name}: singular pose at sample {index} (x={x!r}, y={y!r}, phi={phi!r}): "
+            f"|sin(phi - pi/3)| = {abs(math.sin(phi - math.pi / 3.0)):.3g} < "
+            f"{SINGULARITY_THRESHOLD:g} (phi = pi/3 mod pi is singular)"
+        )
+    return array
+
+
+@dataclass(frozen=True)
+class InverseGeometry:
+    """Joint displacements and leg geometry for a batch of poses.
+
+    All per-leg arrays have shape ``(..., 3)`` (legs A, B, C last) and
+    per-leg vectors ``(..., 3, 2)``, where ``...`` is the batch shape of the
+    poses (``()`` for one pose, ``(N,)`` for N samples).
+
+    Attributes
+    ----------
+    pose : ndarray (..., 3)
+        Platform poses ``(x, y, φ)`` (m, m, rad).
+    lambda10 : ndarray (..., 3)
+        Actuator displacements ``λ10`` (m), eq. (10).
+    lambda32 : ndarray (..., 3)
+        Passive displacements ``λ32`` of the platform in the sleeves (m), eq. (10).
+    phi21 : ndarray (..., 3)
+        Rotations ``φ21`` of the links relative to the pistons (rad), eq. (7).
+    joint : ndarray (..., 3, 2)
+        Revolute joint centres ``P_i`` (m).
+    slide : ndarray (..., 3, 2)
+        Platform edge directions ``d_i`` (unit).
+    slide_normal : ndarray (..., 3, 2)
+        ``d⊥_i = J·d_i`` (unit).
+    lever : ndarray (..., 3, 2)
+        ``ρ_i = G − P_i = λ32_i·d_i + Rot(α_i + φ)·c`` (m).
+    determinant : ndarray (...)
+        ``D = sin(φ − π/3)``, the determinant of every leg's system.
+    """
+
+    pose: FloatArray
+    lambda10: FloatArray
+    lambda32: FloatArray
+    phi21: FloatArray
+    joint: FloatArray
+    slide: FloatArray
+    slide_normal: FloatArray
+    lever: FloatArray
+    determinant: FloatArray
+
+
+def inverse_geometry(robot: Robot, pose: ArrayLike) -> InverseGeometry:
+    """Solve the inverse geometric problem (eqs. 7–10) for poses ``(..., 3)``.
+
+    Parameters
+    ----------
+    robot : Robot
+        Robot parameters (only ``l0`` and ``limits.stroke`` are used).
+    pose : array_like, shape (3,) or (N, 3)
+        Platform poses ``(x, y, φ)``: mass centre ``G`` (m) and orientation (rad).
+
+    Returns
+    -------
+    InverseGeometry
+        Implements eq. (7) (``φ21 = φ``) and eq. (10) solved by Cramer's rule.
+
+    Raises
+    ------
+    SingularPoseError
+        If a pose is at or near ``φ ≡ π/3 (mod π)``.
+    UnreachablePoseError
+        If ``robot.limits.stroke`` is set and some ``λ10`` falls outside it.
+
+    Examples
+    --------
+    >>> geo = inverse_geometry(Robot(), [0.0, 0.0, 0.0])   # central configuration
+    >>> bool(np.abs(geo.lambda10).max() < 1e-15), bool(np.abs(geo.lambda32).max() < 1e-15)
+    (True, True)
+    >>> inverse_geometry(Robot(), [[0.0, 0.05, 0.0]]).lambda10.shape
+    (1, 3)
+    """
+    pose = check_poses(pose)
+    l0 = robot.l0
+    G = pose[..., None, :2]  # (..., 1, 2)
+    phi = pose[..., 2]
+    theta = ALPHA + phi[..., None]  # α_i + φ, (..., 3)
+    d = _unit(theta - math.pi / 3.0)  # d_i, eq. (9) q32ᵀu3 in the fixed frame
+    platform_c = 0.5 * l0 * np.array([1.0 / math.sqrt(3.0), 1.0])
+    cos_t, sin_t = np.cos(theta), np.sin(theta)
+    Rc = np.stack(  # Rot(α_i + φ)·c, the vector A3 → G of eq. (8)
+        [
+            cos_t * platform_c[0] - sin_t * platform_c[1],
+            sin_t * platform_c[0] + cos_t * platform_c[1],
+        ],
+        axis=-1,
+    )
+    r = G - base_vertices(robot) - Rc  # right-hand side of eq. (10)
+    D = singularity_measure(phi)[..., None]  # det[e_i d_i] = sin(φ − π/3)
+    s = cross2(r, d) / D  # l0/√3 + λ10_i, eq. (10) by Cramer's rule
+    lambda32 = cross2(LEG_AXIS, r) / D  # λ32_i, eq. (10)
+    lambda10 = s - l0 / math.sqrt(3.0)
+    joint = base_vertices(robot) + s[..., None] * LEG_AXIS  # P_i
+    lever = lambda32[..., None] * d + Rc  # ρ_i = G − P_i
+    phi21 = np.broadcast_to(phi[..., None], lambda10.shape).copy()  # eq. (7)
+    _check_stroke(robot, pose, lambda10)
+    return InverseGeometry(
+        pose=pose,
+        lambda10=lambda10,
+        lambda32=lambda32,
+        phi21=phi21,
+        joint=joint,
+        slide=d,
+        slide_normal=perp(d),
+        lever=lever,
+        determinant=D[..., 0],
+    )
+
+
+def _check_stroke(robot: Robot, pose: FloatArray, lambda10: FloatArray) -> None:
+    stroke = robot.limits.stroke
+    if stroke is None:
+        return
+    lower, upper = stroke
+    flat = lambda10.reshape(-1, 3)
+    outside = (flat < lower) | (flat > upper)
+    if outside.any():
+        index, leg = np.argwhere(outside)[0].tolist()
+        x, y, phi = pose.reshape(-1, 3)[index].tolist()
+        raise UnreachablePoseError(
+            f"pose: unreachable pose at sample {index} (x={x!r}, y={y!r}, phi={phi!r}): "
+            f"lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m is outside the stroke "
+            f"[{lower!r}, {upper!r}] m"
+        )

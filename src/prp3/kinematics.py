@@ -1,0 +1,192 @@
+"""Inverse kinematics: velocities and accelerations of every joint and body (eqs. 11–18).
+
+Differentiating the closure (eq. 10) with ``ρ_i = G − P_i`` turning with the
+platform gives, per leg, the conditions of connectivity
+
+    ṡ_i·e_i + λ̇32_i·d_i = Ġ − φ̇·J·ρ_i                                  (eq. 14)
+    s̈_i·e_i + λ̈32_i·d_i = G̈ − φ̈·J·ρ_i + φ̇²·ρ_i − 2·λ̇32_i·φ̇·J·d_i       (eq. 17)
+
+with ``s_i = l0/√3 + λ10_i`` and ``J`` the rotation by +90° (``ũ3``).  Both
+are the 2×2 system of eq. (10) with other right-hand sides and are solved by
+Cramer's rule.  The angular velocities and accelerations of eqs. (11), (12)
+and (18) are ``ω10 = 0``, ``ω20 = ω30 = φ̇`` and ``ε10 = 0``, ``ε20 = ε30 = φ̈``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .geometry import (
+    LEG_AXIS,
+    LEG_NORMAL,
+    InverseGeometry,
+    cross2,
+    dot2,
+    inverse_geometry,
+    perp,
+)
+from .model import Robot
+from .motion import Motion
+
+__all__ = ["Kinematics", "inverse_kinematics", "jacobian"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Kinematics:
+    """Positions, velocities and accelerations of every joint and body.
+
+    Shapes: ``...`` is the batch shape of the motion (``(N,)`` or ``()``);
+    per-leg scalars ``(..., 3)``, per-leg plane vectors ``(..., 3, 2)``.
+
+    Attributes
+    ----------
+    motion : Motion
+        The platform motion the kinematics were computed for.
+    geometry : InverseGeometry
+        Joint displacements and leg geometry (eqs. 7–10).
+    dlambda10, ddlambda10 : ndarray (..., 3)
+        Actuator velocities ``v10`` (m/s) and accelerations ``γ10`` (m/s²), eqs. (14), (17).
+    dlambda32, ddlambda32 : ndarray (..., 3)
+        Sleeve sliding velocities ``v32`` and accelerations ``γ32``, eqs. (14), (17).
+    dphi21, ddphi21 : ndarray (..., 3)
+        Link rotation rates ``ω21 = φ̇`` and ``ε21 = φ̈`` (rad/s, rad/s²), eqs. (12), (18).
+    joint_velocity, joint_acceleration : ndarray (..., 3, 2)
+        Velocity and acceleration of the revolute joint centres ``P_i``, eqs. (13), (18).
+    piston_com, piston_velocity, piston_acceleration : ndarray (..., 3, 2)
+        Centre of mass of each piston and its velocity and acceleration.
+    link_com, link_velocity, link_acceleration : ndarray (..., 3, 2)
+        Centre of mass of each link 2 and its velocity and acceleration.
+    jacobian : ndarray (..., 3, 3)
+        ``∂λ10/∂(x, y, φ)``: ``λ̇10 = jacobian @ (ẋ, ẏ, φ̇)``, from eq. (14).
+    """
+
+    motion: Motion
+    geometry: InverseGeometry
+    dlambda10: FloatArray
+    ddlambda10: FloatArray
+    dlambda32: FloatArray
+    ddlambda32: FloatArray
+    dphi21: FloatArray
+    ddphi21: FloatArray
+    joint_velocity: FloatArray
+    joint_acceleration: FloatArray
+    piston_com: FloatArray
+    piston_velocity: FloatArray
+    piston_acceleration: FloatArray
+    link_com: FloatArray
+    link_velocity: FloatArray
+    link_acceleration: FloatArray
+    jacobian: FloatArray
+
+
+def jacobian(geometry: InverseGeometry) -> FloatArray:
+    """Jacobian ``∂λ10/∂(x, y, φ)`` of the actuator displacements, shape ``(..., 3, 3)``.
+
+    Row ``i`` is ``[d_iy, −d_ix, ρ_i·d_i] / sin(φ − π/3)``: eq. (14) solved for
+    ``v10`` (the cross product of eq. (14) with ``d_i`` removes ``v32``).
+
+    >>> from prp3.model import Robot
+    >>> from prp3.geometry import inverse_geometry
+    >>> jacobian(inverse_geometry(Robot(), [0.0, 0.0, 0.0])).shape
+    (3, 3)
+    """
+    d = geometry.slide
+    D = geometry.determinant[..., None]
+    rows = np.stack(
+        [d[..., 1], -d[..., 0], dot2(geometry.lever, d)],
+        axis=-1,
+    )
+    return np.asarray(rows / D[..., None])
+
+
+def inverse_kinematics(robot: Robot, motion: Motion) -> Kinematics:
+    """Velocities and accelerations of every joint and body (eqs. 11–18).
+
+    Parameters
+    ----------
+    robot : Robot
+        Robot parameters (``l0``, centres of mass of pistons and links).
+    motion : Motion
+        Platform motion, ``N`` samples or one.
+
+    Returns
+    -------
+    Kinematics
+        Implements eqs. (12)–(14) and (17)–(18) in closed form.
+
+    Raises
+    ------
+    SingularPoseError, UnreachablePoseError
+        From :func:`~prp3.geometry.inverse_geometry`.
+
+    Examples
+    --------
+    >>> from prp3.motion import paper_motion
+    >>> kin = inverse_kinematics(Robot(), paper_motion("vertical", samples=5))
+    >>> kin.dlambda10.shape, kin.jacobian.shape
+    ((5, 3), (5, 3, 3))
+    """
+    geo = inverse_geometry(robot, motion.pose)
+    d, rho, D = geo.slide, geo.lever, geo.determinant[..., None]
+    Gdot = motion.velocity[..., None, :2]
+    Gddot = motion.acceleration[..., None, :2]
+    phidot = motion.velocity[..., 2, None]  # (..., 1)
+    phiddot = motion.acceleration[..., 2, None]
+
+    # eq. (14): v10·e + v32·d = Ġ − φ̇·J·ρ, solved by Cramer's rule
+    w = Gdot - phidot[..., None] * perp(rho)
+    dlambda10 = cross2(w, d) / D
+    dlambda32 = cross2(LEG_AXIS, w) / D
+
+    # eq. (17): γ10·e + γ32·d = G̈ − φ̈·J·ρ + φ̇²·ρ − 2·v32·φ̇·J·d
+    a = (
+        Gddot
+        - phiddot[..., None] * perp(rho)
+        + (phidot**2)[..., None] * rho
+        - 2.0 * (dlambda32 * phidot)[..., None] * perp(d)
+    )
+    ddlambda10 = cross2(a, d) / D
+    ddlambda32 = cross2(LEG_AXIS, a) / D
+
+    shape = dlambda10.shape
+    dphi21 = np.broadcast_to(phidot, shape).copy()  # eq. (12): ω21 = φ̇
+    ddphi21 = np.broadcast_to(phiddot, shape).copy()  # eq. (18): ε21 = φ̈
+
+    # eqs. (13), (18): the joint P_i moves with the piston along e_i
+    joint_velocity = dlambda10[..., None] * LEG_AXIS
+    joint_acceleration = ddlambda10[..., None] * LEG_AXIS
+
+    c1x, c1y = robot.piston.com
+    piston_offset = c1x * LEG_AXIS + c1y * LEG_NORMAL  # (3, 2), the piston only translates
+    c2x, c2y = robot.link.com
+    link_offset = c2x * d + c2y * perp(d)  # turns with φ
+    link_velocity = joint_velocity + phidot[..., None] * perp(link_offset)
+    link_acceleration = (
+        joint_acceleration
+        + phiddot[..., None] * perp(link_offset)
+        - (phidot**2)[..., None] * link_offset
+    )
+    return Kinematics(
+        motion=motion,
+        geometry=geo,
+        dlambda10=dlambda10,
+        ddlambda10=ddlambda10,
+        dlambda32=dlambda32,
+        ddlambda32=ddlambda32,
+        dphi21=dphi21,
+        ddphi21=ddphi21,
+        joint_velocity=joint_velocity,
+        joint_acceleration=joint_acceleration,
+        piston_com=geo.joint + piston_offset,
+        piston_velocity=joint_velocity.copy(),
+        piston_acceleration=joint_acceleration.copy(),
+        link_com=geo.joint + link_offset,
+        link_velocity=link_velocity,
+        link_acceleration=link_acceleration,
+        jacobian=jacobian(geo),
+    )
