@@ -1,0 +1,16 @@
+"""``prp3 robot``: not implemented yet."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``robot`` subcommand (placeholder)."""
+    parser = subparsers.add_parser("robot", help="(not implemented yet)")
+    parser.set_defaults(handler=None)
+
+
+def handler(args: argparse.Namespace) -> int:  # pragma: no cover - placeholder
+    raise NotImplementedError

@@ -1,0 +1,16 @@
+"""``prp3 simulate``: not implemented yet."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``simulate`` subcommand (placeholder)."""
+    parser = subparsers.add_parser("simulate", help="(not implemented yet)")
+    parser.set_defaults(handler=None)
+
+
+def handler(args: argparse.Namespace) -> int:  # pragma: no cover - placeholder
+    raise NotImplementedError
