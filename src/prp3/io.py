@@ -12,7 +12,7 @@ file, the line and the column.
 >>> print((folder / "a.csv").read_text(), end="")
 t,x
 0.0,1.0
-0.10000000000000001,2.0
+0.1,2.0
 >>> read_table_csv(folder / "a.csv", required=("t", "x"))["x"].tolist()
 [1.0, 2.0]
 """
@@ -40,15 +40,12 @@ FloatArray = NDArray[np.float64]
 
 
 def format_float(value: float) -> str:
-    """Format a float with full precision (``%.17g``, shortest exact for integers).
+    """Format a float with full precision: ``repr``, the shortest text that reads back exactly.
 
     >>> format_float(0.1), format_float(2.0), format_float(-1e-20)
-    ('0.10000000000000001', '2.0', '-1.0000000000000001e-20')
+    ('0.1', '2.0', '-1e-20')
     """
-    text = f"{value:.17g}"
-    if math.isfinite(value) and not any(ch in text for ch in ".en"):
-        text += ".0"
-    return text
+    return repr(float(value))
 
 
 @contextlib.contextmanager
