@@ -80,6 +80,13 @@ def format_float(value: float) -> str:
     return repr(float(value))
 
 
+def _file_mode() -> int:
+    """Permissions of a new file under the current umask (``mkstemp`` gives 0600)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
 @contextlib.contextmanager
 def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
     """Open ``path`` for writing so that it appears whole or not at all.
@@ -101,6 +108,7 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
     except OSError as error:
         raise InputFileError(f"{path}: cannot write ({error.strerror})") from None
     try:
+        os.chmod(temporary, _file_mode())
         with os.fdopen(handle, mode, encoding="utf-8", newline="") as stream:
             yield stream
         os.replace(temporary, path)
@@ -140,6 +148,7 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
         raise InputFileError(f"{path}: cannot write ({error.strerror})") from None
     os.close(handle)
     try:
+        os.chmod(temporary, _file_mode())
         yield Path(temporary)
         os.replace(temporary, path)
     except BaseException:

@@ -1,9 +1,42 @@
 """Figures and animations; the only part of prp3 that imports matplotlib.
 
 matplotlib is imported lazily inside the functions (never at import time of
-``prp3``), with the non-interactive Agg backend when no backend was chosen.
+``prp3`` or of this package) and the figures are
+:class:`matplotlib.figure.Figure` objects rendered by Agg, without pyplot.
+
+* :mod:`prp3.plotting.figures`: the paper's Figs. 3–8 (input powers ``p10``,
+  joint forces ``f21y``, ``f21z`` of legs A, B, C against time) and the
+  actuator forces ``f10`` and displacements ``λ10``, from the columns of
+  ``results.csv``.
+* :mod:`prp3.plotting.animation`: an animated GIF of the mechanism.
+
+>>> import sys, prp3.plotting
+>>> "matplotlib" in sys.modules or "matplotlib.pyplot" not in sys.modules
+True
 """
 
 from __future__ import annotations
 
-__all__: list[str] = []
+from .animation import (
+    MechanismFrame,
+    draw_frame,
+    frame_indices,
+    mechanism_figure,
+    mechanism_frame,
+    save_animation,
+)
+from .figures import figure_names, leg_figure, results_figures, save_figure, save_figures
+
+__all__ = [
+    "MechanismFrame",
+    "draw_frame",
+    "figure_names",
+    "frame_indices",
+    "leg_figure",
+    "mechanism_figure",
+    "mechanism_frame",
+    "results_figures",
+    "save_animation",
+    "save_figure",
+    "save_figures",
+]

@@ -1,0 +1,246 @@
+"""Figures of a simulation: one PNG per quantity, legs A, B, C against time.
+
+The paper's section 3 shows, for each of its two motions, the input powers
+``p10`` (Figs. 3 and 6) and the internal joint forces ``f21y`` (Figs. 4 and 7)
+and ``f21z`` (Figs. 5 and 8) of the three legs against time.  prp3 draws these
+and also the actuator forces ``f10`` and displacements ``λ10``.
+
+The figures are built from the columns of ``results.csv``
+(:data:`prp3.results.RESULT_COLUMNS`, a mapping ``name -> (N,)``), so they can
+be drawn from a run in memory or from a file read back.  matplotlib is
+imported inside the functions only, and the figures are
+:class:`matplotlib.figure.Figure` objects rendered by Agg, without pyplot.
+
+>>> figure_names("vertical")["p10"], figure_names("rotation")["f21z"], figure_names(None)["f10"]
+('fig3_p10.png', 'fig8_f21z.png', 'f10.png')
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..geometry import LEGS
+from ..io import atomic_path
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "LEG_STYLES",
+    "PAPER_FIGURES",
+    "QUANTITIES",
+    "Quantity",
+    "figure_names",
+    "leg_figure",
+    "motion_description",
+    "results_figures",
+    "save_figure",
+    "save_figures",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Colour and line style of each leg's curve (distinct in grey too).
+LEG_STYLES: dict[str, tuple[str, str]] = {
+    "A": ("tab:blue", "-"),
+    "B": ("tab:orange", "--"),
+    "C": ("tab:green", "-."),
+}
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A per-leg column of ``results.csv`` as a figure shows it.
+
+    Attributes
+    ----------
+    column : str
+        Column prefix in ``results.csv`` (``"p10"`` for ``p10_A, p10_B, p10_C``).
+    caption : str
+        What the curves are, in the words of the paper's captions.
+    symbol : str
+        Symbol in matplotlib mathtext, without the leg superscript.
+    unit : str
+        Unit of the plotted values.
+    scale : float
+        Factor from the SI value in the column to the plotted value.
+    """
+
+    column: str
+    caption: str
+    symbol: str
+    unit: str
+    scale: float = 1.0
+
+
+#: The quantities drawn by :func:`results_figures`, in the order they are written.
+QUANTITIES: dict[str, Quantity] = {
+    "p10": Quantity("p10", "Powers of the three actuators", "p_{10}", "W"),
+    "f21y": Quantity("f21y", "Internal joint forces", "f_{21y}", "N"),
+    "f21z": Quantity("f21z", "Internal joint forces", "f_{21z}", "N"),
+    "f10": Quantity("f10", "Forces of the three actuators", "f_{10}", "N"),
+    "lambda10": Quantity(
+        "lambda10", "Displacements of the three actuators", "\\lambda_{10}", "mm", 1e3
+    ),
+}
+
+#: Figure numbers of the paper's section 3 for its two motions.
+PAPER_FIGURES: dict[str, dict[str, int]] = {
+    "vertical": {"p10": 3, "f21y": 4, "f21z": 5},
+    "rotation": {"p10": 6, "f21y": 7, "f21z": 8},
+}
+
+_DESCRIPTIONS: dict[str, str] = {
+    "vertical": "vertical motion: $y = 0.025\\,(1-\\cos \\pi t/3)$ m, $x = \\varphi = 0$",
+    "rotation": "rotation: $\\varphi = (\\pi/12)\\,(1-\\cos \\pi t/3)$ rad, $x = y = 0$",
+}
+
+
+def motion_description(motion: str | None, source: str | None = None) -> str:
+    """One line saying which motion a figure shows (mathtext).
+
+    >>> motion_description(None, "path.csv")
+    'trajectory path.csv'
+    """
+    if motion in _DESCRIPTIONS:
+        return _DESCRIPTIONS[motion]
+    return f"trajectory {source}" if source else "user trajectory"
+
+
+def figure_names(motion: str | None) -> dict[str, str]:
+    """PNG file name of each quantity's figure (``quantity -> name``).
+
+    For the paper's motions the three figures of the paper carry its numbers
+    (``fig3_p10.png``, ``fig4_f21y.png``, ...); every other name is the
+    quantity's (``f10.png``, ``lambda10.png``, and ``p10.png``, ... for a
+    user trajectory).
+    """
+    numbers = PAPER_FIGURES.get(motion or "", {})
+    return {
+        name: (f"fig{numbers[name]}_{name}.png" if name in numbers else f"{name}.png")
+        for name in QUANTITIES
+    }
+
+
+def leg_figure(
+    t: FloatArray,
+    values: FloatArray,
+    *,
+    title: str,
+    ylabel: str,
+    subtitle: str = "",
+    symbol: str = "",
+) -> Figure:
+    """A figure with the three legs' curves of ``values`` against time.
+
+    Parameters
+    ----------
+    t : ndarray, shape (N,)
+        Times (s).
+    values : ndarray, shape (N, 3)
+        One column per leg A, B, C, already in the unit of ``ylabel``.
+    title, ylabel, subtitle : str
+        Figure title, y-axis label (with unit) and a smaller second title line.
+    symbol : str
+        Mathtext symbol for the legend entries (``p_{10}`` gives ``p_{10}^A``);
+        plain ``leg A`` when empty.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Not attached to pyplot; save it with :func:`save_figure`.
+    """
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(8.0, 4.6), dpi=120, layout="constrained")
+    axes = figure.add_subplot()
+    for j, leg in enumerate(LEGS):
+        color, style = LEG_STYLES[leg]
+        label = f"leg {leg}" + (f"  ${symbol}^{leg}$" if symbol else "")
+        axes.plot(t, values[:, j], color=color, linestyle=style, linewidth=2.0, label=label)
+    axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+    axes.set_xlim(float(t[0]), float(t[-1]))
+    axes.set_xlabel("time $t$ (s)")
+    axes.set_ylabel(ylabel)
+    axes.grid(True, color="0.88")
+    axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)  # never over a curve
+    figure.suptitle(title, fontsize=12, fontweight="bold")
+    if subtitle:
+        axes.set_title(subtitle, fontsize=10, color="0.3")
+    return figure
+
+
+def results_figures(
+    table: Mapping[str, FloatArray],
+    *,
+    motion: str | None = None,
+    source: str | None = None,
+) -> dict[str, Figure]:
+    """Every figure of a run, by file name (see :func:`figure_names`).
+
+    Parameters
+    ----------
+    table : mapping of str to ndarray (N,)
+        The columns of ``results.csv`` (at least ``t`` and the columns of
+        :data:`QUANTITIES` for the three legs); ``N >= 2``.
+    motion : {"vertical", "rotation"} or None
+        The paper's motion the run is, for the figure numbers and captions.
+    source : str or None
+        The trajectory file, named in the captions of a user trajectory.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``fig3_p10.png`` (or ``p10.png``), ``..._f21y.png``, ``..._f21z.png``,
+        ``f10.png``, ``lambda10.png``.
+    """
+    t = np.asarray(table["t"], dtype=np.float64)
+    numbers = PAPER_FIGURES.get(motion or "", {})
+    subtitle = motion_description(motion, source)
+    figures: dict[str, Figure] = {}
+    for name, file_name in figure_names(motion).items():
+        quantity = QUANTITIES[name]
+        values = quantity.scale * np.stack(
+            [np.asarray(table[f"{quantity.column}_{leg}"], dtype=np.float64) for leg in LEGS],
+            axis=-1,
+        )
+        symbols = ", ".join(f"${quantity.symbol}^{leg}$" for leg in LEGS)
+        title = f"{quantity.caption} {symbols}"
+        if name in numbers:
+            title = f"Fig. {numbers[name]}  {title}"
+        figures[file_name] = leg_figure(
+            t,
+            values,
+            title=title,
+            ylabel=f"${quantity.symbol}$ ({quantity.unit})",
+            subtitle=subtitle,
+            symbol=quantity.symbol,
+        )
+    return figures
+
+
+def save_figure(figure: Figure, path: str | Path) -> Path:
+    """Render ``figure`` as a PNG file at ``path``, atomically (whole or not at all)."""
+    path = Path(path)
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png")
+    return path
+
+
+def save_figures(
+    table: Mapping[str, FloatArray],
+    directory: str | Path,
+    *,
+    motion: str | None = None,
+    source: str | None = None,
+) -> list[Path]:
+    """Write every figure of :func:`results_figures` into ``directory``; return the paths."""
+    directory = Path(directory)
+    figures = results_figures(table, motion=motion, source=source)
+    return [save_figure(figure, directory / name) for name, figure in figures.items()]
