@@ -1,0 +1,227 @@
+"""MuJoCo exchange: the robot as an MJCF model (``prp3 export mjcf``).
+
+:func:`mjcf_model` writes the robot as MuJoCo XML text.  It needs no MuJoCo
+installation (the library never imports ``mujoco``); loading, checking and
+driving the model are described in ``docs/mujoco.md``.
+
+The model is a kinematic tree closed by equality constraints, in the plane
+``x-y`` of MuJoCo's world with ``z`` out of the plane and gravity
+``(g_x, g_y, 0)`` from :attr:`~prp3.model.Robot.gravity`.  Per leg
+``i = A, B, C`` (bodies named with the leg's letter):
+
+``piston_i``
+    placed at ``P_i(λ10 = 0) = B_i0 + (l0/√3)·e_i`` with its ``x`` axis along
+    ``e_i``; slide joint ``lambda10_i`` along ``e_i`` (qpos = ``λ10_i``, m),
+    driven by the motor ``actuator_i`` (ctrl = ``f10_i`` in N, gear 1, no
+    control limit).  Mass ``m1``, centre of mass ``c1`` along ``(e_i, n_i)``.
+``link_i``
+    hinge ``phi_i`` about ``z`` at ``P_i`` whose zero is chosen so that
+    qpos = ``φ`` (the link turns with the platform, eq. 7); its ``x`` axis is
+    ``d_i``.  Mass ``m2``, centre of mass ``c2`` along ``(d_i, d⊥_i)``, ``I2``.
+``platform_i``
+    one third of the platform: slide joint ``lambda32_i`` along ``d_i``
+    (qpos = ``λ32_i``, m); the body frame is the platform's (origin ``G``,
+    orientation ``φ``).  Mass ``m3/3`` at ``G``, ``I_zz = I3/3``.
+
+The welds ``weld_AB`` and ``weld_AC`` glue ``platform_B`` and ``platform_C``
+to ``platform_A`` (identity relative pose), which closes the two loops.
+Splitting the platform into three thirds welded together is exact: the welded
+thirds are one rigid body of mass ``m3`` and inertia ``I3`` about ``G``.
+
+MuJoCo refuses moving bodies with zero mass or inertia.  A zero ``I_zz``
+(the piston's default, or a user's zero link or platform inertia) is written as
+``INERTIA_FLOOR·m·l0²``, 10⁻¹⁰ of the body's natural scale: the piston never
+turns, so its value cannot matter, and for a link or platform it changes the
+forces by about 10⁻¹⁰ relative.  The out-of-plane principal moments
+``I_xx = I_yy`` are set equal to the (floored) ``I_zz``: no joint moves out of
+the plane, so they never enter the planar motion; they only have to be
+positive and to satisfy the triangle inequality.
+
+Solver settings (see ``docs/mujoco.md``): timestep ``TIMESTEP``, RK4
+integrator, contacts disabled, stiff welds (``solref = WELD_SOLREF``,
+``solimp = WELD_SOLIMP``).  The geoms are only drawings (no mass, no contact).
+
+>>> from prp3.model import Robot
+>>> text = mjcf_model(Robot())
+>>> text.startswith("<mujoco model=\\"prp3\\">")
+True
+>>> text.count("<joint "), text.count("<motor "), text.count("<weld ")
+(9, 3, 2)
+"""
+
+from __future__ import annotations
+
+import math
+import numpy as np
+
+from .geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
+from .model import Robot
+
+__all__ = [
+    "INERTIA_FLOOR",
+    "TIMESTEP",
+    "WELD_SOLIMP",
+    "WELD_SOLREF",
+    "mjcf_model",
+]
+
+#: A zero ``I_zz`` is written as ``INERTIA_FLOOR·m·l0²`` (MuJoCo needs > 0).
+INERTIA_FLOOR: float = 1e-10
+
+#: Simulation timestep written in the model (s).
+TIMESTEP: float = 1e-4
+
+#: ``solref`` of the loop-closing welds: time constant (s) and damping ratio.
+#: Twice the timestep is the stiffest weld MuJoCo integrates stably (its
+#: ``refsafe`` flag clamps smaller time constants to that value).
+WELD_SOLREF: tuple[float, float] = (2.0 * TIMESTEP, 1.0)
+
+#: ``solimp`` of the welds: impedance 0.9999 (MuJoCo's largest) at any violation.
+WELD_SOLIMP: tuple[float, float, float, float, float] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+
+
+def _num(value: float) -> str:
+    """Full-precision text of a float (``repr``: the shortest exact form)."""
+    number = float(value)
+    if number == 0.0:
+        return "0"
+    return repr(number)
+
+
+def _vec(*values: float) -> str:
+    return " ".join(_num(v) for v in values)
+
+
+def _quat_z(angle: float) -> str:
+    """Quaternion ``(w, x, y, z)`` of a rotation by ``angle`` (rad) about ``z``."""
+    return _vec(math.cos(angle / 2.0), 0.0, 0.0, math.sin(angle / 2.0))
+
+
+def _inertia(mass: float, izz: float, l0: float) -> tuple[float, float, float]:
+    """Principal moments ``(I_xx, I_yy, I_zz)`` written for a body (see module notes)."""
+    izz = izz if izz > 0.0 else INERTIA_FLOOR * mass * l0 * l0
+    return (izz, izz, izz)
+
+
+def _inertial(mass: float, com: tuple[float, float], izz: float, l0: float) -> str:
+    return (
+        f'<inertial pos="{_vec(com[0], com[1], 0.0)}" mass="{_num(mass)}" '
+        f'diaginertia="{_vec(*_inertia(mass, izz, l0))}"/>'
+    )
+
+
+def mjcf_model(robot: Robot) -> str:
+    """The robot as a MuJoCo MJCF model (XML text).
+
+    Parameters
+    ----------
+    robot : Robot
+        Robot parameters: ``l0``, gravity, masses, centres of mass, inertias.
+        ``robot.limits`` are not exported (MuJoCo's joint ranges would add
+        constraints; prp3 checks the strokes itself).
+
+    Returns
+    -------
+    str
+        MJCF text: 9 joints in tree order (``lambda10_i``, ``phi_i``,
+        ``lambda32_i`` for ``i = A, B, C``), 3 motors ``actuator_i`` on the
+        ``lambda10_i`` sliders, 2 welds closing the loops.  At ``qpos = 0`` the
+        robot is in the central configuration ``x = y = φ = 0``, where the
+        welds are satisfied.
+
+    Examples
+    --------
+    >>> from prp3.model import Robot
+    >>> 'gravity="0 -9.81 0"' in mjcf_model(Robot())
+    True
+    """
+    l0 = robot.l0
+    gx, gy = robot.gravity
+    m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
+    i3 = robot.platform_inertia
+    base = base_vertices(robot)
+    # P_i at λ10 = 0: B_i0 + (l0/√3)·e_i
+    piston_origin = base + (l0 / math.sqrt(3.0)) * LEG_AXIS
+    # G − P_i at the central configuration, in link i's frame (x along d_i):
+    # eq. (10) gives G − P_i = λ32·d_i + Rot(α_i + φ)·c, i.e. Rot(π/3)·c in that frame.
+    c = 0.5 * l0 * np.array([1.0 / math.sqrt(3.0), 1.0])
+    cos60, sin60 = 0.5, math.sqrt(3.0) / 2.0
+    third_in_link = (cos60 * c[0] - sin60 * c[1], sin60 * c[0] + cos60 * c[1])
+    corners = platform_vertices(robot, [0.0, 0.0, 0.0])  # in the platform frame at G
+
+    size = l0 / 30.0  # drawing thickness
+    lines: list[str] = [
+        '<mujoco model="prp3">',
+        "  <!-- 3-PRP planar parallel robot (Staicu & Chablat), written by prp3.",
+        "       Plane x-y, z out of the plane. Joints (qpos): lambda10_i (m), phi_i = platform",
+        "       angle (rad), lambda32_i (m). Motors actuator_i: ctrl = f10_i (N) along e_i.",
+        "       The platform is three welded thirds platform_A/B/C (each m3/3 at G, I3/3).",
+        "       Geoms are drawings only: no mass, no contact. -->",
+        '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>',
+        f'  <option timestep="{_num(TIMESTEP)}" integrator="RK4" gravity="{_vec(gx, gy, 0.0)}">',
+        '    <flag contact="disable"/>',
+        "  </option>",
+        "  <default>",
+        '    <geom contype="0" conaffinity="0" group="1"/>',
+        '    <joint damping="0" armature="0" frictionloss="0"/>',
+        "  </default>",
+        "  <worldbody>",
+        '    <light pos="0 0 3" dir="0 0 -1"/>',
+    ]
+    for k in range(3):  # the base triangle
+        a, b = base[k], base[(k + 1) % 3]
+        lines.append(
+            f'    <geom name="base_edge_{k}" type="capsule" size="{_num(size / 2)}" '
+            f'fromto="{_vec(a[0], a[1], 0.0, b[0], b[1], 0.0)}" rgba="0.5 0.5 0.5 1"/>'
+        )
+    for i, leg in enumerate(LEGS):
+        alpha = float(ALPHA[i])
+        origin = piston_origin[i]
+        # platform edge i runs through P_i along d_i, from corner i+1 to corner i+2
+        start, end = corners[(i + 1) % 3], corners[(i + 2) % 3]
+        slide_axis = alpha - math.pi / 3.0  # d_i in the platform frame at φ
+        ind = "    "
+        lines += [
+            f'{ind}<body name="piston_{leg}" pos="{_vec(origin[0], origin[1], 0.0)}" '
+            f'quat="{_quat_z(alpha)}">',
+            f'{ind}  <joint name="lambda10_{leg}" type="slide" axis="1 0 0"/>',
+            f"{ind}  " + _inertial(m1, robot.piston.com, robot.piston.inertia, l0),
+            f'{ind}  <geom type="box" size="{_vec(2 * size, size, size)}" rgba="0.2 0.4 0.8 1"/>',
+            f'{ind}  <body name="link_{leg}" quat="{_quat_z(-math.pi / 3.0)}">',
+            f'{ind}    <joint name="phi_{leg}" type="hinge" axis="0 0 1"/>',
+            f"{ind}    " + _inertial(m2, robot.link.com, robot.link.inertia, l0),
+            f'{ind}    <geom type="cylinder" size="{_vec(size, size)}" rgba="0.9 0.6 0.1 1"/>',
+            f'{ind}    <body name="platform_{leg}" pos="{_vec(*third_in_link, 0.0)}" '
+            f'quat="{_quat_z(math.pi / 3.0 - alpha)}">',
+            f'{ind}      <joint name="lambda32_{leg}" type="slide" '
+            f'axis="{_vec(math.cos(slide_axis), math.sin(slide_axis), 0.0)}"/>',
+            f"{ind}      " + _inertial(m3 / 3.0, (0.0, 0.0), i3 / 3.0, l0),
+            f'{ind}      <geom type="capsule" size="{_num(size / 2)}" '
+            f'fromto="{_vec(start[0], start[1], 0.0, end[0], end[1], 0.0)}" '
+            f'rgba="0.3 0.7 0.3 1"/>',
+            f"{ind}    </body>",
+            f"{ind}  </body>",
+            f"{ind}</body>",
+        ]
+    solref = _vec(*WELD_SOLREF)
+    solimp = _vec(*WELD_SOLIMP)
+    lines += ["  </worldbody>", "  <equality>"]
+    for other in ("B", "C"):
+        lines.append(
+            f'    <weld name="weld_A{other}" body1="platform_A" body2="platform_{other}" '
+            f'relpose="0 0 0 1 0 0 0" solref="{solref}" solimp="{solimp}"/>'
+        )
+    lines += ["  </equality>", "  <actuator>"]
+    for leg in LEGS:
+        lines.append(
+            f'    <motor name="actuator_{leg}" joint="lambda10_{leg}" gear="1" ctrllimited="false"/>'
+        )
+    lines += [
+        "  </actuator>",
+        "  <sensor>",
+        '    <framepos name="platform_position" objtype="body" objname="platform_A"/>',
+        '    <framequat name="platform_orientation" objtype="body" objname="platform_A"/>',
+        "  </sensor>",
+        "</mujoco>",
+    ]
+    return "\n".join(lines) + "\n"
