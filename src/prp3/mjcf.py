@@ -45,13 +45,14 @@ integrator, contacts disabled, stiff welds (``solref = WELD_SOLREF``,
 >>> text = mjcf_model(Robot())
 >>> text.startswith("<mujoco model=\\"prp3\\">")
 True
->>> text.count("<joint "), text.count("<motor "), text.count("<weld ")
+>>> text.count("<joint name="), text.count("<motor "), text.count("<weld ")
 (9, 3, 2)
 """
 
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
 from .geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
