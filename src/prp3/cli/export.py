@@ -1,16 +1,87 @@
-"""``prp3 export``: not implemented yet."""
+"""``prp3 export``: write the robot in another program's format.
+
+``prp3 export mjcf [--robot ROBOT.toml] [--output FILE]`` writes the robot as a
+MuJoCo MJCF model (:func:`prp3.mjcf.mjcf_model`) on standard output, or
+atomically to ``FILE``.  MuJoCo is not needed to export.
+"""
 
 from __future__ import annotations
 
 import argparse
+import sys
+from pathlib import Path
 from typing import Any
+
+from ..errors import InputFileError
+from ..io import atomic_writer
+from ..mjcf import mjcf_model
+from ..model import Robot
+
+__all__ = ["register"]
+
+_MJCF_EXAMPLE = """\
+examples:
+  prp3 export mjcf > prp3.xml
+  prp3 export mjcf --robot robot.toml --output prp3.xml
+  python -c "import mujoco; m = mujoco.MjModel.from_xml_path('prp3.xml'); print(m.nq)"
+
+The model: per leg i = A, B, C a slider lambda10_i (actuated by the motor
+actuator_i, ctrl = f10_i in N), a hinge phi_i (angle = platform angle) and a
+slider lambda32_i carrying one third of the platform; the welds weld_AB and
+weld_AC close the loops. See docs/mujoco.md.
+"""
 
 
 def register(subparsers: Any) -> None:
-    """Add the ``export`` subcommand (placeholder)."""
-    parser = subparsers.add_parser("export", help="(not implemented yet)")
-    parser.set_defaults(handler=None)
+    """Add ``export`` and its format ``mjcf``."""
+    parser = subparsers.add_parser(
+        "export",
+        help="write the robot as a model for another program (MuJoCo MJCF)",
+        description="Write the robot as a model for another program.",
+        epilog="example: prp3 export mjcf --robot robot.toml --output prp3.xml",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    formats = parser.add_subparsers(dest="format", metavar="FORMAT")
+    formats.required = True
+    mjcf = formats.add_parser(
+        "mjcf",
+        help="MuJoCo MJCF model (XML): legs as chains, loops closed by welds, 3 motors",
+        description=(
+            "Write the robot as a MuJoCo MJCF model: the three legs as kinematic chains, "
+            "the loops closed by weld equality constraints, motors on the three base "
+            "sliders. Exporting does not need MuJoCo."
+        ),
+        epilog=_MJCF_EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    mjcf.add_argument(
+        "--robot",
+        metavar="ROBOT.toml",
+        type=Path,
+        help="robot parameters (default: the paper's robot)",
+    )
+    mjcf.add_argument(
+        "--output",
+        metavar="FILE",
+        type=Path,
+        help="write the model to FILE, whole or not at all (default: standard output)",
+    )
+    mjcf.set_defaults(handler=_export_mjcf)
 
 
-def handler(args: argparse.Namespace) -> int:  # pragma: no cover - placeholder
-    raise NotImplementedError
+def _export_mjcf(args: argparse.Namespace) -> int:
+    robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    text = mjcf_model(robot)
+    output: Path | None = args.output
+    if output is None:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return 0
+    if output.is_dir():
+        raise InputFileError(f"{output}: --output is a directory, expected a file name")
+    try:
+        with atomic_writer(output) as stream:
+            stream.write(text)
+    except OSError as error:
+        raise InputFileError(f"{output}: cannot write ({error.strerror})") from None
+    return 0
