@@ -10,6 +10,8 @@ Nothing in the library imports this package.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
 import sys
 from collections.abc import Sequence
 
@@ -35,7 +37,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="prp3",
         description="Kinematics and complete inverse dynamics of the 3-PRP planar parallel robot.",
-        epilog="example: prp3 simulate --motion vertical --output out --plots",
+        epilog=(
+            "examples:\n"
+            "  prp3 simulate --motion vertical --output out --plots   # the paper's Figs. 3-5\n"
+            "  prp3 robot --template > robot.toml\n"
+            "  prp3 COMMAND --help\n"
+            "\n"
+            "Errors: one line on stderr, exit status 2, no output file written."
+        ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"prp3 {__version__}")
@@ -60,3 +69,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("prp3: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # e.g. `prp3 robot --template | head -n 3`
+        with contextlib.suppress(OSError, ValueError):  # as the Python docs advise:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
+        return 141

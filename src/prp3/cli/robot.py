@@ -1,16 +1,63 @@
-"""``prp3 robot``: not implemented yet."""
+"""``prp3 robot``: the robot parameters file ``ROBOT.toml``.
+
+``prp3 robot --template`` prints a commented ``ROBOT.toml`` with every key,
+its default (the paper's robot completed by ``MODEL.md``) and its unit;
+``prp3 robot --check ROBOT.toml`` validates a file and prints the parameters
+it gives, defaults filled in.
+"""
 
 from __future__ import annotations
 
 import argparse
+import sys
+from pathlib import Path
 from typing import Any
+
+from ..model import Robot, robot_template
+
+__all__ = ["register", "run"]
+
+EXAMPLES = """\
+examples:
+  prp3 robot --template > robot.toml      then edit robot.toml
+  prp3 robot --check robot.toml           validate it, print the parameters it gives
+  prp3 simulate --robot robot.toml --motion vertical --output out
+"""
 
 
 def register(subparsers: Any) -> None:
-    """Add the ``robot`` subcommand (placeholder)."""
-    parser = subparsers.add_parser("robot", help="(not implemented yet)")
-    parser.set_defaults(handler=None)
+    """Add the ``robot`` subcommand."""
+    parser = subparsers.add_parser(
+        "robot",
+        help="print a commented ROBOT.toml template, or check a ROBOT.toml",
+        description=(
+            "Robot parameters file ROBOT.toml (SI units). Every key is optional; omitted\n"
+            "keys take the defaults: the paper's robot, completed by MODEL.md."
+        ),
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    action = parser.add_mutually_exclusive_group(required=True)
+    action.add_argument(
+        "--template",
+        action="store_true",
+        help="print a commented ROBOT.toml with the defaults and their units",
+    )
+    action.add_argument(
+        "--check",
+        metavar="ROBOT.toml",
+        type=Path,
+        help="validate ROBOT.toml and print the parameters it gives (defaults filled in)",
+    )
+    parser.set_defaults(handler=run)
 
 
-def handler(args: argparse.Namespace) -> int:  # pragma: no cover - placeholder
-    raise NotImplementedError
+def run(args: argparse.Namespace) -> int:
+    """Run ``prp3 robot`` with parsed ``args``; return the exit status."""
+    if args.template:
+        sys.stdout.write(robot_template())
+        return 0
+    robot = Robot.from_toml(args.check)
+    sys.stdout.write(f"# {args.check}: valid; the parameters it gives, defaults filled in:\n")
+    sys.stdout.write(robot_template(robot))
+    return 0

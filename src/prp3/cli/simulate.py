@@ -1,16 +1,433 @@
-"""``prp3 simulate``: not implemented yet."""
+"""``prp3 simulate``: complete inverse dynamics of a motion, written to ``DIR/results.csv``.
+
+The command implements the data contract of ``MODEL.md``::
+
+    prp3 simulate [--robot ROBOT.toml] (--motion vertical|rotation | --trajectory TRAJ.csv)
+                  [--samples N] [--method paper|newton-euler] --output DIR
+                  [--plots] [--animate] [--frames N]
+
+Everything is computed before anything is written; the output files are
+written into a staging folder inside ``DIR`` and moved in place together only
+when all of them are complete, so a failed run leaves no output behind (and
+no older output changed).  A summary of the run goes to stdout; warnings, the
+progress bar (only on a terminal, once a run has lasted a second) and errors
+go to stderr.
+"""
 
 from __future__ import annotations
 
 import argparse
-from typing import Any
+import re
+import sys
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TextIO
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..dynamics import METHODS, Method, inverse_dynamics
+from ..errors import Prp3Error, SingularPoseError, UnreachablePoseError
+from ..geometry import LEGS
+from ..io import Trajectory, check_output_directory, read_trajectory, staged_output, write_table_csv
+from ..kinematics import inverse_kinematics
+from ..model import Robot
+from ..motion import PAPER_MOTIONS, Motion, paper_motion
+from ..results import RESULT_COLUMNS, results_table
+
+__all__ = [
+    "CHUNK_SAMPLES",
+    "DEFAULT_SAMPLES",
+    "Progress",
+    "RunSummary",
+    "register",
+    "run",
+    "simulate_table",
+    "summarize",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Samples of the paper's motions when ``--samples`` is not given.
+DEFAULT_SAMPLES: int = 301
+
+#: Samples computed at a time (bounds the memory of big runs; drives the progress bar).
+CHUNK_SAMPLES: int = 50_000
+
+#: Name of the animation file written by ``--animate``.
+ANIMATION_NAME: str = "mechanism.gif"
+
+EXAMPLES = """\
+examples:
+  prp3 simulate --motion vertical --output out --plots
+      the paper's Figs. 3-5: out/results.csv, out/fig3_p10.png, ...
+  prp3 simulate --motion rotation --samples 601 --method newton-euler --output rot --animate
+  prp3 simulate --robot robot.toml --trajectory path.csv --output path-run --plots
+      path.csv: header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi] (SI units, rad)
+
+Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
+"""
+
+
+# ------------------------------------------------------------------ progress bar
+class Progress:
+    """A one-line progress bar on stderr, only on a terminal and only for long runs.
+
+    Nothing is drawn unless ``stream`` is a terminal and at least ``delay``
+    seconds have passed since the bar was created (so short runs stay
+    silent); redraws are throttled to ten per second.
+
+    >>> import io
+    >>> bar = Progress(io.StringIO())          # not a terminal: never draws
+    >>> bar.update("writing", 5, 10); bar.close()
+    >>> bar.drawn
+    False
+    """
+
+    WIDTH = 28
+
+    def __init__(
+        self,
+        stream: TextIO,
+        *,
+        delay: float = 1.0,
+        clock: Callable[[], float] = time.monotonic,
+        enabled: bool | None = None,
+    ) -> None:
+        isatty = getattr(stream, "isatty", None)
+        self.stream = stream
+        self.enabled = bool(isatty and isatty()) if enabled is None else enabled
+        self.delay = delay
+        self.clock = clock
+        self.start = clock()
+        self.last = -np.inf
+        self.drawn = False
+
+    def update(self, stage: str, done: int, total: int) -> None:
+        """Report ``done`` of ``total`` units of work of ``stage``."""
+        if not self.enabled:
+            return
+        now = self.clock()
+        if now - self.start < self.delay or (now - self.last < 0.1 and done < total):
+            return
+        self.last = now
+        fraction = min(max(done / total, 0.0), 1.0) if total > 0 else 1.0
+        filled = round(fraction * self.WIDTH)
+        bar = "#" * filled + "-" * (self.WIDTH - filled)
+        self.stream.write(f"\r{stage:<20.20} [{bar}] {100 * fraction:3.0f}%")
+        self.stream.flush()
+        self.drawn = True
+
+    def stage(self, stage: str) -> Callable[[int, int], None]:
+        """A ``progress(done, total)`` callback for ``stage``."""
+        return lambda done, total: self.update(stage, done, total)
+
+    def close(self) -> None:
+        """Erase the bar if it was drawn."""
+        if self.drawn:
+            self.stream.write("\r" + " " * (self.WIDTH + 28) + "\r")
+            self.stream.flush()
+            self.drawn = False
+
+
+# ------------------------------------------------------------------ computation
+def simulate_table(
+    robot: Robot,
+    motion: Motion,
+    method: Method = "paper",
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    chunk: int = CHUNK_SAMPLES,
+) -> dict[str, FloatArray]:
+    """The columns of ``results.csv`` for a batch motion, computed ``chunk`` samples at a time.
+
+    The same numbers as ``results_table(*inverse_dynamics(robot, motion,
+    method))``: every sample is computed on its own, so splitting the batch
+    changes nothing but the memory used.  Errors name the sample's index in
+    the whole motion.
+
+    >>> from prp3.motion import paper_motion
+    >>> table = simulate_table(Robot(), paper_motion("vertical", 7), chunk=3)
+    >>> list(table) == list(RESULT_COLUMNS), table["f10_A"].shape
+    (True, (7,))
+    """
+    samples = motion.samples
+    table = {name: np.empty(samples) for name in RESULT_COLUMNS}
+    for start in range(0, samples, chunk):
+        stop = min(start + chunk, samples)
+        try:
+            part = results_table(*inverse_dynamics(robot, motion[start:stop], method))
+        except (SingularPoseError, UnreachablePoseError) as error:
+            raise _shift_sample(error, start) from None
+        for name, column in part.items():
+            table[name][start:stop] = column
+        if progress is not None:
+            progress(stop, samples)
+    return table
+
+
+def _shift_sample(error: Prp3Error, offset: int) -> Prp3Error:
+    """The same error, the sample index in its message (``at sample k``) moved by ``offset``."""
+
+    def shift(found: re.Match[str]) -> str:
+        return f"at sample {int(found[1]) + offset}"
+
+    return type(error)(re.sub(r"at sample (\d+)", shift, str(error)))
+
+
+def _in_file(error: Prp3Error, trajectory: Trajectory) -> Prp3Error:
+    """The same error, its message naming the trajectory file and the line of the sample."""
+    message = str(error)
+    found = re.search(r"at sample (\d+)", message)
+    where = (
+        f"{trajectory.path}:{int(trajectory.lines[int(found[1])])}"
+        if found
+        else str(trajectory.path)
+    )
+    return type(error)(f"{where}: {re.sub(r'^pose: ', '', message)}")
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """Peaks and energies of a run, per leg A, B, C (arrays of shape (3,)).
+
+    Attributes
+    ----------
+    peak_f10, peak_p10, peak_f21 : ndarray (3,)
+        Largest ``|f10|`` (N), ``|p10|`` (W) and ``|f21| = √(f21y² + f21z²)`` (N).
+    peak_f10_time : ndarray (3,)
+        When ``|f10|`` peaks (s).
+    energy : ndarray (3,)
+        Energy each actuator delivers, ``∫ p10 dt`` by the trapezoid rule (J).
+    """
+
+    peak_f10: FloatArray
+    peak_f10_time: FloatArray
+    peak_p10: FloatArray
+    peak_f21: FloatArray
+    energy: FloatArray
+
+    @property
+    def total_energy(self) -> float:
+        """Energy the three actuators deliver together (J)."""
+        return float(self.energy.sum())
+
+
+def summarize(table: Mapping[str, FloatArray]) -> RunSummary:
+    """Peaks and energies of the columns of ``results.csv`` (``N >= 1`` samples).
+
+    >>> t = np.array([0.0, 1.0, 2.0])
+    >>> table = {"t": t} | {f"{q}_{leg}": np.array([0.0, 2.0, -1.0])
+    ...                     for q in ("f10", "p10", "f21y", "f21z") for leg in "ABC"}
+    >>> s = summarize(table)
+    >>> s.peak_f10.tolist(), s.peak_f21.round(6).tolist()[0], s.energy.tolist()
+    ([2.0, 2.0, 2.0], 2.828427, [1.5, 1.5, 1.5])
+    """
+    t = np.asarray(table["t"], dtype=np.float64)
+
+    def legs(name: str) -> FloatArray:
+        return np.stack([np.asarray(table[f"{name}_{leg}"]) for leg in LEGS], axis=-1)
+
+    f10, p10 = legs("f10"), legs("p10")
+    f21 = np.hypot(legs("f21y"), legs("f21z"))
+    energy = (0.5 * (p10[1:] + p10[:-1]) * np.diff(t)[:, None]).sum(axis=0)  # trapezoid rule
+    return RunSummary(
+        peak_f10=np.abs(f10).max(axis=0),
+        peak_f10_time=t[np.abs(f10).argmax(axis=0)],
+        peak_p10=np.abs(p10).max(axis=0),
+        peak_f21=f21.max(axis=0),
+        energy=energy,
+    )
+
+
+def _summary_text(summary: RunSummary, heading: str, written: list[Path]) -> str:
+    def row(label: str, values: FloatArray, extra: str = "") -> str:
+        return f"  {label:<16}" + "".join(f"{v:>14.6g}" for v in values.tolist()) + extra
+
+    lines = [
+        heading,
+        f"  {'':<16}" + "".join(f"{'leg ' + leg:>14}" for leg in LEGS),
+        row("peak |f10| (N)", summary.peak_f10),
+        row("peak |p10| (W)", summary.peak_p10),
+        row("peak |f21| (N)", summary.peak_f21),
+        row("energy (J)", summary.energy, f"   total {summary.total_energy:.6g} J"),
+        "files written:",
+        *(f"  {path}" for path in written),
+    ]
+    return "\n".join(lines)
+
+
+# ------------------------------------------------------------------ command line
+def _at_least_two(text: str) -> int:
+    """argparse type of ``--samples`` and ``--frames``: an integer >= 2."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 2, got {text!r}")
+    return value
 
 
 def register(subparsers: Any) -> None:
-    """Add the ``simulate`` subcommand (placeholder)."""
-    parser = subparsers.add_parser("simulate", help="(not implemented yet)")
-    parser.set_defaults(handler=None)
+    """Add the ``simulate`` subcommand."""
+    parser = subparsers.add_parser(
+        "simulate",
+        help="inverse dynamics of a motion -> DIR/results.csv (+ figures, animation)",
+        description=(
+            "Compute the kinematics and complete inverse dynamics of the 3-PRP robot along a\n"
+            "platform motion and write DIR/results.csv: columns t,x,y,phi, then for each leg\n"
+            "A, B, C: lambda10, dlambda10, ddlambda10, lambda32, dlambda32, ddlambda32, f10,\n"
+            "p10, f21y, f21z, n10, m10, n32, m32 (SI units, full precision; docs/cli.md)."
+        ),
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "--robot",
+        metavar="ROBOT.toml",
+        type=Path,
+        help="robot parameters (default: the paper's robot; `prp3 robot --template` prints one)",
+    )
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument(
+        "--motion",
+        choices=tuple(PAPER_MOTIONS),
+        help="one of the paper's motions (eq. 4, t = 0..3 s): vertical (Figs. 3-5) or "
+        "rotation (Figs. 6-8)",
+    )
+    source.add_argument(
+        "--trajectory",
+        metavar="TRAJ.csv",
+        type=Path,
+        help="platform motion file: header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi]; with "
+        "positions only the derivatives come from a quintic spline (a warning says so)",
+    )
+    parser.add_argument(
+        "--samples",
+        metavar="N",
+        type=_at_least_two,
+        help=f"samples of --motion over 0..3 s (default {DEFAULT_SAMPLES})",
+    )
+    parser.add_argument(
+        "--method",
+        choices=METHODS,
+        default="paper",
+        help="paper: the paper's recursive method and virtual work (eqs. 19-25, default); "
+        "newton-euler: the independent Newton-Euler solver",
+    )
+    parser.add_argument(
+        "--output",
+        "-o",
+        metavar="DIR",
+        type=Path,
+        required=True,
+        help="output directory, created if missing; files of the same name are replaced",
+    )
+    parser.add_argument(
+        "--plots",
+        action="store_true",
+        help="also write PNG figures: p10, f21y, f21z (the paper's Figs. 3-5 or 6-8), "
+        "f10 and lambda10 of legs A, B, C against time",
+    )
+    parser.add_argument(
+        "--animate",
+        action="store_true",
+        help=f"also write {ANIMATION_NAME}, an animated GIF of the mechanism",
+    )
+    parser.add_argument(
+        "--frames",
+        metavar="N",
+        type=_at_least_two,
+        default=100,
+        help="largest number of frames of the animation (default 100)",
+    )
+    parser.set_defaults(handler=run)
 
 
-def handler(args: argparse.Namespace) -> int:  # pragma: no cover - placeholder
-    raise NotImplementedError
+def run(args: argparse.Namespace) -> int:
+    """Run ``prp3 simulate`` with parsed ``args``; return the exit status."""
+    stdout, stderr = sys.stdout, sys.stderr
+    progress = Progress(stderr)
+    try:
+        return _run(args, progress, stdout, stderr)
+    finally:
+        progress.close()
+
+
+def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: TextIO) -> int:
+    output: Path = args.output
+    check_output_directory(output)
+    robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    trajectory: Trajectory | None = None
+    if args.trajectory is not None:
+        if args.samples is not None:
+            raise Prp3Error(
+                "--samples applies to --motion only (a trajectory file has its own samples), "
+                f"got --samples {args.samples} with --trajectory {args.trajectory}"
+            )
+        trajectory = read_trajectory(args.trajectory)
+        if trajectory.note is not None:
+            print(f"prp3: warning: {trajectory.note}", file=stderr)
+        motion = trajectory.motion
+        heading = f"prp3 simulate: trajectory {trajectory.path}"
+    else:
+        motion = paper_motion(args.motion, args.samples or DEFAULT_SAMPLES)
+        heading = f"prp3 simulate: {args.motion} motion (paper eq. 4)"
+    heading += (
+        f", {motion.samples} samples over t = {float(motion.t[0]):g} .. "
+        f"{float(motion.t[-1]):g} s, {args.method} method"
+    )
+
+    try:
+        table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
+    except (SingularPoseError, UnreachablePoseError) as error:
+        raise (_in_file(error, trajectory) if trajectory is not None else error) from None
+    summary = summarize(table)
+
+    source = str(trajectory.path) if trajectory is not None else None
+    with staged_output(output) as staged:
+        write_table_csv(staged.path("results.csv"), table, progress=progress.stage("results.csv"))
+        if args.plots:
+            from ..plotting.figures import results_figures, save_figure
+
+            figures = results_figures(table, motion=args.motion, source=source)
+            for done, (name, figure) in enumerate(figures.items(), start=1):
+                save_figure(figure, staged.path(name))
+                progress.update("figures", done, len(figures))
+        if args.animate:
+            from ..plotting.animation import frame_indices, save_animation
+
+            indices = frame_indices(motion.samples, args.frames)
+            shown = Motion(
+                t=motion.t[indices],
+                pose=motion.pose[indices],
+                velocity=motion.velocity[indices],
+                acceleration=motion.acceleration[indices],
+            )
+            title = (
+                f"3-PRP robot: {args.motion} motion" if args.motion else f"3-PRP robot: {source}"
+            )
+            save_animation(
+                robot,
+                inverse_kinematics(robot, shown),
+                staged.path(ANIMATION_NAME),
+                max_frames=args.frames,
+                title=title,
+                progress=progress.stage("animation"),
+            )
+    progress.close()
+
+    print(_summary_text(summary, heading, staged.written), file=stdout)
+    limit = robot.limits.max_force
+    if limit is not None:
+        for j, leg in enumerate(LEGS):
+            if summary.peak_f10[j] > limit:
+                print(
+                    f"prp3: warning: |f10_{leg}| reaches {summary.peak_f10[j]:.6g} N at "
+                    f"t = {summary.peak_f10_time[j]:.6g} s, above limits.max_force = {limit:g} N",
+                    file=stderr,
+                )
+    return 0
