@@ -155,14 +155,14 @@ class MechanismArtists:
     clock: Text
 
     def moving(self) -> list[Any]:
-        """Every artist that changes from frame to frame."""
+        """Every artist that changes from frame to frame, bottom to top (drawing order)."""
         return [
+            self.platform,
             *self.pistons,
             *self.sleeves,
             self.joints,
-            self.platform,
-            self.centre,
             self.trace,
+            self.centre,
             self.clock,
         ]
 
@@ -299,7 +299,8 @@ def save_animation(
         for artist in moving:
             figure.draw_artist(artist)
         rgb = np.asarray(canvas.buffer_rgba())[..., :3]
-        frames.append(Image.fromarray(np.ascontiguousarray(rgb)).quantize(colors=128))
+        image = Image.fromarray(np.ascontiguousarray(rgb))
+        frames.append(image.quantize(colors=256, method=Image.Quantize.FASTOCTREE))
         if progress is not None:
             progress(done, len(indices))
     duration = float(kin.motion.t[-1] - kin.motion.t[0])
