@@ -28,11 +28,13 @@ to ``platform_A`` (identity relative pose), which closes the two loops.
 Splitting the platform into three thirds welded together is exact: the welded
 thirds are one rigid body of mass ``m3`` and inertia ``I3`` about ``G``.
 
-MuJoCo refuses moving bodies with zero mass or inertia.  A zero ``I_zz``
-(the piston's default, or a user's zero link or platform inertia) is written as
-``INERTIA_FLOOR·m·l0²``, 10⁻¹⁰ of the body's natural scale: the piston never
-turns, so its value cannot matter, and for a link or platform it changes the
-forces by about 10⁻¹⁰ relative.  The out-of-plane principal moments
+MuJoCo refuses moving bodies with zero mass or inertia.  An ``I_zz`` below
+``INERTIA_FLOOR·m·l0²`` (10⁻¹⁰ of the body's natural scale; in particular a
+zero one: the piston's default, or a user's zero link or platform inertia) is
+written as that floor (and never below MuJoCo's ``MUJOCO_MIN_VALUE``): the
+piston never turns, so its value cannot matter, and for a link or platform it
+changes the forces by about 10⁻¹⁰ relative.  Masses below
+``MUJOCO_MIN_VALUE`` (``m1``, ``m2``, ``m3/3``) are refused.  The out-of-plane principal moments
 ``I_xx = I_yy`` are set equal to the (floored) ``I_zz``: no joint moves out of
 the plane, so they never enter the planar motion; they only have to be
 positive and to satisfy the triangle inequality.
@@ -55,11 +57,13 @@ import math
 
 import numpy as np
 
+from .errors import ParameterError
 from .geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
 from .model import Robot
 
 __all__ = [
     "INERTIA_FLOOR",
+    "MUJOCO_MIN_VALUE",
     "TIMESTEP",
     "WELD_SOLIMP",
     "WELD_SOLREF",
@@ -68,6 +72,10 @@ __all__ = [
 
 #: A zero ``I_zz`` is written as ``INERTIA_FLOOR·m·l0²`` (MuJoCo needs > 0).
 INERTIA_FLOOR: float = 1e-10
+
+#: MuJoCo's ``mjMINVAL``: it refuses moving bodies whose mass or a principal
+#: moment of inertia is below this value (kg, kg·m²).
+MUJOCO_MIN_VALUE: float = 1e-15
 
 #: Simulation timestep written in the model (s).
 TIMESTEP: float = 1e-4
@@ -100,7 +108,7 @@ def _quat_z(angle: float) -> str:
 
 def _inertia(mass: float, izz: float, l0: float) -> tuple[float, float, float]:
     """Principal moments ``(I_xx, I_yy, I_zz)`` written for a body (see module notes)."""
-    izz = izz if izz > 0.0 else INERTIA_FLOOR * mass * l0 * l0
+    izz = max(izz, INERTIA_FLOOR * mass * l0 * l0, MUJOCO_MIN_VALUE)
     return (izz, izz, izz)
 
 
@@ -121,6 +129,12 @@ def mjcf_model(robot: Robot) -> str:
         ``robot.limits`` are not exported (MuJoCo's joint ranges would add
         constraints; prp3 checks the strokes itself).
 
+    Raises
+    ------
+    ParameterError
+        If a body mass (``m1``, ``m2`` or ``m3/3``) is below MuJoCo's smallest
+        mass ``MUJOCO_MIN_VALUE``.
+
     Returns
     -------
     str
@@ -140,6 +154,12 @@ def mjcf_model(robot: Robot) -> str:
     gx, gy = robot.gravity
     m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
     i3 = robot.platform_inertia
+    for name, mass in (("piston.mass", m1), ("link.mass", m2), ("platform.mass / 3", m3 / 3.0)):
+        if mass < MUJOCO_MIN_VALUE:
+            raise ParameterError(
+                f"robot: {name} = {mass!r} kg is below MuJoCo's smallest body mass "
+                f"{MUJOCO_MIN_VALUE!r} kg"
+            )
     base = base_vertices(robot)
     # P_i at λ10 = 0: B_i0 + (l0/√3)·e_i
     piston_origin = base + (l0 / math.sqrt(3.0)) * LEG_AXIS
