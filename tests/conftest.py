@@ -15,6 +15,7 @@ import os
 import sys
 from pathlib import Path
 
+import pytest
 from hypothesis import settings
 
 # ``tests/strategies.py`` is a helper module imported by the test files
@@ -30,3 +31,15 @@ settings.register_profile(
     "thorough", max_examples=1000, deadline=None, derandomize=False, database=None
 )
 settings.load_profile(os.environ.get("PRP3_HYPOTHESIS_PROFILE", "default"))
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Keep a failing hypothesis test a plain failure under ``filterwarnings = error``.
+
+    When hypothesis reports a falsifying example it touches
+    ``mypy_extensions.TypedDict``, whose DeprecationWarning, turned into an error,
+    aborts the whole session with an INTERNALERROR instead of showing the example.
+    """
+    config.addinivalue_line(
+        "filterwarnings", "ignore:mypy_extensions.TypedDict is deprecated:DeprecationWarning"
+    )
