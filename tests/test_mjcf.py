@@ -135,7 +135,7 @@ def _inertial(body: ET.Element) -> tuple[float, np.ndarray, np.ndarray]:
 def test_model_structure() -> None:
     root = ET.fromstring(mjcf_model(Robot()))
     assert root.tag == "mujoco"
-    joints = {j.get("name"): j for j in root.iter("joint") if j.get("name")}
+    joints = {j.get("name", ""): j for j in root.iter("joint") if j.get("name")}
     assert sorted(joints) == sorted(
         f"{kind}_{leg}" for leg in LEGS for kind in ("lambda10", "phi", "lambda32")
     )
@@ -319,7 +319,7 @@ def test_library_does_not_import_mujoco() -> None:
     code = (
         "import sys, prp3, prp3.mjcf, prp3.cli; "
         "prp3.mjcf.mjcf_model(prp3.Robot()); "
-        "assert 'mujoco' not in sys.modules and 'pinocchio' not in sys.modules"
+        "assert sys.modules.get('mujoco') is None and sys.modules.get('pinocchio') is None"
     )
     subprocess.run([sys.executable, "-c", code], check=True)
 
@@ -379,7 +379,8 @@ def test_cli_help_has_an_example(capsys: pytest.CaptureFixture[str]) -> None:
 # ------------------------------------------------------------ with MuJoCo: (a)
 @pytest.fixture(scope="module")
 def mujoco() -> ModuleType:
-    return pytest.importorskip("mujoco")
+    module: ModuleType = pytest.importorskip("mujoco")
+    return module
 
 
 def _tree_state(robot: Robot, motion: Motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
