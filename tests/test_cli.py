@@ -374,7 +374,7 @@ def test_progress_bar_only_on_a_terminal_after_a_second():
         ("", ["traj.csv", "empty trajectory file"]),
         (
             "t,x,y,phi\n0,0,0,0\n0.1,0,0,0.5\n0.2,0,0,1.0471975511965976\n0.3,0,0,1.3\n",
-            ["traj.csv:4", "singular pose at sample 2", "phi=1.0471975511965976"],
+            ["traj.csv:4: singular pose at sample 2, t = 0.2 s", "phi=1.0471975511965976"],
         ),
     ],
 )
@@ -393,7 +393,9 @@ def test_contract_singular_trajectory_with_derivatives(tmp_path, capsys):
         + "".join(f"{k * 0.1},0,0,{math.pi / 3},0,0,0,0,0,0\n" for k in range(3))
     )
     status, _, err = cli(capsys, "simulate", "--trajectory", traj, "--output", tmp_path / "o")
-    assert_refused(status, err, tmp_path / "o", "singular.csv:2:", "singular pose at sample 0")
+    assert_refused(
+        status, err, tmp_path / "o", "singular.csv:2: singular pose at sample 0, t = 0 s"
+    )
 
 
 def test_unreachable_pose_names_the_sample_and_leg(tmp_path, capsys):
@@ -409,12 +411,13 @@ def test_unreachable_pose_names_the_sample_and_leg(tmp_path, capsys):
     status, _, err = cli(
         capsys, "simulate", "--robot", robot, "--motion", "vertical", "-o", out_dir
     )
-    assert_refused(status, err, out_dir, f"unreachable pose at sample {k} ", "lambda10_A")
+    at = f"unreachable pose at sample {k}, t = {k / 100:.9g} s"
+    assert_refused(status, err, out_dir, f"--motion vertical: {at}", "lambda10_A")
     # the same motion from a file: the message names the file and the line (k + 2)
     t = np.linspace(0.0, 3.0, 301)
     traj = write_trajectory(tmp_path / "traj.csv", t, *paper_law(t, (0.0, 0.025, 0.0)))
     status, _, err = cli(capsys, "simulate", "--robot", robot, "--trajectory", traj, "-o", out_dir)
-    assert_refused(status, err, out_dir, f"traj.csv:{k + 2}: unreachable pose at sample {k} ")
+    assert_refused(status, err, out_dir, f"traj.csv:{k + 2}: {at}", "lambda10_A")
 
 
 def test_sample_index_of_an_error_counts_from_the_start_of_the_whole_motion():

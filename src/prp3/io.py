@@ -411,8 +411,8 @@ def read_trajectory(path: str | Path) -> Trajectory:
         note = (
             f"{path}: positions only; velocities and accelerations computed as the 1st and "
             f"2nd derivatives of a degree-{degree} interpolating spline through the samples "
-            "(scipy make_interp_spline, not-a-knot ends); accurate for smooth, finely sampled "
-            "motions, less so near the first and last samples"
+            f"(scipy make_interp_spline{', not-a-knot ends' if degree > 1 else ''}); accurate "
+            "for smooth, finely sampled motions, less so near the first and last samples"
         )
     motion = Motion(t=t, pose=pose, velocity=velocity, acceleration=acceleration)
     return Trajectory(path=path, motion=motion, lines=lines, note=note)

@@ -177,16 +177,22 @@ def _shift_sample(error: Prp3Error, offset: int) -> Prp3Error:
     return type(error)(re.sub(r"at sample (\d+)", shift, str(error)))
 
 
-def _in_file(error: Prp3Error, trajectory: Trajectory) -> Prp3Error:
-    """The same error, its message naming the trajectory file and the line of the sample."""
-    message = str(error)
+def _located(
+    error: Prp3Error, motion: Motion, source: str, trajectory: Trajectory | None
+) -> Prp3Error:
+    """The same error, its message naming the source, the sample's time and its file line.
+
+    ``source`` is ``--motion NAME`` or the trajectory file; for a file the
+    line of the sample is added (``path:line``).
+    """
+    message = re.sub(r"^pose: ", "", str(error))
     found = re.search(r"at sample (\d+)", message)
-    where = (
-        f"{trajectory.path}:{int(trajectory.lines[int(found[1])])}"
-        if found
-        else str(trajectory.path)
-    )
-    return type(error)(f"{where}: {re.sub(r'^pose: ', '', message)}")
+    if found is None:
+        return type(error)(f"{source}: {message}")
+    sample = int(found[1])
+    where = source if trajectory is None else f"{source}:{int(trajectory.lines[sample])}"
+    when = f"at sample {sample}, t = {float(motion.t[sample]):.9g} s"
+    return type(error)(f"{where}: {message[: found.start()]}{when}{message[found.end() :]}")
 
 
 @dataclass(frozen=True)
@@ -384,16 +390,17 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
     try:
         table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
     except (SingularPoseError, UnreachablePoseError) as error:
-        raise (_in_file(error, trajectory) if trajectory is not None else error) from None
+        source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
+        raise _located(error, motion, source, trajectory) from None
     summary = summarize(table)
 
-    source = str(trajectory.path) if trajectory is not None else None
+    trajectory_file = str(trajectory.path) if trajectory is not None else None
     with staged_output(output) as staged:
         write_table_csv(staged.path("results.csv"), table, progress=progress.stage("results.csv"))
         if args.plots:
             from ..plotting.figures import results_figures, save_figure
 
-            figures = results_figures(table, motion=args.motion, source=source)
+            figures = results_figures(table, motion=args.motion, source=trajectory_file)
             for done, (name, figure) in enumerate(figures.items(), start=1):
                 save_figure(figure, staged.path(name))
                 progress.update("figures", done, len(figures))
@@ -408,7 +415,9 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
                 acceleration=motion.acceleration[indices],
             )
             title = (
-                f"3-PRP robot: {args.motion} motion" if args.motion else f"3-PRP robot: {source}"
+                f"3-PRP robot: {args.motion} motion"
+                if args.motion
+                else f"3-PRP robot: {trajectory_file}"
             )
             save_animation(
                 robot,
