@@ -34,10 +34,10 @@ zero one: the piston's default, or a user's zero link or platform inertia) is
 written as that floor (and never below MuJoCo's ``MUJOCO_MIN_VALUE``): the
 piston never turns, so its value cannot matter, and for a link or platform it
 changes the forces by about 10⁻¹⁰ relative.  Masses below
-``MUJOCO_MIN_VALUE`` (``m1``, ``m2``, ``m3/3``) are refused.  The out-of-plane principal moments
-``I_xx = I_yy`` are set equal to the (floored) ``I_zz``: no joint moves out of
-the plane, so they never enter the planar motion; they only have to be
-positive and to satisfy the triangle inequality.
+``MUJOCO_MIN_VALUE`` (``m1``, ``m2``, ``m3/3``) are refused.  The out-of-plane
+principal moments ``I_xx = I_yy`` are set equal to the (floored) ``I_zz``: no
+joint moves out of the plane, so they never enter the planar motion; they only
+have to be positive and to satisfy the triangle inequality.
 
 Solver settings (see ``docs/mujoco.md``): timestep ``TIMESTEP``, RK4
 integrator, contacts disabled, stiff welds (``solref = WELD_SOLREF``,
@@ -70,7 +70,7 @@ __all__ = [
     "mjcf_model",
 ]
 
-#: A zero ``I_zz`` is written as ``INERTIA_FLOOR·m·l0²`` (MuJoCo needs > 0).
+#: An ``I_zz`` below ``INERTIA_FLOOR·m·l0²`` (zero, say) is written as that value.
 INERTIA_FLOOR: float = 1e-10
 
 #: MuJoCo's ``mjMINVAL``: it refuses moving bodies whose mass or a principal
@@ -129,12 +129,6 @@ def mjcf_model(robot: Robot) -> str:
         ``robot.limits`` are not exported (MuJoCo's joint ranges would add
         constraints; prp3 checks the strokes itself).
 
-    Raises
-    ------
-    ParameterError
-        If a body mass (``m1``, ``m2`` or ``m3/3``) is below MuJoCo's smallest
-        mass ``MUJOCO_MIN_VALUE``.
-
     Returns
     -------
     str
@@ -143,6 +137,12 @@ def mjcf_model(robot: Robot) -> str:
         ``lambda10_i`` sliders, 2 welds closing the loops.  At ``qpos = 0`` the
         robot is in the central configuration ``x = y = φ = 0``, where the
         welds are satisfied.
+
+    Raises
+    ------
+    ParameterError
+        If a body mass (``m1``, ``m2`` or ``m3/3``) is below MuJoCo's smallest
+        mass ``MUJOCO_MIN_VALUE``.
 
     Examples
     --------
