@@ -531,8 +531,8 @@ def _chunk(
     margin at the thresholds); :func:`_raise_input_error` decides exactly.
     """
     mul, add, sub = np.multiply, np.add, np.subtract
-    if validate and not math.isfinite(float(state.sum())) and not np.isfinite(state).all():
-        return True
+    if validate and not -math.inf < float(state.min()) <= float(state.max()) < math.inf:
+        return True  # a NaN or an infinity (NaN propagates through min and max)
     x, y, phi, dx, dy, dphi, ddx, ddy, ddphi = state
     np.cos(phi, out=trig_in[0])
     np.sin(phi, out=trig_in[1])
@@ -838,7 +838,7 @@ def _sample_error(compiled: CompiledRobot, *values: SampleInput) -> tuple[float,
     for name, array in zip(_INPUTS, arrays, strict=True):
         if array.shape != (3,):
             raise TrajectoryError(f"{name} must be 3 numbers (shape (3,)), got shape {array.shape}")
-    paper_forces(compiled, *arrays)  # raises TrajectoryError or SingularPoseError
+    _raise_input_error(compiled, [array[None, :] for array in arrays], 1)
     return tuple(np.concatenate(arrays).tolist())
 
 

@@ -1,0 +1,385 @@
+"""The fused paths of ``prp3.fast`` against the reference solvers and against physics.
+
+Expected numbers come from :func:`prp3.dynamics.paper_method` and
+:func:`prp3.dynamics.newton_euler` (the fast paths share no code with either:
+they re-derive eqs. 10–25 in closed form), from the test's own reference model
+(``strategies``) for the whole-robot balance, or are worked by hand beside the
+test.  Tolerance: 1e-12 of a per-sample force scale (the largest reported
+force plus the total weight), as in ``test_dynamics``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from prp3 import (
+    Limits,
+    Motion,
+    Prp3Error,
+    Robot,
+    SingularPoseError,
+    TrajectoryError,
+    UnreachablePoseError,
+    inverse_dynamics,
+    inverse_kinematics,
+    newton_euler,
+    paper_method,
+)
+from prp3.fast import (
+    CompiledRobot,
+    FastForces,
+    compile_robot,
+    paper_forces,
+    sample_forces,
+    sample_forces_unchecked,
+)
+from prp3.motion import paper_motion
+from strategies import (
+    REF_E,
+    REF_N,
+    AnalyticMotion,
+    body_states,
+    cross,
+    platform_inertia,
+    ref_geometry,
+    ref_rates,
+    scenarios,
+    total_mass,
+)
+
+FORCES = ("f10", "f21y", "f21z", "n10", "n32")
+MOMENTS = ("m10", "m32")
+QUANTITIES = ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32")
+
+
+def scales(robot: Robot, motion: Motion, reference: object) -> dict[str, np.ndarray]:
+    """Per-sample scale of each quantity, shape ``(..., 1)``."""
+    largest = np.max([np.abs(getattr(reference, name)).max(axis=-1) for name in FORCES], axis=0)
+    force = largest + total_mass(robot) * math.hypot(*robot.gravity)
+    kin = inverse_kinematics(robot, motion)
+    lever = robot.l0 + np.abs(kin.geometry.lever).max(axis=(-1, -2))
+    power = force * np.abs(kin.dlambda10).max(axis=-1)
+    scale = {name: force for name in FORCES}
+    scale.update({name: force * lever for name in MOMENTS}, p10=power)
+    return {name: np.asarray(value)[..., None] for name, value in scale.items()}
+
+
+def assert_agree(
+    got: object, expected: object, scale: dict[str, np.ndarray], names: tuple[str, ...]
+) -> None:
+    for name in names:
+        difference = np.abs(np.asarray(getattr(got, name)) - getattr(expected, name))
+        assert np.all(difference <= 1e-12 * scale[name]), (
+            name,
+            float((difference / scale[name]).max()),
+        )
+
+
+# ------------------------------------------------------------ batch vs references
+@given(scenario=scenarios(), chunk=st.sampled_from([1, 5, 64, 4096]))
+def test_batch_agrees_with_paper_method_and_newton_euler(
+    scenario: tuple[Robot, AnalyticMotion], chunk: int
+) -> None:
+    # Random l0, masses, inertias, centres of mass of pistons and links, any gravity,
+    # smooth motions with |sin(φ − π/3)| ≥ 0.27 (strategies); chunks that split the batch.
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 40))
+    fast = paper_forces(
+        robot, motion.pose, motion.velocity, motion.acceleration, reactions=True, chunk_size=chunk
+    )
+    kin = inverse_kinematics(robot, motion)
+    for reference in (paper_method(robot, kin), newton_euler(robot, kin)):
+        assert_agree(fast, reference, scales(robot, motion, reference), QUANTITIES)
+
+
+@given(scenario=scenarios())
+def test_single_sample_agrees_with_paper_method_and_newton_euler(
+    scenario: tuple[Robot, AnalyticMotion],
+) -> None:
+    robot, analytic = scenario
+    compiled = compile_robot(robot)
+    for t in np.linspace(0.0, analytic.duration, 4):
+        motion = analytic.motion(t)  # a single sample: arrays (3,)
+        forces = sample_forces(compiled, motion.pose, motion.velocity, motion.acceleration)
+        unchecked = sample_forces_unchecked(
+            compiled,
+            *motion.pose.tolist(),
+            *motion.velocity.tolist(),
+            *motion.acceleration.tolist(),
+        )
+        assert forces == (unchecked[0:3], unchecked[3:6], unchecked[6:9])
+        assert all(type(value) is float for value in unchecked)
+        for method in ("paper", "newton-euler"):
+            _, reference = inverse_dynamics(robot, motion, method=method)  # type: ignore[arg-type]
+            assert_agree(
+                forces, reference, scales(robot, motion, reference), ("f10", "f21y", "f21z")
+            )
+
+
+@given(scenario=scenarios())
+def test_single_sample_path_equals_batch_path(scenario: tuple[Robot, AnalyticMotion]) -> None:
+    # The two fast paths are the same algebra in the same order: agreement to round-off.
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 8))
+    batch = paper_forces(robot, motion.pose, motion.velocity, motion.acceleration)
+    compiled = compile_robot(robot)
+    for k in range(motion.samples):
+        one = sample_forces(compiled, motion.pose[k], motion.velocity[k], motion.acceleration[k])
+        for name in ("f10", "f21y", "f21z"):
+            expected = getattr(batch, name)[k]
+            scale = np.abs(expected).max() + total_mass(robot) * math.hypot(*robot.gravity)
+            np.testing.assert_allclose(getattr(one, name), expected, rtol=0, atol=1e-13 * scale)
+
+
+@settings(max_examples=15)
+@given(scenario=scenarios())
+def test_whole_robot_balance(scenario: tuple[Robot, AnalyticMotion]) -> None:
+    # Only the base acts on the robot from outside: on piston i the actuator force f10·e_i
+    # and the guide's n10·n_i (both through P_i) and moment m10.  So, with the test's own
+    # kinematics (strategies) for every body's centre of mass:
+    #   Σ_bodies m·(a − g) = Σ_i (f10_i·e_i + n10_i·n_i)
+    #   Σ_bodies [r × m·(a − g) + I·ε] = Σ_i [P_i × (f10_i·e_i + n10_i·n_i) + m10_i]  (about O)
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 16))
+    fast = paper_forces(robot, motion.pose, motion.velocity, motion.acceleration, reactions=True)
+    assert fast.n10 is not None and fast.m10 is not None
+    geo = ref_geometry(robot.l0, motion.pose)
+    rates = ref_rates(robot.l0, motion.pose, motion.velocity, motion.acceleration)
+    b = body_states(
+        robot, geo.lambda10, rates.dlambda10, rates.ddlambda10,
+        motion.pose, motion.velocity, motion.acceleration,
+    )  # fmt: skip
+    g = np.asarray(robot.gravity)
+    m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
+    need_1 = m1 * (b.piston_acceleration - g)
+    need_2 = m2 * (b.link_acceleration - g)
+    need_3 = m3 * (b.platform_acceleration - g)
+    force = need_1.sum(-2) + need_2.sum(-2) + need_3
+    moment = (
+        cross(b.piston, need_1).sum(-1)
+        + cross(b.link, need_2).sum(-1)
+        + 3.0 * robot.link.inertia * b.epsilon
+        + cross(b.platform, need_3)
+        + platform_inertia(robot) * b.epsilon
+    )
+    base = fast.f10[..., None] * REF_E + fast.n10[..., None] * REF_N
+    scale = np.abs(base).max() + total_mass(robot) * (math.hypot(*robot.gravity) + 1.0)
+    np.testing.assert_allclose(base.sum(-2), force, rtol=0, atol=1e-11 * scale)
+    np.testing.assert_allclose(
+        (cross(b.joint, base) + fast.m10).sum(-1), moment, rtol=0, atol=1e-11 * scale * robot.l0
+    )
+
+
+def test_static_central_configuration_by_hand() -> None:
+    # Default robot at rest at the centre (derivation in test_dynamics: the base carries
+    # the platform's weight 29.43 N as n32 = (2/3, −1/3, −1/3)·m3·g, then link and piston):
+    # f10_A = (m1 + m2 + 2/3·m3)·g·√3/2 = 36.7875·√3/2, f10_B = −(m3/3)·g·√3/2 ... (N).
+    s, g = math.sqrt(3.0), 9.81
+    expected_f10 = [36.7875 * s / 2, -g * s / 2, -g * s / 4 - 22.0725 * s / 2]
+    expected_f21y = [26.9775 / 2, -12.2625, -g * 3 / 4 + 12.2625 / 2]
+    forces = paper_forces(Robot(), [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+    np.testing.assert_allclose(forces.f10, expected_f10, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(forces.f21y, expected_f21y, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(forces.p10, 0.0)
+    one = sample_forces(compile_robot(Robot()), (0, 0, 0), (0, 0, 0), (0, 0, 0))
+    np.testing.assert_allclose(one.f10, expected_f10, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(one.f21y, expected_f21y, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["vertical", "rotation"])
+def test_paper_motions(name: str) -> None:
+    robot = Robot()
+    motion = paper_motion(name, samples=301)
+    _, reference = inverse_dynamics(robot, motion)
+    fast = paper_forces(robot, motion.pose, motion.velocity, motion.acceleration, reactions=True)
+    assert_agree(fast, reference, scales(robot, motion, reference), QUANTITIES)
+
+
+# ------------------------------------------------------------------ shapes, out=
+def test_output_rank_follows_input_rank() -> None:
+    robot = compile_robot(Robot())
+    motion = paper_motion("rotation", samples=5)
+    batch = paper_forces(robot, motion.pose, motion.velocity, motion.acceleration, reactions=True)
+    assert all(getattr(batch, name).shape == (5, 3) for name in QUANTITIES)
+    one = paper_forces(robot, motion.pose[2], motion.velocity[2], motion.acceleration[2])
+    assert one.f10.shape == one.p10.shape == one.f21y.shape == one.f21z.shape == (3,)
+    assert one.n10 is None and one.m10 is None and one.n32 is None and one.m32 is None
+    np.testing.assert_allclose(one.f10, batch.f10[2], rtol=1e-14)
+    row = paper_forces(robot, motion.pose[2:3], motion.velocity[2:3], motion.acceleration[2:3])
+    assert row.f10.shape == (1, 3)
+    empty = paper_forces(robot, np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)))
+    assert empty.f10.shape == (0, 3)
+    lists = paper_forces(
+        robot, motion.pose.tolist(), motion.velocity.tolist(), motion.acceleration.tolist()
+    )
+    np.testing.assert_array_equal(lists.f10, batch.f10)
+
+
+def test_out_arrays_are_filled_and_returned() -> None:
+    robot = Robot()
+    motion = paper_motion("vertical", samples=7)
+    expected = paper_forces(
+        robot, motion.pose, motion.velocity, motion.acceleration, reactions=True
+    )
+    out = FastForces(*(np.full((7, 3), np.nan) for _ in QUANTITIES))
+    got = paper_forces(
+        robot,
+        motion.pose,
+        motion.velocity,
+        motion.acceleration,
+        reactions=True,
+        out=out,
+        chunk_size=3,
+    )
+    for name in QUANTITIES:
+        assert getattr(got, name) is getattr(out, name)
+        np.testing.assert_allclose(
+            getattr(got, name), getattr(expected, name), rtol=1e-14, atol=1e-14
+        )
+
+
+@pytest.mark.parametrize(
+    ("out", "message"),
+    [
+        ("nope", "out must be a FastForces"),
+        (FastForces(*(np.zeros((4, 3)) for _ in range(4))), r"out\.f10 must be .* shape \(7, 3\)"),
+        (FastForces(*(np.zeros((7, 3), dtype=np.float32) for _ in range(4))), "out.f10 must be"),
+        (FastForces(*(np.zeros((3, 7)).T for _ in range(4))), "out.f10 must be .*C-contiguous"),
+        (FastForces(*(np.zeros((7, 3)) for _ in range(4))), "out.n10 must be .* got None"),
+    ],
+)
+def test_bad_out_is_refused(out: object, message: str) -> None:
+    motion = paper_motion("vertical", samples=7)
+    with pytest.raises(Prp3Error, match=message):
+        paper_forces(
+            Robot(),
+            motion.pose,
+            motion.velocity,
+            motion.acceleration,
+            reactions=True,
+            out=out,  # type: ignore[arg-type]
+        )
+
+
+def test_compiled_robot_is_reused_and_read_only() -> None:
+    robot = Robot(link=Robot().link.__class__(com=(0.01, -0.02)))
+    compiled = compile_robot(robot)
+    assert isinstance(compiled, CompiledRobot) and compiled.robot is robot
+    motion = paper_motion("rotation", samples=9)
+    np.testing.assert_array_equal(
+        paper_forces(compiled, motion.pose, motion.velocity, motion.acceleration).f10,
+        paper_forces(robot, motion.pose, motion.velocity, motion.acceleration).f10,
+    )
+    with pytest.raises(ValueError, match="read-only"):
+        compiled.f10_matrix[0, 0] = 1.0
+    with pytest.raises(Prp3Error, match=r"robot must be a prp3\.Robot"):
+        compile_robot("robot.toml")  # type: ignore[arg-type]
+
+
+# ------------------------------------------------------------------------ errors
+def singular_motion(samples: int, index: int) -> Motion:
+    motion = paper_motion("rotation", samples=samples)
+    pose = motion.pose.copy()
+    pose[index, 2] = math.pi / 3.0 + 2e-5  # |sin(φ − π/3)| = 2e-5 < 1e-4
+    return Motion(motion.t, pose, motion.velocity, motion.acceleration)
+
+
+@pytest.mark.parametrize("chunk", [1, 4, 4096])
+def test_singular_pose_is_refused_with_the_reference_message(chunk: int) -> None:
+    motion = singular_motion(10, index=6)
+    with pytest.raises(SingularPoseError) as reference:
+        inverse_dynamics(Robot(), motion)
+    with pytest.raises(SingularPoseError) as fast:
+        paper_forces(Robot(), motion.pose, motion.velocity, motion.acceleration, chunk_size=chunk)
+    assert str(fast.value) == str(reference.value)
+    assert "sample 6" in str(fast.value)
+    with pytest.raises(SingularPoseError) as one:
+        sample_forces(
+            compile_robot(Robot()), motion.pose[6], motion.velocity[6], motion.acceleration[6]
+        )
+    assert "singular pose at sample 0" in str(one.value)
+
+
+@pytest.mark.parametrize("chunk", [1, 4, 4096])
+def test_pose_outside_the_stroke_is_refused_with_the_reference_message(chunk: int) -> None:
+    # Vertical motion (φ = 0, x = 0): eq. (10) with d_A = (1, 0), D = sin(−π/3) = −√3/2 and
+    # G × d_A = −y gives λ10_A = 2y/√3, beyond a stroke of ±1 cm once y > 8.7 mm (y ends at 5 cm).
+    robot = Robot(limits=Limits(stroke=(-0.01, 0.01)))
+    motion = paper_motion("vertical", samples=10)
+    with pytest.raises(UnreachablePoseError) as reference:
+        inverse_dynamics(robot, motion)
+    with pytest.raises(UnreachablePoseError) as fast:
+        paper_forces(robot, motion.pose, motion.velocity, motion.acceleration, chunk_size=chunk)
+    assert str(fast.value) == str(reference.value)
+    index = int(str(fast.value).split("sample ")[1].split(" ")[0])
+    assert index > 0  # the motion starts at the centre, inside the stroke
+    with pytest.raises(UnreachablePoseError):
+        sample_forces(
+            compile_robot(robot), motion.pose[-1], motion.velocity[-1], motion.acceleration[-1]
+        )
+    inside = sample_forces(
+        compile_robot(robot), motion.pose[0], motion.velocity[0], motion.acceleration[0]
+    )
+    np.testing.assert_allclose(
+        inside.f10,
+        paper_forces(Robot(), motion.pose[0], motion.velocity[0], motion.acceleration[0]).f10,
+    )
+
+
+@pytest.mark.parametrize("name", ["pose", "velocity", "acceleration"])
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_non_finite_input_is_refused(name: str, bad: float) -> None:
+    motion = paper_motion("rotation", samples=6)
+    arrays = {n: getattr(motion, n).copy() for n in ("pose", "velocity", "acceleration")}
+    arrays[name][4, 1] = bad
+    with pytest.raises(TrajectoryError, match=rf"{name}\[4, 1\] is not finite"):
+        paper_forces(Robot(), **arrays, chunk_size=2)
+    single = {n: a[4] for n, a in arrays.items()}
+    with pytest.raises(TrajectoryError, match=rf"{name}\[0, 1\] is not finite"):
+        sample_forces(compile_robot(Robot()), **single)
+
+
+@pytest.mark.parametrize(
+    ("pose", "velocity", "message"),
+    [
+        (np.zeros((4, 3)), np.zeros((5, 3)), "must have the same shape"),
+        (np.zeros((4, 2)), np.zeros((4, 2)), r"pose must have shape \(3,\) or \(N, 3\)"),
+        (np.zeros((2, 4, 3)), np.zeros((2, 4, 3)), r"pose must have shape"),
+        ("abc", np.zeros(3), "pose must be an array of numbers"),
+    ],
+)
+def test_bad_shapes_are_refused(pose: object, velocity: object, message: str) -> None:
+    with pytest.raises(TrajectoryError, match=message):
+        paper_forces(Robot(), pose, velocity, velocity)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("chunk", [0, -3, 2.5, True])
+def test_bad_chunk_size_is_refused(chunk: object) -> None:
+    with pytest.raises(Prp3Error, match="chunk_size must be an integer >= 1"):
+        paper_forces(Robot(), [0, 0, 0], [0, 0, 0], [0, 0, 0], chunk_size=chunk)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("pose", "message"),
+    [
+        ([0.0, 0.0], r"pose must have shape \(3,\) or \(N, 3\)"),
+        ([[0.0, 0.0, 0.0]], r"pose must be 3 numbers \(shape \(3,\)\), got shape \(1, 3\)"),
+        (None, "pose must have shape"),
+        (["a", "b", "c"], "pose must be an array of numbers"),
+    ],
+)
+def test_single_sample_bad_input_is_refused(pose: object, message: str) -> None:
+    with pytest.raises(TrajectoryError, match=message):
+        sample_forces(compile_robot(Robot()), pose, [0, 0, 0], [0, 0, 0])  # type: ignore[arg-type]
+
+
+def test_single_sample_needs_a_compiled_robot() -> None:
+    with pytest.raises(
+        Prp3Error, match=r"compiled must come from compile_robot\(robot\), got Robot"
+    ):
+        sample_forces(Robot(), [0, 0, 0], [0, 0, 0], [0, 0, 0])  # type: ignore[arg-type]
