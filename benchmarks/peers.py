@@ -83,6 +83,12 @@ def tree_motion(robot: prp3.Robot, motion: prp3.Motion) -> TreeMotion:
     )
 
 
+def _sample(prepared: TreeMotion, i: int) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Sample ``i`` of a batch; a single-sample motion has only sample 0."""
+    q, qd, qdd = (a.reshape(-1, 9) for a in (prepared.q, prepared.qd, prepared.qdd))
+    return q[i], qd[i], qdd[i]
+
+
 def _loop_over(solve: Any, prepared: TreeMotion) -> FloatArray:
     q = prepared.q.reshape(-1, 9)
     qd = prepared.qd.reshape(-1, 9)
@@ -163,7 +169,7 @@ class MujocoPeer:
         self, prepared: TreeMotion, i: int
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``(q, q̇, q̈)`` of sample ``i`` (untimed)."""
-        return prepared.q[i], prepared.qd[i], prepared.qdd[i]
+        return _sample(prepared, i)
 
     def forces(self, prepared: TreeMotion) -> FloatArray:
         """Actuator forces ``f10`` (N, 3) of every prepared sample (Python loop)."""
@@ -276,7 +282,7 @@ class PinocchioPeer:
         self, prepared: TreeMotion, i: int
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``(q, q̇, q̈)`` of sample ``i`` (untimed)."""
-        return prepared.q[i], prepared.qd[i], prepared.qdd[i]
+        return _sample(prepared, i)
 
     def forces(self, prepared: TreeMotion) -> FloatArray:
         """Actuator forces ``f10`` (N, 3) of every prepared sample (Python loop)."""

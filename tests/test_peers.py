@@ -114,9 +114,11 @@ def test_single_sample_motion(engine: str) -> None:
     robot = Robot()
     peer = _peer(engine, robot)
     motion = Motion.at_rest([0.01, -0.02, 0.1])
-    forces = peer.forces(peer.prepare(motion))
+    prepared = peer.prepare(motion)
+    forces = peer.forces(prepared)
     _, dyn = inverse_dynamics(robot, motion)
     assert forces.shape == (3,)
+    np.testing.assert_array_equal(peer.single(*peer.single_state(prepared, 0)), forces)
     assert _relative_error(forces, dyn.f10, robot) < 1e-8
 
 
