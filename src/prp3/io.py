@@ -172,15 +172,15 @@ def write_table_csv(
     names = list(table)
     columns = [np.atleast_1d(np.asarray(table[name], dtype=np.float64)) for name in names]
     rows = len(columns[0]) if columns else 0
+    row_format = ",".join(["%r"] * len(names)) + "\n"  # %r is repr(float), as format_float
     with atomic_writer(path) as stream:
         stream.write(",".join(names) + "\n")
-        if columns:
-            matrix = np.column_stack(columns)
-            for start in range(0, rows, _ROWS_PER_BLOCK):
-                block = matrix[start : start + _ROWS_PER_BLOCK].tolist()  # Python floats
-                stream.write("".join(",".join(map(repr, row)) + "\n" for row in block))
-                if progress is not None:
-                    progress(min(start + _ROWS_PER_BLOCK, rows), rows)
+        for start in range(0, rows if columns else 0, _ROWS_PER_BLOCK):
+            stop = min(start + _ROWS_PER_BLOCK, rows)
+            block = np.column_stack([column[start:stop] for column in columns]).tolist()
+            stream.write("".join(row_format % tuple(row) for row in block))
+            if progress is not None:
+                progress(stop, rows)
 
 
 def read_table_csv(
