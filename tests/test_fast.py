@@ -11,6 +11,7 @@ force plus the total weight), as in ``test_dynamics``.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -55,6 +56,7 @@ from strategies import (
 FORCES = ("f10", "f21y", "f21z", "n10", "n32")
 MOMENTS = ("m10", "m32")
 QUANTITIES = ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32")
+OUTPUTS = ("f10", "p10", "f21y", "f21z")  # without reactions
 
 
 def scales(robot: Robot, motion: Motion, reference: object) -> dict[str, np.ndarray]:
@@ -87,14 +89,25 @@ def test_batch_agrees_with_paper_method_and_newton_euler(
 ) -> None:
     # Random l0, masses, inertias, centres of mass of pistons and links, any gravity,
     # smooth motions with |sin(φ − π/3)| ≥ 0.27 (strategies); chunks that split the batch.
+    # 40 samples go through the chunked numpy path, 16 or fewer without reactions through
+    # a loop over the single-sample path.
     robot, analytic = scenario
     motion = analytic.motion(np.linspace(0.0, analytic.duration, 40))
     fast = paper_forces(
         robot, motion.pose, motion.velocity, motion.acceleration, reactions=True, chunk_size=chunk
     )
+    plain = paper_forces(robot, motion.pose, motion.velocity, motion.acceleration, chunk_size=chunk)
+    few = motion[3:19]
+    looped = paper_forces(robot, few.pose, few.velocity, few.acceleration)
     kin = inverse_kinematics(robot, motion)
     for reference in (paper_method(robot, kin), newton_euler(robot, kin)):
-        assert_agree(fast, reference, scales(robot, motion, reference), QUANTITIES)
+        scale = scales(robot, motion, reference)
+        assert_agree(fast, reference, scale, QUANTITIES)
+        assert_agree(plain, reference, scale, OUTPUTS)
+        short = {name: getattr(reference, name)[3:19] for name in OUTPUTS}
+        assert_agree(
+            looped, SimpleNamespace(**short), {k: v[3:19] for k, v in scale.items()}, OUTPUTS
+        )
 
 
 @given(scenario=scenarios())
@@ -112,13 +125,11 @@ def test_single_sample_agrees_with_paper_method_and_newton_euler(
             *motion.velocity.tolist(),
             *motion.acceleration.tolist(),
         )
-        assert forces == (unchecked[0:3], unchecked[3:6], unchecked[6:9])
+        assert forces == (unchecked[0:3], unchecked[3:6], unchecked[6:9], unchecked[9:12])
         assert all(type(value) is float for value in unchecked)
         for method in ("paper", "newton-euler"):
             _, reference = inverse_dynamics(robot, motion, method=method)  # type: ignore[arg-type]
-            assert_agree(
-                forces, reference, scales(robot, motion, reference), ("f10", "f21y", "f21z")
-            )
+            assert_agree(forces, reference, scales(robot, motion, reference), OUTPUTS)
 
 
 @given(scenario=scenarios())
@@ -130,7 +141,7 @@ def test_single_sample_path_equals_batch_path(scenario: tuple[Robot, AnalyticMot
     compiled = compile_robot(robot)
     for k in range(motion.samples):
         one = sample_forces(compiled, motion.pose[k], motion.velocity[k], motion.acceleration[k])
-        for name in ("f10", "f21y", "f21z"):
+        for name in OUTPUTS:
             expected = getattr(batch, name)[k]
             scale = np.abs(expected).max() + total_mass(robot) * math.hypot(*robot.gravity)
             np.testing.assert_allclose(getattr(one, name), expected, rtol=0, atol=1e-13 * scale)
@@ -217,7 +228,7 @@ def test_output_rank_follows_input_rank() -> None:
     lists = paper_forces(
         robot, motion.pose.tolist(), motion.velocity.tolist(), motion.acceleration.tolist()
     )
-    np.testing.assert_array_equal(lists.f10, batch.f10)
+    np.testing.assert_allclose(lists.f10, batch.f10, rtol=1e-13)
 
 
 def test_out_arrays_are_filled_and_returned() -> None:
@@ -289,13 +300,20 @@ def singular_motion(samples: int, index: int) -> Motion:
     return Motion(motion.t, pose, motion.velocity, motion.acceleration)
 
 
-@pytest.mark.parametrize("chunk", [1, 4, 4096])
-def test_singular_pose_is_refused_with_the_reference_message(chunk: int) -> None:
+# (chunk, reactions): the chunked numpy path, and (None, False) the loop over single samples
+PATHS = [(1, True), (4, True), (4096, True), (4096, False)]
+
+
+@pytest.mark.parametrize(("chunk", "reactions"), PATHS)
+def test_singular_pose_is_refused_with_the_reference_message(chunk: int, reactions: bool) -> None:
     motion = singular_motion(10, index=6)
     with pytest.raises(SingularPoseError) as reference:
         inverse_dynamics(Robot(), motion)
     with pytest.raises(SingularPoseError) as fast:
-        paper_forces(Robot(), motion.pose, motion.velocity, motion.acceleration, chunk_size=chunk)
+        paper_forces(
+            Robot(), motion.pose, motion.velocity, motion.acceleration,
+            chunk_size=chunk, reactions=reactions,
+        )  # fmt: skip
     assert str(fast.value) == str(reference.value)
     assert "sample 6" in str(fast.value)
     with pytest.raises(SingularPoseError) as one:
@@ -305,8 +323,10 @@ def test_singular_pose_is_refused_with_the_reference_message(chunk: int) -> None
     assert "singular pose at sample 0" in str(one.value)
 
 
-@pytest.mark.parametrize("chunk", [1, 4, 4096])
-def test_pose_outside_the_stroke_is_refused_with_the_reference_message(chunk: int) -> None:
+@pytest.mark.parametrize(("chunk", "reactions"), PATHS)
+def test_pose_outside_the_stroke_is_refused_with_the_reference_message(
+    chunk: int, reactions: bool
+) -> None:
     # Vertical motion (φ = 0, x = 0): eq. (10) with d_A = (1, 0), D = sin(−π/3) = −√3/2 and
     # G × d_A = −y gives λ10_A = 2y/√3, beyond a stroke of ±1 cm once y > 8.7 mm (y ends at 5 cm).
     robot = Robot(limits=Limits(stroke=(-0.01, 0.01)))
@@ -314,7 +334,10 @@ def test_pose_outside_the_stroke_is_refused_with_the_reference_message(chunk: in
     with pytest.raises(UnreachablePoseError) as reference:
         inverse_dynamics(robot, motion)
     with pytest.raises(UnreachablePoseError) as fast:
-        paper_forces(robot, motion.pose, motion.velocity, motion.acceleration, chunk_size=chunk)
+        paper_forces(
+            robot, motion.pose, motion.velocity, motion.acceleration,
+            chunk_size=chunk, reactions=reactions,
+        )  # fmt: skip
     assert str(fast.value) == str(reference.value)
     index = int(str(fast.value).split("sample ")[1].split(" ")[0])
     assert index > 0  # the motion starts at the centre, inside the stroke
@@ -333,12 +356,13 @@ def test_pose_outside_the_stroke_is_refused_with_the_reference_message(chunk: in
 
 @pytest.mark.parametrize("name", ["pose", "velocity", "acceleration"])
 @pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
-def test_non_finite_input_is_refused(name: str, bad: float) -> None:
+@pytest.mark.parametrize("reactions", [True, False])
+def test_non_finite_input_is_refused(name: str, bad: float, reactions: bool) -> None:
     motion = paper_motion("rotation", samples=6)
     arrays = {n: getattr(motion, n).copy() for n in ("pose", "velocity", "acceleration")}
     arrays[name][4, 1] = bad
     with pytest.raises(TrajectoryError, match=rf"{name}\[4, 1\] is not finite"):
-        paper_forces(Robot(), **arrays, chunk_size=2)
+        paper_forces(Robot(), **arrays, chunk_size=2, reactions=reactions)
     single = {n: a[4] for n, a in arrays.items()}
     with pytest.raises(TrajectoryError, match=rf"{name}\[0, 1\] is not finite"):
         sample_forces(compile_robot(Robot()), **single)

@@ -112,6 +112,10 @@ _FORCE_TRIG_ROWS = 9  # rows up to _KB; the rotated gravity only for the reactio
 _FORCE_BASIS_ROWS = 14
 _ALL_BASIS_ROWS = 24
 
+#: Up to this many samples (without reactions) :func:`paper_forces` loops over
+#: :func:`sample_forces_unchecked`: below it numpy's per-call overhead dominates.
+_FEW_SAMPLES = 16
+
 # Screening margins of the batch checks; the exact reference checks decide.
 _SINGULAR_SCREEN = SINGULARITY_THRESHOLD * (1.0 + 1e-9)
 _STROKE_SCREEN = 1e-9  # m
@@ -371,6 +375,8 @@ def paper_forces(
     The same numbers as ``paper_method(robot, inverse_kinematics(robot, motion))``
     to round-off, computed in chunks of ``chunk_size`` samples with a few
     preallocated work rows: memory beyond inputs and outputs stays bounded.
+    Up to 16 samples without ``reactions`` are computed one by one by
+    :func:`sample_forces_unchecked` (numpy's per-call overhead would dominate).
 
     Parameters
     ----------
@@ -426,7 +432,9 @@ def paper_forces(
     flat = [a.reshape(-1, 3) for a in arrays]
     targets = {name: array.reshape(-1, 3) for name, array in result.items()}
     samples = flat[0].shape[0]
-    if samples:
+    if samples and not reactions and samples <= _FEW_SAMPLES:
+        _compute_samples(compiled, flat, targets)
+    elif samples:
         _compute(compiled, flat, targets, reactions, int(chunk_size))
     return FastForces(**result)
 
@@ -713,7 +721,7 @@ def _outside_stroke(
     t2: FloatArray,
     scratch: FloatArray,
 ) -> bool:
-    """Whether some λ10 of the chunk may be outside the stroke (eq. 10).
+    """Whether some λ10 of the chunk may be outside the stroke (eq. 10), within a margin.
 
     ``λ10_i = (G × d_i − l0·cos φ + l0/2)/D − l0/√3`` with
     ``G × d_i = (Rot(5π/6 − φ)·G) × n_i``.
@@ -736,7 +744,7 @@ def _outside_stroke(
     np.multiply(row_1, inv, out=row_1)
     np.subtract(row_1, 2.0 * cr.cx, out=row_1)
     np.matmul(coefficients.T, _LEGS, out=scratch)
-    return bool(scratch.min() < lower - _STROKE_SCREEN or scratch.max() > upper + _STROKE_SCREEN)
+    return bool(scratch.min() < lower + _STROKE_SCREEN or scratch.max() > upper - _STROKE_SCREEN)
 
 
 def _raise_input_error(compiled: CompiledRobot, inputs: list[FloatArray], stop: int) -> None:
@@ -762,9 +770,10 @@ SampleInput = Sequence[float] | FloatArray
 
 
 class SampleForces(NamedTuple):
-    """Forces of one sample, each ``(A, B, C)`` (N): eqs. (23), (24), (25)."""
+    """Forces of one sample, each ``(A, B, C)``: eqs. (23), (24), (25) (N) and ``p10`` (W)."""
 
     f10: tuple[float, float, float]
+    p10: tuple[float, float, float]
     f21y: tuple[float, float, float]
     f21z: tuple[float, float, float]
 
@@ -790,7 +799,7 @@ def sample_forces(
     Returns
     -------
     SampleForces
-        ``f10``, ``f21y``, ``f21z`` of legs A, B, C (N).
+        ``f10``, ``p10``, ``f21y``, ``f21z`` of legs A, B, C (N, W).
 
     Raises
     ------
@@ -820,16 +829,37 @@ def sample_forces(
         )  # fmt: skip
     except (TypeError, ValueError):
         values = _sample_error(compiled, pose, velocity, acceleration)
-    if not math.isfinite(sum(values)) or not _regular(values[2]):
+    if not _plausible(compiled, values):
         _sample_error(compiled, pose, velocity, acceleration)
-    if compiled.stroke is not None:
-        _check_sample_stroke(compiled, values[0], values[1], values[2])
     f = sample_forces_unchecked(compiled, *values)
-    return SampleForces((f[0], f[1], f[2]), (f[3], f[4], f[5]), (f[6], f[7], f[8]))
+    return SampleForces(
+        (f[0], f[1], f[2]), (f[3], f[4], f[5]), (f[6], f[7], f[8]), (f[9], f[10], f[11])
+    )
 
 
-def _regular(phi: float) -> bool:
-    return abs(math.sin(phi - math.pi / 3.0)) >= SINGULARITY_THRESHOLD  # as check_poses
+def _plausible(compiled: CompiledRobot, values: tuple[float, ...]) -> bool:
+    """Cheap screen of one sample: False if it may be non-finite, singular or out of stroke."""
+    if not math.isfinite(sum(values)):  # NaN, ±inf (or a sum that overflowed)
+        return False
+    x, y, phi = values[0], values[1], values[2]
+    if abs(math.sin(phi - math.pi / 3.0)) < SINGULARITY_THRESHOLD:  # as check_poses
+        return False
+    if compiled.stroke is None:
+        return True
+    lower, upper = compiled.stroke
+    c, s = math.cos(phi), math.sin(phi)
+    D = 0.5 * s - _H * c
+    C = 0.5 * c + _H * s
+    gx, gy = D * x - C * y, C * x + D * y  # Rot(5π/6 − φ)·G, see _outside_stroke
+    base = (compiled.cy - compiled.l0 * c) / D - 2.0 * compiled.cx
+    for nx, ny in _LEG_NORMALS:
+        lambda10 = (gx * ny - gy * nx) / D + base
+        if not lower + _STROKE_SCREEN <= lambda10 <= upper - _STROKE_SCREEN:
+            return False
+    return True
+
+
+_LEG_NORMALS: tuple[tuple[float, float], ...] = tuple((nx, ny) for nx, ny in LEG_NORMAL.tolist())
 
 
 def _sample_error(compiled: CompiledRobot, *values: SampleInput) -> tuple[float, ...]:
@@ -842,18 +872,19 @@ def _sample_error(compiled: CompiledRobot, *values: SampleInput) -> tuple[float,
     return tuple(np.concatenate(arrays).tolist())
 
 
-def _check_sample_stroke(compiled: CompiledRobot, x: float, y: float, phi: float) -> None:
-    lower, upper = compiled.stroke  # type: ignore[misc]
-    c, s = math.cos(phi), math.sin(phi)
-    D = 0.5 * s - _H * c
-    C = 0.5 * c + _H * s
-    gx, gy = D * x - C * y, C * x + D * y  # Rot(5π/6 − φ)·G
-    base = (compiled.cy - compiled.l0 * c) / D - 2.0 * compiled.cx
-    for nx, ny in LEG_NORMAL.tolist():
-        lambda10 = (gx * ny - gy * nx) / D + base
-        if not lower <= lambda10 <= upper:
-            _inverse_geometry(compiled.robot, [x, y, phi])  # raises, as the reference
-            return
+def _compute_samples(
+    compiled: CompiledRobot, inputs: list[FloatArray], targets: dict[str, FloatArray]
+) -> None:
+    """Few samples: :func:`sample_forces_unchecked` in a loop (numpy's call overhead dominates)."""
+    rows = []
+    for pose, velocity, acceleration in zip(*(array.tolist() for array in inputs), strict=True):
+        values = (*pose, *velocity, *acceleration)
+        if not _plausible(compiled, values):
+            _raise_input_error(compiled, inputs, inputs[0].shape[0])
+        rows.append(sample_forces_unchecked(compiled, *values))
+    table = np.array(rows)
+    for k, name in enumerate(_OUTPUTS):
+        targets[name][...] = table[:, 3 * k : 3 * k + 3]
 
 
 def sample_forces_unchecked(
@@ -867,7 +898,7 @@ def sample_forces_unchecked(
     ddx: float,
     ddy: float,
     ddphi: float,
-) -> tuple[float, float, float, float, float, float, float, float, float]:
+) -> tuple[float, ...]:
     """Inner function of :func:`sample_forces`: NO validation, for a control loop.
 
     The caller guarantees finite floats and ``|sin(φ − π/3)| >= 1e-4``; a
@@ -876,8 +907,9 @@ def sample_forces_unchecked(
 
     Returns
     -------
-    tuple of 9 floats
-        ``f10_A, f10_B, f10_C, f21y_A, f21y_B, f21y_C, f21z_A, f21z_B, f21z_C`` (N).
+    tuple of 12 floats
+        ``f10_A, f10_B, f10_C`` (N), ``p10_A, p10_B, p10_C`` (W),
+        ``f21y_A, f21y_B, f21y_C``, ``f21z_A, f21z_B, f21z_C`` (N).
 
     Examples
     --------
@@ -903,6 +935,12 @@ def sample_forces_unchecked(
     vx = (dx - u * lx) * inv
     vy = (dy - u * ly) * inv
     v1 = -(u * l1 + dphi * p) * inv
+    # eq. (14): λ̇10_i, same rows; Ġ × d_i = (Rot(5π/6 − φ)·Ġ) × n_i
+    rx = (dphi * lx - C * dx - D * dy) * inv
+    ry = (dphi * ly + D * dx - C * dy) * inv
+    r1 = dphi * (l1 - cx) * inv
+    hrx = 0.8660254037844386 * rx
+    half_ry_1 = 0.5 * ry + r1
     # eq. (17): λ̈10_i, same rows; G̈ × d_i = (Rot(5π/6 − φ)·G̈) × n_i
     tx = D * ddx - C * ddy
     ty = C * ddx + D * ddy
@@ -953,10 +991,16 @@ def sample_forces_unchecked(
     yB = yn - nb - CT3
     yC = yn - nc + CT3
     # eq. (23)
+    fA = zA + m1 * gam_A - pa
+    fB = zB + m1 * gam_B - pb
+    fC = zC + m1 * gam_C - pc
     return (
-        zA + m1 * gam_A - pa,
-        zB + m1 * gam_B - pb,
-        zC + m1 * gam_C - pc,
+        fA,
+        fB,
+        fC,
+        fA * (half_ry_1 - hrx),  # p10 = f10·λ̇10
+        fB * (r1 - ry),
+        fC * (half_ry_1 + hrx),
         yA,
         yB,
         yC,

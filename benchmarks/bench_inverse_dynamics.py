@@ -1,0 +1,538 @@
+#!/usr/bin/env python
+"""Actuator forces ``f10`` of the paper's motions by prp3, MuJoCo and Pinocchio: speed and memory.
+
+Run from the repository root (``pip install -e ".[bench]"`` for the engines)::
+
+    python benchmarks/bench_inverse_dynamics.py            # full run, a few minutes
+    python benchmarks/bench_inverse_dynamics.py --quick    # smaller sizes, ~30 s
+
+Methods, all on the same samples of the paper's ``vertical`` and ``rotation``
+motions (eq. 4) resampled to N samples:
+
+* ``prp3 fused`` — :func:`prp3.fast.paper_forces`, the paper's method fused
+  (numpy, chunked); single sample: :func:`prp3.fast.sample_forces` (math module).
+* ``prp3 paper`` — ``prp3.inverse_dynamics(robot, motion, "paper")``: the
+  reference implementation (inverse kinematics + :func:`prp3.paper_method`).
+* ``prp3 newton-euler`` — ``inverse_dynamics(..., "newton-euler")``: 21×21
+  solve per sample (N ≤ ``--ne-max``: its ``(N, 21, 21)`` system needs 3.5 GB
+  per 10⁶ samples, twice during the solve).
+* ``mujoco``, ``pinocchio`` — ``benchmarks/peers.py``: closed-chain inverse
+  dynamics per sample in a Python loop (mass matrix/RNEA, bias forces,
+  constraint Jacobian, 9×9 solve); the tree coordinates are prepared
+  vectorized and untimed (N ≤ ``--peers-max``).  Skipped when ``peers.py`` or
+  an engine is missing.
+
+Printed: samples per second for each N (median of repeats, both motions) and
+the speed-up of prp3 fused over each method; microseconds per single-sample
+call (median); the peak memory of one call for each N (a subprocess per
+method and N: ``tracemalloc`` peak of the call and peak RSS of the process);
+the agreement of every method with prp3 fused (max |Δf10| / max |f10| ≤ 1e-8,
+exit status 1 otherwise); the paper's method against Newton–Euler (dynamics
+step alone, and operation counts); the targets of issue 5.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import gc
+import importlib.util
+import inspect
+import json
+import os
+import platform
+import resource
+import statistics
+import subprocess
+import sys
+import textwrap
+import timeit
+import tracemalloc
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import prp3
+from prp3.fast import compile_robot, paper_forces, sample_forces, sample_forces_unchecked
+
+HERE = Path(__file__).resolve().parent
+MOTIONS = ("vertical", "rotation")
+AGREEMENT = 1e-8
+
+
+# ------------------------------------------------------------------ methods
+@dataclass
+class Method:
+    """One way of computing ``f10``: ``prepare`` is untimed, ``run`` is timed."""
+
+    name: str
+    prepare: Callable[[prp3.Motion], Any]
+    run: Callable[[Any], np.ndarray]
+    max_samples: int | None = None
+
+
+def load_peers(robot: prp3.Robot) -> tuple[list[Any], str]:
+    """The peers of ``benchmarks/peers.py`` whose engine imports, and a note."""
+    path = HERE / "peers.py"
+    if not path.exists():
+        return [], "benchmarks/peers.py not found: peers skipped"
+    spec = importlib.util.spec_from_file_location("prp3_bench_peers", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up
+    try:
+        spec.loader.exec_module(module)
+    except ImportError as error:
+        return [], f"peers.py does not import ({error}): peers skipped"
+    found = module.available_peers(robot)
+    missing = {"mujoco", "pinocchio"} - {peer.name for peer in found}
+    return found, (
+        f"engines not installed, skipped: {', '.join(sorted(missing))}" if missing else ""
+    )
+
+
+def methods(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) -> list[Method]:
+    compiled = compile_robot(robot)
+
+    def fused_prepare(motion: prp3.Motion) -> tuple[np.ndarray, ...]:
+        return motion.pose, motion.velocity, motion.acceleration
+
+    def fused(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
+        return paper_forces(compiled, *arrays).f10
+
+    def paper(motion: prp3.Motion) -> np.ndarray:
+        return prp3.inverse_dynamics(robot, motion, "paper")[1].f10
+
+    def newton_euler(motion: prp3.Motion) -> np.ndarray:
+        return prp3.inverse_dynamics(robot, motion, "newton-euler")[1].f10
+
+    def identity(motion: prp3.Motion) -> prp3.Motion:
+        return motion
+
+    found = [
+        Method("prp3 fused", fused_prepare, fused),
+        Method("prp3 paper", identity, paper),
+        Method("prp3 newton-euler", identity, newton_euler, args.ne_max),
+    ]
+    for peer in peers:
+        found.append(Method(peer.name, peer.prepare, peer.forces, args.peers_max))
+    return found
+
+
+def motion_of(name: str, samples: int) -> prp3.Motion:
+    """The paper's motion resampled to ``samples`` (one sample: t = 1 s of 301)."""
+    if samples == 1:
+        return prp3.paper_motion(name, samples=301)[100]
+    return prp3.paper_motion(name, samples=samples)
+
+
+def batch(motion: prp3.Motion) -> prp3.Motion:
+    """A single-sample motion as a batch of one (every method then returns ``(1, 3)``)."""
+    if motion.t.ndim:
+        return motion
+    return prp3.Motion(
+        motion.t[None], motion.pose[None], motion.velocity[None], motion.acceleration[None]
+    )
+
+
+# ------------------------------------------------------------------- timing
+def median_seconds(call: Callable[[], object], repeats: int, budget: float) -> float:
+    """Median time of one call: ``repeats`` timings of enough calls to last ``budget`` s."""
+    timer = timeit.Timer(call)
+    number, total = timer.autorange()  # total ≥ 0.2 s
+    number = max(1, int(number * budget / max(total, 1e-9)))
+    if total > 2.0:  # a slow call: time single calls, at most ``repeats``
+        times = [total / number] + [timer.timeit(1) for _ in range(max(0, repeats - 1))]
+        return statistics.median(times)
+    return statistics.median(timer.repeat(repeat=repeats, number=number)) / number
+
+
+def run_throughput(
+    all_methods: list[Method], sizes: list[int], args: argparse.Namespace
+) -> tuple[dict[tuple[str, int], float], dict[str, float]]:
+    """Samples per second for every method and N, and the agreement of f10 with prp3 fused."""
+    rates: dict[tuple[str, int], float] = {}
+    agreement: dict[str, float] = {}
+    for samples in sizes:
+        for name in MOTIONS:
+            motion = batch(motion_of(name, samples))
+            reference: np.ndarray | None = None
+            for method in all_methods:
+                if method.max_samples is not None and samples > method.max_samples:
+                    continue
+                state = method.prepare(motion)
+                f10 = np.asarray(method.run(state))
+                if reference is None:
+                    reference = f10
+                deviation = float(np.abs(f10 - reference).max() / np.abs(reference).max())
+                agreement[method.name] = max(agreement.get(method.name, 0.0), deviation)
+                gc.collect()
+                seconds = median_seconds(
+                    lambda m=method, s=state: m.run(s), args.repeats, args.budget
+                )
+                rates.setdefault((method.name, samples), 0.0)
+                rates[(method.name, samples)] += samples / seconds / len(MOTIONS)
+                print(
+                    f"  N={samples:>8} {name:<8} {method.name:<18} {samples / seconds:10.4g} samples/s",
+                    file=sys.stderr,
+                    flush=True,
+                )
+                del state, f10
+    return rates, agreement
+
+
+def run_single(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) -> dict[str, float]:
+    """Median microseconds of one single-sample call (the rotation motion at t = 1 s)."""
+    compiled = compile_robot(robot)
+    motion = motion_of("rotation", 1)
+    pose, velocity, acceleration = (
+        motion.pose.tolist(),
+        motion.velocity.tolist(),
+        motion.acceleration.tolist(),
+    )
+    flat = (*pose, *velocity, *acceleration)
+    calls: dict[str, Callable[[], object]] = {
+        "prp3 fused sample_forces (checked)": lambda: sample_forces(
+            compiled, pose, velocity, acceleration
+        ),
+        "prp3 fused sample_forces_unchecked": lambda: sample_forces_unchecked(compiled, *flat),
+        "prp3 fused paper_forces, (3,) arrays": lambda: paper_forces(
+            compiled, motion.pose, motion.velocity, motion.acceleration
+        ),
+        "prp3 paper inverse_dynamics": lambda: prp3.inverse_dynamics(robot, motion, "paper"),
+        "prp3 newton-euler inverse_dynamics": lambda: prp3.inverse_dynamics(
+            robot, motion, "newton-euler"
+        ),
+    }
+    expected = np.asarray(sample_forces(compiled, pose, velocity, acceleration).f10)
+    for peer in peers:
+        prepared = peer.prepare(batch(motion))
+        q, qd, qdd = peer.single_state(prepared, 0)
+        got = np.asarray(peer.single(q, qd, qdd))
+        assert np.abs(got - expected).max() <= AGREEMENT * np.abs(expected).max(), peer.name
+        calls[f"{peer.name} single"] = lambda p=peer, a=(q, qd, qdd): p.single(*a)
+    return {
+        name: 1e6 * median_seconds(call, max(args.repeats, 7), args.budget)
+        for name, call in calls.items()
+    }
+
+
+# ------------------------------------------------------------------- memory
+def child_memory(method_name: str, samples: int, args: argparse.Namespace) -> None:
+    """In a subprocess: peak memory of one call (printed as JSON)."""
+    robot = prp3.Robot()
+    peers = (
+        load_peers(robot)[0]
+        if method_name not in ("prp3 fused", "prp3 paper", "prp3 newton-euler")
+        else []
+    )
+    method = next(m for m in methods(robot, peers, args) if m.name == method_name)
+    motion = batch(motion_of("rotation", samples))
+    state = method.prepare(motion)
+    gc.collect()
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    tracemalloc.start()
+    method.run(state)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux
+    print(json.dumps({"call": peak / 2**20, "rss": rss / 2**10, "rss_before": before / 2**10}))
+
+
+def run_memory(
+    all_methods: list[Method], sizes: list[int], args: argparse.Namespace
+) -> dict[tuple[str, int], dict[str, float]]:
+    found: dict[tuple[str, int], dict[str, float]] = {}
+    for samples in sizes:
+        for method in all_methods:
+            if method.max_samples is not None and samples > method.max_samples:
+                continue
+            command = [sys.executable, __file__, "--child-memory", method.name, str(samples)]
+            command += ["--ne-max", str(args.ne_max), "--peers-max", str(args.peers_max)]
+            done = subprocess.run(command, capture_output=True, text=True, check=False)
+            if done.returncode != 0:
+                print(
+                    f"  memory {method.name} N={samples}: failed: {done.stderr.strip()[-300:]}",
+                    file=sys.stderr,
+                )
+                continue
+            found[(method.name, samples)] = json.loads(done.stdout.strip().splitlines()[-1])
+            print(
+                f"  memory N={samples:>8} {method.name:<18} {found[(method.name, samples)]}",
+                file=sys.stderr,
+                flush=True,
+            )
+    return found
+
+
+# ------------------------------------------------------- paper vs Newton–Euler
+def count_operations(function: Callable[..., object]) -> dict[str, int]:
+    """Arithmetic operations written in a scalar function's source (one sample)."""
+    tree = ast.parse(textwrap.dedent(inspect.getsource(function)))
+    counts = {"add/sub": 0, "mul": 0, "div": 0, "neg": 0, "cos/sin": 0}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp):
+            key = {ast.Add: "add/sub", ast.Sub: "add/sub", ast.Mult: "mul", ast.Div: "div"}.get(
+                type(node.op)
+            )
+            if key:
+                counts[key] += 1
+        elif isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+            counts["neg"] += 1
+        elif (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr in ("cos", "sin")
+        ):
+            counts["cos/sin"] += 1
+    return counts
+
+
+def run_paper_vs_newton_euler(args: argparse.Namespace) -> dict[str, Any]:
+    """Dynamics step alone (kinematics given) of the reference paper method and Newton–Euler."""
+    robot = prp3.Robot()
+    result: dict[str, Any] = {"seconds_per_sample": {}}
+    for samples in (10**3, 10**5) if not args.quick else (10**3, 10**4):
+        motion = prp3.paper_motion("rotation", samples=samples)
+        kin = prp3.inverse_kinematics(robot, motion)
+        for name, solver in (
+            ("paper_method", prp3.paper_method),
+            ("newton_euler", prp3.newton_euler),
+        ):
+            seconds = median_seconds(lambda s=solver, k=kin: s(robot, k), args.repeats, args.budget)
+            result["seconds_per_sample"][(name, samples)] = seconds / samples
+        kin_seconds = median_seconds(
+            lambda m=motion: prp3.inverse_kinematics(robot, m), args.repeats, args.budget
+        )
+        result["seconds_per_sample"][("inverse_kinematics", samples)] = kin_seconds / samples
+    n = 21
+    result["newton_euler_lu_flops"] = round(2 * n**3 / 3 + 2 * n**2)
+    result["fused_counts"] = count_operations(sample_forces_unchecked)
+    return result
+
+
+# ------------------------------------------------------------------- report
+def fmt_rate(value: float) -> str:
+    return f"{value:.3g}"
+
+
+def machine() -> list[str]:
+    model = "?"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    versions = [f"numpy {np.__version__}"]
+    for module in ("mujoco", "pinocchio"):
+        try:
+            versions.append(f"{module} {__import__(module).__version__}")
+        except ImportError:
+            versions.append(f"{module} not installed")
+    load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    return [
+        f"Machine: {model}, {os.cpu_count()} CPUs, {platform.system()} {platform.release()}; load average at start {load}",
+        f"Python {platform.python_version()}, {', '.join(versions)}, prp3 {prp3.__version__}",
+    ]
+
+
+def report(
+    sizes: list[int],
+    all_methods: list[Method],
+    rates: dict[tuple[str, int], float],
+    agreement: dict[str, float],
+    single: dict[str, float],
+    memory: dict[tuple[str, int], dict[str, float]],
+    comparison: dict[str, Any],
+    notes: list[str],
+) -> list[str]:
+    out = [*notes, ""]
+    out.append(
+        "Samples per second (median of repeats, mean over the vertical and rotation motions);"
+    )
+    out.append("in brackets: how many times faster prp3 fused is.")
+    out.append("")
+    out.append("| method | " + " | ".join(f"N = {n:,}" for n in sizes) + " |")
+    out.append("|---|" + "---|" * len(sizes))
+    for method in all_methods:
+        cells = []
+        for n in sizes:
+            rate = rates.get((method.name, n))
+            base = rates.get(("prp3 fused", n))
+            if rate is None:
+                cells.append("—")
+            elif method.name == "prp3 fused":
+                cells.append(fmt_rate(rate))
+            else:
+                cells.append(f"{fmt_rate(rate)} [{base / rate:.3g}×]" if base else fmt_rate(rate))
+        out.append(f"| {method.name} | " + " | ".join(cells) + " |")
+    out.append("")
+    fastest = single.get("prp3 fused sample_forces (checked)", float("nan"))
+    out.append(
+        "Single-sample call (one pose, velocity, acceleration → f10), median µs; ratio to prp3's checked call."
+    )
+    out.append("")
+    out.append("| call | µs | ratio |")
+    out.append("|---|---|---|")
+    for name, micro in single.items():
+        out.append(f"| {name} | {micro:.3g} | {micro / fastest:.3g} |")
+    out.append("")
+    if memory:
+        out.append(
+            "Peak memory of one call on the rotation motion: tracemalloc peak of the call / peak RSS of the"
+        )
+        out.append(
+            "whole process (imports and the input motion included), MiB; ratio of the call peak to prp3 fused."
+        )
+        out.append("")
+        out.append("| method | " + " | ".join(f"N = {n:,}" for n in sizes) + " |")
+        out.append("|---|" + "---|" * len(sizes))
+        for method in all_methods:
+            cells = []
+            for n in sizes:
+                found = memory.get((method.name, n))
+                base = memory.get(("prp3 fused", n))
+                if found is None:
+                    cells.append("—")
+                    continue
+                ratio = (
+                    f" [{found['call'] / base['call']:.3g}×]"
+                    if base and method.name != "prp3 fused" and base["call"] > 0
+                    else ""
+                )
+                cells.append(f"{found['call']:.3g} / {found['rss']:.0f}{ratio}")
+            out.append(f"| {method.name} | " + " | ".join(cells) + " |")
+        out.append("")
+    out.append(
+        f"Agreement of f10 with prp3 fused (max |Δf10| / max |f10| over each motion, required ≤ {AGREEMENT:g}):"
+    )
+    out.append("  " + ", ".join(f"{name} {value:.2g}" for name, value in agreement.items()))
+    out.append("")
+    per = comparison["seconds_per_sample"]
+    out.append(
+        "The paper's claim (fewer operations, less time) — prp3's paper method against its Newton–Euler solver:"
+    )
+    for (name, n), seconds in sorted(per.items(), key=lambda item: (item[0][1], item[0][0])):
+        out.append(f"  N = {n:>7,}: {name:<20} {seconds * 1e6:8.3f} µs per sample")
+    for n in sorted({n for _, n in per}):
+        ratio = per[("newton_euler", n)] / per[("paper_method", n)]
+        out.append(f"  N = {n:>7,}: dynamics step, Newton–Euler / paper method = {ratio:.2f}")
+    counts = comparison["fused_counts"]
+    total = sum(v for k, v in counts.items() if k != "cos/sin")
+    out.append(
+        f"  Operations per sample, fused paper method incl. kinematics (source count of sample_forces_unchecked): "
+        f"{total} ({', '.join(f'{k} {v}' for k, v in counts.items())}); the Newton–Euler solver's dense 21×21 LU "
+        f"solve alone is about {comparison['newton_euler_lu_flops']:,} flops (2n³/3 + 2n²), before assembling the system."
+    )
+    out.append("")
+    out.extend(targets(rates, single, memory))
+    return out
+
+
+def targets(
+    rates: dict[tuple[str, int], float],
+    single: dict[str, float],
+    memory: dict[tuple[str, int], dict[str, float]],
+) -> list[str]:
+    out = ["Targets of issue 5:"]
+    n = 10**5
+    fused = rates.get(("prp3 fused", n))
+    peers = {
+        name: rate
+        for (name, size), rate in rates.items()
+        if size == n and name in ("mujoco", "pinocchio")
+    }
+    if fused is not None:
+        line = f"  batch N = 10⁵: prp3 fused {fused:.3g} samples/s (target ≥ 2e6: {'met' if fused >= 2e6 else 'NOT met'})"
+        if peers:
+            best_name = max(peers, key=lambda k: peers[k])
+            ratio = fused / peers[best_name]
+            line += f"; faster peer {best_name} {peers[best_name]:.3g}/s, ratio {ratio:.3g} (target ≥ 100: {'met' if ratio >= 100 else 'NOT met'})"
+        out.append(line)
+    checked = single.get("prp3 fused sample_forces (checked)")
+    peer_single = {k: v for k, v in single.items() if k.endswith(" single")}
+    if checked is not None:
+        below = all(checked < v for v in peer_single.values())
+        out.append(
+            f"  single sample: prp3 {checked:.3g} µs (target ≤ 10 µs: {'met' if checked <= 10 else 'NOT met'}"
+            + (
+                f"; below every peer's {', '.join(f'{v:.3g}' for v in peer_single.values())} µs: {'met' if below else 'NOT met'}"
+                if peer_single
+                else ""
+            )
+            + ")"
+        )
+    big = memory.get(("prp3 fused", 10**6))
+    if big is not None:
+        out.append(
+            f"  memory N = 10⁶: prp3 fused peak RSS {big['rss']:.0f} MiB (target ≤ 1536 MiB: {'met' if big['rss'] <= 1536 else 'NOT met'})"
+        )
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument(
+        "--quick", action="store_true", help="N = 1, 10³, 10⁴ and short timings (~30 s)"
+    )
+    parser.add_argument(
+        "--sizes", type=int, nargs="+", help="sample counts N (default 1 10³ 10⁵ 10⁶)"
+    )
+    parser.add_argument("--repeats", type=int, default=5, help="timings per method and N (median)")
+    parser.add_argument(
+        "--budget", type=float, default=0.2, help="seconds per timing of fast calls"
+    )
+    parser.add_argument(
+        "--peers-max", type=int, default=10**5, help="largest N for the engines' Python loops"
+    )
+    parser.add_argument(
+        "--ne-max", type=int, default=10**5, help="largest N for prp3's Newton–Euler solver"
+    )
+    parser.add_argument("--no-peers", action="store_true", help="prp3 only")
+    parser.add_argument(
+        "--no-memory", action="store_true", help="skip the peak-memory subprocesses"
+    )
+    parser.add_argument("--child-memory", nargs=2, metavar=("METHOD", "N"), help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.quick:
+        args.repeats, args.budget = 3, 0.05
+    if args.child_memory:
+        child_memory(args.child_memory[0], int(args.child_memory[1]), args)
+        return 0
+    sizes = args.sizes or ([1, 10**3, 10**4] if args.quick else [1, 10**3, 10**5, 10**6])
+    robot = prp3.Robot()
+    notes = machine()
+    peers, note = ([], "peers skipped (--no-peers)") if args.no_peers else load_peers(robot)
+    if note:
+        notes.append(note)
+    notes.append(
+        f"Command: python benchmarks/bench_inverse_dynamics.py {' '.join(argv if argv is not None else sys.argv[1:])}".rstrip()
+    )
+    all_methods = methods(robot, peers, args)
+    print("timing batches ...", file=sys.stderr)
+    rates, agreement = run_throughput(all_methods, sizes, args)
+    print("timing single samples ...", file=sys.stderr)
+    single = run_single(robot, peers, args)
+    memory = {}
+    if not args.no_memory:
+        print("measuring peak memory ...", file=sys.stderr)
+        memory = run_memory(all_methods, sizes, args)
+    print("paper method vs Newton–Euler ...", file=sys.stderr)
+    comparison = run_paper_vs_newton_euler(args)
+    print(
+        "\n".join(report(sizes, all_methods, rates, agreement, single, memory, comparison, notes))
+    )
+    bad = {name: value for name, value in agreement.items() if not value <= AGREEMENT}
+    if bad:
+        print(f"DISAGREEMENT beyond {AGREEMENT:g}: {bad}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
