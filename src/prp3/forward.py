@@ -1,0 +1,879 @@
+"""Direct problems: forward geometry, forward kinematics and forward dynamics.
+
+The paper solves the inverse problems only (pose → actuators → forces).  This
+module solves the direct ones, each by a route that the tests hold against the
+inverse problems of :mod:`prp3.geometry`, :mod:`prp3.kinematics` and
+:mod:`prp3.dynamics`.
+
+Forward geometry in closed form
+-------------------------------
+Per leg, with ``s_i = l0/√3 + λ10_i``, the closure (eq. 10)
+``G − B_i0 − s_i·e_i − Rot(α_i+φ)·c = λ32_i·d_i`` crossed with ``d_i`` removes
+the passive ``λ32_i``:
+
+    G × d_i = B_i0 × d_i + s_i·(e_i × d_i) + Rot(α_i+φ)c × d_i
+            = l0·cos φ + s_i·sin(φ − π/3) − l0/2                      (i)
+
+(``B_i0 × d_i = l0·cos φ`` and ``Rot(α_i+φ)c × d_i = c × u(−π/3) = −l0/2``
+for the three legs).  The three ``d_i`` are unit vectors 120° apart, so
+``Σ d_i = 0`` and the sum of (i) eliminates ``G``:
+``3·l0·cos φ + Σs_i·sin(φ − π/3) − 3·l0/2 = 0``.  With ``ψ = φ − π/3`` this
+factors as
+
+    2·sin(ψ/2)·[(Σs_i − 3√3·l0/2)·cos(ψ/2) − (3·l0/2)·sin(ψ/2)] = 0,
+
+so either ``ψ = 0`` (the singular orientation, see below) or
+
+    tan(ψ/2) = 2·Σλ10/(3·l0) − 1/√3,      φ = π/3 + 2·atan(…)        (ii)
+
+— one orientation per 2π, in closed form (no iteration, nothing to miss).  With
+``d⊥_i = J·d_i``, ``G × d_i = −d⊥_i·G`` and ``Σ d⊥_i d⊥_iᵀ = (3/2)·1``, the
+three equations (i) give
+
+    G = −(2/3)·sin(φ − π/3)·Σ_i λ10_i·d⊥_i                              (iii)
+
+Assembly modes.  For every ``λ10`` there is exactly one regular assembly (ii,
+iii).  Its *aspect* — the sign of ``sin(φ − π/3)`` — is ``−1`` when
+``Σλ10 < √3·l0/2`` (the aspect of the central configuration) and ``+1`` above.
+Besides it, the singular pose ``(0, 0, π/3)`` — the platform triangle lying on
+the base triangle, every sleeve on its actuator's line — assembles for *every*
+``λ10`` (:data:`DEGENERATE_ASSEMBLY`): it is the root ``ψ = 0`` of the factored
+equation; it is not a pose prp3 computes with (``|sin(φ − π/3)| = 0``).
+
+Forward kinematics and dynamics
+-------------------------------
+With the Jacobian ``J = ∂λ10/∂(x, y, φ)`` (:func:`prp3.kinematics.jacobian`,
+from eq. 14), ``q̇ = J⁻¹·λ̇10`` and ``q̈ = J⁻¹·(λ̈10 − J̇·q̇)``, where ``J̇·q̇`` is
+the ``λ̈10`` of eq. (17) at zero platform acceleration.  The actuator forces
+are affine in the platform acceleration, ``f10 = A(q)·q̈ + b(q, q̇)``: ``b``
+is ``f10`` of the inverse dynamics (eq. 23) at ``q̈ = 0`` and the columns of
+``A`` are ``f10(q̈ = unit) − b``.  ``M = Jᵀ·A`` is the (symmetric, positive
+definite) mass matrix in platform coordinates, because
+``Σ f10·λ̇10 = q̇ᵀ·(M·q̈ + h)`` with ``h = Jᵀ·b``.  :func:`forward_dynamics`
+integrates ``q̈ = A⁻¹·(f10(t) − b)`` with ``scipy.integrate.solve_ivp``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .dynamics import InverseDynamics, paper_method
+from .errors import (
+    ParameterError,
+    Prp3Error,
+    SingularPoseError,
+    TrajectoryError,
+    UnreachablePoseError,
+)
+from .geometry import (
+    LEGS,
+    SINGULARITY_THRESHOLD,
+    InverseGeometry,
+    inverse_geometry,
+    perp,
+    singularity_measure,
+)
+from .kinematics import Kinematics, inverse_kinematics, jacobian
+from .model import Limits, Robot
+from .motion import Motion
+
+__all__ = [
+    "DEGENERATE_ASSEMBLY",
+    "SINGULARITY_STOP",
+    "ActuatorForces",
+    "ForwardDynamics",
+    "ForwardGeometry",
+    "PlatformDynamics",
+    "forward_acceleration",
+    "forward_dynamics",
+    "forward_geometry",
+    "forward_kinematics",
+    "forward_velocity",
+    "orientation_from_sum",
+    "platform_dynamics",
+    "sum_from_orientation",
+]
+
+FloatArray = NDArray[np.float64]
+ForceFunction = Callable[[float], ArrayLike]
+Status = Literal["completed", "singular", "stroke", "failed"]
+
+#: The singular pose ``(x, y, φ) = (0, 0, π/3)`` that assembles for every ``λ10``.
+DEGENERATE_ASSEMBLY: tuple[float, float, float] = (0.0, 0.0, math.pi / 3.0)
+
+#: :func:`forward_dynamics` stops when ``|sin(φ − π/3)|`` falls to this value
+#: (twice :data:`~prp3.geometry.SINGULARITY_THRESHOLD`, so that the stop pose
+#: itself is still one prp3 computes with).
+SINGULARITY_STOP: float = 2.0 * SINGULARITY_THRESHOLD
+
+_SQRT3 = math.sqrt(3.0)
+
+
+# --------------------------------------------------------------------- helpers
+def _float_array(name: str, value: ArrayLike) -> FloatArray:
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TrajectoryError(f"{name} must be an array of numbers, got {value!r}") from None
+    return array
+
+
+def _per_leg(name: str, value: ArrayLike) -> FloatArray:
+    """Validate ``(3,)`` or ``(N, 3)`` finite values of the three actuators."""
+    array = _float_array(name, value)
+    if array.ndim not in (1, 2) or array.shape[-1] != 3:
+        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
+    flat = array.reshape(-1, 3)
+    bad = ~np.isfinite(flat)
+    if bad.any():
+        index, leg = np.argwhere(bad)[0].tolist()
+        raise TrajectoryError(
+            f"{name}: non-finite value at sample {index}, leg {LEGS[leg]}: "
+            f"{float(flat[index, leg])!r}"
+        )
+    return array
+
+
+def _same_shape(name: str, array: FloatArray, reference: FloatArray, other: str) -> None:
+    if array.shape != reference.shape:
+        raise TrajectoryError(
+            f"{name} must have the shape of {other} {reference.shape}, got {array.shape}"
+        )
+
+
+def _without_limits(robot: Robot) -> Robot:
+    """The same robot with no stroke or force limit (the dynamics do not use them)."""
+    if robot.limits == Limits():
+        return robot
+    return replace(robot, limits=Limits())
+
+
+def _dummy_times(batch: tuple[int, ...]) -> FloatArray:
+    """Strictly increasing placeholder times for a Motion used as a batch of states."""
+    if batch == ():
+        return np.asarray(0.0)
+    return np.arange(float(batch[0]))
+
+
+# ------------------------------------------------------------ forward geometry
+def orientation_from_sum(l0: float, sum_lambda10: ArrayLike) -> FloatArray:
+    """Platform orientation ``φ`` from ``Σλ10``, eq. (ii) of the module notes.
+
+    ``φ = π/3 + 2·atan(2·Σλ10/(3·l0) − 1/√3)``, wrapped to ``(−π, π]`` (rad).
+    The orientation depends on the sum of the three actuator displacements
+    only; ``Σλ10 = √3·l0/2`` gives the singular orientation ``π/3``.
+
+    Parameters
+    ----------
+    l0 : float
+        Circumradius of the triangles (m).
+    sum_lambda10 : array_like, shape (...)
+        ``λ10_A + λ10_B + λ10_C`` (m).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``φ`` (rad).
+
+    >>> round(float(orientation_from_sum(0.3, 0.0)), 15)   # central configuration
+    0.0
+    """
+    total = np.asarray(sum_lambda10, dtype=np.float64)
+    psi = 2.0 * np.arctan(2.0 * total / (3.0 * l0) - 1.0 / _SQRT3)  # (ii), ψ in (−π, π)
+    phi = math.pi / 3.0 + psi  # in (−2π/3, 4π/3)
+    return np.asarray(np.where(phi > math.pi, phi - 2.0 * math.pi, phi))
+
+
+def sum_from_orientation(l0: float, phi: ArrayLike) -> FloatArray:
+    """``Σλ10 = (3·l0/2)·(tan((φ − π/3)/2) + 1/√3)``, the inverse of :func:`orientation_from_sum`.
+
+    Infinite at ``φ ≡ −2π/3 (mod 2π)``, the other singular orientation.
+
+    >>> round(float(sum_from_orientation(0.3, math.pi / 3.0)), 12)   # √3·l0/2
+    0.259807621135
+    """
+    phi = np.asarray(phi, dtype=np.float64)
+    return np.asarray(1.5 * l0 * (np.tan((phi - math.pi / 3.0) / 2.0) + 1.0 / _SQRT3))
+
+
+@dataclass(frozen=True)
+class ForwardGeometry:
+    """The regular assembly of the platform for given actuator displacements.
+
+    Shapes follow the input: ``...`` is ``()`` for one sample ``(3,)``, ``(N,)``
+    for ``(N, 3)``.
+
+    Attributes
+    ----------
+    lambda10 : ndarray (..., 3)
+        The given actuator displacements (m).
+    pose : ndarray (..., 3)
+        ``(x, y, φ)`` of the regular assembly (m, m, rad), ``φ`` in ``(−π, π]``.
+    aspect : ndarray of int (...)
+        Assembly mode: the sign of ``sin(φ − π/3)``; ``−1`` for
+        ``Σλ10 < √3·l0/2`` (the aspect of the central configuration), ``+1``
+        above.  (The singular :data:`DEGENERATE_ASSEMBLY` also assembles; it
+        is not listed.)
+    geometry : InverseGeometry
+        Inverse geometry of :attr:`pose` (``λ32``, joints, levers, ...); its
+        ``lambda10`` reproduces the input to round-off.
+    """
+
+    lambda10: FloatArray
+    pose: FloatArray
+    aspect: NDArray[np.int64]
+    geometry: InverseGeometry
+
+
+def forward_geometry(robot: Robot, lambda10: ArrayLike) -> ForwardGeometry:
+    """Solve the forward geometric problem in closed form: ``λ10`` → ``(x, y, φ)``.
+
+    Parameters
+    ----------
+    robot : Robot
+        Robot parameters (``l0`` and ``limits.stroke`` are used).
+    lambda10 : array_like, shape (3,) or (N, 3)
+        Actuator displacements ``λ10_A, λ10_B, λ10_C`` (m).
+
+    Returns
+    -------
+    ForwardGeometry
+        The unique regular assembly: ``φ`` from eq. (ii), ``G`` from eq. (iii)
+        of the module notes (both from the closure, eq. 10).
+
+    Raises
+    ------
+    TrajectoryError
+        Wrong shape or non-finite value.
+    UnreachablePoseError
+        A displacement outside ``robot.limits.stroke`` (names sample and leg).
+    SingularPoseError
+        The assembly is singular, ``|sin(φ − π/3)| < 1e-4`` (``Σλ10`` within
+        about ``1e-4·l0`` of ``√3·l0/2``).
+
+    Examples
+    --------
+    >>> robot = Robot()
+    >>> lam = inverse_geometry(robot, [0.01, -0.02, 0.1]).lambda10
+    >>> solution = forward_geometry(robot, lam)
+    >>> solution.pose.round(12).tolist(), int(solution.aspect)
+    ([0.01, -0.02, 0.1], -1)
+    """
+    lam = _per_leg("lambda10", lambda10)
+    _check_stroke(robot, lam)
+    l0 = robot.l0
+    total = lam.sum(axis=-1)
+    phi = orientation_from_sum(l0, total)  # eq. (ii)
+    D = singularity_measure(phi)  # sin(φ − π/3)
+    near = np.abs(D.reshape(-1)) < SINGULARITY_THRESHOLD
+    if near.any():
+        index = int(np.argmax(near))
+        raise SingularPoseError(
+            f"lambda10: sample {index} {lam.reshape(-1, 3)[index].tolist()!r} assembles only "
+            f"at a singular pose (phi = {float(phi.reshape(-1)[index])!r}, "
+            f"|sin(phi - pi/3)| = {abs(float(D.reshape(-1)[index])):.3g} < "
+            f"{SINGULARITY_THRESHOLD:g}): sum of lambda10 = {float(total.reshape(-1)[index])!r} m "
+            f"is at the singular value sqrt(3)*l0/2 = {_SQRT3 * l0 / 2.0!r} m"
+        )
+    theta = np.asarray(phi)[..., None] + np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
+    d_perp = perp(np.stack([np.cos(theta - math.pi / 3.0), np.sin(theta - math.pi / 3.0)], -1))
+    G = -(2.0 / 3.0) * D[..., None] * (lam[..., None] * d_perp).sum(axis=-2)  # eq. (iii)
+    pose = np.concatenate([G, np.asarray(phi)[..., None]], axis=-1)
+    return ForwardGeometry(
+        lambda10=lam,
+        pose=pose,
+        aspect=np.sign(D).astype(np.int64),
+        geometry=inverse_geometry(_without_limits(robot), pose),
+    )
+
+
+def _check_stroke(robot: Robot, lam: FloatArray) -> None:
+    stroke = robot.limits.stroke
+    if stroke is None:
+        return
+    lower, upper = stroke
+    flat = lam.reshape(-1, 3)
+    outside = (flat < lower) | (flat > upper)
+    if outside.any():
+        index, leg = np.argwhere(outside)[0].tolist()
+        raise UnreachablePoseError(
+            f"lambda10: sample {index}: lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m "
+            f"is outside the stroke [{lower!r}, {upper!r}] m"
+        )
+
+
+# ---------------------------------------------------------- forward kinematics
+def forward_velocity(robot: Robot, pose: ArrayLike, dlambda10: ArrayLike) -> FloatArray:
+    """Platform velocity ``(ẋ, ẏ, φ̇) = J⁻¹·λ̇10`` (eq. 14 solved for the platform).
+
+    Parameters
+    ----------
+    robot : Robot
+    pose : array_like, shape (3,) or (N, 3)
+        Platform poses (m, m, rad).
+    dlambda10 : array_like, same shape as ``pose``
+        Actuator velocities (m/s).
+
+    Returns
+    -------
+    ndarray, same shape as ``pose``
+        ``(ẋ, ẏ, φ̇)`` (m/s, m/s, rad/s).
+
+    Equal actuator speeds turn the platform about ``G`` (``Σλ̇10 = l0·φ̇`` at ``φ = 0``):
+
+    >>> (forward_velocity(Robot(), [0.0, 0.0, 0.0], [0.01, 0.01, 0.01]).round(12) + 0.0).tolist()
+    [0.0, 0.0, 0.1]
+    """
+    geo = inverse_geometry(robot, pose)
+    rates = _per_leg("dlambda10", dlambda10)
+    _same_shape("dlambda10", rates, geo.pose, "pose")
+    return np.asarray(np.linalg.solve(jacobian(geo), rates[..., None])[..., 0])
+
+
+def forward_acceleration(
+    robot: Robot, pose: ArrayLike, velocity: ArrayLike, ddlambda10: ArrayLike
+) -> FloatArray:
+    """Platform acceleration ``q̈ = J⁻¹·(λ̈10 − J̇·q̇)`` (eq. 17 solved for the platform).
+
+    ``J̇·q̇`` is the actuator acceleration of eq. (17) at zero platform
+    acceleration (:func:`~prp3.kinematics.inverse_kinematics` with ``q̈ = 0``).
+
+    Parameters
+    ----------
+    robot : Robot
+    pose, velocity : array_like, shape (3,) or (N, 3)
+        Platform poses and velocities ``(ẋ, ẏ, φ̇)``.
+    ddlambda10 : array_like, same shape
+        Actuator accelerations (m/s²).
+
+    Returns
+    -------
+    ndarray, same shape as ``pose``
+        ``(ẍ, ÿ, φ̈)`` (m/s², m/s², rad/s²).
+    """
+    pose_array = _float_array("pose", pose)
+    accelerations = _per_leg("ddlambda10", ddlambda10)
+    speed = _per_leg("velocity", velocity)
+    _same_shape("velocity", speed, pose_array, "pose")
+    _same_shape("ddlambda10", accelerations, pose_array, "pose")
+    still = Motion(
+        t=_dummy_times(pose_array.shape[:-1]),
+        pose=pose_array,
+        velocity=speed,
+        acceleration=np.zeros_like(pose_array),
+    )
+    kin = inverse_kinematics(robot, still)
+    bias = kin.ddlambda10  # J̇·q̇, eq. (17) with q̈ = 0
+    return np.asarray(np.linalg.solve(kin.jacobian, (accelerations - bias)[..., None])[..., 0])
+
+
+def forward_kinematics(
+    robot: Robot,
+    t: ArrayLike,
+    lambda10: ArrayLike,
+    dlambda10: ArrayLike,
+    ddlambda10: ArrayLike,
+) -> Motion:
+    """Platform motion from the actuator displacements, velocities and accelerations.
+
+    Chains :func:`forward_geometry`, :func:`forward_velocity` and
+    :func:`forward_acceleration`; the inverse of
+    :func:`~prp3.kinematics.inverse_kinematics` (their round trip is tested).
+
+    Parameters
+    ----------
+    robot : Robot
+    t : array_like, shape (N,) or ()
+        Sample times (s), strictly increasing.
+    lambda10, dlambda10, ddlambda10 : array_like, shape (N, 3) or (3,)
+        Actuator displacements (m), velocities (m/s), accelerations (m/s²).
+
+    Returns
+    -------
+    Motion
+
+    Examples
+    --------
+    >>> from prp3.motion import paper_motion
+    >>> robot = Robot()
+    >>> kin = inverse_kinematics(robot, paper_motion("rotation", samples=5))
+    >>> motion = forward_kinematics(robot, kin.motion.t, kin.geometry.lambda10,
+    ...                             kin.dlambda10, kin.ddlambda10)
+    >>> bool(np.allclose(motion.acceleration, kin.motion.acceleration, atol=1e-12))
+    True
+    """
+    solution = forward_geometry(robot, lambda10)
+    velocity = forward_velocity(robot, solution.pose, dlambda10)
+    acceleration = forward_acceleration(robot, solution.pose, velocity, ddlambda10)
+    return Motion(
+        t=_float_array("t", t), pose=solution.pose, velocity=velocity, acceleration=acceleration
+    )
+
+
+# ------------------------------------------------------------- forward dynamics
+@dataclass(frozen=True)
+class PlatformDynamics:
+    """Equations of motion in platform coordinates ``q = (x, y, φ)``.
+
+    ``f10 = force_matrix·q̈ + force_bias`` and, multiplied by ``Jᵀ``,
+    ``Jᵀ·f10 = mass_matrix·q̈ + bias`` (virtual work of the actuators).
+
+    Attributes
+    ----------
+    force_matrix : ndarray (..., 3, 3)
+        ``A = ∂f10/∂q̈`` (N per m/s², N per rad/s²); depends on ``q`` only.
+    force_bias : ndarray (..., 3)
+        ``b = f10`` at ``q̈ = 0`` (N): gravity and velocity terms (eq. 23).
+    mass_matrix : ndarray (..., 3, 3)
+        ``M = Jᵀ·A``, symmetric positive definite (kg, kg·m, kg·m²).
+    bias : ndarray (..., 3)
+        ``h = Jᵀ·b`` (N, N, N·m).
+    jacobian : ndarray (..., 3, 3)
+        ``J = ∂λ10/∂q``.
+    """
+
+    force_matrix: FloatArray
+    force_bias: FloatArray
+    mass_matrix: FloatArray
+    bias: FloatArray
+    jacobian: FloatArray
+
+
+def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> PlatformDynamics:
+    """Build ``f10 = A(q)·q̈ + b(q, q̇)`` from the inverse dynamics (eq. 23).
+
+    The actuator forces are affine in the platform acceleration, so four
+    evaluations of :func:`~prp3.dynamics.paper_method` per state — at
+    ``q̈ = 0`` and at the three unit accelerations, one batch of ``4·N``
+    samples — give ``b`` and the columns of ``A``.
+
+    Parameters
+    ----------
+    robot : Robot
+    pose, velocity : array_like, shape (3,) or (N, 3)
+        Platform states.
+
+    Returns
+    -------
+    PlatformDynamics
+
+    Examples
+    --------
+    >>> eq = platform_dynamics(Robot(), [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+    >>> bool(np.allclose(eq.mass_matrix, eq.mass_matrix.T, atol=1e-12))
+    True
+    >>> eq.force_bias.round(4).tolist()   # the static forces of the central configuration
+    [31.8589, -8.4957, -23.3632]
+    """
+    q = _check_state("pose", pose)
+    qdot = _float_array("velocity", velocity)
+    _same_shape("velocity", qdot, q, "pose")
+    batch = q.shape[:-1]
+    flat_q = np.repeat(q.reshape(-1, 1, 3), 4, axis=1)  # (n, 4, 3)
+    flat_v = np.repeat(qdot.reshape(-1, 1, 3), 4, axis=1)
+    unit = np.zeros((4, 3))
+    unit[1:] = np.eye(3)  # q̈ = 0, e_x, e_y, e_φ
+    flat_a = np.broadcast_to(unit, flat_q.shape)
+    count = flat_q.shape[0] * 4
+    motion = Motion(
+        t=np.arange(float(count)),
+        pose=flat_q.reshape(count, 3),
+        velocity=flat_v.reshape(count, 3),
+        acceleration=flat_a.reshape(count, 3),
+    )
+    kin = inverse_kinematics(robot, motion)
+    f10 = paper_method(robot, kin).f10.reshape(-1, 4, 3)  # eq. (23)
+    b = f10[:, 0, :]
+    A = np.swapaxes(f10[:, 1:, :] - b[:, None, :], -1, -2)  # column k = f10(e_k) − b
+    J = kin.jacobian.reshape(-1, 4, 3, 3)[:, 0]
+    Jt = np.swapaxes(J, -1, -2)
+    return PlatformDynamics(
+        force_matrix=A.reshape(*batch, 3, 3),
+        force_bias=b.reshape(*batch, 3),
+        mass_matrix=(Jt @ A).reshape(*batch, 3, 3),
+        bias=(Jt @ b[..., None])[..., 0].reshape(*batch, 3),
+        jacobian=J.reshape(*batch, 3, 3),
+    )
+
+
+def _check_state(name: str, value: ArrayLike) -> FloatArray:
+    """Validate platform poses ``(3,)``/``(N, 3)`` (finite, not singular); return them."""
+    array = _float_array(name, value)
+    if array.ndim not in (1, 2) or array.shape[-1] != 3:
+        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
+    if not np.isfinite(array).all():
+        raise TrajectoryError(f"{name} must be finite, got {array.tolist()!r}")
+    return array
+
+
+@dataclass(frozen=True)
+class ActuatorForces:
+    """Sampled actuator force histories ``f10(t)``, interpolated by a cubic spline.
+
+    Between the samples the forces follow the not-a-knot cubic spline through
+    them (``scipy.interpolate.CubicSpline``; a straight line for 2 samples):
+    smooth, and exact at the samples.
+
+    Attributes
+    ----------
+    t : ndarray (N,)
+        Sample times (s), strictly increasing, ``N >= 2``.
+    f10 : ndarray (N, 3)
+        Forces of actuators A, B, C on their pistons along ``+e_i`` (N).
+
+    Examples
+    --------
+    >>> forces = ActuatorForces(t=[0.0, 1.0, 2.0], f10=[[0, 0, 0], [1, 2, 3], [2, 4, 6]])
+    >>> forces(0.5).tolist()
+    [0.5, 1.0, 1.5]
+    """
+
+    t: FloatArray
+    f10: FloatArray
+    _spline: Any = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        t = _float_array("forces: t", self.t)
+        f10 = _float_array("forces: f10", self.f10)
+        if t.ndim != 1 or t.size < 2:
+            raise TrajectoryError(f"forces: t must have shape (N,) with N >= 2, got {t.shape}")
+        if f10.shape != (t.size, 3):
+            raise TrajectoryError(f"forces: f10 must have shape ({t.size}, 3), got {f10.shape}")
+        if not np.isfinite(t).all():
+            raise TrajectoryError(f"forces: t[{int(np.argmax(~np.isfinite(t)))}] is not finite")
+        bad = ~np.isfinite(f10)
+        if bad.any():
+            index, leg = np.argwhere(bad)[0].tolist()
+            raise TrajectoryError(f"forces: f10_{LEGS[leg]}[{index}] is not finite")
+        steps = np.diff(t)
+        if (steps <= 0).any():
+            index = int(np.argmax(steps <= 0)) + 1
+            raise TrajectoryError(
+                f"forces: time must be strictly increasing; t[{index}] = {float(t[index])!r} "
+                f"follows t[{index - 1}] = {float(t[index - 1])!r}"
+            )
+        from scipy.interpolate import CubicSpline
+
+        t.flags.writeable = False
+        f10.flags.writeable = False
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "f10", f10)
+        object.__setattr__(self, "_spline", CubicSpline(t, f10, axis=0))
+
+    def __call__(self, time: float) -> FloatArray:
+        """Forces ``(3,)`` at ``time`` (s), within ``[t[0], t[-1]]``."""
+        return np.asarray(self._spline(time), dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class ForwardDynamics:
+    """Platform motion integrated from actuator forces.
+
+    Attributes
+    ----------
+    motion : Motion
+        Samples at the requested times up to the stop; when the integration
+        stopped early, the stop instant is the last sample.  The acceleration
+        is the model's ``A⁻¹·(f10 − b)`` at each sample.
+    kinematics : Kinematics
+        Inverse kinematics of :attr:`motion` (stroke limits not applied).
+    dynamics : InverseDynamics
+        Inverse dynamics of :attr:`motion` (paper's method); its ``f10``
+        reproduces the input forces (see :attr:`force_residual`).
+    status : {"completed", "singular", "stroke", "failed"}
+        ``"completed"``: reached the last requested time.  ``"singular"``:
+        ``|sin(φ − π/3)|`` fell to :data:`SINGULARITY_STOP`.  ``"stroke"``: an
+        actuator reached an end of ``limits.stroke``.  ``"failed"``: the
+        integrator gave up (its message is in :attr:`message`).
+    message : str
+        One line saying what happened.
+    t_stop : float
+        Last time reached (s).
+    evaluations : int
+        Evaluations of the equations of motion by the integrator.
+    force_residual : float
+        ``max |f10(inverse dynamics of motion) − f10(input)|`` over the samples (N).
+    """
+
+    motion: Motion
+    kinematics: Kinematics
+    dynamics: InverseDynamics
+    status: Status
+    message: str
+    t_stop: float
+    evaluations: int
+    force_residual: float
+
+
+def forward_dynamics(
+    robot: Robot,
+    forces: ActuatorForces | ForceFunction,
+    t: ArrayLike,
+    initial_pose: ArrayLike,
+    initial_velocity: ArrayLike,
+    *,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+) -> ForwardDynamics:
+    """Integrate the platform motion driven by the actuator forces ``f10(t)``.
+
+    The state ``(x, y, φ, ẋ, ẏ, φ̇)`` obeys ``q̈ = A(q)⁻¹·(f10(t) − b(q, q̇))``
+    (:func:`platform_dynamics`), integrated by ``scipy.integrate.solve_ivp``
+    with the explicit Runge–Kutta method ``DOP853``.  Terminal events stop the
+    integration when ``|sin(φ − π/3)|`` falls to :data:`SINGULARITY_STOP` or,
+    with ``robot.limits.stroke``, when an actuator reaches an end of its
+    stroke.  The result then holds the motion up to the stop and says why.
+
+    Parameters
+    ----------
+    robot : Robot
+    forces : ActuatorForces or callable
+        Sampled forces (cubic spline between samples) or a function
+        ``f10(t) -> (3,)`` (N).
+    t : array_like, shape (N,)
+        Output times (s), strictly increasing, ``N >= 2``; the integration runs
+        from ``t[0]`` to ``t[-1]``, within the samples of ``forces``.
+    initial_pose, initial_velocity : array_like, shape (3,)
+        State at ``t[0]``: ``(x, y, φ)`` and ``(ẋ, ẏ, φ̇)``; the pose must be
+        within the strokes and farther than :data:`SINGULARITY_STOP` from the
+        singularity.
+    rtol, atol : float
+        Tolerances of ``solve_ivp`` (relative; absolute in m, rad, m/s, rad/s).
+
+    Returns
+    -------
+    ForwardDynamics
+
+    Raises
+    ------
+    TrajectoryError
+        Bad times or initial state.
+    SingularPoseError, UnreachablePoseError
+        Initial pose singular (closer than ``SINGULARITY_STOP``) or outside the strokes.
+    ParameterError
+        Times outside the force samples; a sampled force beyond
+        ``limits.max_force``; non-positive tolerances.
+
+    Notes
+    -----
+    Trial states that the integrator probes beyond the singular stop, where
+    prp3 refuses to compute (``|sin(φ − π/3)| < 1e-4``), get a NaN derivative:
+    the Runge–Kutta step is then rejected and retried with a smaller step
+    (scipy's step control shrinks the step by its minimum factor when the
+    error estimate is not a number).  A test drives the robot into the
+    singularity to keep this honest.
+
+    Examples
+    --------
+    >>> robot = Robot(gravity=(0.0, 0.0))
+    >>> still = forward_dynamics(robot, lambda t: np.zeros(3), [0.0, 1.0],
+    ...                          [0.0, 0.0, 0.0], [0.01, 0.0, 0.0])
+    >>> still.status, still.motion.pose[-1].round(9).tolist()   # drifts at constant speed
+    ('completed', [0.01, 0.0, 0.0])
+    """
+    from scipy.integrate import solve_ivp
+
+    times = _float_array("t", t)
+    if times.ndim != 1 or times.size < 2:
+        raise TrajectoryError(f"t must have shape (N,) with N >= 2, got {times.shape}")
+    if not np.isfinite(times).all() or (np.diff(times) <= 0).any():
+        raise TrajectoryError("t must be finite and strictly increasing")
+    for name, value in (("rtol", rtol), ("atol", atol)):
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+            raise ParameterError(f"{name} must be a positive number, got {value!r}")
+    q0 = _check_state("initial_pose", initial_pose)
+    v0 = _float_array("initial_velocity", initial_velocity)
+    if q0.shape != (3,) or v0.shape != (3,) or not np.isfinite(v0).all():
+        raise TrajectoryError(
+            "initial_pose and initial_velocity must be 3 finite numbers each, "
+            f"got {q0.tolist()!r} and {v0.tolist()!r}"
+        )
+    inverse_geometry(robot, q0)  # refuses a singular or out-of-stroke initial pose
+    D0 = float(singularity_measure(q0[2]))
+    if abs(D0) <= SINGULARITY_STOP:
+        raise SingularPoseError(
+            f"initial_pose {q0.tolist()!r} is too near the singularity: |sin(phi - pi/3)| = "
+            f"{abs(D0):.3g} <= {SINGULARITY_STOP:g}"
+        )
+    force_of = _force_function(robot, forces, times)
+    free = _without_limits(robot)
+    aspect = math.copysign(1.0, D0)
+
+    def rhs(time: float, state: FloatArray) -> FloatArray:
+        return _state_derivative(free, force_of, time, state)
+
+    def singular(_time: float, state: FloatArray) -> float:
+        return aspect * math.sin(state[2] - math.pi / 3.0) - SINGULARITY_STOP
+
+    events: list[Callable[[float, FloatArray], float]] = [singular]
+    stroke = robot.limits.stroke
+    if stroke is not None:
+        events += _stroke_events(free, stroke)
+    for event in events:
+        event.terminal = True  # type: ignore[attr-defined]
+        event.direction = -1.0  # type: ignore[attr-defined]
+
+    solution = solve_ivp(
+        rhs,
+        (float(times[0]), float(times[-1])),
+        np.concatenate([q0, v0]),
+        method="DOP853",
+        t_eval=times,
+        events=events,
+        rtol=rtol,
+        atol=atol,
+    )
+    sample_t = np.asarray(solution.t, dtype=np.float64)
+    states = np.asarray(solution.y, dtype=np.float64).T
+    status: Status
+    if solution.status == 1:
+        hit = next(k for k, found in enumerate(solution.t_events) if len(found))
+        t_stop = float(solution.t_events[hit][0])
+        stop_state = np.asarray(solution.y_events[hit][0], dtype=np.float64)
+        if sample_t.size == 0 or t_stop > sample_t[-1]:
+            sample_t = np.append(sample_t, t_stop)
+            states = np.vstack([states, stop_state])
+        status = "singular" if hit == 0 else "stroke"
+        message = _stop_message(free, hit, t_stop, stop_state, stroke)
+    elif solution.status == 0:
+        t_stop = float(times[-1])
+        status, message = "completed", f"completed: integrated to t = {t_stop!r} s"
+    else:
+        t_stop = float(sample_t[-1]) if sample_t.size else float(times[0])
+        status = "failed"
+        message = f"integration failed after t = {t_stop!r} s: {solution.message}"
+    if sample_t.size == 0:  # failed before the first sample: keep the initial state
+        sample_t = times[:1]
+        states = np.concatenate([q0, v0])[None, :]
+
+    eq = platform_dynamics(free, states[:, :3], states[:, 3:])
+    applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in sample_t])
+    qddot = np.asarray(
+        np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0],
+        dtype=np.float64,
+    )
+    motion = Motion(t=sample_t, pose=states[:, :3], velocity=states[:, 3:], acceleration=qddot)
+    kin = inverse_kinematics(free, motion)
+    dyn = paper_method(free, kin)
+    return ForwardDynamics(
+        motion=motion,
+        kinematics=kin,
+        dynamics=dyn,
+        status=status,
+        message=message,
+        t_stop=t_stop,
+        evaluations=int(solution.nfev),
+        force_residual=float(np.abs(dyn.f10 - applied).max()),
+    )
+
+
+def _state_derivative(
+    robot: Robot, force_of: Callable[[float], FloatArray], time: float, state: FloatArray
+) -> FloatArray:
+    """``(q̇, q̈)`` of the state ``(q, q̇)`` at ``time``; NaN in the refused zone.
+
+    States with ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` (only ever probed by
+    a trial stage beyond the singular stop) and non-finite states get NaN,
+    which makes the Runge–Kutta step's error estimate NaN: scipy rejects the
+    step and retries it with a step shrunk by its minimum factor.
+    """
+    q, qdot = state[:3], state[3:]
+    if not np.isfinite(state).all() or abs(math.sin(q[2] - math.pi / 3.0)) < (
+        SINGULARITY_THRESHOLD
+    ):
+        return np.full(6, np.nan)
+    eq = platform_dynamics(robot, q, qdot)
+    qddot = np.linalg.solve(eq.force_matrix, force_of(time) - eq.force_bias)
+    return np.concatenate([qdot, qddot])
+
+
+def _force_function(
+    robot: Robot, forces: ActuatorForces | ForceFunction, times: FloatArray
+) -> Callable[[float], FloatArray]:
+    """Validate the forces against the time span and ``max_force``; return ``f10(t)``."""
+    if isinstance(forces, ActuatorForces):
+        first, last = float(forces.t[0]), float(forces.t[-1])
+        if times[0] < first or times[-1] > last:
+            raise ParameterError(
+                f"t: the times [{float(times[0])!r}, {float(times[-1])!r}] s must lie within "
+                f"the force samples [{first!r}, {last!r}] s"
+            )
+        sampled_t, sampled = forces.t, forces.f10
+    elif callable(forces):
+        sampled_t = times
+        sampled = np.stack([np.asarray(forces(float(time)), dtype=np.float64) for time in times])
+        if sampled.shape != (times.size, 3) or not np.isfinite(sampled).all():
+            raise ParameterError("forces: the function must return 3 finite forces (N)")
+    else:
+        raise ParameterError(
+            f"forces must be ActuatorForces or a function of t, got {type(forces).__name__}"
+        )
+    limit = robot.limits.max_force
+    if limit is not None:
+        over = np.abs(sampled) > limit
+        if over.any():
+            index, leg = np.argwhere(over)[0].tolist()
+            raise ParameterError(
+                f"forces: |f10_{LEGS[leg]}| = {abs(float(sampled[index, leg]))!r} N at "
+                f"t = {float(sampled_t[index])!r} s exceeds limits.max_force = {limit!r} N"
+            )
+    function = forces
+
+    def force_of(time: float) -> FloatArray:
+        return np.asarray(function(time), dtype=np.float64)
+
+    return force_of
+
+
+def _lambda10_or_nan(robot: Robot, pose: FloatArray) -> FloatArray:
+    try:
+        return inverse_geometry(robot, pose).lambda10
+    except Prp3Error:  # a refused pose: no stroke crossing reported there
+        return np.full(3, np.nan)
+
+
+def _stroke_events(
+    robot: Robot, stroke: tuple[float, float]
+) -> list[Callable[[float, FloatArray], float]]:
+    lower, upper = stroke
+    events: list[Callable[[float, FloatArray], float]] = []
+    for leg in range(3):
+
+        def below(_time: float, state: FloatArray, leg: int = leg) -> float:
+            return float(_lambda10_or_nan(robot, state[:3])[leg]) - lower
+
+        def above(_time: float, state: FloatArray, leg: int = leg) -> float:
+            return upper - float(_lambda10_or_nan(robot, state[:3])[leg])
+
+        events += [below, above]
+    return events
+
+
+def _stop_message(
+    robot: Robot,
+    hit: int,
+    t_stop: float,
+    state: FloatArray,
+    stroke: tuple[float, float] | None,
+) -> str:
+    x, y, phi = state[:3].tolist()
+    where = f"at t = {t_stop:.9g} s (x = {x:.6g} m, y = {y:.6g} m, phi = {phi:.9g} rad)"
+    if hit == 0:
+        return (
+            f"stopped {where}: the platform reached the singularity, |sin(phi - pi/3)| = "
+            f"{SINGULARITY_STOP:g} (singular at phi = pi/3 mod pi)"
+        )
+    assert stroke is not None
+    leg, end = divmod(hit - 1, 2)
+    value = float(inverse_geometry(robot, state[:3]).lambda10[leg])
+    bound = ("lower", stroke[0]) if end == 0 else ("upper", stroke[1])
+    return (
+        f"stopped {where}: actuator {LEGS[leg]} reached its {bound[0]} stroke limit "
+        f"{bound[1]!r} m (lambda10_{LEGS[leg]} = {value:.9g} m)"
+    )
