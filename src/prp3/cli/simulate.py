@@ -35,6 +35,7 @@ from ..io import Trajectory, check_output_directory, read_trajectory, staged_out
 from ..kinematics import inverse_kinematics
 from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
+from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from ..results import RESULT_COLUMNS, results_table
 
 __all__ = [
@@ -347,8 +348,8 @@ def register(subparsers: Any) -> None:
         "--frames",
         metavar="N",
         type=_at_least_two,
-        default=100,
-        help="largest number of frames of the animation (default 100)",
+        default=MAX_FRAMES,
+        help=f"largest number of frames of the animation (default {MAX_FRAMES})",
     )
     parser.set_defaults(handler=run)
 
