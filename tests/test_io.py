@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from prp3.errors import InputFileError, TrajectoryError
+from prp3.errors import InputFileError, OutputFileError, TrajectoryError
 from prp3.io import (
     DERIVATIVE_COLUMNS,
     POSITION_COLUMNS,
@@ -95,7 +95,7 @@ def test_atomic_writer_and_atomic_path_leave_nothing_on_failure(tmp_path):
 
 
 def test_atomic_path_in_a_missing_directory_is_a_one_line_error(tmp_path):
-    with pytest.raises(InputFileError, match=r"nowhere/x\.png: cannot write"):
+    with pytest.raises(OutputFileError, match=r"nowhere/x\.png: cannot write"):
         with atomic_path(tmp_path / "nowhere" / "x.png"):
             pass
 
@@ -309,9 +309,9 @@ def test_staged_output_refuses_repeated_or_nested_names(tmp_path):
 
 def test_output_directory_under_a_file_is_refused(tmp_path):
     blocker = write(tmp_path / "file.txt", "")
-    with pytest.raises(InputFileError, match=r"file\.txt/out: cannot create output directory"):
+    with pytest.raises(OutputFileError, match=r"file\.txt/out: cannot create output directory"):
         check_output_directory(blocker / "out")
-    with pytest.raises(InputFileError, match=r"file\.txt/out: cannot write output directory"):
+    with pytest.raises(OutputFileError, match=r"file\.txt/out: cannot write output directory"):
         with staged_output(blocker / "out"):
             pass
     check_output_directory(tmp_path / "missing" / "deeper")  # creatable: no error

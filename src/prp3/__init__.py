@@ -26,6 +26,7 @@ from .dynamics import (
 )
 from .errors import (
     InputFileError,
+    OutputFileError,
     ParameterError,
     Prp3Error,
     SingularPoseError,
@@ -53,6 +54,7 @@ __all__ = [
     "Limits",
     "LinkParameters",
     "Motion",
+    "OutputFileError",
     "ParameterError",
     "PistonParameters",
     "PlatformParameters",

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 __all__ = [
     "InputFileError",
+    "OutputFileError",
     "ParameterError",
     "Prp3Error",
     "SingularPoseError",
@@ -44,3 +45,7 @@ class UnreachablePoseError(Prp3Error):
 
 class InputFileError(Prp3Error):
     """A malformed input file (TOML or CSV); the message names file, line and column."""
+
+
+class OutputFileError(Prp3Error):
+    """An output file or directory that cannot be written (names the path and the reason)."""

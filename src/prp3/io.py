@@ -37,7 +37,7 @@ from typing import IO
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import InputFileError, TrajectoryError
+from .errors import InputFileError, OutputFileError, TrajectoryError
 from .motion import Motion
 
 __all__ = [
@@ -97,7 +97,7 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
 
     Raises
     ------
-    InputFileError
+    OutputFileError
         If the directory does not exist or is not writable (names the path).
     """
     path = Path(path)
@@ -106,7 +106,7 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
             prefix=f".{path.name}.", suffix=".tmp", dir=path.parent
         )
     except OSError as error:
-        raise InputFileError(f"{path}: cannot write ({error.strerror})") from None
+        raise OutputFileError(f"{path}: cannot write ({error.strerror})") from None
     try:
         os.chmod(temporary, _file_mode())
         with os.fdopen(handle, mode, encoding="utf-8", newline="") as stream:
@@ -129,7 +129,7 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
 
     Raises
     ------
-    InputFileError
+    OutputFileError
         If the directory does not exist or is not writable (names the path).
 
     >>> import tempfile, pathlib
@@ -145,7 +145,7 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
             prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent
         )
     except OSError as error:
-        raise InputFileError(f"{path}: cannot write ({error.strerror})") from None
+        raise OutputFileError(f"{path}: cannot write ({error.strerror})") from None
     os.close(handle)
     try:
         os.chmod(temporary, _file_mode())
@@ -427,7 +427,7 @@ def check_output_directory(directory: str | Path) -> None:
 
     Raises
     ------
-    InputFileError
+    OutputFileError
         Naming the directory and the reason.
     """
     directory = Path(directory)
@@ -435,11 +435,11 @@ def check_output_directory(directory: str | Path) -> None:
     while not existing.exists() and existing != existing.parent:
         existing = existing.parent
     if not existing.is_dir():
-        raise InputFileError(
+        raise OutputFileError(
             f"{directory}: cannot create output directory ({existing} is not a directory)"
         )
     if not os.access(existing, os.W_OK | os.X_OK):
-        raise InputFileError(
+        raise OutputFileError(
             f"{directory}: cannot write output directory ({existing} is not writable)"
         )
 
@@ -487,7 +487,7 @@ def staged_output(directory: str | Path) -> Iterator[StagedOutput]:
 
     Raises
     ------
-    InputFileError
+    OutputFileError
         If the directory cannot be created or written to (names it).
 
     Examples
@@ -511,7 +511,7 @@ def staged_output(directory: str | Path) -> Iterator[StagedOutput]:
     except OSError as error:
         _remove_empty(created)
         reason = error.strerror or type(error).__name__
-        raise InputFileError(f"{directory}: cannot write output directory ({reason})") from None
+        raise OutputFileError(f"{directory}: cannot write output directory ({reason})") from None
     staged = StagedOutput(directory=directory, staging=staging)
     try:
         yield staged

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputFileError
+from ..errors import OutputFileError
 from ..io import atomic_writer
 from ..mjcf import mjcf_model
 from ..model import Robot
@@ -78,10 +78,10 @@ def _export_mjcf(args: argparse.Namespace) -> int:
         sys.stdout.flush()
         return 0
     if output.is_dir():
-        raise InputFileError(f"{output}: --output is a directory, expected a file name")
+        raise OutputFileError(f"{output}: --output is a directory, expected a file name")
     try:
         with atomic_writer(output) as stream:
             stream.write(text)
     except OSError as error:
-        raise InputFileError(f"{output}: cannot write ({error.strerror})") from None
+        raise OutputFileError(f"{output}: cannot write ({error.strerror})") from None
     return 0
