@@ -287,7 +287,7 @@ def test_compiled_robot_is_reused_and_read_only() -> None:
         paper_forces(robot, motion.pose, motion.velocity, motion.acceleration).f10,
     )
     with pytest.raises(ValueError, match="read-only"):
-        compiled.f10_matrix[0, 0] = 1.0
+        compiled.f21z_matrix[0, 0] = 1.0
     with pytest.raises(Prp3Error, match=r"robot must be a prp3\.Robot"):
         compile_robot("robot.toml")  # type: ignore[arg-type]
 

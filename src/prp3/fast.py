@@ -96,19 +96,26 @@ _CHAIN_A: FloatArray = np.array([1.0, 0.0, 0.0])
 _D, _C, _P, _LAMBDA_FREE, _SD, _RA_X, _RA_Y, _KA, _KB, _GT_X, _GT_Y = range(11)
 _FORCE_TRIG_ROWS = 9  # rows up to _KB; the rotated gravity only for the reactions
 
-# Rows of the basis the forces are linear in (``basis.T @ matrix → legs``):
+# Rows of the basis the forces are linear in (``basis.T @ matrix → legs``), ordered
+# so that each force reads a contiguous block: f21z rows 0–10, f21y rows 6–13, and
+# f10 − f21z = m1·(λ̈10 − g·e) rows 3–6.
 (
+    _DZ,  # D·Z with Z = D·(M2 + (...)·T)/(S·D)
+    _EPS_KA, _W2_KB,  # φ̈·ka, φ̇²·kb
     _GAM_X, _GAM_Y, _GAM_1,  # coefficient rows of λ̈10
+    _ONE,
     _F3_X, _F3_Y,  # F3 = m3·(G̈ − g), eq. (22)
     _DT, _CT,  # D·T, C·T with T = d_A·F3
-    _DZ, _CZ,  # D·Z, C·Z with Z = D·M2/(S·D) + (...)·T
-    _EPS_KA, _W2_KB, _EPS_KB, _W2_KA,  # φ̈·ka, φ̇²·kb, φ̈·kb, φ̇²·ka
-    _ONE,
+    _CZ,  # C·Z
+    _EPS_KB, _W2_KA,  # φ̈·kb, φ̇²·ka
     # reactions only:
     _KA_GAM_X, _KA_GAM_Y, _KA_GAM_1,
     _D_GAM_X, _D_GAM_Y, _D_GAM_1,
     _EPS, _W2, _GT_X_B, _GT_Y_B,
 ) = range(24)  # fmt: skip
+_F21Z_ROWS = slice(_DZ, _CT + 1)
+_F21Y_ROWS = slice(_ONE, _W2_KA + 1)
+_PISTON_ROWS = slice(_GAM_X, _ONE + 1)
 _FORCE_BASIS_ROWS = 14
 _ALL_BASIS_ROWS = 24
 
@@ -150,8 +157,10 @@ class CompiledRobot:
         ``robot.limits.stroke``.
     trig_matrix : ndarray (11, 3)
         Rows of the functions of ``φ`` alone as combinations of ``(cos φ, sin φ, 1)``.
-    f10_matrix, f21y_matrix, f21z_matrix : ndarray (14, 3)
-        Forces of the three legs as combinations of the 14 basis rows.
+    f21z_matrix, f21y_matrix : ndarray (11, 3), (8, 3)
+        ``f21z`` and ``f21y`` of the three legs from their blocks of basis rows.
+    piston_matrix : ndarray (4, 3)
+        ``f10 − f21z = m1·(λ̈10 − g·e)`` of the three legs from its block of basis rows.
     n10_matrix, m10_matrix, n32_matrix, m32_matrix : ndarray (24, 3)
         Reactions (``n32`` without its ``C·f21y − D·f21z`` part) from 24 basis rows.
     """
@@ -173,9 +182,9 @@ class CompiledRobot:
     piston_gravity_axial: tuple[float, float, float]
     stroke: tuple[float, float] | None
     trig_matrix: FloatArray
-    f10_matrix: FloatArray
-    f21y_matrix: FloatArray
     f21z_matrix: FloatArray
+    f21y_matrix: FloatArray
+    piston_matrix: FloatArray
     n10_matrix: FloatArray
     m10_matrix: FloatArray
     n32_matrix: FloatArray
@@ -237,11 +246,12 @@ def compile_robot(robot: Robot) -> CompiledRobot:
         ]
     )
 
-    def matrix(rows: dict[int, ArrayLike], size: int) -> FloatArray:
-        out = np.zeros((size, 3))
+    def matrix(rows: dict[int, ArrayLike], block: slice = slice(0, _ALL_BASIS_ROWS)) -> FloatArray:
+        out = np.zeros((_ALL_BASIS_ROWS, 3))
         for row, legs in rows.items():
             out[row] = legs
-        return _frozen(out)
+        assert not out[: block.start].any() and not out[block.stop :].any(), block
+        return _frozen(out[block].copy())
 
     # f21z_j = m2·(λ̈10_j − g·e_j) + ce + D·W_j + δ_jA·(F3·e_A − C·T), eq. (25)
     f21z = {
@@ -259,15 +269,7 @@ def compile_robot(robot: Robot) -> CompiledRobot:
         _ONE: -m2 * g_normal,
     }  # fmt: skip
     # f10_j = f21z_j + m1·(λ̈10_j − g·e_j), eq. (23)
-    f10 = dict(f21z)
-    f10.update(
-        {
-            _GAM_X: (m1 + m2) * nx,
-            _GAM_Y: (m1 + m2) * ny,
-            _GAM_1: (m1 + m2) * one,
-            _ONE: -(m1 + m2) * g_axial,
-        }
-    )
+    piston = {_GAM_X: m1 * nx, _GAM_Y: m1 * ny, _GAM_1: m1 * one, _ONE: -m1 * g_axial}
     # reactions: balance of piston (n10, m10) and link 2 (n32, m32) of each leg
     a = _SLIDE_AT_ZERO
     cross_o1_g = c1x * (LEG_AXIS[:, 0] * gy - LEG_AXIS[:, 1] * gx) + c1y * (
@@ -310,13 +312,13 @@ def compile_robot(robot: Robot) -> CompiledRobot:
         piston_gravity_axial=_three(m1 * g_axial),
         stroke=robot.limits.stroke,
         trig_matrix=_frozen(trig.copy()),
-        f10_matrix=matrix(f10, _FORCE_BASIS_ROWS),
-        f21y_matrix=matrix(f21y, _FORCE_BASIS_ROWS),
-        f21z_matrix=matrix(f21z, _FORCE_BASIS_ROWS),
-        n10_matrix=matrix(n10, _ALL_BASIS_ROWS),
-        m10_matrix=matrix(m10, _ALL_BASIS_ROWS),
-        n32_matrix=matrix(n32, _ALL_BASIS_ROWS),
-        m32_matrix=matrix(m32, _ALL_BASIS_ROWS),
+        f21z_matrix=matrix(f21z, _F21Z_ROWS),
+        f21y_matrix=matrix(f21y, _F21Y_ROWS),
+        piston_matrix=matrix(piston, _PISTON_ROWS),
+        n10_matrix=matrix(n10),
+        m10_matrix=matrix(m10),
+        n32_matrix=matrix(n32),
+        m32_matrix=matrix(m32),
     )
 
 
@@ -666,11 +668,11 @@ def _chunk(
     mul(ddphi, kb, out=basis[_EPS_KB])
     mul(w2, ka, out=basis[_W2_KA])
     # eqs. (23)-(25) for the three legs at once
-    force_basis = basis[:_FORCE_BASIS_ROWS].T
-    f10 = out["f10"]
-    np.matmul(force_basis, cr.f10_matrix, out=f10)
-    np.matmul(force_basis, cr.f21y_matrix, out=out["f21y"])
-    np.matmul(force_basis, cr.f21z_matrix, out=out["f21z"])
+    f10, f21z = out["f10"], out["f21z"]
+    np.matmul(basis[_F21Z_ROWS].T, cr.f21z_matrix, out=f21z)
+    np.matmul(basis[_F21Y_ROWS].T, cr.f21y_matrix, out=out["f21y"])
+    np.matmul(basis[_PISTON_ROWS].T, cr.piston_matrix, out=f10)
+    add(f10, f21z, out=f10)
     p10 = out["p10"]
     np.matmul(rate.T, _LEGS, out=p10)  # λ̇10 of the three legs
     mul(p10, f10, out=p10)
