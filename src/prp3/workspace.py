@@ -1,0 +1,443 @@
+"""Workspace, conditioning and singularities of the 3-PRP robot.
+
+A pose is *reachable* when it is not singular (``|sin(φ − π/3)| >=
+SINGULARITY_THRESHOLD``) and, with ``[limits] stroke = [lower, upper]``, its
+three actuator displacements ``λ10`` (eq. 10) lie within the stroke.
+
+Structure of the workspace (derived in :mod:`prp3.forward`):
+
+* The orientation depends on ``Σλ10`` alone: ``Σλ10 = (3·l0/2)·(tan((φ −
+  π/3)/2) + 1/√3)``.  The reachable orientations are therefore the interval
+  of ``φ`` whose ``Σλ10`` lies in ``[3·lower, 3·upper]``
+  (:func:`orientation_range`), whatever ``(x, y)``.
+* At a fixed ``φ`` the displacements are affine in ``G`` and, by eq. (iii),
+  ``G = −(2/3)·sin(φ − π/3)·Σ λ10_i·d⊥_i``: the reachable ``(x, y)`` form the
+  image of the cross-section of the stroke cube ``[lower, upper]³`` by the
+  plane ``Σλ10 = const`` — a convex polygon (triangle or hexagon, up to six
+  vertices) scaled by ``√(2/3)·|sin(φ − π/3)|`` (:func:`reachable_region`).
+* Singular loci: the Jacobian ``J = ∂λ10/∂(x, y, φ)`` has
+  ``det J = (3√3·l0/4)·tan(ψ/2)/sin³ψ``, ``ψ = φ − π/3``: positive, never zero,
+  infinite at ``ψ = 0`` and ``ψ = ±π``.  The only singular configurations are
+  the orientations ``φ ≡ π/3 (mod π)`` (:data:`SINGULAR_ORIENTATIONS`), for
+  every ``(x, y)``: the singular set of a slice at a regular ``φ`` is empty.
+
+Conditioning: :func:`jacobian_condition` is the 2-norm condition number of
+``J·diag(1, 1, 1/l0)`` — the Jacobian with respect to ``(x, y, l0·φ)``, all in
+metres, so that the number does not depend on the units.  It is ``√6`` at the
+central configuration; it grows with the distance of ``G`` from the centre and
+without bound as ``φ`` approaches a singular orientation (the sliding
+displacements ``λ32`` grow like ``1/sin(φ − π/3)``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import ParameterError, SingularPoseError
+from .forward import forward_geometry
+from .geometry import SINGULARITY_THRESHOLD, inverse_geometry, singularity_measure
+from .kinematics import jacobian
+from .model import Limits, Robot
+
+__all__ = [
+    "SINGULAR_ORIENTATIONS",
+    "OrientationScan",
+    "WorkspaceSlice",
+    "jacobian_condition",
+    "orientation_range",
+    "orientation_scan",
+    "reachable",
+    "reachable_region",
+    "workspace_slice",
+]
+
+FloatArray = NDArray[np.float64]
+BoolArray = NDArray[np.bool_]
+
+#: The singular orientations in ``(−π, π]``: ``φ ≡ π/3 (mod π)`` (rad).
+SINGULAR_ORIENTATIONS: tuple[float, float] = (-2.0 * math.pi / 3.0, math.pi / 3.0)
+
+_SQRT3 = math.sqrt(3.0)
+
+
+def _free(robot: Robot) -> Robot:
+    return robot if robot.limits == Limits() else replace(robot, limits=Limits())
+
+
+def _poses(value: ArrayLike) -> FloatArray:
+    try:
+        pose = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError(f"pose must be an array of numbers, got {value!r}") from None
+    if pose.ndim < 1 or pose.shape[-1] != 3 or not np.isfinite(pose).all():
+        raise ParameterError(f"pose must be finite numbers of shape (..., 3), got {pose.shape}")
+    return pose
+
+
+def _displacements(robot: Robot, pose: FloatArray) -> tuple[FloatArray, BoolArray]:
+    """``λ10`` (NaN at singular poses) and the regular mask, for poses ``(..., 3)``."""
+    batch = pose.shape[:-1]
+    flat = pose.reshape(-1, 3)
+    regular = np.abs(singularity_measure(flat[:, 2])) >= SINGULARITY_THRESHOLD
+    lam = np.full(flat.shape, np.nan)
+    if regular.any():
+        lam[regular] = inverse_geometry(_free(robot), flat[regular]).lambda10
+    return lam.reshape(*batch, 3), regular.reshape(batch)
+
+
+def reachable(robot: Robot, pose: ArrayLike) -> BoolArray:
+    """Whether poses ``(..., 3)`` are reachable: regular and within the strokes.
+
+    Parameters
+    ----------
+    robot : Robot
+        ``l0`` and ``limits.stroke`` are used (no stroke: every regular pose).
+    pose : array_like, shape (..., 3)
+        ``(x, y, φ)`` (m, m, rad).
+
+    Returns
+    -------
+    ndarray of bool, shape (...)
+
+    >>> robot = Robot(limits=Limits(stroke=(-0.05, 0.05)))
+    >>> reachable(robot, [[0.0, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, math.pi / 3]]).tolist()
+    [True, False, False]
+    """
+    pose = _poses(pose)
+    lam, regular = _displacements(robot, pose)
+    stroke = robot.limits.stroke
+    if stroke is None:
+        return regular
+    with np.errstate(invalid="ignore"):
+        inside = ((lam >= stroke[0]) & (lam <= stroke[1])).all(axis=-1)
+    return np.asarray(regular & inside)
+
+
+def jacobian_condition(robot: Robot, pose: ArrayLike) -> FloatArray:
+    """Condition number of the Jacobian w.r.t. ``(x, y, l0·φ)``, shape ``(...)``.
+
+    ``κ = σ_max/σ_min`` of ``J·diag(1, 1, 1/l0)`` (dimensionless, ``>= 1``),
+    ``J = ∂λ10/∂(x, y, φ)`` from eq. (14).  Infinite at singular poses.
+
+    >>> round(float(jacobian_condition(Robot(), [0.0, 0.0, 0.0])) ** 2, 12)   # √6
+    6.0
+    """
+    pose = _poses(pose)
+    batch = pose.shape[:-1]
+    flat = pose.reshape(-1, 3)
+    regular = np.abs(singularity_measure(flat[:, 2])) >= SINGULARITY_THRESHOLD
+    kappa = np.full(flat.shape[0], np.inf)
+    if regular.any():
+        J = jacobian(inverse_geometry(_free(robot), flat[regular]))
+        scaled = J * np.array([1.0, 1.0, 1.0 / robot.l0])  # columns: x, y, l0·φ
+        sigma = np.linalg.svd(scaled, compute_uv=False)
+        kappa[regular] = sigma[:, 0] / sigma[:, -1]
+    return kappa.reshape(batch)
+
+
+def orientation_range(robot: Robot) -> tuple[float, float]:
+    """The interval of reachable orientations ``(φ_min, φ_max)`` (rad), all ``(x, y)`` together.
+
+    ``φ`` is reachable somewhere iff ``Σλ10(φ) ∈ [3·lower, 3·upper]``, i.e.
+    ``φ = π/3 + 2·atan(2·Σλ10/(3·l0) − 1/√3)`` for such a sum.  The interval
+    is given on the continuous branch ``(−2π/3, 4π/3)`` (so ``φ_max`` may
+    exceed ``π`` for very long strokes) and contains ``0``.  When it contains
+    ``π/3`` (``upper > l0/(2√3)``) the singular orientation splits it in two
+    (see :data:`SINGULAR_ORIENTATIONS`).  Without a stroke every orientation
+    but the singular ones is reachable: ``(−2π/3, 4π/3)``.
+
+    >>> [round(v, 6) for v in orientation_range(Robot(limits=Limits(stroke=(-0.05, 0.05))))]
+    [-0.430175, 0.568518]
+    """
+    if robot.limits.stroke is None:
+        return (-2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0)
+    lower, upper = robot.limits.stroke
+    l0 = robot.l0
+
+    def phi_of(total: float) -> float:
+        return math.pi / 3.0 + 2.0 * math.atan(2.0 * total / (3.0 * l0) - 1.0 / _SQRT3)
+
+    return (phi_of(3.0 * lower), phi_of(3.0 * upper))
+
+
+def reachable_region(robot: Robot, phi: float) -> FloatArray:
+    """Vertices of the reachable region of ``(x, y)`` at orientation ``phi``, shape ``(k, 2)``.
+
+    The exact boundary: the cross-section of the stroke cube by the plane
+    ``Σλ10 = Σλ10(φ)`` mapped to ``G`` by the forward geometry (eq. iii), a
+    convex polygon listed counter-clockwise (``k <= 6``; ``k = 0`` when ``φ``
+    is not reachable).
+
+    Raises
+    ------
+    ParameterError
+        If the robot has no stroke (the region is then the whole plane).
+    SingularPoseError
+        If ``phi`` is singular.
+
+    >>> region = reachable_region(Robot(limits=Limits(stroke=(-0.05, 0.05))), 0.0)
+    >>> region.shape, round(float(np.hypot(*region.T).max()), 12)   # a regular hexagon
+    ((6, 2), 0.05)
+    """
+    if robot.limits.stroke is None:
+        raise ParameterError(
+            "robot: no [limits] stroke: the reachable region is the whole plane at every "
+            "regular orientation"
+        )
+    phi = _orientation(phi)
+    lower, upper = robot.limits.stroke
+    total = 1.5 * robot.l0 * (math.tan((phi - math.pi / 3.0) / 2.0) + 1.0 / _SQRT3)
+    points = []
+    corners = np.array(
+        [[a, b, c] for a in (lower, upper) for b in (lower, upper) for c in (lower, upper)]
+    )
+    for i in range(8):
+        for j in range(i + 1, 8):
+            p, q = corners[i], corners[j]
+            if np.count_nonzero(p != q) != 1:
+                continue  # not an edge of the cube
+            sp, sq = p.sum(), q.sum()
+            if (sp - total) * (sq - total) > 0.0 or sp == sq:
+                continue
+            points.append(p + (total - sp) / (sq - sp) * (q - p))
+    if len(points) < 3:
+        return np.zeros((0, 2))
+    lam = np.array(points)
+    lam += (total - lam.sum(axis=1))[:, None] / 3.0  # exactly on the plane
+    xy = forward_geometry(_free(robot), lam).pose[:, :2]  # eq. (iii)
+    centre = xy.mean(axis=0)
+    order = np.argsort(np.arctan2(xy[:, 1] - centre[1], xy[:, 0] - centre[0]))
+    xy = xy[order]
+    keep = np.ones(len(xy), dtype=bool)  # drop repeated vertices (plane through a corner)
+    keep[1:] = np.linalg.norm(np.diff(xy, axis=0), axis=1) > 1e-15
+    return np.asarray(xy[keep])
+
+
+def _orientation(phi: float) -> float:
+    if isinstance(phi, bool) or not isinstance(phi, int | float | np.floating):
+        raise ParameterError(f"phi must be a number (rad), got {phi!r}")
+    phi = float(phi)
+    if not math.isfinite(phi):
+        raise ParameterError(f"phi must be finite (rad), got {phi!r}")
+    if abs(math.sin(phi - math.pi / 3.0)) < SINGULARITY_THRESHOLD:
+        raise SingularPoseError(
+            f"phi = {phi!r} rad is singular (|sin(phi - pi/3)| < {SINGULARITY_THRESHOLD:g}): at "
+            "phi = pi/3 mod pi the robot is singular at every (x, y), no pose is reachable"
+        )
+    return phi
+
+
+def _polygon_area(xy: FloatArray) -> float:
+    if len(xy) < 3:
+        return 0.0
+    x, y = xy[:, 0], xy[:, 1]
+    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+
+
+def _grid(name: str, values: ArrayLike) -> FloatArray:
+    array = np.asarray(values, dtype=np.float64)
+    if array.ndim != 1 or array.size < 2 or not np.isfinite(array).all():
+        raise ParameterError(
+            f"{name} must be at least 2 finite grid values, got shape {array.shape}"
+        )
+    if (np.diff(array) <= 0).any():
+        raise ParameterError(f"{name} grid values must be strictly increasing")
+    return array
+
+
+@dataclass(frozen=True)
+class WorkspaceSlice:
+    """The workspace at one orientation on a grid of ``(x, y)``.
+
+    Grid arrays have shape ``(ny, nx)``: row ``j`` is ``y[j]``, column ``i`` is ``x[i]``.
+
+    Attributes
+    ----------
+    phi : float
+        Orientation (rad), regular.
+    x, y : ndarray (nx,), (ny,)
+        Grid coordinates of ``G`` (m).
+    lambda10 : ndarray (ny, nx, 3)
+        Actuator displacements of every grid pose (m), eq. (10), computed
+        whether within the stroke or not.
+    reachable : ndarray of bool (ny, nx)
+        Within the strokes (every point without a stroke).
+    condition : ndarray (ny, nx)
+        :func:`jacobian_condition` of every grid pose.
+    determinant : float
+        ``sin(φ − π/3)``, the same at every ``(x, y)``.
+    region : ndarray (k, 2) or None
+        Exact boundary (:func:`reachable_region`); ``None`` without a stroke.
+    area : float
+        Exact area of the region (m², shoelace formula); ``inf`` without a stroke.
+    """
+
+    phi: float
+    x: FloatArray
+    y: FloatArray
+    lambda10: FloatArray
+    reachable: BoolArray
+    condition: FloatArray
+    determinant: float
+    region: FloatArray | None
+    area: float
+
+    @property
+    def grid_area(self) -> float:
+        """Area estimated from the grid: reachable points times the cell area (m²)."""
+        cell = float(np.mean(np.diff(self.x)) * np.mean(np.diff(self.y)))
+        return float(np.count_nonzero(self.reachable)) * cell
+
+
+def workspace_slice(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> WorkspaceSlice:
+    """Reachability and conditioning on a grid of ``(x, y)`` at orientation ``phi``.
+
+    Parameters
+    ----------
+    robot : Robot
+    phi : float
+        Orientation (rad); refused when singular.
+    x, y : array_like, shape (nx,), (ny,)
+        Strictly increasing grid coordinates (m).
+
+    Returns
+    -------
+    WorkspaceSlice
+
+    Examples
+    --------
+    >>> robot = Robot(limits=Limits(stroke=(-0.05, 0.05)))
+    >>> grid = np.linspace(-0.1, 0.1, 41)
+    >>> ws = workspace_slice(robot, 0.0, grid, grid)
+    >>> ws.reachable.shape, bool(ws.reachable[20, 20]), round(ws.area, 6)
+    ((41, 41), True, 0.006495)
+    """
+    phi = _orientation(phi)
+    xs, ys = _grid("x", x), _grid("y", y)
+    X, Y = np.meshgrid(xs, ys)
+    pose = np.stack([X, Y, np.full_like(X, phi)], axis=-1)
+    lam, _ = _displacements(robot, pose)
+    stroke = robot.limits.stroke
+    inside: BoolArray
+    if stroke is None:
+        inside = np.ones(X.shape, dtype=bool)
+        region, area = None, math.inf
+    else:
+        inside = np.asarray(((lam >= stroke[0]) & (lam <= stroke[1])).all(axis=-1))
+        region = reachable_region(robot, phi)
+        area = _polygon_area(region)
+    return WorkspaceSlice(
+        phi=phi,
+        x=xs,
+        y=ys,
+        lambda10=lam,
+        reachable=inside,
+        condition=jacobian_condition(robot, pose),
+        determinant=math.sin(phi - math.pi / 3.0),
+        region=region,
+        area=area,
+    )
+
+
+@dataclass(frozen=True)
+class OrientationScan:
+    """Reachable orientations over a grid of ``(x, y)``: a scan of ``φ``.
+
+    Attributes
+    ----------
+    phi : ndarray (m,)
+        Scanned orientations (rad); singular ones are never reachable.
+    x, y : ndarray (nx,), (ny,)
+        Grid coordinates (m).
+    reachable : ndarray of bool (m, ny, nx)
+        Reachability of every ``(x, y, φ)``.
+    area : ndarray (m,)
+        Exact reachable area at each ``φ`` (m²; ``inf`` without a stroke, 0 when
+        singular or out of :func:`orientation_range`).
+    grid_area : ndarray (m,)
+        The same, estimated from the grid (m²).
+    condition_min, condition_max : ndarray (m,)
+        Extremes of :func:`jacobian_condition` over the reachable grid points
+        (NaN where none is reachable).
+    """
+
+    phi: FloatArray
+    x: FloatArray
+    y: FloatArray
+    reachable: BoolArray
+    area: FloatArray
+    grid_area: FloatArray
+    condition_min: FloatArray
+    condition_max: FloatArray
+
+    @property
+    def count(self) -> NDArray[np.int64]:
+        """Number of scanned orientations reachable at each ``(x, y)``, shape (ny, nx)."""
+        return np.asarray(self.reachable.sum(axis=0), dtype=np.int64)
+
+    @property
+    def phi_min(self) -> FloatArray:
+        """Smallest reachable scanned ``φ`` at each ``(x, y)`` (NaN if none), shape (ny, nx)."""
+        values = np.where(self.reachable, self.phi[:, None, None], np.inf).min(axis=0)
+        return np.asarray(np.where(np.isfinite(values), values, np.nan))
+
+    @property
+    def phi_max(self) -> FloatArray:
+        """Largest reachable scanned ``φ`` at each ``(x, y)`` (NaN if none), shape (ny, nx)."""
+        values = np.where(self.reachable, self.phi[:, None, None], -np.inf).max(axis=0)
+        return np.asarray(np.where(np.isfinite(values), values, np.nan))
+
+
+def orientation_scan(robot: Robot, x: ArrayLike, y: ArrayLike, phi: ArrayLike) -> OrientationScan:
+    """Reachability of every ``(x, y, φ)`` of a grid, slice by slice.
+
+    Parameters
+    ----------
+    robot : Robot
+    x, y : array_like, shape (nx,), (ny,)
+        Strictly increasing grid coordinates (m).
+    phi : array_like, shape (m,)
+        Orientations to scan (rad), strictly increasing; singular ones are
+        kept and reported unreachable.
+
+    Returns
+    -------
+    OrientationScan
+
+    >>> robot = Robot(limits=Limits(stroke=(-0.05, 0.05)))
+    >>> grid = np.linspace(-0.1, 0.1, 21)
+    >>> scan = orientation_scan(robot, grid, grid, np.linspace(-0.5, 0.5, 11))
+    >>> scan.reachable.shape, scan.count[10, 10].tolist()    # all but φ = -0.5 at the centre
+    ((11, 21, 21), 10)
+    """
+    xs, ys = _grid("x", x), _grid("y", y)
+    phis = _grid("phi", phi)
+    reach = np.zeros((phis.size, ys.size, xs.size), dtype=bool)
+    area = np.zeros(phis.size)
+    grid_area = np.zeros(phis.size)
+    cmin = np.full(phis.size, np.nan)
+    cmax = np.full(phis.size, np.nan)
+    for k, angle in enumerate(phis.tolist()):
+        if abs(math.sin(angle - math.pi / 3.0)) < SINGULARITY_THRESHOLD:
+            continue
+        ws = workspace_slice(robot, angle, xs, ys)
+        reach[k] = ws.reachable
+        area[k] = ws.area
+        grid_area[k] = ws.grid_area
+        if ws.reachable.any():
+            cmin[k] = ws.condition[ws.reachable].min()
+            cmax[k] = ws.condition[ws.reachable].max()
+    return OrientationScan(
+        phi=phis,
+        x=xs,
+        y=ys,
+        reachable=reach,
+        area=area,
+        grid_area=grid_area,
+        condition_min=cmin,
+        condition_max=cmax,
+    )
