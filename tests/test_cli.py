@@ -435,7 +435,7 @@ def test_sample_index_of_an_error_counts_from_the_start_of_the_whole_motion():
     [
         ("[platform]\nmass = -3.0\n", ["robot.toml", "platform.mass", "-3.0"]),
         ("[platfrom]\nmass = 3.0\n", ["robot.toml", "unknown key 'platfrom'"]),
-        ("l0 = \n", ["robot.toml", "invalid TOML", "line 1"]),
+        ("l0 = \n", ["robot.toml:1:6", "invalid TOML"]),
         ("gravity = [0.0]\n", ["robot.toml", "gravity", "[0.0]"]),
         ('l0 = "big"\n', ["robot.toml", "l0", "'big'"]),
         ("[limits]\nstroke = [0.1, 0.2]\n", ["robot.toml", "limits.stroke"]),

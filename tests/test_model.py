@@ -194,12 +194,12 @@ def test_unknown_keys_are_refused(mapping: dict[str, Any], key: str) -> None:
 
 @pytest.mark.parametrize("table", ["piston", "link", "platform", "limits"])
 def test_tables_must_be_tables(table: str) -> None:
-    with pytest.raises(ParameterError, match=rf"\[{table}\] must be a table, got 3"):
+    with pytest.raises(ParameterError, match=rf"\[{table}\] must be a table of keys, got 3"):
         Robot.from_mapping({table: 3})
 
 
 def test_top_level_must_be_a_mapping() -> None:
-    with pytest.raises(ParameterError, match=r"must be a table, got \[1, 2\]"):
+    with pytest.raises(ParameterError, match=r"must be a table of keys, got \[1, 2\]"):
         Robot.from_mapping([1, 2])  # type: ignore[arg-type]
 
 

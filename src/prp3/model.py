@@ -23,6 +23,7 @@ prp3.errors.ParameterError: robot: l0 must be a positive finite number (m), got 
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -300,7 +301,14 @@ class Robot:
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as error:
-            raise InputFileError(f"{path}: invalid TOML: {error}") from None
+            message = str(error)
+            where = re.search(r"\(at line (\d+), column (\d+)\)", message)
+            if where is None:
+                raise InputFileError(f"{path}: invalid TOML: {message}") from None
+            reason = message[: where.start()].rstrip()
+            raise InputFileError(
+                f"{path}:{where.group(1)}:{where.group(2)}: invalid TOML: {reason}"
+            ) from None
         try:
             return cls.from_mapping(data)
         except ParameterError as error:
@@ -317,7 +325,8 @@ class Robot:
 
 def _table(name: str, value: Any, allowed: set[str]) -> dict[str, Any]:
     if not isinstance(value, Mapping):
-        raise ParameterError(f"robot: [{name}] must be a table, got {value!r}")
+        what = f"[{name}]" if name else "the robot description"
+        raise ParameterError(f"robot: {what} must be a table of keys, got {value!r}")
     for key in value:
         if key not in allowed:
             dotted = f"{name}.{key}" if name else key
