@@ -301,8 +301,7 @@ def test_malformed_toml_names_file_line_and_column(
     with pytest.raises(InputFileError) as info:
         Robot.from_toml(path)
     message = str(info.value)
-    assert str(path) in message and "\n" not in message
-    assert f"line {line}" in message and f"column {column}" in message
+    assert message.startswith(f"{path}:{line}:{column}: invalid TOML") and "\n" not in message
 
 
 def test_unreadable_files_are_input_file_errors(tmp_path: Path) -> None:
