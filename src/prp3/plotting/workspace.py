@@ -1,0 +1,198 @@
+"""The workspace map: reachable region, Jacobian conditioning and singular loci (PNG).
+
+Left: the slice at one orientation ``φ`` — the condition number of the
+normalised Jacobian (:func:`prp3.workspace.jacobian_condition`, log colour
+scale) over the reachable grid points, unreachable points in grey, the exact
+boundary of the region, the base triangle and the platform at ``(0, 0, φ)``
+for scale.  The singular set of the slice is empty unless ``φ`` is singular
+(prp3 refuses singular slices), which the panel states.  Right: a scan of
+``φ`` — the reachable area (exact and counted on the grid) and the best and
+worst conditioning over the reachable grid points, with the singular
+orientations ``φ ≡ π/3 (mod π)`` marked.
+
+matplotlib is imported inside the functions only; the figure is a
+:class:`matplotlib.figure.Figure` rendered by Agg, without pyplot.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..geometry import base_vertices, platform_vertices
+from ..io import atomic_path
+from ..model import Robot
+from ..workspace import SINGULAR_ORIENTATIONS, OrientationScan, WorkspaceSlice
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["save_workspace_map", "workspace_figure"]
+
+
+def _closed(points: np.ndarray) -> np.ndarray:
+    return np.vstack([points, points[:1]])
+
+
+def workspace_figure(
+    robot: Robot, workspace: WorkspaceSlice, scan: OrientationScan | None = None
+) -> Figure:
+    """The workspace map of ``workspace`` (and the φ-scan ``scan`` when given).
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot the slice was computed for (base triangle, ``l0``, stroke).
+    workspace : WorkspaceSlice
+        From :func:`prp3.workspace.workspace_slice`.
+    scan : OrientationScan, optional
+        From :func:`prp3.workspace.orientation_scan` on the same grid; adds the
+        right-hand panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import LogNorm, Normalize
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import FuncFormatter
+
+    panels = 2 if scan is not None else 1
+    figure = Figure(figsize=(6.4 * panels + 0.6, 5.6), layout="constrained")
+    axes = figure.subplots(1, panels, squeeze=False)[0]
+
+    # ---- the slice at φ
+    ax = axes[0]
+    ws = workspace
+    kappa = np.ma.masked_array(ws.condition, mask=~ws.reachable | ~np.isfinite(ws.condition))
+    ax.pcolormesh(
+        ws.x,
+        ws.y,
+        np.where(ws.reachable, np.nan, 1.0),
+        cmap="Greys",
+        vmin=0.0,
+        vmax=4.0,
+        shading="nearest",
+    )
+    finite = ws.condition[ws.reachable & np.isfinite(ws.condition)]
+    if finite.size:
+        low, high = float(finite.min()), max(float(finite.max()), float(finite.min()) * 1.001)
+        wide = high / low > 10.0  # log colours only when κ spans a decade
+        mesh = ax.pcolormesh(
+            ws.x,
+            ws.y,
+            kappa,
+            cmap="viridis",
+            shading="nearest",
+            norm=LogNorm(vmin=low, vmax=high) if wide else Normalize(vmin=low, vmax=high),
+        )
+        figure.colorbar(mesh, ax=ax, label="condition number κ of J·diag(1, 1, 1/l0)")
+    if ws.region is not None and len(ws.region):
+        outline = _closed(ws.region)
+        ax.plot(
+            outline[:, 0], outline[:, 1], color="black", lw=1.2, label="reachable region (exact)"
+        )
+    base = _closed(base_vertices(robot))
+    ax.plot(base[:, 0], base[:, 1], color="tab:red", lw=0.8, ls="--", label="base triangle")
+    platform = _closed(platform_vertices(robot, [0.0, 0.0, ws.phi]))
+    ax.plot(
+        platform[:, 0],
+        platform[:, 1],
+        color="tab:orange",
+        lw=0.8,
+        ls=":",
+        label=f"platform at (0, 0, {ws.phi:.3g})",
+    )
+    ax.set_xlim(ws.x[0], ws.x[-1])
+    ax.set_ylim(ws.y[0], ws.y[-1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    stroke = robot.limits.stroke
+    limits = f"stroke [{stroke[0]:g}, {stroke[1]:g}] m" if stroke else "no stroke limits"
+    ax.set_title(
+        f"workspace at φ = {ws.phi:.4g} rad ({math.degrees(ws.phi):.3g}°), {limits}", fontsize=10
+    )
+    note = (
+        f"reachable: grey = no; colour = κ\n"
+        f"singular set at this φ: empty (|sin(φ − π/3)| = {abs(ws.determinant):.3g});\n"
+        "singular orientations: φ ≡ π/3 (mod π), every (x, y)"
+    )
+    if math.isfinite(ws.area):
+        note += f"\nreachable area {ws.area * 1e4:.4g} cm² (grid {ws.grid_area * 1e4:.4g} cm²)"
+    ax.text(
+        0.01,
+        0.01,
+        note,
+        transform=ax.transAxes,
+        fontsize=7,
+        va="bottom",
+        bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none"},
+    )
+    ax.legend(loc="upper right", fontsize=7)
+
+    # ---- the φ-scan
+    if scan is not None:
+        ax = axes[1]
+        if np.isfinite(scan.area).any() and stroke is not None:
+            ax.plot(scan.phi, scan.area * 1e4, color="black", label="reachable area, exact")
+            ax.plot(
+                scan.phi,
+                scan.grid_area * 1e4,
+                ".",
+                color="tab:blue",
+                ms=3,
+                label="reachable area, grid",
+            )
+            ax.set_ylabel("reachable area (cm²)")
+        else:
+            ax.plot(
+                scan.phi,
+                scan.reachable.mean(axis=(1, 2)),
+                color="black",
+                label="reachable fraction of the grid",
+            )
+            ax.set_ylabel("reachable fraction of the grid")
+        for phi in SINGULAR_ORIENTATIONS + (SINGULAR_ORIENTATIONS[0] + 2 * math.pi,):
+            if scan.phi[0] <= phi <= scan.phi[-1]:
+                ax.axvline(phi, color="tab:red", ls="--", lw=1.0, label="singular orientation")
+        ax.axvline(ws.phi, color="tab:green", lw=1.0, label=f"φ of the map ({ws.phi:.3g})")
+        ax.set_xlabel("φ (rad)")
+        twin = ax.twinx()
+        twin.semilogy(
+            scan.phi, scan.condition_min, color="tab:purple", lw=0.8, label="κ min (reachable)"
+        )
+        twin.semilogy(
+            scan.phi,
+            scan.condition_max,
+            color="tab:purple",
+            lw=0.8,
+            ls="--",
+            label="κ max (reachable)",
+        )
+        twin.set_ylabel("condition number κ over the reachable grid")
+        spread = scan.condition_max[np.isfinite(scan.condition_max)]
+        if spread.size and spread.max() / max(float(np.nanmin(scan.condition_min)), 1.0) < 30.0:
+            plain = FuncFormatter(lambda value, _: f"{value:g}")
+            twin.yaxis.set_major_formatter(plain)
+            twin.yaxis.set_minor_formatter(plain)
+        handles, labels = ax.get_legend_handles_labels()
+        more, more_labels = twin.get_legend_handles_labels()
+        unique = dict(zip(labels + more_labels, handles + more, strict=True))
+        ax.legend(unique.values(), unique.keys(), fontsize=7, loc="upper left")
+        ax.set_title("reachable orientations (scan of φ)", fontsize=10)
+    return figure
+
+
+def save_workspace_map(
+    path: str | Path, robot: Robot, workspace: WorkspaceSlice, scan: OrientationScan | None = None
+) -> Path:
+    """Render :func:`workspace_figure` as a PNG file at ``path``, atomically."""
+    path = Path(path)
+    figure = workspace_figure(robot, workspace, scan)
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png", dpi=120)
+    return path
