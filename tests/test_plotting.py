@@ -116,7 +116,7 @@ def test_save_figures_writes_png_files(tmp_path, vertical_table):
 
 def test_save_figure_failure_leaves_no_file(tmp_path, vertical_table):
     figure = results_figures(vertical_table)["f10.png"]
-    with pytest.raises(prp3.InputFileError):
+    with pytest.raises(prp3.OutputFileError):
         save_figure(figure, tmp_path / "missing" / "f10.png")
     assert list(tmp_path.iterdir()) == []
 
