@@ -39,8 +39,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from .errors import ParameterError, SingularPoseError
 from .forward import forward_geometry
-from .geometry import SINGULARITY_THRESHOLD, inverse_geometry, singularity_measure
-from .kinematics import jacobian
+from .geometry import (
+    SINGULARITY_THRESHOLD,
+    InverseGeometry,
+    inverse_geometry,
+    singularity_measure,
+)
 from .model import Limits, Robot
 
 __all__ = [
@@ -120,8 +124,15 @@ def reachable(robot: Robot, pose: ArrayLike) -> BoolArray:
 def jacobian_condition(robot: Robot, pose: ArrayLike) -> FloatArray:
     """Condition number of the Jacobian w.r.t. ``(x, y, l0·φ)``, shape ``(...)``.
 
-    ``κ = σ_max/σ_min`` of ``J·diag(1, 1, 1/l0)`` (dimensionless, ``>= 1``),
+    ``κ = σ_max/σ_min`` of ``J_n = J·diag(1, 1, 1/l0)`` (dimensionless, ``>= 1``),
     ``J = ∂λ10/∂(x, y, φ)`` from eq. (14).  Infinite at singular poses.
+
+    Computed in closed form: the rows of ``J_n`` are ``[−d⊥_i, c_i]/D`` with
+    ``c_i = ρ_i·d_i/l0``, and ``Σ d⊥_i d⊥_iᵀ = (3/2)·1``, so
+    ``D²·J_nᵀJ_n = [[a·1, v], [vᵀ, b]]`` with ``a = 3/2``,
+    ``v = −Σ c_i d⊥_i``, ``b = Σ c_i²``.  Its eigenvalues are ``a`` and
+    ``μ± = (a + b)/2 ± √(((a − b)/2)² + |v|²)``, which bracket ``a``; so
+    ``κ = √(μ+/μ−)``, with ``μ− = (a·b − |v|²)/μ+`` (no cancellation).
 
     >>> round(float(jacobian_condition(Robot(), [0.0, 0.0, 0.0])) ** 2, 12)   # √6
     6.0
@@ -132,11 +143,18 @@ def jacobian_condition(robot: Robot, pose: ArrayLike) -> FloatArray:
     regular = np.abs(singularity_measure(flat[:, 2])) >= SINGULARITY_THRESHOLD
     kappa = np.full(flat.shape[0], np.inf)
     if regular.any():
-        J = jacobian(inverse_geometry(_free(robot), flat[regular]))
-        scaled = J * np.array([1.0, 1.0, 1.0 / robot.l0])  # columns: x, y, l0·φ
-        sigma = np.linalg.svd(scaled, compute_uv=False)
-        kappa[regular] = sigma[:, 0] / sigma[:, -1]
+        kappa[regular] = _condition(robot, inverse_geometry(_free(robot), flat[regular]))
     return kappa.reshape(batch)
+
+
+def _condition(robot: Robot, geo: InverseGeometry) -> FloatArray:
+    """κ of :func:`jacobian_condition` from an inverse geometry, shape ``geo.lambda10.shape[:-1]``."""
+    c = (geo.lever * geo.slide).sum(axis=-1) / robot.l0  # ρ_i·d_i / l0
+    v = -(c[..., None] * geo.slide_normal).sum(axis=-2)
+    a, b, vv = 1.5, (c * c).sum(axis=-1), (v * v).sum(axis=-1)
+    mu_plus = 0.5 * (a + b) + np.sqrt((0.5 * (a - b)) ** 2 + vv)
+    mu_minus = (a * b - vv) / mu_plus
+    return np.asarray(np.sqrt(mu_plus / mu_minus))
 
 
 def orientation_range(robot: Robot) -> tuple[float, float]:
@@ -320,7 +338,9 @@ def workspace_slice(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> Wor
     xs, ys = _grid("x", x), _grid("y", y)
     X, Y = np.meshgrid(xs, ys)
     pose = np.stack([X, Y, np.full_like(X, phi)], axis=-1)
-    lam, _ = _displacements(robot, pose)
+    geo = inverse_geometry(_free(robot), pose.reshape(-1, 3))  # φ is regular
+    lam = geo.lambda10.reshape(*X.shape, 3)
+    condition = _condition(robot, geo).reshape(X.shape)
     stroke = robot.limits.stroke
     inside: BoolArray
     if stroke is None:
@@ -336,7 +356,7 @@ def workspace_slice(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> Wor
         y=ys,
         lambda10=lam,
         reachable=inside,
-        condition=jacobian_condition(robot, pose),
+        condition=condition,
         determinant=math.sin(phi - math.pi / 3.0),
         region=region,
         area=area,

@@ -1,16 +1,282 @@
-"""``prp3 workspace``: not implemented yet."""
+"""``prp3 workspace``: reachable region, Jacobian conditioning and singular loci.
+
+::
+
+    prp3 workspace [--robot ROBOT.toml] [--phi VALUE] [--extent XMIN XMAX YMIN YMAX]
+                   [--points N] [--orientations M] --output DIR
+
+writes ``DIR/workspace.csv`` (the grid at ``φ``), ``DIR/orientations.csv``
+(the scan of ``φ``) and ``DIR/workspace.png`` (the map), together or not at
+all (:func:`prp3.io.staged_output`).  The columns are documented in
+``docs/forward_and_workspace.md`` and in ``--help``.
+"""
 
 from __future__ import annotations
 
 import argparse
+import math
+import sys
+from pathlib import Path
 from typing import Any
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..geometry import SINGULARITY_THRESHOLD
+from ..io import check_output_directory, staged_output, write_table_csv
+from ..model import Robot
+from ..workspace import (
+    OrientationScan,
+    WorkspaceSlice,
+    orientation_range,
+    orientation_scan,
+    reachable_region,
+    workspace_slice,
+)
+
+__all__ = ["DEFAULT_ORIENTATIONS", "DEFAULT_POINTS", "default_extent", "register", "run"]
+
+#: Grid points per axis when ``--points`` is not given.
+DEFAULT_POINTS: int = 201
+
+#: Orientations of the φ-scan when ``--orientations`` is not given.
+DEFAULT_ORIENTATIONS: int = 91
+
+#: Margin added around the reachable region by the default extent (fraction of its size).
+EXTENT_MARGIN: float = 0.1
+
+EXAMPLES = """\
+examples:
+  prp3 workspace --robot robot.toml --output ws
+      robot.toml with [limits] stroke = [-0.05, 0.05]: the region at phi = 0, its
+      conditioning, the reachable orientations; ws/workspace.png is the map
+  prp3 workspace --phi 0.3 --extent -0.2 0.2 -0.2 0.2 --points 101 --output ws03
+
+output files:
+  workspace.csv     one row per grid point (x, y) at phi: x, y, reachable (1/0),
+                    lambda10_A, lambda10_B, lambda10_C (m), condition (condition number of
+                    the Jacobian w.r.t. (x, y, l0*phi)), phi_min, phi_max (extreme reachable
+                    scanned orientations at (x, y), nan if none), orientation_fraction
+                    (share of the scanned orientations reachable at (x, y))
+  orientations.csv  one row per scanned phi: phi, determinant (sin(phi - pi/3)), area
+                    (exact reachable area, m^2, inf without stroke), grid_area (counted on
+                    the grid), reachable_points, condition_min, condition_max (over the
+                    reachable grid points, nan if none)
+  workspace.png     the map at phi and the scan of phi
+
+The only singular configurations of this robot are the orientations phi = pi/3 mod pi,
+at every (x, y): a slice at a regular phi has no singular point; --phi at a singular
+orientation is refused.
+
+Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
+"""
+
+
+def default_extent(robot: Robot, samples: int = 721) -> tuple[float, float, float, float]:
+    """The grid window: the bounding box of every reachable ``(x, y)``, with a margin.
+
+    With ``[limits] stroke`` the box covers the exact regions of
+    ``samples`` orientations spread over :func:`~prp3.workspace.orientation_range`,
+    enlarged by :data:`EXTENT_MARGIN` of its size; without a stroke the
+    workspace is unbounded and the window is ``±l0`` in both directions.
+
+    >>> from prp3.model import Limits
+    >>> [round(v, 4) for v in default_extent(Robot())]
+    [-0.3, 0.3, -0.3, 0.3]
+    """
+    if robot.limits.stroke is None:
+        return (-robot.l0, robot.l0, -robot.l0, robot.l0)
+    low, high = orientation_range(robot)
+    points = []
+    for phi in np.linspace(low, high, samples).tolist():
+        if abs(math.sin(phi - math.pi / 3.0)) < SINGULARITY_THRESHOLD:
+            continue
+        region = reachable_region(robot, phi)
+        if len(region):
+            points.append(region)
+    xy = np.vstack(points)
+    xmin, ymin = xy.min(axis=0).tolist()
+    xmax, ymax = xy.max(axis=0).tolist()
+    pad = EXTENT_MARGIN * max(xmax - xmin, ymax - ymin)
+    return (xmin - pad, xmax + pad, ymin - pad, ymax + pad)
+
+
+def _positive_count(minimum: int) -> Any:
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = minimum - 1
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}")
+        return value
+
+    return parse
+
+
+def _finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
 
 
 def register(subparsers: Any) -> None:
-    """Add the ``workspace`` subcommand (placeholder)."""
-    parser = subparsers.add_parser("workspace", help="(not implemented yet)")
-    parser.set_defaults(handler=None)
+    """Add the ``workspace`` subcommand."""
+    parser = subparsers.add_parser(
+        "workspace",
+        help="reachable region, Jacobian conditioning and singular loci -> CSV + PNG map",
+        description=(
+            "Map the workspace of the 3-PRP robot at one platform orientation phi: which\n"
+            "(x, y) are reachable within the actuator strokes ([limits] stroke in ROBOT.toml),\n"
+            "the condition number of the Jacobian there, and which orientations each point\n"
+            "reaches (a scan of phi). See docs/forward_and_workspace.md."
+        ),
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "--robot",
+        metavar="ROBOT.toml",
+        type=Path,
+        help="robot parameters, with [limits] stroke for a bounded workspace (default: the "
+        "paper's robot, no limits)",
+    )
+    parser.add_argument(
+        "--phi",
+        metavar="VALUE",
+        type=_finite,
+        default=0.0,
+        help="platform orientation of the map (rad, default 0: the central orientation)",
+    )
+    parser.add_argument(
+        "--extent",
+        metavar=("XMIN", "XMAX", "YMIN", "YMAX"),
+        type=_finite,
+        nargs=4,
+        help="grid window (m); default: the bounding box of every reachable (x, y) over all "
+        f"orientations plus {EXTENT_MARGIN:.0%}, or +-l0 without stroke limits",
+    )
+    parser.add_argument(
+        "--points",
+        metavar="N",
+        type=_positive_count(2),
+        default=DEFAULT_POINTS,
+        help=f"grid points per axis (default {DEFAULT_POINTS})",
+    )
+    parser.add_argument(
+        "--orientations",
+        metavar="M",
+        type=_positive_count(2),
+        default=DEFAULT_ORIENTATIONS,
+        help="orientations of the scan of phi, evenly over the reachable orientation range "
+        f"(over -pi..pi without stroke limits; default {DEFAULT_ORIENTATIONS})",
+    )
+    parser.add_argument(
+        "--output",
+        "-o",
+        metavar="DIR",
+        type=Path,
+        required=True,
+        help="output directory, created if missing; files of the same name are replaced",
+    )
+    parser.set_defaults(handler=run)
 
 
-def handler(args: argparse.Namespace) -> int:  # pragma: no cover - placeholder
-    raise NotImplementedError
+def _grid_table(ws: WorkspaceSlice, scan: OrientationScan) -> dict[str, np.ndarray]:
+    X, Y = np.meshgrid(ws.x, ws.y)
+    table = {
+        "x": X.reshape(-1),
+        "y": Y.reshape(-1),
+        "reachable": ws.reachable.reshape(-1).astype(np.float64),
+    }
+    for j, leg in enumerate("ABC"):
+        table[f"lambda10_{leg}"] = ws.lambda10[..., j].reshape(-1)
+    table["condition"] = ws.condition.reshape(-1)
+    table["phi_min"] = scan.phi_min.reshape(-1)
+    table["phi_max"] = scan.phi_max.reshape(-1)
+    table["orientation_fraction"] = (scan.count / scan.phi.size).reshape(-1)
+    return table
+
+
+def _scan_table(scan: OrientationScan) -> dict[str, np.ndarray]:
+    return {
+        "phi": scan.phi,
+        "determinant": np.sin(scan.phi - math.pi / 3.0),
+        "area": scan.area,
+        "grid_area": scan.grid_area,
+        "reachable_points": scan.reachable.sum(axis=(1, 2)).astype(np.float64),
+        "condition_min": scan.condition_min,
+        "condition_max": scan.condition_max,
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``prp3 workspace`` with parsed ``args``; return the exit status."""
+    output: Path = args.output
+    check_output_directory(output)
+    robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    if args.extent is not None:
+        xmin, xmax, ymin, ymax = args.extent
+        if not (xmin < xmax and ymin < ymax):
+            raise ParameterError(
+                f"--extent must be XMIN XMAX YMIN YMAX with XMIN < XMAX and YMIN < YMAX, got "
+                f"{' '.join(repr(v) for v in args.extent)}"
+            )
+    else:
+        xmin, xmax, ymin, ymax = default_extent(robot)
+    x = np.linspace(xmin, xmax, args.points)
+    y = np.linspace(ymin, ymax, args.points)
+    ws = workspace_slice(robot, args.phi, x, y)  # refuses a singular phi
+    if robot.limits.stroke is not None:
+        low, high = orientation_range(robot)
+    else:
+        low, high = -math.pi, math.pi
+    scan = orientation_scan(robot, x, y, np.linspace(low, high, args.orientations))
+
+    from ..plotting.workspace import save_workspace_map
+
+    with staged_output(output) as staged:
+        write_table_csv(staged.path("workspace.csv"), _grid_table(ws, scan))
+        write_table_csv(staged.path("orientations.csv"), _scan_table(scan))
+        save_workspace_map(staged.path("workspace.png"), robot, ws, scan)
+
+    print(_summary(robot, ws, (low, high), staged.written), file=sys.stdout)
+    return 0
+
+
+def _summary(
+    robot: Robot, ws: WorkspaceSlice, phi_range: tuple[float, float], written: list[Path]
+) -> str:
+    stroke = robot.limits.stroke
+    lines = [
+        f"prp3 workspace: phi = {ws.phi:.9g} rad, grid {ws.x.size} x {ws.y.size} over "
+        f"x = {ws.x[0]:.6g} .. {ws.x[-1]:.6g} m, y = {ws.y[0]:.6g} .. {ws.y[-1]:.6g} m",
+    ]
+    if stroke is None:
+        lines.append("  no stroke limits: every (x, y) is reachable at a regular phi")
+    else:
+        lines.append(
+            f"  stroke [{stroke[0]:g}, {stroke[1]:g}] m: reachable area {ws.area:.6g} m^2 "
+            f"(grid {ws.grid_area:.6g} m^2, {int(ws.reachable.sum())} of {ws.reachable.size} points)"
+        )
+        inside = phi_range[0] < math.pi / 3.0 < phi_range[1]
+        lines.append(
+            f"  reachable orientations: {phi_range[0]:.9g} .. {phi_range[1]:.9g} rad"
+            + (" (split by the singular orientation pi/3)" if inside else "")
+        )
+    reached = ws.condition[ws.reachable]
+    if reached.size:
+        lines.append(
+            f"  condition number over the reachable points: {reached.min():.6g} .. "
+            f"{reached.max():.6g}"
+        )
+    lines.append(
+        f"  singular points at this phi: none (|sin(phi - pi/3)| = {abs(ws.determinant):.6g}); "
+        "singular orientations: phi = pi/3 mod pi"
+    )
+    lines += ["files written:", *(f"  {path}" for path in written)]
+    return "\n".join(lines)

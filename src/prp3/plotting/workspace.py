@@ -95,17 +95,24 @@ def workspace_figure(
         ax.plot(
             outline[:, 0], outline[:, 1], color="black", lw=1.2, label="reachable region (exact)"
         )
+
+    def visible(points: np.ndarray) -> bool:
+        inside_x = (points[:, 0] >= ws.x[0]) & (points[:, 0] <= ws.x[-1])
+        return bool((inside_x & (points[:, 1] >= ws.y[0]) & (points[:, 1] <= ws.y[-1])).any())
+
     base = _closed(base_vertices(robot))
-    ax.plot(base[:, 0], base[:, 1], color="tab:red", lw=0.8, ls="--", label="base triangle")
+    if visible(base):  # for scale, when the window shows some of it
+        ax.plot(base[:, 0], base[:, 1], color="tab:red", lw=0.8, ls="--", label="base triangle")
     platform = _closed(platform_vertices(robot, [0.0, 0.0, ws.phi]))
-    ax.plot(
-        platform[:, 0],
-        platform[:, 1],
-        color="tab:orange",
-        lw=0.8,
-        ls=":",
-        label=f"platform at (0, 0, {ws.phi:.3g})",
-    )
+    if visible(platform):
+        ax.plot(
+            platform[:, 0],
+            platform[:, 1],
+            color="tab:orange",
+            lw=0.8,
+            ls=":",
+            label=f"platform at (0, 0, {ws.phi:.3g})",
+        )
     ax.set_xlim(ws.x[0], ws.x[-1])
     ax.set_ylim(ws.y[0], ws.y[-1])
     ax.set_aspect("equal")
