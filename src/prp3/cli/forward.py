@@ -1,16 +1,296 @@
-"""``prp3 forward``: not implemented yet."""
+"""``prp3 forward``: platform motion integrated from actuator force histories.
+
+::
+
+    prp3 forward [--robot ROBOT.toml] --forces FORCES.csv
+                 [--initial-pose X Y PHI] [--initial-velocity VX VY OMEGA]
+                 [--samples N] [--rtol R] [--atol A] --output DIR
+
+``FORCES.csv`` is either a table ``t,f10_A,f10_B,f10_C`` or the
+``results.csv`` of a previous ``prp3 simulate`` (all 46 contract columns; the
+initial state then defaults to its first row).  Writes ``DIR/results.csv``
+(the contract columns of the integrated motion) and ``DIR/trajectory.csv``
+(``t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi``, readable by ``prp3 simulate
+--trajectory``), together (:func:`prp3.io.staged_output`).  When the motion
+stops early at a singularity or a stroke limit, the files hold the motion up
+to the stop, the reason goes to stderr and the exit status is 1.
+"""
 
 from __future__ import annotations
 
 import argparse
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputFileError, Prp3Error
+from ..forward import ActuatorForces, ForwardDynamics, forward_dynamics, forward_velocity
+from ..geometry import LEGS
+from ..io import check_output_directory, read_table_csv, staged_output, write_table_csv
+from ..model import Robot
+from ..results import RESULT_COLUMNS, results_table
+
+__all__ = ["FORCE_COLUMNS", "ForceInput", "read_forces", "register", "run"]
+
+FloatArray = NDArray[np.float64]
+
+#: Columns of a force history file.
+FORCE_COLUMNS: tuple[str, ...] = ("t", "f10_A", "f10_B", "f10_C")
+
+#: Columns of ``trajectory.csv`` (the ``TRAJ.csv`` layout of the data contract).
+TRAJECTORY_COLUMNS: tuple[str, ...] = (
+    "t", "x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi",
+)  # fmt: skip
+
+#: Exit status when the integration stopped before the last time.
+EXIT_STOPPED: int = 1
+
+EXAMPLES = """\
+examples:
+  prp3 simulate --motion vertical --output inv
+  prp3 forward --forces inv/results.csv --output fwd
+      integrate the forces of the paper's vertical motion from its first state; the
+      open-loop motion is unstable (errors grow about e^(6 t)): see the docs
+  prp3 forward --robot robot.toml --forces push.csv --initial-pose 0 0.01 0 --output run
+      push.csv: header t,f10_A,f10_B,f10_C (s, N); starts at rest unless
+      --initial-velocity is given
+
+The forces between samples follow the not-a-knot cubic spline through them.
+Exit status 0 when the motion reached the last time; 1 when it stopped early at a
+singularity (|sin(phi - pi/3)| = 2e-4) or at a stroke limit, or the integrator gave
+up (the files hold the motion up to the stop; the reason is on stderr); 2 on bad
+input (one line on stderr, nothing written).
+"""
+
+
+@dataclass(frozen=True)
+class ForceInput:
+    """A force file read by :func:`read_forces`.
+
+    Attributes
+    ----------
+    path : Path
+        The file.
+    forces : ActuatorForces
+        Its force samples.
+    first_pose, first_rates : ndarray (3,) or None
+        ``(x, y, phi)`` and ``dlambda10`` of the first row of a ``results.csv``;
+        ``None`` for a force table.
+    """
+
+    path: Path
+    forces: ActuatorForces
+    first_pose: FloatArray | None
+    first_rates: FloatArray | None
+
+    @property
+    def results(self) -> bool:
+        """Whether the file is a ``results.csv`` (all contract columns)."""
+        return self.first_pose is not None
+
+
+def read_forces(path: Path) -> ForceInput:
+    """Read ``t,f10_A,f10_B,f10_C`` or a complete ``results.csv``.
+
+    Raises
+    ------
+    InputFileError
+        A malformed file, unknown columns, or some but not all of the
+        ``results.csv`` columns (names the file and the missing columns).
+    TrajectoryError
+        Fewer than 2 rows or times that do not increase.
+    """
+    others = [name for name in RESULT_COLUMNS if name not in FORCE_COLUMNS]
+    columns = read_table_csv(path, required=FORCE_COLUMNS, optional=others, what="forces")
+    extra = [name for name in others if name in columns]
+    if extra and len(extra) != len(others):
+        missing = [name for name in others if name not in columns]
+        raise InputFileError(
+            f"{path}: give either the columns {','.join(FORCE_COLUMNS)} or all the columns of a "
+            f"results.csv; missing {', '.join(missing[:6])}"
+            + (f" and {len(missing) - 6} more" if len(missing) > 6 else "")
+        )
+    t = columns["t"]
+    f10 = np.stack([columns[f"f10_{leg}"] for leg in LEGS], axis=-1)
+    try:
+        forces = ActuatorForces(t=t, f10=f10)
+    except Prp3Error as error:
+        raise type(error)(f"{path}: {error}") from None
+    if not extra:
+        return ForceInput(path, forces, None, None)
+    pose = np.array([columns["x"][0], columns["y"][0], columns["phi"][0]])
+    rates = np.array([columns[f"dlambda10_{leg}"][0] for leg in LEGS])
+    return ForceInput(path, forces, pose, rates)
+
+
+def _finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def _positive(text: str) -> float:
+    value = _finite(text)
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
+    return value
+
+
+def _at_least_two(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 2, got {text!r}")
+    return value
 
 
 def register(subparsers: Any) -> None:
-    """Add the ``forward`` subcommand (placeholder)."""
-    parser = subparsers.add_parser("forward", help="(not implemented yet)")
-    parser.set_defaults(handler=None)
+    """Add the ``forward`` subcommand."""
+    parser = subparsers.add_parser(
+        "forward",
+        help="forward dynamics: platform motion from actuator forces -> DIR/results.csv",
+        description=(
+            "Integrate the platform motion of the 3-PRP robot driven by given actuator forces\n"
+            "(scipy solve_ivp, DOP853) and write DIR/results.csv (the columns of prp3 simulate)\n"
+            "and DIR/trajectory.csv. See docs/forward_and_workspace.md."
+        ),
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "--robot",
+        metavar="ROBOT.toml",
+        type=Path,
+        help="robot parameters (default: the paper's robot)",
+    )
+    parser.add_argument(
+        "--forces",
+        metavar="FORCES.csv",
+        type=Path,
+        required=True,
+        help="actuator forces: header t,f10_A,f10_B,f10_C (s, N), or a results.csv of "
+        "prp3 simulate",
+    )
+    parser.add_argument(
+        "--initial-pose",
+        metavar=("X", "Y", "PHI"),
+        type=_finite,
+        nargs=3,
+        help="pose at the first time (m, m, rad); default: the first row of a results.csv, "
+        "else the central configuration 0 0 0",
+    )
+    parser.add_argument(
+        "--initial-velocity",
+        metavar=("VX", "VY", "OMEGA"),
+        type=_finite,
+        nargs=3,
+        help="platform velocity at the first time (m/s, m/s, rad/s); default: from the "
+        "dlambda10 of the first row of a results.csv by the inverse Jacobian (unless "
+        "--initial-pose is given), else at rest",
+    )
+    parser.add_argument(
+        "--samples",
+        metavar="N",
+        type=_at_least_two,
+        help="output samples evenly over the time span of the forces (default: the times "
+        "of the force file)",
+    )
+    parser.add_argument(
+        "--rtol", metavar="R", type=_positive, default=1e-10, help="relative tolerance (1e-10)"
+    )
+    parser.add_argument(
+        "--atol",
+        metavar="A",
+        type=_positive,
+        default=1e-12,
+        help="absolute tolerance on m, rad, m/s, rad/s (1e-12)",
+    )
+    parser.add_argument(
+        "--output",
+        "-o",
+        metavar="DIR",
+        type=Path,
+        required=True,
+        help="output directory, created if missing; files of the same name are replaced",
+    )
+    parser.set_defaults(handler=run)
 
 
-def handler(args: argparse.Namespace) -> int:  # pragma: no cover - placeholder
-    raise NotImplementedError
+def run(args: argparse.Namespace) -> int:
+    """Run ``prp3 forward`` with parsed ``args``; return the exit status."""
+    output: Path = args.output
+    check_output_directory(output)
+    robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    given = read_forces(args.forces)
+    forces = given.forces
+    if args.initial_pose is not None:
+        pose = np.array(args.initial_pose, dtype=np.float64)
+    elif given.first_pose is not None:
+        pose = given.first_pose
+    else:
+        pose = np.zeros(3)
+    if args.initial_velocity is not None:
+        velocity = np.array(args.initial_velocity, dtype=np.float64)
+    elif given.first_rates is not None and args.initial_pose is None:
+        velocity = forward_velocity(robot, pose, given.first_rates)
+    else:
+        velocity = np.zeros(3)
+    if args.samples is not None:
+        times = np.linspace(float(forces.t[0]), float(forces.t[-1]), args.samples)
+    else:
+        times = np.asarray(forces.t)
+
+    result = forward_dynamics(robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol)
+    table = results_table(result.kinematics, result.dynamics)
+    motion = result.motion
+    trajectory = {
+        "t": motion.t,
+        **{name: motion.pose[:, k] for k, name in enumerate(("x", "y", "phi"))},
+        **{name: motion.velocity[:, k] for k, name in enumerate(("dx", "dy", "dphi"))},
+        **{name: motion.acceleration[:, k] for k, name in enumerate(("ddx", "ddy", "ddphi"))},
+    }
+    with staged_output(output) as staged:
+        write_table_csv(staged.path("results.csv"), table)
+        write_table_csv(staged.path("trajectory.csv"), trajectory)
+
+    print(_summary(given, result, pose, velocity, staged.written), file=sys.stdout)
+    if result.status != "completed":
+        print(f"prp3: forward: {result.message}", file=sys.stderr)
+        return EXIT_STOPPED
+    return 0
+
+
+def _summary(
+    given: ForceInput,
+    result: ForwardDynamics,
+    pose: FloatArray,
+    velocity: FloatArray,
+    written: list[Path],
+) -> str:
+    kind = "results.csv" if given.results else "force table"
+    motion = result.motion
+    lines = [
+        f"prp3 forward: forces from {given.path} ({kind}, {given.forces.t.size} samples, "
+        "cubic spline between them)",
+        f"  initial pose {(pose + 0.0).tolist()!r}, velocity {(velocity + 0.0).tolist()!r}",
+        f"  {result.message}; {motion.samples} samples written, "
+        f"{result.evaluations} evaluations of the equations of motion",
+        f"  self-check: f10 of the integrated motion matches the input forces to "
+        f"{result.force_residual:.3g} N",
+        f"  final pose x = {motion.pose[-1, 0]:.9g} m, y = {motion.pose[-1, 1]:.9g} m, "
+        f"phi = {motion.pose[-1, 2]:.9g} rad",
+        "files written:",
+        *(f"  {path}" for path in written),
+    ]
+    return "\n".join(lines)
