@@ -221,25 +221,36 @@ def run_single(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) ->
 
 
 # ------------------------------------------------------------------- memory
+def peak_rss_mib() -> float:
+    """Peak resident memory of this process (MiB).
+
+    ``VmHWM`` of ``/proc/self/status`` on Linux: ``ru_maxrss`` would carry the
+    peak of the parent across ``fork`` + ``exec``.
+    """
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 2**10  # kB
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**10  # KiB on Linux
+
+
 def child_memory(method_name: str, samples: int, args: argparse.Namespace) -> None:
     """In a subprocess: peak memory of one call (printed as JSON)."""
     robot = prp3.Robot()
-    peers = (
-        load_peers(robot)[0]
-        if method_name not in ("prp3 fused", "prp3 paper", "prp3 newton-euler")
-        else []
-    )
+    prp3_only = method_name.startswith("prp3 ")
+    peers = [] if prp3_only else load_peers(robot)[0]
     method = next(m for m in methods(robot, peers, args) if m.name == method_name)
     motion = batch(motion_of("rotation", samples))
     state = method.prepare(motion)
     gc.collect()
-    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    before = peak_rss_mib()
     tracemalloc.start()
     method.run(state)
     _, peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
-    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux
-    print(json.dumps({"call": peak / 2**20, "rss": rss / 2**10, "rss_before": before / 2**10}))
+    print(json.dumps({"call": peak / 2**20, "rss": peak_rss_mib(), "rss_before": before}))
 
 
 def run_memory(

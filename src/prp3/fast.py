@@ -75,7 +75,6 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 _H = math.sqrt(3.0) / 2.0  # sin(π/3)
-_INV_SQRT3 = 1.0 / math.sqrt(3.0)
 
 #: Samples per chunk of :func:`paper_forces` (work rows stay in the CPU caches).
 DEFAULT_CHUNK = 4096
@@ -432,11 +431,13 @@ def paper_forces(
     names = _OUTPUTS + (_REACTIONS if reactions else ())
     result = _outputs(out, names, shape)
     flat = [a.reshape(-1, 3) for a in arrays]
-    targets = {name: array.reshape(-1, 3) for name, array in result.items()}
     samples = flat[0].shape[0]
     if samples and not reactions and samples <= _FEW_SAMPLES:
-        _compute_samples(compiled, flat, targets)
+        table = _sample_table(compiled, flat)
+        for name, values in zip(_OUTPUTS, table, strict=True):
+            result[name][...] = values.reshape(shape)
     elif samples:
+        targets = {name: array.reshape(-1, 3) for name, array in result.items()}
         _compute(compiled, flat, targets, reactions, int(chunk_size))
     return FastForces(**result)
 
@@ -874,19 +875,18 @@ def _sample_error(compiled: CompiledRobot, *values: SampleInput) -> tuple[float,
     return tuple(np.concatenate(arrays).tolist())
 
 
-def _compute_samples(
-    compiled: CompiledRobot, inputs: list[FloatArray], targets: dict[str, FloatArray]
-) -> None:
-    """Few samples: :func:`sample_forces_unchecked` in a loop (numpy's call overhead dominates)."""
+def _sample_table(compiled: CompiledRobot, inputs: list[FloatArray]) -> FloatArray:
+    """Few samples: :func:`sample_forces_unchecked` in a loop (numpy's call overhead dominates).
+
+    Returns ``f10, p10, f21y, f21z`` stacked, shape ``(4, N, 3)``.
+    """
     rows = []
     for pose, velocity, acceleration in zip(*(array.tolist() for array in inputs), strict=True):
         values = (*pose, *velocity, *acceleration)
         if not _plausible(compiled, values):
             _raise_input_error(compiled, inputs, inputs[0].shape[0])
         rows.append(sample_forces_unchecked(compiled, *values))
-    table = np.array(rows)
-    for k, name in enumerate(_OUTPUTS):
-        targets[name][...] = table[:, 3 * k : 3 * k + 3]
+    return np.array(rows).reshape(-1, 4, 3).transpose(1, 0, 2)
 
 
 def sample_forces_unchecked(
