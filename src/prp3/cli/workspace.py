@@ -158,7 +158,7 @@ def register(subparsers: Any) -> None:
         type=_finite,
         nargs=4,
         help="grid window (m); default: the bounding box of every reachable (x, y) over all "
-        f"orientations plus {EXTENT_MARGIN:.0%}, or +-l0 without stroke limits",
+        f"orientations plus {EXTENT_MARGIN * 100:g}%% of its size, or +-l0 without stroke limits",
     )
     parser.add_argument(
         "--points",
