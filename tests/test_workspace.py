@@ -184,6 +184,21 @@ def test_condition_number_at_the_central_configuration_is_sqrt6() -> None:
     )
 
 
+def test_condition_number_at_the_centre_for_every_orientation() -> None:
+    # At G = 0 the legs are alike: λ32_i equal, so c_i = ρ_i·d_i/l0 = c with
+    # Σρ_i·d_i = (3·l0/2)·tan(ψ/2) ⇒ c = τ/2, τ = tan(ψ/2).  The Gram matrix of
+    # J·diag(1, 1, 1/l0) is then diag(3/2, 3/2, 3c²)/D² (Σ d⊥_i = 0), so
+    # κ² = max(a/b, b/a) with a/b = 1/(2c²):  κ = max(√2/|τ|, |τ|/√2).
+    phi = np.linspace(-3.0, 3.0, 601)
+    phi = phi[np.abs(np.sin(phi - math.pi / 3.0)) > 1e-3]
+    tau = np.abs(np.tan((phi - math.pi / 3.0) / 2.0))
+    expected = np.maximum(math.sqrt(2.0) / tau, tau / math.sqrt(2.0))
+    got = jacobian_condition(FREE, np.column_stack([0 * phi, 0 * phi, phi]))
+    np.testing.assert_allclose(got, expected, rtol=1e-9)
+    isotropic = math.pi / 3.0 - 2.0 * math.atan(math.sqrt(2.0))  # τ = −√2
+    assert float(jacobian_condition(FREE, [0.0, 0.0, isotropic])) == pytest.approx(1.0, abs=1e-7)
+
+
 @settings(max_examples=50, deadline=None)
 @given(
     pose=st.tuples(st.floats(-0.2, 0.2), st.floats(-0.2, 0.2), st.floats(-math.pi, math.pi)).filter(
