@@ -662,6 +662,12 @@ def forward_dynamics(
 
     Notes
     -----
+    The motion under open-loop forces is unstable: holding the platform still
+    at the central configuration with constant forces (gravity on) is a
+    saddle whose linearisation has the rates ``±6.18`` and ``±6.18i`` (1/s).
+    Errors of the integration or of the force samples grow like ``e^{6.2 t}``
+    (see ``docs/forward_and_workspace.md`` for measured round trips).
+
     Trial states that the integrator probes beyond the singular stop, where
     prp3 refuses to compute (``|sin(φ − π/3)| < 1e-4``), get a NaN derivative:
     the Runge–Kutta step is then rejected and retried with a smaller step
