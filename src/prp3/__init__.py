@@ -33,10 +33,29 @@ from .errors import (
     TrajectoryError,
     UnreachablePoseError,
 )
+from .forward import (
+    ActuatorForces,
+    ForwardDynamics,
+    ForwardGeometry,
+    forward_acceleration,
+    forward_dynamics,
+    forward_geometry,
+    forward_kinematics,
+    forward_velocity,
+    platform_dynamics,
+)
 from .geometry import LEGS, InverseGeometry, inverse_geometry, platform_vertices
 from .kinematics import Kinematics, inverse_kinematics, jacobian
 from .model import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
 from .motion import Motion, law_motion, paper_motion
+from .workspace import (
+    jacobian_condition,
+    orientation_range,
+    orientation_scan,
+    reachable,
+    reachable_region,
+    workspace_slice,
+)
 
 try:
     __version__ = version("prp3")
@@ -45,6 +64,9 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 
 __all__ = [
     "LEGS",
+    "ActuatorForces",
+    "ForwardDynamics",
+    "ForwardGeometry",
     "METHODS",
     "BodyWrenches",
     "InputFileError",
@@ -65,13 +87,25 @@ __all__ = [
     "UnreachablePoseError",
     "__version__",
     "body_wrenches",
+    "forward_acceleration",
+    "forward_dynamics",
+    "forward_geometry",
+    "forward_kinematics",
+    "forward_velocity",
     "inverse_dynamics",
     "inverse_geometry",
     "inverse_kinematics",
     "jacobian",
+    "jacobian_condition",
     "law_motion",
     "newton_euler",
+    "orientation_range",
+    "orientation_scan",
     "paper_method",
     "paper_motion",
+    "platform_dynamics",
     "platform_vertices",
+    "reachable",
+    "reachable_region",
+    "workspace_slice",
 ]
