@@ -64,11 +64,11 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 
 __all__ = [
     "LEGS",
+    "METHODS",
     "ActuatorForces",
+    "BodyWrenches",
     "ForwardDynamics",
     "ForwardGeometry",
-    "METHODS",
-    "BodyWrenches",
     "InputFileError",
     "InverseDynamics",
     "InverseGeometry",
