@@ -19,7 +19,6 @@ to the stop, the reason goes to stderr and the exit status is 1.
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,6 +33,7 @@ from ..geometry import LEGS
 from ..io import check_output_directory, read_table_csv, staged_output, write_table_csv
 from ..model import Robot
 from ..results import RESULT_COLUMNS, results_table
+from ._types import finite_float, integer_at_least, positive_float
 
 __all__ = ["FORCE_COLUMNS", "ForceInput", "read_forces", "register", "run"]
 
@@ -128,33 +128,6 @@ def read_forces(path: Path) -> ForceInput:
     return ForceInput(path, forces, pose, rates)
 
 
-def _finite(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
-    return value
-
-
-def _positive(text: str) -> float:
-    value = _finite(text)
-    if value <= 0.0:
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
-    return value
-
-
-def _at_least_two(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 2, got {text!r}")
-    return value
-
-
 def register(subparsers: Any) -> None:
     """Add the ``forward`` subcommand."""
     parser = subparsers.add_parser(
@@ -185,7 +158,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--initial-pose",
         metavar=("X", "Y", "PHI"),
-        type=_finite,
+        type=finite_float,
         nargs=3,
         help="pose at the first time (m, m, rad); default: the first row of a results.csv, "
         "else the central configuration 0 0 0",
@@ -193,7 +166,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--initial-velocity",
         metavar=("VX", "VY", "OMEGA"),
-        type=_finite,
+        type=finite_float,
         nargs=3,
         help="platform velocity at the first time (m/s, m/s, rad/s); default: from the "
         "dlambda10 of the first row of a results.csv by the inverse Jacobian (unless "
@@ -202,17 +175,17 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--samples",
         metavar="N",
-        type=_at_least_two,
+        type=integer_at_least(2),
         help="output samples evenly over the time span of the forces (default: the times "
         "of the force file)",
     )
     parser.add_argument(
-        "--rtol", metavar="R", type=_positive, default=1e-10, help="relative tolerance (1e-10)"
+        "--rtol", metavar="R", type=positive_float, default=1e-10, help="relative tolerance (1e-10)"
     )
     parser.add_argument(
         "--atol",
         metavar="A",
-        type=_positive,
+        type=positive_float,
         default=1e-12,
         help="absolute tolerance on m, rad, m/s, rad/s (1e-12)",
     )

@@ -37,6 +37,7 @@ from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from ..results import RESULT_COLUMNS, results_table
+from ._types import integer_at_least
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -267,15 +268,6 @@ def _summary_text(summary: RunSummary, heading: str, written: list[Path]) -> str
 
 
 # ------------------------------------------------------------------ command line
-def _at_least_two(text: str) -> int:
-    """argparse type of ``--samples`` and ``--frames``: an integer >= 2."""
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 2, got {text!r}")
-    return value
 
 
 def register(subparsers: Any) -> None:
@@ -315,7 +307,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--samples",
         metavar="N",
-        type=_at_least_two,
+        type=integer_at_least(2),
         help=f"samples of --motion over 0..3 s (default {DEFAULT_SAMPLES})",
     )
     parser.add_argument(
@@ -347,7 +339,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--frames",
         metavar="N",
-        type=_at_least_two,
+        type=integer_at_least(2),
         default=MAX_FRAMES,
         help=f"largest number of frames of the animation (default {MAX_FRAMES})",
     )

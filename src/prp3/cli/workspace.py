@@ -33,6 +33,7 @@ from ..workspace import (
     reachable_region,
     workspace_slice,
 )
+from ._types import finite_float, integer_at_least
 
 __all__ = ["DEFAULT_ORIENTATIONS", "DEFAULT_POINTS", "default_extent", "register", "run"]
 
@@ -101,29 +102,6 @@ def default_extent(robot: Robot, samples: int = 721) -> tuple[float, float, floa
     return (xmin - pad, xmax + pad, ymin - pad, ymax + pad)
 
 
-def _positive_count(minimum: int) -> Any:
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = minimum - 1
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}")
-        return value
-
-    return parse
-
-
-def _finite(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
-    return value
-
-
 def register(subparsers: Any) -> None:
     """Add the ``workspace`` subcommand."""
     parser = subparsers.add_parser(
@@ -148,14 +126,14 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--phi",
         metavar="VALUE",
-        type=_finite,
+        type=finite_float,
         default=0.0,
         help="platform orientation of the map (rad, default 0: the central orientation)",
     )
     parser.add_argument(
         "--extent",
         metavar=("XMIN", "XMAX", "YMIN", "YMAX"),
-        type=_finite,
+        type=finite_float,
         nargs=4,
         help="grid window (m); default: the bounding box of every reachable (x, y) over all "
         f"orientations plus {EXTENT_MARGIN * 100:g}%% of its size, or +-l0 without stroke limits",
@@ -163,14 +141,14 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--points",
         metavar="N",
-        type=_positive_count(2),
+        type=integer_at_least(2),
         default=DEFAULT_POINTS,
         help=f"grid points per axis (default {DEFAULT_POINTS})",
     )
     parser.add_argument(
         "--orientations",
         metavar="M",
-        type=_positive_count(2),
+        type=integer_at_least(2),
         default=DEFAULT_ORIENTATIONS,
         help="orientations of the scan of phi, evenly over the reachable orientation range "
         f"(over -pi..pi without stroke limits; default {DEFAULT_ORIENTATIONS})",

@@ -1,0 +1,51 @@
+"""argparse value types shared by the subcommands (one-line errors, exit 2).
+
+>>> finite_float("0.5"), positive_float("1e-10"), integer_at_least(2)("301")
+(0.5, 1e-10, 301)
+>>> finite_float("nan")
+Traceback (most recent call last):
+...
+argparse.ArgumentTypeError: expected a finite number, got 'nan'
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+
+__all__ = ["finite_float", "integer_at_least", "positive_float"]
+
+
+def finite_float(text: str) -> float:
+    """A finite float."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    """A finite float > 0."""
+    value = finite_float(text)
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
+    return value
+
+
+def integer_at_least(minimum: int) -> Callable[[str], int]:
+    """The type of an integer option with a lower bound."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = minimum - 1
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}")
+        return value
+
+    return parse
