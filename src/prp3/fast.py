@@ -390,7 +390,8 @@ def paper_forces(
     out : FastForces, optional
         Arrays to write into (C-contiguous float64 of the output shape; with
         ``reactions=True`` the reaction arrays too).  They are returned.  If
-        an error is raised, their content is unspecified.
+        an error is raised, their content is unspecified.  Without ``out``
+        the returned arrays are views of one new block (huge pages for big N).
     chunk_size : int
         Samples per chunk, >= 1.
 
@@ -463,7 +464,9 @@ def _outputs(
     out: FastForces | None, names: tuple[str, ...], shape: tuple[int, ...]
 ) -> dict[str, FloatArray]:
     if out is None:
-        return {name: np.empty(shape) for name in names}
+        # one block: large enough for numpy to ask for huge pages (fewer page faults)
+        block = np.empty((len(names), *shape))
+        return dict(zip(names, block, strict=True))
     if not isinstance(out, FastForces):
         raise Prp3Error(f"out must be a FastForces, got {type(out).__name__}")
     result: dict[str, FloatArray] = {}
