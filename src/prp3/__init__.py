@@ -33,6 +33,7 @@ from .errors import (
     TrajectoryError,
     UnreachablePoseError,
 )
+from .fast import CompiledRobot, FastForces, compile_robot, paper_forces, sample_forces
 from .forward import (
     ActuatorForces,
     ForwardDynamics,
@@ -67,6 +68,8 @@ __all__ = [
     "METHODS",
     "ActuatorForces",
     "BodyWrenches",
+    "CompiledRobot",
+    "FastForces",
     "ForwardDynamics",
     "ForwardGeometry",
     "InputFileError",
@@ -87,6 +90,7 @@ __all__ = [
     "UnreachablePoseError",
     "__version__",
     "body_wrenches",
+    "compile_robot",
     "forward_acceleration",
     "forward_dynamics",
     "forward_geometry",
@@ -101,11 +105,13 @@ __all__ = [
     "newton_euler",
     "orientation_range",
     "orientation_scan",
+    "paper_forces",
     "paper_method",
     "paper_motion",
     "platform_dynamics",
     "platform_vertices",
     "reachable",
     "reachable_region",
+    "sample_forces",
     "workspace_slice",
 ]
