@@ -374,3 +374,18 @@ def test_toml_round_trip_through_a_file(tmp_path: Path) -> None:
     )
     assert Robot.from_toml(_write(tmp_path, robot.to_toml())) == robot
     assert Robot.from_toml(_write(tmp_path, robot_template(robot), "t.toml")) == robot
+
+
+@pytest.mark.parametrize(
+    ("value", "fragment"),
+    [
+        ("heavy", "must be a number, got 'heavy' (str)"),
+        (True, "must be a number, got True (bool)"),
+        (math.nan, "must be a finite number, got nan"),
+        (-2.0, "must be a positive finite number (kg), got -2.0"),
+    ],
+)
+def test_mass_messages_say_what_is_wrong(value: Any, fragment: str) -> None:
+    with pytest.raises(ParameterError) as info:
+        Robot.from_mapping({"link": {"mass": value}})
+    assert str(info.value) == f"robot: link.mass {fragment}"

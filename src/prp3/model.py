@@ -47,18 +47,17 @@ __all__ = [
 def _number(where: str, value: Any) -> float:
     """Return ``value`` as a finite float or raise a ParameterError naming ``where``."""
     if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
-        raise ParameterError(f"robot: {where} must be a number, got {value!r}")
+        raise ParameterError(
+            f"robot: {where} must be a number, got {value!r} ({type(value).__name__})"
+        )
     number = float(value)
     if not math.isfinite(number):
-        raise ParameterError(f"robot: {where} must be finite, got {value!r}")
+        raise ParameterError(f"robot: {where} must be a finite number, got {value!r}")
     return number
 
 
 def _positive(where: str, value: Any, unit: str) -> float:
-    try:
-        number = _number(where, value)
-    except ParameterError:
-        number = math.nan
+    number = _number(where, value)
     if not number > 0.0:
         raise ParameterError(
             f"robot: {where} must be a positive finite number ({unit}), got {value!r}"
@@ -67,10 +66,7 @@ def _positive(where: str, value: Any, unit: str) -> float:
 
 
 def _non_negative(where: str, value: Any, unit: str) -> float:
-    try:
-        number = _number(where, value)
-    except ParameterError:
-        number = math.nan
+    number = _number(where, value)
     if not number >= 0.0:
         raise ParameterError(
             f"robot: {where} must be a non-negative finite number ({unit}), got {value!r}"
