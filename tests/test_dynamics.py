@@ -406,3 +406,19 @@ def test_singular_motion_is_refused(method: str) -> None:
     motion = law_motion([0.0, 0.0, math.pi / 6], samples=3, duration=3.0)  # ends at φ = π/3
     with pytest.raises(SingularPoseError, match=r"sample 2 .*phi=1\.04719"):
         inverse_dynamics(Robot(), motion, method=method)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 64])
+def test_newton_euler_in_chunks_equals_the_paper_method(
+    chunk: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The solver bounds its memory by solving in chunks; the chunk edges change nothing."""
+    import prp3.dynamics
+
+    monkeypatch.setattr(prp3.dynamics, "NEWTON_EULER_CHUNK", chunk)
+    robot = Robot(piston=PistonParameters(com=(0.02, -0.01)), link=LinkParameters(com=(0.03, 0.01)))
+    kin = inverse_kinematics(robot, law_motion([0.01, 0.02, 0.2], samples=20))
+    expected, got = paper_method(robot, kin), newton_euler(robot, kin)
+    for name in ("f10", "f21y", "f21z", "n10", "m10", "n32", "m32"):
+        scale = np.abs(getattr(expected, name)).max() + 1.0
+        assert np.abs(getattr(got, name) - getattr(expected, name)).max() < 1e-12 * scale, name

@@ -248,6 +248,9 @@ def paper_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
     )
 
 
+#: Samples per linear solve of :func:`newton_euler` (bounds its memory for any N).
+NEWTON_EULER_CHUNK: int = 8192
+
 #: Order of the 7 unknowns of each leg in the Newton–Euler system.
 _NE_UNKNOWNS = ("f10", "n10", "m10", "f21y", "f21z", "n32", "m32")
 
@@ -272,40 +275,46 @@ def newton_euler(robot: Robot, kin: Kinematics) -> InverseDynamics:
     geo = kin.geometry
     w = body_wrenches(robot, kin)
     batch = geo.lambda10.shape[:-1]
-    A = np.zeros((*batch, 21, 21))
-    b = np.zeros((*batch, 21))
-    dn, rho = geo.slide_normal, geo.lever
     u = {name: k for k, name in enumerate(_NE_UNKNOWNS)}
+    template = np.zeros((21, 21))  # the entries that do not depend on the pose
     for j in range(3):
         col = 7 * j
         e, n = LEG_AXIS[j], LEG_NORMAL[j]
         # piston j: f10·e + n10·n − F21 = F10 ; m10 = M10 (about P_j)
-        for axis in range(2):
-            row = 3 * j + axis
-            A[..., row, col + u["f10"]] = e[axis]
-            A[..., row, col + u["n10"]] = n[axis]
-            A[..., row, col + u["f21y"]] = -n[axis]
-            A[..., row, col + u["f21z"]] = -e[axis]
-            b[..., row] = w.piston_force[..., j, axis]
-        A[..., 3 * j + 2, col + u["m10"]] = 1.0
-        b[..., 3 * j + 2] = w.piston_moment[..., j]
+        template[3 * j : 3 * j + 2, col + u["f10"]] = e
+        template[3 * j : 3 * j + 2, col + u["n10"]] = n
+        template[3 * j : 3 * j + 2, col + u["f21y"]] = -n
+        template[3 * j : 3 * j + 2, col + u["f21z"]] = -e
+        template[3 * j + 2, col + u["m10"]] = 1.0
         # link j: F21 − n32·d⊥ = F20 ; −m32 = M20 (about P_j)
-        for axis in range(2):
-            row = 9 + 3 * j + axis
-            A[..., row, col + u["f21y"]] = n[axis]
-            A[..., row, col + u["f21z"]] = e[axis]
-            A[..., row, col + u["n32"]] = -dn[..., j, axis]
-            b[..., row] = w.link_force[..., j, axis]
-        A[..., 9 + 3 * j + 2, col + u["m32"]] = -1.0
-        b[..., 9 + 3 * j + 2] = w.link_moment[..., j]
-        # platform: Σ n32·d⊥ = F30 ; Σ m32 + (P_j − G) × n32·d⊥ = I3·φ̈
-        A[..., 18, col + u["n32"]] = dn[..., j, 0]
-        A[..., 19, col + u["n32"]] = dn[..., j, 1]
-        A[..., 20, col + u["n32"]] = cross2(-rho[..., j, :], dn[..., j, :])
-        A[..., 20, col + u["m32"]] = 1.0
-    b[..., 18:20] = w.platform_force
-    b[..., 20] = w.platform_moment
-    x = np.linalg.solve(A, b[..., None])[..., 0]
+        template[9 + 3 * j : 9 + 3 * j + 2, col + u["f21y"]] = n
+        template[9 + 3 * j : 9 + 3 * j + 2, col + u["f21z"]] = e
+        template[9 + 3 * j + 2, col + u["m32"]] = -1.0
+        # platform: Σ m32 + (P_j − G) × n32·d⊥ = I3·φ̈
+        template[20, col + u["m32"]] = 1.0
+    b = np.concatenate(
+        [
+            np.concatenate([w.piston_force, w.piston_moment[..., None]], axis=-1).reshape(
+                *batch, 9
+            ),
+            np.concatenate([w.link_force, w.link_moment[..., None]], axis=-1).reshape(*batch, 9),
+            w.platform_force,
+            w.platform_moment[..., None],
+        ],
+        axis=-1,
+    ).reshape(-1, 21)
+    dn = geo.slide_normal.reshape(-1, 3, 2)
+    moment_arm = cross2(-geo.lever, geo.slide_normal).reshape(-1, 3)  # (P_j − G) × d⊥_j
+    x = np.empty_like(b)
+    for first in range(0, b.shape[0], NEWTON_EULER_CHUNK):  # bounded memory for any N
+        rows = slice(first, first + NEWTON_EULER_CHUNK)
+        A = np.broadcast_to(template, (len(b[rows]), 21, 21)).copy()
+        for j in range(3):
+            n32 = 7 * j + u["n32"]
+            A[:, 9 + 3 * j : 9 + 3 * j + 2, n32] = -dn[rows, j]  # link j: − n32·d⊥
+            A[:, 18:20, n32] = dn[rows, j]  # platform: Σ n32·d⊥ = F30
+            A[:, 20, n32] = moment_arm[rows, j]
+        x[rows] = np.linalg.solve(A, b[rows, :, None])[..., 0]
     per_leg = x.reshape(*batch, 3, 7)
     q = {name: per_leg[..., k].copy() for name, k in u.items()}
     return InverseDynamics(
