@@ -14,8 +14,8 @@ motions (eq. 4) resampled to N samples:
 * ``prp3 paper`` — ``prp3.inverse_dynamics(robot, motion, "paper")``: the
   reference implementation (inverse kinematics + :func:`prp3.paper_method`).
 * ``prp3 newton-euler`` — ``inverse_dynamics(..., "newton-euler")``: 21×21
-  solve per sample (N ≤ ``--ne-max``: its ``(N, 21, 21)`` system needs 3.5 GB
-  per 10⁶ samples, twice during the solve).
+  solve per sample, in chunks of 8192 samples (N ≤ ``--ne-max``: 10⁶ samples
+  take about 10 s per motion).
 * ``mujoco``, ``pinocchio`` — ``benchmarks/peers.py``: closed-chain inverse
   dynamics per sample in a Python loop (mass matrix/RNEA, bias forces,
   constraint Jacobian, 9×9 solve); the tree coordinates are prepared
