@@ -452,6 +452,8 @@ def _named(*values: ArrayLike) -> zip[tuple[str, ArrayLike]]:
 
 def _as_samples(name: str, value: ArrayLike) -> FloatArray:
     try:
+        if np.asarray(value).dtype.kind in "cSUV":  # would drop an imaginary part, parse text
+            raise TypeError(name)
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise TrajectoryError(f"{name} must be an array of numbers, got {value!r}") from None

@@ -85,6 +85,7 @@ from .motion import Motion
 
 __all__ = [
     "DEGENERATE_ASSEMBLY",
+    "MIN_RTOL",
     "SINGULARITY_STOP",
     "ActuatorForces",
     "ForwardDynamics",
@@ -107,6 +108,9 @@ Status = Literal["completed", "singular", "stroke", "failed"]
 #: The singular pose ``(x, y, φ) = (0, 0, π/3)`` that assembles for every ``λ10``.
 DEGENERATE_ASSEMBLY: tuple[float, float, float] = (0.0, 0.0, math.pi / 3.0)
 
+#: Smallest relative tolerance of :func:`forward_dynamics` (scipy raises smaller ones to it).
+MIN_RTOL: float = 100.0 * float(np.finfo(np.float64).eps)
+
 #: :func:`forward_dynamics` stops when ``|sin(φ − π/3)|`` falls to this value
 #: (twice :data:`~prp3.geometry.SINGULARITY_THRESHOLD`, so that the stop pose
 #: itself is still one prp3 computes with).
@@ -117,10 +121,14 @@ _SQRT3 = math.sqrt(3.0)
 
 # --------------------------------------------------------------------- helpers
 def _float_array(name: str, value: ArrayLike) -> FloatArray:
+    """``value`` as a new float64 array; complex numbers and text are refused, not cast."""
     try:
+        kind = np.asarray(value).dtype.kind
+        if kind in "cSUV":  # numpy would drop an imaginary part or parse text
+            raise TypeError(kind)
         array = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):
-        raise TrajectoryError(f"{name} must be an array of numbers, got {value!r}") from None
+        raise TrajectoryError(f"{name} must be an array of real numbers, got {value!r}") from None
     return array
 
 
@@ -564,7 +572,19 @@ class ActuatorForces:
         f10.flags.writeable = False
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "f10", f10)
-        object.__setattr__(self, "_spline", CubicSpline(t, f10, axis=0))
+        try:
+            with np.errstate(all="ignore"):
+                spline = CubicSpline(t, f10, axis=0)
+        except ValueError:  # the slopes overflow: huge forces or tiny time steps
+            with np.errstate(all="ignore"):
+                slopes = np.diff(f10, axis=0) / np.diff(t)[:, None]
+            index = int(np.argmax(~np.isfinite(slopes).all(axis=1)))
+            raise TrajectoryError(
+                f"forces: the force samples cannot be interpolated: their rate of change "
+                f"overflows between t[{index}] = {float(t[index])!r} and t[{index + 1}] = "
+                f"{float(t[index + 1])!r} s (forces too large or time steps too small)"
+            ) from None
+        object.__setattr__(self, "_spline", spline)
 
     def __call__(self, time: float) -> FloatArray:
         """Forces ``(3,)`` at ``time`` (s), within ``[t[0], t[-1]]``."""
@@ -658,7 +678,8 @@ def forward_dynamics(
         Initial pose singular (closer than ``SINGULARITY_STOP``) or outside the strokes.
     ParameterError
         Times outside the force samples; a sampled force beyond
-        ``limits.max_force``; non-positive tolerances.
+        ``limits.max_force``; a force function that returns anything but 3
+        finite numbers; non-positive tolerances or ``rtol < MIN_RTOL``.
 
     Notes
     -----
@@ -691,8 +712,18 @@ def forward_dynamics(
     if not np.isfinite(times).all() or (np.diff(times) <= 0).any():
         raise TrajectoryError("t must be finite and strictly increasing")
     for name, value in (("rtol", rtol), ("atol", atol)):
-        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+        if not (
+            isinstance(value, int | float | np.integer | np.floating)
+            and not isinstance(value, bool)
+            and math.isfinite(value)
+            and value > 0
+        ):
             raise ParameterError(f"{name} must be a positive number, got {value!r}")
+    if rtol < MIN_RTOL:
+        raise ParameterError(
+            f"rtol must be at least {MIN_RTOL:.3g} (100 machine epsilons, scipy's floor), "
+            f"got {rtol!r}"
+        )
     q0 = _check_state("initial_pose", initial_pose)
     v0 = _float_array("initial_velocity", initial_velocity)
     if q0.shape != (3,) or v0.shape != (3,) or not np.isfinite(v0).all():
@@ -725,16 +756,17 @@ def forward_dynamics(
         event.terminal = True  # type: ignore[attr-defined]
         event.direction = -1.0  # type: ignore[attr-defined]
 
-    solution = solve_ivp(
-        rhs,
-        (float(times[0]), float(times[-1])),
-        np.concatenate([q0, v0]),
-        method="DOP853",
-        t_eval=times,
-        events=events,
-        rtol=rtol,
-        atol=atol,
-    )
+    with np.errstate(all="ignore"):  # trial states may overflow: NaN rejects the step
+        solution = solve_ivp(
+            rhs,
+            (float(times[0]), float(times[-1])),
+            np.concatenate([q0, v0]),
+            method="DOP853",
+            t_eval=times,
+            events=events,
+            rtol=float(rtol),
+            atol=float(atol),
+        )
     sample_t = np.asarray(solution.t, dtype=np.float64)
     states = np.asarray(solution.y, dtype=np.float64).T
     status: Status
@@ -832,7 +864,12 @@ def _force_function(
     function = forces
 
     def force_of(time: float) -> FloatArray:
-        return np.asarray(function(time), dtype=np.float64)
+        value = np.asarray(function(time), dtype=np.float64)
+        if value.shape != (3,) or not np.isfinite(value).all():
+            raise ParameterError(
+                f"forces: f10({time!r}) must be 3 finite forces (N), got {value.tolist()!r}"
+            )
+        return value
 
     return force_of
 

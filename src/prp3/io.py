@@ -87,6 +87,22 @@ def _file_mode() -> int:
     return 0o666 & ~umask
 
 
+def _check_replaceable(path: Path) -> None:
+    """Refuse a target that exists and is not a regular file (a rename would replace it).
+
+    Renaming a finished file over ``/dev/null``, a named pipe or a directory
+    would destroy it (or fail half-way through a group of files); symbolic
+    links are followed for the test.
+    """
+    try:
+        regular = not path.exists() or path.is_file()
+    except OSError as error:  # e.g. a name too long for the file system
+        raise OutputFileError(f"{path}: cannot write ({error.strerror})") from None
+    if not regular:
+        kind = "a directory" if path.is_dir() else "not a regular file"
+        raise OutputFileError(f"{path}: cannot write: it exists and is {kind}")
+
+
 @contextlib.contextmanager
 def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
     """Open ``path`` for writing so that it appears whole or not at all.
@@ -98,9 +114,12 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
     Raises
     ------
     OutputFileError
-        If the directory does not exist or is not writable (names the path).
+        If the directory does not exist or is not writable, or ``path`` exists
+        and is not a regular file (a directory, a device, a pipe), which a
+        rename would replace (names the path).
     """
     path = Path(path)
+    _check_replaceable(path)
     try:
         handle, temporary = tempfile.mkstemp(
             prefix=f".{path.name}.", suffix=".tmp", dir=path.parent
@@ -140,6 +159,7 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     ('done', ['note.txt'])
     """
     path = Path(path)
+    _check_replaceable(path)
     try:
         handle, temporary = tempfile.mkstemp(
             prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent
@@ -258,6 +278,8 @@ def _read_table(path: Path, required: Sequence[str], optional: Sequence[str], wh
             raise InputFileError(f"{path}:{line}: expected {len(header)} values, got {len(row)}")
         for c, cell in enumerate(row):
             try:
+                if "_" in cell or not cell.isascii():  # float() takes '1_0' and other digits
+                    raise ValueError(cell)
                 number = float(cell)
             except ValueError:
                 raise InputFileError(
@@ -362,8 +384,8 @@ def read_trajectory(path: str | Path) -> Trajectory:
         header line and the columns); a row of the wrong length, a non-numeric
         or non-finite cell (names file, line and column).
     TrajectoryError
-        Fewer than 2 samples, or a time that does not increase (names the file
-        and the line).
+        Fewer than 2 samples, a time that does not increase, or derivatives
+        computed from the positions that overflow (names the file and the line).
 
     Examples
     --------
@@ -407,14 +429,27 @@ def read_trajectory(path: str | Path) -> Trajectory:
         velocity = np.stack([columns[name] for name in DERIVATIVE_COLUMNS[:3]], axis=-1)
         acceleration = np.stack([columns[name] for name in DERIVATIVE_COLUMNS[3:]], axis=-1)
     else:
-        velocity, acceleration, degree = differentiate_positions(t, pose)
+        with np.errstate(all="ignore"):  # an overflow is reported below, naming the line
+            velocity, acceleration, degree = differentiate_positions(t, pose)
+        for name, values in (("velocity", velocity), ("acceleration", acceleration)):
+            bad = ~np.isfinite(values)
+            if bad.any():
+                k, axis = np.argwhere(bad)[0].tolist()
+                raise TrajectoryError(
+                    f"{path}:{int(lines[k])}: the {name} of {POSITION_COLUMNS[1 + axis]} "
+                    f"computed from the positions is not finite ({float(values[k, axis])!r}): "
+                    "positions too large or time steps too small; give the derivative columns"
+                )
         note = (
             f"{path}: positions only; velocities and accelerations computed as the 1st and "
             f"2nd derivatives of a degree-{degree} interpolating spline through the samples "
             f"(scipy make_interp_spline{', not-a-knot ends' if degree > 1 else ''}); accurate "
             "for smooth, finely sampled motions, less so near the first and last samples"
         )
-    motion = Motion(t=t, pose=pose, velocity=velocity, acceleration=acceleration)
+    try:
+        motion = Motion(t=t, pose=pose, velocity=velocity, acceleration=acceleration)
+    except TrajectoryError as error:
+        raise TrajectoryError(f"{path}: {error}") from None
     return Trajectory(path=path, motion=motion, lines=lines, note=note)
 
 
@@ -432,8 +467,13 @@ def check_output_directory(directory: str | Path) -> None:
     """
     directory = Path(directory)
     existing = directory
-    while not existing.exists() and existing != existing.parent:
-        existing = existing.parent
+    try:
+        while not existing.exists() and existing != existing.parent:
+            existing = existing.parent
+    except OSError as error:  # e.g. a name too long for the file system
+        raise OutputFileError(
+            f"{directory}: cannot create output directory ({error.strerror})"
+        ) from None
     if not existing.is_dir():
         raise OutputFileError(
             f"{directory}: cannot create output directory ({existing} is not a directory)"
@@ -488,7 +528,9 @@ def staged_output(directory: str | Path) -> Iterator[StagedOutput]:
     Raises
     ------
     OutputFileError
-        If the directory cannot be created or written to (names it).
+        If the directory cannot be created or written to (names it), or a file
+        cannot be moved in (an older file of the same name is then restored,
+        and nothing in ``directory`` changes).
 
     Examples
     --------
@@ -502,10 +544,10 @@ def staged_output(directory: str | Path) -> Iterator[StagedOutput]:
     directory = Path(directory)
     created: list[Path] = []
     missing = directory
-    while not missing.exists() and missing != missing.parent:
-        created.append(missing)
-        missing = missing.parent
     try:
+        while not missing.exists() and missing != missing.parent:
+            created.append(missing)
+            missing = missing.parent
         directory.mkdir(parents=True, exist_ok=True)
         staging = Path(tempfile.mkdtemp(prefix=".prp3-", suffix=".tmp", dir=directory))
     except OSError as error:
@@ -515,16 +557,51 @@ def staged_output(directory: str | Path) -> Iterator[StagedOutput]:
     staged = StagedOutput(directory=directory, staging=staging)
     try:
         yield staged
-        for name in staged.names:
-            source = staging / name
-            if source.exists():
-                os.replace(source, directory / name)
-                staged.written.append(directory / name)
+        _move_in(staged)
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         _remove_empty(created)
         raise
     shutil.rmtree(staging, ignore_errors=True)
+
+
+def _move_in(staged: StagedOutput) -> None:
+    """Rename the staged files into the output directory: all of them, or none.
+
+    Every target is checked first (an existing directory or special file of
+    the same name is refused before anything moves).  Older files are
+    hard-linked into the staging folder before they are replaced, so that a
+    failure half-way (or an interrupt) puts them back and removes the new
+    files already moved in.
+    """
+    names = [name for name in staged.names if (staged.staging / name).exists()]
+    for name in names:
+        _check_replaceable(staged.directory / name)
+    previous = staged.staging / ".previous"
+    previous.mkdir()
+    backups: dict[str, Path] = {}
+    moved: list[str] = []
+    target = staged.directory
+    try:
+        for name in names:
+            target = staged.directory / name
+            if os.path.lexists(target):
+                with contextlib.suppress(OSError):  # no hard links here: no way back
+                    os.link(target, previous / name, follow_symlinks=False)
+                    backups[name] = previous / name
+            os.replace(staged.staging / name, target)
+            moved.append(name)
+    except BaseException as error:
+        for name in reversed(moved):
+            with contextlib.suppress(OSError):
+                if name in backups:
+                    os.replace(backups[name], staged.directory / name)
+                else:
+                    os.unlink(staged.directory / name)
+        if isinstance(error, OSError):
+            raise OutputFileError(f"{target}: cannot write ({error.strerror})") from None
+        raise
+    staged.written.extend(staged.directory / name for name in names)
 
 
 def _remove_empty(folders: Sequence[Path]) -> None:

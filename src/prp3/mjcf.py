@@ -63,12 +63,16 @@ from .model import Robot
 
 __all__ = [
     "INERTIA_FLOOR",
+    "MIN_L0",
     "MUJOCO_MIN_VALUE",
     "TIMESTEP",
     "WELD_SOLIMP",
     "WELD_SOLREF",
     "mjcf_model",
 ]
+
+#: Smallest ``l0`` exported (m): MuJoCo refuses a capsule ``fromto`` shorter than about 1e-7 m.
+MIN_L0: float = 1e-6
 
 #: An ``I_zz`` below ``INERTIA_FLOOR·m·l0²`` (zero, say) is written as that value.
 INERTIA_FLOOR: float = 1e-10
@@ -141,8 +145,9 @@ def mjcf_model(robot: Robot) -> str:
     Raises
     ------
     ParameterError
-        If a body mass (``m1``, ``m2`` or ``m3/3``) is below MuJoCo's smallest
-        mass ``MUJOCO_MIN_VALUE``.
+        If ``robot`` is not a :class:`~prp3.model.Robot`, ``l0 < MIN_L0``, or a
+        body mass (``m1``, ``m2`` or ``m3/3``) is below MuJoCo's smallest mass
+        ``MUJOCO_MIN_VALUE``.
 
     Examples
     --------
@@ -150,7 +155,14 @@ def mjcf_model(robot: Robot) -> str:
     >>> 'gravity="0 -9.81 0"' in mjcf_model(Robot())
     True
     """
+    if not isinstance(robot, Robot):
+        raise ParameterError(f"robot must be a prp3.Robot, got {type(robot).__name__}")
     l0 = robot.l0
+    if l0 < MIN_L0:
+        raise ParameterError(
+            f"robot: l0 = {l0!r} m is too small for a MuJoCo model (at least {MIN_L0!r} m: "
+            "MuJoCo refuses geoms shorter than about 1e-7 m)"
+        )
     gx, gy = robot.gravity
     m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
     i3 = robot.platform_inertia

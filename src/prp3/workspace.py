@@ -72,11 +72,18 @@ def _free(robot: Robot) -> Robot:
     return robot if robot.limits == Limits() else replace(robot, limits=Limits())
 
 
+def _real(value: ArrayLike) -> FloatArray:
+    """``value`` as float64; complex numbers and text raise TypeError instead of being cast."""
+    if np.asarray(value).dtype.kind in "cSUV":
+        raise TypeError("not real numbers")
+    return np.asarray(value, dtype=np.float64)
+
+
 def _poses(value: ArrayLike) -> FloatArray:
     try:
-        pose = np.asarray(value, dtype=np.float64)
+        pose = _real(value)
     except (TypeError, ValueError):
-        raise ParameterError(f"pose must be an array of numbers, got {value!r}") from None
+        raise ParameterError(f"pose must be an array of real numbers, got {value!r}") from None
     if pose.ndim < 1 or pose.shape[-1] != 3 or not np.isfinite(pose).all():
         raise ParameterError(f"pose must be finite numbers of shape (..., 3), got {pose.shape}")
     return pose
@@ -257,13 +264,20 @@ def _polygon_area(xy: FloatArray) -> float:
 
 
 def _grid(name: str, values: ArrayLike) -> FloatArray:
-    array = np.asarray(values, dtype=np.float64)
+    try:
+        array = _real(values)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be grid values (real numbers), got {values!r}") from None
     if array.ndim != 1 or array.size < 2 or not np.isfinite(array).all():
         raise ParameterError(
             f"{name} must be at least 2 finite grid values, got shape {array.shape}"
         )
     if (np.diff(array) <= 0).any():
-        raise ParameterError(f"{name} grid values must be strictly increasing")
+        k = int(np.argmax(np.diff(array) <= 0)) + 1
+        raise ParameterError(
+            f"{name} grid values must be strictly increasing, got {name}[{k}] = "
+            f"{float(array[k])!r} after {float(array[k - 1])!r}"
+        )
     return array
 
 

@@ -12,8 +12,14 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import re
+import signal
 import sys
+import warnings
 from collections.abc import Sequence
+from pathlib import Path
+from types import FrameType
+from typing import Any, TextIO
 
 from .. import __version__
 from ..errors import Prp3Error
@@ -25,11 +31,55 @@ __all__ = ["main"]
 COMMANDS = (simulate, robot, workspace, forward, export)
 
 
+#: Exit status after SIGTERM (128 + 15, as the shell reports a killed process).
+EXIT_TERMINATED: int = 143
+
+#: Negative numbers as option values: argparse's own pattern misses ``-1e-3`` and ``-inf``.
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$|^-(inf|infinity|nan)$", re.I)
+
+
 class _Parser(argparse.ArgumentParser):
-    """ArgumentParser whose usage errors exit with status 2 and one line."""
+    """ArgumentParser whose usage errors exit with status 2 and one line.
+
+    Values that look like negative numbers (``--phi -1e-3``) are values, not options.
+    """
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+class _Terminated(BaseException):
+    """Raised by the SIGTERM handler, so that partial outputs are cleaned up as on Ctrl-C."""
+
+
+def _terminate(signum: int, frame: FrameType | None) -> None:
+    raise _Terminated
+
+
+def _one_line_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
+    """Show a warning of a library prp3 uses as one line on stderr (no source line)."""
+    with contextlib.suppress(OSError, ValueError):
+        print(
+            f"prp3: warning: {message} ({category.__name__}, {Path(filename).name}:{lineno})",
+            file=sys.stderr,
+        )
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that the flush at exit raises nothing more."""
+    with contextlib.suppress(OSError, ValueError):  # as the Python docs advise
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -61,15 +111,37 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "handler", None) is None:
         parser.print_help(sys.stderr)
         return 2
+    previous: Any = None
+    with contextlib.suppress(ValueError):  # signal handlers only in the main thread
+        previous = signal.signal(signal.SIGTERM, _terminate)
     try:
-        return int(args.handler(args))
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warning
+            return int(args.handler(args))
     except Prp3Error as error:
         print(f"prp3: error: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("prp3: interrupted", file=sys.stderr)
         return 130
+    except _Terminated:
+        print("prp3: terminated", file=sys.stderr)
+        return EXIT_TERMINATED
     except BrokenPipeError:  # e.g. `prp3 robot --template | head -n 3`
-        with contextlib.suppress(OSError, ValueError):  # as the Python docs advise:
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
+        _silence_stdout()
         return 141
+    except MemoryError as error:
+        print(
+            f"prp3: error: not enough memory ({error}): ask for fewer samples or grid points",
+            file=sys.stderr,
+        )
+        return 2
+    except OSError as error:  # e.g. stdout on a full disk: `prp3 robot --template > /dev/full`
+        where = error.filename if error.filename is not None else "standard output"
+        with contextlib.suppress(OSError, ValueError):
+            print(f"prp3: error: {where}: {error.strerror or error}", file=sys.stderr)
+        _silence_stdout()
+        return 2
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)

@@ -13,8 +13,9 @@ from __future__ import annotations
 import argparse
 import math
 from collections.abc import Callable
+from pathlib import Path
 
-__all__ = ["finite_float", "integer_at_least", "positive_float"]
+__all__ = ["finite_float", "integer_at_least", "path_name", "positive_float"]
 
 
 def finite_float(text: str) -> float:
@@ -36,8 +37,17 @@ def positive_float(text: str) -> float:
     return value
 
 
-def integer_at_least(minimum: int) -> Callable[[str], int]:
-    """The type of an integer option with a lower bound."""
+def integer_at_least(minimum: int, maximum: int = 10**9) -> Callable[[str], int]:
+    """The type of an integer option from ``minimum`` to ``maximum``.
+
+    The upper bound keeps absurd sizes (``--samples 1e20``) a usage error
+    rather than a failed allocation.
+
+    >>> integer_at_least(2, 10)("11")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: expected an integer from 2 to 10, got '11'
+    """
 
     def parse(text: str) -> int:
         try:
@@ -46,6 +56,25 @@ def integer_at_least(minimum: int) -> Callable[[str], int]:
             value = minimum - 1
         if value < minimum:
             raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}")
+        if value > maximum:
+            raise argparse.ArgumentTypeError(
+                f"expected an integer from {minimum} to {maximum}, got {text!r}"
+            )
         return value
 
     return parse
+
+
+def path_name(text: str) -> Path:
+    """A non-empty path (``--output ""`` would otherwise mean the current directory).
+
+    >>> path_name("")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: expected a path, got an empty string
+    """
+    if not text.strip():
+        raise argparse.ArgumentTypeError(
+            f"expected a path, got {'an empty string' if not text else repr(text)}"
+        )
+    return Path(text)

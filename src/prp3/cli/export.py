@@ -16,6 +16,7 @@ from ..errors import OutputFileError
 from ..io import atomic_writer
 from ..mjcf import mjcf_model
 from ..model import Robot
+from ._types import path_name
 
 __all__ = ["register"]
 
@@ -57,13 +58,14 @@ def register(subparsers: Any) -> None:
     mjcf.add_argument(
         "--robot",
         metavar="ROBOT.toml",
-        type=Path,
+        type=path_name,
         help="robot parameters (default: the paper's robot)",
     )
     mjcf.add_argument(
         "--output",
+        "-o",
         metavar="FILE",
-        type=Path,
+        type=path_name,
         help="write the model to FILE, whole or not at all (default: standard output)",
     )
     mjcf.set_defaults(handler=_export_mjcf)
@@ -77,8 +79,6 @@ def _export_mjcf(args: argparse.Namespace) -> int:
         sys.stdout.write(text)
         sys.stdout.flush()
         return 0
-    if output.is_dir():
-        raise OutputFileError(f"{output}: --output is a directory, expected a file name")
     try:
         with atomic_writer(output) as stream:
             stream.write(text)

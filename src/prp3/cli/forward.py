@@ -19,6 +19,7 @@ to the stop, the reason goes to stderr and the exit status is 1.
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,13 +28,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InputFileError, Prp3Error
+from ..errors import (
+    InputFileError,
+    ParameterError,
+    Prp3Error,
+    SingularPoseError,
+    UnreachablePoseError,
+)
 from ..forward import ActuatorForces, ForwardDynamics, forward_dynamics, forward_velocity
 from ..geometry import LEGS
 from ..io import check_output_directory, read_table_csv, staged_output, write_table_csv
 from ..model import Robot
 from ..results import RESULT_COLUMNS, results_table
-from ._types import finite_float, integer_at_least, positive_float
+from ._types import finite_float, integer_at_least, path_name, positive_float
 
 __all__ = ["FORCE_COLUMNS", "ForceInput", "read_forces", "register", "run"]
 
@@ -144,13 +151,13 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--robot",
         metavar="ROBOT.toml",
-        type=Path,
+        type=path_name,
         help="robot parameters (default: the paper's robot)",
     )
     parser.add_argument(
         "--forces",
         metavar="FORCES.csv",
-        type=Path,
+        type=path_name,
         required=True,
         help="actuator forces: header t,f10_A,f10_B,f10_C (s, N), or a results.csv of "
         "prp3 simulate",
@@ -193,7 +200,7 @@ def register(subparsers: Any) -> None:
         "--output",
         "-o",
         metavar="DIR",
-        type=Path,
+        type=path_name,
         required=True,
         help="output directory, created if missing; files of the same name are replaced",
     )
@@ -213,18 +220,32 @@ def run(args: argparse.Namespace) -> int:
         pose = given.first_pose
     else:
         pose = np.zeros(3)
-    if args.initial_velocity is not None:
-        velocity = np.array(args.initial_velocity, dtype=np.float64)
-    elif given.first_rates is not None and args.initial_pose is None:
-        velocity = forward_velocity(robot, pose, given.first_rates)
+    if args.initial_pose is not None:
+        pose_source = "--initial-pose " + " ".join(repr(v) for v in args.initial_pose)
+    elif given.first_pose is not None:
+        pose_source = f"{given.path}: initial pose from the first row"
     else:
-        velocity = np.zeros(3)
-    if args.samples is not None:
-        times = np.linspace(float(forces.t[0]), float(forces.t[-1]), args.samples)
-    else:
-        times = np.asarray(forces.t)
-
-    result = forward_dynamics(robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol)
+        pose_source = "initial pose 0 0 0 (the central configuration)"
+    try:
+        if args.initial_velocity is not None:
+            velocity = np.array(args.initial_velocity, dtype=np.float64)
+        elif given.first_rates is not None and args.initial_pose is None:
+            velocity = forward_velocity(robot, pose, given.first_rates)
+        else:
+            velocity = np.zeros(3)
+        if args.samples is not None:
+            times = np.linspace(float(forces.t[0]), float(forces.t[-1]), args.samples)
+        else:
+            times = np.asarray(forces.t)
+        result = forward_dynamics(
+            robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol
+        )
+    except (SingularPoseError, UnreachablePoseError) as error:  # of the initial pose
+        raise type(error)(f"{pose_source}: {re.sub(r'^pose: ', '', str(error))}") from None
+    except ParameterError as error:
+        if str(error).startswith("forces:"):  # a force above limits.max_force
+            raise ParameterError(f"{given.path}: {error}") from None
+        raise
     table = results_table(result.kinematics, result.dynamics)
     motion = result.motion
     trajectory = {

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 from typing import Any
 
 from ..model import Robot, robot_template
+from ._types import path_name
 
 __all__ = ["register", "run"]
 
@@ -46,7 +46,7 @@ def register(subparsers: Any) -> None:
     action.add_argument(
         "--check",
         metavar="ROBOT.toml",
-        type=Path,
+        type=path_name,
         help="validate ROBOT.toml and print the parameters it gives (defaults filled in)",
     )
     parser.set_defaults(handler=run)

@@ -37,7 +37,7 @@ from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from ..results import RESULT_COLUMNS, results_table
-from ._types import integer_at_least
+from ._types import integer_at_least, path_name
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -197,6 +197,32 @@ def _located(
     return type(error)(f"{where}: {message[: found.start()]}{when}{message[found.end() :]}")
 
 
+def _check_finite(
+    table: Mapping[str, FloatArray], motion: Motion, source: str, trajectory: Trajectory | None
+) -> None:
+    """Refuse results that overflowed (huge masses, speeds or positions): name the first sample.
+
+    Raises
+    ------
+    Prp3Error
+        Naming the source (with the file line of a trajectory), the sample, its
+        time and the first column that is not finite.
+    """
+    bad = np.zeros(motion.samples, dtype=bool)
+    for column in table.values():
+        bad |= ~np.isfinite(column)
+    if not bad.any():
+        return
+    k = int(np.argmax(bad))
+    name = next(name for name, column in table.items() if not np.isfinite(column[k]))
+    where = source if trajectory is None else f"{source}:{int(trajectory.lines[k])}"
+    raise Prp3Error(
+        f"{where}: the results overflow at sample {k}, t = {float(motion.t[k]):.9g} s "
+        f"({name} = {float(table[name][k])!r}): the robot parameters or the motion are too "
+        "large for double precision"
+    )
+
+
 @dataclass(frozen=True)
 class RunSummary:
     """Peaks and energies of a run, per leg A, B, C (arrays of shape (3,)).
@@ -287,7 +313,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--robot",
         metavar="ROBOT.toml",
-        type=Path,
+        type=path_name,
         help="robot parameters (default: the paper's robot; `prp3 robot --template` prints one)",
     )
     source = parser.add_mutually_exclusive_group(required=True)
@@ -300,7 +326,7 @@ def register(subparsers: Any) -> None:
     source.add_argument(
         "--trajectory",
         metavar="TRAJ.csv",
-        type=Path,
+        type=path_name,
         help="platform motion file: header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi]; with "
         "positions only the derivatives come from a quintic spline (a warning says so)",
     )
@@ -321,7 +347,7 @@ def register(subparsers: Any) -> None:
         "--output",
         "-o",
         metavar="DIR",
-        type=Path,
+        type=path_name,
         required=True,
         help="output directory, created if missing; files of the same name are replaced",
     )
@@ -380,11 +406,13 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
         f"{float(motion.t[-1]):g} s, {args.method} method"
     )
 
+    source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
     try:
-        table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
+        with np.errstate(all="ignore"):  # an overflow is reported below, naming the sample
+            table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
     except (SingularPoseError, UnreachablePoseError) as error:
-        source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
         raise _located(error, motion, source, trajectory) from None
+    _check_finite(table, motion, source, trajectory)
     summary = summarize(table)
 
     trajectory_file = str(trajectory.path) if trajectory is not None else None

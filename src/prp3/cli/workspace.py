@@ -33,7 +33,7 @@ from ..workspace import (
     reachable_region,
     workspace_slice,
 )
-from ._types import finite_float, integer_at_least
+from ._types import finite_float, integer_at_least, path_name
 
 __all__ = ["DEFAULT_ORIENTATIONS", "DEFAULT_POINTS", "default_extent", "register", "run"]
 
@@ -119,7 +119,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--robot",
         metavar="ROBOT.toml",
-        type=Path,
+        type=path_name,
         help="robot parameters, with [limits] stroke for a bounded workspace (default: the "
         "paper's robot, no limits)",
     )
@@ -141,14 +141,14 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--points",
         metavar="N",
-        type=integer_at_least(2),
+        type=integer_at_least(2, 100_000),
         default=DEFAULT_POINTS,
         help=f"grid points per axis (default {DEFAULT_POINTS})",
     )
     parser.add_argument(
         "--orientations",
         metavar="M",
-        type=integer_at_least(2),
+        type=integer_at_least(2, 100_000),
         default=DEFAULT_ORIENTATIONS,
         help="orientations of the scan of phi, evenly over the reachable orientation range "
         f"(over -pi..pi without stroke limits; default {DEFAULT_ORIENTATIONS})",
@@ -157,7 +157,7 @@ def register(subparsers: Any) -> None:
         "--output",
         "-o",
         metavar="DIR",
-        type=Path,
+        type=path_name,
         required=True,
         help="output directory, created if missing; files of the same name are replaced",
     )
@@ -208,6 +208,14 @@ def run(args: argparse.Namespace) -> int:
         xmin, xmax, ymin, ymax = default_extent(robot)
     x = np.linspace(xmin, xmax, args.points)
     y = np.linspace(ymin, ymax, args.points)
+    for axis, values in (("x", x), ("y", y)):
+        if not (np.diff(values) > 0).all():
+            window = " ".join(repr(v) for v in (xmin, xmax, ymin, ymax))
+            what = "--extent" if args.extent is not None else "the default extent (stroke)"
+            raise ParameterError(
+                f"{what} {window} is too narrow in {axis} for --points {args.points}: "
+                "neighbouring grid values are equal"
+            )
     ws = workspace_slice(robot, args.phi, x, y)  # refuses a singular phi
     if robot.limits.stroke is not None:
         low, high = orientation_range(robot)
