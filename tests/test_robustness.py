@@ -383,6 +383,27 @@ def test_forward_forces_too_large_to_interpolate(tmp_path, capsys, earlier_run):
         ActuatorForces(t=[0.0, 5e-324], f10=[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]])
 
 
+def test_a_run_never_replaces_its_own_input_file(tmp_path, capsys):
+    # was: `prp3 forward --forces out/results.csv -o out` replaced the forces it read
+    out = tmp_path / "out"
+    assert cli(capsys, "simulate", "--motion", "vertical", "--samples", "5", "-o", out)[0] == 0
+    before = listing(out)
+    status, _, err = cli(capsys, "forward", "--forces", out / "results.csv", "-o", out)
+    line = error_line(status, err)
+    assert line == (
+        f"prp3: error: {out}/results.csv: the output would replace this input file; "
+        "choose another output directory"
+    )
+    rows = [[t, 0.0, 0.01 * t, 0.0] for t in (0.0, 0.5, 1.0)]
+    write_trajectory(out / "results.csv", rows)
+    before = listing(out)
+    status, _, err = cli(
+        capsys, "simulate", "--trajectory", out / "results.csv", "-o", tmp_path / "." / "out"
+    )
+    assert "the output would replace this input file" in error_line(status, err)
+    assert listing(out) == before
+
+
 # ---------------------------------------------------------------- prp3 export
 def test_export_refuses_to_replace_a_special_file(tmp_path, capsys):
     # was: the rename replaced the target, whatever it was (a FIFO, /dev/full as root)

@@ -47,6 +47,7 @@ __all__ = [
     "Trajectory",
     "atomic_path",
     "atomic_writer",
+    "check_inputs_kept",
     "check_output_directory",
     "differentiate_positions",
     "format_float",
@@ -482,6 +483,39 @@ def check_output_directory(directory: str | Path) -> None:
         raise OutputFileError(
             f"{directory}: cannot write output directory ({existing} is not writable)"
         )
+
+
+def check_inputs_kept(
+    directory: str | Path, names: Sequence[str], inputs: Sequence[str | Path | None]
+) -> None:
+    """Refuse a run whose output file ``directory/name`` is one of its input files.
+
+    ``prp3 forward --forces out/results.csv --output out`` would otherwise
+    replace the forces it read with its own results.
+
+    Raises
+    ------
+    OutputFileError
+        Naming the output file and the option it was read by.
+
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (out / "results.csv").write_text("t")
+    >>> try:
+    ...     check_inputs_kept(out, ["results.csv"], [out / "results.csv"])
+    ... except OutputFileError as error:
+    ...     print(str(error).split(": ", 1)[1])
+    the output would replace this input file; choose another output directory
+    """
+    for name in names:
+        target = Path(directory) / name
+        for given in inputs:
+            with contextlib.suppress(OSError):  # a missing file is not the same file
+                if given is not None and os.path.samefile(target, given):
+                    raise OutputFileError(
+                        f"{target}: the output would replace this input file; "
+                        "choose another output directory"
+                    )
 
 
 @dataclass

@@ -37,7 +37,13 @@ from ..errors import (
 )
 from ..forward import ActuatorForces, ForwardDynamics, forward_dynamics, forward_velocity
 from ..geometry import LEGS
-from ..io import check_output_directory, read_table_csv, staged_output, write_table_csv
+from ..io import (
+    check_inputs_kept,
+    check_output_directory,
+    read_table_csv,
+    staged_output,
+    write_table_csv,
+)
 from ..model import Robot
 from ..results import RESULT_COLUMNS, results_table
 from ._types import finite_float, integer_at_least, path_name, positive_float
@@ -211,6 +217,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 forward`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
+    check_inputs_kept(output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
     robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
     given = read_forces(args.forces)
     forces = given.forces

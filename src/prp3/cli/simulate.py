@@ -31,7 +31,14 @@ from numpy.typing import NDArray
 from ..dynamics import METHODS, Method, inverse_dynamics
 from ..errors import Prp3Error, SingularPoseError, UnreachablePoseError
 from ..geometry import LEGS
-from ..io import Trajectory, check_output_directory, read_trajectory, staged_output, write_table_csv
+from ..io import (
+    Trajectory,
+    check_inputs_kept,
+    check_output_directory,
+    read_trajectory,
+    staged_output,
+    write_table_csv,
+)
 from ..kinematics import inverse_kinematics
 from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
@@ -385,6 +392,7 @@ def run(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: TextIO) -> int:
     output: Path = args.output
     check_output_directory(output)
+    check_inputs_kept(output, ("results.csv",), (args.trajectory, args.robot))
     robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
     trajectory: Trajectory | None = None
     if args.trajectory is not None:
