@@ -143,11 +143,13 @@ def test_negative_numbers_in_scientific_notation_are_option_values(tmp_path, cap
         ),
         (["workspace", "--points", "1000000"], "--points: expected an integer from 2 to 100000"),
         (["simulate", "--motion", "vertical", "--samples", "-5"], "--samples"),
+        (  # was: scipy's UserWarning and a silently larger rtol, or "rtol must be ..."
+            ["forward", "--forces", "f.csv", "--rtol", "1e-300"],
+            f"--rtol: expected a number >= {MIN_RTOL:.3g}, got '1e-300'",
+        ),
     ],
 )
-def test_absurd_sizes_are_usage_errors_not_failed_allocations(
-    tmp_path, capsys, monkeypatch, argv, fragment
-):
+def test_absurd_option_values_are_usage_errors(tmp_path, capsys, monkeypatch, argv, fragment):
     # was: numpy's "Maximum allowed size exceeded" / MemoryError with a traceback
     monkeypatch.chdir(tmp_path)
     status, _, err = cli(capsys, *argv, "-o", "out")

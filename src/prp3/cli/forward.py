@@ -35,7 +35,7 @@ from ..errors import (
     SingularPoseError,
     UnreachablePoseError,
 )
-from ..forward import ActuatorForces, ForwardDynamics, forward_dynamics, forward_velocity
+from ..forward import MIN_RTOL, ActuatorForces, ForwardDynamics, forward_dynamics, forward_velocity
 from ..geometry import LEGS
 from ..io import (
     check_inputs_kept,
@@ -141,6 +141,14 @@ def read_forces(path: Path) -> ForceInput:
     return ForceInput(path, forces, pose, rates)
 
 
+def _relative_tolerance(text: str) -> float:
+    """``--rtol``: a number >= MIN_RTOL (scipy would raise a smaller one with a warning)."""
+    value = positive_float(text)
+    if value < MIN_RTOL:
+        raise argparse.ArgumentTypeError(f"expected a number >= {MIN_RTOL:.3g}, got {text!r}")
+    return value
+
+
 def register(subparsers: Any) -> None:
     """Add the ``forward`` subcommand."""
     parser = subparsers.add_parser(
@@ -193,7 +201,11 @@ def register(subparsers: Any) -> None:
         "of the force file)",
     )
     parser.add_argument(
-        "--rtol", metavar="R", type=positive_float, default=1e-10, help="relative tolerance (1e-10)"
+        "--rtol",
+        metavar="R",
+        type=_relative_tolerance,
+        default=1e-10,
+        help=f"relative tolerance, at least {MIN_RTOL:.3g} (default 1e-10)",
     )
     parser.add_argument(
         "--atol",
