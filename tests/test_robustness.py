@@ -247,6 +247,26 @@ def test_sigterm_while_writing_cleans_up_like_ctrl_c(tmp_path, capsys, monkeypat
     assert not (tmp_path / "new").exists()  # folders the run created are removed again
 
 
+@pytest.mark.filterwarnings("always::RuntimeWarning")
+def test_warnings_of_the_libraries_are_one_line(capsys, monkeypatch):
+    # was: Python's two-line format with the source line, e.g. a numpy RuntimeWarning
+    import prp3.cli.robot as robot_cli
+
+    template = robot_cli.robot_template
+
+    def noisy(*args: object, **kwargs: object) -> str:
+        warnings.warn("overflow encountered in multiply", RuntimeWarning, stacklevel=1)
+        return template()
+
+    monkeypatch.setattr(robot_cli, "robot_template", noisy)
+    status, out, err = cli(capsys, "robot", "--template")
+    assert status == 0 and out == template()
+    assert re.fullmatch(
+        r"prp3: warning: overflow encountered in multiply \(RuntimeWarning, test_robustness\.py:\d+\)\n",
+        err,
+    )
+
+
 def test_results_that_overflow_are_refused_and_nothing_is_written(tmp_path, capsys, earlier_run):
     # was: RuntimeWarnings on stderr, exit 0, and NaN in results.csv
     before = listing(earlier_run)
