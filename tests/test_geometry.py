@@ -277,7 +277,7 @@ def test_non_finite_poses_are_refused(bad: float) -> None:
 
 
 def test_non_numeric_poses_are_refused() -> None:
-    with pytest.raises(TrajectoryError, match="array of numbers"):
+    with pytest.raises(TrajectoryError, match="array of real numbers"):
         inverse_geometry(Robot(), ["a", "b", "c"])
 
 

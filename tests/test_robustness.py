@@ -7,9 +7,8 @@ value, exit status 2 from the command line (no traceback), a ``Prp3Error``
 from the library, no output file created or half written, and the files of an
 earlier run untouched.
 
-The tests marked ``xfail(strict=True)`` are defects in modules owned by the
-lead (``model``, ``motion``, ``geometry``, ``kinematics``, ``dynamics``); they
-document the expected behaviour and start to pass when the defect is fixed.
+The last group covers the core modules (``model``, ``motion``, ``geometry``,
+``kinematics``, ``dynamics``).
 """
 
 from __future__ import annotations
@@ -580,11 +579,9 @@ def test_forward_dynamics_from_an_absurd_speed_warns_nothing():
     assert result.status == "failed" and result.motion.samples == 1
 
 
-# ====================================================================== lead's modules
-_LEAD = "core defect, lead's module: "
+# ====================================================================== core modules
 
 
-@pytest.mark.xfail(strict=True, reason=_LEAD + "model._number: float(10**400) -> OverflowError")
 def test_core_huge_integer_parameter_is_a_parameter_error(tmp_path, capsys):
     with pytest.raises(ParameterError, match="l0"):
         Robot(l0=10**400)
@@ -593,7 +590,6 @@ def test_core_huge_integer_parameter_is_a_parameter_error(tmp_path, capsys):
     assert "r.toml: robot: l0" in error_line(status, err)
 
 
-@pytest.mark.xfail(strict=True, reason=_LEAD + "complex poses cast to real (ComplexWarning)")
 @pytest.mark.parametrize(
     "call",
     [
@@ -617,7 +613,6 @@ def test_core_complex_inputs_are_refused(call):
         call()
 
 
-@pytest.mark.xfail(strict=True, reason=_LEAD + "text is parsed as numbers (np.asarray(float))")
 @pytest.mark.parametrize(
     "call",
     [
@@ -635,7 +630,6 @@ def test_core_text_inputs_are_refused(call):
         call()
 
 
-@pytest.mark.xfail(strict=True, reason=_LEAD + "N = 0 samples accepted, empty results")
 @pytest.mark.parametrize(
     "call",
     [
@@ -653,7 +647,6 @@ def test_core_zero_samples_are_refused(call):
         call()
 
 
-@pytest.mark.xfail(strict=True, reason=_LEAD + "overflow gives NaN/inf results + RuntimeWarnings")
 @pytest.mark.parametrize(
     ("robot", "speed"),
     [(ROBOT, 1e200), (Robot.from_mapping({"platform": {"mass": 1e308}}), 0.0)],
@@ -671,7 +664,6 @@ def test_core_results_that_overflow_raise(robot, speed):
             inverse_dynamics(robot, motion)
 
 
-@pytest.mark.xfail(strict=True, reason=_LEAD + "wrong argument types give AttributeError/TypeError")
 @pytest.mark.parametrize(
     "call",
     [
@@ -687,7 +679,6 @@ def test_core_wrong_argument_types_are_prp3_errors(call):
         call()
 
 
-@pytest.mark.xfail(strict=True, reason=_LEAD + "law_motion: float32 duration refused, True taken")
 def test_core_law_motion_duration_types():
     assert law_motion([0.0, 0.01, 0.0], 3, np.float32(3.0)).t[-1] == 3.0
     with pytest.raises(TrajectoryError, match="duration"):

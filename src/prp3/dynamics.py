@@ -28,10 +28,11 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from ._checks import require_finite
 from .errors import Prp3Error
 from .geometry import LEG_AXIS, LEG_NORMAL, cross2, dot2
 from .kinematics import Kinematics, inverse_kinematics
-from .model import Robot
+from .model import Robot, check_robot
 from .motion import Motion
 
 __all__ = [
@@ -190,6 +191,24 @@ def paper_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
     >>> dyn.f10.round(4).tolist()    # static central configuration, see tests
     [31.8589, -8.4957, -23.3632]
     """
+    check_robot(robot)
+    with np.errstate(over="ignore", invalid="ignore"):
+        result = _paper_method(robot, kin)
+    return _checked(result, kin)
+
+
+def _checked(result: InverseDynamics, kin: Kinematics) -> InverseDynamics:
+    """``result`` if every force is finite, else a TrajectoryError naming the sample."""
+    require_finite(
+        {name: getattr(result, name) for name in FORCE_NAMES},
+        kin.motion.t.shape,
+        "motion",
+        kin.motion.t,
+    )
+    return result
+
+
+def _paper_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
     geo = kin.geometry
     w = body_wrenches(robot, kin)
     d, dn, rho = geo.slide, geo.slide_normal, geo.lever
@@ -272,6 +291,13 @@ def newton_euler(robot: Robot, kin: Kinematics) -> InverseDynamics:
     >>> newton_euler(robot, kin).n32.round(4).tolist()
     [19.62, -9.81, -9.81]
     """
+    check_robot(robot)
+    with np.errstate(over="ignore", invalid="ignore"):
+        result = _newton_euler(robot, kin)
+    return _checked(result, kin)
+
+
+def _newton_euler(robot: Robot, kin: Kinematics) -> InverseDynamics:
     geo = kin.geometry
     w = body_wrenches(robot, kin)
     batch = geo.lambda10.shape[:-1]

@@ -27,8 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._checks import real_array, require_finite
 from .errors import SingularPoseError, TrajectoryError, UnreachablePoseError
-from .model import Robot
+from .model import Robot, check_robot
 
 __all__ = [
     "ALPHA",
@@ -152,12 +153,11 @@ def check_poses(pose: ArrayLike, name: str = "pose") -> FloatArray:
     SingularPoseError
         ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` (names sample index and pose).
     """
-    try:
-        array = np.asarray(pose, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TrajectoryError(f"{name} must be an array of numbers, got {pose!r}") from None
-    if array.ndim not in (1, 2) or array.shape[-1] != 3:
-        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
+    array = real_array(name, pose, TrajectoryError)
+    if array.ndim not in (1, 2) or array.shape[-1] != 3 or array.size == 0:
+        raise TrajectoryError(
+            f"{name} must have shape (3,) or (N, 3) with N >= 1, got {array.shape}"
+        )
     flat = array.reshape(-1, 3)
     bad = ~np.isfinite(flat).all(axis=1)
     if bad.any():
@@ -248,7 +248,20 @@ def inverse_geometry(robot: Robot, pose: ArrayLike) -> InverseGeometry:
     >>> inverse_geometry(Robot(), [[0.0, 0.05, 0.0]]).lambda10.shape
     (1, 3)
     """
+    check_robot(robot)
     pose = check_poses(pose)
+    with np.errstate(over="ignore", invalid="ignore"):
+        geometry = _inverse_geometry(robot, pose)
+    require_finite(
+        {"lambda10": geometry.lambda10, "lambda32": geometry.lambda32},
+        pose.shape[:-1],
+        "pose",
+    )
+    _check_stroke(robot, pose, geometry.lambda10)
+    return geometry
+
+
+def _inverse_geometry(robot: Robot, pose: FloatArray) -> InverseGeometry:
     l0 = robot.l0
     G = pose[..., None, :2]  # (..., 1, 2)
     phi = pose[..., 2]
@@ -271,7 +284,6 @@ def inverse_geometry(robot: Robot, pose: ArrayLike) -> InverseGeometry:
     joint = base_vertices(robot) + s[..., None] * LEG_AXIS  # P_i
     lever = lambda32[..., None] * d + Rc  # ρ_i = G − P_i
     phi21 = np.broadcast_to(phi[..., None], lambda10.shape).copy()  # eq. (7)
-    _check_stroke(robot, pose, lambda10)
     return InverseGeometry(
         pose=pose,
         lambda10=lambda10,

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ._checks import require_finite
+from .errors import TrajectoryError
 from .geometry import (
     LEG_AXIS,
     LEG_NORMAL,
@@ -28,7 +30,7 @@ from .geometry import (
     inverse_geometry,
     perp,
 )
-from .model import Robot
+from .model import Robot, check_robot
 from .motion import Motion
 
 __all__ = ["Kinematics", "inverse_kinematics", "jacobian"]
@@ -131,7 +133,28 @@ def inverse_kinematics(robot: Robot, motion: Motion) -> Kinematics:
     >>> kin.dlambda10.shape, kin.jacobian.shape
     ((5, 3), (5, 3, 3))
     """
+    check_robot(robot)
+    if not isinstance(motion, Motion):
+        raise TrajectoryError(f"motion must be a prp3.Motion, got {motion!r}"[:200])
     geo = inverse_geometry(robot, motion.pose)
+    with np.errstate(over="ignore", invalid="ignore"):
+        kin = _inverse_kinematics(robot, motion, geo)
+    require_finite(
+        {
+            "dlambda10": kin.dlambda10,
+            "dlambda32": kin.dlambda32,
+            "ddlambda10": kin.ddlambda10,
+            "ddlambda32": kin.ddlambda32,
+            "link_acceleration": kin.link_acceleration,
+        },
+        motion.t.shape,
+        "motion",
+        motion.t,
+    )
+    return kin
+
+
+def _inverse_kinematics(robot: Robot, motion: Motion, geo: InverseGeometry) -> Kinematics:
     d, rho, D = geo.slide, geo.lever, geo.determinant[..., None]
     Gdot = motion.velocity[..., None, :2]
     Gddot = motion.acceleration[..., None, :2]

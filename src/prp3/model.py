@@ -40,6 +40,7 @@ __all__ = [
     "PistonParameters",
     "PlatformParameters",
     "Robot",
+    "check_robot",
     "robot_template",
 ]
 
@@ -50,7 +51,10 @@ def _number(where: str, value: Any) -> float:
         raise ParameterError(
             f"robot: {where} must be a number, got {value!r} ({type(value).__name__})"
         )
-    number = float(value)
+    try:
+        number = float(value)
+    except OverflowError:
+        raise ParameterError(f"robot: {where} is too large, got {value!r}") from None
     if not math.isfinite(number):
         raise ParameterError(f"robot: {where} must be a finite number, got {value!r}")
     return number
@@ -75,7 +79,7 @@ def _non_negative(where: str, value: Any, unit: str) -> float:
 
 
 def _pair(where: str, value: Any) -> tuple[float, float]:
-    if isinstance(value, str | bytes) or not hasattr(value, "__len__") or len(value) != 2:
+    if not isinstance(value, list | tuple | np.ndarray) or len(value) != 2:
         raise ParameterError(f"robot: {where} must be a pair of numbers [a, b], got {value!r}")
     return (_number(f"{where}[0]", value[0]), _number(f"{where}[1]", value[1]))
 
@@ -289,7 +293,7 @@ class Robot:
         """
         path = Path(path)
         try:
-            text = path.read_text(encoding="utf-8")
+            text = path.read_text(encoding="utf-8-sig")
         except OSError as error:
             raise InputFileError(f"{path}: cannot read robot file ({error.strerror})") from None
         except UnicodeDecodeError:
@@ -317,6 +321,19 @@ class Robot:
         True
         """
         return robot_template(self, comments=False)
+
+
+def check_robot(robot: object) -> Robot:
+    """Return ``robot`` if it is a :class:`Robot`, else raise :class:`ParameterError`.
+
+    >>> check_robot(None)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: robot must be a prp3.Robot, got None
+    """
+    if not isinstance(robot, Robot):
+        raise ParameterError(f"robot must be a prp3.Robot, got {robot!r}"[:200])
+    return robot
 
 
 def _table(name: str, value: Any, allowed: set[str]) -> dict[str, Any]:

@@ -18,14 +18,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._checks import real_array
 from .errors import TrajectoryError
 
-__all__ = ["PAPER_DURATION", "PAPER_MOTIONS", "Motion", "law_motion", "paper_motion"]
+__all__ = ["MAX_SAMPLES", "PAPER_DURATION", "PAPER_MOTIONS", "Motion", "law_motion", "paper_motion"]
 
 FloatArray = NDArray[np.float64]
 
 #: Duration of the paper's simulations (s), section 3.
 PAPER_DURATION: float = 3.0
+
+#: Largest number of samples :func:`law_motion` makes.
+MAX_SAMPLES: int = 10**9
 
 #: Amplitudes ``(x*, y*, φ*)`` of the paper's two examples (section 3, MODEL.md).
 PAPER_MOTIONS: dict[str, tuple[float, float, float]] = {
@@ -35,13 +39,7 @@ PAPER_MOTIONS: dict[str, tuple[float, float, float]] = {
 
 
 def _float_array(name: str, value: ArrayLike) -> FloatArray:
-    try:
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TrajectoryError(
-            f"motion: {name} must be an array of numbers, got {value!r}"
-        ) from None
-    return array
+    return real_array(f"motion: {name}", value, TrajectoryError)
 
 
 @dataclass(frozen=True)
@@ -83,6 +81,8 @@ class Motion:
         t = _float_array("t", self.t)
         if t.ndim > 1:
             raise TrajectoryError(f"motion: t must have shape (N,) or (), got {t.shape}")
+        if t.shape == (0,):
+            raise TrajectoryError("motion: needs at least 1 sample, got t of shape (0,)")
         expected = (*t.shape, 3)
         for name in ("pose", "velocity", "acceleration"):
             array = _float_array(name, getattr(self, name))
@@ -167,9 +167,19 @@ def law_motion(
     star = _float_array("amplitude", amplitude)
     if star.shape != (3,) or not np.isfinite(star).all():
         raise TrajectoryError(f"motion: amplitude must be 3 finite numbers, got {amplitude!r}")
-    if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 2:
-        raise TrajectoryError(f"motion: samples must be an integer >= 2, got {samples!r}")
-    if not (isinstance(duration, int | float) and math.isfinite(duration) and duration > 0):
+    if (
+        isinstance(samples, bool)
+        or not isinstance(samples, int | np.integer)
+        or not 2 <= samples <= MAX_SAMPLES
+    ):
+        raise TrajectoryError(
+            f"motion: samples must be an integer from 2 to {MAX_SAMPLES:.0e}, got {samples!r}"
+        )
+    if (
+        isinstance(duration, bool | np.bool_)
+        or not isinstance(duration, int | float | np.integer | np.floating)
+        or not (math.isfinite(duration) and duration > 0)
+    ):
         raise TrajectoryError(f"motion: duration must be a positive number (s), got {duration!r}")
     t = np.linspace(0.0, float(duration), int(samples))
     w = math.pi / 3.0
@@ -192,7 +202,7 @@ def paper_motion(name: str, samples: int = 301) -> Motion:
     ...
     prp3.errors.TrajectoryError: motion: unknown motion 'spiral' (expected 'vertical' or 'rotation')
     """
-    if name not in PAPER_MOTIONS:
+    if not isinstance(name, str) or name not in PAPER_MOTIONS:
         raise TrajectoryError(
             f"motion: unknown motion {name!r} (expected 'vertical' or 'rotation')"
         )

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..dynamics import METHODS, Method, inverse_dynamics
-from ..errors import Prp3Error, SingularPoseError, UnreachablePoseError
+from ..errors import Prp3Error, SingularPoseError, TrajectoryError, UnreachablePoseError
 from ..geometry import LEGS
 from ..io import (
     Trajectory,
@@ -168,7 +168,7 @@ def simulate_table(
         stop = min(start + chunk, samples)
         try:
             part = results_table(*inverse_dynamics(robot, motion[start:stop], method))
-        except (SingularPoseError, UnreachablePoseError) as error:
+        except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
             raise _shift_sample(error, start) from None
         for name, column in part.items():
             table[name][start:stop] = column
@@ -194,40 +194,14 @@ def _located(
     ``source`` is ``--motion NAME`` or the trajectory file; for a file the
     line of the sample is added (``path:line``).
     """
-    message = re.sub(r"^pose: ", "", str(error))
-    found = re.search(r"at sample (\d+)", message)
+    message = re.sub(r"^(pose|motion): ", "", str(error))
+    found = re.search(r"at sample (\d+)(, t = \S+ s)?", message)
     if found is None:
         return type(error)(f"{source}: {message}")
     sample = int(found[1])
     where = source if trajectory is None else f"{source}:{int(trajectory.lines[sample])}"
     when = f"at sample {sample}, t = {float(motion.t[sample]):.9g} s"
     return type(error)(f"{where}: {message[: found.start()]}{when}{message[found.end() :]}")
-
-
-def _check_finite(
-    table: Mapping[str, FloatArray], motion: Motion, source: str, trajectory: Trajectory | None
-) -> None:
-    """Refuse results that overflowed (huge masses, speeds or positions): name the first sample.
-
-    Raises
-    ------
-    Prp3Error
-        Naming the source (with the file line of a trajectory), the sample, its
-        time and the first column that is not finite.
-    """
-    bad = np.zeros(motion.samples, dtype=bool)
-    for column in table.values():
-        bad |= ~np.isfinite(column)
-    if not bad.any():
-        return
-    k = int(np.argmax(bad))
-    name = next(name for name, column in table.items() if not np.isfinite(column[k]))
-    where = source if trajectory is None else f"{source}:{int(trajectory.lines[k])}"
-    raise Prp3Error(
-        f"{where}: the results overflow at sample {k}, t = {float(motion.t[k]):.9g} s "
-        f"({name} = {float(table[name][k])!r}): the robot parameters or the motion are too "
-        "large for double precision"
-    )
 
 
 @dataclass(frozen=True)
@@ -416,11 +390,9 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
 
     source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
     try:
-        with np.errstate(all="ignore"):  # an overflow is reported below, naming the sample
-            table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
-    except (SingularPoseError, UnreachablePoseError) as error:
+        table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
+    except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
         raise _located(error, motion, source, trajectory) from None
-    _check_finite(table, motion, source, trajectory)
     summary = summarize(table)
 
     trajectory_file = str(trajectory.path) if trajectory is not None else None
