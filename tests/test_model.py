@@ -389,3 +389,9 @@ def test_mass_messages_say_what_is_wrong(value: Any, fragment: str) -> None:
     with pytest.raises(ParameterError) as info:
         Robot.from_mapping({"link": {"mass": value}})
     assert str(info.value) == f"robot: link.mass {fragment}"
+
+
+def test_a_robot_file_may_start_with_a_byte_order_mark(tmp_path: Path) -> None:
+    path = tmp_path / "bom.toml"
+    path.write_bytes("\ufeff[platform]\nmass = 2.0\n".encode())
+    assert Robot.from_toml(path).platform.mass == 2.0
