@@ -1,4 +1,5 @@
-"""argparse value types shared by the subcommands (one-line errors, exit 2).
+"""Pieces shared by the subcommands: argparse value types (one-line errors, exit 2),
+the ``--robot`` and ``--output DIR`` options and loading the robot.
 
 >>> finite_float("0.5"), positive_float("1e-10"), integer_at_least(2)("301")
 (0.5, 1e-10, 301)
@@ -15,7 +16,17 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["finite_float", "integer_at_least", "path_name", "positive_float"]
+from ..model import Robot
+
+__all__ = [
+    "add_output_directory",
+    "add_robot_option",
+    "finite_float",
+    "integer_at_least",
+    "load_robot",
+    "path_name",
+    "positive_float",
+]
 
 
 def finite_float(text: str) -> float:
@@ -78,3 +89,30 @@ def path_name(text: str) -> Path:
             f"expected a path, got {'an empty string' if not text else repr(text)}"
         )
     return Path(text)
+
+
+def add_robot_option(parser: argparse.ArgumentParser, note: str = "") -> None:
+    """Add ``--robot ROBOT.toml`` (default: the paper's robot)."""
+    parser.add_argument(
+        "--robot",
+        metavar="ROBOT.toml",
+        type=path_name,
+        help=f"robot parameters (default: the paper's robot{note})",
+    )
+
+
+def load_robot(args: argparse.Namespace) -> Robot:
+    """The robot of ``--robot``, or the paper's robot."""
+    return Robot.from_toml(args.robot) if args.robot is not None else Robot()
+
+
+def add_output_directory(parser: argparse.ArgumentParser) -> None:
+    """Add the required ``--output/-o DIR``."""
+    parser.add_argument(
+        "--output",
+        "-o",
+        metavar="DIR",
+        type=path_name,
+        required=True,
+        help="output directory, created if missing; files of the same name are replaced",
+    )

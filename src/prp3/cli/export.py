@@ -15,8 +15,7 @@ from typing import Any
 from ..errors import OutputFileError
 from ..io import atomic_writer
 from ..mjcf import mjcf_model
-from ..model import Robot
-from ._types import path_name
+from ._types import load_robot, path_name
 
 __all__ = ["register"]
 
@@ -72,7 +71,7 @@ def register(subparsers: Any) -> None:
 
 
 def _export_mjcf(args: argparse.Namespace) -> int:
-    robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    robot = load_robot(args)
     text = mjcf_model(robot)
     output: Path | None = args.output
     if output is None:

@@ -44,9 +44,16 @@ from ..io import (
     staged_output,
     write_table_csv,
 )
-from ..model import Robot
 from ..results import RESULT_COLUMNS, results_table
-from ._types import finite_float, integer_at_least, path_name, positive_float
+from ._types import (
+    add_output_directory,
+    add_robot_option,
+    finite_float,
+    integer_at_least,
+    load_robot,
+    path_name,
+    positive_float,
+)
 
 __all__ = ["FORCE_COLUMNS", "ForceInput", "read_forces", "register", "run"]
 
@@ -162,12 +169,7 @@ def register(subparsers: Any) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument(
-        "--robot",
-        metavar="ROBOT.toml",
-        type=path_name,
-        help="robot parameters (default: the paper's robot)",
-    )
+    add_robot_option(parser)
     parser.add_argument(
         "--forces",
         metavar="FORCES.csv",
@@ -214,14 +216,7 @@ def register(subparsers: Any) -> None:
         default=1e-12,
         help="absolute tolerance on m, rad, m/s, rad/s (1e-12)",
     )
-    parser.add_argument(
-        "--output",
-        "-o",
-        metavar="DIR",
-        type=path_name,
-        required=True,
-        help="output directory, created if missing; files of the same name are replaced",
-    )
+    add_output_directory(parser)
     parser.set_defaults(handler=run)
 
 
@@ -230,7 +225,7 @@ def run(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
-    robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    robot = load_robot(args)
     given = read_forces(args.forces)
     forces = given.forces
     if args.initial_pose is not None:

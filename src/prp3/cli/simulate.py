@@ -44,7 +44,7 @@ from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from ..results import RESULT_COLUMNS, results_table
-from ._types import integer_at_least, path_name
+from ._types import add_output_directory, add_robot_option, integer_at_least, load_robot, path_name
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -291,12 +291,7 @@ def register(subparsers: Any) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument(
-        "--robot",
-        metavar="ROBOT.toml",
-        type=path_name,
-        help="robot parameters (default: the paper's robot; `prp3 robot --template` prints one)",
-    )
+    add_robot_option(parser, "; `prp3 robot --template` prints one")
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument(
         "--motion",
@@ -324,14 +319,7 @@ def register(subparsers: Any) -> None:
         help="paper: the paper's recursive method and virtual work (eqs. 19-25, default); "
         "newton-euler: the independent Newton-Euler solver",
     )
-    parser.add_argument(
-        "--output",
-        "-o",
-        metavar="DIR",
-        type=path_name,
-        required=True,
-        help="output directory, created if missing; files of the same name are replaced",
-    )
+    add_output_directory(parser)
     parser.add_argument(
         "--plots",
         action="store_true",
@@ -367,7 +355,7 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, ("results.csv",), (args.trajectory, args.robot))
-    robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    robot = load_robot(args)
     trajectory: Trajectory | None = None
     if args.trajectory is not None:
         if args.samples is not None:

@@ -33,7 +33,13 @@ from ..workspace import (
     reachable_region,
     workspace_slice,
 )
-from ._types import finite_float, integer_at_least, path_name
+from ._types import (
+    add_output_directory,
+    add_robot_option,
+    finite_float,
+    integer_at_least,
+    load_robot,
+)
 
 __all__ = ["DEFAULT_ORIENTATIONS", "DEFAULT_POINTS", "default_extent", "register", "run"]
 
@@ -116,13 +122,7 @@ def register(subparsers: Any) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument(
-        "--robot",
-        metavar="ROBOT.toml",
-        type=path_name,
-        help="robot parameters, with [limits] stroke for a bounded workspace (default: the "
-        "paper's robot, no limits)",
-    )
+    add_robot_option(parser, ", no limits; give [limits] stroke for a bounded workspace")
     parser.add_argument(
         "--phi",
         metavar="VALUE",
@@ -153,14 +153,7 @@ def register(subparsers: Any) -> None:
         help="orientations of the scan of phi, evenly over the reachable orientation range "
         f"(over -pi..pi without stroke limits; default {DEFAULT_ORIENTATIONS})",
     )
-    parser.add_argument(
-        "--output",
-        "-o",
-        metavar="DIR",
-        type=path_name,
-        required=True,
-        help="output directory, created if missing; files of the same name are replaced",
-    )
+    add_output_directory(parser)
     parser.set_defaults(handler=run)
 
 
@@ -196,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 workspace`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
-    robot = Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    robot = load_robot(args)
     if args.extent is not None:
         xmin, xmax, ymin, ymax = args.extent
         if not (xmin < xmax and ymin < ymax):
