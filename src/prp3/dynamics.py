@@ -127,6 +127,16 @@ def body_wrenches(robot: Robot, kin: Kinematics) -> BodyWrenches:
     The weight ``m_k·g`` (eq. 19) and the inertia wrench (eq. 20) of each body
     combine into ``F_k0 = m_k·(a_Ck − g)`` and
     ``M_k0 = I_k·ε_k0 + (C_k − P_i) × F_k0`` (eq. 22).
+
+    Examples
+    --------
+    At rest the bodies need their weight carried: ``F30 = −m3·g``.
+
+    >>> from prp3.motion import Motion
+    >>> robot = Robot()
+    >>> w = body_wrenches(robot, inverse_kinematics(robot, Motion.at_rest([0.0, 0.0, 0.0])))
+    >>> w.platform_force.round(4).tolist(), w.link_force.shape
+    ([0.0, 29.43], (3, 2))
     """
     g = np.asarray(robot.gravity)
     phiddot = kin.motion.acceleration[..., 2]

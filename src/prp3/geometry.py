@@ -152,6 +152,15 @@ def check_poses(pose: ArrayLike, name: str = "pose") -> FloatArray:
         Wrong shape or non-finite value (names the sample index).
     SingularPoseError
         ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` (names sample index and pose).
+
+    Examples
+    --------
+    >>> check_poses([[0, 0, 0], [0, 0.1, 0.2]]).dtype
+    dtype('float64')
+    >>> check_poses([[0.0, 0.0, 0.0], [0.0, 0.0, float("nan")]])
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: pose: non-finite value at sample 1: [0.0, 0.0, nan]
     """
     array = real_array(name, pose, TrajectoryError)
     if array.ndim not in (1, 2) or array.shape[-1] != 3 or array.size == 0:

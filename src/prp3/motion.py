@@ -163,6 +163,12 @@ def law_motion(
     Motion
         With the analytic derivatives ``q*·(π/3)·sin(πt/3)`` and
         ``q*·(π/3)²·cos(πt/3)``.
+
+    Examples
+    --------
+    >>> m = law_motion([0.01, 0.0, 0.0], samples=3)   # x goes 0 → 0.02 m
+    >>> m.t.tolist(), m.pose[:, 0].round(12).tolist(), m.velocity[:, 0].round(6).tolist()
+    ([0.0, 1.5, 3.0], [0.0, 0.01, 0.02], [0.0, 0.010472, 0.0])
     """
     star = _float_array("amplitude", amplitude)
     if star.shape != (3,) or not np.isfinite(star).all():
