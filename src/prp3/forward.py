@@ -69,12 +69,12 @@ from .errors import (
     Prp3Error,
     SingularPoseError,
     TrajectoryError,
-    UnreachablePoseError,
 )
 from .geometry import (
     LEGS,
     SINGULARITY_THRESHOLD,
     InverseGeometry,
+    check_stroke,
     inverse_geometry,
     perp,
     singularity_measure,
@@ -274,7 +274,7 @@ def forward_geometry(robot: Robot, lambda10: ArrayLike) -> ForwardGeometry:
     ([0.01, -0.02, 0.1], -1)
     """
     lam = _per_leg("lambda10", lambda10)
-    _check_stroke(robot, lam)
+    check_stroke(robot, lam)
     l0 = robot.l0
     total = lam.sum(axis=-1)
     phi = orientation_from_sum(l0, total)  # eq. (ii)
@@ -299,21 +299,6 @@ def forward_geometry(robot: Robot, lambda10: ArrayLike) -> ForwardGeometry:
         aspect=np.sign(D).astype(np.int64),
         geometry=inverse_geometry(_without_limits(robot), pose),
     )
-
-
-def _check_stroke(robot: Robot, lam: FloatArray) -> None:
-    stroke = robot.limits.stroke
-    if stroke is None:
-        return
-    lower, upper = stroke
-    flat = lam.reshape(-1, 3)
-    outside = (flat < lower) | (flat > upper)
-    if outside.any():
-        index, leg = np.argwhere(outside)[0].tolist()
-        raise UnreachablePoseError(
-            f"lambda10: sample {index}: lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m "
-            f"is outside the stroke [{lower!r}, {upper!r}] m"
-        )
 
 
 # ---------------------------------------------------------- forward kinematics

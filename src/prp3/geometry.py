@@ -40,6 +40,7 @@ __all__ = [
     "InverseGeometry",
     "base_vertices",
     "check_poses",
+    "check_stroke",
     "cross2",
     "dot2",
     "inverse_geometry",
@@ -266,7 +267,7 @@ def inverse_geometry(robot: Robot, pose: ArrayLike) -> InverseGeometry:
         pose.shape[:-1],
         "pose",
     )
-    _check_stroke(robot, pose, geometry.lambda10)
+    check_stroke(robot, geometry.lambda10, pose)
     return geometry
 
 
@@ -306,18 +307,31 @@ def _inverse_geometry(robot: Robot, pose: FloatArray) -> InverseGeometry:
     )
 
 
-def _check_stroke(robot: Robot, pose: FloatArray, lambda10: FloatArray) -> None:
+def check_stroke(robot: Robot, lambda10: FloatArray, pose: FloatArray | None = None) -> None:
+    """Refuse actuator displacements ``(..., 3)`` outside ``robot.limits.stroke``.
+
+    The message names the first sample, the leg and the value, and the pose
+    when ``pose`` is given.
+
+    >>> from prp3.model import Limits
+    >>> check_stroke(Robot(limits=Limits(stroke=(-0.1, 0.1))), np.array([0.0, 0.2, 0.0]))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.UnreachablePoseError: lambda10: sample 0: lambda10_B = 0.2 m is outside the stroke [-0.1, 0.1] m
+    """
     stroke = robot.limits.stroke
     if stroke is None:
         return
     lower, upper = stroke
     flat = lambda10.reshape(-1, 3)
     outside = (flat < lower) | (flat > upper)
-    if outside.any():
-        index, leg = np.argwhere(outside)[0].tolist()
+    if not outside.any():
+        return
+    index, leg = np.argwhere(outside)[0].tolist()
+    value = f"lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m is outside the stroke"
+    if pose is None:
+        where = f"lambda10: sample {index}:"
+    else:
         x, y, phi = pose.reshape(-1, 3)[index].tolist()
-        raise UnreachablePoseError(
-            f"pose: unreachable pose at sample {index} (x={x!r}, y={y!r}, phi={phi!r}): "
-            f"lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m is outside the stroke "
-            f"[{lower!r}, {upper!r}] m"
-        )
+        where = f"pose: unreachable pose at sample {index} (x={x!r}, y={y!r}, phi={phi!r}):"
+    raise UnreachablePoseError(f"{where} {value} [{lower!r}, {upper!r}] m")
