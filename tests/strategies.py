@@ -2,12 +2,12 @@
 
 Nothing in this module calls the code under test except the public
 constructors :class:`prp3.Robot` and :class:`prp3.Motion` (to build inputs).
-The reference model below is written from ``MODEL.md`` alone, with its own
+The reference model below is written from ``docs/model.md`` alone, with its own
 formulas (2×2 solves with ``numpy.linalg.solve`` instead of the core's
 Cramer's rule), so that a test comparing it with the core checks two
 independent derivations.
 
-Reference geometry (``MODEL.md``):
+Reference geometry (``docs/model.md``):
 
 * ``α = (π/3, π, −π/3)``, ``e_i = (cos α_i, sin α_i)``, ``n_i = J·e_i`` with
   ``J`` the rotation by +90°;
@@ -41,7 +41,7 @@ FloatArray = NDArray[np.float64]
 
 SQRT3 = math.sqrt(3.0)
 
-#: α_i of MODEL.md, written out here on purpose (not imported from prp3.geometry).
+#: α_i of docs/model.md, written out here on purpose (not imported from prp3.geometry).
 REF_ALPHA: FloatArray = np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
 
 
@@ -84,7 +84,7 @@ REF_N: FloatArray = turn(REF_E)
 
 
 def ref_base(l0: float) -> FloatArray:
-    """Base vertices ``A0, B0, C0`` (MODEL.md), shape (3, 2)."""
+    """Base vertices ``A0, B0, C0`` (docs/model.md), shape (3, 2)."""
     return l0 * np.array([[0.0, -1.0], [SQRT3 / 2.0, 0.5], [-SQRT3 / 2.0, 0.5]])
 
 
@@ -237,7 +237,7 @@ def body_states(
 
 
 def platform_inertia(robot: Robot) -> float:
-    """Platform ``I_zz`` (MODEL.md): the given value or ``m3·l²/12``, ``l = √3·l0``."""
+    """Platform ``I_zz`` (docs/model.md): the given value or ``m3·l²/12``, ``l = √3·l0``."""
     if robot.platform.inertia is not None:
         return robot.platform.inertia
     return robot.platform.mass * 3.0 * robot.l0**2 / 12.0

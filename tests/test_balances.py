@@ -4,7 +4,7 @@ Only the ``results_table`` columns (``t, x, y, phi, lambda10_L … m32_L``), the
 robot parameters and the platform's ``φ̇, φ̈`` (which the table does not
 carry) are used; positions come from the test's own geometry
 (``strategies``), never from the core.  The 21 equations, derived from
-MODEL.md's sign conventions (forces on each body; moments about ``z0``):
+docs/model.md's sign conventions (forces on each body; moments about ``z0``):
 
 * piston i (translates along e_i; f10 acts through P_i; the guide gives n10·n
   at P_i and the moment m10; link 2 pushes back with −F21 at P_i; weight at C1):

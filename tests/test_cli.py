@@ -3,7 +3,7 @@
 Most tests call ``prp3.cli.main([...])`` in-process with ``tmp_path``; a few run
 the installed ``prp3`` and ``python -m prp3`` in a subprocess.  Expected numbers
 are derived by hand beside each test: the contract's column list is written out
-from MODEL.md, energies come from the change of potential energy between two
+from docs/model.md, energies come from the change of potential energy between two
 poses at rest, stroke violations from the closed-form inverse of eq. (4).
 """
 
@@ -27,7 +27,7 @@ import prp3
 from prp3.cli import main
 from prp3.cli.simulate import Progress, simulate_table
 
-#: The contract's columns (MODEL.md), written out here rather than imported.
+#: The contract's columns (docs/model.md), written out here rather than imported.
 PER_LEG = (
     "lambda10 dlambda10 ddlambda10 lambda32 dlambda32 ddlambda32 f10 p10 f21y f21z n10 m10 n32 m32"
 ).split()

@@ -28,7 +28,7 @@ from prp3.cli import main
 from prp3.io import write_table_csv
 from prp3.results import results_table
 
-#: The contract's columns (MODEL.md), written out here rather than imported.
+#: The contract's columns (docs/model.md), written out here rather than imported.
 PER_LEG = (
     "lambda10 dlambda10 ddlambda10 lambda32 dlambda32 ddlambda32 f10 p10 f21y f21z n10 m10 n32 m32"
 ).split()

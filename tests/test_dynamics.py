@@ -1,7 +1,7 @@
 """Complete inverse dynamics: paper method vs Newton–Euler, hand calculations, closed forms.
 
-Expected numbers are worked by hand from MODEL.md (derivations beside each
-test).  Conventions used in every derivation (MODEL.md):
+Expected numbers are worked by hand from docs/model.md (derivations beside each
+test).  Conventions used in every derivation (docs/model.md):
 
 * piston i:  f10·e + n10·n − F21 + m1·g = m1·a1,   F21 = f21y·n + f21z·e (piston on link 2);
 * link 2:    F21 − n32·d⊥ + m2·g = m2·a2,           −m32 + r2 × m2(g − a2) = I2·φ̈ (about P);
@@ -272,7 +272,7 @@ def test_rotation_paper_motion_closed_form(method: str, gravity: tuple[float, fl
     motion = paper_motion("rotation", samples=301)
     kin, dyn = inverse_dynamics(robot, motion, method=method)  # type: ignore[arg-type]
     l0, m3, w, star = robot.l0, robot.platform.mass, math.pi / 3, math.pi / 12
-    I2, I3 = 6.25e-4, 3.0 * (SQRT3 * l0) ** 2 / 12  # MODEL.md defaults (0.0675 kg·m²)
+    I2, I3 = 6.25e-4, 3.0 * (SQRT3 * l0) ** 2 / 12  # docs/model.md defaults (0.0675 kg·m²)
     t = motion.t
     phi = star * (1 - np.cos(w * t))
     phid = star * w * np.sin(w * t)
@@ -305,12 +305,12 @@ def test_rotation_paper_motion_closed_form(method: str, gravity: tuple[float, fl
     assert kin.geometry.lambda32.shape == (301, 3)
 
 
-# ------------------------------------------------------------- statements of MODEL.md
+# ------------------------------------------------------------- statements of docs/model.md
 @given(scenario=scenarios(offsets=False))
 def test_reaction_moments_with_centres_of_mass_at_the_joints(
     scenario: tuple[Robot, AnalyticMotion],
 ) -> None:
-    # MODEL.md: m10 = 0 when c1 = (0, 0); m32 = −I2·φ̈ when c2 = (0, 0); p10 = f10·λ̇10.
+    # docs/model.md: m10 = 0 when c1 = (0, 0); m32 = −I2·φ̈ when c2 = (0, 0); p10 = f10·λ̇10.
     robot, analytic = scenario
     motion = analytic.motion(np.linspace(0.0, analytic.duration, 6))
     for method in METHODS:
@@ -371,7 +371,7 @@ def test_output_rank_follows_input_rank(method: str) -> None:
 
 
 def test_results_table_follows_the_data_contract() -> None:
-    # MODEL.md: t, x, y, phi, then for each leg A, B, C (all of A's first) 14 columns.
+    # docs/model.md: t, x, y, phi, then for each leg A, B, C (all of A's first) 14 columns.
     per_leg = (
         "lambda10 dlambda10 ddlambda10 lambda32 dlambda32 ddlambda32 "
         "f10 p10 f21y f21z n10 m10 n32 m32"

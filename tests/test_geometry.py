@@ -1,6 +1,6 @@
 """Inverse geometry (eqs. 1, 7–10) against hand derivations and the independent reference.
 
-Expected values come from MODEL.md worked by hand (derivations beside each
+Expected values come from docs/model.md worked by hand (derivations beside each
 test) or from ``strategies.ref_geometry``, an independent solver.
 """
 
@@ -41,7 +41,7 @@ l0_values = st.floats(0.1, 1.0, allow_nan=False)
 
 
 def test_constants_follow_model() -> None:
-    # MODEL.md: α = (π/3, π, −π/3), e = (cos α, sin α), n = (−sin α, cos α), legs A, B, C.
+    # docs/model.md: α = (π/3, π, −π/3), e = (cos α, sin α), n = (−sin α, cos α), legs A, B, C.
     assert LEGS == ("A", "B", "C")
     np.testing.assert_allclose(ALPHA, [math.pi / 3, math.pi, -math.pi / 3], rtol=0, atol=0)
     half = SQRT3 / 2
@@ -67,7 +67,7 @@ def test_base_vertices_are_model_values() -> None:
 
 @pytest.mark.parametrize("l0", [0.3, 0.7])
 def test_central_configuration_by_hand(l0: float) -> None:
-    # x = y = φ = 0 ⇒ λ10 = λ32 = 0 (MODEL.md).  P_i = B_i0 + (l0/√3)·e_i:
+    # x = y = φ = 0 ⇒ λ10 = λ32 = 0 (docs/model.md).  P_i = B_i0 + (l0/√3)·e_i:
     #   P_A = l0(0, −1) + (l0/√3)(1/2, √3/2) = (l0/(2√3), −l0/2)
     #   P_B = l0(√3/2, 1/2) + (l0/√3)(−1, 0) = (l0/(2√3), l0/2)
     #   P_C = l0(−√3/2, 1/2) + (l0/√3)(1/2, −√3/2) = (−l0/√3, 0)
@@ -124,7 +124,7 @@ def test_sum_of_lambda32_depends_on_orientation_only(pose: np.ndarray, l0: float
     # Cross the closure of leg i with e_i: λ32_i·sin(φ − π/3) = e_i × (G − B_i0 − Rot(α_i+φ)c).
     # Σ e_i = 0 removes G; e_i × B_i0 = −l0/2 for every leg; e_i × Rot(α_i+φ)c
     # = (Rot(φ)c)_y = (l0/2)(sin φ/√3 + cos φ).  Hence
-    #   Σ λ32 = (3 l0/2)·(1 − cos φ − sin φ/√3) / sin(φ − π/3)   (MODEL.md: no other singularity).
+    #   Σ λ32 = (3 l0/2)·(1 − cos φ − sin φ/√3) / sin(φ − π/3)   (docs/model.md: no other singularity).
     pose = pose * np.array([l0 / 0.3, l0 / 0.3, 1.0])
     phi = pose[2]
     geo = inverse_geometry(Robot(l0=l0), pose)
@@ -134,7 +134,7 @@ def test_sum_of_lambda32_depends_on_orientation_only(pose: np.ndarray, l0: float
 
 @given(pose=poses(), l0=l0_values)
 def test_closure_and_leg_geometry_rebuilt_from_outputs(pose: np.ndarray, l0: float) -> None:
-    # Eq. (10) with P_i rebuilt from λ10 by the MODEL.md formula:
+    # Eq. (10) with P_i rebuilt from λ10 by the docs/model.md formula:
     #   G = B_i0 + (l0/√3 + λ10_i)·e_i + λ32_i·d_i + Rot(α_i + φ)·c   for every leg.
     pose = pose * np.array([l0 / 0.3, l0 / 0.3, 1.0])
     geo = inverse_geometry(Robot(l0=l0), pose)
@@ -147,7 +147,7 @@ def test_closure_and_leg_geometry_rebuilt_from_outputs(pose: np.ndarray, l0: flo
     np.testing.assert_allclose(geo.slide, d, atol=1e-15)
     np.testing.assert_allclose(geo.slide_normal, turn(d), atol=1e-15)
     np.testing.assert_allclose(geo.lever, pose[:2] - joint, atol=1e-14 * scale)
-    # e_i × d_i = sin(φ − π/3) for every leg (MODEL.md); φ21 = φ (eq. 7).
+    # e_i × d_i = sin(φ − π/3) for every leg (docs/model.md); φ21 = φ (eq. 7).
     np.testing.assert_allclose(cross(REF_E, d), math.sin(pose[2] - math.pi / 3), atol=1e-15)
     assert float(geo.determinant) == pytest.approx(math.sin(pose[2] - math.pi / 3), abs=1e-15)
     np.testing.assert_array_equal(geo.phi21, pose[2])

@@ -188,7 +188,7 @@ def test_positions_only_derivatives_match_the_analytic_law_to_1e_5(tmp_path):
         scale = np.abs(want).max(axis=0)
         error = np.abs(got[inner] - want[inner]).max(axis=0) / scale
         assert (error <= 1e-5).all(), error
-        # a quintic spline does much better than the requirement (MODEL.md: ~1e-9)
+        # a quintic spline does much better than the requirement (docs/model.md: ~1e-9)
         assert (error <= 1e-7).all(), error
 
 

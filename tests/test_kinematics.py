@@ -76,7 +76,7 @@ def test_body_velocities_against_finite_differences(
     scenario: tuple[Robot, AnalyticMotion],
 ) -> None:
     # Centres of mass of pistons and links (offsets ≠ 0): positions checked against
-    # MODEL.md's formulas, velocities and accelerations against finite differences.
+    # docs/model.md's formulas, velocities and accelerations against finite differences.
     robot, analytic = scenario
     T = analytic.duration
     t = np.linspace(0.1 * T, 0.9 * T, 4)

@@ -2,7 +2,7 @@
 
 Without MuJoCo: the XML is parsed with the standard library and its kinematic
 tree is composed by hand (planar frames: position and angle about ``z``); the
-frames must land where ``MODEL.md`` puts the joints and bodies, computed by the
+frames must land where ``docs/model.md`` puts the joints and bodies, computed by the
 independent reference model of ``strategies.py``.
 
 With MuJoCo (``pytest.importorskip``):
@@ -211,7 +211,7 @@ def test_masses_and_inertias_are_written_exactly() -> None:
 def test_inertial_parameters(robot: Robot) -> None:
     bodies = _bodies(ET.fromstring(mjcf_model(robot)))
     m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
-    # I3 of MODEL.md: the given value, else the uniform plate m3·l²/12 with l = l0·√3
+    # I3 of docs/model.md: the given value, else the uniform plate m3·l²/12 with l = l0·√3
     i3 = robot.platform.inertia
     if i3 is None:
         i3 = m3 * 3.0 * robot.l0**2 / 12.0
@@ -241,7 +241,7 @@ def test_frames_follow_the_closure(pose: np.ndarray, robot: Robot) -> None:
     # Put the joints at λ10, φ, λ32 of the reference inverse geometry (eq. 10):
     # the three platform thirds must all land on G with angle φ, the pistons on
     # P_i with x along e_i, the links on P_i with x along d_i, and each body's
-    # centre of mass where MODEL.md puts it.
+    # centre of mass where docs/model.md puts it.
     l0 = robot.l0
     pose = pose * l0 / 0.3  # poses() is scaled for l0 = 0.3
     ref = ref_geometry(l0, pose)

@@ -1,4 +1,4 @@
-"""The robot model: defaults of MODEL.md, validation with precise messages, TOML round trip."""
+"""The robot model: defaults of docs/model.md, validation with precise messages, TOML round trip."""
 
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ from strategies import robots
 
 # ------------------------------------------------------------------ defaults
 def test_defaults_are_the_papers_robot() -> None:
-    # MODEL.md: l0 = 0.3 m, m1 = 1, m2 = 0.75, m3 = 3 kg, I2 = 6.25e-4 kg·m², I1 = 0,
+    # docs/model.md: l0 = 0.3 m, m1 = 1, m2 = 0.75, m3 = 3 kg, I2 = 6.25e-4 kg·m², I1 = 0,
     # centres of mass at the joints, g = (0, −9.81) m/s², no limits.
     robot = Robot()
     assert robot.l0 == 0.3
@@ -325,7 +325,7 @@ def test_template_reads_back_as_the_default_robot(tmp_path: Path) -> None:
 
 
 def test_spec_example_file_reads_as_the_defaults(tmp_path: Path) -> None:
-    # The ROBOT.toml of MODEL.md, verbatim (platform inertia given: 0.0675).
+    # The ROBOT.toml of docs/model.md, verbatim (platform inertia given: 0.0675).
     text = """l0 = 0.3
 gravity = [0.0, -9.81]
 [piston]

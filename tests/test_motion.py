@@ -168,7 +168,7 @@ def test_law_derivatives_against_finite_differences(
     ("name", "end"), [("vertical", (0.0, 0.05, 0.0)), ("rotation", (0.0, 0.0, math.pi / 6))]
 )
 def test_paper_motions(name: str, end: tuple[float, float, float]) -> None:
-    # MODEL.md: 301 samples over [0, 3] s; vertical y* = 0.025 m, rotation φ* = π/12;
+    # docs/model.md: 301 samples over [0, 3] s; vertical y* = 0.025 m, rotation φ* = π/12;
     # both end at 2·q* at rest.
     motion = paper_motion(name)
     assert motion.samples == 301 and PAPER_DURATION == 3.0

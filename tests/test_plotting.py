@@ -1,7 +1,7 @@
 """Tests of prp3.plotting: the figures show the right columns, the animation draws the mechanism.
 
 The drawn joint positions are compared with the independent reference geometry
-of ``tests/strategies.py`` (written from MODEL.md alone) and with the pixels of
+of ``tests/strategies.py`` (written from docs/model.md alone) and with the pixels of
 the GIF itself.
 """
 

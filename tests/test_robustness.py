@@ -55,7 +55,7 @@ from prp3.workspace import jacobian_condition, orientation_scan, reachable, work
 
 ROBOT = Robot()
 ZERO = np.zeros(3)
-SINGULAR_PHI = math.pi / 3.0  # sin(phi - pi/3) = 0: every leg singular (MODEL.md)
+SINGULAR_PHI = math.pi / 3.0  # sin(phi - pi/3) = 0: every leg singular (docs/model.md)
 
 
 def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
@@ -531,7 +531,7 @@ def test_complex_numbers_and_text_are_refused_not_cast(call, error):
 
 
 def test_inputs_of_any_real_dtype_and_layout_give_float64_results():
-    # the central configuration: lambda10 = 0 <=> pose = 0 (MODEL.md), whatever the input type
+    # the central configuration: lambda10 = 0 <=> pose = 0 (docs/model.md), whatever the input type
     lam = np.zeros((6, 3))
     frozen = np.zeros((2, 3))
     frozen.flags.writeable = False

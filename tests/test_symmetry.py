@@ -1,6 +1,6 @@
 """Symmetries of the model: 3-fold rotation, the paper's motions, time reversal, scaling.
 
-Expected relations are derived here from MODEL.md; each test compares the core
+Expected relations are derived here from docs/model.md; each test compares the core
 with itself on transformed inputs (metamorphic tests), so they hold whatever
 the numbers are and catch leg mix-ups, sign slips and missing terms.
 

@@ -13,7 +13,7 @@ Two independent methods give the same numbers:
   coordinates, all 21 unknowns (3 actuator forces and 18 reaction components)
   from one 21×21 linear solve per sample.
 
-Sign conventions (``MODEL.md``): ``f10_i`` acts on piston i along ``+e_i``;
+Sign conventions (``docs/model.md``): ``f10_i`` acts on piston i along ``+e_i``;
 ``f21y_i, f21z_i`` are the components along ``n_i`` and ``e_i`` of the force of
 piston i on link 2 at ``P_i``; ``n10_i`` (along ``n_i``) and ``m10_i`` (about
 ``P_i``) are the guide's reaction on piston i; ``n32_i`` (along ``d⊥_i``) and

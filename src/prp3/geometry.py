@@ -1,6 +1,6 @@
 """Inverse geometry of the 3-PRP robot (paper eqs. 1, 7–10).
 
-Conventions (``MODEL.md``): fixed frame ``O x0 y0``, legs ``i = A, B, C`` with
+Conventions (``docs/model.md``): fixed frame ``O x0 y0``, legs ``i = A, B, C`` with
 ``α = (π/3, π, −π/3)`` (eq. 1), actuator axis ``e_i = (cos α_i, sin α_i)``,
 normal ``n_i = (−sin α_i, cos α_i)``, revolute joint centre
 ``P_i = B_i0 + (l0/√3 + λ10_i)·e_i`` and platform edge direction

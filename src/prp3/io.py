@@ -7,7 +7,7 @@ files stages them in a temporary directory and moves them in place only when
 every one of them is complete (:func:`staged_output`).  CSV input is read
 strictly: a header row of known column names, then numbers only; every error
 names the file, the line and the column.  :func:`read_trajectory` reads the
-``TRAJ.csv`` of the command line's data contract (``MODEL.md``).
+``TRAJ.csv`` of the command line's data contract (``docs/model.md``).
 
 >>> import tempfile, pathlib
 >>> folder = pathlib.Path(tempfile.mkdtemp())

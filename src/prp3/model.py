@@ -2,7 +2,7 @@
 
 The defaults are those of the paper's application (section 3: ``l0 = 0.3 m``,
 ``m1 = 1 kg``, ``m2 = 0.75 kg``, ``m3 = 3 kg``) completed by the project's
-specification (``MODEL.md``): centres of mass at the joint centres, link
+model (``docs/model.md``): centres of mass at the joint centres, link
 inertia ``6.25e-4 kg·m²``, platform inertia of a uniform equilateral plate
 ``m3·l²/12`` with ``l = l0·√3``, gravity ``(0, -9.81) m/s²``.
 
@@ -374,7 +374,7 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
     if comments:
         out += [
             "# prp3 robot parameters (SI units). Every key is optional; omitted keys take",
-            "# the defaults shown here (the paper's robot, completed by MODEL.md).",
+            "# the defaults shown here (the paper's robot; docs/model.md states the model).",
         ]
     out += [
         line("l0", _fmt(robot.l0), "m, circumradius OA0 of base and platform triangles"),

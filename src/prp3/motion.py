@@ -31,7 +31,7 @@ PAPER_DURATION: float = 3.0
 #: Largest number of samples :func:`law_motion` makes.
 MAX_SAMPLES: int = 10**9
 
-#: Amplitudes ``(x*, y*, φ*)`` of the paper's two examples (section 3, MODEL.md).
+#: Amplitudes ``(x*, y*, φ*)`` of the paper's two examples (section 3; docs/model.md).
 PAPER_MOTIONS: dict[str, tuple[float, float, float]] = {
     "vertical": (0.0, 0.025, 0.0),  # Figs. 3–5
     "rotation": (0.0, 0.0, math.pi / 12.0),  # Figs. 6–8

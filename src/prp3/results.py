@@ -1,4 +1,4 @@
-"""The results table of the command line's data contract (``MODEL.md``).
+"""The results table of the command line's data contract (``docs/model.md``).
 
 Columns ``t, x, y, phi``, then for each leg ``L`` in ``A, B, C`` (all of A's
 columns first) ``lambda10_L, dlambda10_L, ddlambda10_L, lambda32_L,

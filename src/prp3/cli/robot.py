@@ -1,7 +1,7 @@
 """``prp3 robot``: the robot parameters file ``ROBOT.toml``.
 
 ``prp3 robot --template`` prints a commented ``ROBOT.toml`` with every key,
-its default (the paper's robot completed by ``MODEL.md``) and its unit;
+its default (the paper's robot, see ``docs/model.md``) and its unit;
 ``prp3 robot --check ROBOT.toml`` validates a file and prints the parameters
 it gives, defaults filled in.
 """
@@ -32,7 +32,7 @@ def register(subparsers: Any) -> None:
         help="print a commented ROBOT.toml template, or check a ROBOT.toml",
         description=(
             "Robot parameters file ROBOT.toml (SI units). Every key is optional; omitted\n"
-            "keys take the defaults: the paper's robot, completed by MODEL.md."
+            "keys take the defaults: the paper's robot (docs/model.md states the model)."
         ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,

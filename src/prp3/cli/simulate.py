@@ -1,6 +1,6 @@
 """``prp3 simulate``: complete inverse dynamics of a motion, written to ``DIR/results.csv``.
 
-The command implements the data contract of ``MODEL.md``::
+The command implements the data contract of ``docs/model.md``::
 
     prp3 simulate [--robot ROBOT.toml] (--motion vertical|rotation | --trajectory TRAJ.csv)
                   [--samples N] [--method paper|newton-euler] --output DIR
@@ -286,7 +286,8 @@ def register(subparsers: Any) -> None:
             "Compute the kinematics and complete inverse dynamics of the 3-PRP robot along a\n"
             "platform motion and write DIR/results.csv: columns t,x,y,phi, then for each leg\n"
             "A, B, C: lambda10, dlambda10, ddlambda10, lambda32, dlambda32, ddlambda32, f10,\n"
-            "p10, f21y, f21z, n10, m10, n32, m32 (SI units, full precision; docs/cli.md)."
+            "p10, f21y, f21z, n10, m10, n32, m32 (SI units, full precision). The meaning and\n"
+            "sign of every column: docs/model.md; every option: docs/cli.md."
         ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
