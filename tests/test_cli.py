@@ -63,8 +63,8 @@ def assert_refused(status: int, err: str, out_dir: Path, *fragments: str) -> Non
     assert status == 2
     assert "Traceback" not in err
     lines = err.strip().splitlines()
-    assert lines and lines[-1].startswith("prp3: error: ")
-    assert all(not line.startswith("prp3: error") for line in lines[:-1])
+    assert lines and lines[-1].startswith("prp3 simulate: error: ")
+    assert all(": error" not in line for line in lines[:-1])
     for fragment in fragments:
         assert fragment in lines[-1], (fragment, lines[-1])
     assert not out_dir.exists()
@@ -235,7 +235,7 @@ def test_positions_only_trajectory_warns_and_is_accurate(tmp_path, capsys):
     status, _, err = cli(capsys, "simulate", "--trajectory", traj, "--output", tmp_path / "a")
     assert status == 0
     (warning,) = err.strip().splitlines()
-    assert warning.startswith(f"prp3: warning: {traj}: positions only")
+    assert warning.startswith(f"prp3 simulate: warning: {traj}: positions only")
     assert "spline" in warning and "make_interp_spline" in warning
     cli(capsys, "simulate", "--trajectory", exact, "--output", tmp_path / "b")
     _, estimated = read_results(tmp_path / "a" / "results.csv")
@@ -549,7 +549,7 @@ def test_robot_check(tmp_path, capsys):
     robot.write_text("[link]\nmass = 0\n")
     status, out, err = cli(capsys, "robot", "--check", robot)
     assert status == 2 and out == ""
-    assert err.startswith("prp3: error: ") and "link.mass" in err and str(robot) in err
+    assert err.startswith("prp3 robot: error: ") and "link.mass" in err and str(robot) in err
 
 
 def test_version(capsys):

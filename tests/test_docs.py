@@ -33,8 +33,10 @@ def _project_text_files() -> list[Path]:
         parts = set(path.relative_to(ROOT).parts)
         if parts & _SKIPPED or any(part.endswith(".egg-info") for part in parts):
             continue
-        if path.is_file() and (path.suffix in {".py", ".md", ".toml", ".txt", ".csv", ".cfg"}
-                               or path.parent.name == ".ci"):
+        if path.is_file() and (
+            path.suffix in {".py", ".md", ".toml", ".txt", ".csv", ".cfg"}
+            or path.parent.name == ".ci"
+        ):
             found.append(path)
     return found
 
@@ -69,3 +71,13 @@ def test_the_documented_template_is_the_printed_one() -> None:
     with contextlib.redirect_stdout(printed):
         assert main(["robot", "--template"]) == 0
     assert documented[1] == printed.getvalue() == robot_template()
+
+
+def test_the_readme_says_what_the_test_extra_installs() -> None:
+    # was: silent about the ~1 GB of MuJoCo and Pinocchio the test command downloads
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    first = text.split("## ", 1)[0]  # before the first section: next to the two commands
+    assert "MuJoCo and Pinocchio" in first and "GB" in first and "pyarrow" in first
+    pyproject = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
+    test_extra = pyproject.split("test = [", 1)[1].split("]", 1)[0]
+    assert all(name in test_extra for name in ('"mujoco', '"pin', '"pyarrow'))

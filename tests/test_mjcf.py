@@ -336,7 +336,10 @@ def test_cli_robot_and_output(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     robot_file.write_text("l0 = 0.4\ngravity = [0.0, 0.0]\n[link]\ncom = [0.01, 0.0]\n")
     output = tmp_path / "prp3.xml"
     assert main(["export", "mjcf", "--robot", str(robot_file), "--output", str(output)]) == 0
-    assert capsys.readouterr().out == ""
+    report = capsys.readouterr().out  # says what it wrote, as every command does
+    assert report.startswith(f"prp3 export mjcf: MuJoCo MJCF model of the robot of {robot_file}")
+    assert report.endswith(f"bytes\nfiles written:\n  {output}\n")
+    assert f", {output.stat().st_size} bytes" in report
     expected = Robot(l0=0.4, gravity=(0.0, 0.0), link=LinkParameters(com=(0.01, 0.0)))
     assert output.read_text(encoding="utf-8") == mjcf_model(expected)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["prp3.xml", "robot.toml"]

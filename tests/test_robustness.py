@@ -68,11 +68,16 @@ def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, st
     return status, out, err
 
 
+def program(argv: list[str]) -> str:
+    """The prefix of prp3's messages for ``argv``: the command that was run."""
+    return "prp3 " + ("export mjcf" if argv[0] == "export" else argv[0])
+
+
 def error_line(status: int, err: str) -> str:
     """Assert exit 2 and exactly one error line (after any warnings); return it."""
     assert status == 2, err
     assert "Traceback" not in err
-    lines = [line for line in err.strip().splitlines() if not line.startswith("prp3: warning")]
+    lines = [line for line in err.strip().splitlines() if ": warning: " not in line]
     assert len(lines) == 1, err
     return lines[0]
 
@@ -196,7 +201,7 @@ def test_a_name_too_long_for_the_file_system_is_one_line(tmp_path, capsys, argv)
     name = tmp_path / ("x" * 300)
     status, _, err = cli(capsys, *argv, name)
     line = error_line(status, err)
-    assert line.startswith(f"prp3: error: {name}") and "File name too long" in line
+    assert line.startswith(f"{program(argv)}: error: {name}") and "File name too long" in line
     assert list(tmp_path.iterdir()) == []
 
 
@@ -213,7 +218,7 @@ def test_standard_output_on_a_full_disk_is_one_line(tmp_path, argv):
             [sys.executable, "-m", "prp3", *argv], stdout=full, stderr=subprocess.PIPE, text=True
         )
     assert run.returncode == 2
-    assert run.stderr == "prp3: error: standard output: No space left on device\n"
+    assert run.stderr == f"{program(argv)}: error: standard output: No space left on device\n"
 
 
 def test_sigterm_while_writing_cleans_up_like_ctrl_c(tmp_path, capsys, monkeypatch, earlier_run):
@@ -238,7 +243,7 @@ def test_sigterm_while_writing_cleans_up_like_ctrl_c(tmp_path, capsys, monkeypat
             status, out, err = cli(
                 capsys, "simulate", "--motion", "vertical", "--samples", "5", "-o", folder
             )
-            assert (status, out, err) == (143, "", "prp3: terminated\n")
+            assert (status, out, err) == (143, "", "prp3 simulate: terminated\n")
             assert signal.getsignal(signal.SIGTERM) is fallback  # main restores the handler
     finally:
         signal.signal(signal.SIGTERM, previous)
@@ -261,7 +266,7 @@ def test_warnings_of_the_libraries_are_one_line(capsys, monkeypatch):
     status, out, err = cli(capsys, "robot", "--template")
     assert status == 0 and out == template()
     assert re.fullmatch(
-        r"prp3: warning: overflow encountered in multiply \(RuntimeWarning, test_robustness\.py:\d+\)\n",
+        r"prp3 robot: warning: overflow encountered in multiply \(RuntimeWarning, test_robustness\.py:\d+\)\n",
         err,
     )
 
@@ -274,7 +279,9 @@ def test_results_that_overflow_are_refused_and_nothing_is_written(tmp_path, caps
     status, _, err = cli(capsys, "simulate", "--trajectory", traj, "-o", earlier_run)
     line = error_line(status, err)
     # (1e200)^2 overflows already at the first sample, line 2 of the file
-    assert line.startswith(f"prp3: error: {traj}:2: the results overflow at sample 0, t = 0 s")
+    assert line.startswith(
+        f"prp3 simulate: error: {traj}:2: the results overflow at sample 0, t = 0 s"
+    )
     (tmp_path / "heavy.toml").write_text("[platform]\nmass = 1e308\n")
     status, _, err = cli(
         capsys,
@@ -359,7 +366,9 @@ def test_forward_errors_name_where_the_initial_pose_comes_from(
         earlier_run,
     )
     line = error_line(status, err)
-    assert line.startswith(f"prp3: error: --initial-pose 0.0 0.0 {SINGULAR_PHI!r}: singular pose")
+    assert line.startswith(
+        f"prp3 forward: error: --initial-pose 0.0 0.0 {SINGULAR_PHI!r}: singular pose"
+    )
 
     results = tmp_path / "results.csv"
     assert cli(capsys, "simulate", "--motion", "vertical", "--samples", "5", "-o", tmp_path)[0] == 0
@@ -371,7 +380,9 @@ def test_forward_errors_name_where_the_initial_pose_comes_from(
     bad.write_text("\n".join([lines[0], ",".join(first), *lines[2:]]) + "\n")
     status, _, err = cli(capsys, "forward", "--forces", bad, "-o", earlier_run)
     line = error_line(status, err)
-    assert line.startswith(f"prp3: error: {bad}: initial pose from the first row: singular pose")
+    assert line.startswith(
+        f"prp3 forward: error: {bad}: initial pose from the first row: singular pose"
+    )
 
     (tmp_path / "weak.toml").write_text("[limits]\nmax_force = 10.0\n")
     status, _, err = cli(
@@ -385,7 +396,7 @@ def test_forward_errors_name_where_the_initial_pose_comes_from(
         earlier_run,
     )
     line = error_line(status, err)  # |f10_A| = 31.96 N at t = 0 (the static load, > 10 N)
-    assert line.startswith(f"prp3: error: {results}: forces: |f10_A| = ")
+    assert line.startswith(f"prp3 forward: error: {results}: forces: |f10_A| = ")
     assert "exceeds limits.max_force = 10.0 N" in line
     assert listing(earlier_run) == before
 
@@ -397,7 +408,9 @@ def test_forward_forces_too_large_to_interpolate(tmp_path, capsys, earlier_run):
     huge.write_text("t,f10_A,f10_B,f10_C\n0,1e308,1e308,1e308\n1,-1e308,1e308,1e308\n")
     status, _, err = cli(capsys, "forward", "--forces", huge, "-o", earlier_run)
     line = error_line(status, err)
-    assert line.startswith(f"prp3: error: {huge}: forces: the force samples cannot be interpolated")
+    assert line.startswith(
+        f"prp3 forward: error: {huge}: forces: the force samples cannot be interpolated"
+    )
     assert "between t[0] = 0.0 and t[1] = 1.0 s" in line
     assert listing(earlier_run) == before
     with pytest.raises(TrajectoryError, match="cannot be interpolated"):
@@ -412,7 +425,7 @@ def test_a_run_never_replaces_its_own_input_file(tmp_path, capsys):
     status, _, err = cli(capsys, "forward", "--forces", out / "results.csv", "-o", out)
     line = error_line(status, err)
     assert line == (
-        f"prp3: error: {out}/results.csv: the output would replace this input file; "
+        f"prp3 forward: error: {out}/results.csv: the output would replace this input file; "
         "choose another output directory"
     )
     rows = [[t, 0.0, 0.01 * t, 0.0] for t in (0.0, 0.5, 1.0)]
@@ -438,7 +451,7 @@ def test_export_refuses_to_replace_a_special_file(tmp_path, capsys):
 
 def test_export_has_the_short_output_option(tmp_path, capsys):
     status, out, _ = cli(capsys, "export", "mjcf", "-o", tmp_path / "m.xml")
-    assert (status, out) == (0, "")
+    assert status == 0 and out.endswith(f"files written:\n  {tmp_path / 'm.xml'}\n")
     assert (tmp_path / "m.xml").read_text().startswith('<mujoco model="prp3">')
 
 

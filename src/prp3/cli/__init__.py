@@ -5,6 +5,11 @@ Each subcommand lives in its own module of this package and exposes
 function ``handler(args) -> int``.  :func:`main` turns every
 :class:`~prp3.errors.Prp3Error` into one line on stderr and exit status 2.
 Nothing in the library imports this package.
+
+Every message on stderr has one prefix, the command that was run:
+``prp3 simulate: error: ...``, ``prp3 export mjcf: warning: ...`` — usage
+errors of argparse included (``args.program`` holds it; ``prp3`` before a
+command is known).
 """
 
 from __future__ import annotations
@@ -16,7 +21,7 @@ import re
 import signal
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType
 from typing import Any, TextIO
@@ -47,9 +52,21 @@ class _Parser(argparse.ArgumentParser):
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = _NEGATIVE_NUMBER
+        # the innermost (sub)command parsed sets it last: the prefix of every message
+        self.set_defaults(program=self.prog)
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+    def parse_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> argparse.Namespace:
+        """Parse; unknown arguments are reported by the (sub)command that got them."""
+        parsed, extras = self.parse_known_args(args, namespace)
+        if extras:
+            program = getattr(parsed, "program", self.prog)
+            self.exit(2, f"{program}: error: unrecognized arguments: {' '.join(extras)}\n")
+        return parsed
 
 
 class _Terminated(BaseException):
@@ -60,20 +77,25 @@ def _terminate(signum: int, frame: FrameType | None) -> None:
     raise _Terminated
 
 
-def _one_line_warning(
-    message: Warning | str,
-    category: type[Warning],
-    filename: str,
-    lineno: int,
-    file: TextIO | None = None,
-    line: str | None = None,
-) -> None:
-    """Show a warning of a library prp3 uses as one line on stderr (no source line)."""
-    with contextlib.suppress(OSError, ValueError):
-        print(
-            f"prp3: warning: {message} ({category.__name__}, {Path(filename).name}:{lineno})",
-            file=sys.stderr,
-        )
+def _one_line_warnings(program: str) -> Callable[..., None]:
+    """A ``warnings.showwarning`` that shows a library's warning as one line on stderr."""
+
+    def show(
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        file: TextIO | None = None,
+        line: str | None = None,
+    ) -> None:
+        with contextlib.suppress(OSError, ValueError):
+            print(
+                f"{program}: warning: {message} ({category.__name__}, "
+                f"{Path(filename).name}:{lineno})",
+                file=sys.stderr,
+            )
+
+    return show
 
 
 def _silence_stdout() -> None:
@@ -111,35 +133,36 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "handler", None) is None:
         parser.print_help(sys.stderr)
         return 2
+    program = str(getattr(args, "program", "prp3"))
     previous: Any = None
     with contextlib.suppress(ValueError):  # signal handlers only in the main thread
         previous = signal.signal(signal.SIGTERM, _terminate)
     try:
         with warnings.catch_warnings():
-            warnings.showwarning = _one_line_warning
+            warnings.showwarning = _one_line_warnings(program)
             return int(args.handler(args))
     except Prp3Error as error:
-        print(f"prp3: error: {error}", file=sys.stderr)
+        print(f"{program}: error: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print("prp3: interrupted", file=sys.stderr)
+        print(f"{program}: interrupted", file=sys.stderr)
         return 130
     except _Terminated:
-        print("prp3: terminated", file=sys.stderr)
+        print(f"{program}: terminated", file=sys.stderr)
         return EXIT_TERMINATED
     except BrokenPipeError:  # e.g. `prp3 robot --template | head -n 3`
         _silence_stdout()
         return 141
     except MemoryError as error:
         print(
-            f"prp3: error: not enough memory ({error}): ask for fewer samples or grid points",
+            f"{program}: error: not enough memory ({error}): ask for fewer samples or grid points",
             file=sys.stderr,
         )
         return 2
     except OSError as error:  # e.g. stdout on a full disk: `prp3 robot --template > /dev/full`
         where = error.filename if error.filename is not None else "standard output"
         with contextlib.suppress(OSError, ValueError):
-            print(f"prp3: error: {where}: {error.strerror or error}", file=sys.stderr)
+            print(f"{program}: error: {where}: {error.strerror or error}", file=sys.stderr)
         _silence_stdout()
         return 2
     finally:

@@ -2,7 +2,8 @@
 
 ``prp3 export mjcf [--robot ROBOT.toml] [--output FILE]`` writes the robot as a
 MuJoCo MJCF model (:func:`prp3.mjcf.mjcf_model`) on standard output, or
-atomically to ``FILE``.  MuJoCo is not needed to export.
+atomically to ``FILE`` and then says on stdout what it wrote, as every command
+does.  MuJoCo is not needed to export.
 """
 
 from __future__ import annotations
@@ -83,4 +84,11 @@ def _export_mjcf(args: argparse.Namespace) -> int:
             stream.write(text)
     except OSError as error:
         raise OutputFileError(f"{output}: cannot write ({error.strerror})") from None
+    source = f"the robot of {args.robot}" if args.robot is not None else "the paper's robot"
+    print(
+        f"{args.program}: MuJoCo MJCF model of {source} (3 legs as chains, loops closed by "
+        f"2 welds, motors actuator_A/B/C on the sliders), {len(text.encode())} bytes\n"
+        f"files written:\n  {output}",
+        file=sys.stdout,
+    )
     return 0

@@ -274,7 +274,7 @@ def run(args: argparse.Namespace) -> int:
 
     print(_summary(given, result, pose, velocity, staged.written), file=sys.stdout)
     if result.status != "completed":
-        print(f"prp3: forward: {result.message}", file=sys.stderr)
+        print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED
     return 0
 

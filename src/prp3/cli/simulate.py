@@ -336,8 +336,8 @@ def register(subparsers: Any) -> None:
         "--frames",
         metavar="N",
         type=integer_at_least(2),
-        default=MAX_FRAMES,
-        help=f"largest number of frames of the animation (default {MAX_FRAMES})",
+        help=f"largest number of frames of the animation (default {MAX_FRAMES}); "
+        "only with --animate",
     )
     parser.set_defaults(handler=run)
 
@@ -354,6 +354,12 @@ def run(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: TextIO) -> int:
     output: Path = args.output
+    if args.frames is not None and not args.animate:
+        raise Prp3Error(
+            f"--frames {args.frames} applies to the animation only: add --animate, or leave "
+            "--frames out"
+        )
+    frames: int = args.frames if args.frames is not None else MAX_FRAMES
     check_output_directory(output)
     check_inputs_kept(output, ("results.csv",), (args.trajectory, args.robot))
     robot = load_robot(args)
@@ -365,8 +371,6 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
                 f"got --samples {args.samples} with --trajectory {args.trajectory}"
             )
         trajectory = read_trajectory(args.trajectory)
-        if trajectory.note is not None:
-            print(f"prp3: warning: {trajectory.note}", file=stderr)
         motion = trajectory.motion
         heading = f"prp3 simulate: trajectory {trajectory.path}"
     else:
@@ -382,6 +386,9 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
         table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
     except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
         raise _located(error, motion, source, trajectory) from None
+    if trajectory is not None and trajectory.note is not None:
+        # only for a run that goes on: a refused trajectory gets its one error line
+        print(f"{args.program}: warning: {trajectory.note}", file=stderr)
     summary = summarize(table)
 
     trajectory_file = str(trajectory.path) if trajectory is not None else None
@@ -397,7 +404,7 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
         if args.animate:
             from ..plotting.animation import frame_indices, save_animation
 
-            indices = frame_indices(motion.samples, args.frames)
+            indices = frame_indices(motion.samples, frames)
             shown = Motion(
                 t=motion.t[indices],
                 pose=motion.pose[indices],
@@ -413,7 +420,7 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
                 robot,
                 inverse_kinematics(robot, shown),
                 staged.path(ANIMATION_NAME),
-                max_frames=args.frames,
+                max_frames=frames,
                 title=title,
                 progress=progress.stage("animation"),
             )
@@ -425,7 +432,7 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
         for j, leg in enumerate(LEGS):
             if summary.peak_f10[j] > limit:
                 print(
-                    f"prp3: warning: |f10_{leg}| reaches {summary.peak_f10[j]:.6g} N at "
+                    f"{args.program}: warning: |f10_{leg}| reaches {summary.peak_f10[j]:.6g} N at "
                     f"t = {summary.peak_f10_time[j]:.6g} s, above limits.max_force = {limit:g} N",
                     file=stderr,
                 )
