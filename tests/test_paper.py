@@ -1,0 +1,476 @@
+"""The paper's recursive matrix method as printed (prp3.paper) against independent routes.
+
+* Forces: the Newton–Euler solver of the 7 bodies (shares nothing with prp3.paper
+  but the inputs) and the other methods of prp3, to 1e-12 of the force scale, on
+  random robots (centre-of-mass offsets, any gravity) and motions.
+* Intermediate quantities, each against something it could disagree with: the
+  frames against the axes of MODEL.md and eq. (5); the closure (eq. 8) against the
+  pose and the reference geometry of tests/strategies.py; ω̃ skew-symmetric with the
+  platform's rate; ω̃² + ε̃ of the matrix recursion against ω̃ and ε of the vector
+  ones; v_k0, γ_k0 and ω̃_k0 against finite differences of the positions and the
+  frames; the virtual velocities against the real ones (eq. 14 is eq. 15 with the
+  real rates) and against the sleeve constraints written in the plane; the body
+  wrenches against m(a − g) of the reference body states.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+
+import prp3
+from prp3 import (
+    Limits,
+    Motion,
+    Robot,
+    SingularPoseError,
+    TrajectoryError,
+    UnreachablePoseError,
+    inverse_dynamics,
+)
+from prp3.motion import paper_motion
+from prp3.paper import (
+    FORCE_SETS,
+    MAX_RECORDED_SAMPLES,
+    RecursiveMatrixResult,
+    paper_inverse_dynamics,
+    recursive_matrix_method,
+)
+from strategies import (
+    REF_ALPHA,
+    REF_E,
+    REF_N,
+    SQRT3,
+    AnalyticMotion,
+    body_states,
+    cross,
+    differentiate,
+    ref_geometry,
+    ref_rates,
+    scenarios,
+    stencil_times,
+    total_mass,
+    turn,
+)
+
+QUANTITIES = ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32")
+MOMENTS = ("m10", "m32")
+
+# The paper's matrices (eq. 2), written out again here from the print.
+THETA_1 = np.array([[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]])
+THETA_2 = 0.5 * np.array([[1.0, -SQRT3, 0.0], [SQRT3, 1.0, 0.0], [0.0, 0.0, 2.0]])
+
+
+def rot_z(angle: np.ndarray) -> np.ndarray:
+    """rot(φ) of eq. (3): rows (cos, sin, 0), (−sin, cos, 0), (0, 0, 1)."""
+    c, s = np.cos(angle), np.sin(angle)
+    out = np.zeros((*np.shape(angle), 3, 3))
+    out[..., 0, 0], out[..., 0, 1], out[..., 1, 0], out[..., 1, 1] = c, s, -s, c
+    out[..., 2, 2] = 1.0
+    return out
+
+
+def plane(vectors: np.ndarray) -> np.ndarray:
+    """3-D vectors (..., 3) with a zero z component → plane vectors (..., 2)."""
+    return vectors[..., :2]
+
+
+def in_fixed_frame(result: RecursiveMatrixResult, vectors: np.ndarray) -> np.ndarray:
+    """Vectors (..., 3 legs, 3 bodies, 3) in T_k → T0: q_k0ᵀ·v."""
+    return np.einsum("...ji,...j->...i", result.a0, vectors)
+
+
+def force_scale(robot: Robot, dyn: prp3.InverseDynamics) -> np.ndarray:
+    """Per-sample force scale (N): the largest reported force plus the total weight."""
+    largest = np.max(
+        [np.abs(getattr(dyn, name)).max(axis=-1) for name in ("f10", "f21y", "f21z", "n10", "n32")],
+        axis=0,
+    )
+    return np.asarray(largest + total_mass(robot) * math.hypot(*robot.gravity))
+
+
+def assert_forces_agree(
+    robot: Robot, motion: Motion, dyn: prp3.InverseDynamics, reference: prp3.InverseDynamics
+) -> None:
+    kin = prp3.inverse_kinematics(robot, motion)
+    forces = force_scale(robot, reference)[..., None]
+    lever = robot.l0 + np.abs(kin.geometry.lever).max(axis=(-1, -2))[..., None]
+    power = forces * np.abs(kin.dlambda10).max(axis=-1, keepdims=True)
+    for name in QUANTITIES:
+        scale = forces * lever if name in MOMENTS else power if name == "p10" else forces
+        difference = np.abs(getattr(dyn, name) - getattr(reference, name))
+        assert np.all(difference <= 1e-12 * scale + 1e-300), (
+            name,
+            reference.method,
+            float((difference / scale).max()),
+        )
+
+
+# ------------------------------------------------------------------ forces
+@given(scenario=scenarios())
+def test_forces_agree_with_newton_euler_and_the_other_methods(
+    scenario: tuple[Robot, AnalyticMotion],
+) -> None:
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 9))
+    recorded = recursive_matrix_method(robot, motion)
+    dyn = paper_inverse_dynamics(robot, motion)
+    assert dyn.method == "paper"
+    for name in QUANTITIES:  # one computation, two ways to get it
+        np.testing.assert_array_equal(
+            getattr(recorded.inverse_dynamics(), name), getattr(dyn, name)
+        )
+    references = [inverse_dynamics(robot, motion, method="newton-euler")[1]]
+    if "fast" in prp3.METHODS:  # the fused kernel, once it exists
+        references.append(inverse_dynamics(robot, motion, method="fast")[1])  # type: ignore[arg-type]
+    old_planar = getattr(prp3.dynamics, "paper_method", None)  # the planar reformulation
+    if old_planar is not None:
+        references.append(old_planar(robot, prp3.inverse_kinematics(robot, motion)))
+    for reference in references:
+        assert_forces_agree(robot, motion, dyn, reference)
+
+
+def test_static_central_configuration_by_hand() -> None:
+    # Worked in tests/test_dynamics.py from the body balances of MODEL.md.
+    s = SQRT3
+    result = recursive_matrix_method(Robot(), Motion.at_rest([0.0, 0.0, 0.0]))
+    np.testing.assert_allclose(
+        result.f10, [36.7875 * s / 2, -9.81 * s / 2, -9.81 * s / 4 - 22.0725 * s / 2], atol=1e-12
+    )
+    np.testing.assert_allclose(result.n32, [19.62, -9.81, -9.81], atol=1e-12)
+    # eq. (21): F1 of chain A carries the weight of piston, link and platform along y0,
+    # in T1 (x1 = −z0, y1 = n_i, z1 = e_i); F1 of B and C: piston and link only.
+    weight = 9.81 * np.array([1.0 + 0.75 + 3.0, 1.75, 1.75])[:, None]
+    y0_in_T1 = np.stack([np.zeros(3), REF_N[:, 1], REF_E[:, 1]], axis=-1)  # (u1·, n_i·y0, e_i·y0)
+    np.testing.assert_allclose(result.F[:, 0], weight * y0_in_T1, atol=1e-12)
+    np.testing.assert_allclose(y0_in_T1[0], [0.0, 0.5, s / 2], atol=1e-15)
+
+
+def test_single_sample_and_batch_agree() -> None:
+    motion = paper_motion("rotation", samples=7)
+    robot = Robot(gravity=(1.0, -9.0))
+    batch = recursive_matrix_method(robot, motion)
+    for index in (0, 3, 6):
+        one = recursive_matrix_method(robot, motion[index])
+        assert one.f10.shape == (3,) and one.a.shape == (3, 3, 3, 3)
+        for name in ("a", "omega_tilde", "gamma", "F", "M", "v32_virtual", *QUANTITIES):
+            np.testing.assert_allclose(
+                getattr(one, name), getattr(batch, name)[index], rtol=1e-15, atol=1e-15
+            )
+    assert recursive_matrix_method(robot, motion[2:3]).f10.shape == (1, 3)
+    assert paper_inverse_dynamics(robot, motion[2]).n32.shape == (3,)
+
+
+def test_chunks_do_not_change_the_result(monkeypatch: pytest.MonkeyPatch) -> None:
+    robot = Robot(gravity=(2.0, -9.81))
+    motion = paper_motion("rotation", samples=50)
+    whole = paper_inverse_dynamics(robot, motion)
+    monkeypatch.setattr(prp3.paper, "PAPER_CHUNK", 7)
+    chunked = paper_inverse_dynamics(robot, motion)
+    for name in QUANTITIES:
+        np.testing.assert_allclose(getattr(chunked, name), getattr(whole, name), rtol=1e-15, atol=0)
+
+
+def test_results_are_read_only() -> None:
+    result = recursive_matrix_method(Robot(), paper_motion("vertical", samples=3))
+    with pytest.raises(ValueError, match="read-only"):
+        result.F[0, 0, 0, 0] = 1.0
+
+
+# ------------------------------------------------------------------ frames, eqs. (2)–(10)
+@given(scenario=scenarios())
+def test_frames_closure_and_geometry(scenario: tuple[Robot, AnalyticMotion]) -> None:
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 6))
+    result = recursive_matrix_method(robot, motion)
+    eye = np.eye(3)
+    for matrices in (result.a, result.a0):  # orthogonal, proper
+        np.testing.assert_allclose(
+            matrices @ np.swapaxes(matrices, -1, -2),
+            np.broadcast_to(eye, matrices.shape),
+            atol=1e-15,
+        )
+        np.testing.assert_allclose(np.linalg.det(matrices), 1.0, atol=1e-14)
+    # eq. (3): a_k0 = a_k,k-1 ··· a10
+    a = result.a
+    np.testing.assert_allclose(
+        result.a0[..., 1, :, :], a[..., 1, :, :] @ a[..., 0, :, :], atol=1e-15
+    )
+    np.testing.assert_allclose(
+        result.a0[..., 2, :, :], a[..., 2, :, :] @ result.a0[..., 1, :, :], atol=1e-15
+    )
+    # eq. (2) from the print, and the axes of MODEL.md: z1 = e, y1 = n, z2 = z0, z3 = d, y3 = d⊥
+    phi = motion.pose[:, 2]
+    theta_alpha = rot_z(REF_ALPHA)
+    np.testing.assert_allclose(
+        a[:, :, 0], np.broadcast_to(THETA_1 @ theta_alpha, (6, 3, 3, 3)), atol=1e-15
+    )
+    np.testing.assert_allclose(
+        a[:, :, 1], rot_z(np.broadcast_to(phi[:, None], (6, 3))) @ THETA_1.T, atol=1e-15
+    )
+    np.testing.assert_allclose(
+        a[:, :, 2], np.broadcast_to(THETA_1 @ THETA_2, (6, 3, 3, 3)), atol=1e-15
+    )
+    d = np.stack(
+        [
+            np.cos(phi[:, None] + REF_ALPHA - math.pi / 3),
+            np.sin(phi[:, None] + REF_ALPHA - math.pi / 3),
+        ],
+        -1,
+    )
+    axes = np.swapaxes(result.a0, -1, -2)  # columns: x_k, y_k, z_k in T0
+    np.testing.assert_allclose(
+        plane(axes[:, :, 0, :, 2]), np.broadcast_to(REF_E, (6, 3, 2)), atol=1e-15
+    )
+    np.testing.assert_allclose(
+        plane(axes[:, :, 0, :, 1]), np.broadcast_to(REF_N, (6, 3, 2)), atol=1e-15
+    )
+    np.testing.assert_allclose(
+        axes[:, :, 1, :, 2], np.broadcast_to([0.0, 0.0, 1.0], (6, 3, 3)), atol=1e-15
+    )
+    np.testing.assert_allclose(plane(axes[:, :, 2, :, 2]), d, atol=1e-15)
+    np.testing.assert_allclose(plane(axes[:, :, 2, :, 1]), turn(d), atol=1e-15)
+    # eq. (5)–(6): q30°ᵀ q30 = R = rot(φ) with q30° = θ1 θ2 θα^i
+    q30_circle = THETA_1 @ THETA_2 @ theta_alpha
+    np.testing.assert_allclose(
+        np.swapaxes(q30_circle, -1, -2) @ result.a0[:, :, 2],
+        rot_z(np.broadcast_to(phi[:, None], (6, 3))),
+        atol=1e-15,
+    )
+    # eq. (8): every leg's loop closes on G; eq. (10) agrees with the reference geometry
+    l0 = robot.l0
+    np.testing.assert_allclose(
+        plane(result.centre),
+        np.broadcast_to(motion.pose[:, None, :2], (6, 3, 2)),
+        rtol=0,
+        atol=1e-14 * l0,
+    )
+    np.testing.assert_allclose(result.centre[..., 2], 0.0, atol=1e-15 * l0)
+    ref = ref_geometry(l0, motion.pose)
+    np.testing.assert_allclose(result.lambda10, ref.lambda10, rtol=0, atol=1e-14 * l0)
+    np.testing.assert_allclose(result.lambda32, ref.lambda32, rtol=0, atol=1e-14 * l0)
+    np.testing.assert_allclose(plane(result.position[:, :, 1]), ref.joint, rtol=0, atol=1e-14 * l0)
+    np.testing.assert_allclose(result.phi21, np.broadcast_to(phi[:, None], (6, 3)), atol=0)
+
+
+# ------------------------------------------------------------------ kinematics, eqs. (11)–(18)
+@given(scenario=scenarios())
+def test_angular_velocities_and_accelerations(scenario: tuple[Robot, AnalyticMotion]) -> None:
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 6))
+    result = recursive_matrix_method(robot, motion)
+    w = result.omega_tilde
+    rate = np.abs(motion.velocity[:, 2]).max() + 1.0
+    np.testing.assert_allclose(w + np.swapaxes(w, -1, -2), 0.0, atol=1e-15 * rate)  # skew
+    # in T0: ω10 = 0, ω20 = ω30 = φ̇·z0 (eq. 12); ε alike with φ̈ (eq. 18)
+    phid, phidd = motion.velocity[:, 2], motion.acceleration[:, 2]
+    expected = np.zeros((6, 3, 3, 3))
+    expected[:, :, 1:, 2] = phid[:, None, None]
+    np.testing.assert_allclose(in_fixed_frame(result, result.omega), expected, atol=1e-15 * rate)
+    expected[:, :, 1:, 2] = phidd[:, None, None]
+    accel = np.abs(phidd).max() + rate**2
+    np.testing.assert_allclose(in_fixed_frame(result, result.epsilon), expected, atol=1e-14 * accel)
+    # the matrix relation of eq. (18) against the vector relations of eqs. (11), (18)
+    eps_tilde = result.omega2_epsilon - w @ w
+    np.testing.assert_allclose(eps_tilde + np.swapaxes(eps_tilde, -1, -2), 0.0, atol=1e-14 * accel)
+    np.testing.assert_allclose(eps_tilde[..., 2, 1], result.epsilon[..., 0], atol=1e-14 * accel)
+    np.testing.assert_allclose(eps_tilde[..., 0, 2], result.epsilon[..., 1], atol=1e-14 * accel)
+    np.testing.assert_allclose(eps_tilde[..., 1, 0], result.epsilon[..., 2], atol=1e-14 * accel)
+    # the relative rates of eqs. (14), (17) against the reference kinematics
+    ref = ref_rates(robot.l0, motion.pose, motion.velocity, motion.acceleration)
+    for mine, theirs in (
+        (result.v10, ref.dlambda10),
+        (result.v32, ref.dlambda32),
+        (result.gamma10, ref.ddlambda10),
+        (result.gamma32, ref.ddlambda32),
+    ):
+        np.testing.assert_allclose(
+            mine, theirs, rtol=1e-12, atol=1e-12 * (np.abs(theirs).max() + 1e-300)
+        )
+
+
+@given(scenario=scenarios())
+def test_velocities_and_accelerations_are_derivatives(
+    scenario: tuple[Robot, AnalyticMotion],
+) -> None:
+    # 6th-order central differences of the positions of A_k (eq. 8) and of the frames
+    # q_k0ᵀ: v_k0 (eq. 13) and γ_k0 (eq. 18) are the derivatives of the positions,
+    # d(q_k0ᵀ)/dt = q_k0ᵀ ω̃_k0 (eq. 11).  Error: truncation O(h⁶) plus round-off
+    # ≈ ε·|x|/h (first) and ε·|x|/h² (second derivative).
+    robot, analytic = scenario
+    T = analytic.duration
+    t = np.linspace(0.1 * T, 0.9 * T, 4)
+    h = 1e-3
+    stencil = recursive_matrix_method(robot, analytic.motion(stencil_times(t, h)))
+    result = recursive_matrix_method(robot, analytic.motion(t))
+    velocity, acceleration = differentiate(stencil.position, h, len(t))
+    size = robot.l0 + np.abs(stencil.position).max()
+    speed = np.abs(velocity).max() + size
+    np.testing.assert_allclose(
+        in_fixed_frame(result, result.v), velocity, rtol=0, atol=1e-8 * speed
+    )
+    np.testing.assert_allclose(
+        in_fixed_frame(result, result.gamma),
+        acceleration,
+        rtol=0,
+        atol=2e-5 * (np.abs(acceleration).max() + size),
+    )
+    frames_rate, _ = differentiate(np.swapaxes(stencil.a0, -1, -2), h, len(t))
+    rate = np.abs(result.omega).max() + 1.0
+    np.testing.assert_allclose(
+        np.swapaxes(result.a0, -1, -2) @ result.omega_tilde, frames_rate, rtol=0, atol=1e-9 * rate
+    )
+
+
+# ------------------------------------------------------------------ virtual velocities, eqs. (15)–(16)
+@given(scenario=scenarios())
+def test_virtual_velocities(scenario: tuple[Robot, AnalyticMotion]) -> None:
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 5))
+    result = recursive_matrix_method(robot, motion)
+    s10, s21y, s21z = (FORCE_SETS.index(name) for name in ("f10", "f21y", "f21z"))
+    # eq. (14) is eq. (15) with the real rates: the real motion is Σ_l v10^l·(set a of leg l)
+    v10 = result.v10[:, :, None]
+    np.testing.assert_allclose(
+        (v10 * result.vG_virtual[:, s10]).sum(axis=1)[:, :2],
+        motion.velocity[:, :2],
+        rtol=1e-12,
+        atol=1e-12 * (np.abs(motion.velocity).max() + 1e-300),
+    )
+    np.testing.assert_allclose(
+        (result.v10 * result.omega21_virtual[:, s10, :, 0]).sum(axis=1),
+        motion.velocity[:, 2],
+        rtol=1e-12,
+        atol=1e-12 * (np.abs(motion.velocity).max() + 1e-300),
+    )
+    np.testing.assert_allclose(
+        (v10 * result.v32_virtual[:, s10]).sum(axis=1),
+        result.v32,
+        rtol=1e-12,
+        atol=1e-12 * (np.abs(result.v32).max() + 1e-300),
+    )
+    # the rigid platform turns with the same ω21^v for every leg (eq. 7); no motion out of plane
+    np.testing.assert_array_equal(
+        result.omega21_virtual,
+        np.broadcast_to(result.omega21_virtual[..., :1], result.omega21_virtual.shape),
+    )
+    np.testing.assert_array_equal(result.vG_virtual[..., 2], 0.0)
+    # sets a and c of eq. (16) move A2 alike (both along z1): the same virtual velocities
+    np.testing.assert_allclose(
+        result.v32_virtual[:, s21z], result.v32_virtual[:, s10], rtol=1e-15, atol=0
+    )
+    # in the plane: A2 of leg l moves by u (e_l or n_l), the others stay; the platform's
+    # point at A2^i then slides along d_i relative to A2^i by v32^iv and never across it
+    ref = ref_geometry(robot.l0, motion.pose)
+    d = ref.slide
+    for s, u in ((s10, REF_E), (s21y, REF_N)):
+        for leg in range(3):
+            joint_velocity = np.zeros((5, 3, 2))
+            joint_velocity[:, leg] = u[leg]
+            vG = plane(result.vG_virtual[:, s, leg])[:, None, :]
+            omega = result.omega21_virtual[:, s, leg, :, None]
+            relative = vG + omega * turn(ref.joint - motion.pose[:, None, :2]) - joint_velocity
+            np.testing.assert_allclose(
+                (relative * turn(d)).sum(-1), 0.0, atol=1e-12 * (1.0 + np.abs(relative).max())
+            )
+            np.testing.assert_allclose(
+                (relative * d).sum(-1),
+                result.v32_virtual[:, s, leg],
+                atol=1e-12 * (1.0 + np.abs(relative).max()),
+            )
+
+
+# ------------------------------------------------------------------ wrenches, eqs. (19)–(22)
+@given(scenario=scenarios())
+def test_body_wrenches(scenario: tuple[Robot, AnalyticMotion]) -> None:
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 5))
+    result = recursive_matrix_method(robot, motion)
+    ref = ref_geometry(robot.l0, motion.pose)
+    rates = ref_rates(robot.l0, motion.pose, motion.velocity, motion.acceleration)
+    bodies = body_states(
+        robot,
+        ref.lambda10,
+        rates.dlambda10,
+        rates.ddlambda10,
+        motion.pose,
+        motion.velocity,
+        motion.acceleration,
+    )
+    g = np.asarray(robot.gravity)
+    need = [
+        robot.piston.mass * (bodies.piston_acceleration - g),
+        robot.link.mass * (bodies.link_acceleration - g),
+        np.broadcast_to(
+            robot.platform.mass * (bodies.platform_acceleration - g)[:, None], (5, 3, 2)
+        ),
+    ]
+    F0 = in_fixed_frame(result, result.F0)
+    M0 = in_fixed_frame(result, result.M0)
+    scale = (
+        total_mass(robot)
+        * (
+            np.abs(
+                np.c_[bodies.link_acceleration.reshape(5, -1), bodies.platform_acceleration]
+            ).max()
+            + np.hypot(*g)
+        )
+        + 1e-300
+    )
+    inertia = (
+        robot.platform.inertia
+        if robot.platform.inertia is not None
+        else robot.platform.mass * 3 * robot.l0**2 / 12
+    )
+    moment_about_A3 = inertia * motion.acceleration[:, 2, None] + cross(
+        motion.pose[:, None, :2] - plane(result.position[:, :, 2]), need[2]
+    )
+    moments = [
+        cross(bodies.piston_offset, need[0]),
+        robot.link.inertia * motion.acceleration[:, 2, None] + cross(bodies.link_offset, need[1]),
+        moment_about_A3,
+    ]
+    lever = robot.l0 + np.abs(result.position).max()
+    for k in range(3):
+        np.testing.assert_allclose(plane(F0[:, :, k]), need[k], rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(M0[:, :, k, 2], moments[k], rtol=0, atol=1e-12 * scale * lever)
+    # the plane motion embedded in 3-D: no force out of the plane, no moment in it
+    for forces in (result.F_star, result.F_in, result.F):
+        np.testing.assert_allclose(in_fixed_frame(result, forces)[..., 2], 0.0, atol=1e-12 * scale)
+    for moments_3d in (result.M_star, result.M_in, result.M):
+        np.testing.assert_allclose(
+            plane(in_fixed_frame(result, moments_3d)), 0.0, atol=1e-12 * scale * lever
+        )
+    # eq. (21): the platform in chain A only
+    np.testing.assert_array_equal(result.F[:, 1:, 2], 0.0)
+    np.testing.assert_array_equal(result.M[:, 1:, 2], 0.0)
+
+
+# ------------------------------------------------------------------ bad input
+def test_bad_input_is_refused() -> None:
+    robot = Robot()
+    with pytest.raises(TrajectoryError, match=r"motion must be a prp3\.Motion"):
+        recursive_matrix_method(robot, "vertical")  # type: ignore[arg-type]
+    with pytest.raises(prp3.ParameterError, match=r"robot must be a prp3\.Robot"):
+        paper_inverse_dynamics(None, paper_motion("vertical"))  # type: ignore[arg-type]
+    with pytest.raises(SingularPoseError, match="sample 0"):
+        paper_inverse_dynamics(robot, Motion.at_rest([0.0, 0.0, math.pi / 3]))
+    with pytest.raises(TrajectoryError, match=f"more than the {MAX_RECORDED_SAMPLES}"):
+        recursive_matrix_method(robot, paper_motion("vertical", samples=MAX_RECORDED_SAMPLES + 1))
+
+
+def test_errors_name_the_sample_across_chunks(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(prp3.paper, "PAPER_CHUNK", 4)
+    motion = paper_motion("vertical", samples=11)
+    limited = Robot(limits=Limits(stroke=(-0.1, 0.02)))  # λ10_A = 2y/√3 > 0.02 once y > 0.0173
+    first = int(np.argmax(2 * motion.pose[:, 1] / SQRT3 > 0.02))
+    with pytest.raises(UnreachablePoseError, match=f"at sample {first} .*lambda10_A"):
+        paper_inverse_dynamics(limited, motion)
+    acceleration = np.zeros((11, 3))
+    acceleration[9, 1] = 1e308  # finite input, forces overflow
+    huge = Motion(t=motion.t, pose=motion.pose, velocity=motion.velocity, acceleration=acceleration)
+    with pytest.raises(TrajectoryError, match=r"overflow at sample 9, t = 2\.7 s"):
+        paper_inverse_dynamics(Robot(), huge)
