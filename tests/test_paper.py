@@ -4,7 +4,7 @@
   but the inputs) and the other methods of prp3, to 1e-12 of the force scale, on
   random robots (centre-of-mass offsets, any gravity) and motions.
 * Intermediate quantities, each against something it could disagree with: the
-  frames against the axes of MODEL.md and eq. (5); the closure (eq. 8) against the
+  frames against the axes of docs/model.md and eq. (5); the closure (eq. 8) against the
   pose and the reference geometry of tests/strategies.py; ω̃ skew-symmetric with the
   platform's rate; ω̃² + ε̃ of the matrix recursion against ω̃ and ε of the vector
   ones; v_k0, γ_k0 and ω̃_k0 against finite differences of the positions and the
@@ -134,7 +134,7 @@ def test_forces_agree_with_newton_euler_and_the_other_methods(
 
 
 def test_static_central_configuration_by_hand() -> None:
-    # Worked in tests/test_dynamics.py from the body balances of MODEL.md.
+    # Worked in tests/test_dynamics.py from the body balances of docs/model.md.
     s = SQRT3
     result = recursive_matrix_method(Robot(), Motion.at_rest([0.0, 0.0, 0.0]))
     np.testing.assert_allclose(
@@ -202,7 +202,7 @@ def test_frames_closure_and_geometry(scenario: tuple[Robot, AnalyticMotion]) -> 
     np.testing.assert_allclose(
         result.a0[..., 2, :, :], a[..., 2, :, :] @ result.a0[..., 1, :, :], atol=1e-15
     )
-    # eq. (2) from the print, and the axes of MODEL.md: z1 = e, y1 = n, z2 = z0, z3 = d, y3 = d⊥
+    # eq. (2) from the print, and the axes of docs/model.md: z1 = e, y1 = n, z2 = z0, z3 = d, y3 = d⊥
     phi = motion.pose[:, 2]
     theta_alpha = rot_z(REF_ALPHA)
     np.testing.assert_allclose(

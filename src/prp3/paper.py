@@ -309,7 +309,7 @@ class RecursiveMatrixResult:
     def inverse_dynamics(self) -> InverseDynamics:
         """The forces as a :class:`prp3.dynamics.InverseDynamics` (``method="paper"``).
 
-        The signs are those of ``MODEL.md``: ``f10`` along ``+e_i`` on the
+        The signs are those of ``docs/model.md``: ``f10`` along ``+e_i`` on the
         piston, ``f21y, f21z`` of piston on link 2 along ``n_i, e_i``,
         ``n10, m10`` of the guide on the piston, ``n32, m32`` of link 2 on the
         platform (moments about ``P_i = A2``).
