@@ -21,7 +21,15 @@ from numpy.typing import ArrayLike, NDArray
 from ._checks import real_array
 from .errors import TrajectoryError
 
-__all__ = ["MAX_SAMPLES", "PAPER_DURATION", "PAPER_MOTIONS", "Motion", "law_motion", "paper_motion"]
+__all__ = [
+    "MAX_SAMPLES",
+    "PAPER_DURATION",
+    "PAPER_MOTIONS",
+    "Motion",
+    "law_at",
+    "law_motion",
+    "paper_motion",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -187,11 +195,40 @@ def law_motion(
         or not (math.isfinite(duration) and duration > 0)
     ):
         raise TrajectoryError(f"motion: duration must be a positive number (s), got {duration!r}")
-    t = np.linspace(0.0, float(duration), int(samples))
+    return law_at(star, np.linspace(0.0, float(duration), int(samples)))
+
+
+def law_at(amplitude: ArrayLike, t: ArrayLike) -> Motion:
+    """The law of eq. (4), ``q = q*·(1 − cos(πt/3))``, at given times.
+
+    Parameters
+    ----------
+    amplitude : array_like, shape (3,)
+        ``(x*, y*, φ*)`` (m, m, rad).
+    t : array_like, shape (N,)
+        Strictly increasing times (s), e.g. the instants of a controller.
+
+    Returns
+    -------
+    Motion
+        Pose, velocity ``q*·(π/3)·sin(πt/3)`` and acceleration
+        ``q*·(π/3)²·cos(πt/3)`` at ``t``.
+
+    Examples
+    --------
+    >>> law_at([0.0, 0.025, 0.0], [0.0, 3.0]).pose[:, 1].round(12).tolist()
+    [0.0, 0.05]
+    """
+    star = _float_array("amplitude", amplitude)
+    if star.shape != (3,) or not np.isfinite(star).all():
+        raise TrajectoryError(f"motion: amplitude must be 3 finite numbers, got {amplitude!r}")
+    times = _float_array("t", t)
+    if times.ndim != 1:
+        raise TrajectoryError(f"motion: t must have shape (N,), got {times.shape}")
     w = math.pi / 3.0
-    cos_wt, sin_wt = np.cos(w * t)[:, None], np.sin(w * t)[:, None]
+    cos_wt, sin_wt = np.cos(w * times)[:, None], np.sin(w * times)[:, None]
     return Motion(
-        t=t,
+        t=times,
         pose=star * (1.0 - cos_wt),  # eq. (4)
         velocity=star * w * sin_wt,
         acceleration=star * w * w * cos_wt,

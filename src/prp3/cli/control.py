@@ -1,0 +1,257 @@
+"""``prp3 control``: closed-loop tracking of a motion by a model-based controller.
+
+::
+
+    prp3 control [--robot ROBOT.toml] (--motion M | --trajectory TRAJ.csv)
+                 --plant prp3|mujoco --controller computed-torque|pd|feedforward
+                 [--rate HZ] [--model MODEL.toml] [--kp KP] [--kd KD] --output DIR
+
+Writes ``DIR/tracking.csv`` (one row per control instant: ``t, x, y, phi,
+x_ref, y_ref, phi_ref, f10_A, f10_B, f10_C``) and ``DIR/tracking.png``
+together (:func:`prp3.io.staged_output`) and prints a summary (max and RMS
+tracking errors, the controller's time per step).  The computation is
+:func:`prp3.control.track`; this module only parses and prints.  When the
+plant stops early (singularity, stroke limit, failed simulation), the files
+hold the run up to the stop, the reason goes to stderr and the exit status is 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..control import (
+    CONTROLLERS,
+    DEFAULT_KD,
+    DEFAULT_KP,
+    DEFAULT_RATE,
+    PLANTS,
+    Gains,
+    Tracking,
+    check_model,
+    control_times,
+    hermite_reference,
+    law_at,
+    track,
+)
+from ..errors import SingularPoseError, UnreachablePoseError
+from ..geometry import LEGS, inverse_geometry
+from ..io import (
+    check_inputs_kept,
+    check_output_directory,
+    read_trajectory,
+    staged_output,
+    write_table_csv,
+)
+from ..model import Robot
+from ..motion import PAPER_DURATION, PAPER_MOTIONS
+from ..plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
+from ._types import (
+    add_output_directory,
+    add_robot_option,
+    finite_float,
+    load_robot,
+    path_name,
+    positive_float,
+)
+
+__all__ = ["EXIT_STOPPED", "TRACKING_COLUMNS", "register", "run", "tracking_table"]
+
+#: Exit status when the plant stopped before the last instant.
+EXIT_STOPPED: int = 1
+
+#: Columns of ``tracking.csv``.
+TRACKING_COLUMNS: tuple[str, ...] = (
+    "t", "x", "y", "phi", "x_ref", "y_ref", "phi_ref", "f10_A", "f10_B", "f10_C",
+)  # fmt: skip
+
+EXAMPLES = """\
+examples:
+  prp3 control --motion rotation --plant prp3 --controller computed-torque --output ct
+  prp3 control --motion rotation --plant mujoco --controller pd --kp 900 --kd 60 --output pd
+  prp3 control --motion vertical --plant prp3 --controller computed-torque \\
+               --robot heavy.toml --model robot.toml --output wrong-mass
+      the plant is heavy.toml, the controller believes robot.toml (same l0)
+
+Control laws (e = q_ref - q, q = (x, y, phi), ID = inverse dynamics of the model):
+  computed-torque  f10 = ID(q, dq, ddq_ref + KD de + KP e)
+  pd               f10 = ID(q, 0, KD de + KP e)   (gravity compensation, no feed-forward)
+  feedforward      f10 = ID(q_ref, dq_ref, ddq_ref)   (open loop)
+Exit status 0; 1 when the plant stopped early; 2 on bad input (one line, nothing written).
+"""
+
+
+def non_negative_float(text: str) -> float:
+    """A finite float >= 0 (a gain)."""
+    value = finite_float(text)
+    if value < 0.0:
+        raise argparse.ArgumentTypeError(f"expected a non-negative number, got {text!r}")
+    return value
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``control`` subcommand."""
+    parser = subparsers.add_parser(
+        "control",
+        help="closed-loop tracking by computed torque, PD or feed-forward -> DIR/tracking.csv",
+        description=(
+            "Simulate a model-based controller tracking a platform motion: the plant is\n"
+            "prp3's forward dynamics or MuJoCo running the exported MJCF; the controller\n"
+            "runs at --rate with zero-order hold and uses prp3's inverse dynamics of\n"
+            "--model. Writes DIR/tracking.csv and DIR/tracking.png (docs/control.md)."
+        ),
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_robot_option(parser, ", the plant")
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument(
+        "--motion",
+        choices=tuple(PAPER_MOTIONS),
+        help="one of the paper's motions (eq. 4, t = 0..3 s), the analytic law as reference",
+    )
+    source.add_argument(
+        "--trajectory",
+        metavar="TRAJ.csv",
+        type=path_name,
+        help="platform motion file (header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi]); the "
+        "reference is its quintic Hermite interpolation",
+    )
+    parser.add_argument("--plant", choices=PLANTS, required=True, help="the simulated robot")
+    parser.add_argument("--controller", choices=CONTROLLERS, required=True, help="the control law")
+    parser.add_argument(
+        "--rate",
+        metavar="HZ",
+        type=positive_float,
+        default=DEFAULT_RATE,
+        help=f"control rate, zero-order hold between instants (default {DEFAULT_RATE:g} Hz)",
+    )
+    parser.add_argument(
+        "--model",
+        metavar="MODEL.toml",
+        type=path_name,
+        help="the controller's model of the robot (default: the plant's robot); same l0",
+    )
+    parser.add_argument(
+        "--kp",
+        metavar="KP",
+        type=non_negative_float,
+        default=DEFAULT_KP,
+        help=f"position gain (1/s^2, default {DEFAULT_KP:g})",
+    )
+    parser.add_argument(
+        "--kd",
+        metavar="KD",
+        type=non_negative_float,
+        default=DEFAULT_KD,
+        help=f"velocity gain (1/s, default {DEFAULT_KD:g})",
+    )
+    add_output_directory(parser)
+    parser.set_defaults(handler=run)
+
+
+def tracking_table(run: Tracking) -> dict[str, np.ndarray]:
+    """The columns of ``tracking.csv`` of a run."""
+    columns = [
+        run.t,
+        *run.pose.T,
+        *run.reference.pose.T,
+        *run.f10.T,
+    ]
+    return dict(zip(TRACKING_COLUMNS, columns, strict=True))
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``prp3 control`` with parsed ``args``; return the exit status."""
+    output: Path = args.output
+    check_output_directory(output)
+    names = ("tracking.csv", TRACKING_FIGURE)
+    check_inputs_kept(output, names, (args.trajectory, args.robot, args.model))
+    robot = load_robot(args)
+    model = Robot.from_toml(args.model) if args.model is not None else robot
+    check_model(robot, model)
+    if args.model is not None:
+        model_text = f"model {args.model}"
+    else:
+        model_text = "model = the plant's robot"
+    if args.trajectory is not None:
+        trajectory = read_trajectory(args.trajectory)
+        if trajectory.note is not None:
+            print(f"prp3: warning: {trajectory.note}", file=sys.stderr)
+        motion = trajectory.motion
+        try:
+            inverse_geometry(robot, motion.pose)
+        except (SingularPoseError, UnreachablePoseError) as error:
+            found = re.search(r"at sample (\d+)", str(error))
+            line = f":{int(trajectory.lines[int(found[1])])}" if found else ""
+            raise type(error)(f"{args.trajectory}{line}: {error}") from None
+        times = control_times(float(motion.t[0]), float(motion.t[-1]), args.rate)
+        reference = hermite_reference(motion, times)
+        what = f"trajectory {args.trajectory} (quintic Hermite reference)"
+    else:
+        times = control_times(0.0, PAPER_DURATION, args.rate)
+        reference = law_at(PAPER_MOTIONS[args.motion], times)
+        what = f"{args.motion} motion (paper eq. 4)"
+    result = track(
+        robot,
+        reference,
+        controller=args.controller,
+        plant=args.plant,
+        model=model,
+        gains=Gains(kp=args.kp, kd=args.kd),
+    )
+    table = tracking_table(result)
+    title = f"{args.controller} control, {args.plant} plant, {args.rate:g} Hz"
+    subtitle = f"{what}; {model_text}; KP = {args.kp:g} 1/s², KD = {args.kd:g} 1/s"
+    with staged_output(output) as staged:
+        write_table_csv(staged.path("tracking.csv"), table)
+        if result.t.size >= 2:
+            from ..plotting.control import tracking_figure
+            from ..plotting.figures import save_figure
+
+            save_figure(
+                tracking_figure(table, title=title, subtitle=subtitle),
+                staged.path(TRACKING_FIGURE),
+            )
+    print(_summary(result, title, what, model_text, args, staged.written), file=sys.stdout)
+    if result.status != "completed":
+        print(f"prp3: control: {result.message}", file=sys.stderr)
+        return EXIT_STOPPED
+    return 0
+
+
+def _summary(
+    result: Tracking,
+    title: str,
+    what: str,
+    model_text: str,
+    args: argparse.Namespace,
+    written: list[Path],
+) -> str:
+    def row(label: str, values: np.ndarray) -> str:
+        return f"  {label:<18}" + "".join(f"{v:>14.4g}" for v in values.tolist())
+
+    peak = np.abs(result.f10).max(axis=0)
+    lines = [
+        f"prp3 control: {title}",
+        f"  reference: {what}, {result.reference.t.size} instants over "
+        f"t = {float(result.t[0]):g} .. {float(result.t[-1]):g} s",
+        f"  {model_text}; gains KP = {args.kp:g} 1/s^2, KD = {args.kd:g} 1/s",
+        f"  {result.message}",
+        f"  {'tracking error':<18}" + "".join(f"{h:>14}" for h in ("x (m)", "y (m)", "phi (rad)")),
+        row("max |error|", result.max_error),
+        row("RMS error", result.rms_error),
+        f"  controller step (inverse dynamics + control law, Python): median "
+        f"{result.step_time_median * 1e6:.2f} us, 99th percentile "
+        f"{result.step_time_p99 * 1e6:.2f} us",
+        "  peak |f10| (N):  "
+        + ", ".join(f"{leg} {v:.6g}" for leg, v in zip(LEGS, peak.tolist(), strict=True)),
+        "files written:",
+        *(f"  {path}" for path in written),
+    ]
+    return "\n".join(lines)

@@ -1,0 +1,110 @@
+"""The figure of a closed-loop run: tracking errors and actuator forces against time.
+
+Drawn from the columns of ``tracking.csv`` (``t, x, y, phi, x_ref, y_ref,
+phi_ref, f10_A, f10_B, f10_C``), so that it can be redrawn from the file.
+Three panels share the time axis: the position errors ``x_ref − x`` and
+``y_ref − y``, the orientation error ``φ_ref − φ`` (each in the decimal unit
+that suits its size) and the forces ``f10`` of legs A, B, C.
+
+>>> scaled_unit(3e-6, "m"), scaled_unit(0.2, "rad"), scaled_unit(0.0, "m")
+((1e-06, 'µm'), (0.001, 'mrad'), (1.0, 'm'))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..geometry import LEGS
+from .figures import LEG_STYLES
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["TRACKING_FIGURE", "scaled_unit", "tracking_figure"]
+
+FloatArray = NDArray[np.float64]
+
+#: File name of the figure ``prp3 control`` writes.
+TRACKING_FIGURE: str = "tracking.png"
+
+_PREFIXES = ((1.0, ""), (1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p"))
+
+
+def scaled_unit(peak: float, unit: str) -> tuple[float, str]:
+    """The decimal multiple of ``unit`` in which ``peak`` reads at least 1 (down to pico)."""
+    for scale, prefix in _PREFIXES:
+        if abs(peak) >= scale:
+            return scale, prefix + unit
+    return (_PREFIXES[-1][0], _PREFIXES[-1][1] + unit) if peak else (1.0, unit)
+
+
+def tracking_figure(table: Mapping[str, FloatArray], *, title: str, subtitle: str = "") -> Figure:
+    """Tracking errors and forces of a closed-loop run (columns of ``tracking.csv``).
+
+    Parameters
+    ----------
+    table : mapping of str to ndarray (N,)
+        ``t, x, y, phi, x_ref, y_ref, phi_ref, f10_A, f10_B, f10_C``, ``N >= 2``.
+    title, subtitle : str
+        Figure title and a smaller line under it (controller, plant, model).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Not attached to pyplot; save it with :func:`prp3.plotting.figures.save_figure`.
+    """
+    from matplotlib.figure import Figure
+
+    t = np.asarray(table["t"], dtype=np.float64)
+    errors = {
+        name: np.asarray(table[f"{name}_ref"], dtype=np.float64)
+        - np.asarray(table[name], dtype=np.float64)
+        for name in ("x", "y", "phi")
+    }
+    figure = Figure(figsize=(8.0, 7.6), dpi=120, layout="constrained")
+    position, orientation, force = figure.subplots(3, 1, sharex=True)
+    scale, unit = scaled_unit(max(np.abs(errors["x"]).max(), np.abs(errors["y"]).max()), "m")
+    position.plot(t, errors["x"] / scale, color="tab:blue", linewidth=1.8, label="$x_{ref} - x$")
+    position.plot(
+        t,
+        errors["y"] / scale,
+        color="tab:red",
+        linestyle="--",
+        linewidth=1.8,
+        label="$y_{ref} - y$",
+    )
+    position.set_ylabel(f"position error ({unit})")
+    scale, unit = scaled_unit(float(np.abs(errors["phi"]).max()), "rad")
+    orientation.plot(
+        t,
+        errors["phi"] / scale,
+        color="tab:purple",
+        linewidth=1.8,
+        label="$\\varphi_{ref} - \\varphi$",
+    )
+    orientation.set_ylabel(f"orientation error ({unit})")
+    for leg in LEGS:
+        color, style = LEG_STYLES[leg]
+        force.plot(
+            t,
+            np.asarray(table[f"f10_{leg}"], dtype=np.float64),
+            color=color,
+            linestyle=style,
+            linewidth=1.8,
+            label=f"leg {leg}  $f_{{10}}^{leg}$",
+        )
+    force.set_ylabel("actuator force (N)")
+    force.set_xlabel("time $t$ (s)")
+    force.set_xlim(float(t[0]), float(t[-1]))
+    for axes in (position, orientation, force):
+        axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+        axes.grid(True, color="0.88")
+        axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    figure.suptitle(title, fontsize=12, fontweight="bold")
+    if subtitle:
+        position.set_title(subtitle, fontsize=10, color="0.3")
+    return figure
