@@ -181,8 +181,7 @@ def run(args: argparse.Namespace) -> int:
         model_text = "model = the plant's robot"
     if args.trajectory is not None:
         trajectory = read_trajectory(args.trajectory)
-        if trajectory.note is not None:
-            print(f"prp3: warning: {trajectory.note}", file=sys.stderr)
+        note = trajectory.note
         motion = trajectory.motion
         try:
             inverse_geometry(robot, motion.pose)
@@ -194,6 +193,7 @@ def run(args: argparse.Namespace) -> int:
         reference = hermite_reference(motion, times)
         what = f"trajectory {args.trajectory} (quintic Hermite reference)"
     else:
+        note = None
         times = control_times(0.0, PAPER_DURATION, args.rate)
         reference = law_at(PAPER_MOTIONS[args.motion], times)
         what = f"{args.motion} motion (paper eq. 4)"
@@ -205,6 +205,8 @@ def run(args: argparse.Namespace) -> int:
         model=model,
         gains=Gains(kp=args.kp, kd=args.kd),
     )
+    if note is not None:  # only for a run that goes on: a refused input gets its one line
+        print(f"{args.program}: warning: {note}", file=sys.stderr)
     table = tracking_table(result)
     title = f"{args.controller} control, {args.plant} plant, {args.rate:g} Hz"
     subtitle = f"{what}; {model_text}; KP = {args.kp:g} 1/s², KD = {args.kd:g} 1/s"
@@ -220,7 +222,7 @@ def run(args: argparse.Namespace) -> int:
             )
     print(_summary(result, title, what, model_text, args, staged.written), file=sys.stdout)
     if result.status != "completed":
-        print(f"prp3: control: {result.message}", file=sys.stderr)
+        print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED
     return 0
 

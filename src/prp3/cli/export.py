@@ -4,6 +4,10 @@
 MuJoCo MJCF model (:func:`prp3.mjcf.mjcf_model`) on standard output, or
 atomically to ``FILE`` and then says on stdout what it wrote, as every command
 does.  MuJoCo is not needed to export.
+
+``prp3 export c --output DIR [--robot ROBOT.toml]`` writes the inverse
+dynamics as C99 code, ``DIR/prp3_inverse_dynamics.h`` and ``.c``
+(:func:`prp3.codegen.c_inverse_dynamics`), together or not at all.
 """
 
 from __future__ import annotations
@@ -13,10 +17,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from ..codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
 from ..errors import OutputFileError
-from ..io import atomic_writer
+from ..io import atomic_writer, check_inputs_kept, check_output_directory, staged_output
 from ..mjcf import mjcf_model
-from ._types import load_robot, path_name
+from ._types import add_output_directory, add_robot_option, load_robot, path_name
 
 __all__ = ["register"]
 
@@ -33,11 +38,25 @@ weld_AC close the loops. See docs/mujoco.md.
 """
 
 
+_C_EXAMPLE = """\
+examples:
+  prp3 export c --output ccode
+  prp3 export c --robot robot.toml --output ccode
+  cc -std=c99 -O2 -c ccode/prp3_inverse_dynamics.c
+
+int prp3_inverse_dynamics(const double pose[3], const double velocity[3],
+                          const double acceleration[3],
+                          double f10[3], double f21y[3], double f21z[3]);
+returns 0; 1 for a non-finite input, 2 for a singular pose, 3 outside the
+stroke (outputs NaN). See docs/control.md.
+"""
+
+
 def register(subparsers: Any) -> None:
     """Add ``export`` and its format ``mjcf``."""
     parser = subparsers.add_parser(
         "export",
-        help="write the robot as a model for another program (MuJoCo MJCF)",
+        help="write the robot as a model for another program (MuJoCo MJCF, C code)",
         description="Write the robot as a model for another program.",
         epilog="example: prp3 export mjcf --robot robot.toml --output prp3.xml",
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -69,6 +88,20 @@ def register(subparsers: Any) -> None:
         help="write the model to FILE, whole or not at all (default: standard output)",
     )
     mjcf.set_defaults(handler=_export_mjcf)
+    code = formats.add_parser(
+        "c",
+        help="the inverse dynamics as C99 code for an embedded controller (.h and .c)",
+        description=(
+            f"Write the robot's inverse dynamics as C99 code: DIR/{HEADER_NAME} and "
+            f"DIR/{SOURCE_NAME}, generated from prp3's closed form with sympy (only "
+            "<math.h>, the robot's parameters as constants)."
+        ),
+        epilog=_C_EXAMPLE,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_robot_option(code)
+    add_output_directory(code)
+    code.set_defaults(handler=_export_c)
 
 
 def _export_mjcf(args: argparse.Namespace) -> int:
@@ -89,6 +122,25 @@ def _export_mjcf(args: argparse.Namespace) -> int:
         f"{args.program}: MuJoCo MJCF model of {source} (3 legs as chains, loops closed by "
         f"2 welds, motors actuator_A/B/C on the sliders), {len(text.encode())} bytes\n"
         f"files written:\n  {output}",
+        file=sys.stdout,
+    )
+    return 0
+
+
+def _export_c(args: argparse.Namespace) -> int:
+    output: Path = args.output
+    check_output_directory(output)
+    check_inputs_kept(output, (HEADER_NAME, SOURCE_NAME), (args.robot,))
+    code = c_inverse_dynamics(load_robot(args))
+    with staged_output(output) as staged:
+        staged.path(HEADER_NAME).write_text(code.header, encoding="utf-8")
+        staged.path(SOURCE_NAME).write_text(code.source, encoding="utf-8")
+    source = f"the robot of {args.robot}" if args.robot is not None else "the paper's robot"
+    print(
+        f"{args.program}: C99 inverse dynamics of {source} (prp3_inverse_dynamics: pose, "
+        "velocity, acceleration -> f10, f21y, f21z; returns 0, 1 non-finite, 2 singular, "
+        "3 outside the stroke)\nfiles written:\n"
+        + "\n".join(f"  {path}" for path in staged.written),
         file=sys.stdout,
     )
     return 0

@@ -1,0 +1,356 @@
+"""The inverse dynamics as C code for an embedded controller (``prp3 export c``).
+
+:func:`c_inverse_dynamics` writes a C99 header and source that compute the
+actuator forces ``f10`` and the joint forces ``f21y``, ``f21z`` of the three
+legs from the platform's pose, velocity and acceleration — the paper's
+closed form (eqs. 10, 14, 17, 19–25) for one robot, whose parameters become
+constants of the source.  The code is *generated* from prp3's one symbolic
+source of the equations: the same Python function that computes the forces
+numerically is evaluated on :mod:`sympy` symbols, the expressions are
+shared by common-subexpression elimination (``sympy.cse``) and printed by
+sympy's C99 code printer.  Nothing in it is written by hand but the checks
+of the input and the frame of the function::
+
+    int prp3_inverse_dynamics(const double pose[3], const double velocity[3],
+                              const double acceleration[3],
+                              double f10[3], double f21y[3], double f21z[3]);
+
+Return codes: :data:`C_OK` (0), :data:`C_NOT_FINITE` (1: an input is NaN or
+infinite), :data:`C_SINGULAR` (2: ``|sin(φ − π/3)| < 1e-4``, as prp3 refuses),
+:data:`C_OUTSIDE_STROKE` (3: some ``λ10`` outside ``limits.stroke``; only
+when the robot has one).  On a non-zero return every output is NaN.  The
+code needs only ``<math.h>`` and compiles with ``cc -std=c99
+-pedantic-errors -Wall -Wextra -Werror`` (no ``M_PI``: its own constants).
+
+>>> from prp3.model import Robot
+>>> code = c_inverse_dynamics(Robot())
+>>> "int prp3_inverse_dynamics(const double pose[3]" in code.header
+True
+>>> "M_PI" in code.source, code.source.count("#include")
+(False, 2)
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import ParameterError, Prp3Error
+from .geometry import SINGULARITY_THRESHOLD
+from .model import Robot
+
+__all__ = [
+    "C_NOT_FINITE",
+    "C_OK",
+    "C_OUTSIDE_STROKE",
+    "C_SINGULAR",
+    "HEADER_NAME",
+    "SOURCE_NAME",
+    "CSource",
+    "c_inverse_dynamics",
+]
+
+#: File names written by ``prp3 export c``.
+HEADER_NAME: str = "prp3_inverse_dynamics.h"
+SOURCE_NAME: str = "prp3_inverse_dynamics.c"
+
+#: Return codes of ``prp3_inverse_dynamics``.
+C_OK: int = 0
+C_NOT_FINITE: int = 1
+C_SINGULAR: int = 2
+C_OUTSIDE_STROKE: int = 3
+
+#: The inputs, in the order of the C arrays.
+_INPUTS = ("x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
+_ARRAYS = ("pose", "velocity", "acceleration")
+
+
+@dataclass(frozen=True)
+class CSource:
+    """The generated C code.
+
+    Attributes
+    ----------
+    header : str
+        Text of ``prp3_inverse_dynamics.h``.
+    source : str
+        Text of ``prp3_inverse_dynamics.c``.
+    robot : Robot
+        The robot whose parameters are the constants of the source.
+    """
+
+    header: str
+    source: str
+    robot: Robot
+
+
+#: Constants of the closed form (attributes of :class:`prp3.fast.CompiledRobot`).
+_SCALARS = (
+    "l0", "cx", "cy", "gravity_x", "gravity_y", "piston_mass", "link_mass",
+    "platform_mass", "rotary_inertia", "link_com_x", "link_com_y",
+)  # fmt: skip
+_PER_LEG = ("link_gravity_axial", "link_gravity_normal", "piston_gravity_axial")
+
+
+def _constant_values(robot: Robot) -> dict[str, float]:
+    """The robot's constants by their C names (``prp3_l0``, ``prp3_link_gravity_axial_A``, ...)."""
+    from .fast import compile_robot
+
+    compiled = compile_robot(robot)
+    values = {f"prp3_{name}": float(getattr(compiled, name)) for name in _SCALARS}
+    for name in _PER_LEG:
+        for leg, value in zip("ABC", getattr(compiled, name), strict=True):
+            values[f"prp3_{name}_{leg}"] = float(value)
+    return values
+
+
+@dataclass(frozen=True)
+class _Template:
+    """The generated code of every robot: constants are names, filled in per robot."""
+
+    constants: tuple[str, ...]  # names of the constants the code uses, in order
+    body: tuple[str, ...]  # "const double tK = ...;" lines of the shared subexpressions
+    outputs: tuple[str, ...]  # "f10[0] = ...;" lines
+    stroke_test: str  # C condition "some lambda10 outside [LOWER, UPPER]" ("" without)
+
+
+@functools.lru_cache(maxsize=2)
+def _template(with_stroke: bool) -> _Template:
+    """Evaluate prp3's closed form on sympy symbols, share subexpressions, print C99."""
+    import sympy
+    from sympy.printing.c import C99CodePrinter
+
+    fields: dict[str, Any] = {name: sympy.Symbol(f"prp3_{name}", real=True) for name in _SCALARS}
+    for name in _PER_LEG:
+        fields[name] = tuple(sympy.Symbol(f"prp3_{name}_{leg}", real=True) for leg in "ABC")
+    inputs = tuple(sympy.Symbol(name, real=True) for name in _INPUTS)
+    values = _sympy_forces(fields, inputs)
+    outputs = [values[k] for k in (0, 1, 2, 6, 7, 8, 9, 10, 11)]  # f10, f21y, f21z
+    checks = list(_sympy_lambda10(fields, inputs)) if with_stroke else []
+    replacements, reduced = sympy.cse(outputs + checks, symbols=sympy.numbered_symbols("t"))
+    printer = C99CodePrinter()
+    body = tuple(
+        f"const double {symbol} = {printer.doprint(expr)};" for symbol, expr in replacements
+    )
+    used = {
+        str(symbol)
+        for expr in [*(expr for _, expr in replacements), *reduced]
+        for symbol in expr.free_symbols
+    }
+    names = [f"prp3_{name}" for name in _SCALARS] + [
+        f"prp3_{name}_{leg}" for name in _PER_LEG for leg in "ABC"
+    ]
+    lines = tuple(
+        f"{name}[{leg}] = {printer.doprint(reduced[3 * k + leg])};"
+        for k, name in enumerate(("f10", "f21y", "f21z"))
+        for leg in range(3)
+    )
+    test = " ||\n        ".join(
+        f"(lambda10_{leg} = {printer.doprint(reduced[9 + j])}) < PRP3_STROKE_LOWER"
+        f" || lambda10_{leg} > PRP3_STROKE_UPPER"
+        for j, leg in enumerate("ABC")
+    ) if with_stroke else ""  # fmt: skip
+    return _Template(
+        constants=tuple(name for name in names if name in used),
+        body=body,
+        outputs=lines,
+        stroke_test=test,
+    )
+
+
+def _sympy_forces(fields: dict[str, Any], inputs: tuple[Any, ...]) -> tuple[Any, ...]:
+    """``prp3.fast.sample_forces_unchecked`` evaluated on sympy symbols."""
+    import types
+    from unittest import mock
+
+    import sympy
+
+    from . import fast
+
+    namespace = types.SimpleNamespace(**fields)
+    with mock.patch.object(fast, "math", types.SimpleNamespace(cos=sympy.cos, sin=sympy.sin)):
+        values: tuple[Any, ...] = fast.sample_forces_unchecked(namespace, *inputs)  # type: ignore[arg-type]
+    return values
+
+
+def _sympy_lambda10(fields: dict[str, Any], inputs: tuple[Any, ...]) -> tuple[Any, Any, Any]:
+    """``λ10`` of the three legs (eq. 10) on sympy symbols."""
+    import sympy
+
+    from .fast import _LEG_NORMALS
+
+    x, y, phi = inputs[:3]
+    h = math.sqrt(3.0) / 2.0
+    c, s = sympy.cos(phi), sympy.sin(phi)
+    D = 0.5 * s - h * c
+    C = 0.5 * c + h * s
+    gx, gy = D * x - C * y, C * x + D * y
+    base = (fields["cy"] - fields["l0"] * c) / D - 2.0 * fields["cx"]
+    a, b, cc = ((gx * ny - gy * nx) / D + base for nx, ny in _LEG_NORMALS)
+    return (a, b, cc)
+
+
+def _c_number(value: float) -> str:
+    """A double constant as C text that reads back exactly (``repr``, always with a point)."""
+    text = repr(float(value))
+    if not math.isfinite(value):
+        raise ParameterError(f"robot: a constant of the C code is not finite: {value!r}")
+    return text if any(ch in text for ch in ".en") else text + ".0"
+
+
+def c_inverse_dynamics(robot: Robot) -> CSource:
+    """Generate the C99 header and source of the inverse dynamics of ``robot``.
+
+    Parameters
+    ----------
+    robot : Robot
+        Its ``l0``, gravity, masses, inertias and centres of mass become
+        constants of the source; ``limits.stroke`` (when set) the stroke check.
+
+    Returns
+    -------
+    CSource
+
+    Raises
+    ------
+    ParameterError
+        If ``robot`` is not a :class:`~prp3.model.Robot`.
+    """
+    if not isinstance(robot, Robot):
+        raise ParameterError(f"robot must be a prp3.Robot, got {type(robot).__name__}")
+    try:
+        import sympy
+        from sympy.printing.c import C99CodePrinter
+    except ImportError:
+        raise Prp3Error(
+            'generating C code needs sympy, which is not installed: pip install "prp3[codegen]"'
+        ) from None
+    del sympy, C99CodePrinter  # imported above only to fail early without sympy
+    stroke = robot.limits.stroke
+    template = _template(stroke is not None)
+    values = _constant_values(robot)
+    constants = [
+        f"static const double {name} = {_c_number(values[name])};" for name in template.constants
+    ]
+    stroke_lines: list[str] = []
+    if stroke is not None:
+        lower, upper = stroke
+        constants += [
+            f"static const double PRP3_STROKE_LOWER = {_c_number(lower)};",
+            f"static const double PRP3_STROKE_UPPER = {_c_number(upper)};",
+        ]
+        stroke_lines = [
+            "double lambda10_A, lambda10_B, lambda10_C;",
+            f"if ({template.stroke_test}) {{",
+            "    return prp3_refuse(f10, f21y, f21z, PRP3_OUTSIDE_STROKE);",
+            "}",
+        ]
+    unpack = [
+        f"    const double {name} = {_ARRAYS[k // 3]}[{k % 3}];" for k, name in enumerate(_INPUTS)
+    ]
+    finite = " && ".join(f"isfinite({name})" for name in _INPUTS)
+    source_lines = [
+        f"/* {SOURCE_NAME}: inverse dynamics of the 3-PRP planar parallel robot.",
+        f" * Generated by prp3 {_version()} (prp3 export c) from prp3's closed form",
+        " * (Staicu & Chablat, eqs. 10, 14, 17, 19-25) with sympy's cse and C99 printer.",
+        " * Do not edit: regenerate. Robot: " + _robot_line(robot) + " */",
+        "#include <math.h>",
+        f'#include "{HEADER_NAME}"',
+        "",
+        "/* pi to double precision (C99 defines no pi constant) */",
+        "static const double PRP3_PI = 3.141592653589793;",
+        f"static const double PRP3_SINGULARITY_THRESHOLD = {_c_number(SINGULARITY_THRESHOLD)};",
+        "/* the robot's parameters */",
+        *constants,
+        "",
+        "static int prp3_refuse(double f10[3], double f21y[3], double f21z[3], int code)",
+        "{",
+        "    int i;",
+        "    for (i = 0; i < 3; ++i) {",
+        "        f10[i] = NAN;",
+        "        f21y[i] = NAN;",
+        "        f21z[i] = NAN;",
+        "    }",
+        "    return code;",
+        "}",
+        "",
+        "int prp3_inverse_dynamics(const double pose[3], const double velocity[3],",
+        "                          const double acceleration[3],",
+        "                          double f10[3], double f21y[3], double f21z[3])",
+        "{",
+        *unpack,
+        f"    if (!({finite})) {{",
+        "        return prp3_refuse(f10, f21y, f21z, PRP3_NOT_FINITE);",
+        "    }",
+        "    if (fabs(sin(phi - PRP3_PI / 3.0)) < PRP3_SINGULARITY_THRESHOLD) {",
+        "        return prp3_refuse(f10, f21y, f21z, PRP3_SINGULAR);",
+        "    }",
+        "    {",
+        *(f"        {line}" for line in template.body),
+        *(f"        {line}" for line in stroke_lines),
+        *(f"        {line}" for line in template.outputs),
+        "    }",
+        "    return PRP3_OK;",
+        "}",
+    ]
+    source = "\n".join(source_lines) + "\n"
+    if re.search(r"\bM_\w+", source):  # e.g. M_PI, M_SQRT2: POSIX, not C99
+        raise AssertionError("the C printer used a non-C99 constant")  # pragma: no cover
+    return CSource(header=_header(robot), source=source, robot=robot)
+
+
+def _version() -> str:
+    from . import __version__
+
+    return __version__
+
+
+def _robot_line(robot: Robot) -> str:
+    return (
+        f"l0 = {robot.l0!r} m, gravity = {list(robot.gravity)!r} m/s^2, "
+        f"m1 = {robot.piston.mass!r}, m2 = {robot.link.mass!r}, m3 = {robot.platform.mass!r} kg, "
+        f"stroke = {list(robot.limits.stroke) if robot.limits.stroke else None!r}"
+    )
+
+
+def _header(robot: Robot) -> str:
+    lines = [
+        f"/* {HEADER_NAME}: inverse dynamics of the 3-PRP planar parallel robot (C99).",
+        f" * Generated by prp3 {_version()} (prp3 export c). Robot: {_robot_line(robot)}",
+        " *",
+        " * prp3_inverse_dynamics(pose, velocity, acceleration, f10, f21y, f21z)",
+        " *   pose = (x, y, phi): mass centre G of the platform (m) and orientation (rad);",
+        " *   velocity, acceleration: their first and second time derivatives (SI units).",
+        " *   f10[i]: force of actuator i on its piston along +e_i (N), legs A, B, C;",
+        " *   f21y[i], f21z[i]: force of piston i on link 2 along n_i and e_i (N).",
+        " * Returns PRP3_OK (0); PRP3_NOT_FINITE (1) if an input is NaN or infinite;",
+        " * PRP3_SINGULAR (2) if |sin(phi - pi/3)| < 1e-4; PRP3_OUTSIDE_STROKE (3) if an",
+        " * actuator displacement lambda10 is outside the robot's stroke. On a non-zero",
+        " * return every output is NaN. Reentrant, no allocation, only <math.h>.",
+        " */",
+        "#ifndef PRP3_INVERSE_DYNAMICS_H",
+        "#define PRP3_INVERSE_DYNAMICS_H",
+        "",
+        f"#define PRP3_OK {C_OK}",
+        f"#define PRP3_NOT_FINITE {C_NOT_FINITE}",
+        f"#define PRP3_SINGULAR {C_SINGULAR}",
+        f"#define PRP3_OUTSIDE_STROKE {C_OUTSIDE_STROKE}",
+        "",
+        "#ifdef __cplusplus",
+        'extern "C" {',
+        "#endif",
+        "",
+        "int prp3_inverse_dynamics(const double pose[3], const double velocity[3],",
+        "                          const double acceleration[3],",
+        "                          double f10[3], double f21y[3], double f21z[3]);",
+        "",
+        "#ifdef __cplusplus",
+        "}",
+        "#endif",
+        "",
+        "#endif /* PRP3_INVERSE_DYNAMICS_H */",
+    ]
+    return "\n".join(lines) + "\n"

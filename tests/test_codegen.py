@@ -1,0 +1,192 @@
+"""The generated C code (``prp3 export c``): strict C99, the kernel's numbers, the refusals.
+
+The code is compiled with the system's C compiler (``cc -std=c99
+-pedantic-errors -Wall -Wextra -Werror``; the tests are skipped when there is
+none), loaded with ctypes and compared with prp3's batch inverse dynamics
+(``prp3.fast.paper_forces``, numpy; another path than the single-sample code
+the C is generated from) over random robots and samples, to 1e-12 relative
+to the largest force of the sample.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from prp3 import Limits, Robot
+from prp3.cli import main
+from prp3.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
+from prp3.fast import compile_robot, paper_forces
+from strategies import poses, robots
+
+pytest.importorskip("sympy")
+COMPILER = shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
+pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
+FLAGS = ["-std=c99", "-pedantic-errors", "-Wall", "-Wextra", "-Werror", "-O2"]
+
+_Vector = np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(3,), flags="C_CONTIGUOUS")
+
+
+class Compiled:
+    """``prp3_inverse_dynamics`` of a shared library, called with numpy vectors."""
+
+    def __init__(self, library: Path) -> None:
+        self.library = ctypes.CDLL(str(library))
+        self.function = self.library.prp3_inverse_dynamics
+        self.function.argtypes = [_Vector] * 6
+        self.function.restype = ctypes.c_int
+
+    def __call__(self, pose, velocity, acceleration) -> tuple[int, np.ndarray]:
+        inputs = [np.ascontiguousarray(v, dtype=np.float64) for v in (pose, velocity, acceleration)]
+        outputs = [np.zeros(3) for _ in range(3)]
+        code = self.function(*inputs, *outputs)
+        return int(code), np.stack(outputs)  # rows f10, f21y, f21z
+
+
+def build(robot: Robot, folder: Path) -> Compiled:
+    code = c_inverse_dynamics(robot)
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / HEADER_NAME).write_text(code.header)
+    (folder / SOURCE_NAME).write_text(code.source)
+    return build_from(folder)
+
+
+def build_from(folder: Path) -> Compiled:
+    library = folder / "libprp3id.so"
+    assert COMPILER is not None
+    done = subprocess.run(
+        [
+            COMPILER,
+            *FLAGS,
+            "-shared",
+            "-fPIC",
+            "-o",
+            str(library),
+            str(folder / SOURCE_NAME),
+            "-lm",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    return Compiled(library)
+
+
+@pytest.fixture(scope="module")
+def paper_robot(tmp_path_factory: pytest.TempPathFactory) -> Compiled:
+    """The paper's robot through the command line ``prp3 export c``."""
+    folder = tmp_path_factory.mktemp("paper")
+    assert main(["export", "c", "--output", str(folder)]) == 0
+    return build_from(folder)
+
+
+def _expected(robot: Robot, pose, velocity, acceleration) -> np.ndarray:
+    forces = paper_forces(compile_robot(robot), pose, velocity, acceleration)
+    return np.stack([forces.f10, forces.f21y, forces.f21z], axis=1)  # (N, 3 outputs, 3 legs)
+
+
+def _compare(compiled: Compiled, robot: Robot, pose, velocity, acceleration) -> float:
+    expected = _expected(robot, pose, velocity, acceleration)
+    worst = 0.0
+    for k in range(len(pose)):
+        code, got = compiled(pose[k], velocity[k], acceleration[k])
+        assert code == 0
+        scale = max(float(np.abs(expected[k]).max()), 1e-9)  # relative; 1 nN when all vanish
+        worst = max(worst, float(np.abs(got - expected[k]).max()) / scale)
+    return worst
+
+
+def test_the_paper_robot_matches_the_kernel(paper_robot: Compiled) -> None:
+    rng = np.random.default_rng(12)
+    count = 400
+    pose = np.column_stack(
+        [
+            rng.uniform(-0.1, 0.1, count),
+            rng.uniform(-0.1, 0.1, count),
+            rng.uniform(-1.7, 0.7, count),
+        ]
+    )
+    velocity = rng.uniform(-2.0, 2.0, (count, 3))
+    acceleration = rng.uniform(-20.0, 20.0, (count, 3))
+    assert _compare(paper_robot, Robot(), pose, velocity, acceleration) <= 1e-12
+
+
+@settings(max_examples=6)
+@given(robot=robots(), data=st.data())
+def test_random_robots_match_the_kernel(
+    tmp_path_factory: pytest.TempPathFactory, robot: Robot, data: st.DataObject
+) -> None:
+    compiled = build(robot, tmp_path_factory.mktemp("random"))
+    pose = np.stack([data.draw(poses(robot.l0)) for _ in range(20)])
+    rates = st.lists(st.floats(-5.0, 5.0), min_size=60, max_size=60)
+    velocity = np.array(data.draw(rates)).reshape(20, 3)
+    acceleration = 10.0 * np.array(data.draw(rates)).reshape(20, 3)
+    assert _compare(compiled, robot, pose, velocity, acceleration) <= 1e-12
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+@pytest.mark.parametrize("where", range(9))
+def test_non_finite_input_returns_1_and_nan(paper_robot: Compiled, where: int, bad: float) -> None:
+    values = np.zeros(9)
+    values[where] = bad
+    code, outputs = paper_robot(values[:3], values[3:6], values[6:])
+    assert code == 1 and np.isnan(outputs).all()
+
+
+@pytest.mark.parametrize(
+    "phi", [math.pi / 3.0, math.pi / 3.0 + 5e-5, math.pi / 3.0 - 9e-5, -2.0 * math.pi / 3.0]
+)
+def test_singular_pose_returns_2_and_nan(paper_robot: Compiled, phi: float) -> None:
+    code, outputs = paper_robot([0.0, 0.0, phi], np.zeros(3), np.zeros(3))
+    assert code == 2 and np.isnan(outputs).all()
+    code, _ = paper_robot([0.0, 0.0, math.pi / 3.0 + 2e-4], np.zeros(3), np.zeros(3))
+    assert code == 0  # beyond the threshold: computed
+
+
+def test_outside_the_stroke_returns_3(tmp_path: Path) -> None:
+    robot = Robot(limits=Limits(stroke=(-0.01, 0.02)))
+    compiled = build(robot, tmp_path)
+    # y raises every actuator alike: lambda10 = y·(2/√3)·... crosses the stroke
+    inside = np.array([0.0, 0.005, 0.0])
+    code, outputs = compiled(inside, np.zeros(3), np.zeros(3))
+    assert code == 0 and np.isfinite(outputs).all()
+    assert _compare(compiled, robot, inside[None], np.zeros((1, 3)), np.zeros((1, 3))) <= 1e-12
+    for pose in ([0.0, 0.05, 0.0], [0.0, -0.05, 0.0], [0.05, 0.0, 0.0], [0.0, 0.0, 0.3]):
+        code, outputs = compiled(np.array(pose), np.zeros(3), np.zeros(3))
+        assert code == 3 and np.isnan(outputs).all(), pose
+
+
+def test_source_is_strict_c99_with_only_math_h() -> None:
+    code = c_inverse_dynamics(Robot(limits=Limits(stroke=(-0.1, 0.1))))
+    includes = [line for line in code.source.splitlines() if line.startswith("#include")]
+    assert includes == ["#include <math.h>", f'#include "{HEADER_NAME}"']
+    assert "#include" not in code.header
+    assert "M_PI" not in code.source and "0.3;" in code.source  # l0 as a constant
+    assert (
+        "int prp3_inverse_dynamics(const double pose[3], const double velocity[3],\n"
+        "                          const double acceleration[3],\n"
+        "                          double f10[3], double f21y[3], double f21z[3]);"
+    ) in code.header
+
+
+def test_cli_export_c_with_a_robot_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    robot_file = tmp_path / "robot.toml"
+    robot_file.write_text("l0 = 0.4\n[platform]\nmass = 5.0\n")
+    out = tmp_path / "c"
+    assert main(["export", "c", "--robot", str(robot_file), "--output", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == sorted([HEADER_NAME, SOURCE_NAME])
+    assert "l0 = 0.4 m" in (out / SOURCE_NAME).read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text("l0 = -1\n")
+    assert main(["export", "c", "--robot", str(bad), "--output", str(tmp_path / "no")]) == 2
+    err = capsys.readouterr().err
+    assert "l0 must be a positive" in err and not (tmp_path / "no").exists()
