@@ -85,11 +85,11 @@ FloatArray = NDArray[np.float64]
 
 SQRT3 = math.sqrt(3.0)
 
-#: Samples evaluated at once (bounds the temporaries: about 30 kB per sample).
+#: Samples evaluated at once (bounds the temporaries to a few tens of MiB).
 PAPER_CHUNK: int = 1024
 
 #: Largest motion :func:`recursive_matrix_method` records (its result holds
-#: about 5 kB per sample); :func:`paper_inverse_dynamics` takes any length.
+#: about 7 kB per sample); :func:`paper_inverse_dynamics` takes any length.
 MAX_RECORDED_SAMPLES: int = 20_000
 
 #: The unit vectors ``u1, u2, u3`` of eq. (9).
