@@ -383,6 +383,48 @@ def test_virtual_velocities(scenario: tuple[Robot, AnalyticMotion]) -> None:
             )
 
 
+@given(scenario=scenarios())
+def test_forces_are_the_virtual_power_of_the_body_wrenches(
+    scenario: tuple[Robot, AnalyticMotion],
+) -> None:
+    # The principle of virtual work behind eqs. (21)–(25), body by body in T0: for the
+    # virtual motion of set s, leg l (eq. 16), the force is the virtual power of the
+    # wrenches F_k0, M_k0 (about A_k) of every body that moves: pistons with A1 (v10^v·e),
+    # links with A2 (A1 plus v21y^v·n + v21z^v·e) and ω21^v, the platform with its point
+    # A3^A, v0^Gv + ω21^v·J(A3^A − G), and ω21^v.  No accumulation (eq. 21) involved.
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 4))
+    result = recursive_matrix_method(robot, motion)
+    F0 = plane(in_fixed_frame(result, result.F0))  # (4, 3 legs, 3 bodies, 2)
+    M0 = in_fixed_frame(result, result.M0)[..., 2]  # about z0
+    A3 = plane(result.position[:, 0, 2])
+    lever_A3 = A3 - motion.pose[:, :2]
+    forces = {"f10": result.f10, "f21y": result.f21y, "f21z": result.f21z}
+    scale = np.abs(F0).max() + np.abs(M0).max() / robot.l0 + 1e-300
+    for s, name in enumerate(FORCE_SETS):
+        for leg in range(3):
+            piston = np.zeros((4, 3, 2))
+            link = np.zeros((4, 3, 2))
+            if name == "f10":
+                piston[:, leg] = link[:, leg] = REF_E[leg]
+            else:
+                link[:, leg] = REF_N[leg] if name == "f21y" else REF_E[leg]
+            omega = result.omega21_virtual[:, s, leg, 0]
+            vG = plane(result.vG_virtual[:, s, leg])
+            platform = vG + omega[:, None] * turn(lever_A3)
+            power = (
+                (F0[:, :, 0] * piston).sum(axis=(-1, -2))
+                + (F0[:, :, 1] * link).sum(axis=(-1, -2))
+                + omega * M0[:, :, 1].sum(axis=-1)
+                + (F0[:, 0, 2] * platform).sum(axis=-1)
+                + omega * M0[:, 0, 2]
+            )
+            virtual = 1.0 + np.abs(result.omega21_virtual).max() * robot.l0
+            np.testing.assert_allclose(
+                forces[name][:, leg], power, rtol=0, atol=1e-12 * scale * virtual
+            )
+
+
 # ------------------------------------------------------------------ wrenches, eqs. (19)–(22)
 @given(scenario=scenarios())
 def test_body_wrenches(scenario: tuple[Robot, AnalyticMotion]) -> None:
