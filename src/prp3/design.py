@@ -1,0 +1,837 @@
+"""Design studies: sweeps of robot parameters over a task, and their figures of merit.
+
+A *design* is a robot: the nominal ``ROBOT.toml`` with some of its values
+replaced.  A value is named by its *key path* in the ``ROBOT.toml`` mapping —
+``"l0"``, ``"platform.mass"``, ``"link.com.0"`` (a number of an array: the
+first component of ``link.com``), ``"limits.stroke.1"`` — so that any table of
+``ROBOT.toml`` can be swept without code for it: a key the robot does not
+know is refused by :meth:`prp3.Robot.from_mapping`, naming it.  The platform
+inertia follows a swept ``platform.mass`` or ``l0`` (``m3·l²/12``) unless the
+nominal robot gives ``platform.inertia`` or it is swept itself, as in
+``ROBOT.toml``.
+
+The *task* is a list of motions (the paper's, or trajectory files).  For each
+design :func:`evaluate_designs` runs the batch kernel
+(:func:`prp3.fast.paper_forces`, reactions included) over every motion and
+reduces the forces to the columns of ``designs.parquet``
+(:func:`design_columns`):
+
+* ``peak_f10_L``: ``max |f10_L|`` over the samples of all motions (N);
+* ``peak_p10_L``: ``max |p10_L|`` (W);
+* ``peak_f21_L``: ``max √(f21y_L² + f21z_L²)``, the force on the revolute joint (N);
+* ``peak_n32_L``: ``max |n32_L|``, the normal force in the sleeve (N);
+* ``energy``: ``Σ_motions ∫ Σ_L p10_L dt`` by the trapezoid rule over each
+  motion's samples (J);
+* with a stroke (``[limits] stroke``): ``workspace_area``, the area of the
+  reachable region of ``G`` at ``φ = 0`` (m², :func:`prp3.workspace_slice`),
+  and ``max_condition``, the largest Jacobian condition number over the
+  task's poses (:func:`prp3.jacobian_condition`).
+
+A design that cannot perform the task is a row too; its ``status`` says why
+and its force columns are NaN:
+
+* ``singular``: a pose of the task is at a singular orientation
+  (:class:`~prp3.errors.SingularPoseError`);
+* ``stroke``: a pose of the task needs an actuator displacement outside the
+  design's ``[limits] stroke`` (:class:`~prp3.errors.UnreachablePoseError`);
+* ``unreachable``: the design has no finite answer for the task (the kernel
+  refuses it for another reason: results that overflow, ...).
+
+Everything here is plain numpy: the distribution over Dask workers and the
+Parquet files are in :mod:`prp3.sweep`.
+
+>>> spec = sweep_spec({"designs": 3, "sampling": "grid",
+...                    "parameters": {"platform.mass": [2.0, 4.0]},
+...                    "task": {"motions": ["vertical"], "samples": 31}})
+>>> values = design_values(spec)
+>>> values[:, 0].tolist()
+[2.0, 3.0, 4.0]
+>>> columns = evaluate_designs(spec.evaluator, values)
+>>> [str(s) for s in columns["status"]], round(float(columns["peak_f10_A"][1]), 6)
+(['ok', 'ok', 'ok'], 31.961794)
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+import re
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import __version__
+from .errors import (
+    InputFileError,
+    ParameterError,
+    Prp3Error,
+    SingularPoseError,
+    UnreachablePoseError,
+)
+from .fast import FastForces, compile_robot, paper_forces
+from .geometry import LEGS
+from .io import read_trajectory
+from .model import Robot
+from .motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
+from .workspace import jacobian_condition, workspace_slice
+
+__all__ = [
+    "AGGREGATES",
+    "CHUNK_DESIGNS",
+    "INFEASIBLE",
+    "MAX_DESIGNS",
+    "SAMPLINGS",
+    "STATUSES",
+    "DesignEvaluator",
+    "DesignObjective",
+    "OptimizeSpec",
+    "Parameter",
+    "SweepSpec",
+    "design_columns",
+    "design_mapping",
+    "design_robot",
+    "design_values",
+    "evaluate_designs",
+    "nominal_value",
+    "pareto_front",
+    "penalized_objective",
+    "quantity",
+    "read_sweep_spec",
+    "sweep_spec",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: How designs are drawn: full factorial grid (ends included), Latin hypercube, uniform random.
+SAMPLINGS: tuple[str, ...] = ("grid", "lhs", "random")
+
+#: Values of the ``status`` column: the design performs the task, or why it cannot.
+STATUSES: tuple[str, ...] = ("ok", "singular", "unreachable", "stroke")
+
+#: Designs per Dask task: hundreds, so that the kernel, not Python or Dask, dominates.
+CHUNK_DESIGNS: int = 250
+
+#: Largest number of designs of one sweep (bounds the memory of the design table).
+MAX_DESIGNS: int = 10_000_000
+
+#: Per-leg peak quantities; ``peak_f10`` etc. (no leg) means the largest of the three legs.
+AGGREGATES: tuple[str, ...] = ("peak_f10", "peak_p10", "peak_f21", "peak_n32")
+
+_PATH = re.compile(r"^[A-Za-z_][A-Za-z0-9_-]*(\.([A-Za-z_][A-Za-z0-9_-]*|[0-9]+))*$")
+_TOP_KEYS = {
+    "robot", "designs", "sampling", "seed", "chunk", "parameters", "task", "limits", "optimize",
+}  # fmt: skip
+
+
+# ------------------------------------------------------------------ key paths
+def _components(path: str) -> list[str | int]:
+    return [int(part) if part.isdigit() else part for part in path.split(".")]
+
+
+def design_mapping(
+    nominal: Mapping[str, Any], paths: Sequence[str], values: Sequence[float]
+) -> dict[str, Any]:
+    """The ``ROBOT.toml`` mapping of a design: ``nominal`` with ``paths`` set to ``values``.
+
+    Missing tables are created (``"payload.mass"`` on a robot without
+    ``[payload]``); a numeric component indexes an array of the nominal
+    robot (``"link.com.0"``).  ``nominal`` is not changed.
+
+    Raises
+    ------
+    ParameterError
+        A path that indexes something that is not an array, or crosses a
+        value that is not a table (names the path).
+
+    >>> design_mapping({"l0": 0.3, "link": {"com": [0.0, 0.0]}}, ["link.com.1", "platform.mass"],
+    ...                [0.01, 2.0])
+    {'l0': 0.3, 'link': {'com': [0.0, 0.01]}, 'platform': {'mass': 2.0}}
+    """
+    mapping = dict(nominal)
+    for path, value in zip(paths, values, strict=True):
+        parts = _components(path)
+        node: Any = mapping
+        for depth, part in enumerate(parts[:-1]):
+            following = parts[depth + 1]
+            if isinstance(node, dict) and isinstance(part, str):
+                if part not in node:
+                    if isinstance(following, int):
+                        raise ParameterError(
+                            f"{path!r}: the nominal robot gives no {'.'.join(map(str, parts[: depth + 1]))} to index"
+                        )
+                    node[part] = {}
+                # copy on the way down: the nominal mapping is never changed
+                child = node[part]
+                node[part] = dict(child) if isinstance(child, Mapping) else copy.copy(child)
+                node = node[part]
+            elif isinstance(node, list) and isinstance(part, int) and part < len(node):
+                node[part] = copy.copy(node[part])
+                node = node[part]
+            else:
+                raise ParameterError(f"{path!r}: {part!r} is not a key of the robot here")
+        last = parts[-1]
+        if isinstance(node, dict) and isinstance(last, str):
+            node[last] = float(value)
+        elif isinstance(node, list) and isinstance(last, int) and last < len(node):
+            node[last] = float(value)
+        else:
+            raise ParameterError(f"{path!r}: {last!r} is not a key or an index of the robot here")
+    return mapping
+
+
+def design_robot(
+    nominal: Mapping[str, Any], paths: Sequence[str], values: Sequence[float]
+) -> Robot:
+    """The robot of a design (:func:`design_mapping` then :meth:`Robot.from_mapping`)."""
+    return Robot.from_mapping(design_mapping(nominal, paths, values))
+
+
+def nominal_value(nominal: Mapping[str, Any], path: str) -> float | None:
+    """The value at ``path`` in the nominal mapping; ``None`` when it does not give one.
+
+    A missing ``platform.inertia`` is the one the robot computes (``m3·l²/12``).
+
+    >>> nominal_value({"l0": 0.3}, "l0"), nominal_value({"l0": 0.3}, "payload.mass")
+    (0.3, None)
+    """
+    node: Any = nominal
+    for part in _components(path):
+        if isinstance(node, Mapping) and isinstance(part, str) and part in node:
+            node = node[part]
+        elif isinstance(node, list) and isinstance(part, int) and part < len(node):
+            node = node[part]
+        else:
+            if path == "platform.inertia":
+                return Robot.from_mapping(nominal).platform_inertia
+            return None
+    if isinstance(node, bool) or not isinstance(node, int | float):
+        return None
+    return float(node)
+
+
+# ------------------------------------------------------------------ the task
+@dataclass(frozen=True, eq=False)
+class DesignEvaluator:
+    """What a worker needs to evaluate designs: the nominal robot, the paths and the task.
+
+    Attributes
+    ----------
+    nominal : dict
+        ``ROBOT.toml`` mapping of the nominal robot (``[limits]`` of the sweep merged in).
+    paths : tuple of str
+        Key paths of the varied parameters, in column order.
+    motions : tuple of Motion
+        The task: every motion, ``N >= 2`` samples each.
+    workspace : bool
+        Whether the designs have a stroke (``workspace_area``, ``max_condition`` columns).
+    """
+
+    nominal: dict[str, Any]
+    paths: tuple[str, ...]
+    motions: tuple[Motion, ...]
+    workspace: bool
+    _pose: FloatArray = field(init=False, repr=False)
+    _velocity: FloatArray = field(init=False, repr=False)
+    _acceleration: FloatArray = field(init=False, repr=False)
+    _segments: tuple[tuple[int, int, FloatArray], ...] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        # the motions one after the other: one kernel call per design
+        for name in ("pose", "velocity", "acceleration"):
+            joined = np.concatenate([getattr(m, name) for m in self.motions])
+            object.__setattr__(self, f"_{name}", joined)
+        segments, start = [], 0
+        for motion in self.motions:
+            segments.append((start, start + motion.samples, np.diff(motion.t)))
+            start += motion.samples
+        object.__setattr__(self, "_segments", tuple(segments))
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """Column names of the design table (:func:`design_columns`)."""
+        return design_columns(self.paths, self.workspace)
+
+
+def design_columns(paths: Sequence[str], workspace: bool) -> tuple[str, ...]:
+    """Columns of ``designs.parquet``: the parameters, ``status``, the peaks, ``energy``, ...
+
+    >>> design_columns(["l0"], False)[:5]
+    ('l0', 'status', 'peak_f10_A', 'peak_f10_B', 'peak_f10_C')
+    >>> design_columns(["l0"], True)[-3:]
+    ('energy', 'workspace_area', 'max_condition')
+    """
+    peaks = tuple(f"{name}_{leg}" for name in AGGREGATES for leg in LEGS)
+    extra = ("workspace_area", "max_condition") if workspace else ()
+    return (*paths, "status", *peaks, "energy", *extra)
+
+
+_RESULTS = len(AGGREGATES) * 3 + 1  # peaks and energy
+
+
+def _task_results(
+    evaluator: DesignEvaluator, robot: Robot, out: FastForces
+) -> tuple[str, FloatArray]:
+    """Status and the peaks + energy of one design (NaN unless ``ok``)."""
+    result = np.full(_RESULTS, np.nan)
+    try:
+        forces = paper_forces(
+            compile_robot(robot),
+            evaluator._pose,
+            evaluator._velocity,
+            evaluator._acceleration,
+            reactions=True,
+            out=out,
+        )
+    except SingularPoseError:
+        return "singular", result
+    except UnreachablePoseError:
+        return "stroke", result
+    except Prp3Error:
+        return "unreachable", result
+    assert forces.n32 is not None
+    peaks = (
+        np.abs(forces.f10).max(axis=0),
+        np.abs(forces.p10).max(axis=0),
+        np.hypot(forces.f21y, forces.f21z).max(axis=0),
+        np.abs(forces.n32).max(axis=0),
+    )
+    power = forces.p10.sum(axis=1)
+    energy = 0.0
+    for start, stop, dt in evaluator._segments:  # trapezoid rule over each motion
+        energy += float(0.5 * np.dot(power[start + 1 : stop] + power[start : stop - 1], dt))
+    result[:-1] = np.concatenate(peaks)
+    result[-1] = energy
+    if not np.isfinite(result).all():
+        return "unreachable", np.full(_RESULTS, np.nan)
+    return "ok", result
+
+
+def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str, Any]:
+    """Evaluate designs ``values`` of shape ``(k, p)``: the columns of their rows.
+
+    Pure: the same values give the same numbers whatever the worker.  A
+    design that fails the task is a row with its ``status`` and NaN forces.
+
+    Returns
+    -------
+    dict
+        Column name -> ndarray of shape ``(k,)``: float64, and ``status`` as
+        an array of ``str``.
+
+    Raises
+    ------
+    ParameterError
+        A design that is not a valid robot (names the design's values).
+    """
+    values = np.asarray(values, dtype=np.float64).reshape(len(values), len(evaluator.paths))
+    count = values.shape[0]
+    results = np.full((count, _RESULTS), np.nan)
+    status = np.empty(count, dtype=object)
+    area = np.full(count, np.nan)
+    condition = np.full(count, np.nan)
+    samples = len(evaluator._pose)
+    block = np.empty((8, samples, 3))  # the kernel's outputs, reused by every design
+    out = FastForces(*block)
+    areas: dict[tuple[float, float], float] = {}
+    conditions: dict[float, float] = {}
+    for k in range(count):
+        row = values[k].tolist()
+        try:
+            robot = design_robot(evaluator.nominal, evaluator.paths, row)
+        except ParameterError as error:
+            described = ", ".join(f"{p} = {v!r}" for p, v in zip(evaluator.paths, row, strict=True))
+            raise ParameterError(f"design {described}: {error}") from None
+        status[k], results[k] = _task_results(evaluator, robot, out)
+        if evaluator.workspace and robot.limits.stroke is not None:
+            stroke = robot.limits.stroke
+            if stroke not in areas:  # the area at φ = 0 depends on the stroke alone
+                areas[stroke] = workspace_slice(robot, 0.0, [-1.0, 1.0], [-1.0, 1.0]).area
+            area[k] = areas[stroke]
+            if robot.l0 not in conditions:  # κ depends on l0 and the poses alone
+                conditions[robot.l0] = float(jacobian_condition(robot, evaluator._pose).max())
+            condition[k] = conditions[robot.l0]
+    columns: dict[str, Any] = {path: values[:, j].copy() for j, path in enumerate(evaluator.paths)}
+    columns["status"] = status.astype(str)
+    names = design_columns(evaluator.paths, evaluator.workspace)
+    first = len(evaluator.paths) + 1
+    for j, name in enumerate(names[first : first + _RESULTS]):
+        columns[name] = results[:, j].copy()
+    if evaluator.workspace:
+        columns["workspace_area"] = area
+        columns["max_condition"] = condition
+    return columns
+
+
+def quantity(columns: Mapping[str, Any], name: str) -> FloatArray:
+    """A column of the design table, or an aggregate ``peak_f10`` = max over legs A, B, C.
+
+    Raises
+    ------
+    Prp3Error
+        An unknown name (lists the known ones).
+
+    >>> quantity({"peak_f10_A": np.array([1.0]), "peak_f10_B": np.array([3.0]),
+    ...           "peak_f10_C": np.array([2.0])}, "peak_f10").tolist()
+    [3.0]
+    """
+    if name in AGGREGATES and all(f"{name}_{leg}" in columns for leg in LEGS):
+        return np.asarray(
+            np.max([np.asarray(columns[f"{name}_{leg}"], dtype=np.float64) for leg in LEGS], axis=0)
+        )
+    if name in columns and name != "status":
+        return np.asarray(columns[name], dtype=np.float64)
+    known = [c for c in columns if c != "status"] + [a for a in AGGREGATES if f"{a}_A" in columns]
+    raise Prp3Error(f"unknown column {name!r} (expected one of: {', '.join(known)})")
+
+
+def pareto_front(
+    x: FloatArray, y: FloatArray, *, maximize_x: bool = False, maximize_y: bool = False
+) -> NDArray[np.int64]:
+    """Indices of the non-dominated points of ``(x, y)``, sorted by ``x``.
+
+    A point is dominated when another one is at least as good in both
+    coordinates and better in one (smaller, or larger with ``maximize_*``).
+    NaN points are never on the front.
+
+    >>> pareto_front(np.array([1.0, 2.0, 3.0, 2.5]), np.array([3.0, 1.0, 0.5, 2.0])).tolist()
+    [0, 1, 2]
+    """
+    sx = -np.asarray(x, dtype=np.float64) if maximize_x else np.asarray(x, dtype=np.float64)
+    sy = -np.asarray(y, dtype=np.float64) if maximize_y else np.asarray(y, dtype=np.float64)
+    valid = np.flatnonzero(np.isfinite(sx) & np.isfinite(sy))
+    order = valid[np.lexsort((sy[valid], sx[valid]))]
+    front: list[int] = []
+    best = math.inf
+    for index in order.tolist():
+        if sy[index] < best:
+            front.append(index)
+            best = float(sy[index])
+    result = np.array(front, dtype=np.int64)
+    return result[np.argsort(np.asarray(x, dtype=np.float64)[result], kind="stable")]
+
+
+# ------------------------------------------------------------------ optimization
+#: Objective of an infeasible design: this plus its total relative violation, so that
+#: every feasible design is better and, among infeasible ones, the less violating.
+INFEASIBLE: float = 1e12
+
+
+def penalized_objective(optimize: OptimizeSpec, columns: Mapping[str, Any]) -> FloatArray:
+    """The objective of designs, infeasible ones replaced by ``INFEASIBLE + violation``.
+
+    The violation of a constraint ``low <= q <= high`` is ``(low − q)/|low|`` or
+    ``(q − high)/|high|`` (relative; absolute when the bound is 0); a design
+    whose ``status`` is not ``ok`` has violation ``1000``.
+
+    >>> spec = OptimizeSpec("peak_f10", constraints=(("energy", -math.inf, 2.0),))
+    >>> columns = {"status": np.array(["ok", "ok", "stroke"]), "energy": np.array([1.0, 3.0, 1.0]),
+    ...            **{f"peak_f10_{leg}": np.array([5.0, 4.0, np.nan]) for leg in LEGS}}
+    >>> (penalized_objective(spec, columns) - [0.0, INFEASIBLE, INFEASIBLE]).tolist()
+    [5.0, 0.5, 1000.0]
+    """
+    value = quantity(columns, optimize.objective)
+    violation = np.zeros_like(value)
+    for name, low, high in optimize.constraints:
+        q = quantity(columns, name)
+        with np.errstate(invalid="ignore"):
+            below = np.where(q < low, (low - q) / (abs(low) or 1.0), 0.0)
+            above = np.where(q > high, (q - high) / (abs(high) or 1.0), 0.0)
+        violation += np.where(np.isnan(q), 1.0, below + above)
+    failed = (np.asarray(columns["status"]) != "ok") | ~np.isfinite(value)
+    violation = np.where(failed, 1000.0, violation)
+    return np.asarray(np.where(violation > 0.0, INFEASIBLE + violation, value))
+
+
+@dataclass(frozen=True, eq=False)
+class DesignObjective:
+    """The objective of :func:`penalized_objective` for one design ``x`` (picklable).
+
+    This is the function :func:`scipy.optimize.differential_evolution`
+    minimises; its ``workers`` map calls it on the Dask workers.
+    """
+
+    evaluator: DesignEvaluator
+    optimize: OptimizeSpec
+
+    def __call__(self, x: FloatArray) -> float:
+        """``penalized_objective`` of the design with parameter values ``x`` (shape (p,))."""
+        columns = evaluate_designs(self.evaluator, np.asarray(x, dtype=np.float64)[None, :])
+        return float(penalized_objective(self.optimize, columns)[0])
+
+
+# ------------------------------------------------------------------ SWEEP.toml
+@dataclass(frozen=True)
+class Parameter:
+    """A varied parameter: a ``ROBOT.toml`` key path and its range ``[low, high]``."""
+
+    path: str
+    low: float
+    high: float
+
+
+@dataclass(frozen=True)
+class OptimizeSpec:
+    """The ``[optimize]`` table: objective, constraints and differential-evolution settings.
+
+    Attributes
+    ----------
+    objective : str
+        A column of the design table, or an aggregate (``peak_f10``: max over legs).
+    constraints : tuple of (name, low, high)
+        Each quantity must lie in ``[low, high]`` (``±inf`` when not given).
+    maxiter, popsize : int
+        Generations and population multiplier of
+        :func:`scipy.optimize.differential_evolution`.
+    tol : float
+        Its relative tolerance of convergence.
+    """
+
+    objective: str = "peak_f10"
+    constraints: tuple[tuple[str, float, float], ...] = ()
+    maxiter: int = 30
+    popsize: int = 10
+    tol: float = 0.01
+
+
+@dataclass(frozen=True, eq=False)
+class SweepSpec:
+    """A validated ``SWEEP.toml``.
+
+    Attributes
+    ----------
+    source : str
+        Where it came from (the file, for messages).
+    parameters : tuple of Parameter
+    designs : int
+        Number of designs (``lhs``, ``random``), or points per parameter (``grid``).
+    sampling : str
+        One of :data:`SAMPLINGS`.
+    seed : int
+    chunk : int
+        Designs per Dask task (default :data:`CHUNK_DESIGNS`).
+    motions : tuple of str
+        The task's motion names or trajectory files, as given.
+    samples : int
+        Samples of the paper's motions.
+    evaluator : DesignEvaluator
+        The nominal robot and the task, for the workers.
+    optimize : OptimizeSpec
+    """
+
+    source: str
+    parameters: tuple[Parameter, ...]
+    designs: int
+    sampling: str
+    seed: int
+    chunk: int
+    motions: tuple[str, ...]
+    samples: int
+    evaluator: DesignEvaluator
+    optimize: OptimizeSpec
+
+    @property
+    def paths(self) -> tuple[str, ...]:
+        """Key paths of the parameters."""
+        return tuple(p.path for p in self.parameters)
+
+    @property
+    def count(self) -> int:
+        """Number of rows of the sweep."""
+        return self.designs ** len(self.parameters) if self.sampling == "grid" else self.designs
+
+    @property
+    def bounds(self) -> list[tuple[float, float]]:
+        """``(low, high)`` of every parameter."""
+        return [(p.low, p.high) for p in self.parameters]
+
+    def digest(self) -> str:
+        """SHA-256 of everything the rows depend on (keys the staging folder of a resume)."""
+        hasher = hashlib.sha256()
+        described = {
+            "format": 1,
+            "prp3": __version__,
+            "chunk": self.chunk,
+            "nominal": self.evaluator.nominal,
+            "parameters": [[p.path, p.low, p.high] for p in self.parameters],
+            "designs": self.designs,
+            "sampling": self.sampling,
+            "seed": self.seed,
+            "workspace": self.evaluator.workspace,
+        }
+        hasher.update(json.dumps(described, sort_keys=True).encode())
+        for motion in self.evaluator.motions:
+            for array in (motion.t, motion.pose, motion.velocity, motion.acceleration):
+                hasher.update(np.ascontiguousarray(array, dtype=np.float64).tobytes())
+        return hasher.hexdigest()
+
+
+def read_sweep_spec(path: str | Path) -> SweepSpec:
+    """Read and validate ``SWEEP.toml`` (see :func:`sweep_spec`); errors name the file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except OSError as error:
+        raise InputFileError(f"{path}: cannot read sweep file ({error.strerror})") from None
+    except UnicodeDecodeError:
+        raise InputFileError(f"{path}: sweep file is not UTF-8 text") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        message = str(error)
+        where = re.search(r"\(at line (\d+), column (\d+)\)", message)
+        if where is None:
+            raise InputFileError(f"{path}: invalid TOML: {message}") from None
+        reason = message[: where.start()].rstrip()
+        raise InputFileError(
+            f"{path}:{where.group(1)}:{where.group(2)}: invalid TOML: {reason}"
+        ) from None
+    return sweep_spec(data, base=path.parent, source=str(path))
+
+
+def _integer(source: str, key: str, value: Any, low: int, high: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise ParameterError(
+            f"{source}: {key} must be an integer from {low} to {high}, got {value!r}"
+        )
+    return value
+
+
+def _number(source: str, key: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise ParameterError(f"{source}: {key} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _table(source: str, name: str, value: Any) -> dict[str, Any]:
+    if not isinstance(value, Mapping):
+        raise ParameterError(f"{source}: [{name}] must be a table, got {value!r}")
+    return dict(value)
+
+
+def _unknown(source: str, where: str, table: Mapping[str, Any], allowed: set[str]) -> None:
+    for key in table:
+        if key not in allowed:
+            raise ParameterError(
+                f"{source}: unknown key {where}{key!r} (expected one of: {', '.join(sorted(allowed))})"
+            )
+
+
+def _flatten(table: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
+    """``{"platform": {"mass": [2, 4]}}`` (TOML ``platform.mass = ...``) -> dotted paths."""
+    items: list[tuple[str, Any]] = []
+    for key, value in table.items():
+        path = f"{prefix}{key}"
+        if isinstance(value, Mapping):
+            items += _flatten(value, f"{path}.")
+        else:
+            items.append((path, value))
+    return items
+
+
+def _parameters(
+    source: str, table: Mapping[str, Any], nominal: dict[str, Any]
+) -> tuple[Parameter, ...]:
+    parameters: list[Parameter] = []
+    for path, value in _flatten(table):
+        where = f"{source}: [parameters] {path!r}"
+        if not _PATH.match(path):
+            raise ParameterError(f"{where}: not a key path of ROBOT.toml (like 'platform.mass')")
+        if not isinstance(value, list) or not value:
+            raise ParameterError(
+                f"{where}: the range must be [low, high], got an empty range {value!r}"
+                if isinstance(value, list)
+                else f"{where}: the range must be [low, high], got {value!r}"
+            )
+        if len(value) != 2:
+            raise ParameterError(f"{where}: the range must be [low, high], got {value!r}")
+        low = _number(source, f"[parameters] {path!r} low", value[0])
+        high = _number(source, f"[parameters] {path!r} high", value[1])
+        if low > high:
+            raise ParameterError(f"{where}: low > high in [{low!r}, {high!r}]")
+        if low == high:
+            raise ParameterError(
+                f"{where}: empty range [{low!r}, {high!r}] (low == high): give a fixed value in "
+                "the robot file instead"
+            )
+        for other in parameters:
+            if path.startswith(f"{other.path}.") or other.path.startswith(f"{path}."):
+                raise ParameterError(f"{where}: overlaps the parameter {other.path!r}")
+        for end in (low, high):
+            try:
+                design_robot(nominal, [path], [end])
+            except ParameterError as error:
+                reason = re.sub(r"^robot: ", "", str(error))
+                raise ParameterError(f"{where} = {end!r}: {reason}") from None
+        parameters.append(Parameter(path, low, high))
+    if not parameters:
+        raise ParameterError(
+            f"{source}: [parameters] must give at least one key path = [low, high]"
+        )
+    return tuple(parameters)
+
+
+def _motions(
+    source: str, base: Path, task: Mapping[str, Any]
+) -> tuple[tuple[str, ...], int, tuple[Motion, ...]]:
+    _unknown(source, "task.", task, {"motions", "samples"})
+    names = task.get("motions", ["vertical", "rotation"])
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
+        raise ParameterError(
+            f"{source}: task.motions must be a non-empty list of paper motions "
+            f"({', '.join(PAPER_MOTIONS)}) or TRAJ.csv paths, got {names!r}"
+        )
+    samples = _integer(source, "task.samples", task.get("samples", 301), 2, MAX_SAMPLES)
+    motions: list[Motion] = []
+    for name in names:
+        if name in PAPER_MOTIONS:
+            motions.append(paper_motion(name, samples))
+        else:
+            file = Path(name) if Path(name).is_absolute() else base / name
+            try:
+                motions.append(read_trajectory(file).motion)
+            except Prp3Error as error:
+                raise type(error)(f"{source}: task.motions {name!r}: {error}") from None
+    return tuple(names), samples, tuple(motions)
+
+
+def _optimize(source: str, table: Mapping[str, Any], columns: Sequence[str]) -> OptimizeSpec:
+    _unknown(source, "optimize.", table, {"objective", "constraints", "maxiter", "popsize", "tol"})
+    known = {c for c in columns if c != "status"} | set(AGGREGATES)
+
+    def name_of(key: str, value: Any) -> str:
+        if not isinstance(value, str) or value not in known:
+            raise ParameterError(
+                f"{source}: {key}: unknown quantity {value!r} (expected one of: {', '.join(sorted(known))})"
+            )
+        return value
+
+    objective = name_of("optimize.objective", table.get("objective", "peak_f10"))
+    constraints: list[tuple[str, float, float]] = []
+    for key, bounds in _table(source, "optimize.constraints", table.get("constraints", {})).items():
+        name = name_of("optimize.constraints", key)
+        where = f"optimize.constraints.{key}"
+        bounds = _table(source, where, bounds)
+        _unknown(source, f"{where}.", bounds, {"min", "max"})
+        if not bounds:
+            raise ParameterError(f"{source}: {where} must give min and/or max")
+        low = _number(source, f"{where}.min", bounds["min"]) if "min" in bounds else -math.inf
+        high = _number(source, f"{where}.max", bounds["max"]) if "max" in bounds else math.inf
+        if low > high:
+            raise ParameterError(f"{source}: {where}: min > max ({low!r} > {high!r})")
+        constraints.append((name, low, high))
+    tol = _number(source, "optimize.tol", table.get("tol", 0.01))
+    if not tol > 0.0:
+        raise ParameterError(f"{source}: optimize.tol must be positive, got {tol!r}")
+    return OptimizeSpec(
+        objective=objective,
+        constraints=tuple(constraints),
+        maxiter=_integer(source, "optimize.maxiter", table.get("maxiter", 30), 1, 100_000),
+        popsize=_integer(source, "optimize.popsize", table.get("popsize", 10), 1, 10_000),
+        tol=tol,
+    )
+
+
+def sweep_spec(
+    data: Mapping[str, Any], *, base: str | Path = ".", source: str = "SWEEP.toml"
+) -> SweepSpec:
+    """Validate the mapping of a ``SWEEP.toml``; paths in it are relative to ``base``.
+
+    Raises
+    ------
+    ParameterError, InputFileError, TrajectoryError
+        One line naming ``source``, the key and the value: an unknown key or
+        key path, ``low > high``, an empty range, an unknown sampling, a
+        missing robot or trajectory file, too many designs, ...
+    """
+    base = Path(base)
+    _unknown(source, "", data, _TOP_KEYS)
+    robot_file = data.get("robot")
+    if robot_file is None:
+        robot = Robot()
+    elif isinstance(robot_file, str) and robot_file:
+        file = Path(robot_file) if Path(robot_file).is_absolute() else base / robot_file
+        try:
+            robot = Robot.from_toml(file)
+        except Prp3Error as error:
+            raise type(error)(f"{source}: robot {robot_file!r}: {error}") from None
+    else:
+        raise ParameterError(
+            f"{source}: robot must be the path of a ROBOT.toml, got {robot_file!r}"
+        )
+    nominal: dict[str, Any] = tomllib.loads(robot.to_toml())
+    if "limits" in data:
+        limits = _table(source, "limits", data["limits"])
+        nominal["limits"] = {**nominal.get("limits", {}), **limits}
+        try:
+            Robot.from_mapping(nominal)
+        except ParameterError as error:
+            raise ParameterError(
+                f"{source}: [limits]: {re.sub(r'^robot: ', '', str(error))}"
+            ) from None
+    sampling = data.get("sampling", "lhs")
+    if sampling not in SAMPLINGS:
+        raise ParameterError(
+            f"{source}: unknown sampling {sampling!r} (expected one of: {', '.join(SAMPLINGS)})"
+        )
+    designs = _integer(
+        source, "designs", data.get("designs", 100), 2 if sampling == "grid" else 1, MAX_DESIGNS
+    )
+    seed = _integer(source, "seed", data.get("seed", 0), 0, 2**63 - 1)
+    parameters = _parameters(
+        source, _table(source, "parameters", data.get("parameters", {})), nominal
+    )
+    if sampling == "grid" and designs ** len(parameters) > MAX_DESIGNS:
+        raise ParameterError(
+            f"{source}: a grid of {designs} points per parameter over {len(parameters)} "
+            f"parameters has {designs}^{len(parameters)} designs, more than {MAX_DESIGNS}"
+        )
+    names, samples, motions = _motions(source, base, _table(source, "task", data.get("task", {})))
+    workspace = "stroke" in nominal.get("limits", {})
+    paths = tuple(p.path for p in parameters)
+    evaluator = DesignEvaluator(nominal=nominal, paths=paths, motions=motions, workspace=workspace)
+    optimize = _optimize(
+        source, _table(source, "optimize", data.get("optimize", {})), evaluator.columns
+    )
+    return SweepSpec(
+        source=source,
+        parameters=parameters,
+        designs=designs,
+        sampling=sampling,
+        seed=seed,
+        chunk=_integer(source, "chunk", data.get("chunk", CHUNK_DESIGNS), 1, 1_000_000),
+        motions=names,
+        samples=samples,
+        evaluator=evaluator,
+        optimize=optimize,
+    )
+
+
+def design_values(spec: SweepSpec) -> FloatArray:
+    """The designs of a sweep, shape ``(count, p)``, in the order they are generated.
+
+    ``grid``: full factorial with ``designs`` points per parameter, ends
+    included, the first parameter varying slowest; ``lhs``: a Latin hypercube
+    (:class:`scipy.stats.qmc.LatinHypercube`, ``seed``); ``random``: uniform
+    (:func:`numpy.random.default_rng`, ``seed``).
+    """
+    low = np.array([p.low for p in spec.parameters])
+    high = np.array([p.high for p in spec.parameters])
+    dims = len(spec.parameters)
+    if spec.sampling == "grid":
+        axes = [np.linspace(p.low, p.high, spec.designs) for p in spec.parameters]
+        mesh = np.meshgrid(*axes, indexing="ij")
+        return np.stack([m.reshape(-1) for m in mesh], axis=-1)
+    if spec.sampling == "lhs":
+        from scipy.stats import qmc
+
+        unit = qmc.LatinHypercube(d=dims, rng=np.random.default_rng(spec.seed)).random(spec.designs)
+    else:
+        unit = np.random.default_rng(spec.seed).random((spec.designs, dims))
+    return np.asarray(low + unit * (high - low))

@@ -1,0 +1,560 @@
+"""Sweeps and optimizations of designs on Dask, with the results in Parquet.
+
+:func:`run_sweep` evaluates the designs of a :class:`~prp3.design.SweepSpec`
+in chunks of ``chunk`` designs (:data:`~prp3.design.CHUNK_DESIGNS` by default), one
+``dask.distributed`` task per chunk (:func:`prp3.design.evaluate_designs`),
+and writes ``designs.parquet``: one row per design, in the order the designs
+are generated, whatever the number of workers.
+
+Resuming: every finished chunk is written at once, whole or not at all, to a
+staging folder ``DIR/.prp3-sweep-<digest>`` named by the SHA-256 of
+everything the rows depend on (:meth:`~prp3.design.SweepSpec.digest`: the
+nominal robot, the parameters, the sampling, the task's samples).  A sweep
+that was interrupted and is run again with the same spec computes only the
+chunks the folder lacks; then the chunks are joined in order into one
+Parquet file, written atomically, and the folder is removed.  The Parquet
+file is the same, byte for byte, as the one of an uninterrupted run.  Its
+key-value metadata holds the digest, the spec and the row of the nominal
+design (``prp3.*`` keys; :func:`read_designs`).
+
+:func:`optimize_design` minimises an objective under constraints
+(:func:`prp3.design.penalized_objective`) with
+:func:`scipy.optimize.differential_evolution`, the population of every
+generation evaluated on the Dask workers through its ``workers`` map
+(:class:`DaskMap`).
+
+dask and pyarrow are imported inside the functions (the ``design`` extra).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import itertools
+import json
+import logging
+import math
+import os
+import re
+import shutil
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .design import (
+    INFEASIBLE,
+    DesignEvaluator,
+    DesignObjective,
+    SweepSpec,
+    design_values,
+    evaluate_designs,
+    nominal_value,
+)
+from .errors import InputFileError, OutputFileError, Prp3Error
+from .io import atomic_path, check_output_directory
+
+if TYPE_CHECKING:
+    from dask.distributed import Client
+
+__all__ = [
+    "CONNECT_TIMEOUT",
+    "DESIGNS_FILE",
+    "DaskMap",
+    "DesignTable",
+    "OptimizeOutcome",
+    "SweepRun",
+    "dask_client",
+    "optimize_design",
+    "read_designs",
+    "run_sweep",
+    "staging_folder",
+]
+
+FloatArray = NDArray[np.float64]
+Progress = Callable[[int, int], None]
+
+#: Name of the sweep's output file in its directory.
+DESIGNS_FILE: str = "designs.parquet"
+
+#: Seconds to wait for an existing scheduler (an unreachable one is reported within 10 s).
+CONNECT_TIMEOUT: float = 5.0
+
+#: No dashboard, and the scheduler's HTTP server (metrics) on a free port, not 8787.
+QUIET_SCHEDULER: dict[str, Any] = {"dashboard": False, "dashboard_address": ":0"}
+
+#: Rows per Parquet row group of ``designs.parquet``.
+ROW_GROUP: int = 65_536
+
+
+# ------------------------------------------------------------------ cluster
+@contextlib.contextmanager
+def dask_client(workers: int | None = None, scheduler: str | None = None) -> Iterator[Client]:
+    """A ``dask.distributed`` client: of an existing scheduler, or of a new LocalCluster.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Worker processes of the LocalCluster (one thread each); default: the
+        machine's cores.  Ignored with ``scheduler``.
+    scheduler : str, optional
+        Address ``tcp://HOST:PORT`` of a running scheduler.
+
+    Raises
+    ------
+    Prp3Error
+        The scheduler cannot be reached within :data:`CONNECT_TIMEOUT` seconds
+        or its address is malformed (names the address).
+    """
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
+        except (OSError, TimeoutError, ValueError, TypeError) as error:
+            reason = re.sub(r"\s+", " ", str(error)).strip() or type(error).__name__
+            raise Prp3Error(
+                f"--scheduler {scheduler}: cannot reach the Dask scheduler within "
+                f"{CONNECT_TIMEOUT:g} s ({reason[:200]})"
+            ) from None
+        with client:
+            yield client
+        return
+    with (
+        LocalCluster(
+            n_workers=workers or os.cpu_count() or 1,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            scheduler_kwargs=QUIET_SCHEDULER,
+            silence_logs=logging.ERROR,
+        ) as cluster,
+        Client(cluster, set_as_default=False) as client,
+    ):
+        yield client
+
+
+def _worker_count(client: Client) -> int:
+    return max(1, len(client.scheduler_info().get("workers", {})))
+
+
+# ------------------------------------------------------------------ Parquet
+def _arrow_table(columns: dict[str, Any], names: Sequence[str]) -> Any:
+    import pyarrow as pa
+
+    arrays = [
+        pa.array(np.asarray(columns[name]).tolist(), type=pa.string())
+        if name == "status"
+        else pa.array(np.asarray(columns[name], dtype=np.float64), type=pa.float64())
+        for name in names
+    ]
+    return pa.Table.from_arrays(arrays, names=list(names))
+
+
+@dataclass(frozen=True)
+class DesignTable:
+    """``designs.parquet`` read back.
+
+    Attributes
+    ----------
+    columns : dict
+        Column name -> ndarray (float64; ``status`` of str).
+    parameters : tuple of str
+        Key paths of the varied parameters (the first columns).
+    nominal : dict
+        The row of the nominal design (parameter values NaN when the nominal
+        robot does not give them).
+    digest : str
+        The sweep's digest.
+    """
+
+    columns: dict[str, Any]
+    parameters: tuple[str, ...]
+    nominal: dict[str, Any]
+    digest: str
+
+    @property
+    def rows(self) -> int:
+        """Number of designs."""
+        return len(self.columns["status"])
+
+
+def read_designs(path: str | Path) -> DesignTable:
+    """Read ``designs.parquet`` written by :func:`run_sweep`.
+
+    Raises
+    ------
+    InputFileError
+        Unreadable file, not Parquet, or not written by ``prp3 sweep`` (names the file).
+    """
+    import pyarrow.parquet as pq
+
+    path = Path(path)
+    try:
+        table = pq.read_table(path)
+    except (OSError, ValueError) as error:
+        reason = re.sub(r"\s+", " ", str(error)).strip()[:200]
+        raise InputFileError(f"{path}: cannot read a Parquet file ({reason})") from None
+    metadata = table.schema.metadata or {}
+    try:
+        parameters = tuple(json.loads(metadata[b"prp3.parameters"]))
+        nominal = json.loads(metadata[b"prp3.nominal"])
+        digest = metadata[b"prp3.digest"].decode()
+    except (KeyError, ValueError):
+        raise InputFileError(
+            f"{path}: not a designs file of prp3 sweep (no prp3 metadata)"
+        ) from None
+    columns: dict[str, Any] = {}
+    for name in table.column_names:
+        column = table.column(name)
+        if name == "status":
+            columns[name] = np.array(column.to_pylist(), dtype=str)
+        else:
+            columns[name] = np.asarray(column.to_numpy(), dtype=np.float64)
+    return DesignTable(columns=columns, parameters=parameters, nominal=nominal, digest=digest)
+
+
+def nominal_row(spec: SweepSpec) -> dict[str, Any]:
+    """The row of the nominal robot itself (parameter values as it gives them, else NaN)."""
+    evaluator = spec.evaluator
+    alone = DesignEvaluator(
+        nominal=evaluator.nominal,
+        paths=(),
+        motions=evaluator.motions,
+        workspace=evaluator.workspace,
+    )
+    columns = evaluate_designs(alone, np.zeros((1, 0)))
+    row: dict[str, Any] = {}
+    for path in spec.paths:
+        value = nominal_value(evaluator.nominal, path)
+        row[path] = math.nan if value is None else value
+    row |= {name: (str(v[0]) if name == "status" else float(v[0])) for name, v in columns.items()}
+    return row
+
+
+def _metadata(spec: SweepSpec) -> dict[bytes, bytes]:
+    described = {
+        "source": spec.source,
+        "parameters": {p.path: [p.low, p.high] for p in spec.parameters},
+        "designs": spec.designs,
+        "sampling": spec.sampling,
+        "seed": spec.seed,
+        "motions": list(spec.motions),
+        "samples": spec.samples,
+    }
+    return {
+        b"prp3.digest": spec.digest().encode(),
+        b"prp3.parameters": json.dumps(list(spec.paths)).encode(),
+        b"prp3.nominal": json.dumps(nominal_row(spec)).encode(),
+        b"prp3.spec": json.dumps(described).encode(),
+    }
+
+
+# ------------------------------------------------------------------ sweep
+@dataclass(frozen=True)
+class SweepRun:
+    """What :func:`run_sweep` did.
+
+    Attributes
+    ----------
+    path : Path
+        ``DIR/designs.parquet``.
+    rows : int
+        Designs in it.
+    chunks : int
+        Chunks of the sweep.
+    computed : int
+        Chunks computed by this run (the others were found in the staging
+        folder of an interrupted run, or the file was complete already).
+    status : dict
+        Number of designs per status.
+    """
+
+    path: Path
+    rows: int
+    chunks: int
+    computed: int
+    status: dict[str, int] = field(default_factory=dict)
+
+
+def staging_folder(output: str | Path, spec: SweepSpec) -> Path:
+    """The staging folder of the chunks of ``spec`` in ``output``."""
+    return Path(output) / f".prp3-sweep-{spec.digest()[:20]}"
+
+
+def _chunk_file(staging: Path, index: int) -> Path:
+    return staging / f"chunk-{index:07d}.parquet"
+
+
+def _chunk_ok(path: Path, rows: int, names: Sequence[str]) -> bool:
+    import pyarrow.parquet as pq
+
+    try:
+        meta = pq.read_metadata(path)
+    except (OSError, ValueError):
+        return False
+    return bool(meta.num_rows == rows and list(meta.schema.names) == list(names))
+
+
+def run_sweep(
+    spec: SweepSpec,
+    output: str | Path,
+    client: Callable[[], contextlib.AbstractContextManager[Client]],
+    *,
+    progress: Progress | None = None,
+) -> SweepRun:
+    """Evaluate every design of ``spec`` and write ``output/designs.parquet``.
+
+    Parameters
+    ----------
+    spec : SweepSpec
+    output : path
+        Output directory, created when missing.
+    client : callable
+        Makes the Dask client as a context manager (e.g.
+        ``lambda: dask_client(2)``); called only when some chunk is missing.
+    progress : callable, optional
+        ``progress(chunks_done, chunks)``.
+
+    Raises
+    ------
+    OutputFileError
+        The directory cannot be written.
+    ParameterError
+        A design that is not a valid robot.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    output = Path(output)
+    check_output_directory(output)
+    target = output / DESIGNS_FILE
+    digest = spec.digest()
+    names = spec.evaluator.columns
+    if target.is_file():
+        with contextlib.suppress(InputFileError):
+            done = read_designs(target)
+            if done.digest == digest:
+                return _summary(target, done.columns, 0, spec)
+    values = design_values(spec)
+    count = len(values)
+    starts = list(range(0, count, spec.chunk))
+    staging = staging_folder(output, spec)
+    try:
+        staging.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise OutputFileError(f"{staging}: cannot create ({error.strerror})") from None
+    rows = [min(spec.chunk, count - start) for start in starts]
+    missing = [
+        i
+        for i, start in enumerate(starts)
+        if not _chunk_ok(_chunk_file(staging, i), rows[i], names)
+    ]
+    finished = len(starts) - len(missing)
+    if progress is not None:
+        progress(finished, len(starts))
+    if missing:
+        with client() as dask:
+            finished = _compute_chunks(
+                dask,
+                spec.chunk,
+                spec.evaluator,
+                values,
+                starts,
+                missing,
+                staging,
+                names,
+                finished,
+                progress,
+            )
+    schema = pa.schema(
+        [(n, pa.string() if n == "status" else pa.float64()) for n in names],
+        metadata=_metadata(spec),
+    )
+    with atomic_path(target) as temporary:
+        with pq.ParquetWriter(temporary, schema) as writer:
+            group: list[Any] = []
+            grouped = 0
+            for i in range(len(starts)):
+                part = pq.read_table(_chunk_file(staging, i)).replace_schema_metadata(
+                    schema.metadata
+                )
+                group.append(part)
+                grouped += part.num_rows
+                if grouped >= ROW_GROUP or i == len(starts) - 1:
+                    writer.write_table(pa.concat_tables(group), row_group_size=ROW_GROUP)
+                    group, grouped = [], 0
+    shutil.rmtree(staging, ignore_errors=True)
+    return _summary(target, read_designs(target).columns, len(missing), spec)
+
+
+def _compute_chunks(
+    dask: Client,
+    chunk: int,
+    evaluator: DesignEvaluator,
+    values: FloatArray,
+    starts: list[int],
+    missing: list[int],
+    staging: Path,
+    names: Sequence[str],
+    finished: int,
+    progress: Progress | None,
+) -> int:
+    """Run the missing chunks on Dask, a bounded window of them at a time; write each one."""
+    import pyarrow.parquet as pq
+    from dask.distributed import as_completed
+
+    shared = dask.scatter(evaluator, broadcast=True, hash=False)
+    window = 4 * _worker_count(dask) + 4
+    pending = iter(missing)
+    index_of: dict[Any, int] = {}
+
+    def submit(index: int) -> Any:
+        part = values[starts[index] : starts[index] + chunk]
+        future = dask.submit(evaluate_designs, shared, part, pure=False)
+        index_of[future.key] = index
+        return future
+
+    queue = as_completed([submit(i) for i in itertools.islice(pending, window)], loop=dask.loop)
+    for future in queue:
+        index = index_of.pop(future.key)
+        columns = future.result()
+        with atomic_path(_chunk_file(staging, index)) as temporary:
+            pq.write_table(_arrow_table(columns, names), temporary)
+        finished += 1
+        if progress is not None:
+            progress(finished, len(starts))
+        following = next(pending, None)
+        if following is not None:
+            queue.add(submit(following))
+        del future
+    return finished
+
+
+def _summary(path: Path, columns: dict[str, Any], computed: int, spec: SweepSpec) -> SweepRun:
+    statuses, counts = np.unique(np.asarray(columns["status"]), return_counts=True)
+    chunks = -(-spec.count // spec.chunk)
+    return SweepRun(
+        path=path,
+        rows=len(columns["status"]),
+        chunks=chunks,
+        computed=computed,
+        status={str(s): int(c) for s, c in zip(statuses, counts, strict=True)},
+    )
+
+
+# ------------------------------------------------------------------ optimization
+class DaskMap:
+    """A ``map(func, iterable)`` for ``differential_evolution(workers=...)`` on Dask.
+
+    The members of a generation are split into one part per worker, each
+    evaluated by a Dask task; every evaluation is recorded in :attr:`history`
+    as ``(generation, x, value)``.
+    """
+
+    def __init__(self, client: Client) -> None:
+        self.client = client
+        self.generation = 0
+        self.history: list[tuple[int, FloatArray, float]] = []
+
+    def __call__(self, func: Callable[[Any], float], iterable: Iterable[Any]) -> list[float]:
+        """Evaluate ``func`` on every member of ``iterable`` on the workers, in order."""
+        members = [np.asarray(x, dtype=np.float64) for x in iterable]
+        parts = max(1, min(len(members), _worker_count(self.client)))
+        split = [list(part) for part in np.array_split(np.arange(len(members)), parts)]
+        futures = [
+            self.client.submit(_apply, func, [members[k] for k in part], pure=False)
+            for part in split
+            if part
+        ]
+        values = [v for part in self.client.gather(futures) for v in part]
+        for x, value in zip(members, values, strict=True):
+            self.history.append((self.generation, x, float(value)))
+        self.generation += 1
+        return values
+
+
+def _apply(func: Callable[[Any], float], members: list[FloatArray]) -> list[float]:
+    return [float(func(x)) for x in members]
+
+
+@dataclass(frozen=True)
+class OptimizeOutcome:
+    """Result of :func:`optimize_design`.
+
+    Attributes
+    ----------
+    x : ndarray (p,)
+        Parameter values of the best design.
+    objective : float
+        Its objective (``>= INFEASIBLE`` when no feasible design was found).
+    feasible : bool
+    row : dict
+        Its row of the design table (every column).
+    generations, evaluations : int
+    message : str
+        scipy's message.
+    history : dict
+        Columns ``generation``, the parameters, ``objective`` (NaN when
+        infeasible), ``violation`` (0 when feasible) of every evaluation.
+    """
+
+    x: FloatArray
+    objective: float
+    feasible: bool
+    row: dict[str, Any]
+    generations: int
+    evaluations: int
+    message: str
+    history: dict[str, FloatArray]
+
+
+def optimize_design(spec: SweepSpec, client: Client) -> OptimizeOutcome:
+    """Minimise ``spec.optimize.objective`` subject to its constraints over the parameter ranges.
+
+    :func:`scipy.optimize.differential_evolution` (``best1bin``, Latin-hypercube
+    initial population, ``rng = seed``, no polishing, deferred updating) with
+    the population of each generation evaluated on the Dask workers.
+    Infeasible designs (a failed task or a violated constraint) get the
+    objective ``INFEASIBLE + violation`` (:func:`prp3.design.penalized_objective`).
+    """
+    from scipy.optimize import differential_evolution
+
+    settings = spec.optimize
+    objective = DesignObjective(spec.evaluator, settings)
+    mapper = DaskMap(client)
+    result = differential_evolution(
+        objective,
+        spec.bounds,
+        maxiter=settings.maxiter,
+        popsize=settings.popsize,
+        tol=settings.tol,
+        rng=spec.seed,
+        polish=False,
+        init="latinhypercube",
+        updating="deferred",
+        workers=mapper,
+    )
+    x = np.asarray(result.x, dtype=np.float64)
+    columns = evaluate_designs(spec.evaluator, x[None, :])
+    row = {name: (str(v[0]) if name == "status" else float(v[0])) for name, v in columns.items()}
+    generation = np.array([g for g, _, _ in mapper.history], dtype=np.float64)
+    xs = np.array([x for _, x, _ in mapper.history]).reshape(-1, len(spec.paths))
+    value = np.array([v for _, _, v in mapper.history])
+    feasible = value < INFEASIBLE
+    history: dict[str, FloatArray] = {"generation": generation}
+    history |= {path: xs[:, j] for j, path in enumerate(spec.paths)}
+    history["objective"] = np.where(feasible, value, np.nan)
+    history["violation"] = np.where(feasible, 0.0, value - INFEASIBLE)
+    return OptimizeOutcome(
+        x=x,
+        objective=float(result.fun),
+        feasible=bool(result.fun < INFEASIBLE),
+        row=row,
+        generations=int(result.nit),
+        evaluations=int(result.nfev),
+        message=str(result.message),
+        history=history,
+    )

@@ -1,0 +1,380 @@
+"""``prp3 sweep`` / ``prp3 optimize`` on Dask, results in Parquet (issue 13).
+
+The expected numbers come from ``prp3 simulate``'s ``results.csv`` read back
+here (not from the sweep's code), from brute force, or from the robot file
+the optimizer wrote.  One in-process Dask cluster serves the module; one
+test starts a real cluster of 2 worker processes.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+pytest.importorskip("distributed")
+pa = pytest.importorskip("pyarrow")
+pq = pytest.importorskip("pyarrow.parquet")
+
+import prp3  # noqa: E402
+import prp3.sweep  # noqa: E402
+from prp3.cli import main  # noqa: E402
+from prp3.design import (  # noqa: E402
+    design_robot,
+    design_values,
+    evaluate_designs,
+    pareto_front,
+    read_sweep_spec,
+    sweep_spec,
+)
+
+LEGS = "ABC"
+GRID = """\
+designs = 3
+sampling = "grid"
+[parameters]
+"platform.mass" = [2.0, 4.0]
+[task]
+motions = ["vertical", "rotation"]
+"""
+#: 4 chunks, the last one partial; few samples, so that it is quick.
+LHS = """\
+designs = 67
+chunk = 20
+sampling = "lhs"
+seed = 7
+[parameters]
+l0 = [0.25, 0.35]
+platform.mass = [2.0, 4.0]
+"limits.stroke.1" = [0.03, 0.09]
+[limits]
+stroke = [-0.06, 0.06]
+[task]
+motions = ["vertical", "rotation"]
+samples = 21
+"""
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """Address of an in-process Dask cluster (1 worker thread) shared by the module."""
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(
+        n_workers=1,
+        threads_per_worker=1,
+        processes=False,
+        dashboard_address=None,
+        scheduler_kwargs=prp3.sweep.QUIET_SCHEDULER,
+    ) as cluster:
+        yield cluster.scheduler_address
+
+
+def cli(capsys, *argv) -> tuple[int, str, str]:
+    try:
+        status = main([str(a) for a in argv])
+    except SystemExit as exit_:
+        status = int(exit_.code or 0)
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def write(path: Path, text: str) -> Path:
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def read_results(path: Path) -> dict[str, np.ndarray]:
+    with path.open(newline="") as stream:
+        rows = list(csv.reader(stream))
+    values = np.array([[float(v) for v in row] for row in rows[1:]])
+    return {name: values[:, j] for j, name in enumerate(rows[0])}
+
+
+def test_grid_row_of_the_paper_robot_equals_simulate_on_both_motions(tmp_path, capsys, scheduler):
+    spec = write(tmp_path / "sweep.toml", GRID)
+    status, out, err = cli(
+        capsys, "sweep", "--spec", spec, "--output", tmp_path / "s", "--scheduler", scheduler
+    )
+    assert (status, err) == (0, ""), err  # not a terminal: no progress bar
+    assert "3 ok" in out
+    table = pq.read_table(tmp_path / "s" / "designs.parquet").to_pydict()
+    assert table["platform.mass"] == [2.0, 3.0, 4.0]
+    assert table["status"] == ["ok"] * 3
+    row = 1
+    expected: dict[str, float] = {}
+    energy = 0.0
+    for motion in ("vertical", "rotation"):
+        assert cli(capsys, "simulate", "--motion", motion, "--output", tmp_path / motion)[0] == 0
+        results = read_results(tmp_path / motion / "results.csv")
+        for leg in LEGS:
+            peaks = {
+                "f10": np.abs(results[f"f10_{leg}"]).max(),
+                "p10": np.abs(results[f"p10_{leg}"]).max(),
+                "f21": np.sqrt(results[f"f21y_{leg}"] ** 2 + results[f"f21z_{leg}"] ** 2).max(),
+                "n32": np.abs(results[f"n32_{leg}"]).max(),
+            }
+            for name, value in peaks.items():
+                key = f"peak_{name}_{leg}"
+                expected[key] = max(expected.get(key, -math.inf), float(value))
+        power = sum(results[f"p10_{leg}"] for leg in LEGS)
+        energy += float(np.trapezoid(power, results["t"]))
+    for key, value in expected.items():
+        assert table[key][row] == pytest.approx(value, rel=1e-12, abs=0.0), key
+    assert table["energy"][row] == pytest.approx(energy, rel=1e-12)
+
+
+def _digest_bytes(path: Path) -> bytes:
+    return (path / "designs.parquet").read_bytes()
+
+
+def test_one_or_two_workers_and_an_interrupted_run_give_the_same_file(
+    tmp_path, capsys, scheduler, monkeypatch
+):
+    spec = write(tmp_path / "sweep.toml", LHS)
+    assert (
+        cli(capsys, "sweep", "--spec", spec, "-o", tmp_path / "one", "--scheduler", scheduler)[0]
+        == 0
+    )
+    status, out, err = cli(capsys, "sweep", "--spec", spec, "-o", tmp_path / "two", "--workers", 2)
+    assert status == 0, err
+    assert _digest_bytes(tmp_path / "one") == _digest_bytes(tmp_path / "two")
+
+    # interrupted after two chunks: the staging folder keeps them, no designs.parquet
+    written = []
+    original = prp3.sweep._arrow_table
+
+    def interrupt(columns, names):
+        if len(written) == 2:
+            raise KeyboardInterrupt
+        written.append(len(columns["status"]))
+        return original(columns, names)
+
+    monkeypatch.setattr(prp3.sweep, "_arrow_table", interrupt)
+    args = ("sweep", "--spec", spec, "-o", tmp_path / "cut", "--scheduler", scheduler)
+    status, out, err = cli(capsys, *args)
+    assert status == 130 and "interrupted" in err
+    assert not (tmp_path / "cut" / "designs.parquet").exists()
+    staged = sorted(p.name for p in (tmp_path / "cut").glob(".prp3-sweep-*/*.parquet"))
+    assert len(staged) == 2
+    monkeypatch.setattr(prp3.sweep, "_arrow_table", original)
+    status, out, err = cli(capsys, *args)
+    assert status == 0, err
+    assert "2 of 4 chunks computed, 2 found done" in out
+    assert _digest_bytes(tmp_path / "cut") == _digest_bytes(tmp_path / "one")
+    assert not list((tmp_path / "cut").glob(".prp3-sweep-*"))
+    # once complete, the same command computes nothing and keeps the file
+    status, out, err = cli(capsys, *args)
+    assert status == 0 and "0 of 4 chunks computed" in out
+    assert _digest_bytes(tmp_path / "cut") == _digest_bytes(tmp_path / "one")
+
+    # rows in generation order, each one the design's own evaluation
+    table = pq.read_table(tmp_path / "two" / "designs.parquet").to_pydict()
+    values = design_values(read_sweep_spec(spec))
+    assert np.array_equal(
+        np.column_stack([table[p] for p in ("l0", "platform.mass", "limits.stroke.1")]), values
+    )
+    statuses = set(table["status"])
+    assert statuses == {"ok", "stroke"}  # short strokes cannot do the vertical motion (0.05 m)
+    for k in (0, len(values) - 1):
+        robot = design_robot(
+            {"limits": {"stroke": [-0.06, 0.06]}},
+            ["l0", "platform.mass", "limits.stroke.1"],
+            values[k],
+        )
+        motions = [prp3.paper_motion(m, 21) for m in ("vertical", "rotation")]
+        try:
+            f10 = max(float(np.abs(prp3.inverse_dynamics(robot, m)[1].f10).max()) for m in motions)
+        except prp3.UnreachablePoseError:
+            assert table["status"][k] == "stroke" and math.isnan(table["peak_f10_A"][k])
+            continue
+        assert table["status"][k] == "ok"
+        assert max(table[f"peak_f10_{leg}"][k] for leg in LEGS) == pytest.approx(f10, rel=1e-12)
+
+
+def test_workspace_area_and_condition_columns(tmp_path):
+    spec = sweep_spec(
+        {
+            "designs": 2,
+            "sampling": "grid",
+            "parameters": {"limits": {"stroke": {"1": [0.05, 0.1]}}, "l0": [0.2, 0.4]},
+            "limits": {"stroke": [-0.05, 0.05]},
+            "task": {"motions": ["rotation"], "samples": 11},
+        }
+    )
+    columns = evaluate_designs(spec.evaluator, design_values(spec))
+    # symmetric stroke ±s at φ = 0: a regular hexagon of circumradius s (workspace docs)
+    hexagon = 1.5 * math.sqrt(3.0) * 0.05**2
+    assert columns["workspace_area"][0] == pytest.approx(hexagon, rel=1e-12)
+    assert columns["workspace_area"][2] > hexagon  # a longer upper stroke
+    poses = prp3.paper_motion("rotation", 11).pose
+    for k, l0 in enumerate(design_values(spec)[:, 1]):
+        robot = prp3.Robot(l0=float(l0))
+        assert columns["max_condition"][k] == float(prp3.jacobian_condition(robot, poses).max())
+
+
+def test_failing_designs_are_rows_with_their_status(tmp_path):
+    t = np.linspace(0.0, 1.0, 5)
+    phi = np.array([0.0, 0.5, math.pi / 3.0, 0.5, 0.0])
+    lines = ["t,x,y,phi"] + [
+        f"{float(a)!r},0.0,0.0,{float(b)!r}" for a, b in zip(t, phi, strict=True)
+    ]
+    write(tmp_path / "singular.csv", "\n".join(lines) + "\n")
+    singular = sweep_spec(
+        {"designs": 3, "parameters": {"l0": [0.2, 0.4]}, "task": {"motions": ["singular.csv"]}},
+        base=tmp_path,
+    )
+    columns = evaluate_designs(singular.evaluator, design_values(singular))
+    assert columns["status"].tolist() == ["singular"] * 3
+    assert np.isnan(columns["peak_f10_A"]).all() and np.isnan(columns["energy"]).all()
+    stroke = sweep_spec(
+        {
+            "designs": 2,
+            "sampling": "grid",
+            "parameters": {"limits.stroke.1": [0.01, 0.1]},
+            "limits": {"stroke": [-0.1, 0.1]},
+            "task": {"motions": ["vertical"], "samples": 11},
+        }
+    )
+    columns = evaluate_designs(stroke.evaluator, design_values(stroke))
+    assert columns["status"].tolist() == ["stroke", "ok"]
+    assert math.isnan(columns["peak_p10_B"][0]) and columns["peak_p10_B"][1] > 0.0
+
+
+def test_key_paths_are_generic_and_the_platform_inertia_follows_mass_and_l0():
+    nominal = {"l0": 0.3, "link": {"com": [0.0, 0.0]}}
+    robot = design_robot(nominal, ["link.com.1", "platform.mass", "l0"], [0.01, 2.0, 0.4])
+    assert robot.link.com == (0.0, 0.01) and robot.platform.mass == 2.0
+    assert robot.platform_inertia == pytest.approx(2.0 * (0.4 * math.sqrt(3.0)) ** 2 / 12.0)
+    given = design_robot({"platform": {"inertia": 0.05}}, ["platform.mass"], [2.0])
+    assert given.platform_inertia == 0.05
+    assert nominal == {"l0": 0.3, "link": {"com": [0.0, 0.0]}}  # not changed
+    with pytest.raises(prp3.ParameterError, match="unknown key 'payload'"):
+        design_robot({}, ["payload.mass"], [1.0])  # a table the robot does not know (yet)
+
+
+@given(
+    st.lists(
+        st.tuples(st.integers(0, 6).map(float), st.integers(0, 6).map(float)),
+        min_size=1,
+        max_size=30,
+    ),
+    st.booleans(),
+)
+def test_pareto_front_is_the_set_of_non_dominated_points(points, maximize_x):
+    x, y = (np.array(v) for v in zip(*points, strict=True))
+    front = set(pareto_front(x, y, maximize_x=maximize_x).tolist())
+    sx = -x if maximize_x else x
+    for i in range(len(x)):
+        dominated = any(
+            sx[j] <= sx[i] and y[j] <= y[i] and (sx[j] < sx[i] or y[j] < y[i])
+            for j in range(len(x))
+        )
+        duplicate_before = any(sx[j] == sx[i] and y[j] == y[i] for j in range(i))
+        assert (i in front) == (not dominated and not duplicate_before)
+
+
+BAD_INPUTS = [
+    ('[parameters]\n"platfrom.mass" = [2.0, 4.0]\n', "unknown key 'platfrom'"),
+    ('[parameters]\n"platform.mass" = [4.0, 2.0]\n', "low > high"),
+    ('[parameters]\n"platform.mass" = []\n', "empty range"),
+    ('[parameters]\n"platform.mass" = [2.0, 2.0]\n', "empty range"),
+    ('sampling = "sobol"\n[parameters]\nl0 = [0.2, 0.4]\n', "unknown sampling 'sobol'"),
+    (
+        '[parameters]\nl0 = [0.2, 0.4]\n[task]\nmotions = ["vertical", "missing.csv"]\n',
+        "missing.csv",
+    ),
+    ('[parameters]\n"platform.mass" = [-1.0, 2.0]\n', "platform.mass"),
+    ("designs = 0\n[parameters]\nl0 = [0.2, 0.4]\n", "designs"),
+    ('[parameters]\nl0 = [0.2, 0.4]\n[optimize]\nobjective = "peak_f99"\n', "peak_f99"),
+    ("[parameters\n", "invalid TOML"),
+]
+
+
+@pytest.mark.parametrize(("text", "fragment"), BAD_INPUTS)
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, text, fragment):
+    spec = write(tmp_path / "sweep.toml", text)
+    for command in ("sweep", "optimize"):
+        status, out, err = cli(capsys, command, "--spec", spec, "--output", tmp_path / "out")
+        assert status == 2 and out == ""
+        assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+        assert err.startswith("prp3: error: ") and fragment in err, err
+        assert str(spec) in err or (fragment == "low > high" and "sweep.toml" in err)
+        assert not (tmp_path / "out").exists()
+
+
+def test_an_unreachable_scheduler_is_reported_within_10_s(tmp_path, capsys, monkeypatch):
+    assert prp3.sweep.CONNECT_TIMEOUT <= 5.0  # the default leaves time to start and report
+    monkeypatch.setattr(prp3.sweep, "CONNECT_TIMEOUT", 1.0)  # the same path, sooner
+    spec = write(tmp_path / "sweep.toml", GRID)
+    start = time.monotonic()
+    status, _out, err = cli(
+        capsys, "sweep", "--spec", spec, "-o", tmp_path / "out", "--scheduler", "tcp://127.0.0.1:9"
+    )
+    assert time.monotonic() - start < 10.0
+    assert status == 2 and len(err.strip().splitlines()) == 1
+    assert "tcp://127.0.0.1:9" in err and "cannot reach the Dask scheduler" in err
+    assert not (tmp_path / "out" / "designs.parquet").exists()
+
+
+def test_optimize_writes_the_best_design_and_its_history(tmp_path, capsys, scheduler):
+    spec = write(
+        tmp_path / "synthesis.toml",
+        """\
+seed = 3
+[parameters]
+"link.mass" = [0.3, 1.0]
+"limits.stroke.1" = [0.03, 0.12]
+[limits]
+stroke = [-0.08, 0.08]
+[task]
+motions = ["vertical"]
+samples = 31
+[optimize]
+objective = "peak_f10"
+maxiter = 8
+popsize = 5
+[optimize.constraints]
+workspace_area = { min = 0.02 }
+""",
+    )
+    status, out, err = cli(
+        capsys, "optimize", "--spec", spec, "-o", tmp_path / "best", "--scheduler", scheduler
+    )
+    assert status == 0, err
+    robot = prp3.Robot.from_toml(tmp_path / "best" / "ROBOT.toml")
+    history = read_results(tmp_path / "best" / "history.csv")
+    feasible = np.isfinite(history["objective"])
+    assert feasible.any() and (history["violation"][~feasible] > 0).all()
+    # the written robot: its own peak force (inverse dynamics) is the best of the history
+    motion = prp3.paper_motion("vertical", 31)
+    best = float(np.abs(prp3.inverse_dynamics(robot, motion)[1].f10).max())
+    assert best == pytest.approx(history["objective"][feasible].min(), rel=1e-12)
+    assert f"best peak_f10 = {best:.9g}" in out
+    area = prp3.workspace_slice(robot, 0.0, [-1.0, 1.0], [-1.0, 1.0]).area
+    assert area >= 0.02
+    assert robot.platform.mass == 3.0 and robot.limits.stroke[0] == -0.08
+
+
+def test_plots_from_the_designs_file(tmp_path, capsys, scheduler):
+    spec = write(tmp_path / "sweep.toml", LHS)
+    status, _out, err = cli(
+        capsys, "sweep", "--spec", spec, "-o", tmp_path / "s", "--scheduler", scheduler,
+        "--plots", "--pareto", "workspace_area,peak_f21:min",
+    )  # fmt: skip
+    assert status == 0, err
+    from PIL import Image
+
+    for name in ("pareto.png", "sensitivity.png"):
+        with Image.open(tmp_path / "s" / name) as image:
+            assert image.size[0] > 400
+    status, _out, err = cli(
+        capsys, "sweep", "--spec", spec, "-o", tmp_path / "s", "--pareto", "energy,bogus"
+    )
+    assert status == 2 and "unknown column 'bogus'" in err
