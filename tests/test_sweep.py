@@ -304,7 +304,7 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, text, fragment):
         status, out, err = cli(capsys, command, "--spec", spec, "--output", tmp_path / "out")
         assert status == 2 and out == ""
         assert "Traceback" not in err and len(err.strip().splitlines()) == 1
-        assert err.startswith("prp3: error: ") and fragment in err, err
+        assert err.startswith(f"prp3 {command}: error: ") and fragment in err, err
         assert str(spec) in err or (fragment == "low > high" and "sweep.toml" in err)
         assert not (tmp_path / "out").exists()
 

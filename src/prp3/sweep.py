@@ -28,6 +28,7 @@ dask and pyarrow are imported inside the functions (the ``design`` extra).
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import itertools
 import json
@@ -112,8 +113,10 @@ def dask_client(workers: int | None = None, scheduler: str | None = None) -> Ite
 
     if scheduler is not None:
         try:
+            if not scheduler.startswith("inproc://"):  # in-process: nothing to probe
+                asyncio.run(asyncio.wait_for(_probe(scheduler), CONNECT_TIMEOUT))
             client = Client(scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
-        except (OSError, TimeoutError, ValueError, TypeError) as error:
+        except (Exception, MemoryError) as error:  # whatever the other end does
             reason = re.sub(r"\s+", " ", str(error)).strip() or type(error).__name__
             raise Prp3Error(
                 f"--scheduler {scheduler}: cannot reach the Dask scheduler within "
@@ -134,6 +137,25 @@ def dask_client(workers: int | None = None, scheduler: str | None = None) -> Ite
         Client(cluster, set_as_default=False) as client,
     ):
         yield client
+
+
+async def _probe(address: str) -> None:
+    """Ask ``address`` who it is; raise unless a Dask scheduler answers.
+
+    A client that connects to something else (a web server, a closed port
+    behind a firewall) could wait, or allocate what a garbled reply asks for,
+    before it fails; this fails first.
+    """
+    from distributed.comm.core import connect
+
+    comm = await connect(address, timeout=CONNECT_TIMEOUT)
+    try:
+        await comm.write({"op": "identity", "reply": True})
+        reply = await comm.read()
+    finally:
+        comm.abort()
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        raise ValueError(f"it answered as {str(reply)[:80]!r}, not as a Dask scheduler")
 
 
 def _worker_count(client: Client) -> int:

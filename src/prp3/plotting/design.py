@@ -38,15 +38,17 @@ LABELS: dict[str, str] = {
 def label(name: str) -> str:
     """Axis label of a column.
 
-    >>> label("peak_f10_A"), label("platform.mass")
-    ('peak_f10_A (N)', 'platform.mass')
+    >>> label("peak_f10_A"), label("platform.mass"), label("limits.stroke.1"), label("gravity.1")
+    ('peak_f10_A (N)', 'platform.mass (kg)', 'limits.stroke.1 (m)', 'gravity.1')
     """
     if name in LABELS:
         return LABELS[name]
     for prefix, unit in (("peak_f", "N"), ("peak_p", "W"), ("peak_n", "N")):
         if name.startswith(prefix):
             return f"{name} ({unit})"
-    return name
+    last = [part for part in name.split(".") if not part.isdigit()][-1]
+    units = {"mass": "kg", "inertia": "kg·m²", "com": "m", "stroke": "m", "viscous": "", "mu": ""}
+    return f"{name} ({units[last]})" if units.get(last) else name
 
 
 def _ok(columns: Mapping[str, Any]) -> np.ndarray:
@@ -61,6 +63,7 @@ def pareto_figure(
     maximize_x: bool = False,
     maximize_y: bool = False,
     nominal: Mapping[str, Any] | None = None,
+    marks: Mapping[str, Mapping[str, Any]] | None = None,
     title: str = "",
 ) -> Figure:
     """Every design as a point of ``(x, y)``, the Pareto front drawn over them.
@@ -75,6 +78,8 @@ def pareto_figure(
         Whether larger is better on that axis (default: smaller is better).
     nominal : mapping, optional
         The row of the nominal design, marked with a star.
+    marks : mapping of str to mapping, optional
+        Other rows to mark (e.g. an optimum), by legend label.
     """
     from matplotlib.figure import Figure
 
@@ -93,12 +98,12 @@ def pareto_figure(
         xs[front], ys[front], "-o", color="tab:blue", markersize=4, lw=1.5,
         label=f"Pareto front ({len(front)})",
     )  # fmt: skip
-    if nominal is not None:
-        nx, ny = (
-            float(quantity({k: np.array([v]) for k, v in nominal.items()}, n)[0]) for n in (x, y)
-        )
+    shown = ({"nominal design": nominal} if nominal is not None else {}) | dict(marks or {})
+    styles = (("*", "tab:red", 14), ("D", "tab:green", 8), ("s", "k", 8), ("^", "tab:purple", 8))
+    for (text, row), (marker, colour, size) in zip(shown.items(), styles, strict=False):
+        nx, ny = (float(quantity({k: np.array([v]) for k, v in row.items()}, n)[0]) for n in (x, y))
         if np.isfinite(nx) and np.isfinite(ny):
-            axes.plot(nx, ny, "*", color="tab:red", markersize=14, label="nominal design", zorder=5)
+            axes.plot(nx, ny, marker, color=colour, markersize=size, label=text, zorder=5)
     failed = int((~ok).sum())
     if failed:
         axes.plot([], [], " ", label=f"{failed} designs fail the task (not drawn)")
