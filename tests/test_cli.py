@@ -26,6 +26,7 @@ import pytest
 import prp3
 from prp3.cli import main
 from prp3.cli.simulate import Progress, simulate_table
+from prp3.io import MANIFEST_NAME
 
 #: The contract's columns (docs/model.md), written out here rather than imported.
 PER_LEG = (
@@ -101,7 +102,7 @@ def test_vertical_motion_writes_the_contract_columns_and_301_samples(tmp_path, c
     assert len(table["t"]) == 301
     assert table["t"][0] == 0.0 and table["t"][-1] == 3.0
     np.testing.assert_allclose(table["y"], 0.025 * (1 - np.cos(W * table["t"])), atol=1e-15)
-    assert sorted(p.name for p in (tmp_path / "o").iterdir()) == ["results.csv"]
+    assert sorted(p.name for p in (tmp_path / "o").iterdir()) == [MANIFEST_NAME, "results.csv"]
 
 
 def test_results_are_written_with_full_precision(tmp_path, capsys):
@@ -267,7 +268,7 @@ def test_plots_of_the_paper_motions(tmp_path, capsys):
             "--plots",
         )
         assert status == 0
-        names = sorted(p.name for p in out_dir.iterdir())
+        names = sorted(p.name for p in out_dir.iterdir() if p.name != MANIFEST_NAME)
         assert names == sorted([*figures, "f10.png", "lambda10.png", "results.csv"])
         for name in names[:-1]:
             assert (out_dir / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -285,8 +286,8 @@ def test_plots_and_animation_of_a_trajectory(tmp_path, capsys):
     )  # fmt: skip
     assert status == 0
     assert sorted(p.name for p in out_dir.iterdir()) == [
-        "f10.png", "f21y.png", "f21z.png", "lambda10.png", "mechanism.gif", "p10.png",
-        "results.csv",
+        MANIFEST_NAME, "f10.png", "f21y.png", "f21z.png", "lambda10.png", "mechanism.gif",
+        "p10.png", "results.csv",
     ]  # fmt: skip
     from PIL import Image
 
@@ -325,7 +326,7 @@ def test_reruns_replace_the_files_of_the_same_name(tmp_path, capsys):
     cli(capsys, "simulate", "--motion", "vertical", "--samples", "9", "-o", tmp_path)
     _, table = read_results(tmp_path / "results.csv")
     assert len(table["t"]) == 9
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["results.csv"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [MANIFEST_NAME, "results.csv"]
 
 
 # ---------------------------------------------------------------- progress bar

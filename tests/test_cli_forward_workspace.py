@@ -88,6 +88,7 @@ def test_workspace_writes_grid_scan_and_map(
     )
     assert status == 0, stderr
     assert sorted(p.name for p in out.iterdir()) == [
+        ".prp3-manifest.json",
         "orientations.csv",
         "workspace.csv",
         "workspace.png",

@@ -16,9 +16,11 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+import prp3.io as prp3_io
 from prp3.errors import InputFileError, OutputFileError, TrajectoryError
 from prp3.io import (
     DERIVATIVE_COLUMNS,
+    MANIFEST_NAME,
     POSITION_COLUMNS,
     atomic_path,
     atomic_writer,
@@ -58,15 +60,22 @@ def test_write_table_csv_round_trips_every_float_exactly(tmp_path_factory, rows)
     assert back[:, 1].tobytes() == b.tobytes()
 
 
-def test_write_table_csv_streams_in_blocks_and_reports_progress(tmp_path):
-    rows = 45_000  # more than two blocks of 20 000 rows
+@pytest.mark.parametrize("arrow", [False, True], ids=["python", "pyarrow"])
+def test_write_table_csv_streams_in_blocks_and_reports_progress(tmp_path, monkeypatch, arrow):
+    if arrow:
+        pytest.importorskip("pyarrow")
+        block = prp3_io._ARROW_ROWS_PER_BLOCK
+    else:
+        monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
+        block = prp3_io._ROWS_PER_BLOCK
+    rows = 2 * block + 5_000  # more than two blocks
     t = np.arange(rows) * 0.5
     reports: list[tuple[int, int]] = []
     write_table_csv(tmp_path / "big.csv", {"t": t}, progress=lambda d, n: reports.append((d, n)))
     lines = (tmp_path / "big.csv").read_text().splitlines()
     assert len(lines) == rows + 1
     assert lines[1] == "0.0" and lines[-1] == repr((rows - 1) * 0.5)
-    assert reports == [(20_000, rows), (40_000, rows), (rows, rows)]
+    assert reports == [(block, rows), (2 * block, rows), (rows, rows)]
 
 
 def test_written_files_get_the_umask_permissions_not_mkstemps_0600(tmp_path):
@@ -277,7 +286,7 @@ def test_staged_output_moves_every_file_in_together(tmp_path):
         staged.path("one.txt").write_text("1")
         staged.path("two.txt").write_text("2")
         assert listing(out) != ["one.txt", "two.txt"]  # not there before the end
-    assert listing(out) == ["one.txt", "two.txt"]
+    assert listing(out) == [MANIFEST_NAME, "one.txt", "two.txt"]
     assert staged.written == [out / "one.txt", out / "two.txt"]
 
 

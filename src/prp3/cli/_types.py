@@ -16,11 +16,13 @@ import math
 from collections.abc import Callable
 from pathlib import Path
 
+from ..io import MANIFEST_NAME, StagedOutput
 from ..model import Robot
 
 __all__ = [
     "add_output_directory",
     "add_robot_option",
+    "files_report",
     "finite_float",
     "integer_at_least",
     "load_robot",
@@ -116,3 +118,24 @@ def add_output_directory(parser: argparse.ArgumentParser) -> None:
         required=True,
         help="output directory, created if missing; files of the same name are replaced",
     )
+
+
+def files_report(staged: StagedOutput) -> list[str]:
+    """The lines of a summary that say which files a run wrote and removed.
+
+    The files of an earlier run in the same folder (its manifest,
+    ``DIR/.prp3-manifest.json``) that this run did not write again are removed
+    and listed; those changed since are kept and listed.
+    """
+    lines = ["files written:", *(f"  {path}" for path in staged.written)]
+    if staged.removed:
+        lines += [
+            f"files removed (an earlier run wrote them, {MANIFEST_NAME}; not written again):",
+            *(f"  {path}" for path in staged.removed),
+        ]
+    if staged.kept:
+        lines += [
+            "files kept (an earlier run wrote them, but they have changed since):",
+            *(f"  {path}" for path in staged.kept),
+        ]
+    return lines

@@ -48,6 +48,7 @@ from ..results import RESULT_COLUMNS, results_table
 from ._types import (
     add_output_directory,
     add_robot_option,
+    files_report,
     finite_float,
     integer_at_least,
     load_robot,
@@ -272,7 +273,7 @@ def run(args: argparse.Namespace) -> int:
         write_table_csv(staged.path("results.csv"), table)
         write_table_csv(staged.path("trajectory.csv"), trajectory)
 
-    print(_summary(given, result, pose, velocity, staged.written), file=sys.stdout)
+    print(_summary(given, result, pose, velocity, files_report(staged)), file=sys.stdout)
     if result.status != "completed":
         print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED
@@ -284,7 +285,7 @@ def _summary(
     result: ForwardDynamics,
     pose: FloatArray,
     velocity: FloatArray,
-    written: list[Path],
+    files: list[str],
 ) -> str:
     kind = "results.csv" if given.results else "force table"
     motion = result.motion
@@ -298,7 +299,6 @@ def _summary(
         f"{result.force_residual:.3g} N",
         f"  final pose x = {motion.pose[-1, 0]:.9g} m, y = {motion.pose[-1, 1]:.9g} m, "
         f"phi = {motion.pose[-1, 2]:.9g} rad",
-        "files written:",
-        *(f"  {path}" for path in written),
+        *files,
     ]
     return "\n".join(lines)

@@ -4,9 +4,10 @@ The command implements the data contract of ``docs/model.md``::
 
     prp3 simulate [--robot ROBOT.toml] (--motion vertical|rotation | --trajectory TRAJ.csv)
                   [--samples N] [--method paper|newton-euler] --output DIR
-                  [--plots] [--animate] [--frames N]
+                  [--format csv|parquet] [--plots] [--animate] [--frames N]
 
-Everything is computed before anything is written; the output files are
+``--format parquet`` writes ``DIR/results.parquet`` (the same columns, float64)
+instead of ``DIR/results.csv``.  Everything is computed before anything is written; the output files are
 written into a staging folder inside ``DIR`` and moved in place together only
 when all of them are complete, so a failed run leaves no output behind (and
 no older output changed).  A summary of the run goes to stdout; warnings, the
@@ -35,16 +36,25 @@ from ..io import (
     Trajectory,
     check_inputs_kept,
     check_output_directory,
+    parquet_available,
     read_trajectory,
     staged_output,
     write_table_csv,
+    write_table_parquet,
 )
 from ..kinematics import inverse_kinematics
 from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from ..results import RESULT_COLUMNS, results_table
-from ._types import add_output_directory, add_robot_option, integer_at_least, load_robot, path_name
+from ._types import (
+    add_output_directory,
+    add_robot_option,
+    files_report,
+    integer_at_least,
+    load_robot,
+    path_name,
+)
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -64,6 +74,9 @@ DEFAULT_SAMPLES: int = 301
 
 #: Samples computed at a time (bounds the memory of big runs; drives the progress bar).
 CHUNK_SAMPLES: int = 50_000
+
+#: File formats of the results (``--format``) and the file each writes.
+FORMATS: tuple[str, ...] = ("csv", "parquet")
 
 #: Name of the animation file written by ``--animate``.
 ANIMATION_NAME: str = "mechanism.gif"
@@ -257,7 +270,7 @@ def summarize(table: Mapping[str, FloatArray]) -> RunSummary:
     )
 
 
-def _summary_text(summary: RunSummary, heading: str, written: list[Path]) -> str:
+def _summary_text(summary: RunSummary, heading: str, files: list[str]) -> str:
     def row(label: str, values: FloatArray, extra: str = "") -> str:
         return f"  {label:<16}" + "".join(f"{v:>14.6g}" for v in values.tolist()) + extra
 
@@ -268,8 +281,7 @@ def _summary_text(summary: RunSummary, heading: str, written: list[Path]) -> str
         row("peak |p10| (W)", summary.peak_p10),
         row("peak |f21| (N)", summary.peak_f21),
         row("energy (J)", summary.energy, f"   total {summary.total_energy:.6g} J"),
-        "files written:",
-        *(f"  {path}" for path in written),
+        *files,
     ]
     return "\n".join(lines)
 
@@ -322,6 +334,14 @@ def register(subparsers: Any) -> None:
     )
     add_output_directory(parser)
     parser.add_argument(
+        "--format",
+        choices=FORMATS,
+        default="csv",
+        help="file format of the results: csv (DIR/results.csv, the default) or parquet "
+        "(DIR/results.parquet: the same columns as float64; needs pyarrow, the extra "
+        "prp3[parquet])",
+    )
+    parser.add_argument(
         "--plots",
         action="store_true",
         help="also write PNG figures: p10, f21y, f21z (the paper's Figs. 3-5 or 6-8), "
@@ -360,8 +380,14 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
             "--frames out"
         )
     frames: int = args.frames if args.frames is not None else MAX_FRAMES
+    results_name = f"results.{args.format}"
+    if args.format == "parquet" and not parquet_available():
+        raise Prp3Error(
+            "--format parquet needs pyarrow, which is not installed: "
+            "pip install 'prp3[parquet]' (or pyarrow), or leave --format out for CSV"
+        )
     check_output_directory(output)
-    check_inputs_kept(output, ("results.csv",), (args.trajectory, args.robot))
+    check_inputs_kept(output, (results_name,), (args.trajectory, args.robot))
     robot = load_robot(args)
     trajectory: Trajectory | None = None
     if args.trajectory is not None:
@@ -393,7 +419,11 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
 
     trajectory_file = str(trajectory.path) if trajectory is not None else None
     with staged_output(output) as staged:
-        write_table_csv(staged.path("results.csv"), table, progress=progress.stage("results.csv"))
+        if args.format == "parquet":
+            progress.update(results_name, 0, 1)
+            write_table_parquet(staged.path(results_name), table)
+        else:
+            write_table_csv(staged.path(results_name), table, progress=progress.stage(results_name))
         if args.plots:
             from ..plotting.figures import results_figures, save_figure
 
@@ -426,7 +456,7 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
             )
     progress.close()
 
-    print(_summary_text(summary, heading, staged.written), file=stdout)
+    print(_summary_text(summary, heading, files_report(staged)), file=stdout)
     limit = robot.limits.max_force
     if limit is not None:
         for j, leg in enumerate(LEGS):

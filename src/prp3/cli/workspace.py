@@ -36,6 +36,7 @@ from ..workspace import (
 from ._types import (
     add_output_directory,
     add_robot_option,
+    files_report,
     finite_float,
     integer_at_least,
     load_robot,
@@ -223,12 +224,12 @@ def run(args: argparse.Namespace) -> int:
         write_table_csv(staged.path("orientations.csv"), _scan_table(scan))
         save_workspace_map(staged.path("workspace.png"), robot, ws, scan)
 
-    print(_summary(robot, ws, (low, high), staged.written), file=sys.stdout)
+    print(_summary(robot, ws, (low, high), files_report(staged)), file=sys.stdout)
     return 0
 
 
 def _summary(
-    robot: Robot, ws: WorkspaceSlice, phi_range: tuple[float, float], written: list[Path]
+    robot: Robot, ws: WorkspaceSlice, phi_range: tuple[float, float], files: list[str]
 ) -> str:
     stroke = robot.limits.stroke
     lines = [
@@ -257,5 +258,5 @@ def _summary(
         f"  singular points at this phi: none (|sin(phi - pi/3)| = {abs(ws.determinant):.6g}); "
         "singular orientations: phi = pi/3 mod pi"
     )
-    lines += ["files written:", *(f"  {path}" for path in written)]
+    lines += files
     return "\n".join(lines)

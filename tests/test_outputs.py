@@ -1,0 +1,261 @@
+"""Output folders and result files: the manifest, CSV text byte for byte, Parquet.
+
+* A run keeps a manifest of the files it wrote (``DIR/.prp3-manifest.json``);
+  the next run into the same folder removes those it does not write again,
+  and nothing else: never a file the user added, changed or replaced.
+* The CSV text is ``repr`` of every float, whichever writer makes it (Arrow's
+  shortest round-trip conversion re-laid out, or Python's ``repr``): held
+  byte for byte against text built here with ``repr``.
+* ``--format parquet`` writes the same columns as float64.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import prp3.cli.simulate as simulate_cli
+import prp3.io as prp3_io
+from prp3.cli import main
+from prp3.errors import OutputFileError
+from prp3.io import MANIFEST_NAME, format_floats, staged_output, write_table_csv
+from prp3.results import RESULT_COLUMNS
+
+PAPER_FIGURES = ["fig3_p10.png", "fig4_f21y.png", "fig5_f21z.png", "f10.png", "lambda10.png"]
+
+
+def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
+    try:
+        status = main([str(a) for a in argv])
+    except SystemExit as exit_:
+        status = int(exit_.code or 0)
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def names(folder: Path) -> list[str]:
+    return sorted(p.name for p in folder.iterdir())
+
+
+# ---------------------------------------------------------------- the manifest
+def test_a_new_run_removes_its_own_stale_files_and_nothing_else(tmp_path, capsys):
+    # was: the vertical run's Figs. 3-5 stayed beside a later rotation run's results
+    out = tmp_path / "out"
+    status, _, _ = cli(capsys, "simulate", "--motion", "vertical", "--samples", "7",
+                       "-o", out, "--plots")  # fmt: skip
+    assert status == 0
+    assert names(out) == sorted([MANIFEST_NAME, "results.csv", *PAPER_FIGURES])
+    (out / "notes.txt").write_text("mine")  # the user's own file
+    (out / "f10.png").write_bytes(b"edited by the user")  # changed since prp3 wrote it
+    status, report, _ = cli(capsys, "simulate", "--motion", "rotation", "--samples", "7", "-o", out)
+    assert status == 0
+    assert names(out) == [MANIFEST_NAME, "f10.png", "notes.txt", "results.csv"]
+    assert (out / "notes.txt").read_text() == "mine"
+    assert (out / "f10.png").read_bytes() == b"edited by the user"
+    removed = report.split("files removed", 1)[1].split("files kept", 1)[0].splitlines()[1:]
+    assert sorted(removed) == sorted(
+        f"  {out / name}" for name in PAPER_FIGURES if name != "f10.png"
+    )
+    assert (
+        f"files kept (an earlier run wrote them, but they have changed since):\n  {out / 'f10.png'}"
+        in report
+    )
+    manifest = json.loads((out / MANIFEST_NAME).read_text())
+    assert list(manifest["files"]) == ["results.csv"]
+    assert manifest["files"]["results.csv"]["size"] == (out / "results.csv").stat().st_size
+
+
+def test_a_file_of_the_same_name_rewritten_is_not_removed_twice(tmp_path, capsys):
+    out = tmp_path / "out"
+    for samples in (5, 9):
+        assert (
+            cli(capsys, "simulate", "--motion", "vertical", "--samples", samples, "-o", out)[0] == 0
+        )
+    status, report, _ = cli(capsys, "simulate", "--motion", "vertical", "-o", out)
+    assert status == 0 and "files removed" not in report
+    assert names(out) == [MANIFEST_NAME, "results.csv"]
+
+
+def test_parquet_after_csv_removes_the_csv(tmp_path, capsys):
+    pytest.importorskip("pyarrow")
+    out = tmp_path / "out"
+    assert cli(capsys, "simulate", "--motion", "vertical", "--samples", "5", "-o", out)[0] == 0
+    status, report, _ = cli(capsys, "simulate", "--motion", "vertical", "--samples", "5",
+                            "-o", out, "--format", "parquet")  # fmt: skip
+    assert status == 0
+    assert names(out) == [MANIFEST_NAME, "results.parquet"]
+    assert (
+        f"files removed (an earlier run wrote them, {MANIFEST_NAME}; not written again):\n  {out / 'results.csv'}"
+        in report
+    )
+
+
+def test_a_failed_run_removes_nothing(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert (
+        cli(capsys, "simulate", "--motion", "vertical", "--samples", "5", "-o", out, "--plots")[0]
+        == 0
+    )
+    before = {name: (out / name).read_bytes() for name in names(out)}
+    traj = tmp_path / "singular.csv"
+    traj.write_text("t,x,y,phi\n0,0,0,0\n0.1,0,0,0.5\n0.2,0,0,1.0471975511965976\n")
+    status, _, _ = cli(capsys, "simulate", "--trajectory", traj, "-o", out)
+    assert status == 2
+    assert {name: (out / name).read_bytes() for name in names(out)} == before
+
+
+def test_a_manifest_never_removes_anything_outside_its_folder_or_not_a_regular_file(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    outside = tmp_path / "precious.txt"
+    outside.write_text("keep")
+    (out / "sub").mkdir()
+    (out / "sub" / "inner.txt").write_text("keep")
+    (out / "link.txt").symlink_to(outside)
+    stamp = {"size": 4, "mtime_ns": outside.stat().st_mtime_ns}
+    forged = {
+        "files": {
+            "../precious.txt": stamp,
+            str(outside): stamp,
+            "sub/inner.txt": {
+                "size": 4,
+                "mtime_ns": (out / "sub" / "inner.txt").stat().st_mtime_ns,
+            },
+            "sub": {"size": 0, "mtime_ns": 0},
+            "link.txt": stamp,
+            "..": stamp,
+            MANIFEST_NAME: stamp,
+        }
+    }
+    (out / MANIFEST_NAME).write_text(json.dumps(forged))
+    with staged_output(out) as staged:
+        staged.path("new.txt").write_text("new")
+    assert staged.removed == []
+    assert outside.read_text() == "keep" and (out / "sub" / "inner.txt").read_text() == "keep"
+    assert (out / "link.txt").is_symlink()
+    assert names(out) == [MANIFEST_NAME, "link.txt", "new.txt", "sub"]
+
+
+@pytest.mark.parametrize(
+    "text", ["", "not json", "[1, 2]", '{"files": [1]}', '{"files": {"a.txt": {"size": "4"}}}',
+             '{"files": {"a.txt": {"size": true, "mtime_ns": 1}}}', "[" * 100_000]
+)  # fmt: skip
+def test_a_malformed_manifest_counts_as_nothing_written(tmp_path, text):
+    (tmp_path / "a.txt").write_text("user")
+    (tmp_path / MANIFEST_NAME).write_text(text)
+    with staged_output(tmp_path) as staged:
+        staged.path("b.txt").write_text("b")
+    assert staged.removed == [] and (tmp_path / "a.txt").read_text() == "user"
+    assert json.loads((tmp_path / MANIFEST_NAME).read_text())["files"].keys() == {"b.txt"}
+
+
+# ---------------------------------------------------------------- CSV text
+SPECIAL = [
+    0.0, -0.0, 5e-324, -5e-324, 2.2250738585072014e-308, 2.225073858507201e-308,
+    1.7976931348623157e308, 1e300, 1e-300, 1e16, 9999999999999998.0, 1e15, 1.5e15,
+    123456789012345.6, 1e-4, 9.999999999999999e-05, 1e-5, -1e-5, 1.2e-5, 1e-7, 1.5e-8,
+    1e-9, 9.99999999999e-10, 1e-10, 3.0, -7.0, 2.0**53, 2.0**60, 1e22, 0.1, 1 / 3,
+    math.nan, math.inf, -math.inf, 1234.5, 100.0, 1e-6, 0.5e-4,
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("arrow", [False, True], ids=["python", "pyarrow"])
+def test_format_floats_is_repr_for_special_and_random_doubles(monkeypatch, arrow):
+    if arrow:
+        pytest.importorskip("pyarrow")
+    else:
+        monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
+    rng = np.random.default_rng(20261201)
+    bits = rng.integers(0, 2**64, 200_000, dtype=np.uint64).view(np.float64)  # every exponent
+    scaled = rng.standard_normal(200_000) * 10.0 ** rng.integers(-12, 20, 200_000)
+    for values in (np.array(SPECIAL), bits, scaled, np.zeros(3), -np.zeros(3), np.arange(5.0)):
+        assert format_floats(values) == [repr(v) for v in values.tolist()]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(
+        st.floats(allow_nan=True, allow_infinity=True, allow_subnormal=True),
+        min_size=1,
+        max_size=200,
+    )
+)
+def test_format_floats_is_repr_for_any_floats(values):
+    assert format_floats(np.array(values, dtype=np.float64)) == [repr(float(v)) for v in values]
+
+
+def _random_table(rows: int) -> dict[str, np.ndarray]:
+    rng = np.random.default_rng(7)
+    table = {
+        "t": np.arange(rows) * 1e-3,
+        "small": rng.standard_normal(rows) * 1e-6,
+        "big": rng.standard_normal(rows) * 1e17,
+        "bits": rng.integers(0, 2**64, rows, dtype=np.uint64).view(np.float64),
+        "zero": np.zeros(rows),
+    }
+    table["zero"][1::3] = -0.0
+    return table
+
+
+@pytest.mark.parametrize("arrow", [False, True], ids=["python", "pyarrow"])
+def test_write_table_csv_writes_repr_text_byte_for_byte(tmp_path, monkeypatch, arrow):
+    if arrow:
+        pytest.importorskip("pyarrow")
+    else:
+        monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
+    table = _random_table(2 * prp3_io._ARROW_ROWS_PER_BLOCK + 17)
+    write_table_csv(tmp_path / "a.csv", table)
+    columns = list(table.values())
+    expected = (
+        ",".join(table)
+        + "\n"
+        + "".join(
+            ",".join(repr(float(column[k])) for column in columns) + "\n"
+            for k in range(len(columns[0]))
+        )
+    )
+    assert (tmp_path / "a.csv").read_bytes() == expected.encode("ascii")
+
+
+# ---------------------------------------------------------------- Parquet
+def test_simulate_parquet_has_the_csv_columns_as_float64(tmp_path, capsys):
+    pq = pytest.importorskip("pyarrow.parquet")
+    assert (
+        cli(capsys, "simulate", "--motion", "rotation", "--samples", "31", "-o", tmp_path / "c")[0]
+        == 0
+    )
+    status, report, _ = cli(capsys, "simulate", "--motion", "rotation", "--samples", "31",
+                            "-o", tmp_path / "p", "--format", "parquet")  # fmt: skip
+    assert status == 0 and f"  {tmp_path / 'p' / 'results.parquet'}" in report
+    data = pq.read_table(tmp_path / "p" / "results.parquet")
+    assert data.column_names == list(RESULT_COLUMNS)
+    assert all(str(field.type) == "double" for field in data.schema)
+    with open(tmp_path / "c" / "results.csv", newline="") as stream:
+        rows = list(csv.reader(stream))
+    from_csv = np.array(rows[1:], dtype=np.float64)
+    from_parquet = np.column_stack([data.column(name).to_numpy() for name in RESULT_COLUMNS])
+    assert from_parquet.tobytes() == from_csv.tobytes()  # the same doubles, bit for bit
+
+
+def test_parquet_without_pyarrow_is_refused_before_anything_runs(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(simulate_cli, "parquet_available", lambda: False)
+    status, out, err = cli(capsys, "simulate", "--motion", "vertical", "-o", tmp_path / "o",
+                           "--format", "parquet")  # fmt: skip
+    assert (status, out) == (2, "")
+    assert err == (
+        "prp3 simulate: error: --format parquet needs pyarrow, which is not installed: "
+        "pip install 'prp3[parquet]' (or pyarrow), or leave --format out for CSV\n"
+    )
+    assert not (tmp_path / "o").exists()
+    monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
+    with pytest.raises(OutputFileError, match="writing Parquet needs pyarrow"):
+        prp3_io.write_table_parquet(tmp_path / "x.parquet", {"t": np.zeros(2)})
+    assert not os.path.exists(tmp_path / "x.parquet")
