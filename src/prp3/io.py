@@ -274,6 +274,10 @@ def _arrow_texts(column: FloatArray) -> Any:
     pa = _pyarrow()
     pc = pa.compute
     size = column.size
+    zero = column == 0.0
+    zeros = pa.array(["0.0", "-0.0"], type=pa.string())
+    if zero.all():  # a common column (x = 0, m10 = 0, ...): no conversion at all
+        return pc.take(zeros, pa.array(np.signbit(column).astype(np.int8)))
     magnitude = np.abs(column)
     text = pc.cast(pa.array(column, type=pa.float64()), pa.string())
     scientific = np.asarray(pc.match_substring(text, "e"), dtype=bool)
@@ -282,7 +286,6 @@ def _arrow_texts(column: FloatArray) -> Any:
         integral = column == np.trunc(column)
         small = (magnitude >= _TWO_DIGIT_EXPONENT_BELOW) & (magnitude < _POSITIONAL_FROM)
         two_digits = (magnitude < _TWO_DIGIT_EXPONENT_BELOW) | (magnitude >= _POSITIONAL_BELOW)
-    zero = column == 0.0
     kept = (positional & ~scientific & ~integral) | (scientific & two_digits & ~zero)
     if kept.all():
         return text
@@ -294,8 +297,7 @@ def _arrow_texts(column: FloatArray) -> Any:
         replacements.append(texts)
 
     if zero.any():
-        negative = np.signbit(column[zero])
-        replace(zero, pa.array(np.where(negative, "-0.0", "0.0").tolist(), type=pa.string()))
+        replace(zero, pc.take(zeros, pa.array(np.signbit(column[zero]).astype(np.int8))))
     whole = positional & ~scientific & integral
     if whole.any():
         replace(whole, pc.binary_join_element_wise(pc.filter(text, pa.array(whole)), ".0", ""))
