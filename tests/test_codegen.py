@@ -183,7 +183,9 @@ def test_cli_export_c_with_a_robot_file(tmp_path: Path, capsys: pytest.CaptureFi
     robot_file.write_text("l0 = 0.4\n[platform]\nmass = 5.0\n")
     out = tmp_path / "c"
     assert main(["export", "c", "--robot", str(robot_file), "--output", str(out)]) == 0
-    assert sorted(p.name for p in out.iterdir()) == sorted([HEADER_NAME, SOURCE_NAME])
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [".prp3-manifest.json", HEADER_NAME, SOURCE_NAME]
+    )
     assert "l0 = 0.4 m" in (out / SOURCE_NAME).read_text()
     bad = tmp_path / "bad.toml"
     bad.write_text("l0 = -1\n")

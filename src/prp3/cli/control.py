@@ -54,6 +54,7 @@ from ..plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not 
 from ._types import (
     add_output_directory,
     add_robot_option,
+    files_report,
     finite_float,
     load_robot,
     path_name,
@@ -220,7 +221,7 @@ def run(args: argparse.Namespace) -> int:
                 tracking_figure(table, title=title, subtitle=subtitle),
                 staged.path(TRACKING_FIGURE),
             )
-    print(_summary(result, title, what, model_text, args, staged.written), file=sys.stdout)
+    print(_summary(result, title, what, model_text, args, files_report(staged)), file=sys.stdout)
     if result.status != "completed":
         print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED
@@ -233,7 +234,7 @@ def _summary(
     what: str,
     model_text: str,
     args: argparse.Namespace,
-    written: list[Path],
+    files: list[str],
 ) -> str:
     def row(label: str, values: np.ndarray) -> str:
         return f"  {label:<18}" + "".join(f"{v:>14.4g}" for v in values.tolist())
@@ -253,7 +254,6 @@ def _summary(
         f"{result.step_time_p99 * 1e6:.2f} us",
         "  peak |f10| (N):  "
         + ", ".join(f"{leg} {v:.6g}" for leg, v in zip(LEGS, peak.tolist(), strict=True)),
-        "files written:",
-        *(f"  {path}" for path in written),
+        *files,
     ]
     return "\n".join(lines)

@@ -21,7 +21,7 @@ from ..codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
 from ..errors import OutputFileError
 from ..io import atomic_writer, check_inputs_kept, check_output_directory, staged_output
 from ..mjcf import mjcf_model
-from ._types import add_output_directory, add_robot_option, load_robot, path_name
+from ._types import add_output_directory, add_robot_option, files_report, load_robot, path_name
 
 __all__ = ["register"]
 
@@ -139,8 +139,7 @@ def _export_c(args: argparse.Namespace) -> int:
     print(
         f"{args.program}: C99 inverse dynamics of {source} (prp3_inverse_dynamics: pose, "
         "velocity, acceleration -> f10, f21y, f21z; returns 0, 1 non-finite, 2 singular, "
-        "3 outside the stroke)\nfiles written:\n"
-        + "\n".join(f"  {path}" for path in staged.written),
+        "3 outside the stroke)\n" + "\n".join(files_report(staged)),
         file=sys.stdout,
     )
     return 0
