@@ -211,7 +211,8 @@ def test_write_table_csv_writes_repr_text_byte_for_byte(tmp_path, monkeypatch, a
         pytest.importorskip("pyarrow")
     else:
         monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
-    table = _random_table(2 * prp3_io._ARROW_ROWS_PER_BLOCK + 17)
+    monkeypatch.setattr(prp3_io, "_ARROW_ROWS_PER_BLOCK", 1000)  # three blocks, the last short
+    table = _random_table(2017)
     write_table_csv(tmp_path / "a.csv", table)
     columns = list(table.values())
     expected = (
