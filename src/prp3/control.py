@@ -599,10 +599,11 @@ def track(
         raise ParameterError(
             f"reference: {reference.samples} control instants, more than {MAX_STEPS + 1}"
         )
+    compiled = compile_robot(_without_limits(model))
     try:
         inverse_geometry(robot, reference.pose)  # the plant must be able to follow it
         # the model's inverse dynamics of the reference itself: validates it for the model
-        paper_forces(compile_robot(_without_limits(model)), *_rows(reference))
+        paper_forces(compiled, reference.pose, reference.velocity, reference.acceleration)
     except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
         found = re.search(r"sample (\d+)|\[(\d+)", str(error))
         index = None if found is None else int(found[1] or found[2])
@@ -611,7 +612,6 @@ def track(
     simulator: _Plant = (
         _Prp3Plant(robot, reference) if plant == "prp3" else _MujocoPlant(robot, reference)
     )
-    compiled = compile_robot(_without_limits(model))
     times = reference.t.tolist()
     rows = np.concatenate([reference.pose, reference.velocity, reference.acceleration], axis=1)
     targets = rows.tolist()
@@ -663,7 +663,3 @@ def track(
         status=status,
         message=message,
     )
-
-
-def _rows(motion: Motion) -> tuple[FloatArray, FloatArray, FloatArray]:
-    return motion.pose, motion.velocity, motion.acceleration
