@@ -130,6 +130,11 @@ def _template(with_stroke: bool) -> _Template:
     values = _sympy_forces(fields, inputs)
     outputs = [values[k] for k in (0, 1, 2, 6, 7, 8, 9, 10, 11)]  # f10, f21y, f21z
     checks = list(_sympy_lambda10(fields, inputs)) if with_stroke else []
+    # cos φ and sin φ once, before the singularity check that uses them too
+    phi = inputs[2]
+    trig = {sympy.cos(phi): sympy.Symbol("cos_phi"), sympy.sin(phi): sympy.Symbol("sin_phi")}
+    outputs = [expr.xreplace(trig) for expr in outputs]
+    checks = [expr.xreplace(trig) for expr in checks]
     replacements, reduced = sympy.cse(outputs + checks, symbols=sympy.numbered_symbols("t"))
     printer = C99CodePrinter()
     body = tuple(
@@ -260,8 +265,6 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
         "#include <math.h>",
         f'#include "{HEADER_NAME}"',
         "",
-        "/* pi to double precision (C99 defines no pi constant) */",
-        "static const double PRP3_PI = 3.141592653589793;",
         f"static const double PRP3_SINGULARITY_THRESHOLD = {_c_number(SINGULARITY_THRESHOLD)};",
         "/* the robot's parameters */",
         *constants,
@@ -285,10 +288,14 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
         f"    if (!({finite})) {{",
         "        return prp3_refuse(f10, f21y, f21z, PRP3_NOT_FINITE);",
         "    }",
-        "    if (fabs(sin(phi - PRP3_PI / 3.0)) < PRP3_SINGULARITY_THRESHOLD) {",
-        "        return prp3_refuse(f10, f21y, f21z, PRP3_SINGULAR);",
-        "    }",
         "    {",
+        "        const double cos_phi = cos(phi);",
+        "        const double sin_phi = sin(phi);",
+        "        /* sin(phi - pi/3) = sin(phi)/2 - (sqrt(3)/2) cos(phi): singular below 1e-4 */",
+        f"        if (fabs(0.5 * sin_phi - {_c_number(math.sqrt(3.0) / 2.0)} * cos_phi)"
+        " < PRP3_SINGULARITY_THRESHOLD) {",
+        "            return prp3_refuse(f10, f21y, f21z, PRP3_SINGULAR);",
+        "        }",
         *(f"        {line}" for line in template.body),
         *(f"        {line}" for line in stroke_lines),
         *(f"        {line}" for line in template.outputs),
