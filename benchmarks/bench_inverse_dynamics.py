@@ -12,7 +12,7 @@ motions (eq. 4) resampled to N samples:
 * ``prp3 fused`` — :func:`prp3.fast.paper_forces`, the paper's method fused
   (numpy, chunked); single sample: :func:`prp3.fast.sample_forces` (math module).
 * ``prp3 paper`` — ``prp3.inverse_dynamics(robot, motion, "paper")``: the
-  reference implementation (inverse kinematics + :func:`prp3.paper_method`).
+  reference implementation (inverse kinematics + :func:`prp3.kernel_method`).
 * ``prp3 newton-euler`` — ``inverse_dynamics(..., "newton-euler")``: 21×21
   solve per sample, in chunks of 8192 samples (N ≤ ``--ne-max``: 10⁶ samples
   take about 10 s per motion).
@@ -310,7 +310,7 @@ def run_paper_vs_newton_euler(args: argparse.Namespace) -> dict[str, Any]:
         motion = prp3.paper_motion("rotation", samples=samples)
         kin = prp3.inverse_kinematics(robot, motion)
         for name, solver in (
-            ("paper_method", prp3.paper_method),
+            ("kernel_method", prp3.kernel_method),
             ("newton_euler", prp3.newton_euler),
         ):
             seconds = median_seconds(lambda s=solver, k=kin: s(robot, k), args.repeats, args.budget)
@@ -431,7 +431,7 @@ def report(
     for (name, n), seconds in sorted(per.items(), key=lambda item: (item[0][1], item[0][0])):
         out.append(f"  N = {n:>7,}: {name:<20} {seconds * 1e6:8.3f} µs per sample")
     for n in sorted({n for _, n in per}):
-        ratio = per[("newton_euler", n)] / per[("paper_method", n)]
+        ratio = per[("newton_euler", n)] / per[("kernel_method", n)]
         out.append(f"  N = {n:>7,}: dynamics step, Newton–Euler / paper method = {ratio:.2f}")
     counts = comparison["fused_counts"]
     total = sum(v for k, v in counts.items() if k != "cos/sin")

@@ -68,8 +68,7 @@ def main() -> None:
             prp3.geometry.inverse_geometry,
             prp3.kinematics.inverse_kinematics,
             prp3.kinematics.jacobian,
-            prp3.dynamics.body_wrenches,
-            prp3.dynamics.paper_method,
+            prp3.dynamics.kernel_method,
         ],
         args.top,
     )
@@ -77,7 +76,7 @@ def main() -> None:
     print(f"\nFused path: prp3.fast.paper_forces, N = {args.samples}")
     profile(
         lambda: prp3.fast.paper_forces(compiled, motion.pose, motion.velocity, motion.acceleration),
-        [prp3.fast.paper_forces, prp3.fast._compute, prp3.fast._chunk],
+        [prp3.fast.paper_forces, prp3.fast._compute, prp3.kernel.joint_forces],
         args.top,
     )
 

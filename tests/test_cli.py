@@ -157,7 +157,7 @@ def test_summary_peaks_match_the_results_file(tmp_path, capsys):
         found = re.search(rf"peak \|{name}\| \(\w\)\s+(\S+)\s+(\S+)\s+(\S+)", out)
         assert found is not None, out
         assert [float(v) for v in found.groups()] == pytest.approx(expected, rel=1e-5)
-    assert "rotation motion" in out and "301 samples" in out and "paper method" in out
+    assert "rotation motion" in out and "301 samples" in out and "fast method" in out
     assert f"  {tmp_path / 'results.csv'}" in out.splitlines()
 
 
@@ -168,17 +168,18 @@ def test_samples_option(tmp_path, capsys):
 
 
 def test_newton_euler_method_gives_the_same_results(tmp_path, capsys):
-    for method in ("paper", "newton-euler"):
+    for method in ("fast", "paper", "newton-euler"):
         status, out, _ = cli(
             capsys, "simulate", "--motion", "rotation", "--samples", "31",
             "--method", method, "--output", tmp_path / method,
         )  # fmt: skip
         assert status == 0 and f"{method} method" in out
-    _, paper = read_results(tmp_path / "paper" / "results.csv")
-    _, newton = read_results(tmp_path / "newton-euler" / "results.csv")
-    for name in CONTRACT:
-        scale = max(np.abs(paper[name]).max(), 1.0)
-        np.testing.assert_allclose(newton[name], paper[name], rtol=0, atol=1e-10 * scale)
+    _, paper = read_results(tmp_path / "fast" / "results.csv")
+    for other in ("paper", "newton-euler"):
+        _, table = read_results(tmp_path / other / "results.csv")
+        for name in CONTRACT:
+            scale = max(np.abs(paper[name]).max(), 1.0)
+            np.testing.assert_allclose(table[name], paper[name], rtol=0, atol=1e-10 * scale)
 
 
 def test_robot_file_changes_the_dynamics(tmp_path, capsys):

@@ -46,7 +46,7 @@ KINEMATIC = ("lambda10", "dlambda10", "ddlambda10", "lambda32", "dlambda32", "dd
 DYNAMIC = ("f10", "f21y", "f21z", "n10", "m10", "n32", "m32")
 
 
-def table_of(robot: Robot, motion: Motion, method: str = "paper") -> dict[str, np.ndarray]:
+def table_of(robot: Robot, motion: Motion, method: str = "fast") -> dict[str, np.ndarray]:
     kin, dyn = inverse_dynamics(robot, motion, method=method)  # type: ignore[arg-type]
     return dict(results_table(kin, dyn))
 

@@ -17,12 +17,10 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .dynamics import (
     METHODS,
-    BodyWrenches,
     InverseDynamics,
-    body_wrenches,
     inverse_dynamics,
+    kernel_method,
     newton_euler,
-    paper_method,
 )
 from .errors import (
     InputFileError,
@@ -67,7 +65,6 @@ __all__ = [
     "LEGS",
     "METHODS",
     "ActuatorForces",
-    "BodyWrenches",
     "CompiledRobot",
     "FastForces",
     "ForwardDynamics",
@@ -89,7 +86,6 @@ __all__ = [
     "TrajectoryError",
     "UnreachablePoseError",
     "__version__",
-    "body_wrenches",
     "compile_robot",
     "forward_acceleration",
     "forward_dynamics",
@@ -101,12 +97,12 @@ __all__ = [
     "inverse_kinematics",
     "jacobian",
     "jacobian_condition",
+    "kernel_method",
     "law_motion",
     "newton_euler",
     "orientation_range",
     "orientation_scan",
     "paper_forces",
-    "paper_method",
     "paper_motion",
     "platform_dynamics",
     "platform_vertices",

@@ -158,9 +158,7 @@ def scalar_function(
     """A plain-float Python function with the recorded operations of ``function``."""
     lines, results = trace(function, arguments)
     body = "\n".join(f"    {line}" for line in lines)
-    source = (
-        f"def {name}({', '.join(arguments)}):\n{body}\n    return ({', '.join(results)},)\n"
-    )
+    source = f"def {name}({', '.join(arguments)}):\n{body}\n    return ({', '.join(results)},)\n"
     namespace: dict[str, Any] = {
         "cos": math.cos, "sin": math.sin, "sqrt": math.sqrt, "tanh": math.tanh, "abs": abs,
     }  # fmt: skip

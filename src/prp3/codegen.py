@@ -32,12 +32,13 @@ True
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import re
 from dataclasses import dataclass
-from typing import Any
 
+from . import kernel
 from .errors import ParameterError, Prp3Error
 from .geometry import SINGULARITY_THRESHOLD
 from .model import Robot
@@ -87,24 +88,14 @@ class CSource:
     robot: Robot
 
 
-#: Constants of the closed form (attributes of :class:`prp3.fast.CompiledRobot`).
-_SCALARS = (
-    "l0", "cx", "cy", "gravity_x", "gravity_y", "piston_mass", "link_mass",
-    "platform_mass", "rotary_inertia", "link_com_x", "link_com_y",
-)  # fmt: skip
-_PER_LEG = ("link_gravity_axial", "link_gravity_normal", "piston_gravity_axial")
+#: Constants of the closed form: the fields of :class:`prp3.kernel.KernelParameters`.
+_SCALARS = tuple(f.name for f in dataclasses.fields(kernel.KernelParameters))
 
 
 def _constant_values(robot: Robot) -> dict[str, float]:
-    """The robot's constants by their C names (``prp3_l0``, ``prp3_link_gravity_axial_A``, ...)."""
-    from .fast import compile_robot
-
-    compiled = compile_robot(robot)
-    values = {f"prp3_{name}": float(getattr(compiled, name)) for name in _SCALARS}
-    for name in _PER_LEG:
-        for leg, value in zip("ABC", getattr(compiled, name), strict=True):
-            values[f"prp3_{name}_{leg}"] = float(value)
-    return values
+    """The robot's constants by their C names (``prp3_l0``, ``prp3_link_mass``, ...)."""
+    parameters = kernel.kernel_parameters(robot)
+    return {f"prp3_{name}": float(getattr(parameters, name)) for name in _SCALARS}
 
 
 @dataclass(frozen=True)
@@ -123,13 +114,14 @@ def _template(with_stroke: bool) -> _Template:
     import sympy
     from sympy.printing.c import C99CodePrinter
 
-    fields: dict[str, Any] = {name: sympy.Symbol(f"prp3_{name}", real=True) for name in _SCALARS}
-    for name in _PER_LEG:
-        fields[name] = tuple(sympy.Symbol(f"prp3_{name}_{leg}", real=True) for leg in "ABC")
+    parameters = kernel.KernelParameters(
+        **{name: sympy.Symbol(f"prp3_{name}", real=True) for name in _SCALARS}
+    )
     inputs = tuple(sympy.Symbol(name, real=True) for name in _INPUTS)
-    values = _sympy_forces(fields, inputs)
-    outputs = [values[k] for k in (0, 1, 2, 6, 7, 8, 9, 10, 11)]  # f10, f21y, f21z
-    checks = list(_sympy_lambda10(fields, inputs)) if with_stroke else []
+    # the one kernel, evaluated on sympy symbols
+    solution = kernel.solve(kernel.sympy_ops(), parameters, *inputs, reactions=False)
+    outputs = [*solution.f10, *solution.f21y, *solution.f21z]
+    checks = list(solution.lambda10) if with_stroke else []
     # cos φ and sin φ once, before the singularity check that uses them too
     phi = inputs[2]
     trig = {sympy.cos(phi): sympy.Symbol("cos_phi"), sympy.sin(phi): sympy.Symbol("sin_phi")}
@@ -145,9 +137,7 @@ def _template(with_stroke: bool) -> _Template:
         for expr in [*(expr for _, expr in replacements), *reduced]
         for symbol in expr.free_symbols
     }
-    names = [f"prp3_{name}" for name in _SCALARS] + [
-        f"prp3_{name}_{leg}" for name in _PER_LEG for leg in "ABC"
-    ]
+    names = [f"prp3_{name}" for name in _SCALARS]
     lines = tuple(
         f"{name}[{leg}] = {printer.doprint(reduced[3 * k + leg])};"
         for k, name in enumerate(("f10", "f21y", "f21z"))
@@ -164,38 +154,6 @@ def _template(with_stroke: bool) -> _Template:
         outputs=lines,
         stroke_test=test,
     )
-
-
-def _sympy_forces(fields: dict[str, Any], inputs: tuple[Any, ...]) -> tuple[Any, ...]:
-    """``prp3.fast.sample_forces_unchecked`` evaluated on sympy symbols."""
-    import types
-    from unittest import mock
-
-    import sympy
-
-    from . import fast
-
-    namespace = types.SimpleNamespace(**fields)
-    with mock.patch.object(fast, "math", types.SimpleNamespace(cos=sympy.cos, sin=sympy.sin)):
-        values: tuple[Any, ...] = fast.sample_forces_unchecked(namespace, *inputs)  # type: ignore[arg-type]
-    return values
-
-
-def _sympy_lambda10(fields: dict[str, Any], inputs: tuple[Any, ...]) -> tuple[Any, Any, Any]:
-    """``λ10`` of the three legs (eq. 10) on sympy symbols."""
-    import sympy
-
-    from .fast import _LEG_NORMALS
-
-    x, y, phi = inputs[:3]
-    h = math.sqrt(3.0) / 2.0
-    c, s = sympy.cos(phi), sympy.sin(phi)
-    D = 0.5 * s - h * c
-    C = 0.5 * c + h * s
-    gx, gy = D * x - C * y, C * x + D * y
-    base = (fields["cy"] - fields["l0"] * c) / D - 2.0 * fields["cx"]
-    a, b, cc = ((gx * ny - gy * nx) / D + base for nx, ny in _LEG_NORMALS)
-    return (a, b, cc)
 
 
 def _c_number(value: float) -> str:

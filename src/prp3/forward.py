@@ -63,7 +63,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .dynamics import InverseDynamics, paper_method
+from .dynamics import InverseDynamics, kernel_method
 from .errors import (
     ParameterError,
     Prp3Error,
@@ -442,7 +442,7 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
     """Build ``f10 = A(q)·q̈ + b(q, q̇)`` from the inverse dynamics (eq. 23).
 
     The actuator forces are affine in the platform acceleration, so four
-    evaluations of :func:`~prp3.dynamics.paper_method` per state — at
+    evaluations of :func:`~prp3.dynamics.kernel_method` per state — at
     ``q̈ = 0`` and at the three unit accelerations, one batch of ``4·N``
     samples — give ``b`` and the columns of ``A``.
 
@@ -481,7 +481,7 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
         acceleration=flat_a.reshape(count, 3),
     )
     kin = inverse_kinematics(robot, motion)
-    f10 = paper_method(robot, kin).f10.reshape(-1, 4, 3)  # eq. (23)
+    f10 = kernel_method(robot, kin).f10.reshape(-1, 4, 3)  # eq. (23)
     b = f10[:, 0, :]
     A = np.swapaxes(f10[:, 1:, :] - b[:, None, :], -1, -2)  # column k = f10(e_k) − b
     J = kin.jacobian.reshape(-1, 4, 3, 3)[:, 0]
@@ -783,7 +783,7 @@ def forward_dynamics(
     )
     motion = Motion(t=sample_t, pose=states[:, :3], velocity=states[:, 3:], acceleration=qddot)
     kin = inverse_kinematics(free, motion)
-    dyn = paper_method(free, kin)
+    dyn = kernel_method(free, kin)
     return ForwardDynamics(
         motion=motion,
         kinematics=kin,

@@ -9,7 +9,8 @@ normal ``n_i = (−sin α_i, cos α_i)``, revolute joint centre
     G = P_i + λ32_i·d_i + Rot(α_i + φ)·c,    c = (l0/2)·(1/√3, 1),
 
 is, per leg, the 2×2 linear system ``[e_i d_i]·[l0/√3 + λ10_i, λ32_i]ᵀ = r_i``
-with ``r_i = G − B_i0 − Rot(α_i + φ)·c``, solved here by Cramer's rule.  Its
+with ``r_i = G − B_i0 − Rot(α_i + φ)·c``, solved in closed form by the kernel
+(:func:`prp3.kernel.kernel_geometry`); this module adds the vectors of each leg.  Its
 determinant ``e_i × d_i = sin(φ − π/3)`` is the same for the three legs: the
 robot is singular at ``φ ≡ π/3 (mod π)``.  Poses with
 ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` are refused.
@@ -29,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._checks import real_array, require_finite
 from .errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from .kernel import NUMPY, kernel_geometry, kernel_parameters
 from .model import Robot, check_robot
 
 __all__ = [
@@ -273,26 +275,15 @@ def inverse_geometry(robot: Robot, pose: ArrayLike) -> InverseGeometry:
 
 def _inverse_geometry(robot: Robot, pose: FloatArray) -> InverseGeometry:
     l0 = robot.l0
-    G = pose[..., None, :2]  # (..., 1, 2)
-    phi = pose[..., 2]
+    x, y, phi = pose[..., 0], pose[..., 1], pose[..., 2]
+    # eq. (10) in closed form: the kernel's, the one place it is written
+    closed = kernel_geometry(NUMPY, kernel_parameters(robot), x, y, phi)
+    lambda10 = np.stack(closed.lambda10, axis=-1)
+    lambda32 = np.stack(closed.lambda32, axis=-1)
     theta = ALPHA + phi[..., None]  # α_i + φ, (..., 3)
     d = _unit(theta - math.pi / 3.0)  # d_i, eq. (9) q32ᵀu3 in the fixed frame
-    platform_c = 0.5 * l0 * np.array([1.0 / math.sqrt(3.0), 1.0])
-    cos_t, sin_t = np.cos(theta), np.sin(theta)
-    Rc = np.stack(  # Rot(α_i + φ)·c, the vector A3 → G of eq. (8)
-        [
-            cos_t * platform_c[0] - sin_t * platform_c[1],
-            sin_t * platform_c[0] + cos_t * platform_c[1],
-        ],
-        axis=-1,
-    )
-    r = G - base_vertices(robot) - Rc  # right-hand side of eq. (10)
-    D = singularity_measure(phi)[..., None]  # det[e_i d_i] = sin(φ − π/3)
-    s = cross2(r, d) / D  # l0/√3 + λ10_i, eq. (10) by Cramer's rule
-    lambda32 = cross2(LEG_AXIS, r) / D  # λ32_i, eq. (10)
-    lambda10 = s - l0 / math.sqrt(3.0)
-    joint = base_vertices(robot) + s[..., None] * LEG_AXIS  # P_i
-    lever = lambda32[..., None] * d + Rc  # ρ_i = G − P_i
+    joint = base_vertices(robot) + (l0 / math.sqrt(3.0) + lambda10)[..., None] * LEG_AXIS  # P_i
+    lever = pose[..., None, :2] - joint  # ρ_i = G − P_i
     phi21 = np.broadcast_to(phi[..., None], lambda10.shape).copy()  # eq. (7)
     return InverseGeometry(
         pose=pose,
@@ -303,7 +294,7 @@ def _inverse_geometry(robot: Robot, pose: FloatArray) -> InverseGeometry:
         slide=d,
         slide_normal=perp(d),
         lever=lever,
-        determinant=D[..., 0],
+        determinant=np.asarray(closed.D, dtype=np.float64),
     )
 
 

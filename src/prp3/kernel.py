@@ -16,7 +16,7 @@ same source runs on
 
 It does not validate: callers check their input first (finite, not singular,
 inside the stroke).  The independent references are :mod:`prp3.paper` (the
-paper's 3×3 matrices as printed) and :func:`prp3.dynamics.newton_euler`.
+paper's 3×3 matrices as printed) and :func:`prp3.newton_euler_solver.newton_euler`.
 
 Closed forms (``J`` the +90° rotation, ``c = (c_x, c_y) = (l0/2)(1/√3, 1)``,
 ``d_i = Rot(φ)·a_i``, ``D = sin(φ − π/3) = e_i × d_i``, ``C = cos(φ − π/3) = e_i·d_i``
@@ -72,8 +72,8 @@ from .model import Robot
 
 __all__ = [
     "MATH",
-    "STATE_SYMBOLS",
     "NUMPY",
+    "STATE_SYMBOLS",
     "BodyWrenches",
     "KernelGeometry",
     "KernelKinematics",
@@ -280,7 +280,9 @@ def _legs(ux: Value, uy: Value, u1: Value) -> Legs:
     return (half - hx, u1 - uy, half + hx)
 
 
-def kernel_geometry(ops: Ops, k: KernelParameters, x: Value, y: Value, phi: Value) -> KernelGeometry:
+def kernel_geometry(
+    ops: Ops, k: KernelParameters, x: Value, y: Value, phi: Value
+) -> KernelGeometry:
     """Joint displacements of a pose: eqs. (7)–(10) in closed form."""
     cx, cy = k.l0 * (0.5 * _INV_SQRT3), k.l0 * 0.5
     c = ops.cos(phi)
@@ -430,9 +432,7 @@ def joint_forces(
     T = c * F3x + s * F3y  # d_A·F3, d_A = (cos φ, sin φ)
     # eq. (21): M2 = Σ M20_i + M3 + ρ_A × F3, ρ_A = λ32_A·d_A + Rot(α_A + φ)·c
     rho_cross_F3 = (
-        geo.lambda32[0] * (c * F3y - s * F3x)
-        + (0.5 * p - _H * q) * F3y
-        - (_H * p + 0.5 * q) * F3x
+        geo.lambda32[0] * (c * F3y - s * F3x) + (0.5 * p - _H * q) * F3y - (_H * p + 0.5 * q) * F3x
     )
     M2 = w.link_moment[0] + w.link_moment[1] + w.link_moment[2] + w.platform_moment + rho_cross_F3
     # eqs. (15)-(16): Z = (M2 + K·T)/S, K = (2/3)·d_A·Σ d⊥_i(ρ_i·d_i) + l0/2
@@ -487,6 +487,7 @@ def solve(
     ddx: Value,
     ddy: Value,
     ddphi: Value,
+    *,
     reactions: bool = True,
 ) -> KernelSolution:
     """Joint motion and joint forces of one state (or of a chunk of states).
@@ -541,7 +542,9 @@ def symbolic_parameters() -> KernelParameters:
     """Every parameter of :class:`KernelParameters` as a sympy symbol of its field's name."""
     import sympy
 
-    return KernelParameters(**{f.name: sympy.Symbol(f.name, real=True) for f in fields(KernelParameters)})
+    return KernelParameters(
+        **{f.name: sympy.Symbol(f.name, real=True) for f in fields(KernelParameters)}
+    )
 
 
 def symbolic_solution(

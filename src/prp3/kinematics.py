@@ -7,8 +7,9 @@ platform gives, per leg, the conditions of connectivity
     s̈_i·e_i + λ̈32_i·d_i = G̈ − φ̈·J·ρ_i + φ̇²·ρ_i − 2·λ̇32_i·φ̇·J·d_i       (eq. 17)
 
 with ``s_i = l0/√3 + λ10_i`` and ``J`` the rotation by +90° (``ũ3``).  Both
-are the 2×2 system of eq. (10) with other right-hand sides and are solved by
-Cramer's rule.  The angular velocities and accelerations of eqs. (11), (12)
+are the 2×2 system of eq. (10) with other right-hand sides; their closed-form
+solution is the kernel's (:func:`prp3.kernel.kernel_kinematics`), and this
+module adds the velocities and accelerations of every joint and body.  The angular velocities and accelerations of eqs. (11), (12)
 and (18) are ``ω10 = 0``, ``ω20 = ω30 = φ̇`` and ``ε10 = 0``, ``ε20 = ε30 = φ̈``.
 """
 
@@ -25,11 +26,11 @@ from .geometry import (
     LEG_AXIS,
     LEG_NORMAL,
     InverseGeometry,
-    cross2,
     dot2,
     inverse_geometry,
     perp,
 )
+from .kernel import NUMPY, kernel_geometry, kernel_kinematics, kernel_parameters
 from .model import Robot, check_robot
 from .motion import Motion
 
@@ -155,26 +156,23 @@ def inverse_kinematics(robot: Robot, motion: Motion) -> Kinematics:
 
 
 def _inverse_kinematics(robot: Robot, motion: Motion, geo: InverseGeometry) -> Kinematics:
-    d, rho, D = geo.slide, geo.lever, geo.determinant[..., None]
-    Gdot = motion.velocity[..., None, :2]
-    Gddot = motion.acceleration[..., None, :2]
+    d = geo.slide
     phidot = motion.velocity[..., 2, None]  # (..., 1)
     phiddot = motion.acceleration[..., 2, None]
 
-    # eq. (14): v10·e + v32·d = Ġ − φ̇·J·ρ, solved by Cramer's rule
-    w = Gdot - phidot[..., None] * perp(rho)
-    dlambda10 = cross2(w, d) / D
-    dlambda32 = cross2(LEG_AXIS, w) / D
-
-    # eq. (17): γ10·e + γ32·d = G̈ − φ̈·J·ρ + φ̇²·ρ − 2·v32·φ̇·J·d
-    a = (
-        Gddot
-        - phiddot[..., None] * perp(rho)
-        + (phidot**2)[..., None] * rho
-        - 2.0 * (dlambda32 * phidot)[..., None] * perp(d)
+    # eqs. (14), (17) in closed form: the kernel's, the one place they are written
+    pose = geo.pose
+    params = kernel_parameters(robot)
+    closed = kernel_kinematics(
+        params,
+        kernel_geometry(NUMPY, params, pose[..., 0], pose[..., 1], pose[..., 2]),
+        *(motion.velocity[..., k] for k in range(3)),
+        *(motion.acceleration[..., k] for k in range(3)),
     )
-    ddlambda10 = cross2(a, d) / D
-    ddlambda32 = cross2(LEG_AXIS, a) / D
+    dlambda10, ddlambda10, dlambda32, ddlambda32 = (
+        np.stack(legs, axis=-1)
+        for legs in (closed.dlambda10, closed.ddlambda10, closed.dlambda32, closed.ddlambda32)
+    )
 
     shape = dlambda10.shape
     dphi21 = np.broadcast_to(phidot, shape).copy()  # eq. (12): ω21 = φ̇

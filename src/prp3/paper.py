@@ -47,19 +47,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ._checks import first_non_finite
 from .errors import TrajectoryError
+from .forces import InverseDynamics
 from .geometry import ALPHA, check_poses, check_stroke
 from .model import Robot, check_robot
 from .motion import Motion
-
-if TYPE_CHECKING:  # prp3.dynamics dispatches to this module: import it lazily at run time
-    from .dynamics import InverseDynamics
 
 __all__ = [
     "FORCE_SETS",
@@ -307,7 +304,7 @@ class RecursiveMatrixResult:
     p10: FloatArray
 
     def inverse_dynamics(self) -> InverseDynamics:
-        """The forces as a :class:`prp3.dynamics.InverseDynamics` (``method="paper"``).
+        """The forces as a :class:`prp3.forces.InverseDynamics` (``method="paper"``).
 
         The signs are those of ``docs/model.md``: ``f10`` along ``+e_i`` on the
         piston, ``f21y, f21z`` of piston on link 2 along ``n_i, e_i``,
@@ -328,8 +325,6 @@ _CONSTANT = ("r_C", "J")
 
 
 def _to_inverse_dynamics(forces: dict[str, FloatArray]) -> InverseDynamics:
-    from .dynamics import InverseDynamics  # here: prp3.dynamics may import this module
-
     return InverseDynamics(**forces, method="paper")
 
 

@@ -3,7 +3,7 @@
 The command implements the data contract of ``docs/model.md``::
 
     prp3 simulate [--robot ROBOT.toml] (--motion vertical|rotation | --trajectory TRAJ.csv)
-                  [--samples N] [--method paper|newton-euler] --output DIR
+                  [--samples N] [--method fast|paper|newton-euler] --output DIR
                   [--format csv|parquet] [--plots] [--animate] [--frames N]
 
 ``--format parquet`` writes ``DIR/results.parquet`` (the same columns, float64)
@@ -158,7 +158,7 @@ class Progress:
 def simulate_table(
     robot: Robot,
     motion: Motion,
-    method: Method = "paper",
+    method: Method = "fast",
     *,
     progress: Callable[[int, int], None] | None = None,
     chunk: int = CHUNK_SAMPLES,
@@ -328,8 +328,9 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--method",
         choices=METHODS,
-        default="paper",
-        help="paper: the paper's recursive method and virtual work (eqs. 19-25, default); "
+        default="fast",
+        help="fast: the kernel's closed form of the paper's method (eqs. 10-25, default); "
+        "paper: the paper's recursive 3x3 matrices as printed; "
         "newton-euler: the independent Newton-Euler solver",
     )
     add_output_directory(parser)

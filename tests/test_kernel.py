@@ -1,0 +1,145 @@
+"""The one kernel serves every path: floats, numpy arrays, traced code and sympy.
+
+The physics of the kernel is tested against Newton–Euler and the paper's
+matrices elsewhere (``test_dynamics``, ``test_fast``, ``test_balances``); here
+the paths that run the kernel are held against each other: they are one
+source, so they must agree bit for bit (same operations in the same order) or
+to the last bit of ``cos``/``sin`` (numpy's and :mod:`math`'s may differ).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from prp3 import Robot
+from prp3._trace import scalar_function
+from prp3.fast import compile_robot, paper_forces, sample_forces_unchecked, solve_batch
+from prp3.kernel import (
+    MATH,
+    NUMPY,
+    STATE_SYMBOLS,
+    KernelSolution,
+    kernel_parameters,
+    solve,
+    symbolic_parameters,
+    symbolic_solution,
+)
+from strategies import robots, scenarios
+
+FIELDS = KernelSolution._fields
+
+
+def states(robot: Robot, rng: np.random.Generator, n: int) -> np.ndarray:
+    """``(n, 9)`` random regular states of the size of ``robot``."""
+    pose = np.column_stack([rng.uniform(-0.1, 0.1, (n, 2)) * robot.l0, rng.uniform(-0.8, 0.8, n)])
+    return np.column_stack([pose, rng.normal(size=(n, 3)), rng.normal(size=(n, 3)) * 3])
+
+
+@settings(max_examples=20, deadline=None)
+@given(robot=robots(), seed=st.integers(0, 2**32 - 1))
+def test_floats_and_arrays_are_the_same_operations(robot: Robot, seed: int) -> None:
+    k = kernel_parameters(robot)
+    rows = states(robot, np.random.default_rng(seed), 5)
+    batch = solve(NUMPY, k, *rows.T)
+    for n, row in enumerate(rows.tolist()):
+        one = solve(MATH, k, *row)
+        for name in FIELDS:
+            got, expected = np.array(getattr(one, name)), np.stack(getattr(batch, name))[:, n]
+            scale = np.abs(expected).max() + 1.0
+            # only cos and sin may differ (in their last bit) between math and numpy
+            assert np.abs(got - expected).max() <= 1e-15 * scale * 16, name
+
+
+@settings(max_examples=20, deadline=None)
+@given(robot=robots(), seed=st.integers(0, 2**32 - 1))
+def test_traced_code_is_the_kernel_bit_for_bit(robot: Robot, seed: int) -> None:
+    k = kernel_parameters(robot)
+
+    def outputs(ops, *state):  # type: ignore[no-untyped-def]
+        sol = solve(ops, k, *state)
+        return tuple(v for name in FIELDS for v in getattr(sol, name))
+
+    traced = scalar_function(outputs, STATE_SYMBOLS)
+    for row in states(robot, np.random.default_rng(seed), 4).tolist():
+        expected = outputs(MATH, *row)
+        got = traced(*row)
+        # identical floats; only the sign of a zero may differ (x·0 folded to +0)
+        assert [g == e for g, e in zip(got, expected, strict=True)] == [True] * len(got)
+
+
+def test_traced_code_has_no_terms_of_absent_offsets() -> None:
+    # The tracer folds the zero centre-of-mass offsets: the default robot's code is
+    # shorter than a robot's with offsets (the same source, fewer operations).
+    plain = compile_robot(Robot()).sample_function.__doc__ or ""
+    offset = (
+        compile_robot(
+            Robot.from_mapping({"link": {"com": [0.01, 0.02]}, "piston": {"com": [0.01, 0.0]}})
+        ).sample_function.__doc__
+        or ""
+    )
+    assert "cos(phi)" in plain and plain.count("\n") < offset.count("\n")
+
+
+@settings(max_examples=10, deadline=None)
+@given(scenario=scenarios(), seed=st.integers(0, 2**32 - 1))
+def test_single_sample_and_batch_paths_agree(scenario, seed) -> None:  # type: ignore[no-untyped-def]
+    robot, _ = scenario
+    rows = states(robot, np.random.default_rng(seed), 40)  # > 16: the chunked numpy path
+    compiled = compile_robot(robot)
+    batch = paper_forces(compiled, rows[:, :3], rows[:, 3:6], rows[:, 6:])
+    for n, row in enumerate(rows.tolist()):
+        one = sample_forces_unchecked(compiled, *row)
+        for j, name in enumerate(("f10", "p10", "f21y", "f21z")):
+            expected = getattr(batch, name)[n]
+            scale = np.abs(expected).max() + 1.0
+            assert np.abs(np.array(one[3 * j : 3 * j + 3]) - expected).max() <= 1e-14 * scale
+
+
+CHECKED = ("lambda10", "ddlambda32", "f10", "f21y", "f21z", "n32", "m32")
+
+
+@pytest.fixture(scope="module")
+def symbolic():  # type: ignore[no-untyped-def]
+    """The kernel on sympy symbols, turned into an mpmath function (30 digits)."""
+    sympy = pytest.importorskip("sympy")
+    pytest.importorskip("mpmath")
+    parameters = symbolic_parameters()
+    state, sol = symbolic_solution(parameters)
+    symbols = [getattr(parameters, f) for f in parameters.__dataclass_fields__] + list(state)
+    expressions = [e for name in CHECKED for e in getattr(sol, name)]
+    return sympy.lambdify(symbols, expressions, modules="mpmath")
+
+
+@settings(max_examples=10, deadline=None)
+@given(robot=robots(), seed=st.integers(0, 2**32 - 1))
+def test_symbolic_evaluation_equals_the_numeric_one(symbolic, robot, seed) -> None:  # type: ignore[no-untyped-def]
+    import mpmath
+
+    numbers = kernel_parameters(robot)
+    row = states(robot, np.random.default_rng(seed), 1)[0].tolist()
+    with mpmath.workdps(30):
+        values = [getattr(numbers, f) for f in numbers.__dataclass_fields__] + row
+        got = np.array([float(v) for v in symbolic(*values)]).reshape(len(CHECKED), 3)
+    expected = solve(MATH, numbers, *row)
+    for name, values_of_name in zip(CHECKED, got, strict=True):
+        want = np.array(getattr(expected, name))
+        scale = np.abs(want).max() + 1.0
+        assert np.abs(values_of_name - want).max() <= 1e-12 * scale, name
+
+
+def test_solve_batch_returns_every_kernel_output_with_the_input_rank() -> None:
+    one = solve_batch(Robot(), [0.01, 0.0, 0.1], [0, 0, 0], [0, 0, 0])
+    many = solve_batch(Robot(), [[0.01, 0.0, 0.1]] * 2, [[0, 0, 0]] * 2, [[0, 0, 0]] * 2)
+    assert set(one) == set(FIELDS) and all(a.shape == (3,) for a in one.values())
+    assert all(a.shape == (2, 3) for a in many.values())
+    # λ10 by hand: at rest at (x, 0, φ = 0.1) with x = 0.01 the sum of the actuator
+    # displacements depends on φ only: Σλ10 = (3 l0/2)·tan(ψ/2) + √3 l0/2, ψ = φ − π/3
+    psi = 0.1 - math.pi / 3
+    assert one["lambda10"].sum() == pytest.approx(
+        1.5 * 0.3 * math.tan(psi / 2) + math.sqrt(3) * 0.3 / 2, rel=1e-13
+    )
