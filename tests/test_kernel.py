@@ -23,6 +23,7 @@ from prp3.kernel import (
     MATH,
     NUMPY,
     STATE_SYMBOLS,
+    KernelParameters,
     KernelSolution,
     kernel_parameters,
     solve,
@@ -143,3 +144,55 @@ def test_solve_batch_returns_every_kernel_output_with_the_input_rank() -> None:
     assert one["lambda10"].sum() == pytest.approx(
         1.5 * 0.3 * math.tan(psi / 2) + math.sqrt(3) * 0.3 / 2, rel=1e-13
     )
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    h=st.tuples(st.floats(-0.5, 0.5), st.floats(-0.5, 0.5)),
+    mass=st.floats(0.5, 5.0),
+    inertia=st.floats(0.0, 0.2),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_platform_first_moment_by_its_energy(h, mass, inertia, seed) -> None:  # type: ignore[no-untyped-def]
+    # Only the platform has mass, its centre at G + Rot(φ)·h/m (a payload): the
+    # power of the actuators is the rate of its energy, written here from scratch:
+    # E = ½m|v_C|² + ½(J − m|r|²)·φ̇² − m·g·C with C = G + Rot(φ)·r, r = h/m.
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(-0.02, 0.02, 3)
+    w = rng.uniform(0.5, 2.0, 3)
+    g = (0.7, -9.81)
+
+    def pose(t: float) -> np.ndarray:
+        return np.array(
+            [a[0] * math.sin(w[0] * t), a[1] * math.sin(w[1] * t), 0.3 * math.sin(w[2] * t)]
+        )
+
+    def energy(t: float, dt: float = 1e-5) -> float:
+        q, qd = pose(t), (pose(t + dt) - pose(t - dt)) / (2 * dt)
+        r = np.array(h) / mass
+        c, s = math.cos(q[2]), math.sin(q[2])
+        rr = np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        v = qd[:2] + qd[2] * np.array([-rr[1], rr[0]])
+        com = q[:2] + rr
+        return (
+            0.5 * mass * v @ v
+            + 0.5 * (inertia + mass * r @ r - mass * r @ r) * qd[2] ** 2
+            - mass * (g[0] * com[0] + g[1] * com[1])
+        )
+
+    zeros = dict.fromkeys(
+        ("piston_mass", "piston_moment_x", "piston_moment_y", "link_mass", "link_moment_x",
+         "link_moment_y", "link_inertia"), 0.0,
+    )  # fmt: skip
+    k = KernelParameters(
+        l0=0.3, gravity_x=g[0], gravity_y=g[1], platform_mass=mass, platform_moment_x=h[0],
+        platform_moment_y=h[1], platform_inertia=inertia + (h[0] ** 2 + h[1] ** 2) / mass, **zeros,
+    )  # fmt: skip
+    t, dt = 0.7, 1e-3
+    q = pose(t)
+    qd = np.array([a[0] * w[0] * math.cos(w[0] * t), a[1] * w[1] * math.cos(w[1] * t),
+                   0.3 * w[2] * math.cos(w[2] * t)])  # fmt: skip
+    qdd = -np.array([a[0] * w[0] ** 2, a[1] * w[1] ** 2, 0.3 * w[2] ** 2]) * np.sin(w * t)
+    power = sum(solve(MATH, k, *q, *qd, *qdd).p10)
+    rate = (energy(t + dt) - energy(t - dt)) / (2 * dt)  # O(dt²) ≈ 1e-6 relative
+    assert abs(power - rate) <= 1e-5 * (abs(power) + mass * 10 * 0.1)

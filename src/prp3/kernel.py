@@ -154,31 +154,49 @@ def sympy_ops() -> Ops:
 class KernelParameters:
     """The robot's constants as the closed form uses them (floats or sympy symbols).
 
+    The inertial parameters of each body are its standard (barycentric-free)
+    parameters: mass, first moments ``m·c`` and the inertia about the body's
+    reference point.  The joint forces are linear in them (the regressor of
+    identification), and a payload adds to the platform's.
+
     Attributes
     ----------
     l0 : Value
         Circumradius of base and platform (m).
     gravity_x, gravity_y : Value
         Gravity ``g`` (m/s²).
-    piston_mass, piston_com_x, piston_com_y : Value
-        ``m1`` (kg) and ``c1`` along ``(e_i, n_i)`` (m).
-    link_mass, link_inertia, link_com_x, link_com_y : Value
-        ``m2`` (kg), ``I2`` about its centre of mass (kg·m²), ``c2`` along ``(d_i, d⊥_i)`` (m).
-    platform_mass, platform_inertia : Value
-        ``m3`` (kg), ``I3`` about ``G`` (kg·m²).
+    piston_mass : Value
+        ``m1`` (kg).
+    piston_moment_x, piston_moment_y : Value
+        ``m1·c1`` along ``(e_i, n_i)`` (kg·m), about ``P_i``.
+    link_mass : Value
+        ``m2`` (kg).
+    link_moment_x, link_moment_y : Value
+        ``m2·c2`` along ``(d_i, d⊥_i)`` (kg·m), about ``P_i``.
+    link_inertia : Value
+        ``I2 + m2·|c2|²``: link 2's inertia about ``P_i`` (kg·m²).
+    platform_mass : Value
+        ``m3`` (kg).
+    platform_moment_x, platform_moment_y : Value
+        First moment about ``G`` in the platform frame (kg·m): zero for the
+        platform alone (``G`` is its mass centre).
+    platform_inertia : Value
+        Inertia about ``G`` (kg·m²).
     """
 
     l0: Value
     gravity_x: Value
     gravity_y: Value
     piston_mass: Value
-    piston_com_x: Value
-    piston_com_y: Value
+    piston_moment_x: Value
+    piston_moment_y: Value
     link_mass: Value
+    link_moment_x: Value
+    link_moment_y: Value
     link_inertia: Value
-    link_com_x: Value
-    link_com_y: Value
     platform_mass: Value
+    platform_moment_x: Value
+    platform_moment_y: Value
     platform_inertia: Value
 
 
@@ -188,18 +206,23 @@ def kernel_parameters(robot: Robot) -> KernelParameters:
     >>> kernel_parameters(Robot()).platform_inertia   # m3·l²/12, l = l0·√3
     0.0675
     """
+    m1, m2 = robot.piston.mass, robot.link.mass
+    c1x, c1y = robot.piston.com
+    c2x, c2y = robot.link.com
     return KernelParameters(
         l0=robot.l0,
         gravity_x=robot.gravity[0],
         gravity_y=robot.gravity[1],
-        piston_mass=robot.piston.mass,
-        piston_com_x=robot.piston.com[0],
-        piston_com_y=robot.piston.com[1],
-        link_mass=robot.link.mass,
-        link_inertia=robot.link.inertia,
-        link_com_x=robot.link.com[0],
-        link_com_y=robot.link.com[1],
+        piston_mass=m1,
+        piston_moment_x=m1 * c1x,
+        piston_moment_y=m1 * c1y,
+        link_mass=m2,
+        link_moment_x=m2 * c2x,
+        link_moment_y=m2 * c2y,
+        link_inertia=robot.link.inertia + m2 * (c2x * c2x + c2y * c2y),
         platform_mass=robot.platform.mass,
+        platform_moment_x=0.0,
+        platform_moment_y=0.0,
         platform_inertia=robot.platform_inertia,
     )
 
@@ -372,22 +395,25 @@ def body_wrenches(
 ) -> BodyWrenches:
     """Wrench each body needs to follow the motion: eqs. (19), (20), (22).
 
-    ``F = m·(a_C − g)`` and ``M = I·ε + (C − P) × F`` about the body's joint
-    (the weight of eq. 19 moved to the inertia side, eq. 22).  The piston's
-    centre of mass is ``P_i + c1x·e_i + c1y·n_i``, link 2's is
-    ``P_i + o_i`` with ``o_i = c2x·d_i + c2y·d⊥_i`` (it turns with ``φ``).
+    ``F = m·(a_C − g)`` and ``M = I·ε + (C − P) × m·(a_C − g)`` about the
+    body's reference point (the weight of eq. 19 moved to the inertia side,
+    eq. 22), written in the body's standard parameters (mass ``m``, first
+    moment ``h = m·(C − P)``, inertia ``J`` about ``P``):
+    ``F = m·(a_P − g) + ε·J·h − ω²·h`` and ``M = J·ε + h × (a_P − g)``.
+    The piston's first moment is ``h1x·e_i + h1y·n_i`` (it only translates),
+    link 2's ``h2x·d_i + h2y·d⊥_i`` and the platform's ``Rot(φ)·h3`` (they turn
+    with ``φ``).  Linear in the parameters: identification's regressor.
     """
     gx, gy = k.gravity_x, k.gravity_y
     m1, m2 = k.piston_mass, k.link_mass
-    c1x, c1y, c2x, c2y = k.piston_com_x, k.piston_com_y, k.link_com_x, k.link_com_y
+    h1x, h1y, h2x, h2y = k.piston_moment_x, k.piston_moment_y, k.link_moment_x, k.link_moment_y
     geo = kin.geometry
     c, s, D, C = geo.cos_phi, geo.sin_phi, geo.D, geo.C
     w2 = dphi * dphi
-    ka = c2x * D + c2y * C  # −o_i × e_i = o_i·n_i
-    kb = c2x * C - c2y * D  # o_i·e_i
-    link_rotation = k.link_inertia + m2 * (c2x * c2x + c2y * c2y)  # I2 + m2·|o|²
-    link_e_motion = m2 * (ddphi * ka + w2 * kb)  # m2·(φ̈·J·o − φ̇²·o)·e_i = −(this)
-    link_n_motion = m2 * (ddphi * kb - w2 * ka)
+    ka = h2x * D + h2y * C  # h2·n_i = −h2 × e_i
+    kb = h2x * C - h2y * D  # h2·e_i
+    link_e_motion = ddphi * ka + w2 * kb  # −(φ̈·J·h2 − φ̇²·h2)·e_i
+    link_n_motion = ddphi * kb - w2 * ka  # (φ̈·J·h2 − φ̇²·h2)·n_i
     piston_e, piston_n, piston_moment = [], [], []
     link_e, link_n, link_moment = [], [], []
     for leg, gamma in zip(_LEGS, kin.ddlambda10, strict=True):
@@ -395,16 +421,19 @@ def body_wrenches(
         g_n = gx * leg.nx + gy * leg.ny  # g·n_i
         dxl = c * leg.ax - s * leg.ay  # d_i = Rot(φ)·a_i
         dyl = s * leg.ax + c * leg.ay
-        # piston: F10 = m1·(λ̈10·e − g), M10 = c1 × F10 about P_i
+        # piston: F10 = m1·(λ̈10·e − g), M10 = h1 × (λ̈10·e − g) about P_i
         piston_e.append(m1 * (gamma - g_e))
         piston_n.append(-m1 * g_n)
-        piston_moment.append(m1 * (c1y * g_e - c1x * g_n - c1y * gamma))
-        # link 2: F20 = m2·(a_P + φ̈·J·o − φ̇²·o − g), M20 = I2·φ̈ + o × F20 about P_i
+        piston_moment.append(h1y * g_e - h1x * g_n - h1y * gamma)
+        # link 2: F20 = m2·(a_P − g) + φ̈·J·h2 − φ̇²·h2, M20 = J2·φ̈ + h2 × (a_P − g) about P_i
         link_e.append(m2 * (gamma - g_e) - link_e_motion)
         link_n.append(link_n_motion - m2 * g_n)
-        o_cross_g = c2x * (dxl * gy - dyl * gx) - c2y * (dxl * gx + dyl * gy)
-        link_moment.append(link_rotation * ddphi - m2 * (ka * gamma + o_cross_g))
-    m3 = k.platform_mass
+        h2_cross_g = h2x * (dxl * gy - dyl * gx) - h2y * (dxl * gx + dyl * gy)
+        link_moment.append(k.link_inertia * ddphi - ka * gamma - h2_cross_g)
+    # platform: F3 = m3·(G̈ − g) + φ̈·J·h − φ̇²·h, M3 = J3·φ̈ + h × (G̈ − g) about G, h = Rot(φ)·h3
+    hx = c * k.platform_moment_x - s * k.platform_moment_y
+    hy = s * k.platform_moment_x + c * k.platform_moment_y
+    ax, ay = ddx - gx, ddy - gy
     return BodyWrenches(
         piston_e=(piston_e[0], piston_e[1], piston_e[2]),
         piston_n=(piston_n[0], piston_n[1], piston_n[2]),
@@ -412,9 +441,9 @@ def body_wrenches(
         link_e=(link_e[0], link_e[1], link_e[2]),
         link_n=(link_n[0], link_n[1], link_n[2]),
         link_moment=(link_moment[0], link_moment[1], link_moment[2]),
-        platform_x=m3 * (ddx - gx),  # F3 = m3·(G̈ − g), eq. (22)
-        platform_y=m3 * (ddy - gy),
-        platform_moment=k.platform_inertia * ddphi,  # M3 = I3·φ̈ about G
+        platform_x=k.platform_mass * ax - ddphi * hy - w2 * hx,  # eq. (22)
+        platform_y=k.platform_mass * ay + ddphi * hx - w2 * hy,
+        platform_moment=k.platform_inertia * ddphi + hx * ay - hy * ax,
     )
 
 
