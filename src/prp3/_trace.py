@@ -4,16 +4,26 @@
 tracing values instead of numbers: every arithmetic operation and function
 call on them is recorded, in the order the kernel performs it, while the
 operations between plain floats (the robot's constants) are done at once.
-:func:`scalar_function` turns the record into the source of a Python function
-of plain floats without calls, tuples or loops — the single-sample fast path —
-that performs exactly the kernel's floating-point operations in the kernel's
-order, so its results are bit for bit those of the kernel on :data:`~prp3.kernel.MATH`.
+The record becomes
+
+* :func:`scalar_function` — a Python function of plain floats without calls,
+  tuples or loops: the single-sample fast path;
+* :func:`array_function` — a function of 1-D float64 arrays that runs the
+  same operations as numpy ufuncs into a few preallocated work rows (no
+  temporary arrays): the batch fast path.
+
+Both perform exactly the kernel's floating-point operations in the kernel's
+order, so their results are bit for bit those of the kernel on floats (up to
+the sign of a zero, see :class:`Traced`, and numpy's ``cos``/``sin``).
 
 >>> def f(ops, x, y):
 ...     return (x * y + 2.0 * 3.0, ops.cos(x))
 >>> fn = scalar_function(f, ("x", "y"))
 >>> fn(0.0, 5.0)
 (6.0, 1.0)
+>>> import numpy as np
+>>> array_function(f, ("x", "y"))(np.zeros(2), np.full(2, 5.0))[0].tolist()
+[6.0, 6.0]
 """
 
 from __future__ import annotations
@@ -22,64 +32,68 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
+import numpy as np
+
 from .kernel import Ops
 
-__all__ = ["Traced", "scalar_function", "trace"]
+__all__ = ["TRACE", "Traced", "array_function", "scalar_function", "trace"]
+
+# operation -> (scalar template, numpy ufunc name)
+_BINARY = {"+": "add", "-": "subtract", "*": "multiply", "/": "divide"}
+_UNARY = {"neg": "negative", "cos": "cos", "sin": "sin", "sqrt": "sqrt", "tanh": "tanh",
+          "abs": "absolute", "sign": "sign"}  # fmt: skip
+
+#: One recorded operation: (operation, operands); an operand is a line index or a float.
+Line = tuple[str, tuple[int | float, ...]]
 
 
 class _Tape:
     def __init__(self) -> None:
-        self.lines: list[tuple[str, str, tuple[int, ...]]] = []  # (name, expression, inputs)
-        self.seen: dict[str, Traced] = {}  # expression -> its value: each computed once
+        self.lines: list[Line] = []
+        self.seen: dict[Line, Traced] = {}  # each operation on the same operands once
 
-    def record(self, template: str, *operands: Any) -> Traced:
-        names, inputs = [], []
-        for operand in operands:
-            if isinstance(operand, Traced):
-                names.append(operand.name)
-                inputs.append(operand.index)
-            else:
-                names.append(repr(float(operand)))
-        expression = template.format(*names)
-        if expression in self.seen:  # the same operation on the same operands
-            return self.seen[expression]
-        index = len(self.lines)
-        name = f"t{index}"
-        self.lines.append((name, expression, tuple(inputs)))
-        self.seen[expression] = value = Traced(self, name, index)
+    def record(self, operation: str, *operands: Any) -> Traced:
+        key: Line = (
+            operation,
+            tuple(o.index if isinstance(o, Traced) else float(o) for o in operands),
+        )
+        if key in self.seen:
+            return self.seen[key]
+        value = Traced(self, len(self.lines))
+        self.lines.append(key)
+        self.seen[key] = value
         return value
 
 
+def _is(value: Any, constant: float) -> bool:
+    return not isinstance(value, Traced) and value == constant
+
+
 class Traced:
-    """A value of the traced function: its operations are recorded on a tape."""
+    """A value of the traced function: its operations are recorded on a tape.
 
-    __slots__ = ("index", "name", "tape")
+    Identities with a constant operand (exact for the finite values the kernel
+    is called with, up to the sign of a zero) keep the code short: a robot
+    without centre-of-mass offsets loses every term of the offsets.
+    Inputs have negative indices.
+    """
 
-    def __init__(self, tape: _Tape, name: str, index: int) -> None:
-        self.tape, self.name, self.index = tape, name, index
+    __slots__ = ("index", "tape")
 
-    # Identities with a constant operand (exact for the finite values the kernel
-    # is called with, up to the sign of a zero) keep the straight-line code short:
-    # a robot without centre-of-mass offsets loses every term of the offsets.
+    def __init__(self, tape: _Tape, index: int) -> None:
+        self.tape, self.index = tape, index
+
     def __add__(self, other: Any) -> Any:
-        if _is(other, 0.0):
-            return self
-        return self.tape.record("{} + {}", self, other)
+        return self if _is(other, 0.0) else self.tape.record("+", self, other)
 
     def __radd__(self, other: Any) -> Any:
-        if _is(other, 0.0):
-            return self
-        return self.tape.record("{} + {}", other, self)
+        return self if _is(other, 0.0) else self.tape.record("+", other, self)
 
     def __sub__(self, other: Any) -> Any:
-        if _is(other, 0.0):
-            return self
-        return self.tape.record("{} - {}", self, other)
+        return self if _is(other, 0.0) else self.tape.record("-", self, other)
 
     def __rsub__(self, other: Any) -> Any:
-        if _is(other, 0.0):
-            return -self
-        return self.tape.record("{} - {}", other, self)
+        return -self if _is(other, 0.0) else self.tape.record("-", other, self)
 
     def __mul__(self, other: Any) -> Any:
         if _is(other, 0.0):
@@ -88,81 +102,151 @@ class Traced:
             return self
         if _is(other, -1.0):
             return -self
-        return self.tape.record("{} * {}", self, other)
+        return self.tape.record("*", self, other)
 
     def __rmul__(self, other: Any) -> Any:
-        return self.__mul__(other)
+        return self.__mul__(other)  # a·b = b·a exactly
 
     def __truediv__(self, other: Any) -> Any:
-        if _is(other, 1.0):
-            return self
-        return self.tape.record("{} / {}", self, other)
+        return self if _is(other, 1.0) else self.tape.record("/", self, other)
 
-    def __rtruediv__(self, other: Any) -> Traced:
-        return self.tape.record("{} / {}", other, self)
+    def __rtruediv__(self, other: Any) -> Any:
+        return self.tape.record("/", other, self)
 
-    def __neg__(self) -> Traced:
-        return self.tape.record("-{}", self)
+    def __neg__(self) -> Any:
+        return self.tape.record("neg", self)
 
 
-def _is(value: Any, constant: float) -> bool:
-    return not isinstance(value, Traced) and value == constant
-
-
-def _function(name: str) -> Callable[[Any], Any]:
+def _function(name: str, plain: Callable[[float], float]) -> Callable[[Any], Any]:
     def call(value: Any) -> Any:
-        if isinstance(value, Traced):
-            return value.tape.record(f"{name}({{}})", value)
-        return getattr(math, name)(value) if name != "abs" else abs(value)
+        return value.tape.record(name, value) if isinstance(value, Traced) else plain(value)
 
     return call
 
 
-def _sign(value: Any) -> Any:
-    if isinstance(value, Traced):
-        return value.tape.record("(({0} > 0.0) - ({0} < 0.0))", value)
-    return (value > 0.0) - (value < 0.0)
-
-
 #: The kernel's functions on traced values (floats stay floats).
-TRACE = Ops("trace", _function("cos"), _function("sin"), _function("sqrt"),
-            _function("tanh"), _function("abs"), _sign)  # fmt: skip
+TRACE = Ops(
+    "trace",
+    _function("cos", math.cos),
+    _function("sin", math.sin),
+    _function("sqrt", math.sqrt),
+    _function("tanh", math.tanh),
+    _function("abs", abs),
+    _function("sign", lambda v: float((v > 0.0) - (v < 0.0))),
+)
 
 
 def trace(
-    function: Callable[..., Sequence[Any]], arguments: Sequence[str]
-) -> tuple[list[str], list[str]]:
-    """Record ``function(TRACE, *arguments)``; returns (code lines, output expressions).
+    function: Callable[..., Sequence[Any]], arity: int
+) -> tuple[list[tuple[int, Line]], list[int | float]]:
+    """Record ``function(TRACE, *inputs)``: (needed lines, outputs).
 
-    Only the lines the outputs depend on are kept.  An output that does not
-    depend on the arguments is a float literal.
+    Lines are ``(index, (operation, operands))``, only those the outputs need;
+    operands and outputs are line indices (``-1 … -arity`` for the inputs) or
+    floats (an output that does not depend on the inputs).
     """
     tape = _Tape()
-    inputs = [Traced(tape, name, -1) for name in arguments]
-    outputs = function(TRACE, *inputs)
+    inputs = [Traced(tape, -1 - k) for k in range(arity)]
+    outputs = [o.index if isinstance(o, Traced) else float(o) for o in function(TRACE, *inputs)]
     needed: set[int] = set()
-    stack = [out.index for out in outputs if isinstance(out, Traced) and out.index >= 0]
+    stack = [o for o in outputs if isinstance(o, int) and o >= 0]
     while stack:
         index = stack.pop()
         if index not in needed:
             needed.add(index)
-            stack.extend(i for i in tape.lines[index][2] if i >= 0)
-    lines = [f"{name} = {expr}" for k, (name, expr, _) in enumerate(tape.lines) if k in needed]
-    results = [out.name if isinstance(out, Traced) else repr(float(out)) for out in outputs]
-    return lines, results
+            stack.extend(o for o in tape.lines[index][1] if isinstance(o, int) and o >= 0)
+    return [(k, line) for k, line in enumerate(tape.lines) if k in needed], outputs
+
+
+def _operand(value: int | float, names: Callable[[int], str]) -> str:
+    return names(value) if isinstance(value, int) else repr(float(value))
+
+
+def _compile(source: str, name: str, namespace: dict[str, Any]) -> Callable[..., Any]:
+    exec(compile(source, f"<prp3 kernel: {name}>", "exec"), namespace)
+    compiled: Callable[..., Any] = namespace[name]
+    compiled.__doc__ = source
+    return compiled
 
 
 def scalar_function(
     function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
 ) -> Callable[..., tuple[float, ...]]:
     """A plain-float Python function with the recorded operations of ``function``."""
-    lines, results = trace(function, arguments)
-    body = "\n".join(f"    {line}" for line in lines)
-    source = f"def {name}({', '.join(arguments)}):\n{body}\n    return ({', '.join(results)},)\n"
-    namespace: dict[str, Any] = {
-        "cos": math.cos, "sin": math.sin, "sqrt": math.sqrt, "tanh": math.tanh, "abs": abs,
-    }  # fmt: skip
-    exec(compile(source, f"<prp3 kernel: {name}>", "exec"), namespace)
-    compiled: Callable[..., tuple[float, ...]] = namespace[name]
-    compiled.__doc__ = source
+    lines, outputs = trace(function, len(arguments))
+
+    def names(index: int) -> str:
+        return arguments[-1 - index] if index < 0 else f"t{index}"
+
+    body = []
+    for index, (operation, operands) in lines:
+        a = [_operand(o, names) for o in operands]
+        if operation in _BINARY:
+            expression = f"{a[0]} {operation} {a[1]}"
+        elif operation == "neg":
+            expression = f"-{a[0]}"
+        elif operation == "sign":
+            expression = f"float(({a[0]} > 0.0) - ({a[0]} < 0.0))"
+        else:
+            expression = f"{operation}({a[0]})"
+        body.append(f"    t{index} = {expression}")
+    result = ", ".join(_operand(o, names) for o in outputs)
+    source = (
+        f"def {name}({', '.join(arguments)}):\n" + "\n".join(body) + f"\n    return ({result},)\n"
+    )
+    namespace = {"cos": math.cos, "sin": math.sin, "sqrt": math.sqrt, "tanh": math.tanh, "abs": abs}
+    return _compile(source, name, namespace)
+
+
+def array_function(
+    function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
+) -> Callable[..., tuple[Any, ...]]:
+    """A function of equal-length 1-D float64 arrays with the recorded operations.
+
+    Every operation is one numpy ufunc call into a row of one work block
+    (rows are reused once their value is dead), so a call allocates one
+    block of ``rows × n`` floats and nothing else.  Returns the outputs as
+    rows of that block (an output that does not depend on the inputs is a
+    float).  The function's ``rows`` attribute is the number of work rows.
+    """
+    lines, outputs = trace(function, len(arguments))
+    last_use: dict[int, int] = {}
+    for position, (_, (_, operands)) in enumerate(lines):
+        for o in operands:
+            if isinstance(o, int) and o >= 0:
+                last_use[o] = position
+    keep = {o for o in outputs if isinstance(o, int) and o >= 0}
+    row_of: dict[int, int] = {}
+    free: list[int] = []
+    rows = 0
+    body = []
+    for position, (index, (operation, operands)) in enumerate(lines):
+        a = [
+            (arguments[-1 - o] if o < 0 else f"w[{row_of[o]}]") if isinstance(o, int) else repr(o)
+            for o in operands
+        ]
+        for o in set(operands):  # operands dead after this line free their rows
+            if isinstance(o, int) and o >= 0 and last_use[o] == position and o not in keep:
+                free.append(row_of[o])
+        if free:
+            row = free.pop()
+        else:
+            row, rows = rows, rows + 1
+        row_of[index] = row
+        ufunc = _BINARY.get(operation) or _UNARY[operation]
+        body.append(f"    {ufunc}({', '.join(a)}, out=w[{row}])")
+    result = ", ".join(
+        (arguments[-1 - o] if o < 0 else f"w[{row_of[o]}]") if isinstance(o, int) else repr(o)
+        for o in outputs
+    )
+    source = (
+        f"def {name}({', '.join(arguments)}):\n"
+        f"    w = empty(({max(rows, 1)}, {arguments[0]}.shape[0]))\n"
+        + "\n".join(body)
+        + f"\n    return ({result},)\n"
+    )
+    namespace: dict[str, Any] = {"empty": np.empty}
+    namespace.update({u: getattr(np, u) for u in (*_BINARY.values(), *_UNARY.values())})
+    compiled = _compile(source, name, namespace)
+    compiled.rows = rows  # type: ignore[attr-defined]
     return compiled

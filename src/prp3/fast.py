@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import kernel
 from ._checks import require_finite
-from ._trace import scalar_function
+from ._trace import array_function, scalar_function
 from .errors import Prp3Error, TrajectoryError
 from .geometry import SINGULARITY_THRESHOLD, check_poses
 from .geometry import inverse_geometry as _inverse_geometry
@@ -53,7 +53,7 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 #: Samples per chunk of the batch path (its work arrays stay in the CPU caches).
-DEFAULT_CHUNK = 2048
+DEFAULT_CHUNK = 8192
 
 #: Up to this many samples (without reactions) :func:`paper_forces` loops over
 #: the single-sample function: below it numpy's per-call overhead dominates.
@@ -99,6 +99,29 @@ class CompiledRobot:
             return (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z, *(sol.lambda10 if stroke else ()))
 
         return scalar_function(outputs, kernel.STATE_SYMBOLS, "sample_forces_kernel")
+
+    def batch_function(self, names: tuple[str, ...]) -> Callable[..., tuple[FloatArray, ...]]:
+        """The kernel traced into numpy ufunc calls on work rows (built once per ``names``).
+
+        ``f(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈)`` of 1-D arrays returns ``sin(φ − π/3)``,
+        then ``λ10`` of the three legs when the robot has a stroke (for the
+        checks), then the three legs of each of ``names`` (fields of
+        :class:`~prp3.kernel.KernelSolution`).  Its source is its ``__doc__``.
+        """
+        cache: dict[tuple[str, ...], Callable[..., tuple[FloatArray, ...]]]
+        cache = self.__dict__.setdefault("_batch_functions", {})
+        if names not in cache:
+            params, stroke = self.parameters, self.stroke is not None
+            reactions = any(name in _REACTIONS for name in names)
+
+            def outputs(ops: kernel.Ops, *state: kernel.Value) -> tuple[kernel.Value, ...]:
+                geo = kernel.kernel_geometry(ops, params, *state[:3])
+                sol = kernel.solve(ops, params, *state, reactions=reactions)
+                checks = (geo.D, *(sol.lambda10 if stroke else ()))
+                return (*checks, *(v for name in names for v in getattr(sol, name)))
+
+            cache[names] = array_function(outputs, kernel.STATE_SYMBOLS, "batch_kernel")
+        return cache[names]
 
 
 def compile_robot(robot: Robot) -> CompiledRobot:
@@ -318,41 +341,30 @@ def _compute(
     """The kernel on chunks of samples into ``targets`` (name → ``(N, 3)``); validated."""
     samples = inputs[0].shape[0]
     width = min(chunk_size, samples)
-    reactions = any(name in targets for name in _REACTIONS)
+    names = tuple(targets)
+    function = compiled.batch_function(names)
+    checks = 4 if compiled.stroke is not None else 1
     state = np.empty((9, width))  # x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈ of one chunk, as rows
-    params, stroke = compiled.parameters, compiled.stroke
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         for start in range(0, samples, width):
             stop = min(start + width, samples)
             rows = state[:, : stop - start]
             for k, array in enumerate(inputs):
                 np.copyto(rows[3 * k : 3 * k + 3], array[start:stop].T)
-            x, y, phi, dx, dy, dphi, ddx, ddy, ddphi = rows
             if not np.isfinite(rows).all():
                 _raise_input_error(compiled, inputs, stop)
-            geo = kernel.kernel_geometry(kernel.NUMPY, params, x, y, phi)
-            if float(np.abs(geo.D).min()) < SINGULARITY_THRESHOLD or (
-                stroke is not None and _outside(geo.lambda10, stroke)
+            values = function(*rows)
+            if float(np.abs(values[0]).min()) < SINGULARITY_THRESHOLD or (
+                compiled.stroke is not None and _outside(values[1:4], compiled.stroke)
             ):
                 _raise_input_error(compiled, inputs, stop)
-            kin = kernel.kernel_kinematics(params, geo, dx, dy, dphi, ddx, ddy, ddphi)
-            wrenches = kernel.body_wrenches(params, kin, ddx, ddy, dphi, ddphi)
-            f10, f21y, f21z, rest = kernel.joint_forces(params, kin, wrenches, reactions)
-            values = {"f10": f10, "f21y": f21y, "f21z": f21z}
-            values["p10"] = tuple(f * v for f, v in zip(f10, kin.dlambda10, strict=True))
-            if rest is not None:
-                values.update(zip(_REACTIONS, rest, strict=True))
-            for name in ("lambda10", "lambda32"):
-                values[name] = getattr(geo, name)
-            for name in ("dlambda10", "ddlambda10", "dlambda32", "ddlambda32"):
-                values[name] = getattr(kin, name)
-            for name, target in targets.items():
+            for k, target in enumerate(targets.values()):
                 for leg in range(3):
-                    target[start:stop, leg] = values[name][leg]
+                    target[start:stop, leg] = values[checks + 3 * k + leg]
     _require_finite_results(targets, inputs)
 
 
-def _outside(lambda10: kernel.Legs, stroke: tuple[float, float]) -> bool:
+def _outside(lambda10: Sequence[FloatArray], stroke: tuple[float, float]) -> bool:
     lower, upper = stroke
     return any(float(lam.min()) < lower or float(lam.max()) > upper for lam in lambda10)
 
