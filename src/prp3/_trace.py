@@ -174,9 +174,20 @@ def scalar_function(
 ) -> Callable[..., tuple[float, ...]]:
     """A plain-float Python function with the recorded operations of ``function``."""
     lines, outputs = trace(function, len(arguments))
+    uses: dict[int, int] = {}
+    for _, (_, operands) in lines:
+        for o in operands:
+            if isinstance(o, int) and o >= 0:
+                uses[o] = uses.get(o, 0) + 1
+    for o in outputs:
+        if isinstance(o, int) and o >= 0:
+            uses[o] = uses.get(o, 0) + 2  # outputs are kept in variables
+    inline: dict[int, str] = {}  # values used once: written into their user, in parentheses
 
     def names(index: int) -> str:
-        return arguments[-1 - index] if index < 0 else f"t{index}"
+        if index < 0:
+            return arguments[-1 - index]
+        return inline.pop(index) if index in inline else f"t{index}"
 
     body = []
     for index, (operation, operands) in lines:
@@ -189,7 +200,10 @@ def scalar_function(
             expression = f"float(({a[0]} > 0.0) - ({a[0]} < 0.0))"
         else:
             expression = f"{operation}({a[0]})"
-        body.append(f"    t{index} = {expression}")
+        if uses.get(index) == 1:
+            inline[index] = f"({expression})"
+        else:
+            body.append(f"    t{index} = {expression}")
     result = ", ".join(_operand(o, names) for o in outputs)
     source = (
         f"def {name}({', '.join(arguments)}):\n" + "\n".join(body) + f"\n    return ({result},)\n"

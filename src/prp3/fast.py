@@ -452,7 +452,9 @@ def sample_forces(
         x, y, phi = pose
         dx, dy, dphi = velocity
         ddx, ddy, ddphi = acceleration
-        values = _floats(x, y, phi, dx, dy, dphi, ddx, ddy, ddphi)
+        values = (x, y, phi, dx, dy, dphi, ddx, ddy, ddphi)
+        if type(x) is not float or not all(type(v) is float for v in values):
+            values = _floats(*values)
     except (TypeError, ValueError, OverflowError):
         values = _sample_error(compiled, pose, velocity, acceleration)
     f = _checked_sample(compiled, values)
