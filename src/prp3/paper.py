@@ -5,7 +5,7 @@ line: 3-D vectors and 3×3 matrices in the local frames ``T0 … T3`` of each le
 (the plane motion embedded in 3-D), the recursive relations of the kinematics
 and the compact virtual-work relations of the dynamics.  It shares nothing with
 :mod:`prp3.geometry`'s inverse geometry, :mod:`prp3.kinematics`,
-:func:`prp3.dynamics.paper_method` or :mod:`prp3.fast` but the leg angles
+:mod:`prp3.kernel`, :mod:`prp3.fast` or Newton–Euler but the leg angles
 ``α_i`` (eq. 1) and the input checks, so that it checks them.
 
 Frames of leg ``i`` (``q = a, b, c`` for ``i = A, B, C``), eqs. (2)–(3)::
