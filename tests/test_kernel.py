@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from prp3 import Robot
+from prp3 import Prp3Error, Robot, SingularPoseError
 from prp3._trace import scalar_function
 from prp3.fast import compile_robot, paper_forces, sample_forces_unchecked, solve_batch
 from prp3.kernel import (
@@ -131,6 +131,26 @@ def test_symbolic_evaluation_equals_the_numeric_one(symbolic, robot, seed) -> No
         want = np.array(getattr(expected, name))
         scale = np.abs(want).max() + 1.0
         assert np.abs(values_of_name - want).max() <= 1e-12 * scale, name
+
+
+def test_numba_backend_runs_the_same_operations() -> None:
+    pytest.importorskip("numba")
+    robot = Robot.from_mapping({"link": {"com": [0.01, 0.02]}, "limits": {"stroke": [-0.2, 0.2]}})
+    compiled = compile_robot(robot)
+    rows = states(robot, np.random.default_rng(7), 50)
+    args = (rows[:, :3], rows[:, 3:6], rows[:, 6:])
+    fast = paper_forces(compiled, *args, reactions=True, backend="numba")
+    plain = paper_forces(compiled, *args, reactions=True)
+    for name in ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32"):
+        expected = getattr(plain, name)
+        scale = np.abs(expected).max() + 1.0
+        assert np.abs(getattr(fast, name) - expected).max() <= 1e-15 * scale, name
+    singular = rows[:, :3].copy()
+    singular[30, 2] = math.pi / 3 + 1e-6
+    with pytest.raises(SingularPoseError, match="sample 30"):
+        paper_forces(compiled, singular, rows[:, 3:6], rows[:, 6:], backend="numba")
+    with pytest.raises(Prp3Error, match="backend must be"):
+        paper_forces(compiled, *args, backend="cuda")  # type: ignore[arg-type]
 
 
 def test_solve_batch_returns_every_kernel_output_with_the_input_rank() -> None:

@@ -36,7 +36,7 @@ import numpy as np
 
 from .kernel import Ops
 
-__all__ = ["TRACE", "Traced", "array_function", "scalar_function", "trace"]
+__all__ = ["TRACE", "Traced", "array_function", "loop_source", "scalar_function", "trace"]
 
 # operation -> (scalar template, numpy ufunc name)
 _BINARY = {"+": "add", "-": "subtract", "*": "multiply", "/": "divide"}
@@ -169,10 +169,10 @@ def _compile(source: str, name: str, namespace: dict[str, Any]) -> Callable[...,
     return compiled
 
 
-def scalar_function(
-    function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
-) -> Callable[..., tuple[float, ...]]:
-    """A plain-float Python function with the recorded operations of ``function``."""
+def _scalar_code(
+    function: Callable[..., Sequence[Any]], arguments: Sequence[str], indent: str
+) -> tuple[list[str], list[str]]:
+    """Statements of plain-float code for the recorded operations, and the outputs."""
     lines, outputs = trace(function, len(arguments))
     uses: dict[int, int] = {}
     for _, (_, operands) in lines:
@@ -203,13 +203,42 @@ def scalar_function(
         if uses.get(index) == 1:
             inline[index] = f"({expression})"
         else:
-            body.append(f"    t{index} = {expression}")
-    result = ", ".join(_operand(o, names) for o in outputs)
+            body.append(f"{indent}t{index} = {expression}")
+    return body, [_operand(o, names) for o in outputs]
+
+
+_MATH = {"cos": math.cos, "sin": math.sin, "sqrt": math.sqrt, "tanh": math.tanh, "abs": abs}
+
+
+def scalar_function(
+    function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
+) -> Callable[..., tuple[float, ...]]:
+    """A plain-float Python function with the recorded operations of ``function``."""
+    body, outputs = _scalar_code(function, arguments, "    ")
     source = (
-        f"def {name}({', '.join(arguments)}):\n" + "\n".join(body) + f"\n    return ({result},)\n"
+        f"def {name}({', '.join(arguments)}):\n"
+        + "\n".join(body)
+        + f"\n    return ({', '.join(outputs)},)\n"
     )
-    namespace = {"cos": math.cos, "sin": math.sin, "sqrt": math.sqrt, "tanh": math.tanh, "abs": abs}
-    return _compile(source, name, namespace)
+    return _compile(source, name, dict(_MATH))
+
+
+def loop_source(
+    function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
+) -> str:
+    """Source of ``name(inputs, out)``: the scalar code in a loop over columns.
+
+    ``inputs`` is ``(len(arguments), n)``, ``out`` ``(outputs, n)``; for a
+    compiler of loops (numba), which runs it at machine speed.
+    """
+    body, outputs = _scalar_code(function, arguments, "        ")
+    unpack = [f"        {arg} = inputs[{k}, i]" for k, arg in enumerate(arguments)]
+    store = [f"        out[{k}, i] = {value}" for k, value in enumerate(outputs)]
+    return (
+        f"def {name}(inputs, out):\n    for i in range(inputs.shape[1]):\n"
+        + "\n".join(unpack + body + store)
+        + "\n"
+    )
 
 
 def array_function(
