@@ -22,8 +22,10 @@ the sign of a zero, see :class:`Traced`, and numpy's ``cos``/``sin``).
 >>> fn(0.0, 5.0)
 (6.0, 1.0)
 >>> import numpy as np
->>> array_function(f, ("x", "y"))(np.zeros(2), np.full(2, 5.0))[0].tolist()
-[6.0, 6.0]
+>>> out = np.empty((2, 2))
+>>> array_function(f, ("x", "y"))(np.zeros(2), np.full(2, 5.0), out)
+>>> out.tolist()
+[[6.0, 6.0], [1.0, 1.0]]
 """
 
 from __future__ import annotations
@@ -243,14 +245,15 @@ def loop_source(
 
 def array_function(
     function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
-) -> Callable[..., tuple[Any, ...]]:
+) -> Callable[..., None]:
     """A function of equal-length 1-D float64 arrays with the recorded operations.
 
-    Every operation is one numpy ufunc call into a row of one work block
-    (rows are reused once their value is dead), so a call allocates one
-    block of ``rows × n`` floats and nothing else.  Returns the outputs as
-    rows of that block (an output that does not depend on the inputs is a
-    float).  The function's ``rows`` attribute is the number of work rows.
+    ``f(*inputs, out)`` writes the outputs into ``out`` (a sequence of 1-D
+    float64 arrays of the inputs' length, any strides): every operation is
+    one numpy ufunc call, into the output array it computes or into a row of
+    one work block (rows are reused once their value is dead), so a call
+    allocates one block of ``rows × n`` floats and nothing else.  The
+    function's ``rows`` attribute is the number of work rows.
     """
     lines, outputs = trace(function, len(arguments))
     last_use: dict[int, int] = {}
@@ -258,35 +261,41 @@ def array_function(
         for o in operands:
             if isinstance(o, int) and o >= 0:
                 last_use[o] = position
-    keep = {o for o in outputs if isinstance(o, int) and o >= 0}
-    row_of: dict[int, int] = {}
+    direct: dict[int, int] = {}  # line -> the output it is written into
+    for k, o in enumerate(outputs):
+        if isinstance(o, int) and o >= 0 and o not in direct:
+            direct[o] = k
+    place: dict[int, str] = {}
     free: list[int] = []
     rows = 0
+
+    def operand(o: int | float) -> str:
+        if not isinstance(o, int):
+            return repr(o)
+        return arguments[-1 - o] if o < 0 else place[o]
+
     body = []
     for position, (index, (operation, operands)) in enumerate(lines):
-        a = [
-            (arguments[-1 - o] if o < 0 else f"w[{row_of[o]}]") if isinstance(o, int) else repr(o)
-            for o in operands
-        ]
+        a = [operand(o) for o in operands]
         for o in set(operands):  # operands dead after this line free their rows
-            if isinstance(o, int) and o >= 0 and last_use[o] == position and o not in keep:
-                free.append(row_of[o])
-        if free:
-            row = free.pop()
+            if isinstance(o, int) and o >= 0 and last_use[o] == position and o not in direct:
+                free.append(int(place[o][2:-1]))
+        if index in direct:
+            place[index] = f"out[{direct[index]}]"
         else:
-            row, rows = rows, rows + 1
-        row_of[index] = row
+            if free:
+                row = free.pop()
+            else:
+                row, rows = rows, rows + 1
+            place[index] = f"w[{row}]"
         ufunc = _BINARY.get(operation) or _UNARY[operation]
-        body.append(f"    {ufunc}({', '.join(a)}, out=w[{row}])")
-    result = ", ".join(
-        (arguments[-1 - o] if o < 0 else f"w[{row_of[o]}]") if isinstance(o, int) else repr(o)
-        for o in outputs
-    )
+        body.append(f"    {ufunc}({', '.join(a)}, out={place[index]})")
+    for k, o in enumerate(outputs):  # outputs not computed in place: constants, inputs, repeats
+        if not (isinstance(o, int) and o >= 0 and direct[o] == k):
+            body.append(f"    out[{k}][...] = {operand(o)}")
     source = (
-        f"def {name}({', '.join(arguments)}):\n"
-        f"    w = empty(({max(rows, 1)}, {arguments[0]}.shape[0]))\n"
-        + "\n".join(body)
-        + f"\n    return ({result},)\n"
+        f"def {name}({', '.join(arguments)}, out):\n"
+        f"    w = empty(({max(rows, 1)}, {arguments[0]}.shape[0]))\n" + "\n".join(body) + "\n"
     )
     namespace: dict[str, Any] = {"empty": np.empty}
     namespace.update({u: getattr(np, u) for u in (*_BINARY.values(), *_UNARY.values())})

@@ -100,15 +100,15 @@ class CompiledRobot:
 
         return scalar_function(outputs, kernel.STATE_SYMBOLS, "sample_forces_kernel")
 
-    def batch_function(self, names: tuple[str, ...]) -> Callable[..., tuple[FloatArray, ...]]:
+    def batch_function(self, names: tuple[str, ...]) -> Callable[..., None]:
         """The kernel traced into numpy ufunc calls on work rows (built once per ``names``).
 
-        ``f(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈)`` of 1-D arrays returns ``sin(φ − π/3)``,
+        ``f(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈, out)`` of 1-D arrays writes ``sin(φ − π/3)``,
         then ``λ10`` of the three legs when the robot has a stroke (for the
         checks), then the three legs of each of ``names`` (fields of
         :class:`~prp3.kernel.KernelSolution`).  Its source is its ``__doc__``.
         """
-        cache: dict[tuple[str, ...], Callable[..., tuple[FloatArray, ...]]]
+        cache: dict[tuple[str, ...], Callable[..., None]]
         cache = self.__dict__.setdefault("_batch_functions", {})
         if names not in cache:
             cache[names] = array_function(
@@ -380,42 +380,40 @@ def _compute(
     chunk_size: int,
     backend: str = "numpy",
 ) -> None:
-    """The kernel on chunks of samples into ``targets`` (name → ``(N, 3)``); validated."""
+    """The kernel on chunks of samples into ``targets`` (name → ``(N, 3)``); validated.
+
+    The numpy backend writes each output straight into its column of the
+    target; the numba backend into a block, then copied.
+    """
     samples = inputs[0].shape[0]
     width = min(chunk_size, samples)
     names = tuple(targets)
     checks = 4 if compiled.stroke is not None else 1
-    function: Callable[..., Any]
-    if backend == "numba":
-        loop = compiled.numba_function(names)
-        block = np.empty((checks + 3 * len(names), width))
-
-        def run_numba(*rows: FloatArray) -> FloatArray:
-            part = block[:, : rows[0].shape[0]]
-            loop(np.ascontiguousarray(np.stack(rows)), part)
-            return part
-
-        function = run_numba
-
-    else:
-        function = compiled.batch_function(names)
-    state = np.empty((9, width))  # x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈ of one chunk, as rows
+    state = np.empty((9, width if backend == "numba" else 0))  # the chunk's inputs as rows
+    scratch = np.empty((checks + (3 * len(names) if backend == "numba" else 0), width))
+    numpy_function = compiled.batch_function(names) if backend == "numpy" else None
+    numba_function = compiled.numba_function(names) if backend == "numba" else None
+    if not all(np.isfinite(array).all() for array in inputs):
+        _raise_input_error(compiled, inputs, samples)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         for start in range(0, samples, width):
             stop = min(start + width, samples)
-            rows = state[:, : stop - start]
-            for k, array in enumerate(inputs):
-                np.copyto(rows[3 * k : 3 * k + 3], array[start:stop].T)
-            if not np.isfinite(rows).all():
-                _raise_input_error(compiled, inputs, stop)
-            values = function(*rows)
-            if float(np.abs(values[0]).min()) < SINGULARITY_THRESHOLD or (
-                compiled.stroke is not None and _outside(values[1:4], compiled.stroke)
+            n = stop - start
+            columns = [target[start:stop, leg] for target in targets.values() for leg in range(3)]
+            if numpy_function is not None:  # the input columns as they are (no copy)
+                rows = [array[start:stop, k] for array in inputs for k in range(3)]
+                numpy_function(*rows, [*scratch[:checks, :n], *columns])
+            else:
+                assert numba_function is not None
+                for k, array in enumerate(inputs):
+                    np.copyto(state[3 * k : 3 * k + 3, :n], array[start:stop].T)
+                numba_function(state[:, :n], scratch[:, :n])
+                for column, values in zip(columns, scratch[checks:, :n], strict=True):
+                    column[...] = values
+            if float(np.abs(scratch[0, :n]).min()) < SINGULARITY_THRESHOLD or (
+                compiled.stroke is not None and _outside(scratch[1:4, :n], compiled.stroke)
             ):
                 _raise_input_error(compiled, inputs, stop)
-            for k, target in enumerate(targets.values()):
-                for leg in range(3):
-                    target[start:stop, leg] = values[checks + 3 * k + leg]
     _require_finite_results(targets, inputs)
 
 
