@@ -378,3 +378,51 @@ def test_plots_from_the_designs_file(tmp_path, capsys, scheduler):
         capsys, "sweep", "--spec", spec, "-o", tmp_path / "s", "--pareto", "energy,bogus"
     )
     assert status == 2 and "unknown column 'bogus'" in err
+
+
+def test_without_the_design_extra_the_commands_say_what_to_install(tmp_path, capsys, monkeypatch):
+    import importlib.util
+
+    import prp3.cli.design
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        prp3.cli.design.importlib.util,
+        "find_spec",
+        lambda name, *a: None if name == "distributed" else real(name, *a),
+    )
+    spec = write(tmp_path / "sweep.toml", GRID)
+    for command in ("sweep", "optimize"):
+        status, out, err = cli(capsys, command, "--spec", spec, "-o", tmp_path / "out")
+        assert (status, out) == (2, "")
+        assert err == (
+            f"prp3 {command}: error: design studies need distributed: pip install 'prp3[design]'\n"
+        )
+
+
+def test_workers_and_scheduler_are_exclusive_and_bounded(tmp_path, capsys):
+    spec = write(tmp_path / "sweep.toml", GRID)
+    for extra in (("--workers", 2, "--scheduler", "tcp://h:1"), ("--workers", 0)):
+        status, _out, err = cli(capsys, "sweep", "--spec", spec, "-o", tmp_path / "o", *extra)
+        assert status == 2 and len(err.splitlines()) == 1 and "--workers" in err
+
+
+def test_a_positions_only_trajectory_is_a_warning(tmp_path, capsys):
+    t = np.linspace(0.0, 1.0, 21)
+    lines = ["t,x,y,phi"] + [f"{float(a)!r},0.0,{0.01 * float(a)!r},0.0" for a in t]
+    write(tmp_path / "lift.csv", "\n".join(lines) + "\n")
+    spec = sweep_spec(
+        {"designs": 2, "parameters": {"l0": [0.2, 0.4]}, "task": {"motions": ["lift.csv"]}},
+        base=tmp_path,
+    )
+    assert len(spec.notes) == 1 and "positions only" in spec.notes[0]
+    assert spec.evaluator.motions[0].samples == 21
+
+
+def test_a_parquet_file_of_something_else_is_refused(tmp_path):
+    pq.write_table(pa.table({"x": [1.0]}), tmp_path / "other.parquet")
+    with pytest.raises(prp3.InputFileError, match="not a designs file of prp3 sweep"):
+        prp3.sweep.read_designs(tmp_path / "other.parquet")
+    (tmp_path / "text.parquet").write_text("not parquet")
+    with pytest.raises(prp3.InputFileError, match="cannot read a Parquet file"):
+        prp3.sweep.read_designs(tmp_path / "text.parquet")

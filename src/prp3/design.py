@@ -523,6 +523,9 @@ class SweepSpec:
     evaluator : DesignEvaluator
         The nominal robot and the task, for the workers.
     optimize : OptimizeSpec
+    notes : tuple of str
+        Warnings for the user (a trajectory file of positions only: how its
+        derivatives were computed).
     """
 
     source: str
@@ -535,6 +538,7 @@ class SweepSpec:
     samples: int
     evaluator: DesignEvaluator
     optimize: OptimizeSpec
+    notes: tuple[str, ...] = ()
 
     @property
     def paths(self) -> tuple[str, ...]:
@@ -679,7 +683,7 @@ def _parameters(
 
 def _motions(
     source: str, base: Path, task: Mapping[str, Any]
-) -> tuple[tuple[str, ...], int, tuple[Motion, ...]]:
+) -> tuple[tuple[str, ...], int, tuple[Motion, ...], tuple[str, ...]]:
     _unknown(source, "task.", task, {"motions", "samples"})
     names = task.get("motions", ["vertical", "rotation"])
     if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
@@ -689,16 +693,20 @@ def _motions(
         )
     samples = _integer(source, "task.samples", task.get("samples", 301), 2, MAX_SAMPLES)
     motions: list[Motion] = []
+    notes: list[str] = []
     for name in names:
         if name in PAPER_MOTIONS:
             motions.append(paper_motion(name, samples))
         else:
             file = Path(name) if Path(name).is_absolute() else base / name
             try:
-                motions.append(read_trajectory(file).motion)
+                trajectory = read_trajectory(file)
             except Prp3Error as error:
                 raise type(error)(f"{source}: task.motions {name!r}: {error}") from None
-    return tuple(names), samples, tuple(motions)
+            motions.append(trajectory.motion)
+            if trajectory.note is not None:
+                notes.append(trajectory.note)
+    return tuple(names), samples, tuple(motions), tuple(notes)
 
 
 def _optimize(source: str, table: Mapping[str, Any], columns: Sequence[str]) -> OptimizeSpec:
@@ -792,7 +800,9 @@ def sweep_spec(
             f"{source}: a grid of {designs} points per parameter over {len(parameters)} "
             f"parameters has {designs}^{len(parameters)} designs, more than {MAX_DESIGNS}"
         )
-    names, samples, motions = _motions(source, base, _table(source, "task", data.get("task", {})))
+    names, samples, motions, notes = _motions(
+        source, base, _table(source, "task", data.get("task", {}))
+    )
     workspace = "stroke" in nominal.get("limits", {})
     paths = tuple(p.path for p in parameters)
     evaluator = DesignEvaluator(nominal=nominal, paths=paths, motions=motions, workspace=workspace)
@@ -810,6 +820,7 @@ def sweep_spec(
         samples=samples,
         evaluator=evaluator,
         optimize=optimize,
+        notes=notes,
     )
 
 

@@ -203,8 +203,8 @@ class DesignTable:
         return len(self.columns["status"])
 
 
-def read_designs(path: str | Path) -> DesignTable:
-    """Read ``designs.parquet`` written by :func:`run_sweep`.
+def read_designs(path: str | Path, columns: Sequence[str] | None = None) -> DesignTable:
+    """Read ``designs.parquet`` written by :func:`run_sweep` (only ``columns`` when given).
 
     Raises
     ------
@@ -215,8 +215,8 @@ def read_designs(path: str | Path) -> DesignTable:
 
     path = Path(path)
     try:
-        table = pq.read_table(path)
-    except (OSError, ValueError) as error:
+        table = pq.read_table(path, columns=None if columns is None else list(columns))
+    except (OSError, ValueError, KeyError) as error:
         reason = re.sub(r"\s+", " ", str(error)).strip()[:200]
         raise InputFileError(f"{path}: cannot read a Parquet file ({reason})") from None
     metadata = table.schema.metadata or {}
@@ -228,14 +228,14 @@ def read_designs(path: str | Path) -> DesignTable:
         raise InputFileError(
             f"{path}: not a designs file of prp3 sweep (no prp3 metadata)"
         ) from None
-    columns: dict[str, Any] = {}
+    read: dict[str, Any] = {}
     for name in table.column_names:
         column = table.column(name)
         if name == "status":
-            columns[name] = np.array(column.to_pylist(), dtype=str)
+            read[name] = np.array(column.to_pylist(), dtype=str)
         else:
-            columns[name] = np.asarray(column.to_numpy(), dtype=np.float64)
-    return DesignTable(columns=columns, parameters=parameters, nominal=nominal, digest=digest)
+            read[name] = np.asarray(column.to_numpy(), dtype=np.float64)
+    return DesignTable(columns=read, parameters=parameters, nominal=nominal, digest=digest)
 
 
 def nominal_row(spec: SweepSpec) -> dict[str, Any]:
@@ -357,7 +357,7 @@ def run_sweep(
     names = spec.evaluator.columns
     if target.is_file():
         with contextlib.suppress(InputFileError):
-            done = read_designs(target)
+            done = read_designs(target, ["status"])
             if done.digest == digest:
                 return _summary(target, done.columns, 0, spec)
     values = design_values(spec)
@@ -409,7 +409,7 @@ def run_sweep(
                     writer.write_table(pa.concat_tables(group), row_group_size=ROW_GROUP)
                     group, grouped = [], 0
     shutil.rmtree(staging, ignore_errors=True)
-    return _summary(target, read_designs(target).columns, len(missing), spec)
+    return _summary(target, read_designs(target, ["status"]).columns, len(missing), spec)
 
 
 def _compute_chunks(

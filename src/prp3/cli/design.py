@@ -171,12 +171,19 @@ def _check_quantity(spec: SweepSpec, name: str, option: str) -> None:
         )
 
 
+def _read_spec(args: argparse.Namespace) -> SweepSpec:
+    spec = read_sweep_spec(args.spec)
+    for note in spec.notes:
+        print(f"{args.program}: warning: {note}", file=sys.stderr)
+    return spec
+
+
 def run_sweep(args: argparse.Namespace) -> int:
     """Run ``prp3 sweep``; return the exit status."""
     from .. import sweep
 
     _require_design_extra()
-    spec = read_sweep_spec(args.spec)
+    spec = _read_spec(args)
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, (sweep.DESIGNS_FILE,), (args.spec,))
@@ -198,8 +205,11 @@ def run_sweep(args: argparse.Namespace) -> int:
         from ..plotting.design import pareto_figure, sensitivity_figure
         from ..plotting.figures import save_figure
 
-        table = sweep.read_designs(result.path)
         (x, max_x), (y, max_y) = axes
+        wanted = {*spec.paths, "status"}
+        for name in (x, y, args.sensitivity):  # an aggregate reads its three legs
+            wanted |= {f"{name}_{leg}" for leg in "ABC"} if name in AGGREGATES else {name}
+        table = sweep.read_designs(result.path, [c for c in spec.evaluator.columns if c in wanted])
         figure = pareto_figure(
             table.columns, x, y, maximize_x=max_x, maximize_y=max_y, nominal=table.nominal
         )
@@ -228,7 +238,7 @@ def run_optimize(args: argparse.Namespace) -> int:
     from .. import sweep
 
     _require_design_extra()
-    spec = read_sweep_spec(args.spec)
+    spec = _read_spec(args)
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, ("ROBOT.toml", "history.csv"), (args.spec,))

@@ -1,0 +1,181 @@
+#!/usr/bin/env python
+"""``prp3 sweep`` on Dask: designs per second with 1 and 2 workers, against the kernel's own rate.
+
+Run from the repository root (``pip install -e ".[bench]"``)::
+
+    python benchmarks/bench_sweep.py              # 2000 designs, 301 samples per motion
+    python benchmarks/bench_sweep.py --samples 3001 --designs 500
+    python benchmarks/bench_sweep.py --quick      # 400 designs, ~20 s
+
+Measured in the same run, on the same task (the paper's two motions, the
+designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
+
+* ``kernel`` — :func:`prp3.fast.paper_forces` with the reactions on one core,
+  the task repeated to ~10⁵ samples per call (its best rate: no per-call cost);
+* ``kernel per design`` — what one design costs the kernel in the sweep:
+  :func:`~prp3.fast.compile_robot` + one ``paper_forces`` call over the task;
+* ``evaluate_designs`` — :func:`prp3.design.evaluate_designs` on one chunk in
+  this process (the Python around the kernel: robot, peaks, energy), no Dask;
+* ``sweep, 1 worker`` / ``2 workers`` — :func:`prp3.sweep.run_sweep` on a
+  LocalCluster of 1 or 2 worker processes (one thread each), Parquet files
+  included; the cluster start is timed apart (it is paid once per command).
+
+Printed: designs/s and samples/s (designs × samples of the task per second)
+of each, the ratio of each to the kernel's rate, and the scaling efficiency
+``rate(2 workers) / (2 · rate(1 worker))``.  Timings are the median of
+``--repeats`` runs.  On a machine whose cores are shared the numbers move
+from run to run: compare the ratios of one run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import os
+import platform
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import prp3
+import prp3.sweep
+from prp3.design import design_values, evaluate_designs, sweep_spec
+from prp3.fast import compile_robot, paper_forces
+
+
+def _median_time(function: Callable[[], Any], repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
+    parser.add_argument("--designs", type=int, default=2000)
+    parser.add_argument("--samples", type=int, default=301, help="samples per paper motion")
+    parser.add_argument("--chunk", type=int, default=250, help="designs per Dask task")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--quick", action="store_true", help="400 designs, 1 repeat")
+    args = parser.parse_args()
+    if args.quick:
+        args.designs, args.repeats = 400, 1
+
+    from dask.distributed import Client, LocalCluster
+
+    spec = sweep_spec(
+        {
+            "designs": args.designs,
+            "sampling": "lhs",
+            "seed": 1,
+            "chunk": args.chunk,
+            "parameters": {
+                "l0": [0.25, 0.35],
+                "link.mass": [0.5, 1.0],
+                "platform.mass": [2.0, 4.0],
+            },
+            "task": {"motions": ["vertical", "rotation"], "samples": args.samples},
+        }
+    )
+    values = design_values(spec)
+    task = 2 * args.samples
+    motions = [prp3.paper_motion(m, args.samples) for m in ("vertical", "rotation")]
+    pose, velocity, acceleration = (
+        np.concatenate([getattr(m, name) for m in motions])
+        for name in ("pose", "velocity", "acceleration")
+    )
+    robot = prp3.Robot()
+    compiled = compile_robot(robot)
+
+    # the kernel alone, big batches (its best single-core rate)
+    repeat = max(1, 100_000 // task)
+    big = [np.tile(a, (repeat, 1)) for a in (pose, velocity, acceleration)]
+    paper_forces(compiled, *big, reactions=True)
+    t_kernel = _median_time(
+        lambda: paper_forces(compiled, *big, reactions=True), max(3, args.repeats)
+    )
+    kernel_rate = repeat * task / t_kernel
+
+    # what a design costs the kernel: compile + one call over the task
+    robots = [prp3.Robot(l0=0.25 + 0.1 * k / 200) for k in range(200)]
+
+    def per_design() -> None:
+        for r in robots:
+            paper_forces(compile_robot(r), pose, velocity, acceleration, reactions=True)
+
+    per_design()
+    t_design = _median_time(per_design, args.repeats) / len(robots)
+
+    # evaluate_designs in this process (no Dask)
+    part = values[: args.chunk]
+    evaluate_designs(spec.evaluator, part)
+    t_eval = _median_time(lambda: evaluate_designs(spec.evaluator, part), args.repeats) / len(part)
+
+    rows: list[tuple[str, float]] = [
+        ("kernel (paper_forces, 1e5 samples/call)", kernel_rate / task),
+        ("kernel per design (compile + 1 call)", 1.0 / t_design),
+        ("evaluate_designs, this process", 1.0 / t_eval),
+    ]
+    starts: dict[int, float] = {}
+    for workers in (1, 2):
+        begin = time.perf_counter()
+        with (
+            LocalCluster(
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                scheduler_kwargs=prp3.sweep.QUIET_SCHEDULER,
+            ) as cluster,
+            Client(cluster) as client,
+        ):
+            client.wait_for_workers(workers)
+            starts[workers] = time.perf_counter() - begin
+
+            @contextlib.contextmanager
+            def existing(c: Client = client) -> Iterator[Client]:
+                yield c
+
+            def sweep() -> None:
+                folder = Path(tempfile.mkdtemp(prefix="prp3-bench-sweep-"))
+                try:
+                    prp3.sweep.run_sweep(spec, folder, existing)
+                finally:
+                    shutil.rmtree(folder, ignore_errors=True)
+
+            sweep()  # warm: workers import prp3, first chunks
+            t_sweep = _median_time(sweep, args.repeats)
+        rows.append(
+            (f"sweep, {workers} worker{'s' if workers > 1 else ''}", args.designs / t_sweep)
+        )
+
+    print(
+        f"prp3 sweep benchmark: {args.designs} designs x {task} samples "
+        f"(vertical + rotation, {args.samples} each), chunks of {args.chunk}; "
+        f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+        f"Python {sys.version.split()[0]}, numpy {np.__version__}"
+    )
+    print(f"{'':<42}{'designs/s':>12}{'samples/s':>14}{'/ kernel':>10}")
+    for name, rate in rows:
+        print(f"{name:<42}{rate:>12.1f}{rate * task:>14.3g}{rate / rows[0][1]:>10.2f}")
+    one, two = rows[-2][1], rows[-1][1]
+    print(f"scaling efficiency 2 workers: {two / (2 * one):.2f}  (speed-up {two / one:.2f})")
+    print(
+        f"cluster start (untimed above): {starts[1]:.2f} s with 1 worker, {starts[2]:.2f} s with 2"
+    )
+    half = rows[-2][1] >= 0.5 * rows[0][1]
+    print(f"sweep with 1 worker at >= half the kernel's rate: {'yes' if half else 'no'}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
