@@ -245,6 +245,17 @@ def test_failing_designs_are_rows_with_their_status(tmp_path):
     columns = evaluate_designs(stroke.evaluator, design_values(stroke))
     assert columns["status"].tolist() == ["stroke", "ok"]
     assert math.isnan(columns["peak_p10_B"][0]) and columns["peak_p10_B"][1] > 0.0
+    huge = sweep_spec(  # a valid robot whose forces overflow double precision
+        {
+            "designs": 2,
+            "sampling": "grid",
+            "parameters": {"platform.mass": [1.0, 1e308]},
+            "task": {"motions": ["rotation"], "samples": 11},
+        }
+    )
+    columns = evaluate_designs(huge.evaluator, design_values(huge))
+    assert columns["status"].tolist() == ["ok", "unreachable"]
+    assert np.isnan(columns["energy"][1]) and np.isfinite(columns["energy"][0])
 
 
 def test_key_paths_are_generic_and_the_platform_inertia_follows_mass_and_l0():
@@ -360,6 +371,13 @@ workspace_area = { min = 0.02 }
     area = prp3.workspace_slice(robot, 0.0, [-1.0, 1.0], [-1.0, 1.0]).area
     assert area >= 0.02
     assert robot.platform.mass == 3.0 and robot.limits.stroke[0] == -0.08
+    # the same seed, the same search
+    status, _, err = cli(
+        capsys, "optimize", "--spec", spec, "-o", tmp_path / "again", "--scheduler", scheduler
+    )
+    assert status == 0, err
+    for name in ("ROBOT.toml", "history.csv"):
+        assert (tmp_path / "again" / name).read_bytes() == (tmp_path / "best" / name).read_bytes()
 
 
 def test_plots_from_the_designs_file(tmp_path, capsys, scheduler):

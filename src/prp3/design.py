@@ -281,20 +281,27 @@ def _task_results(
     """Status and the peaks + energy of one design (NaN unless ``ok``)."""
     result = np.full(_RESULTS, np.nan)
     try:
-        forces = paper_forces(
-            compile_robot(robot),
-            evaluator._pose,
-            evaluator._velocity,
-            evaluator._acceleration,
-            reactions=True,
-            out=out,
-        )
+        with np.errstate(all="ignore"):  # a design whose forces overflow is "unreachable"
+            return _task_peaks(evaluator, robot, out, result)
     except SingularPoseError:
         return "singular", result
     except UnreachablePoseError:
         return "stroke", result
     except Prp3Error:
         return "unreachable", result
+
+
+def _task_peaks(
+    evaluator: DesignEvaluator, robot: Robot, out: FastForces, result: FloatArray
+) -> tuple[str, FloatArray]:
+    forces = paper_forces(
+        compile_robot(robot),
+        evaluator._pose,
+        evaluator._velocity,
+        evaluator._acceleration,
+        reactions=True,
+        out=out,
+    )
     assert forces.n32 is not None
     peaks = (
         np.abs(forces.f10).max(axis=0),
