@@ -12,6 +12,8 @@ designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
 
 * ``kernel`` — :func:`prp3.fast.paper_forces` with the reactions on one core,
   the task repeated to ~10⁵ samples per call (its best rate: no per-call cost);
+* ``kernel, 1 call`` — one ``paper_forces`` call over the task (its per-call
+  checks included), the robot compiled already;
 * ``kernel per design`` — what one design costs the kernel in the sweep:
   :func:`~prp3.fast.compile_robot` + one ``paper_forces`` call over the task;
 * ``evaluate_designs`` — :func:`prp3.design.evaluate_designs` on one chunk in
@@ -105,6 +107,18 @@ def main() -> int:
     )
     kernel_rate = repeat * task / t_kernel
 
+    # one call over the task, the robot compiled already
+    t_call = (
+        _median_time(
+            lambda: [
+                paper_forces(compiled, pose, velocity, acceleration, reactions=True)
+                for _ in range(200)
+            ],
+            args.repeats,
+        )
+        / 200
+    )
+
     # what a design costs the kernel: compile + one call over the task
     robots = [prp3.Robot(l0=0.25 + 0.1 * k / 200) for k in range(200)]
 
@@ -122,6 +136,7 @@ def main() -> int:
 
     rows: list[tuple[str, float]] = [
         ("kernel (paper_forces, 1e5 samples/call)", kernel_rate / task),
+        (f"kernel, 1 call of {task} samples", 1.0 / t_call),
         ("kernel per design (compile + 1 call)", 1.0 / t_design),
         ("evaluate_designs, this process", 1.0 / t_eval),
     ]

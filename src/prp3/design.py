@@ -291,6 +291,11 @@ def _task_results(
         return "unreachable", result
 
 
+def _leg_max(values: FloatArray) -> FloatArray:
+    """``values.max(axis=0)`` of ``(N, 3)``, leg by leg (numpy reduces a column ~10× faster)."""
+    return np.array([values[:, 0].max(), values[:, 1].max(), values[:, 2].max()])
+
+
 def _task_peaks(
     evaluator: DesignEvaluator, robot: Robot, out: FastForces, result: FloatArray
 ) -> tuple[str, FloatArray]:
@@ -303,13 +308,14 @@ def _task_peaks(
         out=out,
     )
     assert forces.n32 is not None
-    peaks = (
-        np.abs(forces.f10).max(axis=0),
-        np.abs(forces.p10).max(axis=0),
-        np.hypot(forces.f21y, forces.f21z).max(axis=0),
-        np.abs(forces.n32).max(axis=0),
-    )
-    power = forces.p10.sum(axis=1)
+    peaks = [
+        _leg_max(np.abs(forces.f10)),
+        _leg_max(np.abs(forces.p10)),
+        _leg_max(np.hypot(forces.f21y, forces.f21z)),
+        _leg_max(np.abs(forces.n32)),
+    ]
+    p10 = forces.p10
+    power = p10[:, 0] + p10[:, 1] + p10[:, 2]
     energy = 0.0
     for start, stop, dt in evaluator._segments:  # trapezoid rule over each motion
         energy += float(0.5 * np.dot(power[start + 1 : stop] + power[start : stop - 1], dt))
