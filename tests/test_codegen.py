@@ -21,7 +21,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from prp3 import Limits, Robot
+from prp3 import Limits, Motion, Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
 from prp3.fast import compile_robot, paper_forces
@@ -118,6 +118,15 @@ def test_the_paper_robot_matches_the_kernel(paper_robot: Compiled) -> None:
     velocity = rng.uniform(-2.0, 2.0, (count, 3))
     acceleration = rng.uniform(-20.0, 20.0, (count, 3))
     assert _compare(paper_robot, Robot(), pose, velocity, acceleration) <= 1e-12
+    # and with the independent Newton-Euler solver (its own closure solves), to its round-off
+    motion = Motion(
+        t=np.arange(float(count)), pose=pose, velocity=velocity, acceleration=acceleration
+    )
+    reference = inverse_dynamics(Robot(), motion, method="newton-euler")[1]
+    for k in range(0, count, 20):
+        code, got = paper_robot(pose[k], velocity[k], acceleration[k])
+        want = np.stack([reference.f10[k], reference.f21y[k], reference.f21z[k]])
+        assert code == 0 and np.abs(got - want).max() <= 1e-9 * np.abs(want).max()
 
 
 @settings(max_examples=6)
