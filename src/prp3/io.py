@@ -44,8 +44,10 @@ from .motion import Motion
 
 __all__ = [
     "DERIVATIVE_COLUMNS",
+    "FORCE_COLUMNS",
     "MANIFEST_NAME",
     "POSITION_COLUMNS",
+    "Measurements",
     "StagedOutput",
     "Trajectory",
     "atomic_path",
@@ -57,6 +59,7 @@ __all__ = [
     "format_floats",
     "parquet_available",
     "read_manifest",
+    "read_measurements",
     "read_table_csv",
     "read_trajectory",
     "staged_output",
@@ -597,7 +600,11 @@ def read_trajectory(path: str | Path) -> Trajectory:
     True
     """
     path = Path(path)
-    table = _read_table(path, POSITION_COLUMNS, DERIVATIVE_COLUMNS, "trajectory")
+    return _trajectory(path, _read_table(path, POSITION_COLUMNS, DERIVATIVE_COLUMNS, "trajectory"))
+
+
+def _trajectory(path: Path, table: _Table) -> Trajectory:
+    """The motion of a table with the columns of a trajectory file (see :func:`read_trajectory`)."""
     columns = table.columns
     given = [name for name in DERIVATIVE_COLUMNS if name in columns]
     if given and len(given) != len(DERIVATIVE_COLUMNS):
@@ -647,6 +654,58 @@ def read_trajectory(path: str | Path) -> Trajectory:
     except TrajectoryError as error:
         raise TrajectoryError(f"{path}: {error}") from None
     return Trajectory(path=path, motion=motion, lines=lines, note=note)
+
+
+#: Measured actuator forces of a measurement file (N).
+FORCE_COLUMNS: tuple[str, ...] = ("f10_A", "f10_B", "f10_C")
+
+
+@dataclass(frozen=True)
+class Measurements:
+    """A measured motion and its actuator forces, read by :func:`read_measurements`.
+
+    Attributes
+    ----------
+    trajectory : Trajectory
+        The motion (columns as a trajectory file's; derivatives computed when absent).
+    f10 : ndarray, shape (N, 3)
+        The measured forces ``f10_A, f10_B, f10_C`` (N).
+    """
+
+    trajectory: Trajectory
+    f10: FloatArray
+
+
+def read_measurements(path: str | Path) -> Measurements:
+    r"""Read a measurement file: a trajectory file's columns plus ``f10_A, f10_B, f10_C``.
+
+    The same strict reader and conventions as :func:`read_trajectory`
+    (derivative columns optional, all six or none; time strictly increasing).
+
+    Raises
+    ------
+    InputFileError, TrajectoryError
+        As :func:`read_trajectory`; a missing force column is named.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> file = pathlib.Path(tempfile.mkdtemp()) / "m.csv"
+    >>> rows = "".join(f"{k / 10},0,{k / 100},0,1,2,3\n" for k in range(8))
+    >>> _ = file.write_text("t,x,y,phi,f10_A,f10_B,f10_C\n" + rows)
+    >>> read_measurements(file).f10[0].tolist()
+    [1.0, 2.0, 3.0]
+    >>> _ = file.write_text("t,x,y,phi,f10_A,f10_B\n0,0,0,0,1,2\n")
+    >>> try:
+    ...     read_measurements(file)
+    ... except InputFileError as error:
+    ...     print(str(error).split(": ", 1)[1])
+    missing column(s) f10_C
+    """
+    path = Path(path)
+    table = _read_table(path, POSITION_COLUMNS + FORCE_COLUMNS, DERIVATIVE_COLUMNS, "measurement")
+    f10 = np.stack([table.columns[name] for name in FORCE_COLUMNS], axis=-1)
+    return Measurements(trajectory=_trajectory(path, table), f10=f10)
 
 
 # ---------------------------------------------------------------- output folders

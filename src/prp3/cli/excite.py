@@ -1,0 +1,153 @@
+"""``prp3 excite``: an exciting trajectory for identification, written as a trajectory file.
+
+::
+
+    prp3 excite [--robot ROBOT.toml] --output DIR [--period S] [--harmonics L]
+                [--samples N] [--reach R] [--rotation RAD] [--max-velocity V]
+                [--max-force F] [--seed K] [--iterations K]
+
+Writes ``DIR/trajectory.csv`` (columns ``t, x, y, phi, dx, dy, dphi, ddx, ddy,
+ddphi``, the analytic derivatives of the series): one period of the finite
+Fourier series of :func:`prp3.identification.exciting_trajectory`, which
+minimises the condition number of the stacked base regressor within the
+limits.  This module only parses and prints.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import numpy as np
+
+from ..identification import exciting_trajectory
+from ..io import check_output_directory, staged_output, write_table_csv
+from ._types import (
+    add_output_directory,
+    add_robot_option,
+    files_report,
+    integer_at_least,
+    load_robot,
+    positive_float,
+)
+
+__all__ = ["TRAJECTORY_NAME", "register", "run"]
+
+#: File ``prp3 excite`` writes.
+TRAJECTORY_NAME: str = "trajectory.csv"
+
+EXAMPLES = """\
+examples:
+  prp3 excite --robot robot.toml --output excite
+  prp3 excite --period 8 --harmonics 5 --max-velocity 0.3 --max-force 200 --output slow
+
+Then drive the robot along DIR/trajectory.csv, record the actuator forces as
+f10_A, f10_B, f10_C next to t, x, y, phi, and run prp3 identify on that file.
+Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
+"""
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``excite`` subcommand."""
+    parser = subparsers.add_parser(
+        "excite",
+        help="an exciting trajectory for identification -> DIR/trajectory.csv",
+        description=(
+            "Design a periodic platform motion (finite Fourier series) that minimises the\n"
+            "condition number of the base regressor of f10 within the workspace, stroke,\n"
+            "velocity and force limits (docs/identification.md)."
+        ),
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_robot_option(parser, "; its [limits] stroke and max_force are obeyed")
+    add_output_directory(parser)
+    parser.add_argument(
+        "--period", type=positive_float, default=5.0, help="period of the series (s, default 5)"
+    )
+    parser.add_argument(
+        "--harmonics",
+        type=integer_at_least(1, 20),
+        default=4,
+        help="harmonics per coordinate (default 4)",
+    )
+    parser.add_argument(
+        "--samples",
+        type=integer_at_least(2, 10**7),
+        default=1001,
+        help="samples written over one period, both ends included (default 1001)",
+    )
+    parser.add_argument(
+        "--reach",
+        type=positive_float,
+        default=0.2,
+        help="largest |x|, |y| as a fraction of l0 (default 0.2)",
+    )
+    parser.add_argument(
+        "--rotation",
+        metavar="RAD",
+        type=positive_float,
+        default=0.5,
+        help="largest |phi| (rad, below 1: phi = pi/3 is singular; default 0.5)",
+    )
+    parser.add_argument(
+        "--max-velocity",
+        metavar="V",
+        type=positive_float,
+        default=0.5,
+        help="largest actuator velocity |dlambda10| (m/s, default 0.5)",
+    )
+    parser.add_argument(
+        "--max-force",
+        metavar="F",
+        type=positive_float,
+        help="largest |f10| of the robot (N; default its limits.max_force, else none)",
+    )
+    parser.add_argument(
+        "--seed", type=integer_at_least(0), default=0, help="seed of the starting guess"
+    )
+    parser.add_argument(
+        "--iterations",
+        type=integer_at_least(1, 10_000),
+        default=150,
+        help="most SLSQP iterations (default 150)",
+    )
+    parser.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``prp3 excite`` with parsed ``args``; return the exit status."""
+    check_output_directory(args.output)
+    robot = load_robot(args)
+    result = exciting_trajectory(
+        robot,
+        period=args.period,
+        harmonics=args.harmonics,
+        reach=args.reach,
+        rotation=args.rotation,
+        max_velocity=args.max_velocity,
+        max_force=args.max_force,
+        seed=args.seed,
+        max_iterations=args.iterations,
+    )
+    motion = result.series.motion(np.linspace(0.0, args.period, args.samples))
+    names = ("t", "x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
+    columns = [motion.t, *motion.pose.T, *motion.velocity.T, *motion.acceleration.T]
+    with staged_output(args.output) as staged:
+        write_table_csv(staged.path(TRAJECTORY_NAME), dict(zip(names, columns, strict=True)))
+    force = args.max_force if args.max_force is not None else robot.limits.max_force
+    lines = [
+        f"prp3 excite: Fourier series, {args.harmonics} harmonics, period {args.period:g} s",
+        f"  condition number of the base regressor of f10: {result.condition:.4g} "
+        f"(starting guess {result.initial_condition:.4g}, {result.iterations} SLSQP iterations)",
+        f"  limits: |x|, |y| <= {args.reach:g} l0, |phi| <= {args.rotation:g} rad, "
+        f"|dlambda10| <= {args.max_velocity:g} m/s"
+        + (f", |f10| <= {force:g} N" if force is not None else "")
+        + (f", stroke {list(robot.limits.stroke)} m" if robot.limits.stroke is not None else ""),
+        f"  peaks (nominal robot): |lambda10| {result.peak_lambda10:.4g} m, "
+        f"|dlambda10| {result.peak_dlambda10:.4g} m/s, |f10| {result.peak_f10:.4g} N",
+        *files_report(staged),
+    ]
+    print("\n".join(lines), file=sys.stdout)
+    return 0
