@@ -804,12 +804,57 @@ class IdentifiedRobot:
 _MAX_CHOICES: int = 4096
 
 
+def _kept_values(nominal: Robot, values: dict[str, float]) -> dict[str, float]:
+    """The standard parameters of ``nominal``'s physical ones, with the current masses.
+
+    A kept first moment keeps the nominal centre of mass (``h = m·c``), a kept
+    link inertia the nominal inertia about the centre of mass
+    (``J2 = I2 + |h2|²/m2``), whatever the masses and moments solved.
+    """
+    m1, m2 = values["piston_mass"], values["link_mass"]
+    h2x, h2y = values["link_moment_x"], values["link_moment_y"]
+    return {
+        "piston_mass": nominal.piston.mass,
+        "piston_moment_x": m1 * nominal.piston.com[0],
+        "piston_moment_y": m1 * nominal.piston.com[1],
+        "link_mass": nominal.link.mass,
+        "link_moment_x": m2 * nominal.link.com[0],
+        "link_moment_y": m2 * nominal.link.com[1],
+        "link_inertia": nominal.link.inertia + (h2x * h2x + h2y * h2y) / m2 if m2 > 0 else 0.0,
+        "platform_mass": nominal.platform.mass,
+        "platform_moment_x": 0.0,
+        "platform_moment_y": 0.0,
+        "platform_inertia": nominal.platform_inertia,
+    }
+
+
+def _solve_choice(
+    nominal: Robot, base: BaseParameters, estimate: FloatArray, solved: list[int]
+) -> dict[str, float]:
+    """Standard parameters: ``solved`` from the base parameters, the others kept (physically)."""
+    names = base.parameters
+    C = base.combination
+    others = [j for j in range(len(names)) if j not in solved]
+    values = dict(zip(STANDARD_PARAMETERS, standard_parameters(nominal).tolist(), strict=True))
+    for _ in range(4):  # masses, then moments, then inertias: a fixed point in 3 passes
+        kept = _kept_values(nominal, values)
+        fixed = np.array([kept[names[j]] for j in others])
+        rhs = estimate - C[:, others] @ fixed
+        for j, v in zip(others, fixed.tolist(), strict=True):
+            values[names[j]] = v
+        for j, v in zip(solved, np.linalg.solve(C[:, solved], rhs).tolist(), strict=True):
+            values[names[j]] = v
+    return values
+
+
 def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     """The robot of an identification: in each combination, solve the dominant parameter.
 
     Within each base parameter the member with the largest nominal
     contribution ``|coefficient × nominal value|`` is solved (the platform
-    inertia, not a link's small inertia), the others keep ``nominal``'s values.
+    inertia, not a link's small inertia), the others keep ``nominal``'s
+    physical values: its masses, centres of mass and inertias about the
+    centres of mass (so a kept ``J2`` follows the identified ``h2``).
     If that robot is not physically valid (a mass ≤ 0, an inertia < 0 about a
     centre of mass), the other choices are tried in order of dominance.
 
@@ -828,24 +873,18 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
         candidates.append([members[i] for i in order])
     first_error: ParameterError | None = None
     for choice in itertools.islice(itertools.product(*candidates), _MAX_CHOICES):
-        if len(set(choice)) != len(choice):
+        if (
+            len(set(choice)) != len(choice)
+            or abs(np.linalg.det(base.combination[:, choice])) < 1e-12
+        ):
             continue
-        solved = list(choice)
-        C = base.combination
-        others = [j for j in range(len(base.parameters)) if j not in solved]
-        rhs = result.estimate - C[:, others] @ nominal_values[others]
-        block = C[:, solved]
-        if abs(np.linalg.det(block)) < 1e-12:
-            continue
-        values = dict(zip(base.parameters, nominal_values.tolist(), strict=True))
-        for j, v in zip(solved, np.linalg.solve(block, rhs).tolist(), strict=True):
-            values[base.parameters[j]] = v
+        values = _solve_choice(nominal, base, result.estimate, list(choice))
         try:
             robot = robot_from_standard(nominal, values)
         except ParameterError as error:
             first_error = first_error or error
             continue
-        solved_names = tuple(base.parameters[j] for j in solved)
+        solved_names = tuple(base.parameters[j] for j in choice)
         kept = tuple(name for name in STANDARD_PARAMETERS if name not in solved_names)
         return IdentifiedRobot(robot=robot, solved=solved_names, kept=kept)
     raise ParameterError(
