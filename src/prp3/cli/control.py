@@ -109,7 +109,7 @@ def register(subparsers: Any) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    add_robot_option(parser, ", the plant")
+    add_robot_option(parser, "; the plant, the robot simulated")
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument(
         "--motion",

@@ -92,9 +92,9 @@ def register(subparsers: Any) -> None:
         "c",
         help="the inverse dynamics as C99 code for an embedded controller (.h and .c)",
         description=(
-            f"Write the robot's inverse dynamics as C99 code: DIR/{HEADER_NAME} and "
-            f"DIR/{SOURCE_NAME}, generated from prp3's closed form with sympy (only "
-            "<math.h>, the robot's parameters as constants)."
+            f"Write the robot's inverse dynamics as C99 code: DIR/{HEADER_NAME} and\n"
+            f"DIR/{SOURCE_NAME}, generated from prp3's kernel with sympy (only <math.h>,\n"
+            "the robot's parameters as constants)."
         ),
         epilog=_C_EXAMPLE,
         formatter_class=argparse.RawDescriptionHelpFormatter,
