@@ -32,7 +32,6 @@ True
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
 import re
@@ -89,7 +88,7 @@ class CSource:
 
 
 #: Constants of the closed form: the fields of :class:`prp3.kernel.KernelParameters`.
-_SCALARS = tuple(f.name for f in dataclasses.fields(kernel.KernelParameters))
+_SCALARS = kernel.INERTIAL_FIELDS
 
 
 def _constant_values(robot: Robot) -> dict[str, float]:
@@ -184,6 +183,12 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
     """
     if not isinstance(robot, Robot):
         raise ParameterError(f"robot must be a prp3.Robot, got {type(robot).__name__}")
+    if robot.friction is not None or robot.load.present:
+        what = "[friction]" if robot.friction is not None else "[load]"
+        raise ParameterError(
+            f"robot: the generated C code covers the inertial model (a [payload] included), "
+            f"not {what}: remove it from the robot to export C"
+        )
     try:
         import sympy
         from sympy.printing.c import C99CodePrinter

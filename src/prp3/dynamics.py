@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from .errors import Prp3Error
 from .fast import solve_batch
-from .forces import FORCE_NAMES, InverseDynamics, checked
+from .forces import FORCE_NAMES, FRICTION_NAMES, InverseDynamics, checked
 from .kinematics import Kinematics, inverse_kinematics
 from .model import Robot, check_robot
 from .motion import Motion
@@ -58,8 +58,12 @@ def kernel_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
     """
     check_robot(robot)
     motion = kin.motion
-    values = solve_batch(robot, motion.pose, motion.velocity, motion.acceleration)
-    result = InverseDynamics(**{name: values[name] for name in FORCE_NAMES}, method="fast")
+    values = solve_batch(
+        robot, motion.pose, motion.velocity, motion.acceleration, load=motion.load
+    )
+    names = FORCE_NAMES + (FRICTION_NAMES if robot.friction is not None else ())
+    extra = {"iterations": values["iterations"]} if "iterations" in values else {}
+    result = InverseDynamics(**{name: values[name] for name in names}, method="fast", **extra)
     return checked(result, motion.t)
 
 

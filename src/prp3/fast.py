@@ -39,6 +39,7 @@ from .model import Robot
 
 __all__ = [
     "DEFAULT_CHUNK",
+    "FRICTION_OUTPUTS",
     "KERNEL_OUTPUTS",
     "CompiledRobot",
     "FastForces",
@@ -60,8 +61,10 @@ DEFAULT_CHUNK = 8192
 _FEW_SAMPLES = 16
 
 #: Every per-leg output of the kernel, in the order of :class:`~prp3.kernel.KernelSolution`.
-KERNEL_OUTPUTS: tuple[str, ...] = kernel.KernelSolution._fields
+KERNEL_OUTPUTS: tuple[str, ...] = kernel.KernelSolution._fields[:14]
 _FORCES = ("f10", "p10", "f21y", "f21z")
+#: The friction outputs of the kernel (with a robot's ``[friction]``).
+FRICTION_OUTPUTS: tuple[str, ...] = ("fric10", "fric21", "fric32")
 _REACTIONS = ("n10", "m10", "n32", "m32")
 _INPUTS = ("pose", "velocity", "acceleration")
 
@@ -90,9 +93,22 @@ class CompiledRobot:
 
         ``f(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈)`` returns the 12 floats ``f10, p10,
         f21y, f21z`` of legs A, B, C, followed by the 3 ``λ10`` when the robot
-        has a stroke (for the check).  Its source is its ``__doc__``.
+        has a stroke (for the check).  Its source is its ``__doc__``.  The
+        constant load and the viscous and Coulomb friction are in the traced
+        code; with ``μ`` terms (implicit) it is the kernel on floats with its
+        Newton solve (NaN where the friction locks).
         """
         params, stroke = self.parameters, self.stroke is not None
+        if params.has_mu:  # implicit friction: the kernel on floats, with its Newton solve
+
+            def implicit(*state: float) -> tuple[float, ...]:
+                sol = kernel.solve(kernel.MATH, params, *state, reactions=False)
+                if sol.iterations is not None and sol.iterations < 0:
+                    return (math.nan,) * (15 if stroke else 12)
+                lam = sol.lambda10 if stroke else ()
+                return (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z, *lam)
+
+            return implicit
 
         def outputs(ops: kernel.Ops, *state: kernel.Value) -> tuple[kernel.Value, ...]:
             sol = kernel.solve(ops, params, *state, reactions=False)
@@ -149,9 +165,18 @@ class CompiledRobot:
             geo = kernel.kernel_geometry(ops, params, *state[:3])
             sol = kernel.solve(ops, params, *state, reactions=reactions)
             checks = (geo.D, *(sol.lambda10 if stroke else ()))
-            return (*checks, *(v for name in names for v in getattr(sol, name)))
+            return (*checks, *(v for name in names for v in _field(sol, name)))
 
         return outputs
+
+
+def _field(sol: kernel.KernelSolution, name: str) -> kernel.Legs:
+    """The three legs of output ``name`` of a kernel solution (friction included)."""
+    if name in FRICTION_OUTPUTS:
+        if sol.friction is None:
+            return (0.0, 0.0, 0.0)
+        return tuple(getattr(sol.friction, name))  # type: ignore[return-value]
+    return tuple(getattr(sol, name))  # type: ignore[return-value]
 
 
 def compile_robot(robot: Robot) -> CompiledRobot:
@@ -281,21 +306,39 @@ def solve_batch(
     acceleration: ArrayLike,
     *,
     chunk_size: int = DEFAULT_CHUNK,
+    load: ArrayLike | None = None,
 ) -> dict[str, FloatArray]:
     """Every output of the kernel for a batch of samples, validated: name → ``(N, 3)``.
 
     The names are :data:`KERNEL_OUTPUTS` (joint displacements, rates, forces
-    and reactions); shapes as :func:`paper_forces`.
+    and reactions), with a robot's ``[friction]`` also :data:`FRICTION_OUTPUTS`
+    and, with ``μ`` terms, ``"iterations"`` (shape ``(N,)``: Newton
+    iterations of each sample); shapes as :func:`paper_forces`.  ``load``:
+    the time-varying wrench ``(f_x, f_y, m_z)`` on the platform, shaped as
+    ``pose``.
 
     >>> sorted(solve_batch(Robot(), [0.0, 0.0, 0.0], [0, 0, 0], [0, 0, 0]))[:3]
     ['ddlambda10', 'ddlambda32', 'dlambda10']
     """
     compiled = robot if isinstance(robot, CompiledRobot) else compile_robot(robot)
     flat, shape = _inputs(pose, velocity, acceleration)
-    result = _outputs(None, KERNEL_OUTPUTS, shape)
+    friction = compiled.robot.friction is not None
+    result = _outputs(None, KERNEL_OUTPUTS + (FRICTION_OUTPUTS if friction else ()), shape)
+    wrench = None
+    if load is not None:
+        wrench = _as_samples("load", load)
+        if wrench.shape != shape:
+            raise TrajectoryError(f"load must have the shape of pose {shape}, got {wrench.shape}")
+        wrench = wrench.reshape(-1, 3)
+    iterations = np.zeros(shape[:-1]) if compiled.parameters.has_mu else None
     if flat[0].shape[0]:
         targets = {name: array.reshape(-1, 3) for name, array in result.items()}
-        _compute(compiled, flat, targets, _chunk_size(chunk_size))
+        _compute(
+            compiled, flat, targets, _chunk_size(chunk_size), load=wrench,
+            mu_iterations=None if iterations is None else iterations.reshape(-1),
+        )  # fmt: skip
+    if iterations is not None:
+        result["iterations"] = iterations
     return result
 
 
@@ -379,12 +422,21 @@ def _compute(
     targets: dict[str, FloatArray],
     chunk_size: int,
     backend: str = "numpy",
+    load: FloatArray | None = None,
+    mu_iterations: FloatArray | None = None,
 ) -> None:
     """The kernel on chunks of samples into ``targets`` (name → ``(N, 3)``); validated.
 
     The numpy backend writes each output straight into its column of the
-    target; the numba backend into a block, then copied.
+    target; the numba backend into a block, then copied.  ``load``: the
+    time-varying wrench ``(N, 3)`` on the platform, or ``None``;
+    ``mu_iterations``: an ``(N,)`` array for the Newton iterations of the
+    ``μ`` terms.  With either, the kernel runs on numpy arrays directly
+    (:func:`_compute_direct`).
     """
+    if load is not None or compiled.parameters.has_mu:
+        _compute_direct(compiled, inputs, targets, chunk_size, load, mu_iterations)
+        return
     samples = inputs[0].shape[0]
     width = min(chunk_size, samples)
     names = tuple(targets)
@@ -414,6 +466,69 @@ def _compute(
                 compiled.stroke is not None and _outside(scratch[1:4, :n], compiled.stroke)
             ):
                 _raise_input_error(compiled, inputs, stop)
+    _require_finite_results(targets, inputs)
+
+
+def _compute_direct(
+    compiled: CompiledRobot,
+    inputs: list[FloatArray],
+    targets: dict[str, FloatArray],
+    chunk_size: int,
+    load: FloatArray | None = None,
+    mu_iterations: FloatArray | None = None,
+) -> None:
+    """:func:`_compute` by the kernel on numpy arrays (a time-varying load, ``μ`` terms).
+
+    Raises TrajectoryError naming the first sample whose friction self-locks.
+    """
+    samples = inputs[0].shape[0]
+    width = min(chunk_size, samples)
+    reactions = any(name in targets for name in _REACTIONS)
+    state = np.empty((9, width))  # x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈ of one chunk, as rows
+    params, stroke = compiled.parameters, compiled.stroke
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        for start in range(0, samples, width):
+            stop = min(start + width, samples)
+            rows = state[:, : stop - start]
+            for k, array in enumerate(inputs):
+                np.copyto(rows[3 * k : 3 * k + 3], array[start:stop].T)
+            x, y, phi, dx, dy, dphi, ddx, ddy, ddphi = rows
+            if not np.isfinite(rows).all():
+                _raise_input_error(compiled, inputs, stop)
+            geo = kernel.kernel_geometry(kernel.NUMPY, params, x, y, phi)
+            if float(np.abs(geo.D).min()) < SINGULARITY_THRESHOLD or (
+                stroke is not None and _outside(geo.lambda10, stroke)
+            ):
+                _raise_input_error(compiled, inputs, stop)
+            kin = kernel.kernel_kinematics(params, geo, dx, dy, dphi, ddx, ddy, ddphi)
+            wrench = None if load is None else tuple(load[start:stop, k] for k in range(3))
+            f10, f21y, f21z, rest, friction, iterations = kernel.dynamics(
+                kernel.NUMPY, params, kin, ddx, ddy, dphi, ddphi, reactions=reactions, load=wrench
+            )
+            values = {"f10": f10, "f21y": f21y, "f21z": f21z}
+            values["p10"] = tuple(f * v for f, v in zip(f10, kin.dlambda10, strict=True))
+            if rest is not None:
+                values.update(zip(_REACTIONS, rest, strict=True))
+            if friction is not None:
+                values.update(zip(FRICTION_OUTPUTS, friction, strict=True))
+            if iterations is not None:
+                locked = np.flatnonzero(np.asarray(iterations) < 0)
+                if locked.size:
+                    raise TrajectoryError(
+                        f"motion: the joint friction locks at sample {start + int(locked[0])}: "
+                        "no inverse dynamics reached continuously from mu = 0 (the friction "
+                        "cone of a joint swallows the drive: self-locking); lower the mu "
+                        "coefficients or change the motion"
+                    )
+                if mu_iterations is not None:
+                    mu_iterations[start:stop] = iterations
+            for name in ("lambda10", "lambda32"):
+                values[name] = getattr(geo, name)
+            for name in ("dlambda10", "ddlambda10", "dlambda32", "ddlambda32"):
+                values[name] = getattr(kin, name)
+            for name, target in targets.items():
+                for leg in range(3):
+                    target[start:stop, leg] = values[name][leg]
     _require_finite_results(targets, inputs)
 
 

@@ -21,12 +21,14 @@ from numpy.typing import NDArray
 
 from ._checks import require_finite
 
-__all__ = ["FORCE_NAMES", "InverseDynamics", "checked"]
+__all__ = ["FORCE_NAMES", "FRICTION_NAMES", "InverseDynamics", "checked"]
 
 FloatArray = NDArray[np.float64]
 
 #: Names of the per-leg force quantities, in the order of the results table.
 FORCE_NAMES: tuple[str, ...] = ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32")
+#: Names of the per-leg friction forces (with a robot's ``[friction]``).
+FRICTION_NAMES: tuple[str, ...] = ("fric10", "fric21", "fric32")
 
 
 @dataclass(frozen=True)
@@ -54,6 +56,13 @@ class InverseDynamics:
         Reaction moment of link 2 on the platform about ``P_i`` (N·m).
     method : str
         ``"fast"``, ``"paper"`` or ``"newton-euler"``.
+    fric10, fric21, fric32 : ndarray or None
+        With a robot's ``[friction]``: the force of the guide on piston i along
+        ``e_i`` (N), the moment of piston i on link 2 about ``z0`` (N·m), the
+        force of link 2 on the platform along ``d_i`` (N); else ``None``.
+    iterations : ndarray or None
+        With ``μ`` terms of friction: the iterations of the implicit solve of
+        each sample (batch shape); else ``None``.
     """
 
     f10: FloatArray
@@ -65,11 +74,14 @@ class InverseDynamics:
     n32: FloatArray
     m32: FloatArray
     method: str
+    fric10: FloatArray | None = None
+    fric21: FloatArray | None = None
+    fric32: FloatArray | None = None
+    iterations: FloatArray | None = None
 
 
 def checked(result: InverseDynamics, times: FloatArray) -> InverseDynamics:
     """``result`` if every force is finite, else a TrajectoryError naming the sample."""
-    require_finite(
-        {name: getattr(result, name) for name in FORCE_NAMES}, times.shape, "motion", times
-    )
+    names = FORCE_NAMES + (FRICTION_NAMES if result.fric10 is not None else ())
+    require_finite({name: getattr(result, name) for name in names}, times.shape, "motion", times)
     return result

@@ -45,6 +45,7 @@ from .motion import Motion
 __all__ = [
     "DERIVATIVE_COLUMNS",
     "FORCE_COLUMNS",
+    "LOAD_COLUMNS",
     "MANIFEST_NAME",
     "POSITION_COLUMNS",
     "Measurements",
@@ -72,6 +73,9 @@ POSITION_COLUMNS: tuple[str, ...] = ("t", "x", "y", "phi")
 
 #: Optional derivative columns of a trajectory file: all six or none.
 DERIVATIVE_COLUMNS: tuple[str, ...] = ("dx", "dy", "dphi", "ddx", "ddy", "ddphi")
+
+#: Optional load columns of a trajectory file (a wrench on the platform): all three or none.
+LOAD_COLUMNS: tuple[str, ...] = ("fx", "fy", "mz")
 
 #: Rows written per block by :func:`write_table_csv` (and per progress report).
 _ROWS_PER_BLOCK = 20_000
@@ -570,7 +574,10 @@ def read_trajectory(path: str | Path) -> Trajectory:
 
     The file has a header row naming its columns, in any order, then one row
     per sample (SI units, rad).  The columns are either ``t, x, y, phi``
-    (positions only) or those and all of ``dx, dy, dphi, ddx, ddy, ddphi``.
+    (positions only) or those and all of ``dx, dy, dphi, ddx, ddy, ddphi``;
+    optionally all of ``fx, fy, mz``, a time-varying wrench of the environment
+    on the platform (force at ``G``, fixed frame, N; moment about ``z0``, N·m),
+    carried as :attr:`Motion.load`.
     Blank lines are ignored.  With positions only, the velocities and
     accelerations are computed by :func:`differentiate_positions` (a quintic
     interpolating spline) and :attr:`Trajectory.note` says so.
@@ -600,12 +607,22 @@ def read_trajectory(path: str | Path) -> Trajectory:
     True
     """
     path = Path(path)
-    return _trajectory(path, _read_table(path, POSITION_COLUMNS, DERIVATIVE_COLUMNS, "trajectory"))
+    return _trajectory(
+        path,
+        _read_table(path, POSITION_COLUMNS, DERIVATIVE_COLUMNS + LOAD_COLUMNS, "trajectory"),
+    )
 
 
 def _trajectory(path: Path, table: _Table) -> Trajectory:
     """The motion of a table with the columns of a trajectory file (see :func:`read_trajectory`)."""
     columns = table.columns
+    loads = [name for name in LOAD_COLUMNS if name in columns]
+    if loads and len(loads) != len(LOAD_COLUMNS):
+        missing = [name for name in LOAD_COLUMNS if name not in columns]
+        raise InputFileError(
+            f"{path}:{table.header_line}: give all of the load columns "
+            f"{', '.join(LOAD_COLUMNS)} or none; missing {', '.join(missing)}"
+        )
     given = [name for name in DERIVATIVE_COLUMNS if name in columns]
     if given and len(given) != len(DERIVATIVE_COLUMNS):
         missing = [name for name in DERIVATIVE_COLUMNS if name not in columns]
@@ -650,7 +667,8 @@ def _trajectory(path: Path, table: _Table) -> Trajectory:
             "for smooth, finely sampled motions, less so near the first and last samples"
         )
     try:
-        motion = Motion(t=t, pose=pose, velocity=velocity, acceleration=acceleration)
+        load = np.stack([columns[name] for name in LOAD_COLUMNS], axis=-1) if loads else None
+        motion = Motion(t=t, pose=pose, velocity=velocity, acceleration=acceleration, load=load)
     except TrajectoryError as error:
         raise TrajectoryError(f"{path}: {error}") from None
     return Trajectory(path=path, motion=motion, lines=lines, note=note)

@@ -74,23 +74,31 @@ __all__ = [
     "MATH",
     "NUMPY",
     "STATE_SYMBOLS",
+    "EFFECT_FIELDS",
+    "INERTIAL_FIELDS",
+    "MU_STEPS",
     "BodyWrenches",
+    "KernelFriction",
     "KernelGeometry",
     "KernelKinematics",
     "KernelParameters",
     "KernelSolution",
     "Ops",
     "body_wrenches",
+    "dynamics",
+    "friction_forces",
     "joint_forces",
     "kernel_geometry",
     "kernel_kinematics",
     "kernel_parameters",
     "solve",
+    "solve_mu",
     "symbolic_parameters",
     "symbolic_solution",
     "sympy_ops",
 ]
 
+FloatArray = np.ndarray[Any, np.dtype[np.float64]]
 #: A number of the kernel: a float, a 1-D float64 array or a sympy expression.
 Value = Any
 #: One value per leg, ``(A, B, C)``.
@@ -182,6 +190,20 @@ class KernelParameters:
         platform alone (``G`` is its mass centre).
     platform_inertia : Value
         Inertia about ``G`` (kg·m²).
+    load_x, load_y, load_moment : Value
+        The constant wrench of the environment on the platform (``[load]``):
+        force at ``G`` in the fixed frame (N), moment about ``z0`` (N·m).
+    actuator_viscous, actuator_coulomb, actuator_mu, actuator_smoothing : Value
+        Friction of the base guide on piston i (``b_a, c_a, μ_a, v_s``).
+    revolute_viscous, revolute_coulomb, revolute_mu, revolute_pin_radius, revolute_smoothing : Value
+        Friction of the revolute joint at ``P_i`` (``b_r, c_r, μ_r, r_r``, smoothing).
+    sleeve_viscous, sleeve_coulomb, sleeve_mu, sleeve_smoothing : Value
+        Friction of the sleeve of link 2 on the platform (``b_s, c_s, μ_s``, smoothing).
+
+    Every load and friction field defaults to ``0.0``; a field that is the
+    number zero adds no operation at all (the results are bit for bit those
+    without it).  The friction forces are linear in the viscous and Coulomb
+    coefficients (identification's regressor).
     """
 
     l0: Value
@@ -198,6 +220,52 @@ class KernelParameters:
     platform_moment_x: Value
     platform_moment_y: Value
     platform_inertia: Value
+    load_x: Value = 0.0
+    load_y: Value = 0.0
+    load_moment: Value = 0.0
+    actuator_viscous: Value = 0.0
+    actuator_coulomb: Value = 0.0
+    actuator_mu: Value = 0.0
+    actuator_smoothing: Value = 0.0
+    revolute_viscous: Value = 0.0
+    revolute_coulomb: Value = 0.0
+    revolute_mu: Value = 0.0
+    revolute_pin_radius: Value = 0.0
+    revolute_smoothing: Value = 0.0
+    sleeve_viscous: Value = 0.0
+    sleeve_coulomb: Value = 0.0
+    sleeve_mu: Value = 0.0
+    sleeve_smoothing: Value = 0.0
+
+    @property
+    def has_mu(self) -> bool:
+        """Whether a load-dependent friction term acts: the inverse dynamics is implicit."""
+        return not (
+            _zero(self.actuator_mu)
+            and (_zero(self.revolute_mu) or _zero(self.revolute_pin_radius))
+            and _zero(self.sleeve_mu)
+        )
+
+
+#: The inertial (and geometric) fields of :class:`KernelParameters`: those of the paper's model.
+INERTIAL_FIELDS: tuple[str, ...] = (
+    "l0", "gravity_x", "gravity_y", "piston_mass", "piston_moment_x", "piston_moment_y",
+    "link_mass", "link_moment_x", "link_moment_y", "link_inertia", "platform_mass",
+    "platform_moment_x", "platform_moment_y", "platform_inertia",
+)  # fmt: skip
+
+#: The load and friction fields of :class:`KernelParameters` (``0.0`` unless given).
+EFFECT_FIELDS: tuple[str, ...] = (
+    "load_x", "load_y", "load_moment",
+    "actuator_viscous", "actuator_coulomb", "actuator_mu", "actuator_smoothing",
+    "revolute_viscous", "revolute_coulomb", "revolute_mu", "revolute_pin_radius",
+    "revolute_smoothing", "sleeve_viscous", "sleeve_coulomb", "sleeve_mu", "sleeve_smoothing",
+)  # fmt: skip
+
+
+def _zero(value: Value) -> bool:
+    """Whether ``value`` is the number zero (a symbol or an array is not)."""
+    return isinstance(value, int | float) and value == 0.0
 
 
 def kernel_parameters(robot: Robot) -> KernelParameters:
@@ -209,6 +277,22 @@ def kernel_parameters(robot: Robot) -> KernelParameters:
     m1, m2 = robot.piston.mass, robot.link.mass
     c1x, c1y = robot.piston.com
     c2x, c2y = robot.link.com
+    m3, h3x, h3y, j3 = robot.platform.mass, 0.0, 0.0, robot.platform_inertia
+    payload = robot.payload
+    if payload.present:  # a rigid body fixed to the platform: its standard parameters add
+        mp, (cpx, cpy) = payload.mass, payload.com
+        m3, h3x, h3y = m3 + mp, mp * cpx, mp * cpy
+        j3 = j3 + payload.inertia + mp * (cpx * cpx + cpy * cpy)
+    effects: dict[str, float] = {}
+    load = robot.load
+    if load.present:
+        effects.update(load_x=load.force[0], load_y=load.force[1], load_moment=load.moment)
+    if robot.friction is not None:
+        for kind in ("actuator", "revolute", "sleeve"):
+            joint = getattr(robot.friction, kind)
+            for name in ("viscous", "coulomb", "mu", "smoothing"):
+                effects[f"{kind}_{name}"] = getattr(joint, name)
+        effects["revolute_pin_radius"] = robot.friction.revolute.pin_radius
     return KernelParameters(
         l0=robot.l0,
         gravity_x=robot.gravity[0],
@@ -220,10 +304,11 @@ def kernel_parameters(robot: Robot) -> KernelParameters:
         link_moment_x=m2 * c2x,
         link_moment_y=m2 * c2y,
         link_inertia=robot.link.inertia + m2 * (c2x * c2x + c2y * c2y),
-        platform_mass=robot.platform.mass,
-        platform_moment_x=0.0,
-        platform_moment_y=0.0,
-        platform_inertia=robot.platform_inertia,
+        platform_mass=m3,
+        platform_moment_x=h3x,
+        platform_moment_y=h3y,
+        platform_inertia=j3,
+        **effects,
     )
 
 
@@ -273,6 +358,19 @@ class BodyWrenches(NamedTuple):
     platform_moment: Value
 
 
+class KernelFriction(NamedTuple):
+    """Friction forces of the joints of one state, each ``(A, B, C)`` (``docs/loads_and_friction.md``).
+
+    ``fric10``: force of the guide on piston i along ``e_i`` (N); ``fric21``:
+    moment of piston i on link 2 about ``z0`` (N·m); ``fric32``: force of
+    link 2 on the platform along ``d_i`` at ``P_i`` (N).
+    """
+
+    fric10: Legs
+    fric21: Legs
+    fric32: Legs
+
+
 class KernelSolution(NamedTuple):
     """Joint motion and joint forces of one state; every field ``(A, B, C)``.
 
@@ -294,6 +392,8 @@ class KernelSolution(NamedTuple):
     m10: Legs | None
     n32: Legs | None
     m32: Legs | None
+    friction: KernelFriction | None = None
+    iterations: Value | None = None
 
 
 def _legs(ux: Value, uy: Value, u1: Value) -> Legs:
@@ -385,6 +485,64 @@ def kernel_kinematics(
     )
 
 
+def _s(ops: Ops, rate: Value, smoothing: Value) -> Value:
+    """``s(v)``: ``sign(v)`` (``s(0) = 0``) when ``smoothing`` is zero, else ``tanh(v/smoothing)``."""
+    if _zero(smoothing):
+        return ops.sign(rate)
+    return ops.tanh(rate / smoothing)
+
+
+def _law(
+    ops: Ops, viscous: Value, coulomb: Value, mu: Value, smoothing: Value, rate: Value,
+    normal: Value | None,
+) -> Value:  # fmt: skip
+    """``−(b·v + (c + μ·N)·s(v))`` with only the terms whose coefficients are not zero."""
+    total: Value | None = None if _zero(viscous) else viscous * rate
+    level: Value | None = None if _zero(coulomb) else coulomb
+    if normal is not None and not _zero(mu):
+        level = mu * normal if level is None else level + mu * normal
+    if level is not None:
+        term = level * _s(ops, rate, smoothing)
+        total = term if total is None else total + term
+    return 0.0 if total is None else -total
+
+
+def friction_forces(
+    ops: Ops,
+    k: KernelParameters,
+    kin: KernelKinematics,
+    dphi: Value,
+    normals: tuple[Legs, Legs, Legs] | None = None,
+) -> KernelFriction | None:
+    """The friction forces of the joints, or ``None`` for ideal joints.
+
+    ``fric10_i = −(b_a·λ̇10_i + (c_a + μ_a·|n10_i|)·s(λ̇10_i))``,
+    ``fric21_i = −(b_r·φ̇ + (c_r + μ_r·r_r·|F21_i|)·s(φ̇))``,
+    ``fric32_i = −(b_s·λ̇32_i + (c_s + μ_s·|n32_i|)·s(λ̇32_i))``.
+
+    ``normals`` are the magnitudes ``(|n10|, |F21|, |n32|)`` of the legs for
+    the ``μ`` terms; without them the ``μ`` terms are left out.
+    """
+    names = [f.name for f in fields(KernelParameters)]
+    if all(_zero(getattr(k, name)) for name in names[names.index("actuator_viscous") :]):
+        return None
+    n10, f21, n32 = normals if normals is not None else (None, None, None)
+    radius_mu = k.revolute_mu * k.revolute_pin_radius
+    fric10, fric21, fric32 = [], [], []
+    for j in range(3):
+        fric10.append(_law(ops, k.actuator_viscous, k.actuator_coulomb, k.actuator_mu,
+                           k.actuator_smoothing, kin.dlambda10[j], None if n10 is None else n10[j]))  # fmt: skip
+        fric21.append(_law(ops, k.revolute_viscous, k.revolute_coulomb, radius_mu,
+                           k.revolute_smoothing, dphi, None if f21 is None else f21[j]))  # fmt: skip
+        fric32.append(_law(ops, k.sleeve_viscous, k.sleeve_coulomb, k.sleeve_mu,
+                           k.sleeve_smoothing, kin.dlambda32[j], None if n32 is None else n32[j]))  # fmt: skip
+    return KernelFriction(
+        (fric10[0], fric10[1], fric10[2]),
+        (fric21[0], fric21[1], fric21[2]),
+        (fric32[0], fric32[1], fric32[2]),
+    )
+
+
 def body_wrenches(
     k: KernelParameters,
     kin: KernelKinematics,
@@ -392,6 +550,10 @@ def body_wrenches(
     ddy: Value,
     dphi: Value,
     ddphi: Value,
+    *,
+    load: tuple[Value, Value, Value] | None = None,
+    friction: KernelFriction | None = None,
+    inertia: bool = True,
 ) -> BodyWrenches:
     """Wrench each body needs to follow the motion: eqs. (19), (20), (22).
 
@@ -403,6 +565,15 @@ def body_wrenches(
     The piston's first moment is ``h1x·e_i + h1y·n_i`` (it only translates),
     link 2's ``h2x·d_i + h2y·d⊥_i`` and the platform's ``Rot(φ)·h3`` (they turn
     with ``φ``).  Linear in the parameters: identification's regressor.
+
+    The applied forces are subtracted: the constant load of ``k`` and the
+    time-varying ``load = (f_x, f_y, m_z)`` on the platform at ``G``, and the
+    joint ``friction``: ``fric10·e_i`` and the moment ``−fric21`` on piston i,
+    ``fric21`` and the force ``−fric32·d_i`` at ``P_i`` on link 2,
+    ``fric32·d_i`` at ``P_i`` on the platform (moment about ``G``
+    ``(P_i − G) × d_i·fric32 = (l0/2)·fric32``).  ``inertia=False`` leaves the
+    inertia wrenches and the weights out (the wrenches of the applied forces
+    alone: linear in them).
     """
     gx, gy = k.gravity_x, k.gravity_y
     m1, m2 = k.piston_mass, k.link_mass
@@ -414,13 +585,27 @@ def body_wrenches(
     kb = h2x * C - h2y * D  # h2·e_i
     link_e_motion = ddphi * ka + w2 * kb  # −(φ̈·J·h2 − φ̇²·h2)·e_i
     link_n_motion = ddphi * kb - w2 * ka  # (φ̈·J·h2 − φ̇²·h2)·n_i
-    piston_e, piston_n, piston_moment = [], [], []
-    link_e, link_n, link_moment = [], [], []
+    piston_e: list[Value] = []
+    piston_n: list[Value] = []
+    piston_moment: list[Value] = []
+    link_e: list[Value] = []
+    link_n: list[Value] = []
+    link_moment: list[Value] = []
+    directions = []
     for leg, gamma in zip(_LEGS, kin.ddlambda10, strict=True):
         g_e = gx * leg.ex + gy * leg.ey  # g·e_i
         g_n = gx * leg.nx + gy * leg.ny  # g·n_i
         dxl = c * leg.ax - s * leg.ay  # d_i = Rot(φ)·a_i
         dyl = s * leg.ax + c * leg.ay
+        directions.append((dxl, dyl))
+        if not inertia:
+            piston_e.append(0.0)
+            piston_n.append(0.0)
+            piston_moment.append(0.0)
+            link_e.append(0.0)
+            link_n.append(0.0)
+            link_moment.append(0.0)
+            continue
         # piston: F10 = m1·(λ̈10·e − g), M10 = h1 × (λ̈10·e − g) about P_i
         piston_e.append(m1 * (gamma - g_e))
         piston_n.append(-m1 * g_n)
@@ -434,6 +619,34 @@ def body_wrenches(
     hx = c * k.platform_moment_x - s * k.platform_moment_y
     hy = s * k.platform_moment_x + c * k.platform_moment_y
     ax, ay = ddx - gx, ddy - gy
+    if inertia:
+        platform_x = k.platform_mass * ax - ddphi * hy - w2 * hx  # eq. (22)
+        platform_y = k.platform_mass * ay + ddphi * hx - w2 * hy
+        platform_moment = k.platform_inertia * ddphi + hx * ay - hy * ax
+    else:
+        platform_x = platform_y = platform_moment = 0.0
+    # the environment's wrench on the platform at G: constant [load] + time-varying load
+    ext = [k.load_x, k.load_y, k.load_moment]
+    if load is not None:
+        ext = [value if _zero(base) else base + value for base, value in zip(ext, load, strict=True)]
+    if not _zero(ext[0]):
+        platform_x = platform_x - ext[0]
+    if not _zero(ext[1]):
+        platform_y = platform_y - ext[1]
+    if not _zero(ext[2]):
+        platform_moment = platform_moment - ext[2]
+    if friction is not None:
+        half = 0.5 * k.l0
+        for j, (dxl, dyl) in enumerate(directions):
+            f10, f21, f32 = friction.fric10[j], friction.fric21[j], friction.fric32[j]
+            piston_e[j] = piston_e[j] - f10  # the guide's friction helps the actuator
+            piston_moment[j] = piston_moment[j] + f21  # the piston receives −fric21
+            link_moment[j] = link_moment[j] - f21
+            link_e[j] = link_e[j] + f32 * C  # link 2 receives −fric32·d_i, d_i·e_i = C
+            link_n[j] = link_n[j] + f32 * D  # d_i·n_i = D
+            platform_x = platform_x - f32 * dxl
+            platform_y = platform_y - f32 * dyl
+            platform_moment = platform_moment - half * f32
     return BodyWrenches(
         piston_e=(piston_e[0], piston_e[1], piston_e[2]),
         piston_n=(piston_n[0], piston_n[1], piston_n[2]),
@@ -441,9 +654,9 @@ def body_wrenches(
         link_e=(link_e[0], link_e[1], link_e[2]),
         link_n=(link_n[0], link_n[1], link_n[2]),
         link_moment=(link_moment[0], link_moment[1], link_moment[2]),
-        platform_x=k.platform_mass * ax - ddphi * hy - w2 * hx,  # eq. (22)
-        platform_y=k.platform_mass * ay + ddphi * hx - w2 * hy,
-        platform_moment=k.platform_inertia * ddphi + hx * ay - hy * ax,
+        platform_x=platform_x,
+        platform_y=platform_y,
+        platform_moment=platform_moment,
     )
 
 
@@ -518,6 +731,7 @@ def solve(
     ddphi: Value,
     *,
     reactions: bool = True,
+    load: tuple[Value, Value, Value] | None = None,
 ) -> KernelSolution:
     """Joint motion and joint forces of one state (or of a chunk of states).
 
@@ -532,16 +746,25 @@ def solve(
         (m, rad, s): floats, equal-length 1-D arrays, or sympy expressions.
     reactions : bool
         Also compute ``n10, m10, n32, m32``.
+    load : (f_x, f_y, m_z) or None
+        A time-varying wrench of the environment on the platform (force at
+        ``G``, fixed frame, N; moment about ``z0``, N·m), added to ``k``'s
+        constant load.
 
     Returns
     -------
     KernelSolution
-        No validation: a singular pose divides by ``sin(φ − π/3) ≈ 0``.
+        No validation: a singular pose divides by ``sin(φ − π/3) ≈ 0``.  With
+        friction, :attr:`KernelSolution.friction` holds its forces; with
+        ``μ`` terms (implicit, :func:`solve_mu`) :attr:`KernelSolution.iterations`
+        the Newton iterations per sample, ``-1`` where no solution is reached
+        continuously from ``μ = 0`` (a self-locking joint).
     """
     geo = kernel_geometry(ops, k, x, y, phi)
     kin = kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
-    wrenches = body_wrenches(k, kin, ddx, ddy, dphi, ddphi)
-    f10, f21y, f21z, rest = joint_forces(k, kin, wrenches, reactions)
+    f10, f21y, f21z, rest, friction, iterations = dynamics(
+        ops, k, kin, ddx, ddy, dphi, ddphi, reactions=reactions, load=load
+    )
     v = kin.dlambda10
     p10 = (f10[0] * v[0], f10[1] * v[1], f10[2] * v[2])  # input power f10·λ̇10
     n10, m10, n32, m32 = rest if rest is not None else (None, None, None, None)
@@ -560,20 +783,189 @@ def solve(
         m10=m10,
         n32=n32,
         m32=m32,
+        friction=friction,
+        iterations=iterations,
     )
+
+
+def dynamics(
+    ops: Ops,
+    k: KernelParameters,
+    kin: KernelKinematics,
+    ddx: Value,
+    ddy: Value,
+    dphi: Value,
+    ddphi: Value,
+    *,
+    reactions: bool = True,
+    load: tuple[Value, Value, Value] | None = None,
+) -> tuple[Legs, Legs, Legs, tuple[Legs, Legs, Legs, Legs] | None, KernelFriction | None, Value]:
+    """The joint forces of a state of known kinematics (what :func:`solve` adds to them).
+
+    Returns ``(f10, f21y, f21z, (n10, m10, n32, m32) or None, friction, iterations)``:
+    body wrenches (:func:`body_wrenches`, with the load and the explicit
+    friction), virtual work (:func:`joint_forces`) and, with ``μ`` terms, the
+    implicit friction by :func:`solve_mu` (``iterations`` ``None`` without).
+    """
+    friction = friction_forces(ops, k, kin, dphi)
+    wrenches = body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=load, friction=friction)
+    implicit = k.has_mu
+    f10, f21y, f21z, rest = joint_forces(k, kin, wrenches, reactions or implicit)
+    iterations: Value | None = None
+    if implicit:
+        if ops.name not in ("math", "numpy"):
+            raise ValueError("the μ terms of friction are implicit: no closed form for sympy")
+        assert rest is not None and friction is not None
+        friction, iterations = solve_mu(ops, k, kin, friction, (rest[0], f21y, f21z, rest[2]), dphi)
+        wrenches = body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=load, friction=friction)
+        f10, f21y, f21z, rest = joint_forces(k, kin, wrenches, reactions)
+    return f10, f21y, f21z, rest, friction, iterations
+
+
+#: Steps of the continuation in ``μ`` of :func:`solve_mu` (fractions of the full ``μ``).
+MU_STEPS: tuple[float, ...] = (0.25, 0.5, 0.75, 1.0)
+#: Newton iterations allowed per continuation step.
+MU_MAX_ITERATIONS: int = 40
+
+
+def solve_mu(
+    ops: Ops,
+    k: KernelParameters,
+    kin: KernelKinematics,
+    explicit: KernelFriction,
+    reactions: tuple[Legs, Legs, Legs, Legs],
+    dphi: Value,
+) -> tuple[KernelFriction, Value]:
+    """The friction forces with their ``μ`` terms: the implicit problem solved per sample.
+
+    The velocities are given, so ``s(v)`` is known and every friction force is
+    ``fric = fric_e − μ·s(v)·N`` with ``fric_e`` its explicit (viscous and
+    Coulomb) part and ``N`` the magnitude of its joint's reaction
+    (``|n10|``, ``r_r·|F21|``, ``|n32|``).  The reactions are affine in the
+    friction forces (the virtual work is linear in the body wrenches):
+    ``r = r_e + R·(fric − fric_e)``, the 9 columns of ``R`` from
+    :func:`joint_forces` of unit friction forces.  The 9 magnitudes ``u`` of
+    the three legs solve ``u = g(r_e + R·C·u)``, ``C = diag(−μ·s)``,
+    ``g = (|n10|, |F21|, |n32|)``: by Newton's method (the Jacobian
+    ``I − g'·R·C`` exactly), from the solution without ``μ`` terms, the ``μ``
+    raised in the steps :data:`MU_STEPS` (continuation: the branch reached
+    continuously from ``μ = 0``), to round-off.  A sample whose Newton
+    iteration does not converge, or whose Jacobian determinant changes sign
+    on the way (a fold: the friction cone swallows the drive), has no such
+    solution: ``-1`` iterations.
+
+    Returns
+    -------
+    (KernelFriction, iterations)
+        The friction forces and the Newton iterations of each sample (floats
+        for :data:`MATH`, arrays for :data:`NUMPY`).
+    """
+    single = ops.name == "math"
+
+    def arr(value: Value) -> FloatArray:
+        return np.atleast_1d(np.asarray(value, dtype=np.float64))
+
+    n10, f21y, f21z, n32 = (np.stack([arr(v) for v in legs], axis=-1) for legs in reactions)
+    samples = n10.shape[0]
+    r0 = np.concatenate([n10, f21y, f21z, n32], axis=-1)  # (N, 12)
+    # R: the reactions of unit friction forces (fric10_A..C, fric21_A..C, fric32_A..C)
+    R = np.empty((samples, 12, 9))
+    zeros = (0.0, 0.0, 0.0)
+    for q in range(9):
+        unit = [0.0] * 9
+        unit[q] = 1.0
+        fr = KernelFriction(
+            (unit[0], unit[1], unit[2]), (unit[3], unit[4], unit[5]), (unit[6], unit[7], unit[8])
+        )
+        w = body_wrenches(k, kin, 0.0, 0.0, 0.0, 0.0, friction=fr, inertia=False)
+        _, fy, fz, rest = joint_forces(k, kin, w, True)
+        assert rest is not None
+        columns = [*rest[0], *fy, *fz, *rest[2]]
+        for row, value in enumerate(columns):
+            R[:, row, q] = arr(value) if not isinstance(value, float) else value
+    # C = diag(−μ·s(v)) of the 9 friction forces
+    mus = (k.actuator_mu, k.revolute_mu * k.revolute_pin_radius, k.sleeve_mu)
+    smooth = (k.actuator_smoothing, k.revolute_smoothing, k.sleeve_smoothing)
+    rates = (kin.dlambda10, (dphi, dphi, dphi), kin.dlambda32)
+    coefficient = np.empty((samples, 9))
+    for a in range(3):
+        for j in range(3):
+            sv = arr(_s(NUMPY, arr(rates[a][j]), smooth[a]))
+            coefficient[:, 3 * a + j] = -float(mus[a]) * sv
+    scale = np.abs(r0).max(axis=-1) + np.abs(R).max(axis=(-1, -2)) * 0.0 + 1.0
+    u = _magnitudes(r0)[0]
+    iterations = np.zeros(samples)
+    failed = np.zeros(samples, dtype=bool)
+    eye = np.eye(9)
+    with np.errstate(all="ignore"):
+        for step in MU_STEPS:
+            c = step * coefficient
+            B = R * c[:, None, :]  # ∂r/∂u
+            done = np.zeros(samples, dtype=bool)
+            for _ in range(MU_MAX_ITERATIONS):
+                r = r0 + np.einsum("nrq,nq->nr", B, u)
+                g, dg = _magnitudes(r)
+                residual = u - g
+                size = np.abs(residual).max(axis=-1)
+                done |= size <= 8e-16 * (np.abs(u).max(axis=-1) + scale)
+                active = ~done & ~failed
+                if not active.any():
+                    break
+                jac = eye - np.einsum("nur,nrq->nuq", dg[active], B[active])
+                u[active] = u[active] - np.linalg.solve(jac, residual[active][..., None])[..., 0]
+                iterations[active] += 1
+            r = r0 + np.einsum("nrq,nq->nr", B, u)
+            _, dg = _magnitudes(r)
+            det = np.linalg.det(eye - np.einsum("nur,nrq->nuq", dg, B))
+            failed |= ~done | ~(det > 0.0) | ~np.isfinite(u).all(axis=-1) | (u < 0.0).any(axis=-1)
+    iterations[failed] = -1.0
+    u[failed] = 0.0
+    fric = coefficient * u  # the μ terms
+    values: list[Value] = []
+    explicit_all = (*explicit.fric10, *explicit.fric21, *explicit.fric32)
+    for q in range(9):
+        total = explicit_all[q] + (float(fric[0, q]) if single else fric[:, q])
+        values.append(total)
+    result = KernelFriction(
+        (values[0], values[1], values[2]), (values[3], values[4], values[5]),
+        (values[6], values[7], values[8]),
+    )  # fmt: skip
+    return result, (float(iterations[0]) if single else iterations)
+
+
+def _magnitudes(r: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """``g = (|n10|, |F21|, |n32|)`` of reactions ``r (N, 12)`` and its Jacobian ``(N, 9, 12)``."""
+    n10, f21y, f21z, n32 = r[:, 0:3], r[:, 3:6], r[:, 6:9], r[:, 9:12]
+    f21 = np.hypot(f21y, f21z)
+    g = np.concatenate([np.abs(n10), f21, np.abs(n32)], axis=-1)
+    dg = np.zeros((r.shape[0], 9, 12))
+    safe = np.where(f21 > 0.0, f21, 1.0)
+    for j in range(3):
+        dg[:, j, j] = np.sign(n10[:, j])
+        dg[:, 3 + j, 3 + j] = f21y[:, j] / safe[:, j]
+        dg[:, 3 + j, 6 + j] = f21z[:, j] / safe[:, j]
+        dg[:, 6 + j, 9 + j] = np.sign(n32[:, j])
+    return g, dg
 
 
 #: Names of the state symbols of :func:`symbolic_solution`.
 STATE_SYMBOLS: tuple[str, ...] = ("x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
 
 
-def symbolic_parameters() -> KernelParameters:
-    """Every parameter of :class:`KernelParameters` as a sympy symbol of its field's name."""
+def symbolic_parameters(*, effects: bool = False) -> KernelParameters:
+    """The parameters of :class:`KernelParameters` as sympy symbols of their fields' names.
+
+    The inertial fields (:data:`INERTIAL_FIELDS`) are symbols; with
+    ``effects=True`` also the constant load and the viscous and Coulomb
+    coefficients (the joint forces are linear in them; exact sign), the other
+    fields staying ``0`` (the ``μ`` terms are implicit, no closed form).
+    """
     import sympy
 
-    return KernelParameters(
-        **{f.name: sympy.Symbol(f.name, real=True) for f in fields(KernelParameters)}
-    )
+    names = INERTIAL_FIELDS
+    if effects:
+        names += tuple(n for n in EFFECT_FIELDS if n.endswith(("viscous", "coulomb")) or "load" in n)
+    return KernelParameters(**{name: sympy.Symbol(name, real=True) for name in names})
 
 
 def symbolic_solution(

@@ -35,9 +35,13 @@ import numpy as np
 from .errors import InputFileError, ParameterError
 
 __all__ = [
+    "Friction",
+    "JointFriction",
     "Limits",
+    "Load",
     "LinkParameters",
     "PistonParameters",
+    "Payload",
     "PlatformParameters",
     "Robot",
     "check_robot",
@@ -191,6 +195,177 @@ class Limits:
 
 
 @dataclass(frozen=True)
+class Payload:
+    """A rigid body fixed to the platform (TOML table ``[payload]``; default: none).
+
+    Attributes
+    ----------
+    mass : float
+        Its mass (kg), >= 0.
+    com : tuple of float
+        Its mass centre from ``G`` in the platform frame (axes turned by ``φ``) (m).
+    inertia : float
+        ``I_zz`` about its own mass centre (kg·m²), >= 0.
+
+    >>> Payload(mass=-1.0)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: robot: payload.mass must be a non-negative finite number (kg), got -1.0
+    """
+
+    mass: float = 0.0
+    com: tuple[float, float] = (0.0, 0.0)
+    inertia: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mass", _non_negative("payload.mass", self.mass, "kg"))
+        object.__setattr__(self, "com", _pair("payload.com", self.com))
+        object.__setattr__(self, "inertia", _non_negative("payload.inertia", self.inertia, "kg·m²"))
+
+    @property
+    def present(self) -> bool:
+        """Whether the payload changes anything (non-zero mass or inertia)."""
+        return self.mass != 0.0 or self.inertia != 0.0
+
+
+@dataclass(frozen=True)
+class Load:
+    """A constant wrench of the environment on the platform (TOML table ``[load]``).
+
+    Attributes
+    ----------
+    force : tuple of float
+        Force ``(F_x, F_y)`` acting at ``G``, fixed frame (N).
+    moment : float
+        Moment about ``z0`` (N·m).
+    """
+
+    force: tuple[float, float] = (0.0, 0.0)
+    moment: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "force", _pair("load.force", self.force))
+        object.__setattr__(self, "moment", _number("load.moment", self.moment))
+
+    @property
+    def present(self) -> bool:
+        """Whether any component is non-zero."""
+        return self.force != (0.0, 0.0) or self.moment != 0.0
+
+
+@dataclass(frozen=True)
+class JointFriction:
+    """Friction of one kind of joint (the three legs alike); ``docs/loads_and_friction.md``.
+
+    The friction force (or moment) opposes the joint's relative rate ``v``:
+    ``−(viscous·v + (coulomb + mu·N)·s(v))`` with ``N`` the magnitude of the
+    joint's normal reaction (times ``pin_radius`` for the revolute joint) and
+    ``s(v) = sign(v)`` when ``smoothing = 0``, else ``tanh(v/smoothing)``.
+
+    Attributes
+    ----------
+    viscous : float
+        ``b`` (N·s/m, or N·m·s/rad for the revolute joint), >= 0.
+    coulomb : float
+        ``c`` (N, or N·m), >= 0.
+    mu : float
+        ``μ``, >= 0 (dimensionless).
+    smoothing : float
+        ``v_s`` (m/s, or rad/s), >= 0.
+    pin_radius : float
+        ``r_r`` (m), >= 0: the revolute joint's pin (only ``[friction.revolute]``).
+    kind : str
+        ``"actuator"``, ``"revolute"`` or ``"sleeve"`` (set by :class:`Friction`).
+    """
+
+    viscous: float = 0.0
+    coulomb: float = 0.0
+    mu: float = 0.0
+    smoothing: float = 0.0
+    pin_radius: float = 0.0
+    kind: str = ""
+
+    def __post_init__(self) -> None:
+        where = f"friction.{self.kind}" if self.kind else "friction"
+        units = _FRICTION_UNITS.get(self.kind or "actuator")
+        if units is None:
+            raise ParameterError(
+                f"robot: friction kind must be one of {', '.join(_FRICTION_UNITS)}, got {self.kind!r}"
+            )
+        for name, unit in zip(("viscous", "coulomb", "mu", "smoothing"), units, strict=True):
+            value = _non_negative(f"{where}.{name}", getattr(self, name), unit)
+            object.__setattr__(self, name, value)
+        radius = _non_negative(f"{where}.pin_radius", self.pin_radius, "m")
+        if radius != 0.0 and self.kind not in ("revolute", ""):
+            raise ParameterError(f"robot: {where}.pin_radius applies to friction.revolute only")
+        object.__setattr__(self, "pin_radius", radius)
+
+    @property
+    def has_mu(self) -> bool:
+        """Whether the load-dependent term acts (``μ > 0``, and ``r_r > 0`` for the pin)."""
+        return self.mu != 0.0 and (self.kind in ("actuator", "sleeve") or self.pin_radius != 0.0)
+
+
+#: Units of viscous, coulomb, mu, smoothing per kind of joint.
+_FRICTION_UNITS: dict[str, tuple[str, str, str, str]] = {
+    "actuator": ("N·s/m", "N", "1", "m/s"),
+    "revolute": ("N·m·s/rad", "N·m", "1", "rad/s"),
+    "sleeve": ("N·s/m", "N", "1", "m/s"),
+}
+
+#: Keys of each ``[friction.KIND]`` table.
+_FRICTION_KEYS: dict[str, set[str]] = {
+    "actuator": {"viscous", "coulomb", "mu", "smoothing"},
+    "revolute": {"viscous", "coulomb", "mu", "pin_radius", "smoothing"},
+    "sleeve": {"viscous", "coulomb", "mu", "smoothing"},
+}
+
+
+@dataclass(frozen=True)
+class Friction:
+    """Friction in the joints (TOML table ``[friction]``); ``Robot.friction`` is ``None`` without.
+
+    Attributes
+    ----------
+    actuator : JointFriction
+        Base guide on piston i, along ``e_i`` (rate ``λ̇10_i``).
+    revolute : JointFriction
+        Piston i on link 2 at ``P_i`` (rate ``φ̇``).
+    sleeve : JointFriction
+        Link 2 on the platform along ``d_i`` (rate ``λ̇32_i``).
+
+    >>> Friction(actuator=JointFriction(viscous=2.0)).actuator.viscous
+    2.0
+    """
+
+    actuator: JointFriction = field(default_factory=lambda: JointFriction(kind="actuator"))
+    revolute: JointFriction = field(default_factory=lambda: JointFriction(kind="revolute"))
+    sleeve: JointFriction = field(default_factory=lambda: JointFriction(kind="sleeve"))
+
+    def __post_init__(self) -> None:
+        for kind in ("actuator", "revolute", "sleeve"):
+            value = getattr(self, kind)
+            if not isinstance(value, JointFriction):
+                raise ParameterError(
+                    f"robot: friction.{kind} must be a JointFriction, got {value!r}"[:200]
+                )
+            if value.kind != kind:
+                object.__setattr__(
+                    self,
+                    kind,
+                    JointFriction(
+                        value.viscous, value.coulomb, value.mu, value.smoothing,
+                        value.pin_radius, kind,
+                    ),  # fmt: skip
+                )
+
+    @property
+    def has_mu(self) -> bool:
+        """Whether a load-dependent (``μ``) term acts: the inverse dynamics is implicit."""
+        return self.actuator.has_mu or self.revolute.has_mu or self.sleeve.has_mu
+
+
+@dataclass(frozen=True)
 class Robot:
     """Parameters of a 3-PRP planar parallel robot (immutable, validated).
 
@@ -204,6 +379,12 @@ class Robot:
         Inertial parameters of the bodies (see their docstrings).
     limits : Limits
         Optional actuator strokes and force limit; no limits by default.
+    payload : Payload
+        A rigid body fixed to the platform; none by default.
+    load : Load
+        A constant wrench of the environment on the platform; none by default.
+    friction : Friction or None
+        Joint friction; ``None`` (ideal joints, the paper's model) by default.
 
     Examples
     --------
@@ -214,7 +395,7 @@ class Robot:
     >>> Robot.from_mapping({"platfrom": {}})
     Traceback (most recent call last):
     ...
-    prp3.errors.ParameterError: robot: unknown key 'platfrom' (expected one of: gravity, l0, limits, link, piston, platform)
+    prp3.errors.ParameterError: robot: unknown key 'platfrom' (expected one of: friction, gravity, l0, limits, link, load, payload, piston, platform)
     """
 
     l0: float = 0.3
@@ -223,15 +404,22 @@ class Robot:
     link: LinkParameters = field(default_factory=LinkParameters)
     platform: PlatformParameters = field(default_factory=PlatformParameters)
     limits: Limits = field(default_factory=Limits)
+    payload: Payload = field(default_factory=Payload)
+    load: Load = field(default_factory=Load)
+    friction: Friction | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "l0", _positive("l0", self.l0, "m"))
         object.__setattr__(self, "gravity", _pair("gravity", self.gravity))
+        if self.friction is not None and not isinstance(self.friction, Friction):
+            raise ParameterError(f"robot: friction must be a Friction, got {self.friction!r}"[:200])
         for name, kind in (
             ("piston", PistonParameters),
             ("link", LinkParameters),
             ("platform", PlatformParameters),
             ("limits", Limits),
+            ("payload", Payload),
+            ("load", Load),
         ):
             if not isinstance(getattr(self, name), kind):
                 raise ParameterError(
@@ -258,7 +446,11 @@ class Robot:
         Every key is optional; unknown keys and wrong types raise
         :class:`ParameterError` naming the key.
         """
-        top = _table("", data, {"l0", "gravity", "piston", "link", "platform", "limits"})
+        top = _table(
+            "",
+            data,
+            {"l0", "gravity", "piston", "link", "platform", "limits", "payload", "load", "friction"},
+        )
         kwargs: dict[str, Any] = {}
         if "l0" in top:
             kwargs["l0"] = top["l0"]
@@ -278,6 +470,27 @@ class Robot:
             )
         if "limits" in top:
             kwargs["limits"] = Limits(**_table("limits", top["limits"], {"stroke", "max_force"}))
+        if "payload" in top:
+            payload = _table("payload", top["payload"], {"mass", "com", "inertia"})
+            if "com" in payload:
+                payload["com"] = _pair("payload.com", payload["com"])
+            kwargs["payload"] = Payload(**payload)
+        if "load" in top:
+            load = _table("load", top["load"], {"force", "moment"})
+            if "force" in load:
+                load["force"] = _pair("load.force", load["force"])
+            kwargs["load"] = Load(**load)
+        if "friction" in top:
+            tables = _table("friction", top["friction"], set(_FRICTION_KEYS))
+            kwargs["friction"] = Friction(
+                **{
+                    kind: JointFriction(
+                        **_table(f"friction.{kind}", tables[kind], _FRICTION_KEYS[kind]),
+                        kind=kind,
+                    )
+                    for kind in tables
+                }
+            )
         return cls(**kwargs)
 
     @classmethod
@@ -410,4 +623,43 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
             out.append(line("max_force", _fmt(robot.limits.max_force), "N, largest |f10|"))
         elif comments:
             out.append("# max_force = 500.0  # N, largest admissible |f10|")
+    payload, load = robot.payload, robot.load
+    if payload != Payload() or comments:
+        out += ["", "[payload]" + ("  # a rigid body fixed to the platform" if comments else "")]
+        out.append(line("mass", _fmt(payload.mass), "kg"))
+        out.append(line("com", pair(payload.com), "m, its mass centre from G, platform frame"))
+        out.append(line("inertia", _fmt(payload.inertia), "kg m^2, I_zz about its mass centre"))
+    if load != Load() or comments:
+        heading = "  # constant wrench of the environment on the platform" if comments else ""
+        out += ["", "[load]" + heading]
+        out.append(line("force", pair(load.force), "N, at G, fixed frame"))
+        out.append(line("moment", _fmt(load.moment), "N m, about z0"))
+    friction = robot.friction
+    if friction is not None:
+        for kind in ("actuator", "revolute", "sleeve"):
+            joint: JointFriction = getattr(friction, kind)
+            units = _FRICTION_UNITS[kind]
+            out += ["", f"[friction.{kind}]" + (f"  # {_FRICTION_WHERE[kind]}" if comments else "")]
+            out.append(line("viscous", _fmt(joint.viscous), units[0].replace("·", " ")))
+            out.append(line("coulomb", _fmt(joint.coulomb), units[1].replace("·", " ")))
+            out.append(line("mu", _fmt(joint.mu), "friction coefficient of the reaction"))
+            if kind == "revolute":
+                out.append(line("pin_radius", _fmt(joint.pin_radius), "m"))
+            out.append(line("smoothing", _fmt(joint.smoothing), f"{units[3]}, 0: exact sign"))
+    elif comments:
+        out += [
+            "",
+            "# [friction.actuator]  # optional joint friction (also [friction.revolute] with",
+            "# viscous = 0.0        # pin_radius, and [friction.sleeve]); docs/loads_and_friction.md",
+            "# coulomb = 0.0",
+            "# mu = 0.0",
+            "# smoothing = 0.0",
+        ]
     return "\n".join(out) + "\n"
+
+
+_FRICTION_WHERE = {
+    "actuator": "base guide on piston i, along e_i",
+    "revolute": "piston i on link 2 at P_i (rate dphi)",
+    "sleeve": "link 2 on the platform, along d_i",
+}

@@ -64,6 +64,10 @@ class Motion:
         ``(ẋ, ẏ, φ̇)`` (m/s, m/s, rad/s).
     acceleration : ndarray, same shape as ``pose``
         ``(ẍ, ÿ, φ̈)`` (m/s², m/s², rad/s²).
+    load : ndarray, same shape as ``pose``, or None
+        ``(f_x, f_y, m_z)``: a time-varying wrench of the environment on the
+        platform, force at ``G`` in the fixed frame (N) and moment about ``z0``
+        (N·m), added to the robot's constant ``[load]``; ``None``: no such wrench.
 
     A single sample (``t`` of shape ``()``, arrays ``(3,)``) gives results of
     rank one less than a batch: the output rank follows the input rank.
@@ -84,6 +88,7 @@ class Motion:
     pose: FloatArray
     velocity: FloatArray
     acceleration: FloatArray
+    load: FloatArray | None = None
 
     def __post_init__(self) -> None:
         t = _float_array("t", self.t)
@@ -92,7 +97,8 @@ class Motion:
         if t.shape == (0,):
             raise TrajectoryError("motion: needs at least 1 sample, got t of shape (0,)")
         expected = (*t.shape, 3)
-        for name in ("pose", "velocity", "acceleration"):
+        names = ("pose", "velocity", "acceleration") + (("load",) if self.load is not None else ())
+        for name in names:
             array = _float_array(name, getattr(self, name))
             if array.shape != expected:
                 raise TrajectoryError(
@@ -146,6 +152,7 @@ class Motion:
             pose=self.pose[index],
             velocity=self.velocity[index],
             acceleration=self.acceleration[index],
+            load=None if self.load is None else self.load[index],
         )
 
 

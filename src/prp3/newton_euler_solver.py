@@ -22,6 +22,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from .errors import TrajectoryError
 from .forces import InverseDynamics, checked
 from .kinematics import Kinematics
 from .model import Robot, check_robot
@@ -36,6 +37,8 @@ NEWTON_EULER_CHUNK: int = 8192
 
 #: Order of the 7 unknowns of each leg in the Newton–Euler system.
 _UNKNOWNS = ("f10", "n10", "m10", "f21y", "f21z", "n32", "m32")
+#: The friction forces of each leg (with a robot's ``[friction]``).
+_FRICTION = ("fric10", "fric21", "fric32")
 
 _ALPHA = np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])  # eq. (1)
 _E = np.stack([np.cos(_ALPHA), np.sin(_ALPHA)], axis=-1)  # e_i, (3, 2)
@@ -83,24 +86,49 @@ def newton_euler(robot: Robot, motion: Motion | Kinematics) -> InverseDynamics:
     if isinstance(motion, Kinematics):
         motion = motion.motion
     with np.errstate(over="ignore", invalid="ignore"):
+        load = np.zeros_like(motion.pose) if motion.load is None else motion.load
         flat = [
             np.asarray(a, dtype=np.float64).reshape(-1, 3)
-            for a in (motion.pose, motion.velocity, motion.acceleration)
+            for a in (motion.pose, motion.velocity, motion.acceleration, load)
         ]
-        parts = [
-            _solve(robot, *(a[start : start + NEWTON_EULER_CHUNK] for a in flat))
-            for start in range(0, flat[0].shape[0], NEWTON_EULER_CHUNK)
-        ]
+        parts = []
+        for start in range(0, flat[0].shape[0], NEWTON_EULER_CHUNK):
+            part = _solve(robot, *(a[start : start + NEWTON_EULER_CHUNK] for a in flat))
+            if "locked" in part:
+                k = start + int(part.pop("locked"))
+                raise TrajectoryError(
+                    f"motion: the joint friction locks at sample {k}, "
+                    f"t = {float(motion.t.reshape(-1)[k]):.9g} s: the Newton-Euler balances "
+                    "with the mu terms of friction have no consistent solution (self-locking)"
+                )
+            parts.append(part)
     shape = motion.pose.shape
+    names = (*_UNKNOWNS, "p10") + (_FRICTION if robot.friction is not None else ())
     joined = {
         name: np.concatenate([p[name] for p in parts]).reshape(shape) if parts else np.empty(shape)
-        for name in (*_UNKNOWNS, "p10")
+        for name in names
     }
-    return checked(InverseDynamics(**joined, method="newton-euler"), motion.t)
+    if robot.friction is not None and robot.friction.has_mu:
+        joined_it = np.concatenate([p["iterations"][:, 0] for p in parts]) if parts else np.empty(0)
+        iterations = joined_it.reshape(shape[:-1])
+    else:
+        iterations = None
+    return checked(
+        InverseDynamics(**joined, method="newton-euler", iterations=iterations), motion.t
+    )
+
+
+def _rate_sign(rate: FloatArray, smoothing: float) -> FloatArray:
+    """``s(v)``: the sign of ``v`` (0 at 0) for zero smoothing, else ``tanh(v / smoothing)``."""
+    return np.sign(rate) if smoothing == 0.0 else np.tanh(rate / smoothing)
 
 
 def _solve(
-    robot: Robot, pose: FloatArray, velocity: FloatArray, acceleration: FloatArray
+    robot: Robot,
+    pose: FloatArray,
+    velocity: FloatArray,
+    acceleration: FloatArray,
+    load: FloatArray,
 ) -> dict[str, FloatArray]:
     n = pose.shape[0]
     l0 = robot.l0
@@ -137,6 +165,22 @@ def _solve(
     M2 = robot.link.inertia * eps[..., 0] + _cross(o, F2)
     F3 = m3 * (acceleration[:, :2] - g)
     M3 = robot.platform_inertia * acceleration[:, 2]
+    payload = robot.payload
+    if payload.present:  # a body fixed to the platform, its mass centre G + Rot(φ)·c_p
+        phi = pose[:, 2]
+        cp = np.asarray(payload.com)
+        r_p = np.stack(
+            [np.cos(phi) * cp[0] - np.sin(phi) * cp[1], np.sin(phi) * cp[0] + np.cos(phi) * cp[1]],
+            axis=-1,
+        )
+        wz, ez = velocity[:, 2, None], acceleration[:, 2, None]
+        a_p = acceleration[:, :2] + ez * _perp(r_p) - wz * wz * r_p
+        F_p = payload.mass * (a_p - g)
+        F3 = F3 + F_p
+        M3 = M3 + payload.inertia * acceleration[:, 2] + _cross(r_p, F_p)
+    # the environment's wrench on the platform at G: constant [load] + time-varying load
+    F3 = F3 - (np.asarray(robot.load.force) + load[:, :2])
+    M3 = M3 - (robot.load.moment + load[:, 2])
 
     u = {name: k for k, name in enumerate(_UNKNOWNS)}
     A = np.zeros((n, 21, 21))
@@ -168,7 +212,83 @@ def _solve(
         ],
         axis=-1,
     )
+    friction = robot.friction
+    if friction is None:
+        x = np.linalg.solve(A, b[..., None])[..., 0].reshape(n, 3, 7)
+        result = {name: x[..., k].copy() for name, k in u.items()}
+        result["p10"] = result["f10"] * sd  # input power f10·λ̇10
+        return result
+    # joint friction: fric10·e_j on piston j and −fric21 about z0; fric21 and −fric32·d_j
+    # on link j; fric32·d_j at P_j on the platform.  fric = −(b·v + (c + μ·N)·s(v)), with
+    # v = λ̇10, φ̇, λ̇32; its explicit part goes to the right-hand side, its μ part
+    # (μ·s·|N|, |N| = σ·N with the sign σ of the last iterate, |F21| = û·F21 with its
+    # direction û) into the matrix, iterated until the signs and directions settle.
+    act, rev, slv = friction.actuator, friction.revolute, friction.sleeve
+    w_legs = np.broadcast_to(velocity[:, 2, None], sd.shape)
+    s10, s21, s32 = (
+        _rate_sign(sd, act.smoothing),
+        _rate_sign(w_legs, rev.smoothing),
+        _rate_sign(lam32d, slv.smoothing),
+    )
+    e10 = -(act.viscous * sd + act.coulomb * s10)
+    e21 = -(rev.viscous * w_legs + rev.coulomb * s21)
+    e32 = -(slv.viscous * lam32d + slv.coulomb * s32)
+    lever = _cross(-rho, d)  # (P_j − G) × d_j
+    b = b.copy()
+    for j in range(3):
+        b[:, 3 * j : 3 * j + 2] -= e10[:, j, None] * _E[j]
+        b[:, 3 * j + 2] += e21[:, j]
+        b[:, 9 + 3 * j : 9 + 3 * j + 2] += e32[:, j, None] * d[:, j]
+        b[:, 9 + 3 * j + 2] -= e21[:, j]
+        b[:, 18:20] -= e32[:, j, None] * d[:, j]
+        b[:, 20] -= e32[:, j] * lever[:, j]
+    k10, k21, k32 = act.mu * s10, rev.mu * rev.pin_radius * s21, slv.mu * s32  # (n, 3)
+    implicit = friction.has_mu
     x = np.linalg.solve(A, b[..., None])[..., 0].reshape(n, 3, 7)
+    iterations = np.zeros((n, 1))
+    locked: int | None = None
+    if implicit:
+        for _ in range(60):
+            sig10 = np.sign(x[..., u["n10"]])
+            sig32 = np.sign(x[..., u["n32"]])
+            f21 = np.hypot(x[..., u["f21y"]], x[..., u["f21z"]])
+            safe = np.where(f21 > 0.0, f21, 1.0)
+            uy, uz = x[..., u["f21y"]] / safe, x[..., u["f21z"]] / safe
+            M = A.copy()
+            for j in range(3):
+                col = 7 * j
+                # piston j: the μ part of fric10·e_j, −μ_a·s·σ·n10·e_j
+                M[:, 3 * j : 3 * j + 2, col + u["n10"]] += (-k10[:, j] * sig10[:, j])[:, None] * _E[j]
+                # −fric21 on the piston, +fric21 on link j: fric21 ∋ −μ_r r_r s (û·F21)
+                for name, comp in (("f21y", uy), ("f21z", uz)):
+                    term = -k21[:, j] * comp[:, j]
+                    M[:, 3 * j + 2, col + u[name]] -= term
+                    M[:, 9 + 3 * j + 2, col + u[name]] += term
+                # −fric32·d_j on link j, +fric32·d_j on the platform: fric32 ∋ −μ_s s σ n32
+                term = -k32[:, j] * sig32[:, j]
+                M[:, 9 + 3 * j : 9 + 3 * j + 2, col + u["n32"]] -= term[:, None] * d[:, j]
+                M[:, 18:20, col + u["n32"]] += term[:, None] * d[:, j]
+                M[:, 20, col + u["n32"]] += term * lever[:, j]
+            x_new = np.linalg.solve(M, b[..., None])[..., 0].reshape(n, 3, 7)
+            change = np.abs(x_new - x).max(axis=(-1, -2))
+            settled = change <= 1e-14 * (np.abs(x_new).max(axis=(-1, -2)) + 1.0)
+            iterations[~settled] += 1
+            x = x_new
+            if settled.all():
+                break
+        consistent = (
+            (np.sign(x[..., u["n10"]]) * sig10 >= 0)
+            & (np.sign(x[..., u["n32"]]) * sig32 >= 0)
+        ).all(axis=-1) & settled
+        if not consistent.all():
+            locked = int(np.flatnonzero(~consistent)[0])
     result = {name: x[..., k].copy() for name, k in u.items()}
     result["p10"] = result["f10"] * sd  # input power f10·λ̇10
+    n21 = np.hypot(result["f21y"], result["f21z"])
+    result["fric10"] = e10 - k10 * np.abs(result["n10"])
+    result["fric21"] = e21 - k21 * n21
+    result["fric32"] = e32 - k32 * np.abs(result["n32"])
+    result["iterations"] = iterations
+    if locked is not None:
+        result["locked"] = np.asarray(locked)
     return result

@@ -258,6 +258,11 @@ class RecursiveMatrixResult:
         The other reactions from the balances of piston 1 and link 2 (N, N·m).
     p10 : ndarray (..., 3)
         Input power ``f10·v10`` (W).
+    fric10, fric21, fric32 : ndarray (..., 3) or None
+        With a robot's ``[friction]``: the joint friction forces
+        (``docs/loads_and_friction.md``), included in ``F_k*, M_k*``.
+    iterations : ndarray (...) or None
+        With ``μ`` terms: the fixed-point iterations of each sample.
     """
 
     motion: Motion
@@ -302,6 +307,10 @@ class RecursiveMatrixResult:
     n32: FloatArray
     m32: FloatArray
     p10: FloatArray
+    fric10: FloatArray | None = None
+    fric21: FloatArray | None = None
+    fric32: FloatArray | None = None
+    iterations: FloatArray | None = None
 
     def inverse_dynamics(self) -> InverseDynamics:
         """The forces as a :class:`prp3.forces.InverseDynamics` (``method="paper"``).
@@ -311,11 +320,21 @@ class RecursiveMatrixResult:
         ``n10, m10`` of the guide on the piston, ``n32, m32`` of link 2 on the
         platform (moments about ``P_i = A2``).
         """
-        return _to_inverse_dynamics({name: getattr(self, name) for name in _FORCES})
+        names = _FORCES + (_FRICTION if self.fric10 is not None else ())
+        forces = {name: getattr(self, name) for name in names}
+        if self.iterations is not None:
+            forces["iterations"] = self.iterations
+        return _to_inverse_dynamics(forces)
 
 
 #: The per-leg results of eqs. (23)–(25) and the balances, and the power.
 _FORCES: tuple[str, ...] = ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32")
+
+#: The friction forces (with a robot's ``[friction]``).
+_FRICTION: tuple[str, ...] = ("fric10", "fric21", "fric32")
+
+#: Fixed-point iterations allowed for the ``μ`` terms of friction.
+MU_MAX_ITERATIONS: int = 500
 
 #: Quantities checked finite (the inputs are finite: a non-finite value is an overflow).
 _CHECKED: tuple[str, ...] = ("lambda10", "lambda32", "v10", "v32", "gamma10", "gamma32", *_FORCES)
@@ -328,8 +347,76 @@ def _to_inverse_dynamics(forces: dict[str, FloatArray]) -> InverseDynamics:
     return InverseDynamics(**forces, method="paper")
 
 
+def _evaluate_loaded(
+    robot: Robot,
+    pose: FloatArray,
+    velocity: FloatArray,
+    acceleration: FloatArray,
+    load: FloatArray | None,
+    first: int,
+    motion: Motion,
+) -> dict[str, FloatArray]:
+    """:func:`_evaluate` with the load and the joint friction.
+
+    Friction ``fric = −(b·v + (c + μ·N)·s(v))`` with the rates ``v10, ω21 = φ̇,
+    v32`` of eq. (14); the ``μ`` terms by fixed-point iteration on the
+    reactions ``N = |n10|, |F21|, |n32|`` (from the frictionless ones): the
+    paper's method evaluated again with the friction of the last reactions
+    until the friction changes by less than round-off.
+    """
+    chunk = _evaluate(robot, pose, velocity, acceleration, load)
+    friction = robot.friction
+    if friction is None:
+        return chunk
+    act, rev, slv = friction.actuator, friction.revolute, friction.sleeve
+
+    def s(rate: FloatArray, smoothing: float) -> FloatArray:
+        return np.sign(rate) if smoothing == 0.0 else np.tanh(rate / smoothing)
+
+    v10, v32 = chunk["v10"], chunk["v32"]
+    w = np.broadcast_to(velocity[:, 2, None], v10.shape)
+    s10, s21, s32 = s(v10, act.smoothing), s(w, rev.smoothing), s(v32, slv.smoothing)
+    e10 = -(act.viscous * v10 + act.coulomb * s10)
+    e21 = -(rev.viscous * w + rev.coulomb * s21)
+    e32 = -(slv.viscous * v32 + slv.coulomb * s32)
+    k10, k21, k32 = act.mu * s10, rev.mu * rev.pin_radius * s21, slv.mu * s32
+    fric = (e10, e21, e32)
+    iterations = np.zeros(v10.shape[0])
+    settled = np.ones(v10.shape[0], dtype=bool)
+    for _ in range(MU_MAX_ITERATIONS if friction.has_mu else 1):
+        chunk = _evaluate(robot, pose, velocity, acceleration, load, fric)
+        if not friction.has_mu:
+            break
+        new = (
+            e10 - k10 * np.abs(chunk["n10"]),
+            e21 - k21 * np.hypot(chunk["f21y"], chunk["f21z"]),
+            e32 - k32 * np.abs(chunk["n32"]),
+        )
+        change = np.max([np.abs(a - b).max(axis=-1) for a, b in zip(new, fric, strict=True)], 0)
+        size = np.max([np.abs(a).max(axis=-1) for a in new], 0) + 1.0
+        settled = change <= 1e-15 * size
+        iterations[~settled] += 1
+        if settled.all():
+            break
+        fric = new
+    if not settled.all():
+        k = first + int(np.flatnonzero(~settled)[0])
+        raise TrajectoryError(
+            f"motion: the joint friction locks at sample {k}, "
+            f"t = {float(motion.t.reshape(-1)[k]):.9g} s: the fixed-point iteration of the mu "
+            f"terms does not settle in {MU_MAX_ITERATIONS} steps (self-locking)"
+        )
+    chunk["fric10"], chunk["fric21"], chunk["fric32"] = fric
+    chunk["iterations"] = iterations
+    return chunk
+
+
 def _body_constants(robot: Robot) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Masses ``m_k``, ``r_k^C``, ``Ĵ_k`` and ``r3^G`` of the three bodies (frames ``T_k``)."""
+    """Masses ``m_k``, ``r_k^C``, ``Ĵ_k`` (legs, bodies) and ``r3^G`` (frames ``T_k``).
+
+    A payload makes body 3 the platform with the payload: their mass, mass
+    centre and inertia about ``A3``.
+    """
     l0 = robot.l0
     r3G = 0.5 * l0 * np.array([0.0, 1.0, -1.0 / SQRT3])  # eq. (9), A3 → G in T3
     c1, c2 = robot.piston.com, robot.link.com
@@ -340,23 +427,87 @@ def _body_constants(robot: Robot) -> tuple[FloatArray, FloatArray, FloatArray, F
     inertia = np.array([robot.piston.inertia, robot.link.inertia, robot.platform_inertia])
     # the plane normal z0 in T_k: a10·u3 = a30·u3 = −u1, a20·u3 = u3 for every leg and pose
     normal = np.stack([A10[0] @ U3, U3, A32 @ U3])
+
+    def parallel_axes(m: FloatArray, r: FloatArray) -> FloatArray:  # m(|r|²·1 − r rᵀ)
+        return np.asarray(
+            m[..., None, None]
+            * (np.einsum("...i,...i->...", r, r)[..., None, None] * np.eye(3)
+               - np.einsum("...i,...j->...ij", r, r))
+        )  # fmt: skip
+
     # Ĵ_k (eq. 20): I_zz about the centre of mass, moved to A_k, per unit mass
-    about_joint = np.einsum("k,ki,kj->kij", inertia, normal, normal) + mass[:, None, None] * (
-        np.einsum("ki,ki->k", r_C, r_C)[:, None, None] * np.eye(3)
-        - np.einsum("ki,kj->kij", r_C, r_C)
-    )
-    J = about_joint / mass[:, None, None]
+    about_joint = np.einsum("k,ki,kj->kij", inertia, normal, normal) + parallel_axes(mass, r_C)
     legs = (3, 3, 3)
-    return (
-        mass,
-        np.broadcast_to(r_C, legs).copy(),
-        np.broadcast_to(J, (*legs, 3)).copy(),
-        r3G,
-    )
+    r_C = np.broadcast_to(r_C, legs).copy()
+    about = np.broadcast_to(about_joint, (*legs, 3)).copy()
+    masses = np.broadcast_to(mass, (3, 3)).copy()  # (legs, bodies)
+    payload = robot.payload
+    if payload.present:  # a body fixed to the platform: body 3 is the platform and it
+        # its centre from A3 in T3 of each leg: r3^G + (a30 at φ = 0)·(c_p, 0)
+        a30_still = A32 @ THETA_1.T @ A10  # (3 legs, 3, 3)
+        r_p = r3G + a30_still @ np.array([payload.com[0], payload.com[1], 0.0])
+        total = robot.platform.mass + payload.mass
+        about[:, 2] += payload.inertia * np.outer(normal[2], normal[2]) + parallel_axes(
+            np.full(3, payload.mass), r_p
+        )
+        r_C[:, 2] = (robot.platform.mass * r3G + payload.mass * r_p) / total
+        masses[:, 2] = total
+    J = about / masses[..., None, None]
+    return masses, r_C, J, r3G
+
+
+def _applied(
+    robot: Robot,
+    F_star: FloatArray,
+    M_star: FloatArray,
+    a0: FloatArray,
+    position: FloatArray,
+    r3G: FloatArray,
+    load: FloatArray | None,
+    friction: tuple[FloatArray, FloatArray, FloatArray] | None,
+) -> tuple[FloatArray, FloatArray]:
+    """``F_k*, M_k*`` with the load on the platform and the joint friction added (about ``A_k``).
+
+    The environment's wrench ``(F, M)`` at ``G``: ``a30·F`` and ``r3^G × a30·F + M·a30·u3``
+    on body 3.  Friction (``docs/loads_and_friction.md``): ``fric10·u3`` and
+    ``−fric21·a10·u3`` on body 1 (at ``A1``); ``−fric32·a32ᵀu3`` and ``fric21·u3``
+    on body 2 (at ``A2``); ``fric32_j·d_j`` at ``A2`` of leg ``j`` on body 3.
+    """
+    a10, a20, a30 = a0[:, :, 0], a0[:, :, 1], a0[:, :, 2]
+    F_star, M_star = F_star.copy(), M_star.copy()
+    external = np.zeros((F_star.shape[0], 3))
+    external[:, :2] = robot.load.force
+    moment = np.full(F_star.shape[0], robot.load.moment)
+    if load is not None:
+        external[:, :2] += load[:, :2]
+        moment = moment + load[:, 2]
+    if robot.load.present or load is not None:
+        F_ext = _mv(a30, external[:, None, :])  # in T3 of each leg
+        F_star[:, :, 2] += F_ext
+        M_star[:, :, 2] += np.cross(r3G, F_ext) + moment[:, None, None] * _mv(a30, U3)
+    if friction is not None:
+        fric10, fric21, fric32 = friction
+        z0_in_1 = _mv(a10, U3)
+        F_star[:, :, 0] += fric10[..., None] * U3
+        M_star[:, :, 0] -= fric21[..., None] * z0_in_1
+        F_star[:, :, 1] -= fric32[..., None] * _mv(A32.T, U3)
+        M_star[:, :, 1] += fric21[..., None] * U3
+        d0 = _mv(_T(a30), U3)  # d_j in T0, (n, legs, 3)
+        for j in range(3):
+            force0 = fric32[:, j, None] * d0[:, j]  # on the platform at A2 of leg j, in T0
+            lever0 = position[:, j, 1][:, None, :] - position[:, :, 2]  # from A3 of each leg
+            F_star[:, :, 2] += _mv(a30, force0[:, None, :])
+            M_star[:, :, 2] += _mv(a30, np.cross(lever0, force0[:, None, :]))
+    return F_star, M_star
 
 
 def _evaluate(
-    robot: Robot, pose: FloatArray, velocity: FloatArray, acceleration: FloatArray
+    robot: Robot,
+    pose: FloatArray,
+    velocity: FloatArray,
+    acceleration: FloatArray,
+    load: FloatArray | None = None,
+    friction: tuple[FloatArray, FloatArray, FloatArray] | None = None,
 ) -> dict[str, FloatArray]:
     """Every quantity of the paper for ``n`` samples (arrays ``(n, 3)``)."""
     l0 = robot.l0
@@ -487,9 +638,11 @@ def _evaluate(
 
     # eq. (19): the weight m_k·g and its moment about A_k, in T_k
     g0 = np.array([robot.gravity[0], robot.gravity[1], 0.0])
-    m = mass[:, None]  # (3 bodies, 1)
+    m = mass[..., None]  # (3 legs, 3 bodies, 1)
     F_star = m * _mv(a0, g0)
     M_star = np.cross(r_C, F_star)  # r̃_k^C F_k*
+    # beyond the paper: the applied forces enter F_k*, M_k* as the weight does
+    F_star, M_star = _applied(robot, F_star, M_star, a0, position, r3G, load, friction)
     # eq. (20): inertia force and moment of inertia forces about A_k
     F_in = -m * (gamma + _mv(omega2_epsilon, r_C))
     M_in = -m * (np.cross(r_C, gamma) + _mv(J, epsilon) + _mv(omega_tilde, _mv(J, omega)))
@@ -622,13 +775,19 @@ def _require_finite(chunk: dict[str, FloatArray], first: int, motion: Motion) ->
 def _run(robot: Robot, motion: Motion, names: tuple[str, ...]) -> dict[str, FloatArray]:
     """The quantities ``names`` for every sample, evaluated ``PAPER_CHUNK`` samples at a time."""
     pose, velocity, acceleration = _checked_motion(robot, motion)
+    load = None if motion.load is None else motion.load.reshape(-1, 3)
+    if robot.friction is not None:
+        names = names + _FRICTION + (("iterations",) if robot.friction.has_mu else ())
     total = pose.shape[0]
     out: dict[str, FloatArray] = {}
     lambda10 = np.empty((total, 3))
     for first in range(0, total, PAPER_CHUNK):
         rows = slice(first, first + PAPER_CHUNK)
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            chunk = _evaluate(robot, pose[rows], velocity[rows], acceleration[rows])
+            chunk = _evaluate_loaded(
+                robot, pose[rows], velocity[rows], acceleration[rows],
+                None if load is None else load[rows], first, motion,
+            )  # fmt: skip
         _require_finite(chunk, first, motion)
         lambda10[rows] = chunk["lambda10"]
         for name in names:
@@ -688,7 +847,10 @@ def recursive_matrix_method(robot: Robot, motion: Motion) -> RecursiveMatrixResu
             f"motion: {motion.samples} samples is more than the {MAX_RECORDED_SAMPLES} that "
             "recursive_matrix_method records; use paper_inverse_dynamics for the forces alone"
         )
-    names = tuple(f.name for f in fields(RecursiveMatrixResult) if f.name != "motion")
+    optional = _FRICTION + ("iterations",)
+    names = tuple(
+        f.name for f in fields(RecursiveMatrixResult) if f.name not in ("motion", *optional)
+    )
     values = _run(robot, motion, names)
     for value in values.values():
         value.flags.writeable = False
@@ -714,4 +876,4 @@ def paper_inverse_dynamics(robot: Robot, motion: Motion) -> InverseDynamics:
     >>> dyn.f10.shape, dyn.method
     ((301, 3), 'paper')
     """
-    return _to_inverse_dynamics(_run(robot, motion, _FORCES))
+    return _to_inverse_dynamics(_run(robot, motion, _FORCES))  # with friction and iterations

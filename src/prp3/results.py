@@ -3,7 +3,8 @@
 Columns ``t, x, y, phi``, then for each leg ``L`` in ``A, B, C`` (all of A's
 columns first) ``lambda10_L, dlambda10_L, ddlambda10_L, lambda32_L,
 dlambda32_L, ddlambda32_L, f10_L, p10_L, f21y_L, f21z_L, n10_L, m10_L, n32_L,
-m32_L``.
+m32_L``; with a robot's ``[friction]`` 9 more: ``fric10_L, fric21_L, fric32_L``
+for each leg (:data:`FRICTION_COLUMNS`).
 
 >>> RESULT_COLUMNS[:5]
 ('t', 'x', 'y', 'phi', 'lambda10_A')
@@ -20,7 +21,13 @@ from .dynamics import InverseDynamics
 from .geometry import LEGS
 from .kinematics import Kinematics
 
-__all__ = ["PER_LEG_COLUMNS", "RESULT_COLUMNS", "results_table"]
+__all__ = [
+    "FRICTION_COLUMNS",
+    "PER_LEG_COLUMNS",
+    "RESULT_COLUMNS",
+    "result_columns",
+    "results_table",
+]
 
 #: Per-leg quantities, in the contract's order.
 PER_LEG_COLUMNS: tuple[str, ...] = (
@@ -44,6 +51,21 @@ PER_LEG_COLUMNS: tuple[str, ...] = (
 RESULT_COLUMNS: tuple[str, ...] = ("t", "x", "y", "phi") + tuple(
     f"{quantity}_{leg}" for leg in LEGS for quantity in PER_LEG_COLUMNS
 )
+
+
+#: The 9 columns after the 46 when the robot has ``[friction]``, legs A, B, C in order.
+FRICTION_COLUMNS: tuple[str, ...] = tuple(
+    f"{quantity}_{leg}" for leg in LEGS for quantity in ("fric10", "fric21", "fric32")
+)
+
+
+def result_columns(friction: bool) -> tuple[str, ...]:
+    """The columns of ``results.csv``: the 46, and the 9 friction columns with ``friction``.
+
+    >>> len(result_columns(True)), result_columns(True)[46:49]
+    (55, ('fric10_A', 'fric21_A', 'fric32_A'))
+    """
+    return RESULT_COLUMNS + (FRICTION_COLUMNS if friction else ())
 
 
 def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np.float64]]:
@@ -80,4 +102,9 @@ def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np
     for j, leg in enumerate(LEGS):
         for quantity in PER_LEG_COLUMNS:
             table[f"{quantity}_{leg}"] = per_leg[quantity][..., j]
+    if dyn.fric10 is not None and dyn.fric21 is not None and dyn.fric32 is not None:
+        friction = {"fric10": dyn.fric10, "fric21": dyn.fric21, "fric32": dyn.fric32}
+        for j, leg in enumerate(LEGS):
+            for quantity, values in friction.items():
+                table[f"{quantity}_{leg}"] = values[..., j]
     return table

@@ -46,7 +46,7 @@ from ..kinematics import inverse_kinematics
 from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
-from ..results import RESULT_COLUMNS, results_table
+from ..results import RESULT_COLUMNS, result_columns, results_table
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -176,7 +176,7 @@ def simulate_table(
     (True, (7,))
     """
     samples = motion.samples
-    table = {name: np.empty(samples) for name in RESULT_COLUMNS}
+    table = {name: np.empty(samples) for name in result_columns(robot.friction is not None)}
     for start in range(0, samples, chunk):
         stop = min(start + chunk, samples)
         try:
