@@ -20,9 +20,9 @@ from prp3 import Prp3Error, Robot, SingularPoseError
 from prp3._trace import scalar_function
 from prp3.fast import compile_robot, paper_forces, sample_forces_unchecked, solve_batch
 from prp3.kernel import (
+    INERTIAL_FIELDS,
     MATH,
     NUMPY,
-    INERTIAL_FIELDS,
     STATE_SYMBOLS,
     KernelParameters,
     KernelSolution,

@@ -58,9 +58,7 @@ def kernel_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
     """
     check_robot(robot)
     motion = kin.motion
-    values = solve_batch(
-        robot, motion.pose, motion.velocity, motion.acceleration, load=motion.load
-    )
+    values = solve_batch(robot, motion.pose, motion.velocity, motion.acceleration, load=motion.load)
     names = FORCE_NAMES + (FRICTION_NAMES if robot.friction is not None else ())
     extra = {"iterations": values["iterations"]} if "iterations" in values else {}
     result = InverseDynamics(**{name: values[name] for name in names}, method="fast", **extra)

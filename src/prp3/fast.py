@@ -175,8 +175,8 @@ def _field(sol: kernel.KernelSolution, name: str) -> kernel.Legs:
     if name in FRICTION_OUTPUTS:
         if sol.friction is None:
             return (0.0, 0.0, 0.0)
-        return tuple(getattr(sol.friction, name))  # type: ignore[return-value]
-    return tuple(getattr(sol, name))  # type: ignore[return-value]
+        return tuple(getattr(sol.friction, name))
+    return tuple(getattr(sol, name))
 
 
 def compile_robot(robot: Robot) -> CompiledRobot:
@@ -501,7 +501,11 @@ def _compute_direct(
             ):
                 _raise_input_error(compiled, inputs, stop)
             kin = kernel.kernel_kinematics(params, geo, dx, dy, dphi, ddx, ddy, ddphi)
-            wrench = None if load is None else tuple(load[start:stop, k] for k in range(3))
+            wrench = (
+                None
+                if load is None
+                else (load[start:stop, 0], load[start:stop, 1], load[start:stop, 2])
+            )
             f10, f21y, f21z, rest, friction, iterations = kernel.dynamics(
                 kernel.NUMPY, params, kin, ddx, ddy, dphi, ddphi, reactions=reactions, load=wrench
             )
@@ -511,6 +515,8 @@ def _compute_direct(
                 values.update(zip(_REACTIONS, rest, strict=True))
             if friction is not None:
                 values.update(zip(FRICTION_OUTPUTS, friction, strict=True))
+            else:  # a [friction] table of zeros
+                values.update(dict.fromkeys(FRICTION_OUTPUTS, (0.0, 0.0, 0.0)))
             if iterations is not None:
                 locked = np.flatnonzero(np.asarray(iterations) < 0)
                 if locked.size:

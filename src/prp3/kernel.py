@@ -71,12 +71,12 @@ import numpy as np
 from .model import Robot
 
 __all__ = [
-    "MATH",
-    "NUMPY",
-    "STATE_SYMBOLS",
     "EFFECT_FIELDS",
     "INERTIAL_FIELDS",
+    "MATH",
     "MU_STEPS",
+    "NUMPY",
+    "STATE_SYMBOLS",
     "BodyWrenches",
     "KernelFriction",
     "KernelGeometry",
@@ -572,8 +572,8 @@ def body_wrenches(
     ``fric21`` and the force ``−fric32·d_i`` at ``P_i`` on link 2,
     ``fric32·d_i`` at ``P_i`` on the platform (moment about ``G``
     ``(P_i − G) × d_i·fric32 = (l0/2)·fric32``).  ``inertia=False`` leaves the
-    inertia wrenches and the weights out (the wrenches of the applied forces
-    alone: linear in them).
+    inertia wrenches, the weights and the constant load out (the wrenches of
+    the friction forces alone: linear in them).
     """
     gx, gy = k.gravity_x, k.gravity_y
     m1, m2 = k.piston_mass, k.link_mass
@@ -626,9 +626,11 @@ def body_wrenches(
     else:
         platform_x = platform_y = platform_moment = 0.0
     # the environment's wrench on the platform at G: constant [load] + time-varying load
-    ext = [k.load_x, k.load_y, k.load_moment]
+    ext = [k.load_x, k.load_y, k.load_moment] if inertia else [0.0, 0.0, 0.0]
     if load is not None:
-        ext = [value if _zero(base) else base + value for base, value in zip(ext, load, strict=True)]
+        ext = [
+            value if _zero(base) else base + value for base, value in zip(ext, load, strict=True)
+        ]
     if not _zero(ext[0]):
         platform_x = platform_x - ext[0]
     if not _zero(ext[1]):
@@ -870,7 +872,6 @@ def solve_mu(
     r0 = np.concatenate([n10, f21y, f21z, n32], axis=-1)  # (N, 12)
     # R: the reactions of unit friction forces (fric10_A..C, fric21_A..C, fric32_A..C)
     R = np.empty((samples, 12, 9))
-    zeros = (0.0, 0.0, 0.0)
     for q in range(9):
         unit = [0.0] * 9
         unit[q] = 1.0
@@ -964,7 +965,9 @@ def symbolic_parameters(*, effects: bool = False) -> KernelParameters:
 
     names = INERTIAL_FIELDS
     if effects:
-        names += tuple(n for n in EFFECT_FIELDS if n.endswith(("viscous", "coulomb")) or "load" in n)
+        names += tuple(
+            n for n in EFFECT_FIELDS if n.endswith(("viscous", "coulomb")) or "load" in n
+        )
     return KernelParameters(**{name: sympy.Symbol(name, real=True) for name in names})
 
 

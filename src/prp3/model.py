@@ -38,10 +38,10 @@ __all__ = [
     "Friction",
     "JointFriction",
     "Limits",
-    "Load",
     "LinkParameters",
-    "PistonParameters",
+    "Load",
     "Payload",
+    "PistonParameters",
     "PlatformParameters",
     "Robot",
     "check_robot",
@@ -354,8 +354,12 @@ class Friction:
                     self,
                     kind,
                     JointFriction(
-                        value.viscous, value.coulomb, value.mu, value.smoothing,
-                        value.pin_radius, kind,
+                        value.viscous,
+                        value.coulomb,
+                        value.mu,
+                        value.smoothing,
+                        value.pin_radius,
+                        kind,
                     ),  # fmt: skip
                 )
 
@@ -449,7 +453,17 @@ class Robot:
         top = _table(
             "",
             data,
-            {"l0", "gravity", "piston", "link", "platform", "limits", "payload", "load", "friction"},
+            {
+                "l0",
+                "gravity",
+                "piston",
+                "link",
+                "platform",
+                "limits",
+                "payload",
+                "load",
+                "friction",
+            },
         )
         kwargs: dict[str, Any] = {}
         if "l0" in top:

@@ -258,7 +258,9 @@ def _solve(
             for j in range(3):
                 col = 7 * j
                 # piston j: the μ part of fric10·e_j, −μ_a·s·σ·n10·e_j
-                M[:, 3 * j : 3 * j + 2, col + u["n10"]] += (-k10[:, j] * sig10[:, j])[:, None] * _E[j]
+                M[:, 3 * j : 3 * j + 2, col + u["n10"]] += (-k10[:, j] * sig10[:, j])[:, None] * _E[
+                    j
+                ]
                 # −fric21 on the piston, +fric21 on link j: fric21 ∋ −μ_r r_r s (û·F21)
                 for name, comp in (("f21y", uy), ("f21z", uz)):
                     term = -k21[:, j] * comp[:, j]
@@ -277,8 +279,7 @@ def _solve(
             if settled.all():
                 break
         consistent = (
-            (np.sign(x[..., u["n10"]]) * sig10 >= 0)
-            & (np.sign(x[..., u["n32"]]) * sig32 >= 0)
+            (np.sign(x[..., u["n10"]]) * sig10 >= 0) & (np.sign(x[..., u["n32"]]) * sig32 >= 0)
         ).all(axis=-1) & settled
         if not consistent.all():
             locked = int(np.flatnonzero(~consistent)[0])

@@ -473,7 +473,7 @@ def _applied(
     ``−fric21·a10·u3`` on body 1 (at ``A1``); ``−fric32·a32ᵀu3`` and ``fric21·u3``
     on body 2 (at ``A2``); ``fric32_j·d_j`` at ``A2`` of leg ``j`` on body 3.
     """
-    a10, a20, a30 = a0[:, :, 0], a0[:, :, 1], a0[:, :, 2]
+    a10, a30 = a0[:, :, 0], a0[:, :, 2]
     F_star, M_star = F_star.copy(), M_star.copy()
     external = np.zeros((F_star.shape[0], 3))
     external[:, :2] = robot.load.force

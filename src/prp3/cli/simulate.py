@@ -46,7 +46,7 @@ from ..kinematics import inverse_kinematics
 from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
-from ..results import RESULT_COLUMNS, result_columns, results_table
+from ..results import result_columns, results_table
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -229,6 +229,10 @@ class RunSummary:
         When ``|f10|`` peaks (s).
     energy : ndarray (3,)
         Energy each actuator delivers, ``∫ p10 dt`` by the trapezoid rule (J).
+    dissipated : ndarray (3,) or None
+        With friction columns: the energy friction dissipates in the actuator
+        guides, the revolute joints and the sleeves (the three legs together),
+        ``∫ −Σ fric·rate dt`` by the trapezoid rule (J); else ``None``.
     """
 
     peak_f10: FloatArray
@@ -236,6 +240,7 @@ class RunSummary:
     peak_p10: FloatArray
     peak_f21: FloatArray
     energy: FloatArray
+    dissipated: FloatArray | None = None
 
     @property
     def total_energy(self) -> float:
@@ -243,8 +248,11 @@ class RunSummary:
         return float(self.energy.sum())
 
 
-def summarize(table: Mapping[str, FloatArray]) -> RunSummary:
+def summarize(table: Mapping[str, FloatArray], dphi: FloatArray | None = None) -> RunSummary:
     """Peaks and energies of the columns of ``results.csv`` (``N >= 1`` samples).
+
+    ``dphi`` (``φ̇`` of the samples) is needed for the energy dissipated in the
+    revolute joints when the table has the friction columns.
 
     >>> t = np.array([0.0, 1.0, 2.0])
     >>> table = {"t": t} | {f"{q}_{leg}": np.array([0.0, 2.0, -1.0])
@@ -261,12 +269,25 @@ def summarize(table: Mapping[str, FloatArray]) -> RunSummary:
     f10, p10 = legs("f10"), legs("p10")
     f21 = np.hypot(legs("f21y"), legs("f21z"))
     energy = (0.5 * (p10[1:] + p10[:-1]) * np.diff(t)[:, None]).sum(axis=0)  # trapezoid rule
+    dissipated = None
+    if "fric10_A" in table:
+        rate = np.zeros_like(t) if dphi is None else np.asarray(dphi, dtype=np.float64)
+        powers = np.stack(
+            [
+                -(legs("fric10") * legs("dlambda10")).sum(axis=-1),
+                -(legs("fric21") * rate[:, None]).sum(axis=-1),
+                -(legs("fric32") * legs("dlambda32")).sum(axis=-1),
+            ],
+            axis=-1,
+        )
+        dissipated = (0.5 * (powers[1:] + powers[:-1]) * np.diff(t)[:, None]).sum(axis=0)
     return RunSummary(
         peak_f10=np.abs(f10).max(axis=0),
         peak_f10_time=t[np.abs(f10).argmax(axis=0)],
         peak_p10=np.abs(p10).max(axis=0),
         peak_f21=f21.max(axis=0),
         energy=energy,
+        dissipated=dissipated,
     )
 
 
@@ -281,6 +302,16 @@ def _summary_text(summary: RunSummary, heading: str, files: list[str]) -> str:
         row("peak |p10| (W)", summary.peak_p10),
         row("peak |f21| (N)", summary.peak_f21),
         row("energy (J)", summary.energy, f"   total {summary.total_energy:.6g} J"),
+    ]
+    if summary.dissipated is not None:
+        kinds = ", ".join(
+            f"{kind} {value:.6g} J"
+            for kind, value in zip(
+                ("guides", "revolute joints", "sleeves"), summary.dissipated, strict=True
+            )
+        )
+        lines.append(f"  dissipated by friction (3 legs): {kinds}")
+    lines += [
         *files,
     ]
     return "\n".join(lines)
@@ -416,7 +447,7 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
     if trajectory is not None and trajectory.note is not None:
         # only for a run that goes on: a refused trajectory gets its one error line
         print(f"{args.program}: warning: {trajectory.note}", file=stderr)
-    summary = summarize(table)
+    summary = summarize(table, motion.velocity[:, 2])
 
     trajectory_file = str(trajectory.path) if trajectory is not None else None
     with staged_output(output) as staged:
