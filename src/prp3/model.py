@@ -360,7 +360,7 @@ class Friction:
                         value.smoothing,
                         value.pin_radius,
                         kind,
-                    ),  # fmt: skip
+                    ),
                 )
 
     @property
