@@ -266,8 +266,10 @@ def test_key_paths_are_generic_and_the_platform_inertia_follows_mass_and_l0():
     given = design_robot({"platform": {"inertia": 0.05}}, ["platform.mass"], [2.0])
     assert given.platform_inertia == 0.05
     assert nominal == {"l0": 0.3, "link": {"com": [0.0, 0.0]}}  # not changed
-    with pytest.raises(prp3.ParameterError, match="unknown key 'payload'"):
-        design_robot({}, ["payload.mass"], [1.0])  # a table the robot does not know (yet)
+    with pytest.raises(prp3.ParameterError, match="unknown key 'gripper'"):
+        design_robot({}, ["gripper.mass"], [1.0])  # a table the robot does not know
+    assert design_robot({}, ["payload.mass"], [1.0]).payload.mass == 1.0  # issue 10's tables
+    assert design_robot({}, ["friction.sleeve.mu"], [0.1]).friction.sleeve.mu == 0.1
 
 
 @given(
