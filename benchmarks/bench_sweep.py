@@ -6,7 +6,6 @@ Run from the repository root (``pip install -e ".[bench]"``)::
     python benchmarks/bench_sweep.py              # 2000 designs, 301 samples per motion
     python benchmarks/bench_sweep.py --samples 3001 --designs 500
     python benchmarks/bench_sweep.py --quick      # 400 designs, ~20 s
-    python benchmarks/bench_sweep.py --backend numba
 
 Measured in the same run, on the same task (the paper's two motions, the
 designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
@@ -68,7 +67,6 @@ def main() -> int:
     parser.add_argument("--samples", type=int, default=301, help="samples per paper motion")
     parser.add_argument("--chunk", type=int, default=250, help="designs per Dask task")
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--backend", choices=("numpy", "numba"), default="numpy")
     parser.add_argument("--quick", action="store_true", help="400 designs, 1 repeat")
     args = parser.parse_args()
     if args.quick:
@@ -82,7 +80,6 @@ def main() -> int:
             "sampling": "lhs",
             "seed": 1,
             "chunk": args.chunk,
-            "backend": args.backend,
             "parameters": {
                 "l0": [0.25, 0.35],
                 "link.mass": [0.5, 1.0],
@@ -104,10 +101,9 @@ def main() -> int:
     # the kernel alone, big batches (its best single-core rate)
     repeat = max(1, 100_000 // task)
     big = [np.tile(a, (repeat, 1)) for a in (pose, velocity, acceleration)]
-    backend = args.backend
-    paper_forces(compiled, *big, reactions=True, backend=backend)
+    paper_forces(compiled, *big, reactions=True)
     t_kernel = _median_time(
-        lambda: paper_forces(compiled, *big, reactions=True, backend=backend), max(3, args.repeats)
+        lambda: paper_forces(compiled, *big, reactions=True), max(3, args.repeats)
     )
     kernel_rate = repeat * task / t_kernel
 
@@ -115,9 +111,7 @@ def main() -> int:
     t_call = (
         _median_time(
             lambda: [
-                paper_forces(
-                    compiled, pose, velocity, acceleration, reactions=True, backend=backend
-                )
+                paper_forces(compiled, pose, velocity, acceleration, reactions=True)
                 for _ in range(200)
             ],
             args.repeats,
@@ -130,9 +124,7 @@ def main() -> int:
 
     def per_design() -> None:
         for r in robots:
-            paper_forces(
-                compile_robot(r), pose, velocity, acceleration, reactions=True, backend=backend
-            )
+            paper_forces(compile_robot(r), pose, velocity, acceleration, reactions=True)
 
     per_design()
     t_design = _median_time(per_design, args.repeats) / len(robots)
@@ -183,8 +175,7 @@ def main() -> int:
 
     print(
         f"prp3 sweep benchmark: {args.designs} designs x {task} samples "
-        f"(vertical + rotation, {args.samples} each), chunks of {args.chunk}, "
-        f"{args.backend} backend; "
+        f"(vertical + rotation, {args.samples} each), chunks of {args.chunk}; "
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]}, numpy {np.__version__}"
     )

@@ -55,7 +55,6 @@ from __future__ import annotations
 
 import copy
 import hashlib
-import importlib.util
 import json
 import math
 import re
@@ -127,8 +126,7 @@ AGGREGATES: tuple[str, ...] = ("peak_f10", "peak_p10", "peak_f21", "peak_n32")
 
 _PATH = re.compile(r"^[A-Za-z_][A-Za-z0-9_-]*(\.([A-Za-z_][A-Za-z0-9_-]*|[0-9]+))*$")
 _TOP_KEYS = {
-    "robot", "designs", "sampling", "seed", "chunk", "backend", "parameters", "task", "limits",
-    "optimize",
+    "robot", "designs", "sampling", "seed", "chunk", "parameters", "task", "limits", "optimize",
 }  # fmt: skip
 
 
@@ -233,15 +231,12 @@ class DesignEvaluator:
         The task: every motion, ``N >= 2`` samples each.
     workspace : bool
         Whether the designs have a stroke (``workspace_area``, ``max_condition`` columns).
-    backend : {"numpy", "numba"}
-        Backend of :func:`prp3.fast.paper_forces`.
     """
 
     nominal: dict[str, Any]
     paths: tuple[str, ...]
     motions: tuple[Motion, ...]
     workspace: bool
-    backend: str = "numpy"
     _pose: FloatArray = field(init=False, repr=False)
     _velocity: FloatArray = field(init=False, repr=False)
     _acceleration: FloatArray = field(init=False, repr=False)
@@ -311,7 +306,6 @@ def _task_peaks(
         evaluator._acceleration,
         reactions=True,
         out=out,
-        backend="numba" if evaluator.backend == "numba" else "numpy",
     )
     assert forces.n32 is not None
     peaks = [
@@ -587,7 +581,6 @@ class SweepSpec:
             "sampling": self.sampling,
             "seed": self.seed,
             "workspace": self.evaluator.workspace,
-            "backend": self.evaluator.backend,
         }
         hasher.update(json.dumps(described, sort_keys=True).encode())
         for motion in self.evaluator.motions:
@@ -825,18 +818,7 @@ def sweep_spec(
     )
     workspace = "stroke" in nominal.get("limits", {})
     paths = tuple(p.path for p in parameters)
-    backend = data.get("backend", "numpy")
-    if backend not in ("numpy", "numba"):
-        raise ParameterError(
-            f"{source}: unknown backend {backend!r} (expected one of: numpy, numba)"
-        )
-    if backend == "numba" and importlib.util.find_spec("numba") is None:
-        raise ParameterError(
-            f"{source}: backend = \"numba\" needs numba: pip install 'prp3[numba]'"
-        )
-    evaluator = DesignEvaluator(
-        nominal=nominal, paths=paths, motions=motions, workspace=workspace, backend=backend
-    )
+    evaluator = DesignEvaluator(nominal=nominal, paths=paths, motions=motions, workspace=workspace)
     optimize = _optimize(
         source, _table(source, "optimize", data.get("optimize", {})), evaluator.columns
     )
