@@ -12,12 +12,14 @@ designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
 
 * ``kernel`` — :func:`prp3.fast.paper_forces` with the reactions on one core,
   the task repeated to ~10⁵ samples per call (its best rate: no per-call cost);
-* ``kernel, 1 call`` — one ``paper_forces`` call over the task (its per-call
-  checks included), the robot compiled already;
-* ``kernel per design`` — what one design costs the kernel in the sweep:
-  :func:`~prp3.fast.compile_robot` + one ``paper_forces`` call over the task;
+* ``paper_forces, 1 call`` — one ``paper_forces`` call over the task (its
+  per-call checks included), the robot compiled already;
+* ``paper_forces per new robot`` — :func:`~prp3.fast.compile_robot` + one
+  call for a robot it has not seen (what a sweep would pay per design through
+  ``paper_forces``: the batch path prepares its code per robot);
 * ``evaluate_designs`` — :func:`prp3.design.evaluate_designs` on one chunk in
-  this process (the Python around the kernel: robot, peaks, energy), no Dask;
+  this process: :func:`prp3.kernel.solve` on blocks of designs × samples, the
+  robots, peaks and energy, no Dask;
 * ``sweep, 1 worker`` / ``2 workers`` — :func:`prp3.sweep.run_sweep` on a
   LocalCluster of 1 or 2 worker processes (one thread each), Parquet files
   included; the cluster start is timed apart (it is paid once per command).
@@ -120,7 +122,7 @@ def main() -> int:
     )
 
     # what a design costs the kernel: compile + one call over the task
-    robots = [prp3.Robot(l0=0.25 + 0.1 * k / 200) for k in range(200)]
+    robots = [prp3.Robot(l0=0.25 + 0.1 * k / 20) for k in range(20)]
 
     def per_design() -> None:
         for r in robots:
@@ -135,10 +137,10 @@ def main() -> int:
     t_eval = _median_time(lambda: evaluate_designs(spec.evaluator, part), args.repeats) / len(part)
 
     rows: list[tuple[str, float]] = [
-        ("kernel (paper_forces, 1e5 samples/call)", kernel_rate / task),
-        (f"kernel, 1 call of {task} samples", 1.0 / t_call),
-        ("kernel per design (compile + 1 call)", 1.0 / t_design),
-        ("evaluate_designs, this process", 1.0 / t_eval),
+        ("kernel: paper_forces, 1e5 samples/call", kernel_rate / task),
+        (f"paper_forces, 1 call of {task} samples", 1.0 / t_call),
+        ("paper_forces per new robot (compile + call)", 1.0 / t_design),
+        ("evaluate_designs (kernel.solve blocks)", 1.0 / t_eval),
     ]
     starts: dict[int, float] = {}
     for workers in (1, 2):

@@ -446,3 +446,36 @@ def test_a_parquet_file_of_something_else_is_refused(tmp_path):
     (tmp_path / "text.parquet").write_text("not parquet")
     with pytest.raises(prp3.InputFileError, match="cannot read a Parquet file"):
         prp3.sweep.read_designs(tmp_path / "text.parquet")
+
+
+def test_rows_are_the_batch_kernel_of_each_design_bit_for_bit():
+    # evaluate_designs runs prp3.kernel.solve on a block of designs; paper_forces one robot
+    spec = sweep_spec(
+        {
+            "designs": 7,
+            "seed": 5,
+            "parameters": {
+                "l0": [0.2, 0.4],
+                "link.com.0": [-0.02, 0.02],
+                "piston.com.1": [-0.01, 0.01],
+                "gravity.0": [-1.0, 1.0],
+            },
+            "task": {"motions": ["vertical", "rotation"], "samples": 31},
+        }
+    )
+    values = design_values(spec)
+    columns = evaluate_designs(spec.evaluator, values)
+    motions = [prp3.paper_motion(m, 31) for m in ("vertical", "rotation")]
+    for k in range(len(values)):
+        robot = design_robot(spec.evaluator.nominal, spec.paths, values[k].tolist())
+        forces = [
+            prp3.paper_forces(robot, m.pose, m.velocity, m.acceleration, reactions=True)
+            for m in motions
+        ]
+        for leg, j in zip(LEGS, range(3), strict=True):
+            f10 = max(np.abs(f.f10[:, j]).max() for f in forces)
+            f21 = max(np.hypot(f.f21y[:, j], f.f21z[:, j]).max() for f in forces)
+            n32 = max(np.abs(f.n32[:, j]).max() for f in forces)
+            assert columns[f"peak_f10_{leg}"][k] == f10
+            assert columns[f"peak_f21_{leg}"][k] == f21
+            assert columns[f"peak_n32_{leg}"][k] == n32

@@ -10,11 +10,13 @@ inertia follows a swept ``platform.mass`` or ``l0`` (``m3·l²/12``) unless the
 nominal robot gives ``platform.inertia`` or it is swept itself, as in
 ``ROBOT.toml``.
 
-The *task* is a list of motions (the paper's, or trajectory files).  For each
-design :func:`evaluate_designs` runs the batch kernel
-(:func:`prp3.fast.paper_forces`, reactions included) over every motion and
-reduces the forces to the columns of ``designs.parquet``
-(:func:`design_columns`):
+The *task* is a list of motions (the paper's, or trajectory files).
+:func:`evaluate_designs` runs the one kernel (:func:`prp3.kernel.solve`,
+reactions included) on a block of designs × the task's samples per call —
+the robots' constants as columns, the states as a row: the operations of
+:func:`prp3.fast.paper_forces`, bit for bit, without its cost of preparing
+each new robot — and reduces the forces to the columns of
+``designs.parquet`` (:func:`design_columns`):
 
 * ``peak_f10_L``: ``max |f10_L|`` over the samples of all motions (N);
 * ``peak_p10_L``: ``max |p10_L|`` (W);
@@ -60,7 +62,7 @@ import math
 import re
 import tomllib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -73,11 +75,10 @@ from .errors import (
     ParameterError,
     Prp3Error,
     SingularPoseError,
-    UnreachablePoseError,
 )
-from .fast import FastForces, compile_robot, paper_forces
-from .geometry import LEGS
+from .geometry import LEGS, check_poses
 from .io import read_trajectory
+from .kernel import NUMPY, KernelParameters, kernel_parameters, solve
 from .model import Robot
 from .motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
 from .workspace import jacobian_condition, workspace_slice
@@ -241,9 +242,10 @@ class DesignEvaluator:
     _velocity: FloatArray = field(init=False, repr=False)
     _acceleration: FloatArray = field(init=False, repr=False)
     _segments: tuple[tuple[int, int, FloatArray], ...] = field(init=False, repr=False)
+    _singular: bool = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        # the motions one after the other: one kernel call per design
+        # the motions one after the other: one block of samples for the kernel
         for name in ("pose", "velocity", "acceleration"):
             joined = np.concatenate([getattr(m, name) for m in self.motions])
             object.__setattr__(self, f"_{name}", joined)
@@ -252,6 +254,12 @@ class DesignEvaluator:
             segments.append((start, start + motion.samples, np.diff(motion.t)))
             start += motion.samples
         object.__setattr__(self, "_segments", tuple(segments))
+        try:  # singular poses do not depend on the design (φ ≡ π/3 mod π)
+            check_poses(self._pose)
+            singular = False
+        except SingularPoseError:
+            singular = True
+        object.__setattr__(self, "_singular", singular)
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -275,55 +283,72 @@ def design_columns(paths: Sequence[str], workspace: bool) -> tuple[str, ...]:
 _RESULTS = len(AGGREGATES) * 3 + 1  # peaks and energy
 
 
-def _task_results(
-    evaluator: DesignEvaluator, robot: Robot, out: FastForces
-) -> tuple[str, FloatArray]:
-    """Status and the peaks + energy of one design (NaN unless ``ok``)."""
-    result = np.full(_RESULTS, np.nan)
-    try:
-        with np.errstate(all="ignore"):  # a design whose forces overflow is "unreachable"
-            return _task_peaks(evaluator, robot, out, result)
-    except SingularPoseError:
-        return "singular", result
-    except UnreachablePoseError:
-        return "stroke", result
-    except Prp3Error:
-        return "unreachable", result
+#: Designs × samples per kernel call: the work rows stay in the CPU caches.
+_BLOCK = 8192
+
+_PARAMETER_FIELDS = tuple(f.name for f in fields(KernelParameters))
 
 
-def _leg_max(values: FloatArray) -> FloatArray:
-    """``values.max(axis=0)`` of ``(N, 3)``, leg by leg (numpy reduces a column ~10× faster)."""
-    return np.array([values[:, 0].max(), values[:, 1].max(), values[:, 2].max()])
+def _block_results(
+    evaluator: DesignEvaluator, robots: Sequence[Robot]
+) -> tuple[list[str], FloatArray]:
+    """Status and peaks + energy (NaN unless ``ok``) of designs, one kernel call for all.
 
-
-def _task_peaks(
-    evaluator: DesignEvaluator, robot: Robot, out: FastForces, result: FloatArray
-) -> tuple[str, FloatArray]:
-    forces = paper_forces(
-        compile_robot(robot),
-        evaluator._pose,
-        evaluator._velocity,
-        evaluator._acceleration,
-        reactions=True,
-        out=out,
-    )
-    assert forces.n32 is not None
-    peaks = [
-        _leg_max(np.abs(forces.f10)),
-        _leg_max(np.abs(forces.p10)),
-        _leg_max(np.hypot(forces.f21y, forces.f21z)),
-        _leg_max(np.abs(forces.n32)),
+    :func:`prp3.kernel.solve` on numpy arrays: the robots' constants as
+    columns ``(B, 1)``, the task's states as a row ``(1, N)``, every output
+    ``(B, N)`` — the operations of :func:`prp3.fast.paper_forces`, one design
+    per row.  The kernel does not validate; here, as in ``paper_forces``: a
+    singular task (checked once), then the stroke, then non-finite results.
+    """
+    count = len(robots)
+    result = np.full((count, _RESULTS), np.nan)
+    if evaluator._singular:
+        return ["singular"] * count, result
+    each = [kernel_parameters(robot) for robot in robots]
+    columns = {
+        name: np.array([getattr(p, name) for p in each], dtype=np.float64)[:, None]
+        for name in _PARAMETER_FIELDS
+    }
+    states = [
+        np.ascontiguousarray(array[:, j])[None, :]
+        for array in (evaluator._pose, evaluator._velocity, evaluator._acceleration)
+        for j in range(3)
     ]
-    p10 = forces.p10
-    power = p10[:, 0] + p10[:, 1] + p10[:, 2]
-    energy = 0.0
-    for start, stop, dt in evaluator._segments:  # trapezoid rule over each motion
-        energy += float(0.5 * np.dot(power[start + 1 : stop] + power[start : stop - 1], dt))
-    result[:-1] = np.concatenate(peaks)
-    result[-1] = energy
-    if not np.isfinite(result).all():
-        return "unreachable", np.full(_RESULTS, np.nan)
-    return "ok", result
+    with np.errstate(all="ignore"):  # overflowing forces make the design "unreachable"
+        solution = solve(NUMPY, KernelParameters(**columns), *states, reactions=True)
+        assert solution.n32 is not None
+
+        def peak(legs: tuple[Any, Any, Any]) -> FloatArray:
+            return np.stack(
+                [np.broadcast_to(leg, (count, len(states[0][0]))).max(axis=1) for leg in legs],
+                axis=-1,
+            )
+
+        peaks = [
+            peak(tuple(np.abs(v) for v in solution.f10)),
+            peak(tuple(np.abs(v) for v in solution.p10)),
+            peak(tuple(np.hypot(a, b) for a, b in zip(solution.f21y, solution.f21z, strict=True))),
+            peak(tuple(np.abs(v) for v in solution.n32)),
+        ]
+        p10 = solution.p10
+        power = p10[0] + p10[1] + p10[2]
+        energy = np.zeros(count)
+        for start, stop, dt in evaluator._segments:  # trapezoid rule over each motion
+            energy += 0.5 * ((power[:, start + 1 : stop] + power[:, start : stop - 1]) @ dt)
+        values = np.concatenate([*peaks, energy[:, None]], axis=1)
+    lower = np.array([r.limits.stroke[0] if r.limits.stroke else -np.inf for r in robots])
+    upper = np.array([r.limits.stroke[1] if r.limits.stroke else np.inf for r in robots])
+    outside = np.zeros(count, dtype=bool)
+    for lam in solution.lambda10:
+        outside |= ((lam < lower[:, None]) | (lam > upper[:, None])).any(axis=1)
+    finite = np.isfinite(values).all(axis=1)
+    status = [
+        "stroke" if o else "ok" if f else "unreachable"
+        for o, f in zip(outside, finite, strict=True)
+    ]
+    good = ~outside & finite
+    result[good] = values[good]
+    return status, result
 
 
 def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str, Any]:
@@ -346,14 +371,12 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
     values = np.asarray(values, dtype=np.float64).reshape(len(values), len(evaluator.paths))
     count = values.shape[0]
     results = np.full((count, _RESULTS), np.nan)
-    status = np.empty(count, dtype=object)
+    status: list[str] = []
     area = np.full(count, np.nan)
     condition = np.full(count, np.nan)
-    samples = len(evaluator._pose)
-    block = np.empty((8, samples, 3))  # the kernel's outputs, reused by every design
-    out = FastForces(*block)
     areas: dict[tuple[float, float], float] = {}
     conditions: dict[float, float] = {}
+    robots: list[Robot] = []
     for k in range(count):
         row = values[k].tolist()
         try:
@@ -361,7 +384,7 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
         except ParameterError as error:
             described = ", ".join(f"{p} = {v!r}" for p, v in zip(evaluator.paths, row, strict=True))
             raise ParameterError(f"design {described}: {error}") from None
-        status[k], results[k] = _task_results(evaluator, robot, out)
+        robots.append(robot)
         if evaluator.workspace and robot.limits.stroke is not None:
             stroke = robot.limits.stroke
             if stroke not in areas:  # the area at φ = 0 depends on the stroke alone
@@ -370,8 +393,13 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
             if robot.l0 not in conditions:  # κ depends on l0 and the poses alone
                 conditions[robot.l0] = float(jacobian_condition(robot, evaluator._pose).max())
             condition[k] = conditions[robot.l0]
+    block = max(1, _BLOCK // max(1, len(evaluator._pose)))
+    for start in range(0, count, block):
+        part, part_results = _block_results(evaluator, robots[start : start + block])
+        status += part
+        results[start : start + block] = part_results
     columns: dict[str, Any] = {path: values[:, j].copy() for j, path in enumerate(evaluator.paths)}
-    columns["status"] = status.astype(str)
+    columns["status"] = np.array(status, dtype=str)
     names = design_columns(evaluator.paths, evaluator.workspace)
     first = len(evaluator.paths) + 1
     for j, name in enumerate(names[first : first + _RESULTS]):
