@@ -479,3 +479,43 @@ def test_rows_are_the_batch_kernel_of_each_design_bit_for_bit():
             assert columns[f"peak_f10_{leg}"][k] == f10
             assert columns[f"peak_f21_{leg}"][k] == f21
             assert columns[f"peak_n32_{leg}"][k] == n32
+
+
+@pytest.mark.parametrize(
+    ("parameters", "robot"),
+    [
+        ({"payload.mass": [0.0, 1.0], "load.moment": [-1.0, 1.0]}, ""),
+        (
+            {"l0": [0.25, 0.35]},
+            "[friction.sleeve]\nviscous = 2.0\ncoulomb = 0.5\nsmoothing = 0.01\n",
+        ),
+        ({"friction.sleeve.mu": [0.2, 0.5]}, "[friction.sleeve]\ncoulomb = 0.5\n"),
+    ],
+)
+def test_loads_and_friction_are_parameters_too(tmp_path, parameters, robot):
+    # a design whose friction locks is 'unreachable', where paper_forces refuses the motion
+    write(tmp_path / "robot.toml", robot)
+    data = {"robot": "robot.toml", "designs": 5, "seed": 2, "parameters": parameters}
+    spec = sweep_spec(
+        data | {"task": {"motions": ["vertical", "rotation"], "samples": 41}}, base=tmp_path
+    )
+    values = design_values(spec)
+    columns = evaluate_designs(spec.evaluator, values)
+    motions = [prp3.paper_motion(m, 41) for m in ("vertical", "rotation")]
+    for k in range(len(values)):
+        robot_k = design_robot(spec.evaluator.nominal, spec.paths, values[k].tolist())
+        try:
+            forces = [
+                prp3.paper_forces(robot_k, m.pose, m.velocity, m.acceleration, reactions=True)
+                for m in motions
+            ]
+        except prp3.TrajectoryError as error:
+            assert "locks" in str(error)
+            assert columns["status"][k] == "unreachable" and math.isnan(columns["energy"][k])
+            continue
+        assert columns["status"][k] == "ok"
+        for j, leg in enumerate(LEGS):
+            assert columns[f"peak_f10_{leg}"][k] == max(np.abs(f.f10[:, j]).max() for f in forces)
+            assert columns[f"peak_n32_{leg}"][k] == max(np.abs(f.n32[:, j]).max() for f in forces)
+    if "friction.sleeve.mu" in parameters:
+        assert set(columns["status"]) == {"ok", "unreachable"}

@@ -36,8 +36,9 @@ and its force columns are NaN:
   (:class:`~prp3.errors.SingularPoseError`);
 * ``stroke``: a pose of the task needs an actuator displacement outside the
   design's ``[limits] stroke`` (:class:`~prp3.errors.UnreachablePoseError`);
-* ``unreachable``: the design has no finite answer for the task (the kernel
-  refuses it for another reason: results that overflow, ...).
+* ``unreachable``: the design has no answer for the task: results that
+  overflow, or a joint friction that locks (no inverse dynamics reached
+  continuously from ``μ = 0``).
 
 Everything here is plain numpy: the distribution over Dask workers and the
 Parquet files are in :mod:`prp3.sweep`.
@@ -78,7 +79,7 @@ from .errors import (
 )
 from .geometry import LEGS, check_poses
 from .io import read_trajectory
-from .kernel import NUMPY, KernelParameters, kernel_parameters, solve
+from .kernel import EFFECT_FIELDS, NUMPY, KernelParameters, kernel_parameters, solve
 from .model import Robot
 from .motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
 from .workspace import jacobian_condition, workspace_slice
@@ -305,12 +306,25 @@ def _block_results(
     if evaluator._singular:
         return ["singular"] * count, result
     each = [kernel_parameters(robot) for robot in robots]
-    columns = {
-        name: np.array([getattr(p, name) for p in each], dtype=np.float64)[:, None]
-        for name in _PARAMETER_FIELDS
-    }
+    if len(each) > 1 and (
+        any(p.has_mu for p in each)
+        or any(len({getattr(p, name) for p in each}) > 1 for name in EFFECT_FIELDS)
+    ):
+        # loads and friction vary, or the friction is implicit: the kernel branches on
+        # them (a zero smoothing, the Newton solve of mu), so one design at a time
+        parts = [_block_results(evaluator, [robot]) for robot in robots]
+        return [s for part in parts for s in part[0]], np.concatenate([p[1] for p in parts])
+    # a field the designs share stays a float (the kernel's branches see a number)
+    columns: dict[str, Any] = {}
+    for name in _PARAMETER_FIELDS:
+        given = [getattr(p, name) for p in each]
+        same = all(v == given[0] for v in given)
+        columns[name] = given[0] if same else np.array(given, dtype=np.float64)[:, None]
+    # the states as a row (1, N) against the designs' column (B, 1); one design: 1-D,
+    # as paper_forces calls the kernel (its implicit friction solve works sample by sample)
+    samples = len(evaluator._pose)
     states = [
-        np.ascontiguousarray(array[:, j])[None, :]
+        np.ascontiguousarray(array[:, j]).reshape((1, samples) if count > 1 else (samples,))
         for array in (evaluator._pose, evaluator._velocity, evaluator._acceleration)
         for j in range(3)
     ]
@@ -320,7 +334,7 @@ def _block_results(
 
         def peak(legs: tuple[Any, Any, Any]) -> FloatArray:
             return np.stack(
-                [np.broadcast_to(leg, (count, len(states[0][0]))).max(axis=1) for leg in legs],
+                [np.broadcast_to(leg, (count, samples)).max(axis=1) for leg in legs],
                 axis=-1,
             )
 
@@ -331,7 +345,7 @@ def _block_results(
             peak(tuple(np.abs(v) for v in solution.n32)),
         ]
         p10 = solution.p10
-        power = p10[0] + p10[1] + p10[2]
+        power = np.broadcast_to(p10[0] + p10[1] + p10[2], (count, samples))
         energy = np.zeros(count)
         for start, stop, dt in evaluator._segments:  # trapezoid rule over each motion
             energy += 0.5 * ((power[:, start + 1 : stop] + power[:, start : stop - 1]) @ dt)
@@ -342,9 +356,11 @@ def _block_results(
     for lam in solution.lambda10:
         outside |= ((lam < lower[:, None]) | (lam > upper[:, None])).any(axis=1)
     finite = np.isfinite(values).all(axis=1)
+    if solution.iterations is not None:  # the implicit friction has no solution: it locks
+        finite &= ~(np.broadcast_to(solution.iterations, (count, samples)) < 0).any(axis=1)
     status = [
         "stroke" if o else "ok" if f else "unreachable"
-        for o, f in zip(outside, finite, strict=True)
+        for o, f in zip(outside.tolist(), finite.tolist(), strict=True)
     ]
     good = ~outside & finite
     result[good] = values[good]
