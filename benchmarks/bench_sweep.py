@@ -27,14 +27,18 @@ designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
 Printed: designs/s and samples/s (designs × samples of the task per second)
 of each, the ratio of each to the kernel's rate, and the scaling efficiency
 ``rate(2 workers) / (2 · rate(1 worker))``.  Timings are the median of
-``--repeats`` runs.  On a machine whose cores are shared the numbers move
-from run to run: compare the ratios of one run.
+``--repeats`` runs.  On a machine whose cores are shared the wall-clock
+numbers move from run to run; the CPU time per sample of the kernel, of
+``evaluate_designs`` in this process and of the same chunk inside a Dask
+worker process is printed too (what other users' load does not inflate),
+with the load average.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import os
 import platform
 import shutil
@@ -63,6 +67,13 @@ def _median_time(function: Callable[[], Any], repeats: int) -> float:
     return statistics.median(times)
 
 
+def _cpu_time(function: Callable[..., Any], *args: Any) -> float:
+    """CPU seconds of the calling thread for one call (what a shared machine does not inflate)."""
+    start = time.thread_time()
+    function(*args)
+    return time.thread_time() - start
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
     parser.add_argument("--designs", type=int, default=2000)
@@ -71,6 +82,7 @@ def main() -> int:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--quick", action="store_true", help="400 designs, 1 repeat")
     args = parser.parse_args()
+    load_start = os.getloadavg()[0]
     if args.quick:
         args.designs, args.repeats = 400, 1
 
@@ -135,6 +147,13 @@ def main() -> int:
     part = values[: args.chunk]
     evaluate_designs(spec.evaluator, part)
     t_eval = _median_time(lambda: evaluate_designs(spec.evaluator, part), args.repeats) / len(part)
+    cpu_eval = statistics.median(
+        _cpu_time(evaluate_designs, spec.evaluator, part) for _ in range(args.repeats)
+    ) / len(part)
+    cpu_kernel = statistics.median(
+        _cpu_time(lambda: paper_forces(compiled, *big, reactions=True)) for _ in range(3)
+    ) / (repeat * task)
+    cpu_worker = math.nan
 
     rows: list[tuple[str, float]] = [
         ("kernel: paper_forces, 1e5 samples/call", kernel_rate / task),
@@ -171,6 +190,12 @@ def main() -> int:
 
             sweep()  # warm: workers import prp3, first chunks
             t_sweep = _median_time(sweep, args.repeats)
+            if workers == 1:  # the same chunk's CPU time inside a worker process
+                shared = client.scatter(spec.evaluator, broadcast=True)
+                cpu_worker = statistics.median(
+                    client.submit(_cpu_time, evaluate_designs, shared, part, pure=False).result()
+                    for _ in range(args.repeats)
+                ) / len(part)
         rows.append(
             (f"sweep, {workers} worker{'s' if workers > 1 else ''}", args.designs / t_sweep)
         )
@@ -190,7 +215,17 @@ def main() -> int:
         f"cluster start (untimed above): {starts[1]:.2f} s with 1 worker, {starts[2]:.2f} s with 2"
     )
     half = rows[-2][1] >= 0.5 * rows[0][1]
-    print(f"sweep with 1 worker at >= half the kernel's rate: {'yes' if half else 'no'}")
+    print(
+        f"sweep with 1 worker at >= half the kernel's rate (wall clock): {'yes' if half else 'no'}"
+    )
+    print(
+        f"CPU time per sample: kernel {cpu_kernel * 1e9:.0f} ns, evaluate_designs "
+        f"{cpu_eval / task * 1e9:.0f} ns in this process, {cpu_worker / task * 1e9:.0f} ns in a "
+        f"Dask worker: the sweep's CPU rate is {cpu_kernel * task / cpu_worker:.2f} of the kernel's"
+    )
+    print(
+        f"load average (1 min) at the start and the end: {load_start:.1f}, {os.getloadavg()[0]:.1f}"
+    )
     return 0
 
 
