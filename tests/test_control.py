@@ -353,6 +353,16 @@ def test_cli_bad_options(tmp_path: Path, capsys, extra: list[str], message: str)
     assert not out.exists()
 
 
+def test_cli_warns_when_the_controller_asks_more_than_max_force(tmp_path: Path, capsys) -> None:
+    robot = tmp_path / "robot.toml"
+    robot.write_text("[limits]\nmax_force = 30.0\n")  # the static force of leg A is 31.9 N
+    args = ["control", "--motion", "vertical", "--plant", "prp3", "--controller", "pd"]
+    status, _, err = _cli(capsys, *args, "--robot", robot, "--rate", "50", "-o", tmp_path / "o")
+    assert status == 0
+    assert "warning: the controller asks |f10_A| = " in err and "max_force = 30 N" in err
+    assert "f10_B" not in err and (tmp_path / "o" / "tracking.csv").exists()
+
+
 def test_cli_model_of_another_geometry_is_refused(tmp_path: Path, capsys) -> None:
     model = tmp_path / "model.toml"
     model.write_text("l0 = 0.31\n")

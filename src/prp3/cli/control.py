@@ -222,6 +222,18 @@ def run(args: argparse.Namespace) -> int:
                 staged.path(TRACKING_FIGURE),
             )
     print(_summary(result, title, what, model_text, args, files_report(staged)), file=sys.stdout)
+    limit = robot.limits.max_force
+    if limit is not None:  # the plant's actuators: the controller asked for more than they give
+        peak = np.abs(result.f10).max(axis=0)
+        for j, leg in enumerate(LEGS):
+            if peak[j] > limit:
+                when = float(result.t[int(np.abs(result.f10[:, j]).argmax())])
+                print(
+                    f"{args.program}: warning: the controller asks |f10_{leg}| = {peak[j]:.6g} N "
+                    f"at t = {when:.6g} s, above limits.max_force = {limit:g} N (the plant does "
+                    "not saturate)",
+                    file=sys.stderr,
+                )
     if result.status != "completed":
         print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED
