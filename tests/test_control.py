@@ -46,6 +46,7 @@ from prp3.control import (
 )
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError
 from prp3.fast import compile_robot
+from prp3.model import Friction, JointFriction, Load, Payload
 from prp3.motion import PAPER_MOTIONS, law_at
 from strategies import poses, robots
 
@@ -257,6 +258,31 @@ def test_track_validates_its_inputs() -> None:
     )
     with pytest.raises(SingularPoseError, match=r"reference at t = 0.01 s"):
         track(Robot(), path)
+
+
+def test_plants_refuse_what_they_would_not_simulate() -> None:
+    reference = _paper_reference("vertical", 100.0, 0.05)
+    for extra in (
+        {"payload": Payload(mass=0.5)},
+        {"load": Load(force=(0.0, -5.0))},
+        {"friction": Friction(actuator=JointFriction(viscous=1.0))},
+    ):
+        with pytest.raises(ParameterError, match="plant 'mujoco': the exported MJCF has no"):
+            track(Robot(**extra), reference, plant="mujoco")
+    sticky = Robot(friction=Friction(actuator=JointFriction(mu=0.1)))
+    with pytest.raises(ParameterError, match="plant 'prp3': a friction proportional"):
+        track(sticky, reference, plant="prp3")
+
+
+def test_prp3_plant_payload_at_g_is_a_heavier_platform() -> None:
+    """The table's payload: a [payload] at G is the platform m3 + m, I3 + I, exactly."""
+    reference = _paper_reference("rotation", 1000.0, 0.2)
+    carried = Robot(payload=Payload(mass=0.5, com=(0.0, 0.0), inertia=1e-3))
+    heavier = Robot(platform=PlatformParameters(mass=3.5, inertia=Robot().platform_inertia + 1e-3))
+    a = track(carried, reference, model=Robot())
+    b = track(heavier, reference, model=Robot())
+    assert np.abs(a.pose - b.pose).max() < 1e-13 and np.abs(a.f10 - b.f10).max() < 1e-10
+    assert a.max_error[1] > 1e-6  # the unknown payload shows
 
 
 def test_mujoco_plant_refused_without_mujoco(monkeypatch: pytest.MonkeyPatch) -> None:

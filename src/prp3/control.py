@@ -63,7 +63,7 @@ from .fast import CompiledRobot, compile_robot, paper_forces, sample_forces_unch
 from .forward import SINGULARITY_STOP
 from .geometry import SINGULARITY_THRESHOLD, inverse_geometry
 from .kinematics import inverse_kinematics
-from .model import Limits, Robot, check_robot
+from .model import Limits, Load, Robot, check_robot
 from .motion import Motion, law_at
 
 __all__ = [
@@ -80,6 +80,7 @@ __all__ = [
     "Plant",
     "Tracking",
     "check_model",
+    "check_plant",
     "control_force",
     "control_times",
     "hermite_reference",
@@ -323,6 +324,45 @@ def check_model(robot: Robot, model: Robot) -> None:
 
 
 # ------------------------------------------------------------------ plants
+def check_plant(robot: Robot, plant: Plant) -> None:
+    """Refuse a robot the plant would not simulate as it is.
+
+    * ``"mujoco"``: the exported MJCF (:func:`prp3.mjcf.mjcf_model`) has the
+      inertial model only: a robot with a ``[payload]``, a ``[load]`` or
+      ``[friction]`` would be simulated without them.
+    * ``"prp3"``: the plant solves ``f10 = A(q)·q̈ + b(q, q̇)`` for ``q̈``; a
+      friction proportional to the joint reactions (``mu``) makes ``f10``
+      non-affine in ``q̈``.
+
+    >>> from prp3.model import Payload
+    >>> check_plant(Robot(payload=Payload(mass=0.5)), "mujoco")
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: plant 'mujoco': the exported MJCF has no payload, load or friction, and the robot has a [payload]: simulate it with plant 'prp3'
+    """
+    if plant == "mujoco":
+        extras = [
+            name
+            for name, present in (
+                ("[payload]", robot.payload.present),
+                ("[load]", robot.load != Load()),
+                ("[friction]", robot.friction is not None),
+            )
+            if present
+        ]
+        if extras:
+            raise ParameterError(
+                "plant 'mujoco': the exported MJCF has no payload, load or friction, and the "
+                f"robot has a {' and a '.join(extras)}: simulate it with plant 'prp3'"
+            )
+    elif compile_robot(_without_limits(robot)).parameters.has_mu:
+        raise ParameterError(
+            "plant 'prp3': a friction proportional to the joint reactions (mu) makes the "
+            "forces non-affine in the acceleration, which the plant's equations of motion "
+            "assume; set the friction's mu to 0"
+        )
+
+
 class _Plant(Protocol):
     def measure(self) -> list[float]: ...
     def advance(
@@ -609,6 +649,7 @@ def track(
         index = None if found is None else int(found[1] or found[2])
         when = "" if index is None else f" at t = {float(reference.t[index])!r} s"
         raise type(error)(f"reference{when}: {error}") from None
+    check_plant(robot, plant)
     simulator: _Plant = (
         _Prp3Plant(robot, reference) if plant == "prp3" else _MujocoPlant(robot, reference)
     )
