@@ -217,3 +217,18 @@ def test_platform_first_moment_by_its_energy(h, mass, inertia, seed) -> None:  #
     power = sum(solve(MATH, k, *q, *qd, *qdd).p10)
     rate = (energy(t + dt) - energy(t - dt)) / (2 * dt)  # O(dt²) ≈ 1e-6 relative
     assert abs(power - rate) <= 1e-5 * (abs(power) + mass * 10 * 0.1)
+
+
+@settings(max_examples=10, deadline=None)
+@given(robot=robots(), seed=st.integers(0, 2**32 - 1))
+def test_traced_batch_code_equals_the_kernel_on_arrays(robot: Robot, seed: int) -> None:
+    # Large batches run the kernel traced into numpy ufunc calls, small ones of a new
+    # robot the kernel on arrays directly: the same operations, the same numbers.
+    rows = states(robot, np.random.default_rng(seed), 30)
+    args = (rows[:, :3], rows[:, 3:6], rows[:, 6:])
+    direct = paper_forces(compile_robot(robot), *args, reactions=True)
+    warm = compile_robot(robot)
+    warm.batch_function(("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32"))
+    traced = paper_forces(warm, *args, reactions=True)
+    for name in ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32"):
+        np.testing.assert_array_equal(getattr(traced, name), getattr(direct, name))

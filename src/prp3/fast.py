@@ -60,6 +60,10 @@ DEFAULT_CHUNK = 8192
 #: the single-sample function: below it numpy's per-call overhead dominates.
 _FEW_SAMPLES = 16
 
+#: Fewer samples than this on a robot whose batch code is not built yet run the
+#: kernel on numpy directly: tracing (about 15 ms) costs more than it saves.
+_TRACE_SAMPLES = 20_000
+
 #: Every per-leg output of the kernel, in the order of :class:`~prp3.kernel.KernelSolution`.
 KERNEL_OUTPUTS: tuple[str, ...] = kernel.KernelSolution._fields[:14]
 _FORCES = ("f10", "p10", "f21y", "f21z")
@@ -434,10 +438,15 @@ def _compute(
     ``μ`` terms.  With either, the kernel runs on numpy arrays directly
     (:func:`_compute_direct`).
     """
-    if load is not None or compiled.parameters.has_mu:
+    samples = inputs[0].shape[0]
+    traced = tuple(targets) in compiled.__dict__.get("_batch_functions", {})
+    if (
+        load is not None
+        or compiled.parameters.has_mu
+        or (backend == "numpy" and samples < _TRACE_SAMPLES and not traced)
+    ):  # a few samples of a new robot: tracing would cost more than it saves
         _compute_direct(compiled, inputs, targets, chunk_size, load, mu_iterations)
         return
-    samples = inputs[0].shape[0]
     width = min(chunk_size, samples)
     names = tuple(targets)
     checks = 4 if compiled.stroke is not None else 1
