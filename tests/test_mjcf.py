@@ -7,10 +7,12 @@ independent reference model of ``strategies.py``.
 
 With MuJoCo (``pytest.importorskip``):
 
-(a) the model's mass matrix (``mj_fullM``), bias forces (``qfrc_bias``) and
-    weld Jacobian (``efc_J``) give prp3's actuator forces to 1e-8 relative
-    (of the largest ``|f10|`` of the motion) along the paper's motions and
-    random robots/motions;
+(a) the model's mass matrix (``mj_fullM``), smooth forces (``qfrc_smooth``:
+    bias, joint damping, the load applied as ``xfrc_applied``), its
+    ``frictionloss`` levels as ideal dry friction and the weld Jacobian
+    (``efc_J``) give prp3's actuator forces to 1e-8 relative (of the largest
+    ``|f10|`` of the motion) along the paper's motions and random
+    robots/motions, with and without payload, load and friction;
 (b) a simulation driven by prp3's ``f10`` (RK4, timestep 1e-4 s) follows the
     planned platform pose; tolerances below, explained in ``docs/mujoco.md``.
 """
@@ -18,8 +20,10 @@ With MuJoCo (``pytest.importorskip``):
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import sys
+import warnings
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from types import ModuleType
@@ -34,7 +38,15 @@ from prp3 import LinkParameters, Motion, PistonParameters, PlatformParameters, R
 from prp3.cli import main
 from prp3.dynamics import inverse_dynamics
 from prp3.errors import ParameterError
-from prp3.mjcf import INERTIA_FLOOR, MUJOCO_MIN_VALUE, TIMESTEP, mjcf_model
+from prp3.mjcf import (
+    INERTIA_FLOOR,
+    MUJOCO_MIN_VALUE,
+    TIMESTEP,
+    MjcfWarning,
+    mjcf_model,
+    unrepresented,
+)
+from prp3.model import Friction, JointFriction, Load, Payload
 from prp3.motion import PAPER_MOTIONS, law_motion, paper_motion
 from strategies import (
     REF_E,
@@ -65,7 +77,27 @@ ZERO_INERTIA_ROBOT = Robot(
     link=LinkParameters(inertia=0.0, com=(0.02, -0.01)),
     platform=PlatformParameters(inertia=0.0),
 )
-ROBOTS = {"default": Robot(), "offset": OFFSET_ROBOT, "zero-inertia": ZERO_INERTIA_ROBOT}
+#: The paper's robot carrying a payload off G (no load, no friction).
+PAYLOAD_ROBOT = Robot(payload=Payload(mass=0.5, com=(0.02, -0.01), inertia=1e-3))
+#: Offsets, a payload, a constant load and viscous + Coulomb friction in every joint.
+LOADED_ROBOT = Robot(
+    gravity=(3.0, -7.0),
+    link=LinkParameters(mass=0.6, inertia=1e-3, com=(0.03, 0.04)),
+    payload=Payload(mass=0.8, com=(-0.03, 0.05), inertia=0.0),
+    load=Load(force=(2.0, -5.0), moment=0.3),
+    friction=Friction(
+        actuator=JointFriction(viscous=20.0, coulomb=2.0),
+        revolute=JointFriction(viscous=0.05, coulomb=0.01),
+        sleeve=JointFriction(viscous=5.0, coulomb=1.5),
+    ),
+)
+ROBOTS = {
+    "default": Robot(),
+    "offset": OFFSET_ROBOT,
+    "zero-inertia": ZERO_INERTIA_ROBOT,
+    "payload": PAYLOAD_ROBOT,
+    "loaded": LOADED_ROBOT,
+}
 
 
 # --------------------------------------------------------------- XML helpers
@@ -406,7 +438,10 @@ def _tree_state(robot: Robot, motion: Motion) -> tuple[np.ndarray, np.ndarray, n
 
 def _load(mujoco: ModuleType, robot: Robot) -> tuple[Any, Any, np.ndarray]:
     """Model, data and the dof address of each tree coordinate in leg order."""
-    model = mujoco.MjModel.from_xml_string(mjcf_model(robot))
+    with warnings.catch_warnings():  # the constant load: applied below as xfrc_applied
+        warnings.simplefilter("ignore", MjcfWarning)
+        text = mjcf_model(robot)
+    model = mujoco.MjModel.from_xml_string(text)
     model.opt.jacobian = mujoco.mjtJacobian.mjJAC_DENSE
     data = mujoco.MjData(model)
     names = [f"{kind}_{leg}" for leg in LEGS for kind in ("lambda10", "phi", "lambda32")]
@@ -417,7 +452,15 @@ def _load(mujoco: ModuleType, robot: Robot) -> tuple[Any, Any, np.ndarray]:
 def _mujoco_forces(
     mujoco: ModuleType, robot: Robot, motion: Motion
 ) -> tuple[np.ndarray, float, float]:
-    """f10 (N, 3) from M, qfrc_bias and efc_J; largest weld position and velocity residual."""
+    """f10 (N, 3) from MuJoCo's dynamics; largest weld position and velocity residual.
+
+    ``τ = M·q̈ − qfrc_smooth + c·sign(q̇)``: ``qfrc_smooth`` holds the bias
+    forces, the joint damping and the constant load applied as documented
+    (``xfrc_applied`` of ``platform_A``, read from the model's ``prp3_load``);
+    ``c`` are the model's ``frictionloss`` levels taken as ideal dry friction
+    (MuJoCo's own friction is a soft constraint).  ``τ = S·f10 + J_cᵀ·λ`` with
+    the planar rows of the weld Jacobian is solved per sample.
+    """
     model, data, order = _load(mujoco, robot)
     q, qd, qdd = _tree_state(robot, motion)
     nv = model.nv
@@ -425,20 +468,24 @@ def _mujoco_forces(
     selection = np.zeros((nv, model.nu))
     for a in range(model.nu):
         selection[model.jnt_dofadr[model.actuator_trnid[a, 0]], a] = model.actuator_gear[a, 0]
+    third = model.body("platform_A").id
+    constant = np.array(model.numeric("prp3_load").data) if model.nnumeric else np.zeros(3)
     mass = np.zeros((nv, nv))
     forces = np.empty((len(q), 3))
     worst_pos = worst_vel = 0.0
     for k in range(len(q)):
         data.qpos[order] = q[k]
         data.qvel[order] = qd[k]
-        mujoco.mj_forward(model, data)  # positions, velocities, bias forces, constraints
+        wrench = constant + (0.0 if motion.load is None else motion.load[k])
+        data.xfrc_applied[third] = (wrench[0], wrench[1], 0.0, 0.0, 0.0, wrench[2])
+        mujoco.mj_forward(model, data)  # positions, velocities, smooth forces, constraints
         mujoco.mj_fullM(model, data, mass)
         acceleration = np.empty(nv)
         acceleration[order] = qdd[k]
-        tau = mass @ acceleration + data.qfrc_bias
-        assert data.nefc == 12
-        assert (data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY).all()
-        jac = data.efc_J[: data.nefc * nv].reshape(data.nefc, nv)
+        tau = mass @ acceleration - data.qfrc_smooth + model.dof_frictionloss * np.sign(data.qvel)
+        welds = np.flatnonzero(data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+        assert len(welds) == 12
+        jac = data.efc_J[: data.nefc * nv].reshape(data.nefc, nv)[welds]
         # per weld: rows (x, y, z) of translation, then 3 of rotation; planar rows are
         # x, y and rotation about z; the other three are zero (no out-of-plane dof)
         planar = [0, 1, 5, 6, 7, 11]
@@ -446,7 +493,7 @@ def _mujoco_forces(
         system = np.hstack([selection, jac[planar].T])
         solution = np.linalg.solve(system, tau)
         forces[k] = solution[:3]
-        worst_pos = max(worst_pos, float(np.abs(data.efc_pos).max()))
+        worst_pos = max(worst_pos, float(np.abs(data.efc_pos[welds]).max()))
         worst_vel = max(worst_vel, float(np.abs(jac @ data.qvel).max()))
     return forces, worst_pos, worst_vel
 
@@ -464,6 +511,8 @@ def test_mujoco_loads_the_model(mujoco: ModuleType) -> None:
     assert (model.nq, model.nv, model.nu, model.neq) == (9, 9, 3, 2)
     expected_mass = 3 * robot.piston.mass + 3 * robot.link.mass + robot.platform.mass
     assert math.isclose(float(model.body_mass.sum()), expected_mass, rel_tol=1e-14)
+    assert "payload" not in [model.body(b).name for b in range(model.nbody)]
+    assert not model.dof_damping.any() and not model.dof_frictionloss.any() and not model.nnumeric
     np.testing.assert_array_equal(model.opt.gravity, [3.0, -7.0, 0.0])
     mujoco.mj_forward(model, data)  # qpos0: the central configuration closes the loops
     assert np.abs(data.efc_pos).max() < 1e-15
@@ -481,8 +530,10 @@ def test_mujoco_inverse_dynamics_matches_prp3(
     # the reference state closes the loops in MuJoCo's model (positions and velocities)
     assert worst_pos < 1e-14 and worst_vel < 1e-14
     _, dyn = inverse_dynamics(robot, motion)
-    # measured ≤ 1e-15 (default, offset) and ≲ 1e-12 with the inertia floor
-    assert _relative_error(forces, dyn.f10, robot) < 1e-8
+    # measured ≤ 1e-15 (default, offset, payload, loaded) and ≲ 1e-12 with the inertia floor
+    assert _relative_error(forces, dyn.f10, robot) < (
+        1e-8 if robot_name == "zero-inertia" else 1e-13
+    )
 
 
 @settings(max_examples=15)
@@ -496,6 +547,116 @@ def test_mujoco_inverse_dynamics_random(
     assert worst_pos < 1e-13 * robot.l0
     _, dyn = inverse_dynamics(robot, motion)
     assert _relative_error(forces, dyn.f10, robot) < 1e-8
+
+
+@st.composite
+def loaded(draw: st.DrawFn, robot: Robot) -> Robot:
+    """``robot`` with a random payload, constant load and viscous + Coulomb friction."""
+
+    def number(low: float, high: float) -> float:
+        return draw(st.floats(low, high, allow_nan=False, allow_infinity=False))
+
+    def joint(scale: float) -> JointFriction:
+        return JointFriction(viscous=number(0.0, 20.0 * scale), coulomb=number(0.0, 3.0 * scale))
+
+    l0 = robot.l0
+    return Robot(
+        l0=l0,
+        gravity=robot.gravity,
+        piston=robot.piston,
+        link=robot.link,
+        platform=robot.platform,
+        payload=Payload(
+            mass=number(0.0, 2.0),
+            com=(number(-l0, l0) / 3, number(-l0, l0) / 3),
+            inertia=number(0.0, 0.01),
+        ),
+        load=Load(force=(number(-10.0, 10.0), number(-10.0, 10.0)), moment=number(-1.0, 1.0)),
+        friction=Friction(actuator=joint(1.0), revolute=joint(l0 / 10), sleeve=joint(1.0)),
+    )
+
+
+@settings(max_examples=10)
+@given(scenario=scenarios(), data=st.data())
+def test_mujoco_inverse_dynamics_random_loads_and_friction(
+    mujoco: ModuleType, scenario: tuple[Robot, AnalyticMotion], data: st.DataObject
+) -> None:
+    # payload, constant [load], a time-varying TRAJ wrench, viscous and Coulomb friction
+    robot, analytic = scenario
+    robot = data.draw(loaded(robot))
+    plain = analytic.motion(np.linspace(0.0, analytic.duration, 7))
+    wrench = data.draw(
+        st.lists(
+            st.floats(-5.0, 5.0, allow_nan=False, allow_infinity=False), min_size=21, max_size=21
+        )
+    )
+    motion = Motion(
+        plain.t, plain.pose, plain.velocity, plain.acceleration, load=np.reshape(wrench, (7, 3))
+    )
+    forces, worst_pos, _ = _mujoco_forces(mujoco, robot, motion)
+    assert worst_pos < 1e-13 * robot.l0
+    _, dyn = inverse_dynamics(robot, motion)
+    assert _relative_error(forces, dyn.f10, robot) < 1e-8
+
+
+def test_export_names_what_mujoco_cannot_represent() -> None:
+    robot = Robot(
+        load=Load(force=(0.0, -5.0)),
+        friction=Friction(
+            actuator=JointFriction(coulomb=2.0, mu=0.05),
+            revolute=JointFriction(mu=0.1),  # no pin radius: no μ term
+            sleeve=JointFriction(coulomb=1.0, smoothing=0.01, mu=0.2),
+        ),
+    )
+    with pytest.warns(MjcfWarning) as record:
+        text = mjcf_model(robot)
+    assert len(record) == 1
+    message = str(record[0].message)
+    assert "friction.actuator.mu, friction.sleeve.mu;" in message
+    assert "friction.revolute" not in message
+    assert "smoothing friction.sleeve.smoothing" in message
+    assert "data.xfrc_applied[platform_A] = (0, -5.0, 0, 0, 0, 0)" in message
+    assert '<numeric name="prp3_load" data="0 -5.0 0"/>' in text
+    # smoothing without a Coulomb level changes nothing: no warning
+    quiet = Robot(friction=Friction(actuator=JointFriction(viscous=1.0, smoothing=0.1)))
+    assert unrepresented(quiet) == [] and unrepresented(Robot()) == []
+    assert 'damping="1.0"' in mjcf_model(quiet) and mjcf_model(quiet).count("frictionloss=") == 1
+
+
+def test_payload_and_friction_in_the_xml() -> None:
+    root = ET.fromstring(
+        mjcf_model(
+            Robot(
+                payload=Payload(mass=0.5, com=(0.02, -0.01), inertia=1e-3),
+                friction=LOADED_ROBOT.friction,
+            )
+        )
+    )
+    (payload,) = [b for b in root.iter("body") if b.get("name") == "payload"]
+    parents = {child: parent for parent in root.iter() for child in parent}
+    assert parents[payload].get("name") == "platform_A"
+    assert payload.find("joint") is None  # welded to the platform
+    np.testing.assert_array_equal(_floats(payload.get("pos"), ()), [0.02, -0.01, 0.0])
+    inertial = payload.find("inertial")
+    assert inertial is not None and inertial.get("mass") == "0.5"
+    assert inertial.get("diaginertia") == "0.001 0.001 0.001"
+    expected = {"lambda10": ("20.0", "2.0"), "phi": ("0.05", "0.01"), "lambda32": ("5.0", "1.5")}
+    for joint in root.iter("joint"):
+        name = joint.get("name")
+        if name:
+            kind = re.sub("_[ABC]$", "", name)
+            assert (joint.get("damping"), joint.get("frictionloss")) == expected[kind]
+
+
+def test_cli_warns_in_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    robot_file = tmp_path / "robot.toml"
+    robot_file.write_text("[friction.sleeve]\nmu = 0.1\n")
+    with warnings.catch_warnings():  # as outside pytest (whose filter makes warnings errors)
+        warnings.simplefilter("always")
+        assert main(["export", "mjcf", "--robot", str(robot_file)]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("prp3 export mjcf: warning: the MuJoCo model leaves out")
+    assert "friction.sleeve.mu" in err and err.count("\n") == 1
 
 
 # ------------------------------------------------------------ with MuJoCo: (b)
@@ -517,9 +678,11 @@ def _drive(
     third = model.body("platform_A").id
     steps = round(duration / dt)
     errors = []
+    wrench = model.numeric("prp3_load").data if model.nnumeric else np.zeros(3)
     for start in starts:
         k0 = round(start / dt)
         mujoco.mj_resetData(model, data)
+        data.xfrc_applied[third] = (wrench[0], wrench[1], 0.0, 0.0, 0.0, wrench[2])
         data.time = start
         data.qpos[order] = q[2 * k0]
         data.qvel[order] = qd[2 * k0]
@@ -558,3 +721,21 @@ def test_simulation_windows_follow_the_plan(mujoco: ModuleType, motion_name: str
     # shows where the full run has drifted.  Measured ≤ 1e-9 (m and rad).
     errors = _drive(mujoco, Robot(), motion_name, [1.0, 1.5, 2.0, 2.5], 0.25)
     assert max(float(e.max()) for e in errors) < 1e-8
+
+
+def test_simulation_with_payload_load_and_damping(mujoco: ModuleType) -> None:
+    # (b) for the first second with a payload, the load as xfrc_applied and viscous
+    # friction as joint damping.  Measured (vertical motion): 2.4e-8 with payload and
+    # load, 3.8e-9 with damping added (the plain robot: 1.1e-8).  With Coulomb friction
+    # (frictionloss, MuJoCo's soft dry friction) instead the error reaches about 0.06.
+    robot = Robot(
+        payload=Payload(mass=0.5, com=(0.02, -0.01), inertia=1e-3),
+        load=Load(force=(2.0, -5.0), moment=0.3),
+        friction=Friction(
+            actuator=JointFriction(viscous=20.0),
+            revolute=JointFriction(viscous=0.05),
+            sleeve=JointFriction(viscous=5.0),
+        ),
+    )
+    (error,) = _drive(mujoco, robot, "vertical", [0.0], 1.0)
+    assert error.max() < 1e-7

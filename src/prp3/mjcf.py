@@ -39,6 +39,28 @@ principal moments ``I_xx = I_yy`` are set equal to the (floored) ``I_zz``: no
 joint moves out of the plane, so they never enter the planar motion; they only
 have to be positive and to satisfy the triangle inequality.
 
+Loads and friction (``docs/loads_and_friction.md``):
+
+``payload``
+    the robot's ``[payload]``, a body without joint inside ``platform_A``
+    (welded to the platform) at ``com`` in the platform frame, with its mass
+    and ``I_zz`` as given (a welded body may have zero mass or inertia).
+joint ``damping`` and ``frictionloss``
+    viscous friction ``b`` and constant Coulomb friction ``c`` of
+    ``[friction.actuator]`` on ``lambda10_i``, ``[friction.revolute]`` on the
+    hinges ``phi_i`` (their rate is ``φ̇``, the relative rate of piston and
+    link) and ``[friction.sleeve]`` on ``lambda32_i``.
+the constant ``[load]``
+    MJCF has no constant external force: it is stored as the custom numeric
+    ``prp3_load = (F_x, F_y, M_z)`` and must be applied by the user as
+    ``data.xfrc_applied[platform_A] = (F_x, F_y, 0, 0, 0, M_z)`` (MuJoCo
+    applies it at the body's centre of mass, ``G``).
+
+What MuJoCo cannot represent is left out and named in one
+:class:`MjcfWarning`: the load-dependent ``μ`` terms, the ``tanh`` smoothing
+of the Coulomb terms (``frictionloss`` is MuJoCo's own soft dry friction),
+and the constant load (applied by hand, as above).
+
 Solver settings (see ``docs/mujoco.md``): timestep ``TIMESTEP``, RK4
 integrator, contacts disabled, stiff welds (``solref = WELD_SOLREF``,
 ``solimp = WELD_SOLIMP``).  The geoms are only drawings (no mass, no contact).
@@ -54,12 +76,13 @@ True
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
 from .errors import ParameterError
 from .geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
-from .model import Robot
+from .model import JointFriction, Payload, Robot
 
 __all__ = [
     "INERTIA_FLOOR",
@@ -68,7 +91,9 @@ __all__ = [
     "TIMESTEP",
     "WELD_SOLIMP",
     "WELD_SOLREF",
+    "MjcfWarning",
     "mjcf_model",
+    "unrepresented",
 ]
 
 #: Smallest ``l0`` exported (m): MuJoCo refuses a capsule ``fromto`` shorter than about 1e-7 m.
@@ -91,6 +116,14 @@ WELD_SOLREF: tuple[float, float] = (2.0 * TIMESTEP, 1.0)
 
 #: ``solimp`` of the welds: impedance 0.9999 (MuJoCo's largest) at any violation.
 WELD_SOLIMP: tuple[float, float, float, float, float] = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+
+
+class MjcfWarning(UserWarning):
+    """Parts of the robot that the MJCF model cannot carry (named in the message)."""
+
+
+#: The kinds of joint friction, in the order of the joints of a leg.
+_KINDS: tuple[str, str, str] = ("actuator", "revolute", "sleeve")
 
 
 def _num(value: float) -> str:
@@ -123,15 +156,87 @@ def _inertial(mass: float, com: tuple[float, float], izz: float, l0: float) -> s
     )
 
 
+def _joint_friction(robot: Robot, kind: str) -> str:
+    """``damping`` and ``frictionloss`` attributes of a joint of ``kind`` (empty without)."""
+    if robot.friction is None:
+        return ""
+    joint: JointFriction = getattr(robot.friction, kind)
+    attributes = ""
+    if joint.viscous != 0.0:
+        attributes += f' damping="{_num(joint.viscous)}"'
+    if joint.coulomb != 0.0:
+        attributes += f' frictionloss="{_num(joint.coulomb)}"'
+    return attributes
+
+
+def unrepresented(robot: Robot) -> list[str]:
+    """What of the robot's loads and friction the MJCF model does not carry.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    list of str
+        One phrase per item, empty when the model is complete: the ``μ``
+        terms, the ``tanh`` smoothing of Coulomb terms, a constant ``[load]``.
+
+    Examples
+    --------
+    >>> from prp3.model import Friction, JointFriction
+    >>> unrepresented(Robot(friction=Friction(sleeve=JointFriction(mu=0.1))))
+    ['the load-dependent friction friction.sleeve.mu']
+    """
+    items: list[str] = []
+    friction = robot.friction
+    if friction is not None:
+        mu = [f"friction.{k}.mu" for k in _KINDS if getattr(friction, k).has_mu]
+        if mu:
+            items.append("the load-dependent friction " + ", ".join(mu))
+        smooth = [
+            f"friction.{k}.smoothing"
+            for k in _KINDS
+            if getattr(friction, k).smoothing != 0.0 and getattr(friction, k).coulomb != 0.0
+        ]
+        if smooth:
+            items.append(
+                "the tanh smoothing "
+                + ", ".join(smooth)
+                + " (frictionloss is MuJoCo's own dry friction)"
+            )
+    if robot.load.present:
+        fx, fy = robot.load.force
+        items.append(
+            "the constant [load]: apply it as data.xfrc_applied[platform_A] = "
+            f"({_num(fx)}, {_num(fy)}, 0, 0, 0, {_num(robot.load.moment)}) (numeric prp3_load)"
+        )
+    return items
+
+
+def _payload_body(payload: Payload, size: float, ind: str) -> list[str]:
+    """The payload as a body without joint (welded to its parent), drawn as a sphere."""
+    com = payload.com
+    inertia = _num(payload.inertia)
+    return [
+        f'{ind}<body name="payload" pos="{_vec(com[0], com[1], 0.0)}">',
+        f'{ind}  <inertial pos="0 0 0" mass="{_num(payload.mass)}" '
+        f'diaginertia="{inertia} {inertia} {inertia}"/>',
+        f'{ind}  <geom type="sphere" size="{_num(2 * size)}" rgba="0.8 0.2 0.2 1"/>',
+        f"{ind}</body>",
+    ]
+
+
 def mjcf_model(robot: Robot) -> str:
     """The robot as a MuJoCo MJCF model (XML text).
 
     Parameters
     ----------
     robot : Robot
-        Robot parameters: ``l0``, gravity, masses, centres of mass, inertias.
-        ``robot.limits`` are not exported (MuJoCo's joint ranges would add
-        constraints; prp3 checks the strokes itself).
+        Robot parameters: ``l0``, gravity, masses, centres of mass, inertias,
+        the payload, viscous and constant Coulomb friction.  ``robot.limits``
+        are not exported (MuJoCo's joint ranges would add constraints; prp3
+        checks the strokes itself).
 
     Returns
     -------
@@ -141,6 +246,12 @@ def mjcf_model(robot: Robot) -> str:
         ``lambda10_i`` sliders, 2 welds closing the loops.  At ``qpos = 0`` the
         robot is in the central configuration ``x = y = φ = 0``, where the
         welds are satisfied.
+
+    Warns
+    -----
+    MjcfWarning
+        Naming what the model leaves out (:func:`unrepresented`): ``μ``
+        terms, ``tanh`` smoothing, the constant ``[load]``.
 
     Raises
     ------
@@ -172,6 +283,12 @@ def mjcf_model(robot: Robot) -> str:
                 f"robot: {name} = {mass!r} kg is below MuJoCo's smallest body mass "
                 f"{MUJOCO_MIN_VALUE!r} kg"
             )
+    left_out = unrepresented(robot)
+    if left_out:
+        warnings.warn(
+            "the MuJoCo model leaves out " + "; ".join(left_out), MjcfWarning, stacklevel=2
+        )
+    payload = robot.payload
     base = base_vertices(robot)
     # P_i at λ10 = 0: B_i0 + (l0/√3)·e_i
     piston_origin = base + (l0 / math.sqrt(3.0)) * LEG_AXIS
@@ -207,6 +324,7 @@ def mjcf_model(robot: Robot) -> str:
             f'    <geom name="base_edge_{k}" type="capsule" size="{_num(size / 2)}" '
             f'fromto="{_vec(a[0], a[1], 0.0, b[0], b[1], 0.0)}" rgba="0.5 0.5 0.5 1"/>'
         )
+    actuator, revolute, sleeve = (_joint_friction(robot, kind) for kind in _KINDS)
     for i, leg in enumerate(LEGS):
         alpha = float(ALPHA[i])
         origin = piston_origin[i]
@@ -217,21 +335,22 @@ def mjcf_model(robot: Robot) -> str:
         lines += [
             f'{ind}<body name="piston_{leg}" pos="{_vec(origin[0], origin[1], 0.0)}" '
             f'quat="{_quat_z(alpha)}">',
-            f'{ind}  <joint name="lambda10_{leg}" type="slide" axis="1 0 0"/>',
+            f'{ind}  <joint name="lambda10_{leg}" type="slide" axis="1 0 0"{actuator}/>',
             f"{ind}  " + _inertial(m1, robot.piston.com, robot.piston.inertia, l0),
             f'{ind}  <geom type="box" size="{_vec(2 * size, size, size)}" rgba="0.2 0.4 0.8 1"/>',
             f'{ind}  <body name="link_{leg}" quat="{_quat_z(-math.pi / 3.0)}">',
-            f'{ind}    <joint name="phi_{leg}" type="hinge" axis="0 0 1"/>',
+            f'{ind}    <joint name="phi_{leg}" type="hinge" axis="0 0 1"{revolute}/>',
             f"{ind}    " + _inertial(m2, robot.link.com, robot.link.inertia, l0),
             f'{ind}    <geom type="cylinder" size="{_vec(size, size)}" rgba="0.9 0.6 0.1 1"/>',
             f'{ind}    <body name="platform_{leg}" pos="{_vec(*third_in_link, 0.0)}" '
             f'quat="{_quat_z(math.pi / 3.0 - alpha)}">',
             f'{ind}      <joint name="lambda32_{leg}" type="slide" '
-            f'axis="{_vec(math.cos(slide_axis), math.sin(slide_axis), 0.0)}"/>',
+            f'axis="{_vec(math.cos(slide_axis), math.sin(slide_axis), 0.0)}"{sleeve}/>',
             f"{ind}      " + _inertial(m3 / 3.0, (0.0, 0.0), i3 / 3.0, l0),
             f'{ind}      <geom type="capsule" size="{_num(size / 2)}" '
             f'fromto="{_vec(start[0], start[1], 0.0, end[0], end[1], 0.0)}" '
             f'rgba="0.3 0.7 0.3 1"/>',
+            *(_payload_body(payload, size, ind + "      ") if i == 0 and payload.present else []),
             f"{ind}    </body>",
             f"{ind}  </body>",
             f"{ind}</body>",
@@ -249,8 +368,17 @@ def mjcf_model(robot: Robot) -> str:
         lines.append(
             f'    <motor name="actuator_{leg}" joint="lambda10_{leg}" gear="1" ctrllimited="false"/>'
         )
+    lines.append("  </actuator>")
+    if robot.load.present:
+        fx, fy = robot.load.force
+        lines += [
+            "  <custom>",
+            "    <!-- the constant [load] (N, N, N m): not applied by MuJoCo; set",
+            "         data.xfrc_applied[platform_A] = (F_x, F_y, 0, 0, 0, M_z) -->",
+            f'    <numeric name="prp3_load" data="{_vec(fx, fy, robot.load.moment)}"/>',
+            "  </custom>",
+        ]
     lines += [
-        "  </actuator>",
         "  <sensor>",
         '    <framepos name="platform_position" objtype="body" objname="platform_A"/>',
         '    <framequat name="platform_orientation" objtype="body" objname="platform_A"/>',
