@@ -7,6 +7,8 @@ the GIF itself.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 import subprocess
 import sys
@@ -17,6 +19,8 @@ from hypothesis import given, settings
 from PIL import Image
 
 import prp3
+from prp3.cli import main
+from prp3.model import Friction, JointFriction
 from prp3.plotting import (
     draw_frame,
     figure_names,
@@ -228,3 +232,57 @@ def test_gif_has_the_frames_and_the_joints_are_drawn_at_their_pixels(tmp_path):
                 assert (rgb[row - 1 : row + 2, col - 1 : col + 2] >= 250).all()
                 ring = rgb[row - 6 : row + 7, col - 6 : col + 7]
                 assert (ring.min(axis=-1) < 100).any()  # dark edge or sleeve around it
+
+
+# ------------------------------------------------------------------ friction
+@pytest.fixture(scope="module")
+def friction_table():
+    robot = prp3.Robot(
+        friction=Friction(
+            actuator=JointFriction(viscous=20.0, coulomb=2.0, mu=0.05, smoothing=1e-3),
+            revolute=JointFriction(viscous=0.01, coulomb=0.005),
+            sleeve=JointFriction(viscous=5.0, coulomb=1.0),
+        )
+    )
+    return results_table(*prp3.inverse_dynamics(robot, prp3.paper_motion("rotation", 31)))
+
+
+def test_friction_figure_plots_the_three_kinds_per_leg(friction_table):
+    figures = results_figures(friction_table, motion="rotation")
+    assert list(figures)[-1] == "friction.png"
+    assert list(figures)[:-1] == list(figure_names("rotation").values())
+    figure = figures["friction.png"]
+    assert [axes.get_ylabel() for axes in figure.axes] == [
+        "fric10 (N)",
+        "fric21 (N·m)",
+        "fric32 (N)",
+    ]
+    for axes, column in zip(figure.axes, ("fric10", "fric21", "fric32"), strict=True):
+        lines = [line for line in axes.get_lines() if line.get_label().startswith("leg")]
+        assert [line.get_label() for line in lines] == ["leg A", "leg B", "leg C"]
+        for line, leg in zip(lines, "ABC", strict=True):
+            x, y = line.get_data()
+            assert np.array_equal(x, friction_table["t"])
+            assert np.array_equal(y, friction_table[f"{column}_{leg}"])
+            assert np.abs(y).max() > 0.0  # every kind of joint rubs in the rotation
+    assert figure.axes[-1].get_xlabel() == "time $t$ (s)"
+    assert "rotation" in figure._suptitle.get_text()
+    # no friction columns, no friction figure
+    assert "friction.png" not in results_figures(
+        results_table(*prp3.inverse_dynamics(prp3.Robot(), prp3.paper_motion("rotation", 5)))
+    )
+
+
+def test_simulate_plots_write_the_friction_figure(tmp_path):
+    robot = tmp_path / "robot.toml"
+    robot.write_text("[friction.sleeve]\nviscous = 5.0\n")
+    out = tmp_path / "out"
+    with contextlib.redirect_stdout(io.StringIO()):
+        status = main(
+            ["simulate", "--robot", str(robot), "--motion", "vertical", "-o", str(out), "--plots"]
+        )
+    assert status == 0
+    path = out / "friction.png"
+    assert path.read_bytes()[:8] == PNG_MAGIC
+    with Image.open(path) as image:
+        assert image.size == (960, 864)  # 8 x 7.2 in at 120 dpi

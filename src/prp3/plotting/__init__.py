@@ -7,7 +7,7 @@ matplotlib is imported lazily inside the functions (never at import time of
 * :mod:`prp3.plotting.figures`: the paper's Figs. 3–8 (input powers ``p10``,
   joint forces ``f21y``, ``f21z`` of legs A, B, C against time) and the
   actuator forces ``f10`` and displacements ``λ10``, from the columns of
-  ``results.csv``.
+  ``results.csv``; with friction, the friction forces of every joint.
 * :mod:`prp3.plotting.animation`: an animated GIF of the mechanism.
 
 >>> import sys, prp3.plotting
@@ -25,13 +25,21 @@ from .animation import (
     mechanism_frame,
     save_animation,
 )
-from .figures import figure_names, leg_figure, results_figures, save_figure, save_figures
+from .figures import (
+    figure_names,
+    friction_figure,
+    leg_figure,
+    results_figures,
+    save_figure,
+    save_figures,
+)
 
 __all__ = [
     "MechanismFrame",
     "draw_frame",
     "figure_names",
     "frame_indices",
+    "friction_figure",
     "leg_figure",
     "mechanism_figure",
     "mechanism_frame",

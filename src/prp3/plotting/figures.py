@@ -11,6 +11,10 @@ be drawn from a run in memory or from a file read back.  matplotlib is
 imported inside the functions only, and the figures are
 :class:`matplotlib.figure.Figure` objects rendered by Agg, without pyplot.
 
+With a robot's ``[friction]`` (the columns ``fric10_L, fric21_L, fric32_L``
+in the table) one more figure, ``friction.png`` (:func:`friction_figure`):
+the friction forces of the three kinds of joint, one axes each.
+
 >>> figure_names("vertical")["p10"], figure_names("rotation")["f21z"], figure_names(None)["f10"]
 ('fig3_p10.png', 'fig8_f21z.png', 'f10.png')
 """
@@ -32,11 +36,14 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = [
+    "FRICTION_FIGURE",
+    "FRICTION_QUANTITIES",
     "LEG_STYLES",
     "PAPER_FIGURES",
     "QUANTITIES",
     "Quantity",
     "figure_names",
+    "friction_figure",
     "leg_figure",
     "motion_description",
     "results_figures",
@@ -89,6 +96,18 @@ QUANTITIES: dict[str, Quantity] = {
         "lambda10", "Displacements of the three actuators", "\\lambda_{10}", "mm", 1e3
     ),
 }
+
+#: The friction columns drawn by :func:`friction_figure`, top to bottom.
+FRICTION_QUANTITIES: dict[str, Quantity] = {
+    "fric10": Quantity(
+        "fric10", "actuator guide: force of the base on piston $i$ along $e_i$", "", "N"
+    ),
+    "fric21": Quantity("fric21", "revolute joint: moment of piston $i$ on link 2", "", "N·m"),
+    "fric32": Quantity("fric32", "sleeve: force of link 2 on the platform along $d_i$", "", "N"),
+}
+
+#: File name of the friction figure.
+FRICTION_FIGURE: str = "friction.png"
 
 #: Figure numbers of the paper's section 3 for its two motions.
 PAPER_FIGURES: dict[str, dict[str, int]] = {
@@ -176,6 +195,70 @@ def leg_figure(
     return figure
 
 
+def _legs(table: Mapping[str, FloatArray], quantity: Quantity) -> FloatArray:
+    """``(N, 3)`` plotted values of a per-leg quantity."""
+    return quantity.scale * np.stack(
+        [np.asarray(table[f"{quantity.column}_{leg}"], dtype=np.float64) for leg in LEGS], axis=-1
+    )
+
+
+def friction_figure(
+    table: Mapping[str, FloatArray],
+    *,
+    motion: str | None = None,
+    source: str | None = None,
+) -> Figure:
+    """The friction forces of every joint, legs A, B, C against time.
+
+    Three axes sharing the time axis: ``fric10`` (guide on piston along
+    ``e_i``, N), ``fric21`` (moment of piston i on link 2, N·m) and ``fric32``
+    (link 2 on the platform along ``d_i``, N); signs as in ``results.csv``
+    (a friction force opposes its joint's rate).
+
+    Parameters
+    ----------
+    table : mapping of str to ndarray (N,)
+        ``t`` and the columns ``fric10_L, fric21_L, fric32_L`` (``L`` in A, B,
+        C) of ``results.csv``; ``N >= 2``.
+    motion, source : str or None
+        As for :func:`results_figures` (the caption's motion line).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    t = np.asarray(table["t"], dtype=np.float64)
+    figure = Figure(figsize=(8.0, 7.2), dpi=120, layout="constrained")
+    axes_list = figure.subplots(3, 1, sharex=True)
+    for axes, quantity in zip(axes_list, FRICTION_QUANTITIES.values(), strict=True):
+        values = _legs(table, quantity)
+        for j, leg in enumerate(LEGS):
+            color, style = LEG_STYLES[leg]
+            axes.plot(
+                t,
+                values[:, j],
+                color=color,
+                linestyle=style,
+                linewidth=2.0,
+                label=f"leg {leg}",
+            )
+        axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+        axes.set_xlim(float(t[0]), float(t[-1]))
+        axes.set_ylabel(f"{quantity.column} ({quantity.unit})")
+        axes.set_title(quantity.caption, fontsize=10, loc="left", color="0.3")
+        axes.grid(True, color="0.88")
+        axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    axes_list[-1].set_xlabel("time $t$ (s)")
+    figure.suptitle(
+        "Friction forces of the joints\n" + motion_description(motion, source),
+        fontsize=12,
+        fontweight="bold",
+    )
+    return figure
+
+
 def results_figures(
     table: Mapping[str, FloatArray],
     *,
@@ -198,7 +281,8 @@ def results_figures(
     -------
     dict of str to matplotlib.figure.Figure
         ``fig3_p10.png`` (or ``p10.png``), ``..._f21y.png``, ``..._f21z.png``,
-        ``f10.png``, ``lambda10.png``.
+        ``f10.png``, ``lambda10.png``; and ``friction.png``
+        (:func:`friction_figure`) when the table has the friction columns.
     """
     t = np.asarray(table["t"], dtype=np.float64)
     numbers = PAPER_FIGURES.get(motion or "", {})
@@ -222,6 +306,8 @@ def results_figures(
             subtitle=subtitle,
             symbol=quantity.symbol,
         )
+    if "fric10_A" in table:
+        figures[FRICTION_FIGURE] = friction_figure(table, motion=motion, source=source)
     return figures
 
 
