@@ -96,6 +96,7 @@ __all__ = [
     "forward_geometry",
     "forward_kinematics",
     "forward_velocity",
+    "open_loop_growth_rate",
     "orientation_from_sum",
     "platform_dynamics",
     "sum_from_orientation",
@@ -493,6 +494,60 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
         bias=(Jt @ b[..., None])[..., 0].reshape(*batch, 3),
         jacobian=J.reshape(*batch, 3, 3),
     )
+
+
+#: Step of the central differences of :func:`open_loop_growth_rate`, as a fraction of ``l0``
+#: (m) and in rad.
+_GROWTH_STEP: float = 1e-5
+
+
+def open_loop_growth_rate(robot: Robot, pose: ArrayLike) -> float:
+    """Rate (1/s) at which errors grow when constant forces hold the platform still at ``pose``.
+
+    Open-loop force control: the actuators apply the forces that hold the
+    platform at rest at ``pose``, ``f = b(q, 0)``.  Linearised there,
+    ``δq̈ = K·δq`` with ``K = −A⁻¹·∂b/∂q`` (:func:`platform_dynamics`; at rest
+    the velocity terms of ``b`` are quadratic, and ``f − b = 0`` removes the
+    change of ``A``), so the motion has the rates ``±√μ`` for the eigenvalues
+    ``μ`` of ``K``.  The result is the largest real part: errors of the
+    initial state, of the forces or of the integration grow like
+    ``e^{rate·t}``; ``0`` means no exponential growth (e.g. without gravity).
+    ``∂b/∂q`` is taken by central differences (steps ``1e-5·l0`` m and
+    ``1e-5`` rad; relative error about 1e-9).
+
+    Parameters
+    ----------
+    robot : Robot
+    pose : array_like, shape (3,)
+        ``(x, y, φ)``, not singular.
+
+    Returns
+    -------
+    float
+        The growth rate (1/s), ``>= 0``.
+
+    Examples
+    --------
+    >>> round(open_loop_growth_rate(Robot(), [0.0, 0.0, 0.0]), 2)   # gravity on: a saddle
+    6.18
+    >>> open_loop_growth_rate(Robot(gravity=(0.0, 0.0)), [0.0, 0.0, 0.0])
+    0.0
+    """
+    q = _check_state("pose", pose)
+    if q.shape != (3,):
+        raise TrajectoryError(f"pose must have shape (3,), got {q.shape}")
+    free = _without_limits(robot)
+    steps = np.array([_GROWTH_STEP * robot.l0, _GROWTH_STEP * robot.l0, _GROWTH_STEP])
+    shifts = np.concatenate([np.diag(steps), -np.diag(steps)])  # (6, 3): +h e_k, then −h e_k
+    poses = np.concatenate([q[None, :], q + shifts])
+    eq = platform_dynamics(free, poses, np.zeros_like(poses))
+    gradient = (eq.force_bias[1:4] - eq.force_bias[4:7]).T / (2.0 * steps)  # ∂b/∂q, (3, 3)
+    stiffness = -np.linalg.solve(eq.force_matrix[0], gradient)
+    mu = np.linalg.eigvals(stiffness).astype(np.complex128)
+    rate = float(np.sqrt(mu).real.max())
+    # round-off of the differences (|μ| ~ 1e-9·|K| when K = 0) is no growth
+    floor = math.sqrt(1e-8 * max(float(np.abs(stiffness).max()), 1e-300))
+    return rate if rate > floor else 0.0
 
 
 def _check_state(name: str, value: ArrayLike) -> FloatArray:

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 from ..design import AGGREGATES, SweepSpec, design_robot, quantity, read_sweep_spec
 from ..errors import Prp3Error
 from ..io import check_inputs_kept, check_output_directory, staged_output, write_table_csv
-from ._types import integer_at_least, path_name
+from ._types import files_report, integer_at_least, path_name
 from .simulate import Progress
 
 if TYPE_CHECKING:
@@ -268,6 +268,6 @@ def run_optimize(args: argparse.Namespace) -> int:
     for name, low, high in settings.constraints:
         value = float(quantity(columns, name)[0])
         lines.append(f"  {name} = {value:.9g}  (required {low:g} .. {high:g})")
-    lines += ["files written:", *(f"  {path}" for path in staged.written)]
+    lines += files_report(staged)
     print("\n".join(lines))
     return 0 if outcome.feasible else 1

@@ -35,7 +35,14 @@ from ..errors import (
     SingularPoseError,
     UnreachablePoseError,
 )
-from ..forward import MIN_RTOL, ActuatorForces, ForwardDynamics, forward_dynamics, forward_velocity
+from ..forward import (
+    MIN_RTOL,
+    ActuatorForces,
+    ForwardDynamics,
+    forward_dynamics,
+    forward_velocity,
+    open_loop_growth_rate,
+)
 from ..geometry import LEGS
 from ..io import (
     check_inputs_kept,
@@ -56,7 +63,15 @@ from ._types import (
     positive_float,
 )
 
-__all__ = ["FORCE_COLUMNS", "ForceInput", "read_forces", "register", "run"]
+__all__ = [
+    "FORCE_COLUMNS",
+    "ForceInput",
+    "PlanDrift",
+    "plan_drift",
+    "read_forces",
+    "register",
+    "run",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -102,12 +117,16 @@ class ForceInput:
     first_pose, first_rates : ndarray (3,) or None
         ``(x, y, phi)`` and ``dlambda10`` of the first row of a ``results.csv``;
         ``None`` for a force table.
+    planned_pose : ndarray (N, 3) or None
+        ``(x, y, phi)`` of every row of a ``results.csv``: the motion the forces
+        were planned for (at the times ``forces.t``); ``None`` for a force table.
     """
 
     path: Path
     forces: ActuatorForces
     first_pose: FloatArray | None
     first_rates: FloatArray | None
+    planned_pose: FloatArray | None = None
 
     @property
     def results(self) -> bool:
@@ -144,9 +163,9 @@ def read_forces(path: Path) -> ForceInput:
         raise type(error)(f"{path}: {error}") from None
     if not extra:
         return ForceInput(path, forces, None, None)
-    pose = np.array([columns["x"][0], columns["y"][0], columns["phi"][0]])
+    planned = np.stack([columns["x"], columns["y"], columns["phi"]], axis=-1)
     rates = np.array([columns[f"dlambda10_{leg}"][0] for leg in LEGS])
-    return ForceInput(path, forces, pose, rates)
+    return ForceInput(path, forces, planned[0].copy(), rates, planned)
 
 
 def _relative_tolerance(text: str) -> float:
@@ -273,11 +292,100 @@ def run(args: argparse.Namespace) -> int:
         write_table_csv(staged.path("results.csv"), table)
         write_table_csv(staged.path("trajectory.csv"), trajectory)
 
-    print(_summary(given, result, pose, velocity, files_report(staged)), file=sys.stdout)
+    growth = open_loop_growth_rate(robot, pose)
+    drift = plan_drift(given, result)
+    print(
+        _summary(given, result, pose, velocity, drift, growth, files_report(staged)),
+        file=sys.stdout,
+    )
     if result.status != "completed":
         print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED
     return 0
+
+
+@dataclass(frozen=True)
+class PlanDrift:
+    """How far the integrated motion is from the motion the forces were planned for.
+
+    Attributes
+    ----------
+    position, orientation : ndarray (M,)
+        ``|ΔG| = |G − G_plan|`` (m) and ``|Δφ|`` (rad) at the integrated samples.
+    t : ndarray (M,)
+        Their times (s).
+    interpolated : bool
+        Whether the planned poses were interpolated (cubic spline through the
+        rows of the ``results.csv``) because the integrated times are not its times.
+    """
+
+    position: FloatArray
+    orientation: FloatArray
+    t: FloatArray
+    interpolated: bool
+
+
+def plan_drift(given: ForceInput, result: ForwardDynamics) -> PlanDrift | None:
+    """The drift of ``result`` from the planned poses of a ``results.csv`` (``None`` without).
+
+    >>> import numpy as np
+    >>> from prp3.forward import ActuatorForces
+    >>> from prp3.motion import Motion
+    >>> t = np.array([0.0, 1.0, 2.0])
+    >>> given = ForceInput(Path("r.csv"), ActuatorForces(t=t, f10=np.zeros((3, 3))),
+    ...                    np.zeros(3), np.zeros(3), np.zeros((3, 3)))
+    >>> moved = Motion(t=t, pose=[[0, 0, 0], [3e-3, 4e-3, 0], [0, 0, -0.1]],
+    ...                velocity=np.zeros((3, 3)), acceleration=np.zeros((3, 3)))
+    >>> class Result:
+    ...     motion = moved
+    >>> drift = plan_drift(given, Result())
+    >>> drift.position.tolist(), drift.orientation.tolist(), drift.interpolated
+    ([0.0, 0.005, 0.0], [0.0, 0.0, 0.1], False)
+    """
+    if given.planned_pose is None:
+        return None
+    t = np.asarray(result.motion.t, dtype=np.float64)
+    plan_t = np.asarray(given.forces.t, dtype=np.float64)
+    interpolated = not (t.size <= plan_t.size and np.array_equal(t, plan_t[: t.size]))
+    if interpolated:
+        from scipy.interpolate import CubicSpline
+
+        planned = np.asarray(CubicSpline(plan_t, given.planned_pose, axis=0)(t))
+    else:
+        planned = given.planned_pose[: t.size]
+    error = np.asarray(result.motion.pose, dtype=np.float64) - planned
+    return PlanDrift(
+        position=np.hypot(error[:, 0], error[:, 1]),
+        orientation=np.abs(error[:, 2]),
+        t=t,
+        interpolated=interpolated,
+    )
+
+
+def _drift_lines(given: ForceInput, drift: PlanDrift | None, growth: float) -> list[str]:
+    lines = []
+    if drift is not None:
+        how = ", interpolated by a cubic spline" if drift.interpolated else ""
+        kG, kphi = int(drift.position.argmax()), int(drift.orientation.argmax())
+        lines += [
+            f"  drift from the planned motion (x, y, phi of {given.path}{how}):",
+            f"    max |dG| = {drift.position[kG]:.3g} m at t = {drift.t[kG]:.6g} s, "
+            f"max |dphi| = {drift.orientation[kphi]:.3g} rad at t = {drift.t[kphi]:.6g} s",
+            f"    final (t = {drift.t[-1]:.6g} s): |dG| = {drift.position[-1]:.3g} m, "
+            f"|dphi| = {drift.orientation[-1]:.3g} rad",
+        ]
+    if growth > 0.0:
+        lines.append(
+            f"  open-loop force control diverges: near the initial pose errors grow like "
+            f"e^({growth:.3g} t) (the linearised motion at rest); the forces do not hold the "
+            "motion on its plan, feedback does (prp3 control)"
+        )
+    else:
+        lines.append(
+            "  open-loop force control: no exponential growth of errors near the initial pose "
+            "(the linearised motion at rest), but nothing pulls the motion back to a plan"
+        )
+    return lines
 
 
 def _summary(
@@ -285,6 +393,8 @@ def _summary(
     result: ForwardDynamics,
     pose: FloatArray,
     velocity: FloatArray,
+    drift: PlanDrift | None,
+    growth: float,
     files: list[str],
 ) -> str:
     kind = "results.csv" if given.results else "force table"
@@ -295,10 +405,11 @@ def _summary(
         f"  initial pose {(pose + 0.0).tolist()!r}, velocity {(velocity + 0.0).tolist()!r}",
         f"  {result.message}; {motion.samples} samples written, "
         f"{result.evaluations} evaluations of the equations of motion",
-        f"  self-check: f10 of the integrated motion matches the input forces to "
-        f"{result.force_residual:.3g} N",
+        f"  self-check of the integration: the inverse dynamics of the integrated motion "
+        f"gives back the input forces to {result.force_residual:.3g} N",
         f"  final pose x = {motion.pose[-1, 0]:.9g} m, y = {motion.pose[-1, 1]:.9g} m, "
         f"phi = {motion.pose[-1, 2]:.9g} rad",
+        *_drift_lines(given, drift, growth),
         *files,
     ]
     return "\n".join(lines)
