@@ -464,9 +464,9 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
                 save_figure(figure, staged.path(name))
                 progress.update("figures", done, len(figures))
         if args.animate:
-            from ..plotting.animation import frame_indices, save_animation
+            from ..plotting.animation import frame_schedule, save_animation
 
-            indices = frame_indices(motion.samples, frames)
+            indices, durations = frame_schedule(motion.t, frames)
             shown = Motion(
                 t=motion.t[indices],
                 pose=motion.pose[indices],
@@ -483,6 +483,7 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
                 inverse_kinematics(robot, shown),
                 staged.path(ANIMATION_NAME),
                 max_frames=frames,
+                durations=durations,
                 title=title,
                 progress=progress.stage("animation"),
             )

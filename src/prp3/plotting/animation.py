@@ -21,7 +21,7 @@ functions only.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -47,6 +47,7 @@ __all__ = [
     "MechanismFrame",
     "draw_frame",
     "frame_indices",
+    "frame_schedule",
     "mechanism_figure",
     "mechanism_frame",
     "save_animation",
@@ -126,6 +127,62 @@ def mechanism_frame(robot: Robot, kin: Kinematics, index: int) -> MechanismFrame
     )
 
 
+#: How long the last frame stays before the animation loops (ms).
+END_HOLD_MS: int = 500
+
+
+def frame_schedule(t: FloatArray, max_frames: int = MAX_FRAMES) -> tuple[IntArray, list[int]]:
+    """The samples shown as frames and how long each is shown, so that the motion plays in real time.
+
+    At most ``max_frames`` samples are spread evenly (:func:`frame_indices`),
+    fewer when a frame would last less than 30 ms on average.  Frame ``k``
+    lasts until the next frame's time: the durations are the differences of
+    the frame times rounded to the hundredths of a second a GIF counts in
+    (rounded together, so that they add up to the motion's duration), every
+    one at least 20 ms (a frame that would be shorter is left out).  The last
+    frame, the end of the motion, is held :data:`END_HOLD_MS` before the
+    animation loops.
+
+    Parameters
+    ----------
+    t : ndarray (N,)
+        Strictly increasing sample times (s), ``N >= 1``.
+    max_frames : int
+        Largest number of frames, ``>= 2``.
+
+    Returns
+    -------
+    indices : ndarray of int (M,)
+        The samples shown, first and last included.
+    durations : list of int (M,)
+        Milliseconds each frame is shown, multiples of 10.
+
+    Examples
+    --------
+    >>> indices, durations = frame_schedule(np.linspace(0.0, 2.0, 201), 5)
+    >>> indices.tolist(), durations, sum(durations[:-1])   # 2 s in real time
+    ([0, 50, 100, 150, 200], [500, 500, 500, 500, 500], 2000)
+    """
+    times = np.asarray(t, dtype=np.float64)
+    samples = times.size
+    if samples == 1:
+        return np.zeros(1, dtype=np.int64), [END_HOLD_MS]
+    hundredths = 100.0 * (times - times[0])
+    limit = max(2, min(max_frames, int(hundredths[-1] // 3) + 1))
+    spread = frame_indices(samples, limit)
+    bounds = np.rint(hundredths[spread]).astype(np.int64)
+    kept = [0]
+    for k in range(1, spread.size - 1):
+        if bounds[k] - bounds[kept[-1]] >= 2:
+            kept.append(k)
+    if len(kept) > 1 and bounds[-1] - bounds[kept[-1]] < 2:
+        kept.pop()
+    kept.append(spread.size - 1)
+    chosen = bounds[kept]
+    durations = [10 * max(int(step), 2) for step in np.diff(chosen)] + [END_HOLD_MS]
+    return spread[kept], durations
+
+
 def frame_indices(samples: int, max_frames: int = MAX_FRAMES) -> IntArray:
     """Indices of the samples shown as frames: all, or ``max_frames`` evenly spread.
 
@@ -178,7 +235,7 @@ def mechanism_figure(robot: Robot, kin: Kinematics, *, title: str = "") -> Mecha
     from matplotlib.figure import Figure
     from matplotlib.patches import Polygon
 
-    figure = Figure(figsize=(5.6, 5.6), dpi=80, layout="constrained")
+    figure = Figure(figsize=(7.2, 7.2), dpi=100, layout="constrained")  # 720 x 720 px
     canvas = FigureCanvasAgg(figure)
     axes = figure.add_subplot()
     base = base_vertices(robot)
@@ -196,6 +253,15 @@ def mechanism_figure(robot: Robot, kin: Kinematics, *, title: str = "") -> Mecha
         offset = 0.07 * robot.l0 * base[j] / np.linalg.norm(base[j])
         x, y = (base[j] + offset).tolist()
         axes.text(x, y, name, ha="center", va="center", color="0.3")
+    for j, leg in enumerate(LEGS):  # the legs' names beside their guides, outside the base
+        # guide j runs from base vertex j along e_j to the next vertex (A0 -> B0 for leg A)
+        midpoint = 0.5 * (base[j] + base[(j + 1) % 3])
+        outward = midpoint / np.linalg.norm(midpoint)
+        x, y = (midpoint + 0.17 * robot.l0 * outward).tolist()
+        axes.text(
+            x, y, f"leg {leg}", ha="center", va="center", color=LEG_STYLES[leg][0],
+            fontsize=12, fontweight="bold",
+        )  # fmt: skip
     platform = Polygon(
         np.zeros((3, 2)),
         closed=True,
@@ -213,14 +279,30 @@ def mechanism_figure(robot: Robot, kin: Kinematics, *, title: str = "") -> Mecha
         (sleeve,) = axes.plot([], [], color="0.1", linewidth=5, solid_capstyle="butt")
         pistons.append(piston)
         sleeves.append(sleeve)
-    pistons[0].set_label("pistons")
     sleeves[0].set_label("sleeves (links 2)")
     (joints,) = axes.plot([], [], "o", color="white", markeredgecolor="black", markersize=6)
     (trace,) = axes.plot([], [], color="tab:red", linewidth=1.2, label="path of G")
     (centre,) = axes.plot([], [], "o", color="tab:red", markersize=5)
     clock = axes.text(0.03, 0.96, "", transform=axes.transAxes, va="top", family="monospace")
-    axes.legend(loc="lower right", fontsize=8, framealpha=0.9)
-    axes.set_title(title or "3-PRP planar parallel robot", fontsize=11)
+    from matplotlib.legend_handler import HandlerTuple
+
+    found, labels = axes.get_legend_handles_labels()
+    handles: list[Any] = list(found)
+    handles.insert(1, tuple(pistons))  # one swatch per piston, in its leg's colour
+    labels.insert(1, "pistons of legs A, B, C")
+    axes.legend(
+        handles,
+        labels,
+        handler_map={tuple: HandlerTuple(ndivide=None, pad=0.0)},
+        loc="lower right",
+        fontsize=9,
+        framealpha=0.9,
+    )
+    axes.set_title(
+        (title or "3-PRP planar parallel robot")
+        + f"\nplays in real time, then holds the end {END_HOLD_MS / 1000:g} s",
+        fontsize=11,
+    )
     artists = MechanismArtists(
         figure=figure,
         canvas=canvas,
@@ -257,6 +339,7 @@ def save_animation(
     max_frames: int = MAX_FRAMES,
     title: str = "",
     progress: Callable[[int, int], None] | None = None,
+    durations: Sequence[int] | None = None,
 ) -> int:
     """Write an animated GIF of the mechanism following the samples of ``kin``.
 
@@ -265,7 +348,8 @@ def save_animation(
     robot : Robot
     kin : Kinematics
         Batch kinematics ``(N, …)``, ``N >= 1``; at most ``max_frames`` of
-        its samples become frames (:func:`frame_indices`).
+        its samples become frames (:func:`frame_schedule`: real time), unless
+        ``durations`` is given.
     path : str or Path
         The GIF file, written atomically.
     max_frames : int
@@ -274,16 +358,24 @@ def save_animation(
         Axes title (default: the robot's name).
     progress : callable, optional
         ``progress(frames_done, frames)`` after each frame.
+    durations : sequence of int, optional
+        Milliseconds each sample of ``kin`` is shown (one per sample, every
+        sample a frame), e.g. from :func:`frame_schedule` of a longer motion.
 
     Returns
     -------
     int
-        The number of frames written.  The GIF loops forever and plays at the
-        motion's speed when that needs at most 30 frames per second.
+        The number of frames written.  The GIF loops forever; it plays in real
+        time (see :func:`frame_schedule`), which its title says.
     """
     from PIL import Image
 
-    indices = frame_indices(kin.motion.samples, max_frames)
+    if durations is None:
+        indices, shown = frame_schedule(np.atleast_1d(kin.motion.t), max_frames)
+    else:
+        indices, shown = np.arange(kin.motion.samples, dtype=np.int64), list(durations)
+        if len(shown) != kin.motion.samples:
+            raise ValueError(f"durations: one per sample ({kin.motion.samples}), got {len(shown)}")
     artists = mechanism_figure(robot, kin, title=title)
     figure, canvas = artists.figure, artists.canvas
     moving = artists.moving()
@@ -303,15 +395,13 @@ def save_animation(
         frames.append(image.quantize(colors=256, method=Image.Quantize.FASTOCTREE))
         if progress is not None:
             progress(done, len(indices))
-    duration = float(kin.motion.t[-1] - kin.motion.t[0])
-    fps = 30.0 if duration <= 0 else float(np.clip((len(indices) - 1) / duration, 1.0, 30.0))
     with atomic_path(path) as temporary:
         frames[0].save(
             temporary,
             format="GIF",
             save_all=True,
             append_images=frames[1:],
-            duration=round(1000.0 / fps),
+            duration=shown,
             loop=0,
         )
     return len(indices)

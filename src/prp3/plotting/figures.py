@@ -38,10 +38,12 @@ if TYPE_CHECKING:
 __all__ = [
     "FRICTION_FIGURE",
     "FRICTION_QUANTITIES",
+    "LEG_MARKERS",
     "LEG_STYLES",
     "PAPER_FIGURES",
     "QUANTITIES",
     "Quantity",
+    "coinciding_legs",
     "figure_names",
     "friction_figure",
     "leg_figure",
@@ -147,6 +149,34 @@ def figure_names(motion: str | None) -> dict[str, str]:
     }
 
 
+#: Marker of each leg's curve, so that coinciding curves stay visible.
+LEG_MARKERS: dict[str, str] = {"A": "o", "B": "s", "C": "^"}
+
+
+def coinciding_legs(values: FloatArray, rtol: float = 1e-3) -> list[tuple[str, ...]]:
+    """Groups of legs whose curves lie on each other at the scale of the figure.
+
+    Two legs coincide when their values differ by at most ``rtol`` times the
+    largest magnitude of the three (about a line width at the figure's size).
+
+    >>> v = np.array([[0.0, 0.0, 1.0], [1.0, 1.0, 2.0]])
+    >>> coinciding_legs(v), coinciding_legs(np.ones((2, 3)))
+    ([('A', 'B')], [('A', 'B', 'C')])
+    """
+    scale = float(np.abs(values).max()) if values.size else 0.0
+    if scale == 0.0 or not np.isfinite(scale):
+        return [tuple(LEGS)] if values.size else []
+    groups: list[list[int]] = []
+    for j in range(len(LEGS)):
+        for group in groups:
+            if np.abs(values[:, j] - values[:, group[0]]).max() <= rtol * scale:
+                group.append(j)
+                break
+        else:
+            groups.append([j])
+    return [tuple(LEGS[j] for j in group) for group in groups if len(group) > 1]
+
+
 def leg_figure(
     t: FloatArray,
     values: FloatArray,
@@ -179,10 +209,28 @@ def leg_figure(
 
     figure = Figure(figsize=(8.0, 4.6), dpi=120, layout="constrained")
     axes = figure.add_subplot()
+    samples = len(t)
+    step = max(samples // 12, 1)  # about 12 markers per curve, staggered from leg to leg
     for j, leg in enumerate(LEGS):
         color, style = LEG_STYLES[leg]
         label = f"leg {leg}" + (f"  ${symbol}^{leg}$" if symbol else "")
-        axes.plot(t, values[:, j], color=color, linestyle=style, linewidth=2.0, label=label)
+        axes.plot(
+            t,
+            values[:, j],
+            color=color,
+            linestyle=style,
+            linewidth=2.0,
+            marker=LEG_MARKERS[leg],
+            markersize=6,
+            markevery=(j * step // 3, step),
+            label=label,
+        )
+    together = coinciding_legs(values)
+    if together:
+        note = "; ".join(f"legs {', '.join(group[:-1])} and {group[-1]}" for group in together)
+        subtitle = (subtitle + "\n" if subtitle else "") + (
+            f"the curves of {note} coincide (drawn on top of each other; markers staggered)"
+        )
     axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
     axes.set_xlim(float(t[0]), float(t[-1]))
     axes.set_xlabel("time $t$ (s)")

@@ -33,6 +33,20 @@ if TYPE_CHECKING:
 __all__ = ["save_workspace_map", "workspace_figure"]
 
 
+def cm_grey() -> tuple[float, float, float, float]:
+    """The colour of the unreachable grid points (``Greys`` at 1/4, as drawn)."""
+    from matplotlib import colormaps
+
+    return tuple(colormaps["Greys"](0.25))  # type: ignore[return-value]
+
+
+def cm_viridis() -> tuple[float, float, float, float]:
+    """A colour of the κ map, for the legend."""
+    from matplotlib import colormaps
+
+    return tuple(colormaps["viridis"](0.5))  # type: ignore[return-value]
+
+
 def _closed(points: np.ndarray) -> np.ndarray:
     return np.vstack([points, points[:1]])
 
@@ -89,11 +103,18 @@ def workspace_figure(
             shading="nearest",
             norm=LogNorm(vmin=low, vmax=high) if wide else Normalize(vmin=low, vmax=high),
         )
-        figure.colorbar(mesh, ax=ax, label="condition number κ of J·diag(1, 1, 1/l0)")
+        scale = " (log scale)" if wide else ""
+        figure.colorbar(mesh, ax=ax, label=f"condition number κ of J·diag(1, 1, 1/l0){scale}")
     if ws.region is not None and len(ws.region):
         outline = _closed(ws.region)
+        area = f"; reachable area {ws.area * 1e4:.4g} cm² (grid {ws.grid_area * 1e4:.4g} cm²)"
         ax.plot(
-            outline[:, 0], outline[:, 1], color="black", lw=1.2, label="reachable region (exact)"
+            outline[:, 0],
+            outline[:, 1],
+            color="black",
+            lw=1.2,
+            label="boundary of the reachable region (exact)"
+            + (area if math.isfinite(ws.area) else ""),
         )
 
     def visible(points: np.ndarray) -> bool:
@@ -121,25 +142,27 @@ def workspace_figure(
     stroke = robot.limits.stroke
     limits = f"stroke [{stroke[0]:g}, {stroke[1]:g}] m" if stroke else "no stroke limits"
     ax.set_title(
-        f"workspace at φ = {ws.phi:.4g} rad ({math.degrees(ws.phi):.3g}°), {limits}", fontsize=10
+        f"workspace at φ = {ws.phi:.4g} rad ({math.degrees(ws.phi):.3g}°), {limits}\n"
+        f"no singular point at this φ (|sin(φ − π/3)| = {abs(ws.determinant):.3g}); "
+        "singular: φ ≡ π/3 (mod π), every (x, y)",
+        fontsize=9,
     )
-    note = (
-        f"reachable: grey = no; colour = κ\n"
-        f"singular set at this φ: empty (|sin(φ − π/3)| = {abs(ws.determinant):.3g});\n"
-        "singular orientations: φ ≡ π/3 (mod π), every (x, y)"
-    )
-    if math.isfinite(ws.area):
-        note += f"\nreachable area {ws.area * 1e4:.4g} cm² (grid {ws.grid_area * 1e4:.4g} cm²)"
-    ax.text(
-        0.01,
-        0.01,
-        note,
-        transform=ax.transAxes,
+    from matplotlib.patches import Patch
+
+    handles, _ = ax.get_legend_handles_labels()
+    handles += [
+        Patch(facecolor=cm_grey(), edgecolor="none", label="unreachable grid points"),
+        Patch(facecolor=cm_viridis(), edgecolor="none", label="reachable: colour = κ"),
+    ]
+    # below the axes: nothing drawn in the window is covered
+    ax.legend(
+        handles=handles,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.12),
         fontsize=7,
-        va="bottom",
-        bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none"},
+        ncols=2,
+        frameon=False,
     )
-    ax.legend(loc="upper right", fontsize=7)
 
     # ---- the φ-scan
     if scan is not None:
@@ -180,7 +203,7 @@ def workspace_figure(
             ls="--",
             label="κ max (reachable)",
         )
-        twin.set_ylabel("condition number κ over the reachable grid")
+        twin.set_ylabel("condition number κ over the reachable grid (log scale)")
         spread = scan.condition_max[np.isfinite(scan.condition_max)]
         if spread.size and spread.max() / max(float(np.nanmin(scan.condition_min)), 1.0) < 30.0:
             plain = FuncFormatter(lambda value, _: f"{value:g}")
@@ -189,8 +212,21 @@ def workspace_figure(
         handles, labels = ax.get_legend_handles_labels()
         more, more_labels = twin.get_legend_handles_labels()
         unique = dict(zip(labels + more_labels, handles + more, strict=True))
-        ax.legend(unique.values(), unique.keys(), fontsize=7, loc="upper left")
-        ax.set_title("reachable orientations (scan of φ)", fontsize=10)
+        ax.legend(  # below the axes, over no curve
+            unique.values(),
+            unique.keys(),
+            fontsize=7,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.12),
+            ncols=2,
+            frameon=False,
+        )
+        measure = "reachable area" if stroke is not None else "reachable fraction of the grid"
+        ax.set_title(
+            f"scan of φ: {measure} (left axis) and the best and worst κ over the\n"
+            "reachable grid points (right axis, log scale)",
+            fontsize=9,
+        )
     return figure
 
 
