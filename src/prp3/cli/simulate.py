@@ -86,8 +86,9 @@ examples:
   prp3 simulate --motion vertical --output out --plots
       the paper's Figs. 3-5: out/results.csv, out/fig3_p10.png, ...
   prp3 simulate --motion rotation --samples 601 --method newton-euler --output rot --animate
-  prp3 simulate --robot robot.toml --trajectory path.csv --output path-run --plots
-      path.csv: header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi] (SI units, rad)
+  prp3 simulate --robot examples/robot.toml --trajectory examples/trajectory.csv --output run
+      TRAJ.csv: header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi] (SI units, rad); the files of
+      examples/ are in the repository (docs/cli.md); the columns: docs/model.md
 
 Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
 """
