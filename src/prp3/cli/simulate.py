@@ -172,6 +172,7 @@ def simulate_table(
     the whole motion.
 
     >>> from prp3.motion import paper_motion
+    >>> from prp3.results import RESULT_COLUMNS
     >>> table = simulate_table(Robot(), paper_motion("vertical", 7), chunk=3)
     >>> list(table) == list(RESULT_COLUMNS), table["f10_A"].shape
     (True, (7,))
