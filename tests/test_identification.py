@@ -17,7 +17,7 @@ import math
 import subprocess
 import sys
 import tomllib
-from dataclasses import fields, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -30,18 +30,46 @@ from prp3.cli import main
 from prp3.dynamics import inverse_dynamics
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.identification import (
+    FRICTION_PARAMETERS,
+    PARAMETERS,
     STANDARD_PARAMETERS,
     FourierSeries,
     base_parameters,
     exciting_trajectory,
     identified_robot,
     identify,
+    known_forces,
     regressor,
     standard_parameters,
     weighted_least_squares,
 )
-from prp3.kernel import EFFECT_FIELDS, NUMPY, KernelParameters, kernel_parameters, solve
-from strategies import robots, scenarios
+from prp3.kernel import INERTIAL_FIELDS, NUMPY, kernel_parameters, solve
+from prp3.model import Friction, JointFriction, Load, Payload
+from strategies import analytic_motions, robots, scenarios
+
+
+@st.composite
+def real_robots(draw: st.DrawFn) -> Robot:
+    """Random robots with centre-of-mass offsets, a payload off G and smoothed friction
+    (viscous and Coulomb, no μ terms: those are not linear in anything)."""
+    robot = draw(robots())
+    coefficient = st.floats(0.0, 5.0)
+
+    def joint() -> JointFriction:
+        return JointFriction(
+            viscous=draw(coefficient),
+            coulomb=draw(coefficient),
+            smoothing=draw(st.floats(1e-3, 0.02)),  # well below the rates: s(v) is not v
+        )
+
+    payload = Payload(
+        mass=draw(st.floats(0.05, 3.0)),
+        com=(draw(st.floats(-0.3, 0.3)) * robot.l0, draw(st.floats(-0.3, 0.3)) * robot.l0),
+        inertia=draw(st.floats(0.0, 0.05)),
+    )
+    friction = Friction(actuator=joint(), revolute=joint(), sleeve=joint())
+    return replace(robot, payload=payload, friction=friction)
+
 
 #: The parameters ``prp3 identify`` estimates (the platform's first moment needs a payload).
 ESTIMATED = tuple(n for n in STANDARD_PARAMETERS if not n.startswith("platform_moment"))
@@ -73,6 +101,23 @@ def test_regressor_times_parameters_is_the_newton_euler_dynamics(scenario) -> No
         assert relative_error(getattr(Y, name) @ pi, getattr(reference, name)) <= 1e-12, name
 
 
+@settings(max_examples=15, deadline=None)
+@given(robot=real_robots(), data=st.data())
+def test_regressor_with_payload_and_friction_is_the_newton_euler_dynamics(robot, data) -> None:  # type: ignore[no-untyped-def]
+    analytic = data.draw(analytic_motions(robot.l0))
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 7))
+    Y = regressor(robot, motion, PARAMETERS)
+    reference = inverse_dynamics(robot, motion, method="newton-euler")[1]
+    pi = standard_parameters(robot, PARAMETERS)
+    for name in ("f10", "f21y", "f21z"):
+        assert relative_error(getattr(Y, name) @ pi, getattr(reference, name)) <= 1e-12, name
+    # with a constant load too: the load's forces are the known part
+    loaded = replace(robot, load=Load(force=(3.0, -5.0), moment=0.4))
+    expected = inverse_dynamics(loaded, motion, method="newton-euler")[1].f10
+    got = Y.f10 @ pi + known_forces(loaded, motion, ())
+    assert relative_error(got, expected) <= 1e-12
+
+
 @settings(max_examples=25, deadline=None)
 @given(
     a=robots(),
@@ -85,13 +130,22 @@ def test_the_kernel_forces_are_linear_and_homogeneous_in_the_inertial_parameters
 ) -> None:  # type: ignore[no-untyped-def]
     # f(u·π_a + v·π_b) = u·f(π_a) + v·f(π_b) for the same l0 and gravity: the property
     # that makes each regressor column the kernel with one parameter 1, the others 0.
-    b = replace(b, l0=a.l0, gravity=a.gravity)
-    ka, kb = kernel_parameters(a), kernel_parameters(b)
-    u, v = weights
-    mixed = replace(ka, **{n: u * getattr(ka, n) + v * getattr(kb, n) for n in STANDARD_PARAMETERS})
-    inertial = {f.name for f in fields(KernelParameters)} - set(EFFECT_FIELDS)  # loads, friction
-    assert inertial == set(STANDARD_PARAMETERS) | {"l0", "gravity_x", "gravity_y"}
     rng = np.random.default_rng(seed)
+    b = replace(b, l0=a.l0, gravity=a.gravity)
+    smoothing = {f"{kind}_smoothing": 0.3 for kind in ("actuator", "revolute", "sleeve")}
+    ka = replace(
+        kernel_parameters(a),
+        **smoothing,
+        **dict(zip(FRICTION_PARAMETERS, rng.uniform(0, 3, 6), strict=True)),
+    )
+    kb = replace(
+        kernel_parameters(b),
+        **smoothing,
+        **dict(zip(FRICTION_PARAMETERS, rng.uniform(0, 3, 6), strict=True)),
+    )
+    u, v = weights
+    mixed = replace(ka, **{n: u * getattr(ka, n) + v * getattr(kb, n) for n in PARAMETERS})
+    assert set(INERTIAL_FIELDS) == set(STANDARD_PARAMETERS) | {"l0", "gravity_x", "gravity_y"}
     n = 6
     state = np.concatenate(
         [
@@ -158,38 +212,51 @@ def test_base_regressor_reproduces_every_column_on_another_motion(scenario) -> N
 
 # ------------------------------------------------------------ identification
 def other_robot(robot: Robot, seed: int) -> Robot:
-    """A nominal robot of the same geometry with other inertial parameters."""
+    """A nominal robot of the same geometry with other inertial parameters, a payload
+    (its mass and own inertia are what the identification keeps) and no friction
+    but the same friction smoothing (the model of the Coulomb terms, not identified)."""
     rng = np.random.default_rng(seed)
+    friction = robot.friction
+    if friction is not None:
+        friction = Friction(
+            **{
+                kind: replace(getattr(friction, kind), viscous=0.0, coulomb=0.0)
+                for kind in ("actuator", "revolute", "sleeve")
+            }
+        )
     return replace(
         robot,
         piston=PistonParameters(mass=float(rng.uniform(0.5, 3)), inertia=0.1, com=(0.0, 0.0)),
         link=LinkParameters(mass=float(rng.uniform(0.5, 3)), inertia=1e-3, com=(0.0, 0.0)),
         platform=PlatformParameters(mass=float(rng.uniform(0.5, 5))),
+        payload=Payload(mass=robot.payload.mass, inertia=robot.payload.inertia),
+        friction=friction,
     )
 
 
-@settings(max_examples=15, deadline=None)
-@given(robot=robots(), seed=st.integers(0, 2**16))
+@settings(max_examples=10, deadline=None)
+@given(robot=real_robots(), seed=st.integers(0, 2**16))
 def test_noise_free_identification_predicts_another_motion(robot, seed) -> None:  # type: ignore[no-untyped-def]
-    # The measurements of a random robot (centre-of-mass offsets); the nominal robot is
-    # another one of the same geometry: the identified robot predicts the forces of a
-    # different motion, computed by Newton–Euler for the true robot.
+    # The measurements of a random robot (centre-of-mass offsets, a payload off G,
+    # viscous and Coulomb friction); the nominal robot is another one of the same
+    # geometry: the identified robot predicts the forces of a different motion,
+    # computed by Newton–Euler for the true robot.
     motion = exciting(robot.l0)
     measured = inverse_dynamics(robot, motion)[1].f10
-    result = identify(other_robot(robot, seed), motion, measured, ESTIMATED)
-    assert np.abs(
-        result.estimate - result.base.values(standard_parameters(robot, ESTIMATED))
-    ).max() <= 1e-9 * (np.abs(result.estimate).max())
+    nominal = other_robot(robot, seed)
+    result = identify(nominal, motion, measured, PARAMETERS)
+    truth = result.base.values(standard_parameters(robot, PARAMETERS))
+    assert np.abs(result.estimate - truth).max() <= 1e-9 * np.abs(truth).max()
     try:
-        found = identified_robot(other_robot(robot, seed), result).robot
+        found = identified_robot(nominal, result).robot
     except ParameterError:
         # a combination can need a negative value of the solved parameter (e.g. a tiny
         # platform and heavy links): refused, never written; check with the true robot
         found = identified_robot(robot, result).robot
     other = exciting(robot.l0, duration=3.0, samples=60, phase=0.37)
     predicted = inverse_dynamics(found, other)[1].f10
-    truth = inverse_dynamics(robot, other, method="newton-euler")[1].f10
-    assert relative_error(predicted, truth) <= 1e-8
+    truth_forces = inverse_dynamics(robot, other, method="newton-euler")[1].f10
+    assert relative_error(predicted, truth_forces) <= 1e-8
 
 
 def test_three_sigma_intervals_cover_the_true_base_parameters() -> None:
@@ -395,3 +462,36 @@ def test_identify_refusal_as_a_subprocess(tmp_path) -> None:
     assert done.returncode == 2 and done.stdout == ""
     assert done.stderr.count("\n") == 1 and "missing column(s) f10_A, f10_B, f10_C" in done.stderr
     assert math.isfinite(1.0)
+
+
+def test_identify_with_payload_and_friction(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    # NOMINAL declares the payload's mass and the friction smoothing: the payload's
+    # centre of mass and the six friction coefficients are identified too.
+    smooth = {"smoothing": 0.01}
+    true = Robot.from_mapping(
+        {"link": {"com": [0.02, 0.01]}, "payload": {"mass": 0.5, "com": [0.02, -0.01]},
+         "friction": {"actuator": {"viscous": 2.0, "coulomb": 1.5, **smooth},
+                      "revolute": {"viscous": 0.1, "coulomb": 0.05, **smooth},
+                      "sleeve": {"viscous": 1.0, "coulomb": 0.5, **smooth}}}
+    )  # fmt: skip
+    nominal = tmp_path / "nominal.toml"
+    nominal.write_text(
+        "[payload]\nmass = 0.5\n[friction.actuator]\nsmoothing = 0.01\n"
+        "[friction.revolute]\nsmoothing = 0.01\n[friction.sleeve]\nsmoothing = 0.01\n"
+    )
+    motion = exciting(true.l0, samples=150)
+    f10 = inverse_dynamics(true, motion, method="newton-euler")[1].f10
+    measurements = write_measurements(tmp_path / "m.csv", motion, f10, derivatives=True)
+    status, out, err = cli(
+        capsys, "identify", "--robot", nominal, "--measurements", measurements,
+        "--friction", "both", "--output", tmp_path / "out",
+    )  # fmt: skip
+    assert status == 0, err
+    assert "b_a" in out and "c_s" in out and "h3x" in out
+    found = Robot.from_mapping(tomllib.loads((tmp_path / "out" / "robot.toml").read_text()))
+    assert found.friction is not None
+    assert found.friction.actuator.viscous == pytest.approx(2.0, rel=1e-8)
+    assert found.payload.com == pytest.approx((0.02, -0.01), rel=1e-8)
+    other = exciting(true.l0, duration=2.0, samples=30, phase=0.5)
+    expected = inverse_dynamics(true, other, method="newton-euler")[1].f10
+    assert relative_error(inverse_dynamics(found, other)[1].f10, expected) <= 1e-8

@@ -62,12 +62,22 @@ from . import kernel
 from .errors import ParameterError, TrajectoryError
 from .fast import DEFAULT_CHUNK
 from .geometry import inverse_geometry
-from .model import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
+from .model import (
+    Friction,
+    Limits,
+    LinkParameters,
+    PistonParameters,
+    PlatformParameters,
+    Robot,
+)
 from .motion import Motion
 
 __all__ = [
     "FORCES",
+    "FRICTION_MODELS",
+    "FRICTION_PARAMETERS",
     "MIN_SAMPLES_PER_PARAMETER",
+    "PARAMETERS",
     "PARAMETER_SYMBOLS",
     "PARAMETER_UNITS",
     "STANDARD_PARAMETERS",
@@ -81,6 +91,7 @@ __all__ = [
     "exciting_trajectory",
     "identified_robot",
     "identify",
+    "known_forces",
     "regressor",
     "robot_from_standard",
     "standard_parameters",
@@ -106,6 +117,30 @@ STANDARD_PARAMETERS: tuple[str, ...] = (
     "piston_moment_y",
 )
 
+#: Friction coefficients that enter the forces linearly (``docs/loads_and_friction.md``):
+#: viscous ``b`` and Coulomb ``c`` of the guides, the revolute joints and the sleeves.
+#: (The load-dependent ``μ`` terms multiply reaction magnitudes that depend on every
+#: parameter: they are not linear in anything and have no column.)
+FRICTION_PARAMETERS: tuple[str, ...] = (
+    "actuator_viscous",
+    "actuator_coulomb",
+    "revolute_viscous",
+    "revolute_coulomb",
+    "sleeve_viscous",
+    "sleeve_coulomb",
+)
+
+#: Every parameter a regressor column can stand for.
+PARAMETERS: tuple[str, ...] = STANDARD_PARAMETERS + FRICTION_PARAMETERS
+
+#: The friction coefficients of each ``prp3 identify --friction`` choice.
+FRICTION_MODELS: dict[str, tuple[str, ...]] = {
+    "none": (),
+    "viscous": ("actuator_viscous", "revolute_viscous", "sleeve_viscous"),
+    "coulomb": ("actuator_coulomb", "revolute_coulomb", "sleeve_coulomb"),
+    "both": FRICTION_PARAMETERS,
+}
+
 #: Short symbols of the standard parameters (docs/identification.md).
 PARAMETER_SYMBOLS: dict[str, str] = {
     "platform_mass": "m3",
@@ -119,6 +154,12 @@ PARAMETER_SYMBOLS: dict[str, str] = {
     "link_inertia": "J2",
     "piston_moment_x": "h1x",
     "piston_moment_y": "h1y",
+    "actuator_viscous": "b_a",
+    "actuator_coulomb": "c_a",
+    "revolute_viscous": "b_r",
+    "revolute_coulomb": "c_r",
+    "sleeve_viscous": "b_s",
+    "sleeve_coulomb": "c_s",
 }
 
 #: SI units of the standard parameters.
@@ -134,6 +175,12 @@ PARAMETER_UNITS: dict[str, str] = {
     "link_inertia": "kg m^2",
     "piston_moment_x": "kg m",
     "piston_moment_y": "kg m",
+    "actuator_viscous": "N s/m",
+    "actuator_coulomb": "N",
+    "revolute_viscous": "N m s/rad",
+    "revolute_coulomb": "N m",
+    "sleeve_viscous": "N s/m",
+    "sleeve_coulomb": "N",
 }
 
 #: Why a standard parameter cannot be identified on its own (structural reasons).
@@ -178,10 +225,9 @@ def standard_parameters(
 def _check_names(parameters: Sequence[str]) -> tuple[str, ...]:
     names = tuple(parameters)
     for name in names:
-        if name not in STANDARD_PARAMETERS:
+        if name not in PARAMETERS:
             raise ParameterError(
-                f"unknown standard parameter {name!r} (expected one of: "
-                f"{', '.join(STANDARD_PARAMETERS)})"
+                f"unknown parameter {name!r} (expected one of: {', '.join(PARAMETERS)})"
             )
     if len(set(names)) != len(names) or not names:
         raise ParameterError(f"parameters must be distinct and at least one, got {names!r}")
@@ -212,28 +258,60 @@ class Regressor:
     dlambda10: FloatArray
 
 
+def _zero_parameters(robot: Robot, keep: Sequence[str] = ()) -> kernel.KernelParameters:
+    """``robot``'s kernel parameters with every inertial, load and friction field 0.
+
+    Kept: ``l0``, gravity, the friction smoothings (a Coulomb column is
+    ``s(v)`` with the robot's smoothing) and the fields named in ``keep``.
+    """
+    k = kernel.kernel_parameters(robot)
+    cleared = [
+        name
+        for name in (*STANDARD_PARAMETERS, *kernel.EFFECT_FIELDS)
+        if not name.endswith("_smoothing") and name not in keep
+    ]
+    return replace(k, **dict.fromkeys(cleared, 0.0))
+
+
 def _unit_parameters(robot: Robot, names: Sequence[str]) -> list[kernel.KernelParameters]:
-    """One :class:`KernelParameters` per name: that parameter 1, every inertial one 0."""
-    zero = replace(kernel.kernel_parameters(robot), **dict.fromkeys(STANDARD_PARAMETERS, 0.0))
+    """One :class:`KernelParameters` per name: that parameter 1, every other one 0."""
+    zero = _zero_parameters(robot)
     return [replace(zero, **{name: 1.0}) for name in names]
+
+
+def _forces(
+    k: kernel.KernelParameters,
+    kin: kernel.KernelKinematics,
+    rows: FloatArray,
+    load: FloatArray | None = None,
+) -> tuple[kernel.Legs, kernel.Legs, kernel.Legs]:
+    """``f10, f21y, f21z`` of the kernel for ``k`` (no ``μ`` terms), wrenches to virtual work."""
+    ddx, ddy, dphi, ddphi = rows[6], rows[7], rows[5], rows[8]
+    friction = kernel.friction_forces(kernel.NUMPY, k, kin, dphi)
+    loads = None if load is None else (load[0], load[1], load[2])
+    wrenches = kernel.body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=loads, friction=friction)
+    f10, f21y, f21z, _ = kernel.joint_forces(k, kin, wrenches, reactions=False)
+    return f10, f21y, f21z
 
 
 def _regressor_rows(
     units: Sequence[kernel.KernelParameters], rows: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Regressor of the states ``rows`` (9, n): ``(3 forces, n, 3, P)``, ``λ10``, ``λ̇10``."""
-    x, y, phi, dx, dy, dphi, ddx, ddy, ddphi = rows
-    k = units[0]  # l0 and gravity, the same in every unit parameter set
-    geo = kernel.kernel_geometry(kernel.NUMPY, k, x, y, phi)
-    kin = kernel.kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
+    kin = _kinematics(units[0], rows)  # l0 is the same in every unit parameter set
     out = np.empty((3, rows.shape[1], 3, len(units)))
     for column, unit in enumerate(units):
-        wrenches = kernel.body_wrenches(unit, kin, ddx, ddy, dphi, ddphi)
-        forces = kernel.joint_forces(unit, kin, wrenches, reactions=False)[:3]
-        for f, legs in enumerate(forces):
+        for f, legs in enumerate(_forces(unit, kin, rows)):
             for leg in range(3):
                 out[f, :, leg, column] = legs[leg]
-    return out, np.stack(geo.lambda10, axis=-1), np.stack(kin.dlambda10, axis=-1)
+    return out, np.stack(kin.geometry.lambda10, axis=-1), np.stack(kin.dlambda10, axis=-1)
+
+
+def _kinematics(k: kernel.KernelParameters, rows: FloatArray) -> kernel.KernelKinematics:
+    """Joint displacements and rates of the states ``rows`` (eqs. 10, 14, 17)."""
+    x, y, phi, dx, dy, dphi, ddx, ddy, ddphi = rows
+    geo = kernel.kernel_geometry(kernel.NUMPY, k, x, y, phi)
+    return kernel.kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
 
 
 def _state_rows(motion: Motion) -> FloatArray:
@@ -257,10 +335,13 @@ def regressor(
     """The regressor ``Y`` of ``f10``, ``f21y``, ``f21z`` for a motion (batch or one sample).
 
     Column ``k`` is the kernel (eqs. 10, 14, 17, 19–25) evaluated with the
-    standard parameter ``parameters[k]`` set to 1 and every other inertial
-    parameter 0 (``l0`` and gravity from ``robot``): the forces are linear and
-    homogeneous in them, so ``Y @ standard_parameters(robot)`` equals the
-    forces of :func:`prp3.dynamics.inverse_dynamics` to round-off.
+    parameter ``parameters[k]`` set to 1 and every other inertial, friction
+    and load parameter 0 (``l0``, gravity and the friction smoothings from
+    ``robot``): the forces are linear and homogeneous in the inertial
+    parameters and in the viscous and Coulomb friction coefficients, so
+    ``Y @ standard_parameters(robot, PARAMETERS)`` equals the forces of
+    :func:`prp3.dynamics.inverse_dynamics` to round-off for a robot without
+    load and ``μ`` terms (a load adds a known term, :func:`known_forces`).
 
     Parameters
     ----------
@@ -269,7 +350,8 @@ def regressor(
     motion : Motion
         ``N`` samples, or a single one (then the outputs lose the leading axis).
     parameters : sequence of str
-        The columns, from :data:`STANDARD_PARAMETERS` (default: all, in that order).
+        The columns, from :data:`PARAMETERS` (default: the inertial ones,
+        :data:`STANDARD_PARAMETERS`, in that order).
     chunk_size : int
         Samples per chunk (memory bounded for any ``N``).
 
@@ -619,6 +701,7 @@ def identify(
     names = _check_names(parameters)
     if not isinstance(motion, Motion) or motion.t.ndim != 1:
         raise TrajectoryError(f"{where}: the motion must be a batch prp3.Motion")
+    _refuse_mu(robot)
     measured = np.asarray(f10, dtype=np.float64)
     samples = motion.samples
     if measured.shape != (samples, 3):
@@ -632,9 +715,9 @@ def identify(
             f"{where}: {samples} samples are too few to identify {base.count} base parameters "
             f"(at least {MIN_SAMPLES_PER_PARAMETER} per parameter: {needed})"
         )
-    fixed = tuple(name for name in STANDARD_PARAMETERS if name not in names)
-    Y = regressor(robot, motion, names + fixed)
-    known = Y.f10[..., len(names) :] @ standard_parameters(robot, fixed) if fixed else 0.0
+    fixed = tuple(name for name in PARAMETERS if name not in names)
+    Y = regressor(robot, motion, names)
+    known = known_forces(robot, motion, fixed)
     target = measured - known
     W = Y.f10[..., list(base.independent)]  # (N, 3, B)
     stacked = W.reshape(-1, base.count)
@@ -660,6 +743,46 @@ def identify(
         fitted=fitted,
         fixed=fixed,
     )
+
+
+def _refuse_mu(robot: Robot) -> None:
+    """The load-dependent ``μ`` friction terms are not linear: refuse a robot with them."""
+    if kernel.kernel_parameters(robot).has_mu:
+        raise ParameterError(
+            "the robot has load-dependent friction (a friction mu > 0): its forces are not "
+            "linear in the parameters, so it cannot be identified by least squares; set the "
+            "mu terms of the nominal robot to 0"
+        )
+
+
+def known_forces(robot: Robot, motion: Motion, fixed: Sequence[str]) -> FloatArray:
+    """The actuator forces of what is not estimated: the parameters ``fixed`` and the loads.
+
+    The kernel with the ``fixed`` parameters at ``robot``'s values, every
+    other inertial and friction parameter 0, and the robot's constant
+    ``[load]`` plus the motion's time-varying load: the part of ``f10`` that
+    least squares subtracts from the measurements.  Shape ``(N, 3)``.
+
+    >>> from prp3.motion import paper_motion
+    >>> known_forces(Robot(), paper_motion("vertical", samples=3), ()).tolist()
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    """
+    _refuse_mu(robot)
+    names = _check_names(fixed) if fixed else ()
+    inverse_geometry(robot, motion.pose)
+    k = _zero_parameters(robot, keep=(*names, "load_x", "load_y", "load_moment"))
+    rows = _state_rows(motion)
+    load = None if motion.load is None else motion.load.reshape(-1, 3).T
+    out = np.empty((rows.shape[1], 3))
+    width = DEFAULT_CHUNK
+    for start in range(0, rows.shape[1], width):
+        stop = min(start + width, rows.shape[1])
+        chunk = rows[:, start:stop]
+        part = None if load is None else load[:, start:stop]
+        f10 = _forces(k, _kinematics(k, chunk), chunk, part)[0]
+        for leg in range(3):
+            out[start:stop, leg] = f10[leg]
+    return out.reshape(*motion.pose.shape[:-1], 3)
 
 
 def weighted_least_squares(
@@ -716,18 +839,23 @@ def weighted_least_squares(
 
 # ------------------------------------------------------ physical parameters
 def robot_from_standard(nominal: Robot, standard: dict[str, float]) -> Robot:
-    """The robot with the standard parameters ``standard`` (the others from ``nominal``).
+    """The robot with the parameters ``standard`` (the others from ``nominal``).
 
     The inverse of :func:`prp3.kernel.kernel_parameters`: ``c = h/m``,
-    ``I2 = J2 − m2·|c2|²`` about the centre of mass; the platform's inertia is
-    written explicitly.  The piston inertia (it never enters the dynamics),
-    geometry, gravity and limits are ``nominal``'s.
+    ``I2 = J2 − m2·|c2|²`` about the centre of mass.  The platform side
+    ``(m3, h3, J3)`` is the platform and its payload together: with a payload
+    in ``nominal``, its mass and own inertia are kept and the platform mass,
+    the payload's centre of mass ``h3/m_p`` and the platform inertia
+    ``J3 − I_p − |h3|²/m_p`` are solved; without one, ``h3`` must be zero.
+    Friction coefficients replace ``nominal``'s (its ``μ``, smoothing and pin
+    radius are kept).  The piston inertia (it never enters the dynamics),
+    geometry, gravity, limits and load are ``nominal``'s.
 
     Raises
     ------
     ParameterError
-        A non-positive mass or a negative inertia about a centre of mass
-        (names the parameter and its value).
+        A non-positive mass, a negative inertia about a centre of mass or a
+        negative friction coefficient (names the parameter and its value).
 
     Examples
     --------
@@ -735,10 +863,7 @@ def robot_from_standard(nominal: Robot, standard: dict[str, float]) -> Robot:
     >>> robot.link.com, round(robot.link.inertia, 12)
     ((0.02, 0.0), 0.0007)
     """
-    values = {
-        name: float(v)
-        for name, v in zip(STANDARD_PARAMETERS, standard_parameters(nominal), strict=True)
-    }
+    values = dict(zip(PARAMETERS, standard_parameters(nominal, PARAMETERS).tolist(), strict=True))
     for name, value in standard.items():
         _check_names([name])
         values[name] = float(value)
@@ -760,24 +885,63 @@ def robot_from_standard(nominal: Robot, standard: dict[str, float]) -> Robot:
             f"{m2 * (c2[0] ** 2 + c2[1] ** 2)!r}: link 2's inertia about its centre of mass "
             "would be negative"
         )
-    if values["platform_moment_x"] != 0.0 or values["platform_moment_y"] != 0.0:
+    mass, inertia = values["platform_mass"], values["platform_inertia"]
+    h3 = (values["platform_moment_x"], values["platform_moment_y"])
+    payload = nominal.payload
+    if payload.mass > 0.0:
+        mp = payload.mass
+        cp = (h3[0] / mp, h3[1] / mp)
+        mass = mass - mp
+        inertia = inertia - payload.inertia - (h3[0] ** 2 + h3[1] ** 2) / mp
+        payload = replace(payload, com=cp)
+        if not mass > 0.0:
+            raise ParameterError(
+                f"m3 = {values['platform_mass']!r} kg is not more than the payload's "
+                f"{mp!r} kg: the platform mass would not be positive"
+            )
+    elif h3 != (0.0, 0.0):
         raise ParameterError(
-            "a platform first moment (h3x, h3y) needs a payload, which this robot model "
-            "cannot describe"
+            f"h3 = ({h3[0]!r}, {h3[1]!r}) kg m: a first moment of the platform about G "
+            "needs a payload; give the nominal robot a [payload] with its mass"
         )
-    if -round_off * values["platform_mass"] <= values["platform_inertia"] < 0.0:
-        values["platform_inertia"] = 0.0
-    if not values["platform_inertia"] >= 0.0:
+    if -round_off * mass <= inertia < 0.0:
+        inertia = 0.0
+    if not inertia >= 0.0:
         raise ParameterError(
-            f"J3 = {values['platform_inertia']!r} kg m^2: the platform inertia would be negative"
+            f"J3 = {values['platform_inertia']!r} kg m^2: the platform inertia about G would "
+            "be negative"
         )
     return replace(
         nominal,
         piston=PistonParameters(mass=m1, inertia=nominal.piston.inertia, com=c1),
         link=LinkParameters(mass=m2, inertia=link_inertia, com=c2),
-        platform=PlatformParameters(
-            mass=values["platform_mass"], inertia=values["platform_inertia"]
-        ),
+        platform=PlatformParameters(mass=mass, inertia=inertia),
+        payload=payload,
+        friction=_friction(nominal, values),
+    )
+
+
+def _friction(nominal: Robot, values: dict[str, float]) -> Friction | None:
+    """The friction of ``nominal`` with the viscous and Coulomb coefficients of ``values``."""
+    coefficients = [values[name] for name in FRICTION_PARAMETERS]
+    if nominal.friction is None and not any(coefficients):
+        return None
+    for name, value in zip(FRICTION_PARAMETERS, coefficients, strict=True):
+        if not value >= 0.0:
+            raise ParameterError(
+                f"{PARAMETER_SYMBOLS[name]} = {value!r} {PARAMETER_UNITS[name]}: a friction "
+                "coefficient must not be negative"
+            )
+    old = nominal.friction if nominal.friction is not None else Friction()
+    return Friction(
+        **{
+            kind: replace(
+                getattr(old, kind),
+                viscous=values[f"{kind}_viscous"],
+                coulomb=values[f"{kind}_coulomb"],
+            )
+            for kind in ("actuator", "revolute", "sleeve")
+        }
     )
 
 
@@ -793,11 +957,15 @@ class IdentifiedRobot:
         For each base parameter, the standard parameter solved from it.
     kept : tuple of str
         Standard parameters kept at the nominal robot's values.
+    clamped : tuple of str
+        Friction coefficients estimated below zero but within 3 standard
+        deviations of it (or round-off), written as 0.
     """
 
     robot: Robot
     solved: tuple[str, ...]
     kept: tuple[str, ...]
+    clamped: tuple[str, ...] = ()
 
 
 #: Most choices of solved parameters :func:`identified_robot` tries.
@@ -805,27 +973,31 @@ _MAX_CHOICES: int = 4096
 
 
 def _kept_values(nominal: Robot, values: dict[str, float]) -> dict[str, float]:
-    """The standard parameters of ``nominal``'s physical ones, with the current masses.
+    """The parameters of ``nominal``'s physical ones, with the current masses and moments.
 
     A kept first moment keeps the nominal centre of mass (``h = m·c``), a kept
-    link inertia the nominal inertia about the centre of mass
-    (``J2 = I2 + |h2|²/m2``), whatever the masses and moments solved.
+    inertia the nominal inertia about the centre of mass (``J2 = I2 + |h2|²/m2``,
+    ``J3 = I3 + I_p + |h3|²/m_p`` with a payload), whatever the masses and
+    moments solved; friction coefficients are kept as they are.
     """
     m1, m2 = values["piston_mass"], values["link_mass"]
     h2x, h2y = values["link_moment_x"], values["link_moment_y"]
-    return {
-        "piston_mass": nominal.piston.mass,
-        "piston_moment_x": m1 * nominal.piston.com[0],
-        "piston_moment_y": m1 * nominal.piston.com[1],
-        "link_mass": nominal.link.mass,
-        "link_moment_x": m2 * nominal.link.com[0],
-        "link_moment_y": m2 * nominal.link.com[1],
-        "link_inertia": nominal.link.inertia + (h2x * h2x + h2y * h2y) / m2 if m2 > 0 else 0.0,
-        "platform_mass": nominal.platform.mass,
-        "platform_moment_x": 0.0,
-        "platform_moment_y": 0.0,
-        "platform_inertia": nominal.platform_inertia,
-    }
+    h3x, h3y = values["platform_moment_x"], values["platform_moment_y"]
+    payload = nominal.payload
+    mp = payload.mass
+    kept = dict(zip(PARAMETERS, standard_parameters(nominal, PARAMETERS).tolist(), strict=True))
+    kept.update(
+        piston_moment_x=m1 * nominal.piston.com[0],
+        piston_moment_y=m1 * nominal.piston.com[1],
+        link_moment_x=m2 * nominal.link.com[0],
+        link_moment_y=m2 * nominal.link.com[1],
+        link_inertia=nominal.link.inertia + (h2x * h2x + h2y * h2y) / m2 if m2 > 0 else 0.0,
+    )
+    if mp > 0.0:
+        kept["platform_inertia"] = (
+            nominal.platform_inertia + payload.inertia + (h3x * h3x + h3y * h3y) / mp
+        )
+    return kept
 
 
 def _solve_choice(
@@ -835,7 +1007,7 @@ def _solve_choice(
     names = base.parameters
     C = base.combination
     others = [j for j in range(len(names)) if j not in solved]
-    values = dict(zip(STANDARD_PARAMETERS, standard_parameters(nominal).tolist(), strict=True))
+    values = dict(zip(PARAMETERS, standard_parameters(nominal, PARAMETERS).tolist(), strict=True))
     for _ in range(4):  # masses, then moments, then inertias: a fixed point in 3 passes
         kept = _kept_values(nominal, values)
         fixed = np.array([kept[names[j]] for j in others])
@@ -856,7 +1028,10 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     physical values: its masses, centres of mass and inertias about the
     centres of mass (so a kept ``J2`` follows the identified ``h2``).
     If that robot is not physically valid (a mass ≤ 0, an inertia < 0 about a
-    centre of mass), the other choices are tried in order of dominance.
+    centre of mass), the other choices are tried in order of dominance.  A
+    friction coefficient estimated below 0 but within 3 standard deviations
+    of it is written as 0 (and listed in :attr:`IdentifiedRobot.clamped`);
+    further below, the robot is invalid.
 
     Raises
     ------
@@ -864,6 +1039,14 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
         No choice gives a physically valid robot (names the first failure).
     """
     base = result.base
+    estimate = result.estimate.copy()
+    clamped = []
+    for b, name in enumerate(base.names):  # a friction coefficient of 0 estimated below 0
+        if name in FRICTION_PARAMETERS and base.members(b) == (base.independent[b],):
+            floor = max(3.0 * result.std[b], 1e-12 * float(np.abs(result.measured).max()))
+            if -floor <= estimate[b] < 0.0:
+                estimate[b] = 0.0
+                clamped.append(name)
     nominal_values = standard_parameters(nominal, base.parameters)
     candidates = []
     for b in range(base.count):
@@ -878,15 +1061,15 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
             or abs(np.linalg.det(base.combination[:, choice])) < 1e-12
         ):
             continue
-        values = _solve_choice(nominal, base, result.estimate, list(choice))
+        values = _solve_choice(nominal, base, estimate, list(choice))
         try:
             robot = robot_from_standard(nominal, values)
         except ParameterError as error:
             first_error = first_error or error
             continue
         solved_names = tuple(base.parameters[j] for j in choice)
-        kept = tuple(name for name in STANDARD_PARAMETERS if name not in solved_names)
-        return IdentifiedRobot(robot=robot, solved=solved_names, kept=kept)
+        kept = tuple(name for name in PARAMETERS if name not in solved_names)
+        return IdentifiedRobot(robot=robot, solved=solved_names, kept=kept, clamped=tuple(clamped))
     raise ParameterError(
         f"the identified base parameters give no physically valid robot ({first_error})"
     )

@@ -607,10 +607,8 @@ def read_trajectory(path: str | Path) -> Trajectory:
     True
     """
     path = Path(path)
-    return _trajectory(
-        path,
-        _read_table(path, POSITION_COLUMNS, DERIVATIVE_COLUMNS + LOAD_COLUMNS, "trajectory"),
-    )
+    optional = DERIVATIVE_COLUMNS + LOAD_COLUMNS
+    return _trajectory(path, _read_table(path, POSITION_COLUMNS, optional, "trajectory"))
 
 
 def _trajectory(path: Path, table: _Table) -> Trajectory:
@@ -698,7 +696,8 @@ def read_measurements(path: str | Path) -> Measurements:
     r"""Read a measurement file: a trajectory file's columns plus ``f10_A, f10_B, f10_C``.
 
     The same strict reader and conventions as :func:`read_trajectory`
-    (derivative columns optional, all six or none; time strictly increasing).
+    (derivative columns optional, all six or none; load columns ``fx, fy, mz``
+    optional, all three or none; time strictly increasing).
 
     Raises
     ------

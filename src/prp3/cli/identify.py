@@ -3,7 +3,7 @@
 ::
 
     prp3 identify --robot NOMINAL.toml --measurements M.csv --output DIR
-                  [--friction none]
+                  [--friction none|viscous|coulomb|both]
 
 ``M.csv`` has the columns of a trajectory file (``t, x, y, phi`` and
 optionally all of ``dx, dy, dphi, ddx, ddy, ddphi``; derivatives computed as
@@ -26,6 +26,8 @@ from typing import Any
 from ..errors import SingularPoseError, UnreachablePoseError
 from ..geometry import LEGS, inverse_geometry
 from ..identification import (
+    FRICTION_MODELS,
+    FRICTION_PARAMETERS,
     PARAMETER_SYMBOLS,
     PARAMETER_UNITS,
     STANDARD_PARAMETERS,
@@ -34,6 +36,7 @@ from ..identification import (
     base_parameters,
     identified_robot,
     identify,
+    standard_parameters,
 )
 from ..io import (
     atomic_writer,
@@ -54,13 +57,22 @@ ROBOT_NAME: str = "robot.toml"
 PARAMETERS_NAME: str = "parameters.csv"
 
 #: The friction models ``--friction`` offers.
-FRICTION_CHOICES: tuple[str, ...] = ("none",)
+FRICTION_CHOICES: tuple[str, ...] = tuple(FRICTION_MODELS)
 
-#: The standard parameters estimated: the platform's first moment needs a payload,
-#: which the robot model cannot describe, so it stays at the nominal value 0.
-ESTIMATED: tuple[str, ...] = tuple(
-    name for name in STANDARD_PARAMETERS if not name.startswith("platform_moment")
-)
+
+def estimated_parameters(nominal: Robot, friction: str) -> tuple[str, ...]:
+    """The parameters ``prp3 identify`` estimates.
+
+    The inertial ones — the platform's first moment only when NOMINAL has a
+    payload to carry it — and the friction coefficients of ``--friction``.
+    """
+    inertial = tuple(
+        name
+        for name in STANDARD_PARAMETERS
+        if nominal.payload.mass > 0.0 or not name.startswith("platform_moment")
+    )
+    return inertial + FRICTION_MODELS[friction]
+
 
 EXAMPLES = """\
 examples:
@@ -69,7 +81,8 @@ examples:
   prp3 identify --robot nominal.toml --measurements m.csv --output ident
   prp3 simulate --robot ident/robot.toml --trajectory other.csv --output check
 
-M.csv: header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi],f10_A,f10_B,f10_C (SI units, rad, N).
+M.csv: header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi][,fx,fy,mz],f10_A,f10_B,f10_C
+(SI units, rad, N; fx, fy, mz: a known wrench on the platform at G).
 Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
 """
 
@@ -106,7 +119,8 @@ def register(subparsers: Any) -> None:
         "--friction",
         choices=FRICTION_CHOICES,
         default="none",
-        help="friction model identified with the inertial parameters (default none)",
+        help="friction coefficients identified with the inertial parameters: viscous "
+        "(b_a, b_r, b_s), coulomb (c_a, c_r, c_s) or both (default none: NOMINAL's kept)",
     )
     parser.set_defaults(handler=run)
 
@@ -125,7 +139,8 @@ def run(args: argparse.Namespace) -> int:
         found = re.search(r"at sample (\d+)", str(error))
         line = f":{int(trajectory.lines[int(found[1])])}" if found else ""
         raise type(error)(f"{args.measurements}{line}: {error}") from None
-    result = identify(nominal, trajectory.motion, data.f10, ESTIMATED, where=str(args.measurements))
+    estimated = estimated_parameters(nominal, args.friction)
+    result = identify(nominal, trajectory.motion, data.f10, estimated, where=str(args.measurements))
     robot = identified_robot(nominal, result)
     if trajectory.note is not None:  # only for a run that goes on
         print(f"{args.program}: warning: {trajectory.note}", file=sys.stderr)
@@ -206,11 +221,22 @@ def _summary(
     for name in base.unidentifiable:
         lines.append(f"    {PARAMETER_SYMBOLS[name]} ({name}): {base.reason(name)}")
     lines.append("    piston inertia: never enters (the piston only translates)")
+    nominal_values = (
+        dict(zip(result.fixed, standard_parameters(nominal, result.fixed).tolist(), strict=True))
+        if result.fixed
+        else {}
+    )
     for name in result.fixed:
-        lines.append(
-            f"    {PARAMETER_SYMBOLS[name]} ({name}): not estimated, a first moment of the "
-            "platform needs a payload, which ROBOT.toml does not describe"
-        )
+        if name.startswith("platform_moment"):
+            why = (
+                "not estimated: NOMINAL has no [payload] to carry a first moment of the "
+                "platform (give one with its mass to identify its centre of mass)"
+            )
+        elif name in FRICTION_PARAMETERS:
+            why = f"not estimated (--friction {args.friction}), {nominal_values[name]!r} kept"
+        else:
+            continue
+        lines.append(f"    {PARAMETER_SYMBOLS[name]} ({name}): {why}")
     lines.append("  identifiable only in a combination:")
     for name in base.dependent():
         lines.append(f"    {PARAMETER_SYMBOLS[name]} ({name}): {base.reason(name)}")
@@ -226,5 +252,10 @@ def _summary(
         )
         + "; every other parameter is NOMINAL's"
     )
+    for name in robot.clamped:
+        lines.append(
+            f"  {PARAMETER_SYMBOLS[name]} estimated below 0, within 3 standard deviations of 0: "
+            "written as 0"
+        )
     lines += files
     return "\n".join(lines)

@@ -174,7 +174,7 @@ def simulate_table(
     >>> from prp3.motion import paper_motion
     >>> from prp3.results import RESULT_COLUMNS
     >>> table = simulate_table(Robot(), paper_motion("vertical", 7), chunk=3)
-    >>> list(table) == list(RESULT_COLUMNS), table["f10_A"].shape
+    >>> list(table) == list(result_columns(False)), table["f10_A"].shape
     (True, (7,))
     """
     samples = motion.samples
