@@ -35,7 +35,14 @@ from ..errors import (
     SingularPoseError,
     UnreachablePoseError,
 )
-from ..forward import MIN_RTOL, ActuatorForces, ForwardDynamics, forward_dynamics, forward_velocity
+from ..forward import (
+    MIN_RTOL,
+    ActuatorForces,
+    ForwardDynamics,
+    check_forward_friction,
+    forward_dynamics,
+    forward_velocity,
+)
 from ..geometry import LEGS
 from ..io import (
     check_inputs_kept,
@@ -44,7 +51,7 @@ from ..io import (
     staged_output,
     write_table_csv,
 )
-from ..results import RESULT_COLUMNS, results_table
+from ..results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -127,7 +134,9 @@ def read_forces(path: Path) -> ForceInput:
         Fewer than 2 rows or times that do not increase.
     """
     others = [name for name in RESULT_COLUMNS if name not in FORCE_COLUMNS]
-    columns = read_table_csv(path, required=FORCE_COLUMNS, optional=others, what="forces")
+    columns = read_table_csv(
+        path, required=FORCE_COLUMNS, optional=[*others, *FRICTION_COLUMNS], what="forces"
+    )
     extra = [name for name in others if name in columns]
     if extra and len(extra) != len(others):
         missing = [name for name in others if name not in columns]
@@ -227,6 +236,11 @@ def run(args: argparse.Namespace) -> int:
     check_output_directory(output)
     check_inputs_kept(output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
     robot = load_robot(args)
+    try:
+        check_forward_friction(robot)
+    except ParameterError as error:
+        where = args.robot if args.robot is not None else "robot"
+        raise ParameterError(f"{where}: {re.sub(r'^robot: ', '', str(error))}") from None
     given = read_forces(args.forces)
     forces = given.forces
     if args.initial_pose is not None:
