@@ -51,6 +51,21 @@ is ``f10`` of the inverse dynamics (eq. 23) at ``q̈ = 0`` and the columns of
 definite) mass matrix in platform coordinates, because
 ``Σ f10·λ̇10 = q̇ᵀ·(M·q̈ + h)`` with ``h = Jᵀ·b``.  :func:`forward_dynamics`
 integrates ``q̈ = A⁻¹·(f10(t) − b)`` with ``scipy.integrate.solve_ivp``.
+
+Loads and friction.  The payload adds to the platform's inertial parameters
+and the constant ``[load]`` and the friction forces to the body wrenches, all
+in the kernel (:func:`prp3.kernel.body_wrenches`), so ``A`` and ``b`` carry
+them.  Viscous and Coulomb friction depend on the velocities only: at a given
+``(q, q̇)`` they are part of ``b`` and ``f10`` stays exactly affine in ``q̈``.
+Two kinds of friction are refused (:func:`check_forward_friction`):
+
+* Coulomb friction with the exact sign (``smoothing = 0``): ``s(v)`` jumps
+  where a joint rate passes zero, the motion is then not an ordinary
+  differential equation (sticking needs a complementarity problem);
+* the load-dependent ``μ`` terms: ``f10`` is no longer affine in ``q̈`` (the
+  reaction magnitudes depend on ``q̈``) and near a self-locking pose the
+  implicit equation ``f10(q, q̇, q̈) = f_applied`` has several or no
+  solutions ``q̈``; prp3 does not pick one for you.
 """
 
 from __future__ import annotations
@@ -70,6 +85,7 @@ from .errors import (
     SingularPoseError,
     TrajectoryError,
 )
+from .fast import CompiledRobot, compile_robot, solve_batch
 from .geometry import (
     LEGS,
     SINGULARITY_THRESHOLD,
@@ -91,6 +107,7 @@ __all__ = [
     "ForwardDynamics",
     "ForwardGeometry",
     "PlatformDynamics",
+    "check_forward_friction",
     "forward_acceleration",
     "forward_dynamics",
     "forward_geometry",
@@ -445,7 +462,14 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
     The actuator forces are affine in the platform acceleration, so four
     evaluations of :func:`~prp3.dynamics.kernel_method` per state — at
     ``q̈ = 0`` and at the three unit accelerations, one batch of ``4·N``
-    samples — give ``b`` and the columns of ``A``.
+    samples — give ``b`` and the columns of ``A``.  The payload enters ``A``
+    and ``b``, the constant load and the viscous and (smoothed) Coulomb
+    friction enter ``b`` only (they do not depend on ``q̈``).
+
+    Raises
+    ------
+    ParameterError
+        Friction :func:`check_forward_friction` refuses.
 
     Parameters
     ----------
@@ -465,6 +489,15 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
     >>> eq.force_bias.round(4).tolist()   # the static forces of the central configuration
     [31.8589, -8.4957, -23.3632]
     """
+    check_forward_friction(robot)
+    return _platform_dynamics(compile_robot(robot), pose, velocity)
+
+
+def _platform_dynamics(
+    compiled: CompiledRobot, pose: ArrayLike, velocity: ArrayLike
+) -> PlatformDynamics:
+    """:func:`platform_dynamics` of a robot compiled once (the integrator calls it per step)."""
+    robot = compiled.robot
     q = _check_state("pose", pose)
     qdot = _float_array("velocity", velocity)
     _same_shape("velocity", qdot, q, "pose")
@@ -481,11 +514,13 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
         velocity=flat_v.reshape(count, 3),
         acceleration=flat_a.reshape(count, 3),
     )
-    kin = inverse_kinematics(robot, motion)
-    f10 = kernel_method(robot, kin).f10.reshape(-1, 4, 3)  # eq. (23)
+    values = solve_batch(compiled, motion.pose, motion.velocity, motion.acceleration)
+    if not np.isfinite(values["f10"]).all():
+        raise TrajectoryError("platform_dynamics: the actuator forces overflow at this state")
+    f10 = values["f10"].reshape(-1, 4, 3)  # eq. (23)
     b = f10[:, 0, :]
     A = np.swapaxes(f10[:, 1:, :] - b[:, None, :], -1, -2)  # column k = f10(e_k) − b
-    J = kin.jacobian.reshape(-1, 4, 3, 3)[:, 0]
+    J = jacobian(inverse_geometry(robot, q.reshape(-1, 3)))
     Jt = np.swapaxes(J, -1, -2)
     return PlatformDynamics(
         force_matrix=A.reshape(*batch, 3, 3),
@@ -548,6 +583,40 @@ def open_loop_growth_rate(robot: Robot, pose: ArrayLike) -> float:
     # round-off of the differences (|μ| ~ 1e-9·|K| when K = 0) is no growth
     floor = math.sqrt(1e-8 * max(float(np.abs(stiffness).max()), 1e-300))
     return rate if rate > floor else 0.0
+
+
+def check_forward_friction(robot: Robot) -> None:
+    """Refuse the friction forward dynamics cannot integrate (module notes).
+
+    Raises
+    ------
+    ParameterError
+        A Coulomb term with the exact sign (``coulomb > 0``, ``smoothing = 0``)
+        or a load-dependent ``μ`` term; the message names the table and key.
+
+    >>> from prp3.model import Friction, JointFriction
+    >>> check_forward_friction(Robot(friction=Friction(actuator=JointFriction(coulomb=1.0))))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: robot: friction.actuator.coulomb = 1.0 N with smoothing = 0 (the exact sign): forward dynamics needs friction.actuator.smoothing > 0
+    """
+    friction = robot.friction
+    if friction is None:
+        return
+    for kind in ("actuator", "revolute", "sleeve"):
+        joint = getattr(friction, kind)
+        unit = "N·m" if kind == "revolute" else "N"
+        if joint.coulomb > 0.0 and joint.smoothing == 0.0:
+            raise ParameterError(
+                f"robot: friction.{kind}.coulomb = {joint.coulomb!r} {unit} with smoothing = 0 "
+                f"(the exact sign): forward dynamics needs friction.{kind}.smoothing > 0"
+            )
+        if joint.has_mu:
+            raise ParameterError(
+                f"robot: friction.{kind}.mu = {joint.mu!r}: forward dynamics does not take the "
+                f"load-dependent mu terms (f10 is not affine in the acceleration); set "
+                f"friction.{kind}.mu = 0"
+            )
 
 
 def _check_state(name: str, value: ArrayLike) -> FloatArray:
@@ -719,7 +788,9 @@ def forward_dynamics(
     ParameterError
         Times outside the force samples; a sampled force beyond
         ``limits.max_force``; a force function that returns anything but 3
-        finite numbers; non-positive tolerances or ``rtol < MIN_RTOL``.
+        finite numbers; non-positive tolerances or ``rtol < MIN_RTOL``;
+        Coulomb friction with ``smoothing = 0`` or ``μ`` terms
+        (:func:`check_forward_friction`).
 
     Notes
     -----
@@ -746,6 +817,7 @@ def forward_dynamics(
     """
     from scipy.integrate import solve_ivp
 
+    check_forward_friction(robot)
     times = _float_array("t", t)
     if times.ndim != 1 or times.size < 2:
         raise TrajectoryError(f"t must have shape (N,) with N >= 2, got {times.shape}")
@@ -780,10 +852,11 @@ def forward_dynamics(
         )
     force_of = _force_function(robot, forces, times)
     free = _without_limits(robot)
+    compiled = compile_robot(free)
     aspect = math.copysign(1.0, D0)
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
-        return _state_derivative(free, force_of, time, state)
+        return _state_derivative(compiled, force_of, time, state)
 
     def singular(_time: float, state: FloatArray) -> float:
         return aspect * math.sin(state[2] - math.pi / 3.0) - SINGULARITY_STOP
@@ -830,7 +903,7 @@ def forward_dynamics(
         sample_t = times[:1]
         states = np.concatenate([q0, v0])[None, :]
 
-    eq = platform_dynamics(free, states[:, :3], states[:, 3:])
+    eq = _platform_dynamics(compiled, states[:, :3], states[:, 3:])
     applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in sample_t])
     qddot = np.asarray(
         np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0],
@@ -852,7 +925,10 @@ def forward_dynamics(
 
 
 def _state_derivative(
-    robot: Robot, force_of: Callable[[float], FloatArray], time: float, state: FloatArray
+    compiled: CompiledRobot,
+    force_of: Callable[[float], FloatArray],
+    time: float,
+    state: FloatArray,
 ) -> FloatArray:
     """``(q̇, q̈)`` of the state ``(q, q̇)`` at ``time``; NaN in the refused zone.
 
@@ -866,7 +942,7 @@ def _state_derivative(
         SINGULARITY_THRESHOLD
     ):
         return np.full(6, np.nan)
-    eq = platform_dynamics(robot, q, qdot)
+    eq = _platform_dynamics(compiled, q, qdot)
     qddot = np.linalg.solve(eq.force_matrix, force_of(time) - eq.force_bias)
     return np.concatenate([qdot, qddot])
 

@@ -39,6 +39,7 @@ from ..forward import (
     MIN_RTOL,
     ActuatorForces,
     ForwardDynamics,
+    check_forward_friction,
     forward_dynamics,
     forward_velocity,
     open_loop_growth_rate,
@@ -51,7 +52,7 @@ from ..io import (
     staged_output,
     write_table_csv,
 )
-from ..results import RESULT_COLUMNS, results_table
+from ..results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -146,7 +147,9 @@ def read_forces(path: Path) -> ForceInput:
         Fewer than 2 rows or times that do not increase.
     """
     others = [name for name in RESULT_COLUMNS if name not in FORCE_COLUMNS]
-    columns = read_table_csv(path, required=FORCE_COLUMNS, optional=others, what="forces")
+    columns = read_table_csv(
+        path, required=FORCE_COLUMNS, optional=[*others, *FRICTION_COLUMNS], what="forces"
+    )
     extra = [name for name in others if name in columns]
     if extra and len(extra) != len(others):
         missing = [name for name in others if name not in columns]
@@ -246,6 +249,11 @@ def run(args: argparse.Namespace) -> int:
     check_output_directory(output)
     check_inputs_kept(output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
     robot = load_robot(args)
+    try:
+        check_forward_friction(robot)
+    except ParameterError as error:
+        where = args.robot if args.robot is not None else "robot"
+        raise ParameterError(f"{where}: {re.sub(r'^robot: ', '', str(error))}") from None
     given = read_forces(args.forces)
     forces = given.forces
     if args.initial_pose is not None:
