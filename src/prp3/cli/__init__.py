@@ -140,7 +140,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _one_line_warnings(program)
-            return int(args.handler(args))
+            status = int(args.handler(args))
+            sys.stdout.flush()  # here, not at exit: a failing stdout gets its one line
+            return status
     except Prp3Error as error:
         print(f"{program}: error: {error}", file=sys.stderr)
         return 2
