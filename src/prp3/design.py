@@ -72,7 +72,6 @@ from numpy.typing import NDArray
 
 from . import __version__
 from .errors import (
-    InputFileError,
     ParameterError,
     Prp3Error,
     SingularPoseError,
@@ -80,7 +79,7 @@ from .errors import (
 from .geometry import LEGS, check_poses
 from .io import read_trajectory
 from .kernel import EFFECT_FIELDS, NUMPY, KernelParameters, kernel_parameters, solve
-from .model import Robot
+from .model import Robot, read_toml
 from .motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
 from .workspace import jacobian_condition, workspace_slice
 
@@ -636,23 +635,7 @@ class SweepSpec:
 def read_sweep_spec(path: str | Path) -> SweepSpec:
     """Read and validate ``SWEEP.toml`` (see :func:`sweep_spec`); errors name the file."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as error:
-        raise InputFileError(f"{path}: cannot read sweep file ({error.strerror})") from None
-    except UnicodeDecodeError:
-        raise InputFileError(f"{path}: sweep file is not UTF-8 text") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        message = str(error)
-        where = re.search(r"\(at line (\d+), column (\d+)\)", message)
-        if where is None:
-            raise InputFileError(f"{path}: invalid TOML: {message}") from None
-        reason = message[: where.start()].rstrip()
-        raise InputFileError(
-            f"{path}:{where.group(1)}:{where.group(2)}: invalid TOML: {reason}"
-        ) from None
+    data = read_toml(path, "sweep")
     return sweep_spec(data, base=path.parent, source=str(path))
 
 

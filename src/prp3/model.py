@@ -519,23 +519,7 @@ class Robot:
             If a key is unknown or a value invalid (names file and key).
         """
         path = Path(path)
-        try:
-            text = path.read_text(encoding="utf-8-sig")
-        except OSError as error:
-            raise InputFileError(f"{path}: cannot read robot file ({error.strerror})") from None
-        except UnicodeDecodeError:
-            raise InputFileError(f"{path}: robot file is not UTF-8 text") from None
-        try:
-            data = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as error:
-            message = str(error)
-            where = re.search(r"\(at line (\d+), column (\d+)\)", message)
-            if where is None:
-                raise InputFileError(f"{path}: invalid TOML: {message}") from None
-            reason = message[: where.start()].rstrip()
-            raise InputFileError(
-                f"{path}:{where.group(1)}:{where.group(2)}: invalid TOML: {reason}"
-            ) from None
+        data = read_toml(path, "robot")
         try:
             return cls.from_mapping(data)
         except ParameterError as error:
@@ -548,6 +532,30 @@ class Robot:
         True
         """
         return robot_template(self, comments=False)
+
+
+def read_toml(path: Path, what: str) -> dict[str, Any]:
+    """The mapping of a UTF-8 TOML file (a BOM allowed); errors name ``file:line:column``.
+
+    ``what`` names the kind of file in the messages (``"robot"``, ``"sweep"``).
+    """
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except OSError as error:
+        raise InputFileError(f"{path}: cannot read {what} file ({error.strerror})") from None
+    except UnicodeDecodeError:
+        raise InputFileError(f"{path}: {what} file is not UTF-8 text") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        message = str(error)
+        where = re.search(r"\(at line (\d+), column (\d+)\)", message)
+        if where is None:
+            raise InputFileError(f"{path}: invalid TOML: {message}") from None
+        reason = message[: where.start()].rstrip()
+        raise InputFileError(
+            f"{path}:{where.group(1)}:{where.group(2)}: invalid TOML: {reason}"
+        ) from None
 
 
 def check_robot(robot: object) -> Robot:
