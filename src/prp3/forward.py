@@ -82,6 +82,17 @@ from .geometry import (
 from .kinematics import Kinematics, inverse_kinematics, jacobian
 from .model import Limits, Robot
 from .motion import Motion
+from .validation import (
+    POSE_BOUND,
+    check_finite,
+    check_per_leg,
+    check_poses,
+    check_real,
+    check_robot,
+    check_same_shape,
+    check_scalar,
+    check_times,
+)
 
 __all__ = [
     "DEGENERATE_ASSEMBLY",
@@ -121,38 +132,8 @@ _SQRT3 = math.sqrt(3.0)
 
 # --------------------------------------------------------------------- helpers
 def _float_array(name: str, value: ArrayLike) -> FloatArray:
-    """``value`` as a new float64 array; complex numbers and text are refused, not cast."""
-    try:
-        kind = np.asarray(value).dtype.kind
-        if kind in "cSUV":  # numpy would drop an imaginary part or parse text
-            raise TypeError(kind)
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TrajectoryError(f"{name} must be an array of real numbers, got {value!r}") from None
-    return array
-
-
-def _per_leg(name: str, value: ArrayLike) -> FloatArray:
-    """Validate ``(3,)`` or ``(N, 3)`` finite values of the three actuators."""
-    array = _float_array(name, value)
-    if array.ndim not in (1, 2) or array.shape[-1] != 3:
-        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
-    flat = array.reshape(-1, 3)
-    bad = ~np.isfinite(flat)
-    if bad.any():
-        index, leg = np.argwhere(bad)[0].tolist()
-        raise TrajectoryError(
-            f"{name}: non-finite value at sample {index}, leg {LEGS[leg]}: "
-            f"{float(flat[index, leg])!r}"
-        )
-    return array
-
-
-def _same_shape(name: str, array: FloatArray, reference: FloatArray, other: str) -> None:
-    if array.shape != reference.shape:
-        raise TrajectoryError(
-            f"{name} must have the shape of {other} {reference.shape}, got {array.shape}"
-        )
+    """``value`` as a new float64 array (:func:`prp3.validation.check_real`)."""
+    return check_real(name, value, TrajectoryError)
 
 
 def _without_limits(robot: Robot) -> Robot:
@@ -273,7 +254,20 @@ def forward_geometry(robot: Robot, lambda10: ArrayLike) -> ForwardGeometry:
     >>> solution.pose.round(12).tolist(), int(solution.aspect)
     ([0.01, -0.02, 0.1], -1)
     """
-    lam = _per_leg("lambda10", lambda10)
+    check_robot(robot)
+    lam = check_per_leg("lambda10", lambda10)
+    reach = POSE_BOUND * robot.l0 / SINGULARITY_THRESHOLD  # beyond: no pose within the bounds
+    far = np.abs(lam) > reach
+    if far.any():
+        index, leg = np.argwhere(far.reshape(-1, 3))[0].tolist()
+        raise TrajectoryError(
+            f"|lambda10_{LEGS[leg]}| = {abs(float(lam.reshape(-1, 3)[index, leg]))!r} m is beyond "
+            f"{POSE_BOUND:g}*l0/{SINGULARITY_THRESHOLD:g} = {reach:g} m (l0 = {robot.l0:g} m): "
+            "no pose within the bounds assembles",
+            subject="lambda10",
+            sample=index if lam.ndim == 2 else None,
+            leg=LEGS[leg],
+        )
     check_stroke(robot, lam)
     l0 = robot.l0
     total = lam.sum(axis=-1)
@@ -324,8 +318,8 @@ def forward_velocity(robot: Robot, pose: ArrayLike, dlambda10: ArrayLike) -> Flo
     [0.0, 0.0, 0.1]
     """
     geo = inverse_geometry(robot, pose)
-    rates = _per_leg("dlambda10", dlambda10)
-    _same_shape("dlambda10", rates, geo.pose, "pose")
+    rates = check_per_leg("dlambda10", dlambda10)
+    check_same_shape("dlambda10", rates, geo.pose, "pose")
     return np.asarray(np.linalg.solve(jacobian(geo), rates[..., None])[..., 0])
 
 
@@ -350,11 +344,12 @@ def forward_acceleration(
     ndarray, same shape as ``pose``
         ``(ẍ, ÿ, φ̈)`` (m/s², m/s², rad/s²).
     """
-    pose_array = _float_array("pose", pose)
-    accelerations = _per_leg("ddlambda10", ddlambda10)
-    speed = _per_leg("velocity", velocity)
-    _same_shape("velocity", speed, pose_array, "pose")
-    _same_shape("ddlambda10", accelerations, pose_array, "pose")
+    check_robot(robot)
+    pose_array = check_poses(pose, robot)
+    accelerations = check_per_leg("ddlambda10", ddlambda10)
+    speed = check_per_leg("velocity", velocity)
+    check_same_shape("velocity", speed, pose_array, "pose")
+    check_same_shape("ddlambda10", accelerations, pose_array, "pose")
     still = Motion(
         t=_dummy_times(pose_array.shape[:-1]),
         pose=pose_array,
@@ -464,9 +459,10 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
     >>> eq.force_bias.round(4).tolist()   # the static forces of the central configuration
     [31.8589, -8.4957, -23.3632]
     """
-    q = _check_state("pose", pose)
-    qdot = _float_array("velocity", velocity)
-    _same_shape("velocity", qdot, q, "pose")
+    check_robot(robot)
+    q = check_poses(pose, robot)
+    qdot = check_per_leg("velocity", velocity)
+    check_same_shape("velocity", qdot, q, "pose")
     batch = q.shape[:-1]
     flat_q = np.repeat(q.reshape(-1, 1, 3), 4, axis=1)  # (n, 4, 3)
     flat_v = np.repeat(qdot.reshape(-1, 1, 3), 4, axis=1)
@@ -493,16 +489,6 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
         bias=(Jt @ b[..., None])[..., 0].reshape(*batch, 3),
         jacobian=J.reshape(*batch, 3, 3),
     )
-
-
-def _check_state(name: str, value: ArrayLike) -> FloatArray:
-    """Validate platform poses ``(3,)``/``(N, 3)`` (finite, not singular); return them."""
-    array = _float_array(name, value)
-    if array.ndim not in (1, 2) or array.shape[-1] != 3:
-        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
-    if not np.isfinite(array).all():
-        raise TrajectoryError(f"{name} must be finite, got {array.tolist()!r}")
-    return array
 
 
 @dataclass(frozen=True)
@@ -532,25 +518,13 @@ class ActuatorForces:
     _spline: Any = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        t = _float_array("forces: t", self.t)
-        f10 = _float_array("forces: f10", self.f10)
-        if t.ndim != 1 or t.size < 2:
-            raise TrajectoryError(f"forces: t must have shape (N,) with N >= 2, got {t.shape}")
+        t = check_times("t", self.t, minimum=2, subject="forces")
+        f10 = check_real("f10", self.f10, subject="forces")
         if f10.shape != (t.size, 3):
-            raise TrajectoryError(f"forces: f10 must have shape ({t.size}, 3), got {f10.shape}")
-        if not np.isfinite(t).all():
-            raise TrajectoryError(f"forces: t[{int(np.argmax(~np.isfinite(t)))}] is not finite")
-        bad = ~np.isfinite(f10)
-        if bad.any():
-            index, leg = np.argwhere(bad)[0].tolist()
-            raise TrajectoryError(f"forces: f10_{LEGS[leg]}[{index}] is not finite")
-        steps = np.diff(t)
-        if (steps <= 0).any():
-            index = int(np.argmax(steps <= 0)) + 1
             raise TrajectoryError(
-                f"forces: time must be strictly increasing; t[{index}] = {float(t[index])!r} "
-                f"follows t[{index - 1}] = {float(t[index - 1])!r}"
+                f"f10 must have shape ({t.size}, 3), got {f10.shape}", subject="forces"
             )
+        check_finite("f10", f10, subject="forces")
         from scipy.interpolate import CubicSpline
 
         t.flags.writeable = False
@@ -564,16 +538,24 @@ class ActuatorForces:
             with np.errstate(all="ignore"):
                 slopes = np.diff(f10, axis=0) / np.diff(t)[:, None]
             index = int(np.argmax(~np.isfinite(slopes).all(axis=1)))
-            raise TrajectoryError(
-                f"forces: the force samples cannot be interpolated: their rate of change "
-                f"overflows between t[{index}] = {float(t[index])!r} and t[{index + 1}] = "
-                f"{float(t[index + 1])!r} s (forces too large or time steps too small)"
-            ) from None
+            raise _not_interpolable(t, index, "their rate of change") from None
+        bad = ~np.isfinite(spline.c).all(axis=(0, 2))  # (4, N - 1, 3) coefficients per interval
+        if bad.any():  # steps so small (1e-300 s) that the cubic terms overflow
+            raise _not_interpolable(t, int(np.argmax(bad)), "the spline's coefficients")
         object.__setattr__(self, "_spline", spline)
 
     def __call__(self, time: float) -> FloatArray:
         """Forces ``(3,)`` at ``time`` (s), within ``[t[0], t[-1]]``."""
         return np.asarray(self._spline(time), dtype=np.float64)
+
+
+def _not_interpolable(t: FloatArray, index: int, what: str) -> TrajectoryError:
+    return TrajectoryError(
+        f"the force samples cannot be interpolated: {what} overflow between t[{index}] = "
+        f"{float(t[index])!r} and t[{index + 1}] = {float(t[index + 1])!r} s (forces too "
+        "large or time steps too small)",
+        subject="forces",
+    )
 
 
 @dataclass(frozen=True)
@@ -691,37 +673,35 @@ def forward_dynamics(
     """
     from scipy.integrate import solve_ivp
 
-    times = _float_array("t", t)
-    if times.ndim != 1 or times.size < 2:
-        raise TrajectoryError(f"t must have shape (N,) with N >= 2, got {times.shape}")
-    if not np.isfinite(times).all() or (np.diff(times) <= 0).any():
-        raise TrajectoryError("t must be finite and strictly increasing")
-    for name, value in (("rtol", rtol), ("atol", atol)):
-        if not (
-            isinstance(value, int | float | np.integer | np.floating)
-            and not isinstance(value, bool)
-            and math.isfinite(value)
-            and value > 0
-        ):
-            raise ParameterError(f"{name} must be a positive number, got {value!r}")
+    check_robot(robot)
+    times = check_times("t", t, minimum=2)
+    rtol = check_scalar("rtol", rtol, positive=True)
+    atol = check_scalar("atol", atol, positive=True)
     if rtol < MIN_RTOL:
         raise ParameterError(
             f"rtol must be at least {MIN_RTOL:.3g} (100 machine epsilons, scipy's floor), "
             f"got {rtol!r}"
         )
-    q0 = _check_state("initial_pose", initial_pose)
-    v0 = _float_array("initial_velocity", initial_velocity)
-    if q0.shape != (3,) or v0.shape != (3,) or not np.isfinite(v0).all():
+    q0 = check_poses(initial_pose, robot, "initial_pose")
+    v0 = check_per_leg("initial_velocity", initial_velocity)
+    if q0.shape != (3,) or v0.shape != (3,):
         raise TrajectoryError(
-            "initial_pose and initial_velocity must be 3 finite numbers each, "
-            f"got {q0.tolist()!r} and {v0.tolist()!r}"
+            "initial_pose and initial_velocity must be 3 numbers each, "
+            f"got shapes {q0.shape} and {v0.shape}",
+            subject="initial_pose",
         )
-    inverse_geometry(robot, q0)  # refuses a singular or out-of-stroke initial pose
+    try:
+        inverse_geometry(robot, q0)  # refuses an out-of-stroke initial pose
+    except Prp3Error as error:
+        raise error.located(subject="initial_pose") from None
     D0 = float(singularity_measure(q0[2]))
     if abs(D0) <= SINGULARITY_STOP:
+        x, y, phi = q0.tolist()
         raise SingularPoseError(
-            f"initial_pose {q0.tolist()!r} is too near the singularity: |sin(phi - pi/3)| = "
-            f"{abs(D0):.3g} <= {SINGULARITY_STOP:g}"
+            f"singular pose (x={x!r}, y={y!r}, phi={phi!r}): too near the singularity, "
+            f"|sin(phi - pi/3)| = {abs(D0):.3g} <= {SINGULARITY_STOP:g}",
+            subject="initial_pose",
+            pose=(x, y, phi),
         )
     force_of = _force_function(robot, forces, times)
     free = _without_limits(robot)
@@ -811,7 +791,10 @@ def _state_derivative(
         SINGULARITY_THRESHOLD
     ):
         return np.full(6, np.nan)
-    eq = platform_dynamics(robot, q, qdot)
+    try:
+        eq = platform_dynamics(robot, q, qdot)
+    except Prp3Error:  # a trial state beyond the bounds of prp3: reject the step
+        return np.full(6, np.nan)
     qddot = np.linalg.solve(eq.force_matrix, force_of(time) - eq.force_bias)
     return np.concatenate([qdot, qddot])
 
@@ -832,7 +815,7 @@ def _force_function(
         sampled_t = times
         sampled = np.stack([np.asarray(forces(float(time)), dtype=np.float64) for time in times])
         if sampled.shape != (times.size, 3) or not np.isfinite(sampled).all():
-            raise ParameterError("forces: the function must return 3 finite forces (N)")
+            raise ParameterError("the function must return 3 finite forces (N)", subject="forces")
     else:
         raise ParameterError(
             f"forces must be ActuatorForces or a function of t, got {type(forces).__name__}"
@@ -843,8 +826,11 @@ def _force_function(
         if over.any():
             index, leg = np.argwhere(over)[0].tolist()
             raise ParameterError(
-                f"forces: |f10_{LEGS[leg]}| = {abs(float(sampled[index, leg]))!r} N at "
-                f"t = {float(sampled_t[index])!r} s exceeds limits.max_force = {limit!r} N"
+                f"|f10_{LEGS[leg]}| = {abs(float(sampled[index, leg]))!r} N at "
+                f"t = {float(sampled_t[index])!r} s exceeds limits.max_force = {limit!r} N",
+                subject="forces",
+                key="limits.max_force",
+                leg=LEGS[leg],
             )
     function = forces
 
@@ -852,7 +838,8 @@ def _force_function(
         value = np.asarray(function(time), dtype=np.float64)
         if value.shape != (3,) or not np.isfinite(value).all():
             raise ParameterError(
-                f"forces: f10({time!r}) must be 3 finite forces (N), got {value.tolist()!r}"
+                f"f10({time!r}) must be 3 finite forces (N), got {value.tolist()!r}",
+                subject="forces",
             )
         return value
 

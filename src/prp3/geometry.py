@@ -28,10 +28,17 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import real_array, require_finite
-from .errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from .errors import UnreachablePoseError
 from .kernel import NUMPY, kernel_geometry, kernel_parameters
-from .model import Robot, check_robot
+from .model import Robot
+from .validation import (
+    LEGS,
+    SINGULARITY_THRESHOLD,
+    check_poses,
+    check_robot,
+    require_finite,
+    singularity_measure,
+)
 
 __all__ = [
     "ALPHA",
@@ -53,9 +60,6 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: Leg names, in the order of the last axis of every per-leg array.
-LEGS: tuple[str, str, str] = ("A", "B", "C")
-
 #: Orientation angles ``α_i`` of the base edges (eq. 1), rad.
 ALPHA: FloatArray = np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
 ALPHA.flags.writeable = False
@@ -67,10 +71,6 @@ LEG_AXIS.flags.writeable = False
 #: Normals ``n_i = (−sin α_i, cos α_i)`` of the actuator axes, shape (3, 2).
 LEG_NORMAL: FloatArray = np.stack([-np.sin(ALPHA), np.cos(ALPHA)], axis=-1)
 LEG_NORMAL.flags.writeable = False
-
-#: Poses with ``|sin(φ − π/3)|`` below this value are refused as singular.
-#: At the threshold the actuator velocities are 10⁴ times the platform's.
-SINGULARITY_THRESHOLD: float = 1e-4
 
 
 def cross2(a: ArrayLike, b: ArrayLike) -> FloatArray:
@@ -133,60 +133,6 @@ def platform_vertices(robot: Robot, pose: ArrayLike) -> FloatArray:
     angles = np.array([math.pi / 2.0, 7.0 * math.pi / 6.0, 11.0 * math.pi / 6.0])
     corner = robot.l0 * _unit(pose[..., None, 2] + angles)
     return np.asarray(pose[..., None, :2] + corner)
-
-
-def singularity_measure(phi: ArrayLike) -> FloatArray:
-    """Determinant ``D = e_i × d_i = sin(φ − π/3)`` of every leg's system (eq. 10).
-
-    >>> float(singularity_measure(0.0)).__round__(6)
-    -0.866025
-    """
-    return np.asarray(np.sin(np.asarray(phi, dtype=np.float64) - math.pi / 3.0))
-
-
-def check_poses(pose: ArrayLike, name: str = "pose") -> FloatArray:
-    """Validate platform poses: float array ``(..., 3)``, finite, not singular.
-
-    Returns the poses as a float64 array.
-
-    Raises
-    ------
-    TrajectoryError
-        Wrong shape or non-finite value (names the sample index).
-    SingularPoseError
-        ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` (names sample index and pose).
-
-    Examples
-    --------
-    >>> check_poses([[0, 0, 0], [0, 0.1, 0.2]]).dtype
-    dtype('float64')
-    >>> check_poses([[0.0, 0.0, 0.0], [0.0, 0.0, float("nan")]])
-    Traceback (most recent call last):
-    ...
-    prp3.errors.TrajectoryError: pose: non-finite value at sample 1: [0.0, 0.0, nan]
-    """
-    array = real_array(name, pose, TrajectoryError)
-    if array.ndim not in (1, 2) or array.shape[-1] != 3 or array.size == 0:
-        raise TrajectoryError(
-            f"{name} must have shape (3,) or (N, 3) with N >= 1, got {array.shape}"
-        )
-    flat = array.reshape(-1, 3)
-    bad = ~np.isfinite(flat).all(axis=1)
-    if bad.any():
-        index = int(np.argmax(bad))
-        raise TrajectoryError(
-            f"{name}: non-finite value at sample {index}: {flat[index].tolist()!r}"
-        )
-    near = np.abs(singularity_measure(flat[:, 2])) < SINGULARITY_THRESHOLD
-    if near.any():
-        index = int(np.argmax(near))
-        x, y, phi = flat[index].tolist()
-        raise SingularPoseError(
-            f"{name}: singular pose at sample {index} (x={x!r}, y={y!r}, phi={phi!r}): "
-            f"|sin(phi - pi/3)| = {abs(math.sin(phi - math.pi / 3.0)):.3g} < "
-            f"{SINGULARITY_THRESHOLD:g} (phi = pi/3 mod pi is singular)"
-        )
-    return array
 
 
 @dataclass(frozen=True)
@@ -261,7 +207,7 @@ def inverse_geometry(robot: Robot, pose: ArrayLike) -> InverseGeometry:
     (1, 3)
     """
     check_robot(robot)
-    pose = check_poses(pose)
+    pose = check_poses(pose, robot)
     with np.errstate(over="ignore", invalid="ignore"):
         geometry = _inverse_geometry(robot, pose)
     require_finite(
@@ -308,7 +254,7 @@ def check_stroke(robot: Robot, lambda10: FloatArray, pose: FloatArray | None = N
     >>> check_stroke(Robot(limits=Limits(stroke=(-0.1, 0.1))), np.array([0.0, 0.2, 0.0]))
     Traceback (most recent call last):
     ...
-    prp3.errors.UnreachablePoseError: lambda10: sample 0: lambda10_B = 0.2 m is outside the stroke [-0.1, 0.1] m
+    prp3.errors.UnreachablePoseError: lambda10: lambda10_B = 0.2 m is outside the stroke [-0.1, 0.1] m
     """
     stroke = robot.limits.stroke
     if stroke is None:
@@ -319,10 +265,18 @@ def check_stroke(robot: Robot, lambda10: FloatArray, pose: FloatArray | None = N
     if not outside.any():
         return
     index, leg = np.argwhere(outside)[0].tolist()
-    value = f"lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m is outside the stroke"
+    value = (
+        f"lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m is outside the stroke "
+        f"[{lower!r}, {upper!r}] m"
+    )
+    sample = index if lambda10.ndim >= 2 else None
     if pose is None:
-        where = f"lambda10: sample {index}:"
-    else:
-        x, y, phi = pose.reshape(-1, 3)[index].tolist()
-        where = f"pose: unreachable pose at sample {index} (x={x!r}, y={y!r}, phi={phi!r}):"
-    raise UnreachablePoseError(f"{where} {value} [{lower!r}, {upper!r}] m")
+        raise UnreachablePoseError(value, subject="lambda10", sample=sample, leg=LEGS[leg])
+    x, y, phi = pose.reshape(-1, 3)[index].tolist()
+    raise UnreachablePoseError(
+        f"unreachable pose (x={x!r}, y={y!r}, phi={phi!r}): {value}",
+        subject="pose",
+        sample=sample,
+        leg=LEGS[leg],
+        pose=(x, y, phi),
+    )
