@@ -298,7 +298,7 @@ def test_results_that_overflow_are_refused_and_nothing_is_written(tmp_path, caps
     )
     # a platform of 1e308 kg weighs more than float64 holds: refused with the robot file
     line = error_line(status, err)
-    assert line.startswith(f"prp3: error: {tmp_path / 'heavy.toml'}: robot: l0 = 0.3 m and ")
+    assert line.startswith(f"prp3 simulate: error: {tmp_path / 'heavy.toml'}: robot: l0 = 0.3 m ")
     assert "overflow float64" in line
     assert listing(earlier_run) == before
 

@@ -755,7 +755,7 @@ def _checked_motion(robot: Robot, motion: Motion) -> tuple[FloatArray, FloatArra
     check_robot(robot)
     if not isinstance(motion, Motion):
         raise TrajectoryError(f"motion must be a prp3.Motion, got {motion!r}"[:200])
-    pose = check_poses(motion.pose).reshape(-1, 3)
+    pose = check_poses(motion.pose, robot).reshape(-1, 3)
     return pose, motion.velocity.reshape(-1, 3), motion.acceleration.reshape(-1, 3)
 
 
@@ -766,9 +766,11 @@ def _require_finite(chunk: dict[str, FloatArray], first: int, motion: Motion) ->
         return
     index, name = found[0] + first, found[1]
     raise TrajectoryError(
-        f"motion: the results overflow at sample {index}, "
-        f"t = {float(motion.t.reshape(-1)[index]):.9g} s: {name} is not finite; "
-        "the motion or the robot's parameters are too large for double precision"
+        f"the results overflow: {name} is not finite; "
+        "the motion or the robot's parameters are too large for double precision",
+        subject="motion",
+        sample=index,
+        time=float(motion.t.reshape(-1)[index]),
     )
 
 
