@@ -193,8 +193,8 @@ def test_unknown_paper_motion_is_refused() -> None:
 @pytest.mark.parametrize(
     ("kwargs", "fragment"),
     [
-        ({"amplitude": [0.0, 0.0]}, "amplitude must be 3 finite numbers"),
-        ({"amplitude": [0.0, math.nan, 0.0]}, "amplitude must be 3 finite numbers"),
+        ({"amplitude": [0.0, 0.0]}, "amplitude must have shape (3,), got (2,)"),
+        ({"amplitude": [0.0, math.nan, 0.0]}, "motion: y* of amplitude is not finite (nan)"),
         ({"amplitude": "abc"}, "amplitude must be an array of real numbers"),
         ({"samples": 1}, "samples must be an integer from 2 to 1e+09, got 1"),
         ({"samples": 10.0}, "samples must be an integer from 2 to 1e+09, got 10.0"),

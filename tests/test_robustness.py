@@ -530,8 +530,8 @@ def test_staged_output_puts_older_files_back_when_a_move_fails(tmp_path, monkeyp
         (lambda: platform_dynamics(ROBOT, ZERO + 0j, ZERO), TrajectoryError),
         (lambda: ActuatorForces(t=[0.0, 1.0], f10=np.zeros((2, 3)) + 1j), TrajectoryError),
         (lambda: forward_geometry(ROBOT, ["0", "0", "0.1"]), TrajectoryError),
-        (lambda: reachable(ROBOT, np.array([0.0, 0.0, 1j])), ParameterError),
-        (lambda: jacobian_condition(ROBOT, ["0", "0", "0"]), ParameterError),
+        (lambda: reachable(ROBOT, np.array([0.0, 0.0, 1j])), TrajectoryError),
+        (lambda: jacobian_condition(ROBOT, ["0", "0", "0"]), TrajectoryError),
         (lambda: workspace_slice(ROBOT, 0.1, np.array([0.0, 1j]), [0.0, 1.0]), ParameterError),
         (lambda: workspace_slice(ROBOT, 0.1, "ab", [0.0, 1.0]), ParameterError),
         (

@@ -58,7 +58,7 @@ MAX_LINE_BYTES: int = 64 * 1024
 
 
 # ---------------------------------------------------------------- bounded input
-def read_text_lines(path: str | Path, what: str, limit: int = MAX_INPUT_BYTES) -> Iterator[str]:
+def read_text_lines(path: str | Path, what: str, limit: int | None = None) -> Iterator[str]:
     """The lines of a UTF-8 text file (newlines kept, a BOM removed), read with bounds.
 
     Raises
@@ -70,6 +70,7 @@ def read_text_lines(path: str | Path, what: str, limit: int = MAX_INPUT_BYTES) -
         (the fields name the file and the line).
     """
     path = Path(path)
+    limit = MAX_INPUT_BYTES if limit is None else limit
     try:
         stream = open(path, "rb")  # closed by the with below
     except OSError as error:
@@ -117,7 +118,7 @@ def read_text_lines(path: str | Path, what: str, limit: int = MAX_INPUT_BYTES) -
             yield text
 
 
-def read_text(path: str | Path, what: str, limit: int = MAX_INPUT_BYTES) -> str:
+def read_text(path: str | Path, what: str, limit: int | None = None) -> str:
     """The whole text of a UTF-8 file, read with the bounds of :func:`read_text_lines`."""
     return "".join(read_text_lines(path, what, limit))
 

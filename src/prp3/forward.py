@@ -5,40 +5,8 @@ module solves the direct ones, each by a route that the tests hold against the
 inverse problems of :mod:`prp3.geometry`, :mod:`prp3.kinematics` and
 :mod:`prp3.dynamics`.
 
-Forward geometry in closed form
--------------------------------
-Per leg, with ``s_i = l0/√3 + λ10_i``, the closure (eq. 10)
-``G − B_i0 − s_i·e_i − Rot(α_i+φ)·c = λ32_i·d_i`` crossed with ``d_i`` removes
-the passive ``λ32_i``:
-
-    G × d_i = B_i0 × d_i + s_i·(e_i × d_i) + Rot(α_i+φ)c × d_i
-            = l0·cos φ + s_i·sin(φ − π/3) − l0/2                      (i)
-
-(``B_i0 × d_i = l0·cos φ`` and ``Rot(α_i+φ)c × d_i = c × u(−π/3) = −l0/2``
-for the three legs).  The three ``d_i`` are unit vectors 120° apart, so
-``Σ d_i = 0`` and the sum of (i) eliminates ``G``:
-``3·l0·cos φ + Σs_i·sin(φ − π/3) − 3·l0/2 = 0``.  With ``ψ = φ − π/3`` this
-factors as
-
-    2·sin(ψ/2)·[(Σs_i − 3√3·l0/2)·cos(ψ/2) − (3·l0/2)·sin(ψ/2)] = 0,
-
-so either ``ψ = 0`` (the singular orientation, see below) or
-
-    tan(ψ/2) = 2·Σλ10/(3·l0) − 1/√3,      φ = π/3 + 2·atan(…)        (ii)
-
-— one orientation per 2π, in closed form (no iteration, nothing to miss).  With
-``d⊥_i = J·d_i``, ``G × d_i = −d⊥_i·G`` and ``Σ d⊥_i d⊥_iᵀ = (3/2)·1``, the
-three equations (i) give
-
-    G = −(2/3)·sin(φ − π/3)·Σ_i λ10_i·d⊥_i                              (iii)
-
-Assembly modes.  For every ``λ10`` there is exactly one regular assembly (ii,
-iii).  Its *aspect* — the sign of ``sin(φ − π/3)`` — is ``−1`` when
-``Σλ10 < √3·l0/2`` (the aspect of the central configuration) and ``+1`` above.
-Besides it, the singular pose ``(0, 0, π/3)`` — the platform triangle lying on
-the base triangle, every sleeve on its actuator's line — assembles for *every*
-``λ10`` (:data:`DEGENERATE_ASSEMBLY`): it is the root ``ψ = 0`` of the factored
-equation; it is not a pose prp3 computes with (``|sin(φ − π/3)| = 0``).
+The forward geometry (closed form, eqs. (i)–(iii)) is in :mod:`prp3.geometry`,
+next to the inverse one; its names are importable from here too.
 
 Forward kinematics and dynamics
 -------------------------------
@@ -71,19 +39,20 @@ from .errors import (
     TrajectoryError,
 )
 from .geometry import (
+    DEGENERATE_ASSEMBLY,
     LEGS,
     SINGULARITY_THRESHOLD,
-    InverseGeometry,
-    check_stroke,
+    ForwardGeometry,
+    forward_geometry,
     inverse_geometry,
-    perp,
+    orientation_from_sum,
     singularity_measure,
+    sum_from_orientation,
 )
 from .kinematics import Kinematics, inverse_kinematics, jacobian
 from .model import Limits, Robot
 from .motion import Motion
 from .validation import (
-    POSE_BOUND,
     check_finite,
     check_per_leg,
     check_poses,
@@ -116,9 +85,6 @@ FloatArray = NDArray[np.float64]
 ForceFunction = Callable[[float], ArrayLike]
 Status = Literal["completed", "singular", "stroke", "failed"]
 
-#: The singular pose ``(x, y, φ) = (0, 0, π/3)`` that assembles for every ``λ10``.
-DEGENERATE_ASSEMBLY: tuple[float, float, float] = (0.0, 0.0, math.pi / 3.0)
-
 #: Smallest relative tolerance of :func:`forward_dynamics` (scipy raises smaller ones to it).
 MIN_RTOL: float = 100.0 * float(np.finfo(np.float64).eps)
 
@@ -148,151 +114,6 @@ def _dummy_times(batch: tuple[int, ...]) -> FloatArray:
     if batch == ():
         return np.asarray(0.0)
     return np.arange(float(batch[0]))
-
-
-# ------------------------------------------------------------ forward geometry
-def orientation_from_sum(l0: float, sum_lambda10: ArrayLike) -> FloatArray:
-    """Platform orientation ``φ`` from ``Σλ10``, eq. (ii) of the module notes.
-
-    ``φ = π/3 + 2·atan(2·Σλ10/(3·l0) − 1/√3)``, wrapped to ``(−π, π]`` (rad).
-    The orientation depends on the sum of the three actuator displacements
-    only; ``Σλ10 = √3·l0/2`` gives the singular orientation ``π/3``.
-
-    Parameters
-    ----------
-    l0 : float
-        Circumradius of the triangles (m).
-    sum_lambda10 : array_like, shape (...)
-        ``λ10_A + λ10_B + λ10_C`` (m).
-
-    Returns
-    -------
-    ndarray, shape (...)
-        ``φ`` (rad).
-
-    >>> round(float(orientation_from_sum(0.3, 0.0)), 15)   # central configuration
-    0.0
-    """
-    total = np.asarray(sum_lambda10, dtype=np.float64)
-    psi = 2.0 * np.arctan(2.0 * total / (3.0 * l0) - 1.0 / _SQRT3)  # (ii), ψ in (−π, π)
-    phi = math.pi / 3.0 + psi  # in (−2π/3, 4π/3)
-    return np.asarray(np.where(phi > math.pi, phi - 2.0 * math.pi, phi))
-
-
-def sum_from_orientation(l0: float, phi: ArrayLike) -> FloatArray:
-    """``Σλ10 = (3·l0/2)·(tan((φ − π/3)/2) + 1/√3)``, the inverse of :func:`orientation_from_sum`.
-
-    Infinite at ``φ ≡ −2π/3 (mod 2π)``, the other singular orientation.
-
-    >>> round(float(sum_from_orientation(0.3, math.pi / 3.0)), 12)   # √3·l0/2
-    0.259807621135
-    """
-    phi = np.asarray(phi, dtype=np.float64)
-    return np.asarray(1.5 * l0 * (np.tan((phi - math.pi / 3.0) / 2.0) + 1.0 / _SQRT3))
-
-
-@dataclass(frozen=True)
-class ForwardGeometry:
-    """The regular assembly of the platform for given actuator displacements.
-
-    Shapes follow the input: ``...`` is ``()`` for one sample ``(3,)``, ``(N,)``
-    for ``(N, 3)``.
-
-    Attributes
-    ----------
-    lambda10 : ndarray (..., 3)
-        The given actuator displacements (m).
-    pose : ndarray (..., 3)
-        ``(x, y, φ)`` of the regular assembly (m, m, rad), ``φ`` in ``(−π, π]``.
-    aspect : ndarray of int (...)
-        Assembly mode: the sign of ``sin(φ − π/3)``; ``−1`` for
-        ``Σλ10 < √3·l0/2`` (the aspect of the central configuration), ``+1``
-        above.  (The singular :data:`DEGENERATE_ASSEMBLY` also assembles; it
-        is not listed.)
-    geometry : InverseGeometry
-        Inverse geometry of :attr:`pose` (``λ32``, joints, levers, ...); its
-        ``lambda10`` reproduces the input to round-off.
-    """
-
-    lambda10: FloatArray
-    pose: FloatArray
-    aspect: NDArray[np.int64]
-    geometry: InverseGeometry
-
-
-def forward_geometry(robot: Robot, lambda10: ArrayLike) -> ForwardGeometry:
-    """Solve the forward geometric problem in closed form: ``λ10`` → ``(x, y, φ)``.
-
-    Parameters
-    ----------
-    robot : Robot
-        Robot parameters (``l0`` and ``limits.stroke`` are used).
-    lambda10 : array_like, shape (3,) or (N, 3)
-        Actuator displacements ``λ10_A, λ10_B, λ10_C`` (m).
-
-    Returns
-    -------
-    ForwardGeometry
-        The unique regular assembly: ``φ`` from eq. (ii), ``G`` from eq. (iii)
-        of the module notes (both from the closure, eq. 10).
-
-    Raises
-    ------
-    TrajectoryError
-        Wrong shape or non-finite value.
-    UnreachablePoseError
-        A displacement outside ``robot.limits.stroke`` (names sample and leg).
-    SingularPoseError
-        The assembly is singular, ``|sin(φ − π/3)| < 1e-4`` (``Σλ10`` within
-        about ``1e-4·l0`` of ``√3·l0/2``).
-
-    Examples
-    --------
-    >>> robot = Robot()
-    >>> lam = inverse_geometry(robot, [0.01, -0.02, 0.1]).lambda10
-    >>> solution = forward_geometry(robot, lam)
-    >>> solution.pose.round(12).tolist(), int(solution.aspect)
-    ([0.01, -0.02, 0.1], -1)
-    """
-    check_robot(robot)
-    lam = check_per_leg("lambda10", lambda10)
-    reach = POSE_BOUND * robot.l0 / SINGULARITY_THRESHOLD  # beyond: no pose within the bounds
-    far = np.abs(lam) > reach
-    if far.any():
-        index, leg = np.argwhere(far.reshape(-1, 3))[0].tolist()
-        raise TrajectoryError(
-            f"|lambda10_{LEGS[leg]}| = {abs(float(lam.reshape(-1, 3)[index, leg]))!r} m is beyond "
-            f"{POSE_BOUND:g}*l0/{SINGULARITY_THRESHOLD:g} = {reach:g} m (l0 = {robot.l0:g} m): "
-            "no pose within the bounds assembles",
-            subject="lambda10",
-            sample=index if lam.ndim == 2 else None,
-            leg=LEGS[leg],
-        )
-    check_stroke(robot, lam)
-    l0 = robot.l0
-    total = lam.sum(axis=-1)
-    phi = orientation_from_sum(l0, total)  # eq. (ii)
-    D = singularity_measure(phi)  # sin(φ − π/3)
-    near = np.abs(D.reshape(-1)) < SINGULARITY_THRESHOLD
-    if near.any():
-        index = int(np.argmax(near))
-        raise SingularPoseError(
-            f"lambda10: sample {index} {lam.reshape(-1, 3)[index].tolist()!r} assembles only "
-            f"at a singular pose (phi = {float(phi.reshape(-1)[index])!r}, "
-            f"|sin(phi - pi/3)| = {abs(float(D.reshape(-1)[index])):.3g} < "
-            f"{SINGULARITY_THRESHOLD:g}): sum of lambda10 = {float(total.reshape(-1)[index])!r} m "
-            f"is at the singular value sqrt(3)*l0/2 = {_SQRT3 * l0 / 2.0!r} m"
-        )
-    theta = np.asarray(phi)[..., None] + np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
-    d_perp = perp(np.stack([np.cos(theta - math.pi / 3.0), np.sin(theta - math.pi / 3.0)], -1))
-    G = -(2.0 / 3.0) * D[..., None] * (lam[..., None] * d_perp).sum(axis=-2)  # eq. (iii)
-    pose = np.concatenate([G, np.asarray(phi)[..., None]], axis=-1)
-    return ForwardGeometry(
-        lambda10=lam,
-        pose=pose,
-        aspect=np.sign(D).astype(np.int64),
-        geometry=inverse_geometry(_without_limits(robot), pose),
-    )
 
 
 # ---------------------------------------------------------- forward kinematics
@@ -671,17 +492,39 @@ def forward_dynamics(
     >>> still.status, still.motion.pose[-1].round(9).tolist()   # drifts at constant speed
     ('completed', [0.01, 0.0, 0.0])
     """
-    from scipy.integrate import solve_ivp
-
     check_robot(robot)
     times = check_times("t", t, minimum=2)
-    rtol = check_scalar("rtol", rtol, positive=True)
-    atol = check_scalar("atol", atol, positive=True)
-    if rtol < MIN_RTOL:
+    rtol, atol = _tolerances(rtol, atol)
+    q0, v0, aspect = _initial_state(robot, initial_pose, initial_velocity)
+    force_of = _force_function(robot, forces, times)
+    free = _without_limits(robot)  # the stroke ends are events, not refusals
+    stroke = robot.limits.stroke
+    solution = _integrate(free, stroke, force_of, times, q0, v0, aspect, (rtol, atol))
+    stop = _stop(free, stroke, solution, times, q0, v0)
+    return _result(free, force_of, stop, int(solution.nfev))
+
+
+# ------------------------------------------------------- steps of forward_dynamics
+def _tolerances(rtol: object, atol: object) -> tuple[float, float]:
+    """Step 1: the tolerances, finite and positive, ``rtol`` not below scipy's floor."""
+    relative = check_scalar("rtol", rtol, positive=True)
+    absolute = check_scalar("atol", atol, positive=True)
+    if relative < MIN_RTOL:
         raise ParameterError(
             f"rtol must be at least {MIN_RTOL:.3g} (100 machine epsilons, scipy's floor), "
-            f"got {rtol!r}"
+            f"got {relative!r}"
         )
+    return relative, absolute
+
+
+def _initial_state(
+    robot: Robot, initial_pose: ArrayLike, initial_velocity: ArrayLike
+) -> tuple[FloatArray, FloatArray, float]:
+    """Step 2: the initial pose and velocity, and the aspect ``sign(sin(φ0 − π/3))``.
+
+    The pose must be one prp3 computes with, inside the strokes, and farther
+    than :data:`SINGULARITY_STOP` from the singularity.
+    """
     q0 = check_poses(initial_pose, robot, "initial_pose")
     v0 = check_per_leg("initial_velocity", initial_velocity)
     if q0.shape != (3,) or v0.shape != (3,):
@@ -703,39 +546,71 @@ def forward_dynamics(
             subject="initial_pose",
             pose=(x, y, phi),
         )
-    force_of = _force_function(robot, forces, times)
-    free = _without_limits(robot)
-    aspect = math.copysign(1.0, D0)
+    return q0, v0, math.copysign(1.0, D0)
+
+
+def _integrate(
+    robot: Robot,
+    stroke: tuple[float, float] | None,
+    force_of: Callable[[float], FloatArray],
+    times: FloatArray,
+    q0: FloatArray,
+    v0: FloatArray,
+    aspect: float,
+    tolerances: tuple[float, float],
+) -> Any:
+    """Step 3: ``solve_ivp`` (DOP853) of the state ``(q, q̇)``, with the terminal events."""
+    from scipy.integrate import solve_ivp
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
-        return _state_derivative(free, force_of, time, state)
+        return _state_derivative(robot, force_of, time, state)
 
     def singular(_time: float, state: FloatArray) -> float:
         return aspect * math.sin(state[2] - math.pi / 3.0) - SINGULARITY_STOP
 
     events: list[Callable[[float, FloatArray], float]] = [singular]
-    stroke = robot.limits.stroke
     if stroke is not None:
-        events += _stroke_events(free, stroke)
+        events += _stroke_events(robot, stroke)
     for event in events:
         event.terminal = True  # type: ignore[attr-defined]
         event.direction = -1.0  # type: ignore[attr-defined]
-
     with np.errstate(all="ignore"):  # trial states may overflow: NaN rejects the step
-        solution = solve_ivp(
+        return solve_ivp(
             rhs,
             (float(times[0]), float(times[-1])),
             np.concatenate([q0, v0]),
             method="DOP853",
             t_eval=times,
             events=events,
-            rtol=float(rtol),
-            atol=float(atol),
+            rtol=tolerances[0],
+            atol=tolerances[1],
         )
+
+
+@dataclass(frozen=True)
+class _Stop:
+    """What the integration reached: the sample times and states, and why it ended."""
+
+    t: FloatArray
+    states: FloatArray
+    status: Status
+    message: str
+    t_stop: float
+
+
+def _stop(
+    robot: Robot,
+    stroke: tuple[float, float] | None,
+    solution: Any,
+    times: FloatArray,
+    q0: FloatArray,
+    v0: FloatArray,
+) -> _Stop:
+    """Step 4: the samples reached and the reason the integration ended."""
     sample_t = np.asarray(solution.t, dtype=np.float64)
     states = np.asarray(solution.y, dtype=np.float64).T
     status: Status
-    if solution.status == 1:
+    if solution.status == 1:  # a terminal event: the singularity or a stroke end
         hit = next(k for k, found in enumerate(solution.t_events) if len(found))
         t_stop = float(solution.t_events[hit][0])
         stop_state = np.asarray(solution.y_events[hit][0], dtype=np.float64)
@@ -743,7 +618,7 @@ def forward_dynamics(
             sample_t = np.append(sample_t, t_stop)
             states = np.vstack([states, stop_state])
         status = "singular" if hit == 0 else "stroke"
-        message = _stop_message(free, hit, t_stop, stop_state, stroke)
+        message = _stop_message(robot, hit, t_stop, stop_state, stroke)
     elif solution.status == 0:
         t_stop = float(times[-1])
         status, message = "completed", f"completed: integrated to t = {t_stop!r} s"
@@ -754,24 +629,32 @@ def forward_dynamics(
     if sample_t.size == 0:  # failed before the first sample: keep the initial state
         sample_t = times[:1]
         states = np.concatenate([q0, v0])[None, :]
+    return _Stop(sample_t, states, status, message, t_stop)
 
-    eq = platform_dynamics(free, states[:, :3], states[:, 3:])
-    applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in sample_t])
+
+def _result(
+    robot: Robot, force_of: Callable[[float], FloatArray], stop: _Stop, evaluations: int
+) -> ForwardDynamics:
+    """Step 5: the motion with the model's accelerations, its inverse problems and residual."""
+    eq = platform_dynamics(robot, stop.states[:, :3], stop.states[:, 3:])
+    applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in stop.t])
     qddot = np.asarray(
         np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0],
         dtype=np.float64,
     )
-    motion = Motion(t=sample_t, pose=states[:, :3], velocity=states[:, 3:], acceleration=qddot)
-    kin = inverse_kinematics(free, motion)
-    dyn = kernel_method(free, kin)
+    motion = Motion(
+        t=stop.t, pose=stop.states[:, :3], velocity=stop.states[:, 3:], acceleration=qddot
+    )
+    kin = inverse_kinematics(robot, motion)
+    dyn = kernel_method(robot, kin)
     return ForwardDynamics(
         motion=motion,
         kinematics=kin,
         dynamics=dyn,
-        status=status,
-        message=message,
-        t_stop=t_stop,
-        evaluations=int(solution.nfev),
+        status=stop.status,
+        message=stop.message,
+        t_stop=stop.t_stop,
+        evaluations=evaluations,
         force_residual=float(np.abs(dyn.f10 - applied).max()),
     )
 

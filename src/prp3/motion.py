@@ -151,6 +151,13 @@ class Motion:
         )
 
 
+def _amplitude(amplitude: ArrayLike) -> FloatArray:
+    star = _float_array("amplitude", amplitude)
+    if star.shape != (3,):
+        raise TrajectoryError(f"amplitude must have shape (3,), got {star.shape}", subject="motion")
+    return check_finite("amplitude", star, components=("x*", "y*", "phi*"), subject="motion")
+
+
 def law_motion(
     amplitude: ArrayLike,
     samples: int = 301,
@@ -180,11 +187,7 @@ def law_motion(
     >>> m.t.tolist(), m.pose[:, 0].round(12).tolist(), m.velocity[:, 0].round(6).tolist()
     ([0.0, 1.5, 3.0], [0.0, 0.01, 0.02], [0.0, 0.010472, 0.0])
     """
-    star = _float_array("amplitude", amplitude)
-    if star.shape != (3,) or not np.isfinite(star).all():
-        raise TrajectoryError(
-            f"amplitude must be 3 finite numbers, got {star.tolist()!r}", subject="motion"
-        )
+    star = _amplitude(amplitude)
     samples = check_integer("samples", samples, 2, MAX_SAMPLES, TrajectoryError, "motion")
     duration = check_scalar(
         "duration", duration, error=TrajectoryError, positive=True, unit="s", subject="motion"
@@ -213,11 +216,7 @@ def law_at(amplitude: ArrayLike, t: ArrayLike) -> Motion:
     >>> law_at([0.0, 0.025, 0.0], [0.0, 3.0]).pose[:, 1].round(12).tolist()
     [0.0, 0.05]
     """
-    star = _float_array("amplitude", amplitude)
-    if star.shape != (3,) or not np.isfinite(star).all():
-        raise TrajectoryError(
-            f"amplitude must be 3 finite numbers, got {star.tolist()!r}"[:200], subject="motion"
-        )
+    star = _amplitude(amplitude)
     times = check_times("t", t, subject="motion")
     w = math.pi / 3.0
     cos_wt, sin_wt = np.cos(w * times)[:, None], np.sin(w * times)[:, None]

@@ -402,9 +402,11 @@ def _evaluate_loaded(
     if not settled.all():
         k = first + int(np.flatnonzero(~settled)[0])
         raise TrajectoryError(
-            f"motion: the joint friction locks at sample {k}, "
-            f"t = {float(motion.t.reshape(-1)[k]):.9g} s: the fixed-point iteration of the mu "
-            f"terms does not settle in {MU_MAX_ITERATIONS} steps (self-locking)"
+            "the joint friction locks: the fixed-point iteration of the mu terms does not "
+            f"settle in {MU_MAX_ITERATIONS} steps (self-locking)",
+            subject="motion",
+            sample=k,
+            time=float(motion.t.reshape(-1)[k]),
         )
     chunk["fric10"], chunk["fric21"], chunk["fric32"] = fric
     chunk["iterations"] = iterations
