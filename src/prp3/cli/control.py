@@ -53,6 +53,7 @@ from ..plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not 
 from ._types import (
     add_output_directory,
     add_robot_option,
+    emit,
     files_report,
     finite_float,
     load_robot,
@@ -221,7 +222,8 @@ def run(args: argparse.Namespace) -> int:
                 tracking_figure(table, title=title, subtitle=subtitle),
                 staged.path(TRACKING_FIGURE),
             )
-    print(_summary(result, title, what, model_text, args, files_report(staged)), file=sys.stdout)
+        # printed before the files are moved in: a failing standard output keeps older results
+        emit(_summary(result, title, what, model_text, args, files_report(staged)))
     limit = robot.limits.max_force
     if limit is not None:  # the plant's actuators: the controller asked for more than they give
         peak = np.abs(result.f10).max(axis=0)
