@@ -393,3 +393,18 @@ def test_check_memory_says_how_much():
     with pytest.raises(Exception, match=r"needs about 9\.31 GiB of memory, 1 GiB are available"):
         check_memory("--samples 10", 1e10, available=1024**3)
     assert math.isfinite(1e10)
+
+
+def test_fast_paths_refuse_infinite_powers_as_inverse_dynamics_does():
+    # p10 = f10·λ̇10 overflows for an absurd speed: refused by every path, never returned as inf
+    velocity = np.array([5e307, 0.0, 0.0])
+    motion = Motion(t=0.0, pose=ZERO3, velocity=velocity, acceleration=ZERO3)
+    with pytest.raises(TrajectoryError, match="the results overflow"):
+        inverse_dynamics(ROBOT, motion)
+    with pytest.raises(TrajectoryError, match="the results overflow"):
+        paper_forces(ROBOT, ZERO3, velocity, ZERO3)
+    with pytest.raises(TrajectoryError, match="the results overflow"):
+        sample_forces(compile_robot(ROBOT), ZERO3, velocity, ZERO3)
+
+
+ZERO3 = np.zeros(3)
