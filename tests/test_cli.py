@@ -376,7 +376,7 @@ def test_progress_bar_only_on_a_terminal_after_a_second():
         ("", ["traj.csv", "empty trajectory file"]),
         (
             "t,x,y,phi\n0,0,0,0\n0.1,0,0,0.5\n0.2,0,0,1.0471975511965976\n0.3,0,0,1.3\n",
-            ["traj.csv:4: singular pose at sample 2, t = 0.2 s", "phi=1.0471975511965976"],
+            ["traj.csv:4: sample 2, t = 0.2 s: singular pose", "phi=1.0471975511965976"],
         ),
     ],
 )
@@ -395,9 +395,7 @@ def test_contract_singular_trajectory_with_derivatives(tmp_path, capsys):
         + "".join(f"{k * 0.1},0,0,{math.pi / 3},0,0,0,0,0,0\n" for k in range(3))
     )
     status, _, err = cli(capsys, "simulate", "--trajectory", traj, "--output", tmp_path / "o")
-    assert_refused(
-        status, err, tmp_path / "o", "singular.csv:2: singular pose at sample 0, t = 0 s"
-    )
+    assert_refused(status, err, tmp_path / "o", "singular.csv:2: sample 0, t = 0 s: singular pose")
 
 
 def test_unreachable_pose_names_the_sample_and_leg(tmp_path, capsys):
@@ -413,7 +411,7 @@ def test_unreachable_pose_names_the_sample_and_leg(tmp_path, capsys):
     status, _, err = cli(
         capsys, "simulate", "--robot", robot, "--motion", "vertical", "-o", out_dir
     )
-    at = f"unreachable pose at sample {k}, t = {k / 100:.9g} s"
+    at = f"sample {k}, t = {k / 100:.9g} s, leg A: unreachable pose"
     assert_refused(status, err, out_dir, f"--motion vertical: {at}", "lambda10_A")
     # the same motion from a file: the message names the file and the line (k + 2)
     t = np.linspace(0.0, 3.0, 301)
@@ -428,7 +426,7 @@ def test_sample_index_of_an_error_counts_from_the_start_of_the_whole_motion():
     phi[7] = math.pi / 3
     pose = np.stack([np.zeros(9), np.zeros(9), phi], axis=-1)
     motion = prp3.Motion(t=np.arange(9.0), pose=pose, velocity=0 * pose, acceleration=0 * pose)
-    with pytest.raises(prp3.SingularPoseError, match=r"singular pose at sample 7 "):
+    with pytest.raises(prp3.SingularPoseError, match=r"sample 7: singular pose "):
         simulate_table(prp3.Robot(), motion, chunk=3)
 
 

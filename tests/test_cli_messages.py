@@ -72,7 +72,7 @@ def test_a_positions_only_trajectory_refused_as_singular_prints_one_line(tmp_pat
     status, out, err = cli(capsys, "simulate", "--trajectory", traj, "-o", tmp_path / "o")
     assert (status, out) == (2, "")
     assert err.count("\n") == 1 and "positions only" not in err
-    assert err.startswith(f"prp3 simulate: error: {traj}:8: singular pose at sample 6")
+    assert err.startswith(f"prp3 simulate: error: {traj}:8: sample 6, t = 0.6 s: singular pose")
 
 
 def test_a_positions_only_trajectory_that_runs_still_warns_once(tmp_path, capsys):

@@ -256,7 +256,9 @@ def test_track_validates_its_inputs() -> None:
         velocity=np.zeros((2, 3)),
         acceleration=np.zeros((2, 3)),
     )
-    with pytest.raises(SingularPoseError, match=r"reference at t = 0.01 s"):
+    with pytest.raises(
+        SingularPoseError, match=r"reference: pose: sample 1, t = 0\.01 s: singular pose"
+    ):
         track(Robot(), path)
 
 

@@ -411,7 +411,7 @@ def test_unknown_method_is_refused(method: str) -> None:
 @pytest.mark.parametrize("method", METHODS)
 def test_singular_motion_is_refused(method: str) -> None:
     motion = law_motion([0.0, 0.0, math.pi / 6], samples=3, duration=3.0)  # ends at φ = π/3
-    with pytest.raises(SingularPoseError, match=r"sample 2 .*phi=1\.04719"):
+    with pytest.raises(SingularPoseError, match=r"sample 2: singular pose .*phi=1\.04719"):
         inverse_dynamics(Robot(), motion, method=method)  # type: ignore[arg-type]
 
 

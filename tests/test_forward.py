@@ -206,7 +206,7 @@ def test_forward_geometry_refuses_bad_input() -> None:
         forward_geometry(limited, [0.0, 0.06, 0.0])
     with pytest.raises(TrajectoryError, match=r"shape \(3,\) or \(N, 3\)"):
         forward_geometry(ROBOT, [0.0, 0.0])
-    with pytest.raises(TrajectoryError, match="non-finite"):
+    with pytest.raises(TrajectoryError, match="not finite"):
         forward_geometry(ROBOT, [[0.0, 0.0, 0.0], [0.0, math.nan, 0.0]])
 
 

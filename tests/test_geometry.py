@@ -205,8 +205,10 @@ def test_poses_inside_the_threshold_are_refused(phi_singular: float, offset: flo
     assert "sample 2" in message
     assert "x=0.02" in message and "y=-0.01" in message and f"phi={phi!r}" in message
     assert "\n" not in message
-    with pytest.raises(SingularPoseError, match="sample 0"):
+    assert info.value.sample == 2 and info.value.pose == (0.02, -0.01, phi)
+    with pytest.raises(SingularPoseError, match=r"^pose: singular pose") as single:
         inverse_geometry(robot, [0.0, 0.0, phi])
+    assert single.value.sample is None  # one pose: no sample index
 
 
 @pytest.mark.parametrize("phi_singular", SINGULAR_ORIENTATIONS)

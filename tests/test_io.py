@@ -264,7 +264,7 @@ def test_spline_is_exact_for_polynomials_of_its_degree():
         (
             "t,x,y,phi\n0,0,0,0\n",
             TrajectoryError,
-            r"traj\.csv: a trajectory needs at least 2 samples, got 1",
+            r"traj\.csv:2: a trajectory needs at least 2 samples, got 1",
         ),
         (
             "t,x,y,phi\n0,0,0,0\n0.2,0,0,0\n\n0.2,0,0,0\n",

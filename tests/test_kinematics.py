@@ -270,5 +270,7 @@ def test_singular_motion_is_refused_with_the_sample() -> None:
     pose = np.stack([np.zeros(4), np.zeros(4), phi], axis=-1)
     zeros = np.zeros((4, 3))
     motion = Motion(t=np.arange(4.0), pose=pose, velocity=zeros, acceleration=zeros)
-    with pytest.raises(SingularPoseError, match=r"sample 2 \(x=0\.0, y=0\.0, phi=1\.047"):
+    with pytest.raises(
+        SingularPoseError, match=r"sample 2: singular pose \(x=0\.0, y=0\.0, phi=1\.047"
+    ):
         inverse_kinematics(Robot(), motion)

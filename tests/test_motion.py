@@ -101,12 +101,14 @@ def test_non_finite_values_are_refused(name: str, bad: float) -> None:
     array[2, 1] = bad
     with pytest.raises(TrajectoryError) as info:
         _motion(4, **{name: array})
-    assert f"{name}[2, 1] is not finite ({bad!r})" in str(info.value)
+    component = {"pose": "y", "velocity": "dy", "acceleration": "ddy"}[name]
+    assert str(info.value) == f"motion: sample 2: {component} of {name} is not finite ({bad!r})"
+    assert (info.value.sample, info.value.subject) == (2, "motion")
 
 
 @pytest.mark.parametrize("bad", [math.nan, math.inf])
 def test_non_finite_times_are_refused(bad: float) -> None:
-    with pytest.raises(TrajectoryError, match=rf"t\[1\] is not finite \({bad!r}\)"):
+    with pytest.raises(TrajectoryError, match=rf"^motion: sample 1: t is not finite \({bad!r}\)$"):
         _motion(3, t=[0.0, bad, 2.0])
 
 
@@ -191,16 +193,16 @@ def test_unknown_paper_motion_is_refused() -> None:
 @pytest.mark.parametrize(
     ("kwargs", "fragment"),
     [
-        ({"amplitude": [0.0, 0.0]}, "amplitude must be 3 finite numbers"),
-        ({"amplitude": [0.0, math.nan, 0.0]}, "amplitude must be 3 finite numbers"),
+        ({"amplitude": [0.0, 0.0]}, "amplitude must have shape (3,), got (2,)"),
+        ({"amplitude": [0.0, math.nan, 0.0]}, "motion: y* of amplitude is not finite (nan)"),
         ({"amplitude": "abc"}, "amplitude must be an array of real numbers"),
         ({"samples": 1}, "samples must be an integer from 2 to 1e+09, got 1"),
         ({"samples": 10.0}, "samples must be an integer from 2 to 1e+09, got 10.0"),
         ({"samples": True}, "samples must be an integer from 2 to 1e+09, got True"),
-        ({"duration": 0.0}, "duration must be a positive number (s), got 0.0"),
-        ({"duration": -3.0}, "duration must be a positive number (s), got -3.0"),
-        ({"duration": math.inf}, "duration must be a positive number (s), got inf"),
-        ({"duration": math.nan}, "duration must be a positive number (s), got nan"),
+        ({"duration": 0.0}, "duration must be a positive finite number (s), got 0.0"),
+        ({"duration": -3.0}, "duration must be a positive finite number (s), got -3.0"),
+        ({"duration": math.inf}, "duration must be a finite number, got inf"),
+        ({"duration": math.nan}, "duration must be a finite number, got nan"),
     ],
 )
 def test_law_arguments_are_validated(kwargs: dict[str, Any], fragment: str) -> None:

@@ -27,6 +27,7 @@ import numpy as np
 import pytest
 
 import prp3.cli.simulate as simulate_cli
+import prp3.files as prp3_files
 import prp3.io as prp3_io
 from prp3 import Motion, Robot
 from prp3.cli import build_parser, main
@@ -280,7 +281,7 @@ def test_results_that_overflow_are_refused_and_nothing_is_written(tmp_path, caps
     line = error_line(status, err)
     # (1e200)^2 overflows already at the first sample, line 2 of the file
     assert line.startswith(
-        f"prp3 simulate: error: {traj}:2: the results overflow at sample 0, t = 0 s"
+        f"prp3 simulate: error: {traj}:2: sample 0, t = 0 s: the results overflow"
     )
     (tmp_path / "heavy.toml").write_text("[platform]\nmass = 1e308\n")
     status, _, err = cli(
@@ -295,7 +296,10 @@ def test_results_that_overflow_are_refused_and_nothing_is_written(tmp_path, caps
         "-o",
         earlier_run,
     )
-    assert "--motion vertical: the results overflow at sample 0" in error_line(status, err)
+    # a platform of 1e308 kg weighs more than float64 holds: refused with the robot file
+    line = error_line(status, err)
+    assert line.startswith(f"prp3 simulate: error: {tmp_path / 'heavy.toml'}: robot: l0 = 0.3 m ")
+    assert "overflow float64" in line
     assert listing(earlier_run) == before
 
 
@@ -507,7 +511,7 @@ def test_staged_output_puts_older_files_back_when_a_move_fails(tmp_path, monkeyp
             raise failure
         replace(source, target)
 
-    monkeypatch.setattr(prp3_io.os, "replace", flaky_replace)
+    monkeypatch.setattr(prp3_files.os, "replace", flaky_replace)
     with pytest.raises(OutputFileError if isinstance(failure, OSError) else KeyboardInterrupt):
         with staged_output(tmp_path) as staged:
             for name in ("a.txt", "b.txt", "c.txt"):
@@ -526,8 +530,8 @@ def test_staged_output_puts_older_files_back_when_a_move_fails(tmp_path, monkeyp
         (lambda: platform_dynamics(ROBOT, ZERO + 0j, ZERO), TrajectoryError),
         (lambda: ActuatorForces(t=[0.0, 1.0], f10=np.zeros((2, 3)) + 1j), TrajectoryError),
         (lambda: forward_geometry(ROBOT, ["0", "0", "0.1"]), TrajectoryError),
-        (lambda: reachable(ROBOT, np.array([0.0, 0.0, 1j])), ParameterError),
-        (lambda: jacobian_condition(ROBOT, ["0", "0", "0"]), ParameterError),
+        (lambda: reachable(ROBOT, np.array([0.0, 0.0, 1j])), TrajectoryError),
+        (lambda: jacobian_condition(ROBOT, ["0", "0", "0"]), TrajectoryError),
         (lambda: workspace_slice(ROBOT, 0.1, np.array([0.0, 1j]), [0.0, 1.0]), ParameterError),
         (lambda: workspace_slice(ROBOT, 0.1, "ab", [0.0, 1.0]), ParameterError),
         (
@@ -569,7 +573,7 @@ def test_forward_dynamics_tolerances():
     # a numpy float32 tolerance is a number: accepted (was refused)
     result = forward_dynamics(free, still, [0.0, 1.0], ZERO, ZERO, rtol=np.float32(1e-8))
     assert result.status == "completed"
-    with pytest.raises(ParameterError, match="rtol must be a positive number, got True"):
+    with pytest.raises(ParameterError, match="rtol must be a number, got True"):
         forward_dynamics(free, still, [0.0, 1.0], ZERO, ZERO, rtol=True)
     # was: scipy's UserWarning "rtol is too small", then a silently larger rtol
     with pytest.raises(ParameterError, match=f"rtol must be at least {MIN_RTOL:.3g}"):
@@ -660,10 +664,7 @@ def test_core_zero_samples_are_refused(call):
         call()
 
 
-@pytest.mark.parametrize(
-    ("robot", "speed"),
-    [(ROBOT, 1e200), (Robot.from_mapping({"platform": {"mass": 1e308}}), 0.0)],
-)
+@pytest.mark.parametrize(("robot", "speed"), [(ROBOT, 1e200), (ROBOT, 1e160)])
 def test_core_results_that_overflow_raise(robot, speed):
     motion = Motion(
         t=[0.0, 1.0],

@@ -249,7 +249,7 @@ def test_failing_designs_are_rows_with_their_status(tmp_path):
         {
             "designs": 2,
             "sampling": "grid",
-            "parameters": {"platform.mass": [1.0, 1e308]},
+            "parameters": {"platform.mass": [1.0, 5e307]},
             "task": {"motions": ["rotation"], "samples": 11},
         }
     )

@@ -262,5 +262,5 @@ def test_without_stroke_every_regular_pose_is_reachable() -> None:
 def test_bad_grids_are_refused() -> None:
     with pytest.raises(ParameterError, match="strictly increasing"):
         workspace_slice(LIMITED, 0.0, [0.0, 0.0], [0.0, 1.0])
-    with pytest.raises(ParameterError, match="phi must be finite"):
+    with pytest.raises(ParameterError, match="phi must be a finite number"):
         workspace_slice(LIMITED, math.nan, [0.0, 1.0], [0.0, 1.0])

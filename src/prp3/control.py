@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import importlib
 import math
-import re
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
@@ -63,8 +62,9 @@ from .fast import CompiledRobot, compile_robot, paper_forces, sample_forces_unch
 from .forward import SINGULARITY_STOP
 from .geometry import SINGULARITY_THRESHOLD, inverse_geometry
 from .kinematics import inverse_kinematics
-from .model import Limits, Load, Robot, check_robot
+from .model import Limits, Load, Robot
 from .motion import Motion, law_at
+from .validation import check_robot
 
 __all__ = [
     "CONTROLLERS",
@@ -645,10 +645,9 @@ def track(
         # the model's inverse dynamics of the reference itself: validates it for the model
         paper_forces(compiled, reference.pose, reference.velocity, reference.acceleration)
     except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
-        found = re.search(r"sample (\d+)|\[(\d+)", str(error))
-        index = None if found is None else int(found[1] or found[2])
-        when = "" if index is None else f" at t = {float(reference.t[index])!r} s"
-        raise type(error)(f"reference{when}: {error}") from None
+        index = error.sample
+        when = None if index is None else float(reference.t[index])
+        raise error.located(origin="reference", time=when) from None
     check_plant(robot, plant)
     simulator: _Plant = (
         _Prp3Plant(robot, reference) if plant == "prp3" else _MujocoPlant(robot, reference)

@@ -23,10 +23,11 @@ from .errors import Prp3Error
 from .fast import solve_batch
 from .forces import FORCE_NAMES, FRICTION_NAMES, InverseDynamics, checked
 from .kinematics import Kinematics, inverse_kinematics
-from .model import Robot, check_robot
+from .model import Robot
 from .motion import Motion
 from .newton_euler_solver import newton_euler
 from .paper import paper_inverse_dynamics
+from .validation import check_robot
 
 __all__ = [
     "METHODS",

@@ -30,12 +30,19 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import kernel
-from ._checks import require_finite
 from ._trace import array_function, loop_source, scalar_function
 from .errors import Prp3Error, TrajectoryError
-from .geometry import SINGULARITY_THRESHOLD, check_poses
 from .geometry import inverse_geometry as _inverse_geometry
 from .model import Robot
+from .validation import (
+    MAX_ORIENTATION,
+    POSE_BOUND,
+    SINGULARITY_THRESHOLD,
+    check_finite,
+    check_poses,
+    check_real,
+    require_finite,
+)
 
 __all__ = [
     "DEFAULT_CHUNK",
@@ -71,6 +78,9 @@ _FORCES = ("f10", "p10", "f21y", "f21z")
 FRICTION_OUTPUTS: tuple[str, ...] = ("fric10", "fric21", "fric32")
 _REACTIONS = ("n10", "m10", "n32", "m32")
 _INPUTS = ("pose", "velocity", "acceleration")
+
+#: Names of the three columns of each input, for messages.
+_COMPONENTS = (("x", "y", "phi"), ("dx", "dy", "dphi"), ("ddx", "ddy", "ddphi"))
 
 
 @dataclass(frozen=True, eq=False)
@@ -379,12 +389,7 @@ def _named(*values: ArrayLike) -> zip[tuple[str, ArrayLike]]:
 
 
 def _as_samples(name: str, value: ArrayLike) -> FloatArray:
-    try:
-        if np.asarray(value).dtype.kind in "bcSUV":  # booleans, complex numbers, text
-            raise TypeError(name)
-        array = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError, OverflowError):
-        raise TrajectoryError(f"{name} must be an array of numbers, got {value!r}"[:300]) from None
+    array = check_real(name, value)  # the one validation layer: booleans, text, None, ...
     if array.ndim not in (1, 2) or array.shape[-1] != 3:
         raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
     return array
@@ -454,7 +459,9 @@ def _compute(
     scratch = np.empty((checks + (3 * len(names) if backend == "numba" else 0), width))
     numpy_function = compiled.batch_function(names) if backend == "numpy" else None
     numba_function = compiled.numba_function(names) if backend == "numba" else None
-    if not all(np.isfinite(array).all() for array in inputs):
+    if not all(np.isfinite(array).all() for array in inputs) or _beyond(
+        inputs[0], POSE_BOUND * compiled.robot.l0
+    ):
         _raise_input_error(compiled, inputs, samples)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         for start in range(0, samples, width):
@@ -495,6 +502,7 @@ def _compute_direct(
     reactions = any(name in targets for name in _REACTIONS)
     state = np.empty((9, width))  # x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈ of one chunk, as rows
     params, stroke = compiled.parameters, compiled.stroke
+    reach = POSE_BOUND * compiled.robot.l0
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         for start in range(0, samples, width):
             stop = min(start + width, samples)
@@ -502,7 +510,7 @@ def _compute_direct(
             for k, array in enumerate(inputs):
                 np.copyto(rows[3 * k : 3 * k + 3], array[start:stop].T)
             x, y, phi, dx, dy, dphi, ddx, ddy, ddphi = rows
-            if not np.isfinite(rows).all():
+            if not np.isfinite(rows).all() or _beyond(rows[:3].T, reach):
                 _raise_input_error(compiled, inputs, stop)
             geo = kernel.kernel_geometry(kernel.NUMPY, params, x, y, phi)
             if float(np.abs(geo.D).min()) < SINGULARITY_THRESHOLD or (
@@ -530,10 +538,11 @@ def _compute_direct(
                 locked = np.flatnonzero(np.asarray(iterations) < 0)
                 if locked.size:
                     raise TrajectoryError(
-                        f"motion: the joint friction locks at sample {start + int(locked[0])}: "
-                        "no inverse dynamics reached continuously from mu = 0 (the friction "
-                        "cone of a joint swallows the drive: self-locking); lower the mu "
-                        "coefficients or change the motion"
+                        "the joint friction locks: no inverse dynamics reached continuously "
+                        "from mu = 0 (the friction cone of a joint swallows the drive: "
+                        "self-locking); lower the mu coefficients or change the motion",
+                        subject="motion",
+                        sample=start + int(locked[0]),
                     )
                 if mu_iterations is not None:
                     mu_iterations[start:stop] = iterations
@@ -545,6 +554,14 @@ def _compute_direct(
                 for leg in range(3):
                     target[start:stop, leg] = values[name][leg]
     _require_finite_results(targets, inputs)
+
+
+def _beyond(pose: FloatArray, reach: float) -> bool:
+    """Whether poses ``(N, 3)`` leave the bounds of :func:`prp3.validation.check_poses`."""
+    return bool(
+        float(np.abs(pose[:, :2]).max()) > reach
+        or float(np.abs(pose[:, 2]).max()) > MAX_ORIENTATION
+    )
 
 
 def _outside(lambda10: Any, stroke: tuple[float, float]) -> bool:
@@ -565,14 +582,9 @@ def _raise_input_error(compiled: CompiledRobot, inputs: list[FloatArray], stop: 
     In the reference's order: non-finite values, singular poses (anywhere),
     then actuator strokes.
     """
-    for name, array in zip(_INPUTS, inputs, strict=True):
-        bad = ~np.isfinite(array)
-        if bad.any():
-            index, column = np.argwhere(bad)[0].tolist()
-            raise TrajectoryError(
-                f"{name}[{index}, {column}] is not finite ({float(array[index, column])!r})"
-            )
-    check_poses(inputs[0])  # SingularPoseError, as the reference
+    for name, array, components in zip(_INPUTS, inputs, _COMPONENTS, strict=True):
+        check_finite(name, array, components=components)
+    check_poses(inputs[0], compiled.robot)  # beyond the bounds, singular: as the reference
     _inverse_geometry(compiled.robot, inputs[0][:stop])  # UnreachablePoseError, as the reference
     raise AssertionError("a chunk failed a check that the reference passes")  # pragma: no cover
 
@@ -631,6 +643,9 @@ def sample_forces(
             f"compiled must come from compile_robot(robot), got {type(compiled).__name__}"
         )
     values: tuple[float, ...]
+    masked = np.ma.MaskedArray
+    if isinstance(pose, masked) or isinstance(velocity, masked) or isinstance(acceleration, masked):
+        _sample_error(compiled, pose, velocity, acceleration)  # refused, never unpacked
     try:
         x, y, phi = pose
         dx, dy, dphi = velocity
@@ -662,6 +677,9 @@ def _checked_sample(compiled: CompiledRobot, values: tuple[float, ...]) -> tuple
         return None
     if abs(math.sin(values[2] - math.pi / 3.0)) < SINGULARITY_THRESHOLD:  # as check_poses
         return None
+    reach = POSE_BOUND * compiled.robot.l0
+    if abs(values[0]) > reach or abs(values[1]) > reach or abs(values[2]) > MAX_ORIENTATION:
+        return None  # beyond the bounds of check_poses
     try:
         f = compiled.sample_function(*values)
     except (OverflowError, ZeroDivisionError):

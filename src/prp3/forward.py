@@ -5,40 +5,8 @@ module solves the direct ones, each by a route that the tests hold against the
 inverse problems of :mod:`prp3.geometry`, :mod:`prp3.kinematics` and
 :mod:`prp3.dynamics`.
 
-Forward geometry in closed form
--------------------------------
-Per leg, with ``s_i = l0/√3 + λ10_i``, the closure (eq. 10)
-``G − B_i0 − s_i·e_i − Rot(α_i+φ)·c = λ32_i·d_i`` crossed with ``d_i`` removes
-the passive ``λ32_i``:
-
-    G × d_i = B_i0 × d_i + s_i·(e_i × d_i) + Rot(α_i+φ)c × d_i
-            = l0·cos φ + s_i·sin(φ − π/3) − l0/2                      (i)
-
-(``B_i0 × d_i = l0·cos φ`` and ``Rot(α_i+φ)c × d_i = c × u(−π/3) = −l0/2``
-for the three legs).  The three ``d_i`` are unit vectors 120° apart, so
-``Σ d_i = 0`` and the sum of (i) eliminates ``G``:
-``3·l0·cos φ + Σs_i·sin(φ − π/3) − 3·l0/2 = 0``.  With ``ψ = φ − π/3`` this
-factors as
-
-    2·sin(ψ/2)·[(Σs_i − 3√3·l0/2)·cos(ψ/2) − (3·l0/2)·sin(ψ/2)] = 0,
-
-so either ``ψ = 0`` (the singular orientation, see below) or
-
-    tan(ψ/2) = 2·Σλ10/(3·l0) − 1/√3,      φ = π/3 + 2·atan(…)        (ii)
-
-— one orientation per 2π, in closed form (no iteration, nothing to miss).  With
-``d⊥_i = J·d_i``, ``G × d_i = −d⊥_i·G`` and ``Σ d⊥_i d⊥_iᵀ = (3/2)·1``, the
-three equations (i) give
-
-    G = −(2/3)·sin(φ − π/3)·Σ_i λ10_i·d⊥_i                              (iii)
-
-Assembly modes.  For every ``λ10`` there is exactly one regular assembly (ii,
-iii).  Its *aspect* — the sign of ``sin(φ − π/3)`` — is ``−1`` when
-``Σλ10 < √3·l0/2`` (the aspect of the central configuration) and ``+1`` above.
-Besides it, the singular pose ``(0, 0, π/3)`` — the platform triangle lying on
-the base triangle, every sleeve on its actuator's line — assembles for *every*
-``λ10`` (:data:`DEGENERATE_ASSEMBLY`): it is the root ``ψ = 0`` of the factored
-equation; it is not a pose prp3 computes with (``|sin(φ − π/3)| = 0``).
+The forward geometry (closed form, eqs. (i)–(iii)) is in :mod:`prp3.geometry`,
+next to the inverse one; its names are importable from here too.
 
 Forward kinematics and dynamics
 -------------------------------
@@ -87,17 +55,29 @@ from .errors import (
 )
 from .fast import CompiledRobot, compile_robot, solve_batch
 from .geometry import (
+    DEGENERATE_ASSEMBLY,
     LEGS,
     SINGULARITY_THRESHOLD,
-    InverseGeometry,
-    check_stroke,
+    ForwardGeometry,
+    forward_geometry,
     inverse_geometry,
-    perp,
+    orientation_from_sum,
     singularity_measure,
+    sum_from_orientation,
 )
 from .kinematics import Kinematics, inverse_kinematics, jacobian
 from .model import Limits, Robot
 from .motion import Motion
+from .validation import (
+    check_finite,
+    check_per_leg,
+    check_poses,
+    check_real,
+    check_robot,
+    check_same_shape,
+    check_scalar,
+    check_times,
+)
 
 __all__ = [
     "DEGENERATE_ASSEMBLY",
@@ -123,9 +103,6 @@ FloatArray = NDArray[np.float64]
 ForceFunction = Callable[[float], ArrayLike]
 Status = Literal["completed", "singular", "stroke", "failed"]
 
-#: The singular pose ``(x, y, φ) = (0, 0, π/3)`` that assembles for every ``λ10``.
-DEGENERATE_ASSEMBLY: tuple[float, float, float] = (0.0, 0.0, math.pi / 3.0)
-
 #: Smallest relative tolerance of :func:`forward_dynamics` (scipy raises smaller ones to it).
 MIN_RTOL: float = 100.0 * float(np.finfo(np.float64).eps)
 
@@ -139,38 +116,8 @@ _SQRT3 = math.sqrt(3.0)
 
 # --------------------------------------------------------------------- helpers
 def _float_array(name: str, value: ArrayLike) -> FloatArray:
-    """``value`` as a new float64 array; complex numbers and text are refused, not cast."""
-    try:
-        kind = np.asarray(value).dtype.kind
-        if kind in "cSUV":  # numpy would drop an imaginary part or parse text
-            raise TypeError(kind)
-        array = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TrajectoryError(f"{name} must be an array of real numbers, got {value!r}") from None
-    return array
-
-
-def _per_leg(name: str, value: ArrayLike) -> FloatArray:
-    """Validate ``(3,)`` or ``(N, 3)`` finite values of the three actuators."""
-    array = _float_array(name, value)
-    if array.ndim not in (1, 2) or array.shape[-1] != 3:
-        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
-    flat = array.reshape(-1, 3)
-    bad = ~np.isfinite(flat)
-    if bad.any():
-        index, leg = np.argwhere(bad)[0].tolist()
-        raise TrajectoryError(
-            f"{name}: non-finite value at sample {index}, leg {LEGS[leg]}: "
-            f"{float(flat[index, leg])!r}"
-        )
-    return array
-
-
-def _same_shape(name: str, array: FloatArray, reference: FloatArray, other: str) -> None:
-    if array.shape != reference.shape:
-        raise TrajectoryError(
-            f"{name} must have the shape of {other} {reference.shape}, got {array.shape}"
-        )
+    """``value`` as a new float64 array (:func:`prp3.validation.check_real`)."""
+    return check_real(name, value, TrajectoryError)
 
 
 def _without_limits(robot: Robot) -> Robot:
@@ -185,138 +132,6 @@ def _dummy_times(batch: tuple[int, ...]) -> FloatArray:
     if batch == ():
         return np.asarray(0.0)
     return np.arange(float(batch[0]))
-
-
-# ------------------------------------------------------------ forward geometry
-def orientation_from_sum(l0: float, sum_lambda10: ArrayLike) -> FloatArray:
-    """Platform orientation ``φ`` from ``Σλ10``, eq. (ii) of the module notes.
-
-    ``φ = π/3 + 2·atan(2·Σλ10/(3·l0) − 1/√3)``, wrapped to ``(−π, π]`` (rad).
-    The orientation depends on the sum of the three actuator displacements
-    only; ``Σλ10 = √3·l0/2`` gives the singular orientation ``π/3``.
-
-    Parameters
-    ----------
-    l0 : float
-        Circumradius of the triangles (m).
-    sum_lambda10 : array_like, shape (...)
-        ``λ10_A + λ10_B + λ10_C`` (m).
-
-    Returns
-    -------
-    ndarray, shape (...)
-        ``φ`` (rad).
-
-    >>> round(float(orientation_from_sum(0.3, 0.0)), 15)   # central configuration
-    0.0
-    """
-    total = np.asarray(sum_lambda10, dtype=np.float64)
-    psi = 2.0 * np.arctan(2.0 * total / (3.0 * l0) - 1.0 / _SQRT3)  # (ii), ψ in (−π, π)
-    phi = math.pi / 3.0 + psi  # in (−2π/3, 4π/3)
-    return np.asarray(np.where(phi > math.pi, phi - 2.0 * math.pi, phi))
-
-
-def sum_from_orientation(l0: float, phi: ArrayLike) -> FloatArray:
-    """``Σλ10 = (3·l0/2)·(tan((φ − π/3)/2) + 1/√3)``, the inverse of :func:`orientation_from_sum`.
-
-    Infinite at ``φ ≡ −2π/3 (mod 2π)``, the other singular orientation.
-
-    >>> round(float(sum_from_orientation(0.3, math.pi / 3.0)), 12)   # √3·l0/2
-    0.259807621135
-    """
-    phi = np.asarray(phi, dtype=np.float64)
-    return np.asarray(1.5 * l0 * (np.tan((phi - math.pi / 3.0) / 2.0) + 1.0 / _SQRT3))
-
-
-@dataclass(frozen=True)
-class ForwardGeometry:
-    """The regular assembly of the platform for given actuator displacements.
-
-    Shapes follow the input: ``...`` is ``()`` for one sample ``(3,)``, ``(N,)``
-    for ``(N, 3)``.
-
-    Attributes
-    ----------
-    lambda10 : ndarray (..., 3)
-        The given actuator displacements (m).
-    pose : ndarray (..., 3)
-        ``(x, y, φ)`` of the regular assembly (m, m, rad), ``φ`` in ``(−π, π]``.
-    aspect : ndarray of int (...)
-        Assembly mode: the sign of ``sin(φ − π/3)``; ``−1`` for
-        ``Σλ10 < √3·l0/2`` (the aspect of the central configuration), ``+1``
-        above.  (The singular :data:`DEGENERATE_ASSEMBLY` also assembles; it
-        is not listed.)
-    geometry : InverseGeometry
-        Inverse geometry of :attr:`pose` (``λ32``, joints, levers, ...); its
-        ``lambda10`` reproduces the input to round-off.
-    """
-
-    lambda10: FloatArray
-    pose: FloatArray
-    aspect: NDArray[np.int64]
-    geometry: InverseGeometry
-
-
-def forward_geometry(robot: Robot, lambda10: ArrayLike) -> ForwardGeometry:
-    """Solve the forward geometric problem in closed form: ``λ10`` → ``(x, y, φ)``.
-
-    Parameters
-    ----------
-    robot : Robot
-        Robot parameters (``l0`` and ``limits.stroke`` are used).
-    lambda10 : array_like, shape (3,) or (N, 3)
-        Actuator displacements ``λ10_A, λ10_B, λ10_C`` (m).
-
-    Returns
-    -------
-    ForwardGeometry
-        The unique regular assembly: ``φ`` from eq. (ii), ``G`` from eq. (iii)
-        of the module notes (both from the closure, eq. 10).
-
-    Raises
-    ------
-    TrajectoryError
-        Wrong shape or non-finite value.
-    UnreachablePoseError
-        A displacement outside ``robot.limits.stroke`` (names sample and leg).
-    SingularPoseError
-        The assembly is singular, ``|sin(φ − π/3)| < 1e-4`` (``Σλ10`` within
-        about ``1e-4·l0`` of ``√3·l0/2``).
-
-    Examples
-    --------
-    >>> robot = Robot()
-    >>> lam = inverse_geometry(robot, [0.01, -0.02, 0.1]).lambda10
-    >>> solution = forward_geometry(robot, lam)
-    >>> solution.pose.round(12).tolist(), int(solution.aspect)
-    ([0.01, -0.02, 0.1], -1)
-    """
-    lam = _per_leg("lambda10", lambda10)
-    check_stroke(robot, lam)
-    l0 = robot.l0
-    total = lam.sum(axis=-1)
-    phi = orientation_from_sum(l0, total)  # eq. (ii)
-    D = singularity_measure(phi)  # sin(φ − π/3)
-    near = np.abs(D.reshape(-1)) < SINGULARITY_THRESHOLD
-    if near.any():
-        index = int(np.argmax(near))
-        raise SingularPoseError(
-            f"lambda10: sample {index} {lam.reshape(-1, 3)[index].tolist()!r} assembles only "
-            f"at a singular pose (phi = {float(phi.reshape(-1)[index])!r}, "
-            f"|sin(phi - pi/3)| = {abs(float(D.reshape(-1)[index])):.3g} < "
-            f"{SINGULARITY_THRESHOLD:g}): sum of lambda10 = {float(total.reshape(-1)[index])!r} m "
-            f"is at the singular value sqrt(3)*l0/2 = {_SQRT3 * l0 / 2.0!r} m"
-        )
-    theta = np.asarray(phi)[..., None] + np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
-    d_perp = perp(np.stack([np.cos(theta - math.pi / 3.0), np.sin(theta - math.pi / 3.0)], -1))
-    G = -(2.0 / 3.0) * D[..., None] * (lam[..., None] * d_perp).sum(axis=-2)  # eq. (iii)
-    pose = np.concatenate([G, np.asarray(phi)[..., None]], axis=-1)
-    return ForwardGeometry(
-        lambda10=lam,
-        pose=pose,
-        aspect=np.sign(D).astype(np.int64),
-        geometry=inverse_geometry(_without_limits(robot), pose),
-    )
 
 
 # ---------------------------------------------------------- forward kinematics
@@ -342,8 +157,8 @@ def forward_velocity(robot: Robot, pose: ArrayLike, dlambda10: ArrayLike) -> Flo
     [0.0, 0.0, 0.1]
     """
     geo = inverse_geometry(robot, pose)
-    rates = _per_leg("dlambda10", dlambda10)
-    _same_shape("dlambda10", rates, geo.pose, "pose")
+    rates = check_per_leg("dlambda10", dlambda10)
+    check_same_shape("dlambda10", rates, geo.pose, "pose")
     return np.asarray(np.linalg.solve(jacobian(geo), rates[..., None])[..., 0])
 
 
@@ -368,11 +183,12 @@ def forward_acceleration(
     ndarray, same shape as ``pose``
         ``(ẍ, ÿ, φ̈)`` (m/s², m/s², rad/s²).
     """
-    pose_array = _float_array("pose", pose)
-    accelerations = _per_leg("ddlambda10", ddlambda10)
-    speed = _per_leg("velocity", velocity)
-    _same_shape("velocity", speed, pose_array, "pose")
-    _same_shape("ddlambda10", accelerations, pose_array, "pose")
+    check_robot(robot)
+    pose_array = check_poses(pose, robot)
+    accelerations = check_per_leg("ddlambda10", ddlambda10)
+    speed = check_per_leg("velocity", velocity)
+    check_same_shape("velocity", speed, pose_array, "pose")
+    check_same_shape("ddlambda10", accelerations, pose_array, "pose")
     still = Motion(
         t=_dummy_times(pose_array.shape[:-1]),
         pose=pose_array,
@@ -489,6 +305,7 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
     >>> eq.force_bias.round(4).tolist()   # the static forces of the central configuration
     [31.8589, -8.4957, -23.3632]
     """
+    check_robot(robot)
     check_forward_friction(robot)
     return _platform_dynamics(compile_robot(robot), pose, velocity)
 
@@ -498,9 +315,9 @@ def _platform_dynamics(
 ) -> PlatformDynamics:
     """:func:`platform_dynamics` of a robot compiled once (the integrator calls it per step)."""
     robot = compiled.robot
-    q = _check_state("pose", pose)
-    qdot = _float_array("velocity", velocity)
-    _same_shape("velocity", qdot, q, "pose")
+    q = check_poses(pose, robot)
+    qdot = check_per_leg("velocity", velocity)
+    check_same_shape("velocity", qdot, q, "pose")
     batch = q.shape[:-1]
     flat_q = np.repeat(q.reshape(-1, 1, 3), 4, axis=1)  # (n, 4, 3)
     flat_v = np.repeat(qdot.reshape(-1, 1, 3), 4, axis=1)
@@ -568,7 +385,8 @@ def open_loop_growth_rate(robot: Robot, pose: ArrayLike) -> float:
     >>> open_loop_growth_rate(Robot(gravity=(0.0, 0.0)), [0.0, 0.0, 0.0])
     0.0
     """
-    q = _check_state("pose", pose)
+    check_robot(robot)
+    q = check_poses(pose, robot)
     if q.shape != (3,):
         raise TrajectoryError(f"pose must have shape (3,), got {q.shape}")
     free = _without_limits(robot)
@@ -608,25 +426,19 @@ def check_forward_friction(robot: Robot) -> None:
         unit = "N·m" if kind == "revolute" else "N"
         if joint.coulomb > 0.0 and joint.smoothing == 0.0:
             raise ParameterError(
-                f"robot: friction.{kind}.coulomb = {joint.coulomb!r} {unit} with smoothing = 0 "
-                f"(the exact sign): forward dynamics needs friction.{kind}.smoothing > 0"
+                f"friction.{kind}.coulomb = {joint.coulomb!r} {unit} with smoothing = 0 "
+                f"(the exact sign): forward dynamics needs friction.{kind}.smoothing > 0",
+                subject="robot",
+                key=f"friction.{kind}.coulomb",
             )
         if joint.has_mu:
             raise ParameterError(
-                f"robot: friction.{kind}.mu = {joint.mu!r}: forward dynamics does not take the "
+                f"friction.{kind}.mu = {joint.mu!r}: forward dynamics does not take the "
                 f"load-dependent mu terms (f10 is not affine in the acceleration); set "
-                f"friction.{kind}.mu = 0"
+                f"friction.{kind}.mu = 0",
+                subject="robot",
+                key=f"friction.{kind}.mu",
             )
-
-
-def _check_state(name: str, value: ArrayLike) -> FloatArray:
-    """Validate platform poses ``(3,)``/``(N, 3)`` (finite, not singular); return them."""
-    array = _float_array(name, value)
-    if array.ndim not in (1, 2) or array.shape[-1] != 3:
-        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
-    if not np.isfinite(array).all():
-        raise TrajectoryError(f"{name} must be finite, got {array.tolist()!r}")
-    return array
 
 
 @dataclass(frozen=True)
@@ -656,25 +468,13 @@ class ActuatorForces:
     _spline: Any = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        t = _float_array("forces: t", self.t)
-        f10 = _float_array("forces: f10", self.f10)
-        if t.ndim != 1 or t.size < 2:
-            raise TrajectoryError(f"forces: t must have shape (N,) with N >= 2, got {t.shape}")
+        t = check_times("t", self.t, minimum=2, subject="forces")
+        f10 = check_real("f10", self.f10, subject="forces")
         if f10.shape != (t.size, 3):
-            raise TrajectoryError(f"forces: f10 must have shape ({t.size}, 3), got {f10.shape}")
-        if not np.isfinite(t).all():
-            raise TrajectoryError(f"forces: t[{int(np.argmax(~np.isfinite(t)))}] is not finite")
-        bad = ~np.isfinite(f10)
-        if bad.any():
-            index, leg = np.argwhere(bad)[0].tolist()
-            raise TrajectoryError(f"forces: f10_{LEGS[leg]}[{index}] is not finite")
-        steps = np.diff(t)
-        if (steps <= 0).any():
-            index = int(np.argmax(steps <= 0)) + 1
             raise TrajectoryError(
-                f"forces: time must be strictly increasing; t[{index}] = {float(t[index])!r} "
-                f"follows t[{index - 1}] = {float(t[index - 1])!r}"
+                f"f10 must have shape ({t.size}, 3), got {f10.shape}", subject="forces"
             )
+        check_finite("f10", f10, subject="forces")
         from scipy.interpolate import CubicSpline
 
         t.flags.writeable = False
@@ -688,16 +488,24 @@ class ActuatorForces:
             with np.errstate(all="ignore"):
                 slopes = np.diff(f10, axis=0) / np.diff(t)[:, None]
             index = int(np.argmax(~np.isfinite(slopes).all(axis=1)))
-            raise TrajectoryError(
-                f"forces: the force samples cannot be interpolated: their rate of change "
-                f"overflows between t[{index}] = {float(t[index])!r} and t[{index + 1}] = "
-                f"{float(t[index + 1])!r} s (forces too large or time steps too small)"
-            ) from None
+            raise _not_interpolable(t, index, "their rate of change") from None
+        bad = ~np.isfinite(spline.c).all(axis=(0, 2))  # (4, N - 1, 3) coefficients per interval
+        if bad.any():  # steps so small (1e-300 s) that the cubic terms overflow
+            raise _not_interpolable(t, int(np.argmax(bad)), "the spline's coefficients")
         object.__setattr__(self, "_spline", spline)
 
     def __call__(self, time: float) -> FloatArray:
         """Forces ``(3,)`` at ``time`` (s), within ``[t[0], t[-1]]``."""
         return np.asarray(self._spline(time), dtype=np.float64)
+
+
+def _not_interpolable(t: FloatArray, index: int, what: str) -> TrajectoryError:
+    return TrajectoryError(
+        f"the force samples cannot be interpolated: {what} overflow between t[{index}] = "
+        f"{float(t[index])!r} and t[{index + 1}] = {float(t[index + 1])!r} s (forces too "
+        "large or time steps too small)",
+        subject="forces",
+    )
 
 
 @dataclass(frozen=True)
@@ -815,45 +623,78 @@ def forward_dynamics(
     >>> still.status, still.motion.pose[-1].round(9).tolist()   # drifts at constant speed
     ('completed', [0.01, 0.0, 0.0])
     """
-    from scipy.integrate import solve_ivp
-
+    check_robot(robot)
     check_forward_friction(robot)
-    times = _float_array("t", t)
-    if times.ndim != 1 or times.size < 2:
-        raise TrajectoryError(f"t must have shape (N,) with N >= 2, got {times.shape}")
-    if not np.isfinite(times).all() or (np.diff(times) <= 0).any():
-        raise TrajectoryError("t must be finite and strictly increasing")
-    for name, value in (("rtol", rtol), ("atol", atol)):
-        if not (
-            isinstance(value, int | float | np.integer | np.floating)
-            and not isinstance(value, bool)
-            and math.isfinite(value)
-            and value > 0
-        ):
-            raise ParameterError(f"{name} must be a positive number, got {value!r}")
-    if rtol < MIN_RTOL:
+    times = check_times("t", t, minimum=2)
+    rtol, atol = _tolerances(rtol, atol)
+    q0, v0, aspect = _initial_state(robot, initial_pose, initial_velocity)
+    force_of = _force_function(robot, forces, times)
+    free = _without_limits(robot)  # the stroke ends are events, not refusals
+    stroke = robot.limits.stroke
+    solution = _integrate(free, stroke, force_of, times, q0, v0, aspect, (rtol, atol))
+    stop = _stop(free, stroke, solution, times, q0, v0)
+    return _result(free, force_of, stop, int(solution.nfev))
+
+
+# ------------------------------------------------------- steps of forward_dynamics
+def _tolerances(rtol: object, atol: object) -> tuple[float, float]:
+    """Step 1: the tolerances, finite and positive, ``rtol`` not below scipy's floor."""
+    relative = check_scalar("rtol", rtol, positive=True)
+    absolute = check_scalar("atol", atol, positive=True)
+    if relative < MIN_RTOL:
         raise ParameterError(
             f"rtol must be at least {MIN_RTOL:.3g} (100 machine epsilons, scipy's floor), "
-            f"got {rtol!r}"
+            f"got {relative!r}"
         )
-    q0 = _check_state("initial_pose", initial_pose)
-    v0 = _float_array("initial_velocity", initial_velocity)
-    if q0.shape != (3,) or v0.shape != (3,) or not np.isfinite(v0).all():
+    return relative, absolute
+
+
+def _initial_state(
+    robot: Robot, initial_pose: ArrayLike, initial_velocity: ArrayLike
+) -> tuple[FloatArray, FloatArray, float]:
+    """Step 2: the initial pose and velocity, and the aspect ``sign(sin(φ0 − π/3))``.
+
+    The pose must be one prp3 computes with, inside the strokes, and farther
+    than :data:`SINGULARITY_STOP` from the singularity.
+    """
+    q0 = check_poses(initial_pose, robot, "initial_pose")
+    v0 = check_per_leg("initial_velocity", initial_velocity)
+    if q0.shape != (3,) or v0.shape != (3,):
         raise TrajectoryError(
-            "initial_pose and initial_velocity must be 3 finite numbers each, "
-            f"got {q0.tolist()!r} and {v0.tolist()!r}"
+            "initial_pose and initial_velocity must be 3 numbers each, "
+            f"got shapes {q0.shape} and {v0.shape}",
+            subject="initial_pose",
         )
-    inverse_geometry(robot, q0)  # refuses a singular or out-of-stroke initial pose
+    try:
+        inverse_geometry(robot, q0)  # refuses an out-of-stroke initial pose
+    except Prp3Error as error:
+        raise error.located(subject="initial_pose") from None
     D0 = float(singularity_measure(q0[2]))
     if abs(D0) <= SINGULARITY_STOP:
+        x, y, phi = q0.tolist()
         raise SingularPoseError(
-            f"initial_pose {q0.tolist()!r} is too near the singularity: |sin(phi - pi/3)| = "
-            f"{abs(D0):.3g} <= {SINGULARITY_STOP:g}"
+            f"singular pose (x={x!r}, y={y!r}, phi={phi!r}): too near the singularity, "
+            f"|sin(phi - pi/3)| = {abs(D0):.3g} <= {SINGULARITY_STOP:g}",
+            subject="initial_pose",
+            pose=(x, y, phi),
         )
-    force_of = _force_function(robot, forces, times)
-    free = _without_limits(robot)
-    compiled = compile_robot(free)
-    aspect = math.copysign(1.0, D0)
+    return q0, v0, math.copysign(1.0, D0)
+
+
+def _integrate(
+    robot: Robot,
+    stroke: tuple[float, float] | None,
+    force_of: Callable[[float], FloatArray],
+    times: FloatArray,
+    q0: FloatArray,
+    v0: FloatArray,
+    aspect: float,
+    tolerances: tuple[float, float],
+) -> Any:
+    """Step 3: ``solve_ivp`` (DOP853) of the state ``(q, q̇)``, with the terminal events."""
+    from scipy.integrate import solve_ivp
+
+    compiled = compile_robot(robot)
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
         return _state_derivative(compiled, force_of, time, state)
@@ -862,28 +703,48 @@ def forward_dynamics(
         return aspect * math.sin(state[2] - math.pi / 3.0) - SINGULARITY_STOP
 
     events: list[Callable[[float, FloatArray], float]] = [singular]
-    stroke = robot.limits.stroke
     if stroke is not None:
-        events += _stroke_events(free, stroke)
+        events += _stroke_events(robot, stroke)
     for event in events:
         event.terminal = True  # type: ignore[attr-defined]
         event.direction = -1.0  # type: ignore[attr-defined]
-
     with np.errstate(all="ignore"):  # trial states may overflow: NaN rejects the step
-        solution = solve_ivp(
+        return solve_ivp(
             rhs,
             (float(times[0]), float(times[-1])),
             np.concatenate([q0, v0]),
             method="DOP853",
             t_eval=times,
             events=events,
-            rtol=float(rtol),
-            atol=float(atol),
+            rtol=tolerances[0],
+            atol=tolerances[1],
         )
+
+
+@dataclass(frozen=True)
+class _Stop:
+    """What the integration reached: the sample times and states, and why it ended."""
+
+    t: FloatArray
+    states: FloatArray
+    status: Status
+    message: str
+    t_stop: float
+
+
+def _stop(
+    robot: Robot,
+    stroke: tuple[float, float] | None,
+    solution: Any,
+    times: FloatArray,
+    q0: FloatArray,
+    v0: FloatArray,
+) -> _Stop:
+    """Step 4: the samples reached and the reason the integration ended."""
     sample_t = np.asarray(solution.t, dtype=np.float64)
     states = np.asarray(solution.y, dtype=np.float64).T
     status: Status
-    if solution.status == 1:
+    if solution.status == 1:  # a terminal event: the singularity or a stroke end
         hit = next(k for k, found in enumerate(solution.t_events) if len(found))
         t_stop = float(solution.t_events[hit][0])
         stop_state = np.asarray(solution.y_events[hit][0], dtype=np.float64)
@@ -891,7 +752,7 @@ def forward_dynamics(
             sample_t = np.append(sample_t, t_stop)
             states = np.vstack([states, stop_state])
         status = "singular" if hit == 0 else "stroke"
-        message = _stop_message(free, hit, t_stop, stop_state, stroke)
+        message = _stop_message(robot, hit, t_stop, stop_state, stroke)
     elif solution.status == 0:
         t_stop = float(times[-1])
         status, message = "completed", f"completed: integrated to t = {t_stop!r} s"
@@ -902,24 +763,32 @@ def forward_dynamics(
     if sample_t.size == 0:  # failed before the first sample: keep the initial state
         sample_t = times[:1]
         states = np.concatenate([q0, v0])[None, :]
+    return _Stop(sample_t, states, status, message, t_stop)
 
-    eq = _platform_dynamics(compiled, states[:, :3], states[:, 3:])
-    applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in sample_t])
+
+def _result(
+    robot: Robot, force_of: Callable[[float], FloatArray], stop: _Stop, evaluations: int
+) -> ForwardDynamics:
+    """Step 5: the motion with the model's accelerations, its inverse problems and residual."""
+    eq = platform_dynamics(robot, stop.states[:, :3], stop.states[:, 3:])
+    applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in stop.t])
     qddot = np.asarray(
         np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0],
         dtype=np.float64,
     )
-    motion = Motion(t=sample_t, pose=states[:, :3], velocity=states[:, 3:], acceleration=qddot)
-    kin = inverse_kinematics(free, motion)
-    dyn = kernel_method(free, kin)
+    motion = Motion(
+        t=stop.t, pose=stop.states[:, :3], velocity=stop.states[:, 3:], acceleration=qddot
+    )
+    kin = inverse_kinematics(robot, motion)
+    dyn = kernel_method(robot, kin)
     return ForwardDynamics(
         motion=motion,
         kinematics=kin,
         dynamics=dyn,
-        status=status,
-        message=message,
-        t_stop=t_stop,
-        evaluations=int(solution.nfev),
+        status=stop.status,
+        message=stop.message,
+        t_stop=stop.t_stop,
+        evaluations=evaluations,
         force_residual=float(np.abs(dyn.f10 - applied).max()),
     )
 
@@ -942,7 +811,10 @@ def _state_derivative(
         SINGULARITY_THRESHOLD
     ):
         return np.full(6, np.nan)
-    eq = _platform_dynamics(compiled, q, qdot)
+    try:
+        eq = _platform_dynamics(compiled, q, qdot)
+    except Prp3Error:  # a trial state beyond the bounds of prp3: reject the step
+        return np.full(6, np.nan)
     qddot = np.linalg.solve(eq.force_matrix, force_of(time) - eq.force_bias)
     return np.concatenate([qdot, qddot])
 
@@ -963,7 +835,7 @@ def _force_function(
         sampled_t = times
         sampled = np.stack([np.asarray(forces(float(time)), dtype=np.float64) for time in times])
         if sampled.shape != (times.size, 3) or not np.isfinite(sampled).all():
-            raise ParameterError("forces: the function must return 3 finite forces (N)")
+            raise ParameterError("the function must return 3 finite forces (N)", subject="forces")
     else:
         raise ParameterError(
             f"forces must be ActuatorForces or a function of t, got {type(forces).__name__}"
@@ -974,8 +846,11 @@ def _force_function(
         if over.any():
             index, leg = np.argwhere(over)[0].tolist()
             raise ParameterError(
-                f"forces: |f10_{LEGS[leg]}| = {abs(float(sampled[index, leg]))!r} N at "
-                f"t = {float(sampled_t[index])!r} s exceeds limits.max_force = {limit!r} N"
+                f"|f10_{LEGS[leg]}| = {abs(float(sampled[index, leg]))!r} N at "
+                f"t = {float(sampled_t[index])!r} s exceeds limits.max_force = {limit!r} N",
+                subject="forces",
+                key="limits.max_force",
+                leg=LEGS[leg],
             )
     function = forces
 
@@ -983,7 +858,8 @@ def _force_function(
         value = np.asarray(function(time), dtype=np.float64)
         if value.shape != (3,) or not np.isfinite(value).all():
             raise ParameterError(
-                f"forces: f10({time!r}) must be 3 finite forces (N), got {value.tolist()!r}"
+                f"f10({time!r}) must be 3 finite forces (N), got {value.tolist()!r}",
+                subject="forces",
             )
         return value
 

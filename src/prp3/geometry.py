@@ -15,6 +15,40 @@ determinant ``e_i × d_i = sin(φ − π/3)`` is the same for the three legs: th
 robot is singular at ``φ ≡ π/3 (mod π)``.  Poses with
 ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` are refused.
 
+The forward geometry in closed form (:func:`forward_geometry`).
+Per leg, with ``s_i = l0/√3 + λ10_i``, the closure (eq. 10)
+``G − B_i0 − s_i·e_i − Rot(α_i+φ)·c = λ32_i·d_i`` crossed with ``d_i`` removes
+the passive ``λ32_i``:
+
+    G × d_i = B_i0 × d_i + s_i·(e_i × d_i) + Rot(α_i+φ)c × d_i
+            = l0·cos φ + s_i·sin(φ − π/3) − l0/2                      (i)
+
+(``B_i0 × d_i = l0·cos φ`` and ``Rot(α_i+φ)c × d_i = c × u(−π/3) = −l0/2``
+for the three legs).  The three ``d_i`` are unit vectors 120° apart, so
+``Σ d_i = 0`` and the sum of (i) eliminates ``G``:
+``3·l0·cos φ + Σs_i·sin(φ − π/3) − 3·l0/2 = 0``.  With ``ψ = φ − π/3`` this
+factors as
+
+    2·sin(ψ/2)·[(Σs_i − 3√3·l0/2)·cos(ψ/2) − (3·l0/2)·sin(ψ/2)] = 0,
+
+so either ``ψ = 0`` (the singular orientation, see below) or
+
+    tan(ψ/2) = 2·Σλ10/(3·l0) − 1/√3,      φ = π/3 + 2·atan(…)        (ii)
+
+— one orientation per 2π, in closed form (no iteration, nothing to miss).  With
+``d⊥_i = J·d_i``, ``G × d_i = −d⊥_i·G`` and ``Σ d⊥_i d⊥_iᵀ = (3/2)·1``, the
+three equations (i) give
+
+    G = −(2/3)·sin(φ − π/3)·Σ_i λ10_i·d⊥_i                              (iii)
+
+Assembly modes.  For every ``λ10`` there is exactly one regular assembly (ii,
+iii).  Its *aspect* — the sign of ``sin(φ − π/3)`` — is ``−1`` when
+``Σλ10 < √3·l0/2`` (the aspect of the central configuration) and ``+1`` above.
+Besides it, the singular pose ``(0, 0, π/3)`` — the platform triangle lying on
+the base triangle, every sleeve on its actuator's line — assembles for *every*
+``λ10`` (:data:`DEGENERATE_ASSEMBLY`): it is the root ``ψ = 0`` of the factored
+equation; it is not a pose prp3 computes with (``|sin(φ − π/3)| = 0``).
+
 Array conventions: a pose is ``(..., 3)`` = ``(x, y, φ)``; per-leg scalars are
 ``(..., 3)`` (legs A, B, C on the last axis); per-leg plane vectors are
 ``(..., 3, 2)``.  A single pose ``(3,)`` gives per-leg arrays ``(3,)``.
@@ -23,38 +57,50 @@ Array conventions: a pose is ``(..., 3)`` = ``(x, y, φ)``; per-leg scalars are
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import real_array, require_finite
 from .errors import SingularPoseError, TrajectoryError, UnreachablePoseError
 from .kernel import NUMPY, kernel_geometry, kernel_parameters
-from .model import Robot, check_robot
+from .model import Limits, Robot
+from .validation import (
+    LEGS,
+    POSE_BOUND,
+    SINGULARITY_THRESHOLD,
+    check_per_leg,
+    check_poses,
+    check_real,
+    check_robot,
+    require_finite,
+    singularity_measure,
+)
 
 __all__ = [
     "ALPHA",
+    "DEGENERATE_ASSEMBLY",
     "LEGS",
     "LEG_AXIS",
     "LEG_NORMAL",
     "SINGULARITY_THRESHOLD",
+    "ForwardGeometry",
     "InverseGeometry",
     "base_vertices",
     "check_poses",
     "check_stroke",
     "cross2",
     "dot2",
+    "forward_geometry",
     "inverse_geometry",
+    "orientation_from_sum",
     "perp",
     "platform_vertices",
     "singularity_measure",
+    "sum_from_orientation",
 ]
 
 FloatArray = NDArray[np.float64]
-
-#: Leg names, in the order of the last axis of every per-leg array.
-LEGS: tuple[str, str, str] = ("A", "B", "C")
 
 #: Orientation angles ``α_i`` of the base edges (eq. 1), rad.
 ALPHA: FloatArray = np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
@@ -67,10 +113,6 @@ LEG_AXIS.flags.writeable = False
 #: Normals ``n_i = (−sin α_i, cos α_i)`` of the actuator axes, shape (3, 2).
 LEG_NORMAL: FloatArray = np.stack([-np.sin(ALPHA), np.cos(ALPHA)], axis=-1)
 LEG_NORMAL.flags.writeable = False
-
-#: Poses with ``|sin(φ − π/3)|`` below this value are refused as singular.
-#: At the threshold the actuator velocities are 10⁴ times the platform's.
-SINGULARITY_THRESHOLD: float = 1e-4
 
 
 def cross2(a: ArrayLike, b: ArrayLike) -> FloatArray:
@@ -129,64 +171,14 @@ def platform_vertices(robot: Robot, pose: ArrayLike) -> FloatArray:
     >>> platform_vertices(Robot(), [0.0, 0.0, 0.0]).round(4).tolist()
     [[0.0, 0.3], [-0.2598, -0.15], [0.2598, -0.15]]
     """
-    pose = np.asarray(pose, dtype=np.float64)
+    check_robot(robot)
+    pose = check_real("pose", pose)
+    if pose.ndim < 1 or pose.shape[-1] != 3 or pose.size == 0:
+        raise TrajectoryError(f"pose must have shape (..., 3), got {pose.shape}")
+    check_poses(pose.reshape(-1, 3) if pose.ndim > 1 else pose, robot, singular=False)
     angles = np.array([math.pi / 2.0, 7.0 * math.pi / 6.0, 11.0 * math.pi / 6.0])
     corner = robot.l0 * _unit(pose[..., None, 2] + angles)
     return np.asarray(pose[..., None, :2] + corner)
-
-
-def singularity_measure(phi: ArrayLike) -> FloatArray:
-    """Determinant ``D = e_i × d_i = sin(φ − π/3)`` of every leg's system (eq. 10).
-
-    >>> float(singularity_measure(0.0)).__round__(6)
-    -0.866025
-    """
-    return np.asarray(np.sin(np.asarray(phi, dtype=np.float64) - math.pi / 3.0))
-
-
-def check_poses(pose: ArrayLike, name: str = "pose") -> FloatArray:
-    """Validate platform poses: float array ``(..., 3)``, finite, not singular.
-
-    Returns the poses as a float64 array.
-
-    Raises
-    ------
-    TrajectoryError
-        Wrong shape or non-finite value (names the sample index).
-    SingularPoseError
-        ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` (names sample index and pose).
-
-    Examples
-    --------
-    >>> check_poses([[0, 0, 0], [0, 0.1, 0.2]]).dtype
-    dtype('float64')
-    >>> check_poses([[0.0, 0.0, 0.0], [0.0, 0.0, float("nan")]])
-    Traceback (most recent call last):
-    ...
-    prp3.errors.TrajectoryError: pose: non-finite value at sample 1: [0.0, 0.0, nan]
-    """
-    array = real_array(name, pose, TrajectoryError)
-    if array.ndim not in (1, 2) or array.shape[-1] != 3 or array.size == 0:
-        raise TrajectoryError(
-            f"{name} must have shape (3,) or (N, 3) with N >= 1, got {array.shape}"
-        )
-    flat = array.reshape(-1, 3)
-    bad = ~np.isfinite(flat).all(axis=1)
-    if bad.any():
-        index = int(np.argmax(bad))
-        raise TrajectoryError(
-            f"{name}: non-finite value at sample {index}: {flat[index].tolist()!r}"
-        )
-    near = np.abs(singularity_measure(flat[:, 2])) < SINGULARITY_THRESHOLD
-    if near.any():
-        index = int(np.argmax(near))
-        x, y, phi = flat[index].tolist()
-        raise SingularPoseError(
-            f"{name}: singular pose at sample {index} (x={x!r}, y={y!r}, phi={phi!r}): "
-            f"|sin(phi - pi/3)| = {abs(math.sin(phi - math.pi / 3.0)):.3g} < "
-            f"{SINGULARITY_THRESHOLD:g} (phi = pi/3 mod pi is singular)"
-        )
-    return array
 
 
 @dataclass(frozen=True)
@@ -261,7 +253,7 @@ def inverse_geometry(robot: Robot, pose: ArrayLike) -> InverseGeometry:
     (1, 3)
     """
     check_robot(robot)
-    pose = check_poses(pose)
+    pose = check_poses(pose, robot)
     with np.errstate(over="ignore", invalid="ignore"):
         geometry = _inverse_geometry(robot, pose)
     require_finite(
@@ -308,7 +300,7 @@ def check_stroke(robot: Robot, lambda10: FloatArray, pose: FloatArray | None = N
     >>> check_stroke(Robot(limits=Limits(stroke=(-0.1, 0.1))), np.array([0.0, 0.2, 0.0]))
     Traceback (most recent call last):
     ...
-    prp3.errors.UnreachablePoseError: lambda10: sample 0: lambda10_B = 0.2 m is outside the stroke [-0.1, 0.1] m
+    prp3.errors.UnreachablePoseError: lambda10: lambda10_B = 0.2 m is outside the stroke [-0.1, 0.1] m
     """
     stroke = robot.limits.stroke
     if stroke is None:
@@ -319,10 +311,174 @@ def check_stroke(robot: Robot, lambda10: FloatArray, pose: FloatArray | None = N
     if not outside.any():
         return
     index, leg = np.argwhere(outside)[0].tolist()
-    value = f"lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m is outside the stroke"
+    value = (
+        f"lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m is outside the stroke "
+        f"[{lower!r}, {upper!r}] m"
+    )
+    sample = index if lambda10.ndim >= 2 else None
     if pose is None:
-        where = f"lambda10: sample {index}:"
-    else:
-        x, y, phi = pose.reshape(-1, 3)[index].tolist()
-        where = f"pose: unreachable pose at sample {index} (x={x!r}, y={y!r}, phi={phi!r}):"
-    raise UnreachablePoseError(f"{where} {value} [{lower!r}, {upper!r}] m")
+        raise UnreachablePoseError(value, subject="lambda10", sample=sample, leg=LEGS[leg])
+    x, y, phi = pose.reshape(-1, 3)[index].tolist()
+    raise UnreachablePoseError(
+        f"unreachable pose (x={x!r}, y={y!r}, phi={phi!r}): {value}",
+        subject="pose",
+        sample=sample,
+        leg=LEGS[leg],
+        pose=(x, y, phi),
+    )
+
+
+#: The singular pose ``(x, y, φ) = (0, 0, π/3)`` that assembles for every ``λ10``.
+DEGENERATE_ASSEMBLY: tuple[float, float, float] = (0.0, 0.0, math.pi / 3.0)
+
+_SQRT3 = math.sqrt(3.0)
+
+
+def _free(robot: Robot) -> Robot:
+    """The same robot without stroke or force limits (the forward geometry checks them itself)."""
+    return robot if robot.limits == Limits() else replace(robot, limits=Limits())
+
+
+# ------------------------------------------------------------ forward geometry
+def orientation_from_sum(l0: float, sum_lambda10: ArrayLike) -> FloatArray:
+    """Platform orientation ``φ`` from ``Σλ10``, eq. (ii) of the module notes.
+
+    ``φ = π/3 + 2·atan(2·Σλ10/(3·l0) − 1/√3)``, wrapped to ``(−π, π]`` (rad).
+    The orientation depends on the sum of the three actuator displacements
+    only; ``Σλ10 = √3·l0/2`` gives the singular orientation ``π/3``.
+
+    Parameters
+    ----------
+    l0 : float
+        Circumradius of the triangles (m).
+    sum_lambda10 : array_like, shape (...)
+        ``λ10_A + λ10_B + λ10_C`` (m).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        ``φ`` (rad).
+
+    >>> round(float(orientation_from_sum(0.3, 0.0)), 15)   # central configuration
+    0.0
+    """
+    total = np.asarray(sum_lambda10, dtype=np.float64)
+    psi = 2.0 * np.arctan(2.0 * total / (3.0 * l0) - 1.0 / _SQRT3)  # (ii), ψ in (−π, π)
+    phi = math.pi / 3.0 + psi  # in (−2π/3, 4π/3)
+    return np.asarray(np.where(phi > math.pi, phi - 2.0 * math.pi, phi))
+
+
+def sum_from_orientation(l0: float, phi: ArrayLike) -> FloatArray:
+    """``Σλ10 = (3·l0/2)·(tan((φ − π/3)/2) + 1/√3)``, the inverse of :func:`orientation_from_sum`.
+
+    Infinite at ``φ ≡ −2π/3 (mod 2π)``, the other singular orientation.
+
+    >>> round(float(sum_from_orientation(0.3, math.pi / 3.0)), 12)   # √3·l0/2
+    0.259807621135
+    """
+    phi = np.asarray(phi, dtype=np.float64)
+    return np.asarray(1.5 * l0 * (np.tan((phi - math.pi / 3.0) / 2.0) + 1.0 / _SQRT3))
+
+
+@dataclass(frozen=True)
+class ForwardGeometry:
+    """The regular assembly of the platform for given actuator displacements.
+
+    Shapes follow the input: ``...`` is ``()`` for one sample ``(3,)``, ``(N,)``
+    for ``(N, 3)``.
+
+    Attributes
+    ----------
+    lambda10 : ndarray (..., 3)
+        The given actuator displacements (m).
+    pose : ndarray (..., 3)
+        ``(x, y, φ)`` of the regular assembly (m, m, rad), ``φ`` in ``(−π, π]``.
+    aspect : ndarray of int (...)
+        Assembly mode: the sign of ``sin(φ − π/3)``; ``−1`` for
+        ``Σλ10 < √3·l0/2`` (the aspect of the central configuration), ``+1``
+        above.  (The singular :data:`DEGENERATE_ASSEMBLY` also assembles; it
+        is not listed.)
+    geometry : InverseGeometry
+        Inverse geometry of :attr:`pose` (``λ32``, joints, levers, ...); its
+        ``lambda10`` reproduces the input to round-off.
+    """
+
+    lambda10: FloatArray
+    pose: FloatArray
+    aspect: NDArray[np.int64]
+    geometry: InverseGeometry
+
+
+def forward_geometry(robot: Robot, lambda10: ArrayLike) -> ForwardGeometry:
+    """Solve the forward geometric problem in closed form: ``λ10`` → ``(x, y, φ)``.
+
+    Parameters
+    ----------
+    robot : Robot
+        Robot parameters (``l0`` and ``limits.stroke`` are used).
+    lambda10 : array_like, shape (3,) or (N, 3)
+        Actuator displacements ``λ10_A, λ10_B, λ10_C`` (m).
+
+    Returns
+    -------
+    ForwardGeometry
+        The unique regular assembly: ``φ`` from eq. (ii), ``G`` from eq. (iii)
+        of the module notes (both from the closure, eq. 10).
+
+    Raises
+    ------
+    TrajectoryError
+        Wrong shape or non-finite value.
+    UnreachablePoseError
+        A displacement outside ``robot.limits.stroke`` (names sample and leg).
+    SingularPoseError
+        The assembly is singular, ``|sin(φ − π/3)| < 1e-4`` (``Σλ10`` within
+        about ``1e-4·l0`` of ``√3·l0/2``).
+
+    Examples
+    --------
+    >>> robot = Robot()
+    >>> lam = inverse_geometry(robot, [0.01, -0.02, 0.1]).lambda10
+    >>> solution = forward_geometry(robot, lam)
+    >>> solution.pose.round(12).tolist(), int(solution.aspect)
+    ([0.01, -0.02, 0.1], -1)
+    """
+    check_robot(robot)
+    lam = check_per_leg("lambda10", lambda10)
+    reach = POSE_BOUND * robot.l0 / SINGULARITY_THRESHOLD  # beyond: no pose within the bounds
+    far = np.abs(lam) > reach
+    if far.any():
+        index, leg = np.argwhere(far.reshape(-1, 3))[0].tolist()
+        raise TrajectoryError(
+            f"|lambda10_{LEGS[leg]}| = {abs(float(lam.reshape(-1, 3)[index, leg]))!r} m is beyond "
+            f"{POSE_BOUND:g}*l0/{SINGULARITY_THRESHOLD:g} = {reach:g} m (l0 = {robot.l0:g} m): "
+            "no pose within the bounds assembles",
+            subject="lambda10",
+            sample=index if lam.ndim == 2 else None,
+            leg=LEGS[leg],
+        )
+    check_stroke(robot, lam)
+    l0 = robot.l0
+    total = lam.sum(axis=-1)
+    phi = orientation_from_sum(l0, total)  # eq. (ii)
+    D = singularity_measure(phi)  # sin(φ − π/3)
+    near = np.abs(D.reshape(-1)) < SINGULARITY_THRESHOLD
+    if near.any():
+        index = int(np.argmax(near))
+        raise SingularPoseError(
+            f"lambda10: sample {index} {lam.reshape(-1, 3)[index].tolist()!r} assembles only "
+            f"at a singular pose (phi = {float(phi.reshape(-1)[index])!r}, "
+            f"|sin(phi - pi/3)| = {abs(float(D.reshape(-1)[index])):.3g} < "
+            f"{SINGULARITY_THRESHOLD:g}): sum of lambda10 = {float(total.reshape(-1)[index])!r} m "
+            f"is at the singular value sqrt(3)*l0/2 = {_SQRT3 * l0 / 2.0!r} m"
+        )
+    theta = np.asarray(phi)[..., None] + np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
+    d_perp = perp(np.stack([np.cos(theta - math.pi / 3.0), np.sin(theta - math.pi / 3.0)], -1))
+    G = -(2.0 / 3.0) * D[..., None] * (lam[..., None] * d_perp).sum(axis=-2)  # eq. (iii)
+    pose = np.concatenate([G, np.asarray(phi)[..., None]], axis=-1)
+    return ForwardGeometry(
+        lambda10=lam,
+        pose=pose,
+        aspect=np.sign(D).astype(np.int64),
+        geometry=inverse_geometry(_free(robot), pose),
+    )

@@ -1,13 +1,20 @@
-"""Files: atomic writes, strict numeric CSV tables and trajectory files.
+"""The file formats of prp3, in one place: CSV tables, ``TRAJ.csv``, ``results.csv``, forces.
 
-Output files are written whole or not at all: the text goes to a temporary
-file in the target directory, which is then renamed over the target
-(``os.replace`` is atomic on POSIX and Windows).  A run that writes several
-files stages them in a temporary directory and moves them in place only when
-every one of them is complete (:func:`staged_output`).  CSV input is read
-strictly: a header row of known column names, then numbers only; every error
-names the file, the line and the column.  :func:`read_trajectory` reads the
-``TRAJ.csv`` of the command line's data contract (``docs/model.md``).
+* :func:`write_table_csv` / :func:`read_table_csv`: numeric CSV tables with a
+  header row of column names, full-precision numbers (``repr(float)``),
+  written atomically, read strictly (known columns, numbers only; every error
+  names the file, the line and the column) and with bounds
+  (:mod:`prp3.files`).
+* ``TRAJ.csv`` of the data contract (``docs/model.md``; :func:`read_trajectory`, :func:`trajectory_table`): a platform
+  motion, columns :data:`POSITION_COLUMNS` and optionally
+  :data:`DERIVATIVE_COLUMNS`.
+* ``results.csv`` (:data:`RESULT_COLUMNS`, :func:`results_table`): the
+  kinematics and complete inverse dynamics of a run.
+* the forces table (:data:`FORCE_COLUMNS`, :func:`read_forces`): actuator
+  force histories for ``prp3 forward``, or a whole ``results.csv``.
+
+The files themselves (bounded reads, atomic and staged writes) are
+:mod:`prp3.files`; its names are re-exported here.
 
 >>> import tempfile, pathlib
 >>> folder = pathlib.Path(tempfile.mkdtemp())
@@ -22,32 +29,46 @@ t,x
 
 from __future__ import annotations
 
-import contextlib
 import csv
-import io
-import json
 import math
-import os
-import shutil
-import stat
-import tempfile
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import InputFileError, OutputFileError, TrajectoryError
-from .motion import Motion
+from .dynamics import InverseDynamics
+from .errors import InputFileError, OutputFileError, Prp3Error, TrajectoryError
+from .files import (
+    MANIFEST_NAME,
+    StagedOutput,
+    atomic_path,
+    atomic_writer,
+    check_inputs_kept,
+    check_output_directory,
+    read_manifest,
+    read_text_lines,
+    staged_output,
+)
+from .forward import ActuatorForces
+from .geometry import LEGS
+from .kinematics import Kinematics
+from .motion import Motion, differentiate_positions
 
 __all__ = [
     "DERIVATIVE_COLUMNS",
     "FORCE_COLUMNS",
+    "FRICTION_COLUMNS",
     "LOAD_COLUMNS",
     "MANIFEST_NAME",
+    "MEASURED_FORCE_COLUMNS",
+    "PER_LEG_COLUMNS",
     "POSITION_COLUMNS",
+    "RESULT_COLUMNS",
+    "TRAJECTORY_COLUMNS",
+    "ForceInput",
     "Measurements",
     "StagedOutput",
     "Trajectory",
@@ -59,11 +80,15 @@ __all__ = [
     "format_float",
     "format_floats",
     "parquet_available",
+    "read_forces",
     "read_manifest",
     "read_measurements",
     "read_table_csv",
     "read_trajectory",
+    "result_columns",
+    "results_table",
     "staged_output",
+    "trajectory_table",
     "write_table_csv",
     "write_table_parquet",
 ]
@@ -77,11 +102,20 @@ DERIVATIVE_COLUMNS: tuple[str, ...] = ("dx", "dy", "dphi", "ddx", "ddy", "ddphi"
 #: Optional load columns of a trajectory file (a wrench on the platform): all three or none.
 LOAD_COLUMNS: tuple[str, ...] = ("fx", "fy", "mz")
 
+#: Columns of a trajectory written by prp3 (``prp3 forward``'s ``trajectory.csv``).
+TRAJECTORY_COLUMNS: tuple[str, ...] = POSITION_COLUMNS + DERIVATIVE_COLUMNS
+
+#: Columns of a force history file.
+FORCE_COLUMNS: tuple[str, ...] = ("t", "f10_A", "f10_B", "f10_C")
+
 #: Rows written per block by :func:`write_table_csv` (and per progress report).
 _ROWS_PER_BLOCK = 20_000
 
 #: Rows per block when Arrow makes the text (bounds the memory of the texts).
 _ARROW_ROWS_PER_BLOCK = 100_000
+
+#: Rows parsed per block by :func:`read_table_csv`.
+_READ_BLOCK = 65_536
 
 ProgressCallback = Callable[[int, int], None]
 
@@ -96,103 +130,6 @@ def format_float(value: float) -> str:
     ('0.1', '2.0', '-1e-20')
     """
     return repr(float(value))
-
-
-def _file_mode() -> int:
-    """Permissions of a new file under the current umask (``mkstemp`` gives 0600)."""
-    umask = os.umask(0)
-    os.umask(umask)
-    return 0o666 & ~umask
-
-
-def _check_replaceable(path: Path) -> None:
-    """Refuse a target that exists and is not a regular file (a rename would replace it).
-
-    Renaming a finished file over ``/dev/null``, a named pipe or a directory
-    would destroy it (or fail half-way through a group of files); symbolic
-    links are followed for the test.
-    """
-    try:
-        regular = not path.exists() or path.is_file()
-    except OSError as error:  # e.g. a name too long for the file system
-        raise OutputFileError(f"{path}: cannot write ({error.strerror})") from None
-    if not regular:
-        kind = "a directory" if path.is_dir() else "not a regular file"
-        raise OutputFileError(f"{path}: cannot write: it exists and is {kind}")
-
-
-@contextlib.contextmanager
-def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
-    """Open ``path`` for writing so that it appears whole or not at all.
-
-    The content goes to a temporary file beside ``path``; on success it is
-    renamed over ``path``, on any exception it is deleted and ``path`` is left
-    untouched.  The directory must exist.
-
-    Raises
-    ------
-    OutputFileError
-        If the directory does not exist or is not writable, or ``path`` exists
-        and is not a regular file (a directory, a device, a pipe), which a
-        rename would replace (names the path).
-    """
-    path = Path(path)
-    _check_replaceable(path)
-    try:
-        handle, temporary = tempfile.mkstemp(
-            prefix=f".{path.name}.", suffix=".tmp", dir=path.parent
-        )
-    except OSError as error:
-        raise OutputFileError(f"{path}: cannot write ({error.strerror})") from None
-    try:
-        os.chmod(temporary, _file_mode())
-        with os.fdopen(handle, mode, encoding="utf-8", newline="") as stream:
-            yield stream
-        os.replace(temporary, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(temporary)
-        raise
-
-
-@contextlib.contextmanager
-def atomic_path(path: str | Path) -> Iterator[Path]:
-    """Give a temporary path beside ``path`` to write to; rename it over ``path`` on success.
-
-    For writers that want a file name rather than a stream (``Figure.savefig``,
-    an animation writer).  The temporary name ends with ``path``'s suffix so
-    that writers which infer the format from it still work.  On any exception
-    the temporary file is deleted and ``path`` is left untouched.
-
-    Raises
-    ------
-    OutputFileError
-        If the directory does not exist or is not writable (names the path).
-
-    >>> import tempfile, pathlib
-    >>> target = pathlib.Path(tempfile.mkdtemp()) / "note.txt"
-    >>> with atomic_path(target) as temporary:
-    ...     _ = temporary.write_text("done")
-    >>> target.read_text(), sorted(p.name for p in target.parent.iterdir())
-    ('done', ['note.txt'])
-    """
-    path = Path(path)
-    _check_replaceable(path)
-    try:
-        handle, temporary = tempfile.mkstemp(
-            prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent
-        )
-    except OSError as error:
-        raise OutputFileError(f"{path}: cannot write ({error.strerror})") from None
-    os.close(handle)
-    try:
-        os.chmod(temporary, _file_mode())
-        yield Path(temporary)
-        os.replace(temporary, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(temporary)
-        raise
 
 
 def write_table_csv(
@@ -395,8 +332,9 @@ def write_table_parquet(path: str | Path, table: Mapping[str, FloatArray]) -> No
     pa = _pyarrow()
     if pa is None:
         raise OutputFileError(
-            f"{path}: writing Parquet needs pyarrow, which is not installed: "
-            "pip install 'prp3[parquet]', or write CSV"
+            "writing Parquet needs pyarrow, which is not installed: "
+            "pip install 'prp3[parquet]', or write CSV",
+            file=path,
         )
     import pyarrow.parquet as pq
 
@@ -442,43 +380,64 @@ class _Table:
     header_line: int
 
 
+def _records(path: Path, what: str) -> Iterator[tuple[int, list[str]]]:
+    """``(first line, cells)`` of each non-blank CSV record of a bounded read of ``path``.
+
+    The line is the file line where the record starts, also when a quoted
+    cell spans several lines.
+    """
+    reader = csv.reader(read_text_lines(path, what))
+    line = 0
+    while True:
+        start = line + 1
+        try:
+            row = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as error:  # e.g. a quoted cell longer than csv's field limit
+            raise InputFileError(f"malformed CSV ({error})", file=path, line=start) from None
+        line = reader.line_num
+        if any(cell.strip() for cell in row):
+            yield start, row
+
+
 def _read_table(path: Path, required: Sequence[str], optional: Sequence[str], what: str) -> _Table:
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as error:
-        raise InputFileError(f"{path}: cannot read {what} file ({error.strerror})") from None
-    except UnicodeDecodeError:
-        raise InputFileError(f"{path}: {what} file is not UTF-8 text") from None
-    rows = [row for row in csv.reader(io.StringIO(text))]
-    numbered = [(n + 1, row) for n, row in enumerate(rows) if any(cell.strip() for cell in row)]
-    if not numbered:
-        raise InputFileError(f"{path}: empty {what} file (expected a header row)")
-    header_line, header = numbered[0]
-    header = [cell.strip() for cell in header]
+    records = _records(path, what)
+    first = next(records, None)
+    if first is None:
+        raise InputFileError(f"empty {what} file (expected a header row)", file=path)
+    header_line, raw_header = first
+    header = [cell.strip() for cell in raw_header]
     allowed = list(required) + list(optional)
     for name in header:
         if name not in allowed:
             raise InputFileError(
-                f"{path}:{header_line}: unknown column {name!r} "
+                f"unknown column {name[:40]!r} "
                 f"(expected {', '.join(required)}"
                 + (f", optionally {', '.join(optional)}" if optional else "")
-                + ")"
+                + ")",
+                file=path,
+                line=header_line,
+                key=name,
             )
     seen: set[str] = set()
     for name in header:
         if name in seen:
-            raise InputFileError(f"{path}:{header_line}: duplicate column {name!r}")
+            raise InputFileError(
+                f"duplicate column {name!r}", file=path, line=header_line, key=name
+            )
         seen.add(name)
     missing = [name for name in required if name not in seen]
     if missing:
-        raise InputFileError(f"{path}:{header_line}: missing column(s) {', '.join(missing)}")
-    data = numbered[1:]
-    if not data:
-        raise InputFileError(f"{path}: no data rows after the header")
-    values = np.empty((len(data), len(header)))
-    for r, (line, row) in enumerate(data):
-        if len(row) != len(header):
-            raise InputFileError(f"{path}:{line}: expected {len(header)} values, got {len(row)}")
+        raise InputFileError(f"missing column(s) {', '.join(missing)}", file=path, line=header_line)
+    width = len(header)
+    blocks: list[FloatArray] = []
+    numbers: list[int] = []
+    block = np.empty((_READ_BLOCK, width))
+    filled = 0
+    for line, row in records:
+        if len(row) != width:
+            raise InputFileError(f"expected {width} values, got {len(row)}", file=path, line=line)
         for c, cell in enumerate(row):
             try:
                 if "_" in cell or not cell.isascii():  # float() takes '1_0' and other digits
@@ -486,16 +445,32 @@ def _read_table(path: Path, required: Sequence[str], optional: Sequence[str], wh
                 number = float(cell)
             except ValueError:
                 raise InputFileError(
-                    f"{path}:{line}: column {header[c]!r}: not a number: {cell.strip()!r}"
+                    f"column {header[c]!r}: not a number: {cell.strip()[:40]!r}",
+                    file=path,
+                    line=line,
+                    key=header[c],
                 ) from None
             if not math.isfinite(number):
                 raise InputFileError(
-                    f"{path}:{line}: column {header[c]!r}: not a finite number: {cell.strip()!r}"
+                    f"column {header[c]!r}: not a finite number: {cell.strip()!r}",
+                    file=path,
+                    line=line,
+                    key=header[c],
                 )
-            values[r, c] = number
+            block[filled, c] = number
+        numbers.append(line)
+        filled += 1
+        if filled == _READ_BLOCK:
+            blocks.append(block)
+            block = np.empty((_READ_BLOCK, width))
+            filled = 0
+    blocks.append(block[:filled])
+    if not numbers:
+        raise InputFileError("no data rows after the header", file=path)
+    values = np.concatenate(blocks) if len(blocks) > 1 else blocks[0]
     return _Table(
         columns={name: values[:, c].copy() for c, name in enumerate(header)},
-        lines=np.array([line for line, _ in data], dtype=np.int64),
+        lines=np.array(numbers, dtype=np.int64),
         header_line=header_line,
     )
 
@@ -523,50 +498,6 @@ class Trajectory:
     motion: Motion
     lines: IntArray
     note: str | None
-
-
-def differentiate_positions(t: FloatArray, pose: FloatArray) -> tuple[FloatArray, FloatArray, int]:
-    """Velocities and accelerations of sampled poses by an interpolating spline.
-
-    Each of ``x, y, φ`` is interpolated by a spline of degree 5 (quintic) with
-    the not-a-knot end conditions through all the samples
-    (``scipy.interpolate.make_interp_spline(t, q, k=5)``); the velocity and
-    acceleration are its first and second derivatives at the sample times.
-    With fewer than 6 samples the degree drops to 3 (4 or 5 samples) or 1
-    (2 or 3 samples; zero acceleration).  For a smooth motion sampled every
-    millisecond the derivatives are accurate to about 1e-9 relative away from
-    the ends; within a few samples of the ends the error is larger.
-
-    Parameters
-    ----------
-    t : ndarray, shape (N,)
-        Strictly increasing times (s), ``N >= 2``.
-    pose : ndarray, shape (N, 3)
-        ``(x, y, φ)`` (m, m, rad).
-
-    Returns
-    -------
-    velocity, acceleration : ndarray, shape (N, 3)
-        ``(ẋ, ẏ, φ̇)`` (m/s, rad/s) and ``(ẍ, ÿ, φ̈)`` (m/s², rad/s²).
-    degree : int
-        The spline degree used.
-
-    Examples
-    --------
-    >>> t = np.linspace(0.0, 1.0, 11)
-    >>> pose = np.stack([t**2, 3.0 * t, np.zeros_like(t)], axis=-1)
-    >>> velocity, acceleration, degree = differentiate_positions(t, pose)
-    >>> degree, velocity[5].round(12).tolist(), acceleration[5].round(9).tolist()
-    (5, [1.0, 3.0, 0.0], [2.0, 0.0, 0.0])
-    """
-    from scipy.interpolate import make_interp_spline
-
-    samples = len(t)
-    degree = 5 if samples >= 6 else 3 if samples >= 4 else 1
-    spline = make_interp_spline(t, pose, k=degree, axis=0)
-    velocity = np.asarray(spline(t, 1), dtype=np.float64)
-    acceleration = np.asarray(spline(t, 2), dtype=np.float64)
-    return velocity, acceleration, degree
 
 
 def read_trajectory(path: str | Path) -> Trajectory:
@@ -618,28 +549,34 @@ def _trajectory(path: Path, table: _Table) -> Trajectory:
     if loads and len(loads) != len(LOAD_COLUMNS):
         missing = [name for name in LOAD_COLUMNS if name not in columns]
         raise InputFileError(
-            f"{path}:{table.header_line}: give all of the load columns "
-            f"{', '.join(LOAD_COLUMNS)} or none; missing {', '.join(missing)}"
+            f"give all of the load columns {', '.join(LOAD_COLUMNS)} or none; "
+            f"missing {', '.join(missing)}",
+            file=path,
+            line=table.header_line,
         )
     given = [name for name in DERIVATIVE_COLUMNS if name in columns]
     if given and len(given) != len(DERIVATIVE_COLUMNS):
         missing = [name for name in DERIVATIVE_COLUMNS if name not in columns]
         raise InputFileError(
-            f"{path}:{table.header_line}: give all of the derivative columns "
-            f"{', '.join(DERIVATIVE_COLUMNS)} or none; missing {', '.join(missing)}"
+            f"give all of the derivative columns {', '.join(DERIVATIVE_COLUMNS)} or none; "
+            f"missing {', '.join(missing)}",
+            file=path,
+            line=table.header_line,
         )
     t = columns["t"]
     lines = table.lines
     if len(t) < 2:
         raise TrajectoryError(
-            f"{path}: a trajectory needs at least 2 samples, got {len(t)} (line {int(lines[0])})"
+            f"a trajectory needs at least 2 samples, got {len(t)}", file=path, line=int(lines[0])
         )
     steps = np.diff(t)
     if (steps <= 0.0).any():
         k = int(np.argmax(steps <= 0.0)) + 1
         raise TrajectoryError(
-            f"{path}:{int(lines[k])}: time must increase: t = {float(t[k])!r} follows "
-            f"t = {float(t[k - 1])!r} on line {int(lines[k - 1])}"
+            f"time must increase: t = {float(t[k])!r} follows t = {float(t[k - 1])!r} on line "
+            f"{int(lines[k - 1])}",
+            file=path,
+            line=int(lines[k]),
         )
     pose = np.stack([columns[name] for name in ("x", "y", "phi")], axis=-1)
     note: str | None = None
@@ -654,9 +591,11 @@ def _trajectory(path: Path, table: _Table) -> Trajectory:
             if bad.any():
                 k, axis = np.argwhere(bad)[0].tolist()
                 raise TrajectoryError(
-                    f"{path}:{int(lines[k])}: the {name} of {POSITION_COLUMNS[1 + axis]} "
-                    f"computed from the positions is not finite ({float(values[k, axis])!r}): "
-                    "positions too large or time steps too small; give the derivative columns"
+                    f"the {name} of {POSITION_COLUMNS[1 + axis]} computed from the positions "
+                    f"is not finite ({float(values[k, axis])!r}): positions too large or time "
+                    "steps too small; give the derivative columns",
+                    file=path,
+                    line=int(lines[k]),
                 )
         note = (
             f"{path}: positions only; velocities and accelerations computed as the 1st and "
@@ -668,12 +607,13 @@ def _trajectory(path: Path, table: _Table) -> Trajectory:
         load = np.stack([columns[name] for name in LOAD_COLUMNS], axis=-1) if loads else None
         motion = Motion(t=t, pose=pose, velocity=velocity, acceleration=acceleration, load=load)
     except TrajectoryError as error:
-        raise TrajectoryError(f"{path}: {error}") from None
+        line = int(lines[error.sample]) if error.sample is not None else None
+        raise error.located(file=path, line=line) from None
     return Trajectory(path=path, motion=motion, lines=lines, note=note)
 
 
 #: Measured actuator forces of a measurement file (N).
-FORCE_COLUMNS: tuple[str, ...] = ("f10_A", "f10_B", "f10_C")
+MEASURED_FORCE_COLUMNS: tuple[str, ...] = ("f10_A", "f10_B", "f10_C")
 
 
 @dataclass(frozen=True)
@@ -720,301 +660,172 @@ def read_measurements(path: str | Path) -> Measurements:
     missing column(s) f10_C
     """
     path = Path(path)
-    table = _read_table(path, POSITION_COLUMNS + FORCE_COLUMNS, DERIVATIVE_COLUMNS, "measurement")
-    f10 = np.stack([table.columns[name] for name in FORCE_COLUMNS], axis=-1)
+    table = _read_table(
+        path, POSITION_COLUMNS + MEASURED_FORCE_COLUMNS, DERIVATIVE_COLUMNS, "measurement"
+    )
+    f10 = np.stack([table.columns[name] for name in MEASURED_FORCE_COLUMNS], axis=-1)
     return Measurements(trajectory=_trajectory(path, table), f10=f10)
 
 
-# ---------------------------------------------------------------- output folders
-def check_output_directory(directory: str | Path) -> None:
-    """Refuse early an output directory that cannot be created or written to.
+def trajectory_table(motion: Motion) -> dict[str, FloatArray]:
+    """The columns :data:`TRAJECTORY_COLUMNS` of a batch motion, as named arrays ``(N,)``.
 
-    The directory itself may be missing (it will be created with its
-    parents); its nearest existing ancestor must be a writable directory.
-
-    Raises
-    ------
-    OutputFileError
-        Naming the directory and the reason.
+    >>> from prp3.motion import paper_motion
+    >>> list(trajectory_table(paper_motion("vertical", 3))) == list(TRAJECTORY_COLUMNS)
+    True
     """
-    directory = Path(directory)
-    existing = directory
-    try:
-        while not existing.exists() and existing != existing.parent:
-            existing = existing.parent
-    except OSError as error:  # e.g. a name too long for the file system
-        raise OutputFileError(
-            f"{directory}: cannot create output directory ({error.strerror})"
-        ) from None
-    if not existing.is_dir():
-        raise OutputFileError(
-            f"{directory}: cannot create output directory ({existing} is not a directory)"
-        )
-    if not os.access(existing, os.W_OK | os.X_OK):
-        raise OutputFileError(
-            f"{directory}: cannot write output directory ({existing} is not writable)"
-        )
+    arrays = (motion.pose, motion.velocity, motion.acceleration)
+    table: dict[str, FloatArray] = {"t": motion.t}
+    for k, name in enumerate(TRAJECTORY_COLUMNS[1:]):
+        table[name] = arrays[k // 3][..., k % 3]
+    return table
 
 
-def check_inputs_kept(
-    directory: str | Path, names: Sequence[str], inputs: Sequence[str | Path | None]
-) -> None:
-    """Refuse a run whose output file ``directory/name`` is one of its input files.
+# ---------------------------------------------------------------- results.csv
+#: Per-leg quantities, in the contract's order.
+PER_LEG_COLUMNS: tuple[str, ...] = (
+    "lambda10",
+    "dlambda10",
+    "ddlambda10",
+    "lambda32",
+    "dlambda32",
+    "ddlambda32",
+    "f10",
+    "p10",
+    "f21y",
+    "f21z",
+    "n10",
+    "m10",
+    "n32",
+    "m32",
+)
 
-    ``prp3 forward --forces out/results.csv --output out`` would otherwise
-    replace the forces it read with its own results.
+#: Every column of ``results.csv``, in order.
+RESULT_COLUMNS: tuple[str, ...] = ("t", "x", "y", "phi") + tuple(
+    f"{quantity}_{leg}" for leg in LEGS for quantity in PER_LEG_COLUMNS
+)
 
-    Raises
-    ------
-    OutputFileError
-        Naming the output file and the option it was read by.
 
-    >>> import tempfile, pathlib
-    >>> out = pathlib.Path(tempfile.mkdtemp())
-    >>> _ = (out / "results.csv").write_text("t")
-    >>> try:
-    ...     check_inputs_kept(out, ["results.csv"], [out / "results.csv"])
-    ... except OutputFileError as error:
-    ...     print(str(error).split(": ", 1)[1])
-    the output would replace this input file; choose another output directory
+#: The 9 columns after the 46 when the robot has ``[friction]``, legs A, B, C in order.
+FRICTION_COLUMNS: tuple[str, ...] = tuple(
+    f"{quantity}_{leg}" for leg in LEGS for quantity in ("fric10", "fric21", "fric32")
+)
+
+
+def result_columns(friction: bool) -> tuple[str, ...]:
+    """The columns of ``results.csv``: the 46, and the 9 friction columns with ``friction``.
+
+    >>> len(result_columns(True)), result_columns(True)[46:49]
+    (55, ('fric10_A', 'fric21_A', 'fric32_A'))
     """
-    for name in names:
-        target = Path(directory) / name
-        for given in inputs:
-            with contextlib.suppress(OSError):  # a missing file is not the same file
-                if given is not None and os.path.samefile(target, given):
-                    raise OutputFileError(
-                        f"{target}: the output would replace this input file; "
-                        "choose another output directory"
-                    )
+    return RESULT_COLUMNS + (FRICTION_COLUMNS if friction else ())
 
 
-#: The manifest a run leaves in its output directory: the files it wrote there.
-MANIFEST_NAME: str = ".prp3-manifest.json"
+def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np.float64]]:
+    """Every column of ``results.csv`` as a named array ``(N,)`` (or ``()``), in order.
 
-#: Largest manifest read back (a longer file is not one prp3 wrote: it is ignored).
-_MANIFEST_MAX_BYTES: int = 1 << 20
+    >>> from prp3 import Robot, inverse_dynamics, paper_motion
+    >>> table = results_table(*inverse_dynamics(Robot(), paper_motion("vertical", samples=4)))
+    >>> list(table) == list(RESULT_COLUMNS), table["f10_A"].shape
+    (True, (4,))
+    """
+    motion, geo = kin.motion, kin.geometry
+    per_leg = {
+        "lambda10": geo.lambda10,
+        "dlambda10": kin.dlambda10,
+        "ddlambda10": kin.ddlambda10,
+        "lambda32": geo.lambda32,
+        "dlambda32": kin.dlambda32,
+        "ddlambda32": kin.ddlambda32,
+        "f10": dyn.f10,
+        "p10": dyn.p10,
+        "f21y": dyn.f21y,
+        "f21z": dyn.f21z,
+        "n10": dyn.n10,
+        "m10": dyn.m10,
+        "n32": dyn.n32,
+        "m32": dyn.m32,
+    }
+    table: dict[str, NDArray[np.float64]] = {
+        "t": motion.t,
+        "x": motion.pose[..., 0],
+        "y": motion.pose[..., 1],
+        "phi": motion.pose[..., 2],
+    }
+    for j, leg in enumerate(LEGS):
+        for quantity in PER_LEG_COLUMNS:
+            table[f"{quantity}_{leg}"] = per_leg[quantity][..., j]
+    if dyn.fric10 is not None and dyn.fric21 is not None and dyn.fric32 is not None:
+        friction = {"fric10": dyn.fric10, "fric21": dyn.fric21, "fric32": dyn.fric32}
+        for j, leg in enumerate(LEGS):
+            for quantity, values in friction.items():
+                table[f"{quantity}_{leg}"] = values[..., j]
+    return table
 
 
-@dataclass
-class StagedOutput:
-    """Files of one run, written into a staging folder first (see :func:`staged_output`).
+# ---------------------------------------------------------------- forces table
+@dataclass(frozen=True)
+class ForceInput:
+    """A force file read by :func:`read_forces`.
 
     Attributes
     ----------
-    directory : Path
-        The output directory the files end up in.
-    staging : Path
-        The temporary folder inside ``directory`` where they are written.
-    names : list of str
-        The file names asked for so far, in order.
-    written : list of Path
-        The final paths, filled in when the run succeeded.
-    removed : list of Path
-        Files an earlier run wrote into ``directory`` (listed in its manifest,
-        unchanged since) that this run did not write again, and removed.
-    kept : list of Path
-        Files of an earlier run's manifest that were changed or replaced since
-        (so they are not prp3's any more) and were left alone.
+    path : Path
+        The file.
+    forces : ActuatorForces
+        Its force samples.
+    first_pose, first_rates : ndarray (3,) or None
+        ``(x, y, phi)`` and ``dlambda10`` of the first row of a ``results.csv``;
+        ``None`` for a force table.
+    planned_pose : ndarray (N, 3) or None
+        ``(x, y, phi)`` of every row of a ``results.csv``: the motion the forces
+        were planned for (at the times ``forces.t``); ``None`` for a force table.
     """
 
-    directory: Path
-    staging: Path
-    names: list[str] = field(default_factory=list)
-    written: list[Path] = field(default_factory=list)
-    removed: list[Path] = field(default_factory=list)
-    kept: list[Path] = field(default_factory=list)
+    path: Path
+    forces: ActuatorForces
+    first_pose: FloatArray | None
+    first_rates: FloatArray | None
+    planned_pose: FloatArray | None = None
 
-    def path(self, name: str) -> Path:
-        """The staging path to write the output file ``name`` to."""
-        if name in self.names or Path(name).name != name or name == MANIFEST_NAME:
-            raise ValueError(f"output file name {name!r} is repeated or not a plain name")
-        self.names.append(name)
-        return self.staging / name
+    @property
+    def results(self) -> bool:
+        """Whether the file is a ``results.csv`` (all contract columns)."""
+        return self.first_pose is not None
 
 
-@contextlib.contextmanager
-def staged_output(directory: str | Path) -> Iterator[StagedOutput]:
-    """Write several output files so that they appear together or not at all.
-
-    Creates ``directory`` (and its parents) when missing, and a temporary
-    staging folder inside it.  Files are written to
-    ``staged.path(name)``; when the block ends without an exception they are
-    renamed into ``directory`` (replacing older files of the same name) and
-    :attr:`StagedOutput.written` lists them.  On an exception the staging
-    folder is deleted, folders this call created are removed again, and no
-    file in ``directory`` changes.
-
-    The directory keeps a manifest, :data:`MANIFEST_NAME`: the names, sizes
-    and modification times of the files the last run wrote there.  A new run
-    removes the files of the earlier manifest that it does not write again —
-    only those still exactly as prp3 wrote them (same size and modification
-    time, regular files); a file the user changed, replaced or added is never
-    touched — and writes its own manifest.  :attr:`StagedOutput.removed`
-    lists what was removed, :attr:`StagedOutput.kept` what was left alone.
+def read_forces(path: str | Path) -> ForceInput:
+    """Read ``t,f10_A,f10_B,f10_C`` or a complete ``results.csv``.
 
     Raises
     ------
-    OutputFileError
-        If the directory cannot be created or written to (names it), or a file
-        cannot be moved in (an older file of the same name is then restored,
-        and nothing in ``directory`` changes).
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> out = pathlib.Path(tempfile.mkdtemp()) / "run"
-    >>> with staged_output(out) as staged:
-    ...     _ = staged.path("a.txt").write_text("a")
-    >>> [path.name for path in staged.written], sorted(p.name for p in out.iterdir())
-    (['a.txt'], ['.prp3-manifest.json', 'a.txt'])
-    >>> with staged_output(out) as staged:          # a run that writes b.txt only
-    ...     _ = staged.path("b.txt").write_text("b")
-    >>> [path.name for path in staged.removed], sorted(p.name for p in out.iterdir())
-    (['a.txt'], ['.prp3-manifest.json', 'b.txt'])
+    InputFileError
+        A malformed file, unknown columns, or some but not all of the
+        ``results.csv`` columns (names the file and the missing columns).
+    TrajectoryError
+        Fewer than 2 rows or times that do not increase.
     """
-    directory = Path(directory)
-    created: list[Path] = []
-    missing = directory
+    others = [name for name in RESULT_COLUMNS if name not in FORCE_COLUMNS]
+    table = _read_table(Path(path), FORCE_COLUMNS, [*others, *FRICTION_COLUMNS], "forces")
+    columns = table.columns
+    extra = [name for name in others if name in columns]
+    if extra and len(extra) != len(others):
+        missing = [name for name in others if name not in columns]
+        raise InputFileError(
+            f"give either the columns {','.join(FORCE_COLUMNS)} or all the columns of a "
+            f"results.csv; missing {', '.join(missing[:6])}"
+            + (f" and {len(missing) - 6} more" if len(missing) > 6 else ""),
+            file=path,
+        )
+    t = columns["t"]
+    f10 = np.stack([columns[f"f10_{leg}"] for leg in LEGS], axis=-1)
     try:
-        while not missing.exists() and missing != missing.parent:
-            created.append(missing)
-            missing = missing.parent
-        directory.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=".prp3-", suffix=".tmp", dir=directory))
-    except OSError as error:
-        _remove_empty(created)
-        reason = error.strerror or type(error).__name__
-        raise OutputFileError(f"{directory}: cannot write output directory ({reason})") from None
-    staged = StagedOutput(directory=directory, staging=staging)
-    try:
-        yield staged
-        _move_in(staged)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        _remove_empty(created)
-        raise
-    shutil.rmtree(staging, ignore_errors=True)
-
-
-def _file_stamp(path: Path) -> dict[str, int] | None:
-    """Size and modification time (ns) of a regular file (not a link); ``None`` otherwise."""
-    try:
-        info = os.lstat(path)
-    except OSError:
-        return None
-    if not stat.S_ISREG(info.st_mode):
-        return None
-    return {"size": int(info.st_size), "mtime_ns": int(info.st_mtime_ns)}
-
-
-def read_manifest(directory: str | Path) -> dict[str, dict[str, int]]:
-    """The files the last run wrote into ``directory``: ``name -> {size, mtime_ns}``.
-
-    An absent, unreadable, oversized or malformed manifest, and any entry that
-    is not a plain file name with integer stamps, count as nothing written:
-    prp3 then removes nothing.
-    """
-    path = Path(directory) / MANIFEST_NAME
-    try:
-        with open(path, "rb") as stream:
-            data = stream.read(_MANIFEST_MAX_BYTES + 1)
-        if len(data) > _MANIFEST_MAX_BYTES:
-            return {}
-        manifest = json.loads(data.decode("utf-8"))
-    except (OSError, ValueError, RecursionError):
-        return {}
-    files = manifest.get("files") if isinstance(manifest, dict) else None
-    if not isinstance(files, dict):
-        return {}
-    entries: dict[str, dict[str, int]] = {}
-    for name, stamp in files.items():
-        plain = isinstance(name, str) and name not in ("", ".", "..") and Path(name).name == name
-        if (
-            plain
-            and name != MANIFEST_NAME
-            and isinstance(stamp, dict)
-            and all(type(stamp.get(key)) is int for key in ("size", "mtime_ns"))
-        ):
-            entries[name] = {"size": stamp["size"], "mtime_ns": stamp["mtime_ns"]}
-    return entries
-
-
-def _move_in(staged: StagedOutput) -> None:
-    """Rename the staged files into the output directory: all of them, or none.
-
-    Every target is checked first (an existing directory or special file of
-    the same name is refused before anything moves).  Older files are
-    hard-linked into the staging folder before they are replaced, so that a
-    failure half-way (or an interrupt) puts them back and removes the new
-    files already moved in.  The files of the earlier manifest that this run
-    does not write again (and that are unchanged) are moved into the staging
-    folder too, and the new manifest is moved in last.
-    """
-    names = [name for name in staged.names if (staged.staging / name).exists()]
-    for name in names:
-        _check_replaceable(staged.directory / name)
-    stale: list[str] = []
-    for name, stamp in read_manifest(staged.directory).items():
-        if name in names:
-            continue
-        now = _file_stamp(staged.directory / name)
-        if now == stamp:
-            stale.append(name)
-        elif now is not None or os.path.lexists(staged.directory / name):
-            staged.kept.append(staged.directory / name)
-    stamps = {name: _file_stamp(staged.staging / name) for name in names}
-    manifest = {
-        "about": "files prp3 wrote into this folder in its last run; the next run removes "
-        "those it does not write again (when unchanged), nothing else",
-        "files": {name: stamp for name, stamp in stamps.items() if stamp is not None},
-    }
-    try:
-        (staged.staging / MANIFEST_NAME).write_text(json.dumps(manifest, indent=1) + "\n")
-    except OSError as error:
-        raise OutputFileError(
-            f"{staged.directory / MANIFEST_NAME}: cannot write ({error.strerror})"
-        ) from None
-    previous = staged.staging / ".previous"
-    previous.mkdir()
-    old = staged.staging / ".removed"
-    old.mkdir()
-    backups: dict[str, Path] = {}
-    moved: list[str] = []
-    taken: list[str] = []
-    target = staged.directory
-    try:
-        for name in [*names, MANIFEST_NAME]:
-            target = staged.directory / name
-            if os.path.lexists(target):
-                with contextlib.suppress(OSError):  # no hard links here: no way back
-                    os.link(target, previous / name, follow_symlinks=False)
-                    backups[name] = previous / name
-            os.replace(staged.staging / name, target)
-            moved.append(name)
-        for name in stale:
-            target = staged.directory / name
-            os.replace(target, old / name)
-            taken.append(name)
-    except BaseException as error:
-        for name in reversed(taken):
-            with contextlib.suppress(OSError):
-                os.replace(old / name, staged.directory / name)
-        for name in reversed(moved):
-            with contextlib.suppress(OSError):
-                if name in backups:
-                    os.replace(backups[name], staged.directory / name)
-                else:
-                    os.unlink(staged.directory / name)
-        if isinstance(error, OSError):
-            raise OutputFileError(f"{target}: cannot write ({error.strerror})") from None
-        raise
-    staged.written.extend(staged.directory / name for name in names)
-    staged.removed.extend(staged.directory / name for name in stale)
-
-
-def _remove_empty(folders: Sequence[Path]) -> None:
-    """Remove the folders (deepest first) that are empty; ignore the others."""
-    for folder in folders:
-        with contextlib.suppress(OSError):
-            folder.rmdir()
+        forces = ActuatorForces(t=t, f10=f10)
+    except Prp3Error as error:
+        line = int(table.lines[error.sample]) if error.sample is not None else None
+        raise error.located(file=path, line=line) from None
+    if not extra:
+        return ForceInput(Path(path), forces, None, None)
+    planned = np.stack([columns["x"], columns["y"], columns["phi"]], axis=-1)
+    rates = np.array([columns[f"dlambda10_{leg}"][0] for leg in LEGS])
+    return ForceInput(Path(path), forces, planned[0].copy(), rates, planned)

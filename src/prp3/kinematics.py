@@ -31,8 +31,9 @@ from .geometry import (
     perp,
 )
 from .kernel import NUMPY, kernel_geometry, kernel_kinematics, kernel_parameters
-from .model import Robot, check_robot
+from .model import Robot
 from .motion import Motion
+from .validation import check_robot
 
 __all__ = ["Kinematics", "inverse_kinematics", "jacobian"]
 

@@ -33,6 +33,8 @@ from typing import Any
 import numpy as np
 
 from .errors import InputFileError, ParameterError
+from .files import read_text
+from .validation import check_robot, check_scalar
 
 __all__ = [
     "Friction",
@@ -49,42 +51,33 @@ __all__ = [
 ]
 
 
+#: Largest robot file read (bytes).
+MAX_ROBOT_FILE_BYTES: int = 1024 * 1024
+
+#: Longest run of digits accepted in a robot file (Python's own limit of integer text).
+MAX_TOML_DIGITS: int = 4300
+
+
 def _number(where: str, value: Any) -> float:
     """Return ``value`` as a finite float or raise a ParameterError naming ``where``."""
-    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
-        raise ParameterError(
-            f"robot: {where} must be a number, got {value!r} ({type(value).__name__})"
-        )
-    try:
-        number = float(value)
-    except OverflowError:
-        raise ParameterError(f"robot: {where} is too large, got {value!r}") from None
-    if not math.isfinite(number):
-        raise ParameterError(f"robot: {where} must be a finite number, got {value!r}")
-    return number
+    return check_scalar(where, value, subject="robot")
 
 
 def _positive(where: str, value: Any, unit: str) -> float:
-    number = _number(where, value)
-    if not number > 0.0:
-        raise ParameterError(
-            f"robot: {where} must be a positive finite number ({unit}), got {value!r}"
-        )
-    return number
+    return check_scalar(where, value, subject="robot", positive=True, unit=unit)
 
 
 def _non_negative(where: str, value: Any, unit: str) -> float:
-    number = _number(where, value)
-    if not number >= 0.0:
-        raise ParameterError(
-            f"robot: {where} must be a non-negative finite number ({unit}), got {value!r}"
-        )
-    return number
+    return check_scalar(where, value, subject="robot", non_negative=True, unit=unit)
 
 
 def _pair(where: str, value: Any) -> tuple[float, float]:
     if not isinstance(value, list | tuple | np.ndarray) or len(value) != 2:
-        raise ParameterError(f"robot: {where} must be a pair of numbers [a, b], got {value!r}")
+        raise ParameterError(
+            f"{where} must be a pair of numbers [a, b], got {value!r}"[:200],
+            subject="robot",
+            key=where,
+        )
     return (_number(f"{where}[0]", value[0]), _number(f"{where}[1]", value[1]))
 
 
@@ -184,8 +177,10 @@ class Limits:
             lower, upper = _pair("limits.stroke", self.stroke)
             if not lower < 0.0 < upper:
                 raise ParameterError(
-                    "robot: limits.stroke must be [lower, upper] with lower < 0 < upper (m), "
-                    f"got {[lower, upper]!r}"
+                    "limits.stroke must be [lower, upper] with lower < 0 < upper (m), "
+                    f"got {[lower, upper]!r}",
+                    subject="robot",
+                    key="limits.stroke",
                 )
             object.__setattr__(self, "stroke", (lower, upper))
         if self.max_force is not None:
@@ -427,7 +422,33 @@ class Robot:
         ):
             if not isinstance(getattr(self, name), kind):
                 raise ParameterError(
-                    f"robot: {name} must be a {kind.__name__}, got {getattr(self, name)!r}"
+                    f"{name} must be a {kind.__name__}, got {getattr(self, name)!r}"[:200],
+                    subject="robot",
+                    key=name,
+                )
+        self._check_scale()
+
+    def _check_scale(self) -> None:
+        """Refuse parameters whose derived quantities overflow float64 (``l0 = 1e200``).
+
+        The dynamics and the exports use ``m·l0²`` (inertias), ``m·g`` and
+        ``l0/√3``; they must all be finite numbers, else every command would
+        crash or write ``inf``.
+        """
+        g = max(abs(self.gravity[0]), abs(self.gravity[1]), 1.0)
+        for body, mass in (
+            ("piston", self.piston.mass),
+            ("link", self.link.mass),
+            ("platform", self.platform.mass),
+        ):
+            with np.errstate(over="ignore"):
+                scale = np.float64(mass) * np.float64(self.l0) ** 2 * 3.0 * g
+            if not np.isfinite(scale):
+                raise ParameterError(
+                    f"l0 = {self.l0!r} m and {body}.mass = {mass!r} kg are too large "
+                    f"together: the {body}'s inertia m*l0^2 and its weight overflow float64",
+                    subject="robot",
+                    key="l0",
                 )
 
     @property
@@ -440,7 +461,7 @@ class Robot:
         """Platform ``I_zz`` about ``G`` (kg·m²): the given value or ``m3·l²/12``."""
         if self.platform.inertia is not None:
             return self.platform.inertia
-        return self.platform.mass * self.edge**2 / 12.0
+        return self.platform.mass * self.edge * self.edge / 12.0
 
     # ------------------------------------------------------------------ TOML
     @classmethod
@@ -523,7 +544,7 @@ class Robot:
         try:
             return cls.from_mapping(data)
         except ParameterError as error:
-            raise ParameterError(f"{path}: {error}") from None
+            raise error.located(file=path) from None
 
     def to_toml(self) -> str:
         """Return the robot as ``ROBOT.toml`` text (round-trips through :meth:`from_toml`).
@@ -535,51 +556,58 @@ class Robot:
 
 
 def read_toml(path: Path, what: str) -> dict[str, Any]:
-    """The mapping of a UTF-8 TOML file (a BOM allowed); errors name ``file:line:column``.
+    """The mapping of a UTF-8 TOML file (a BOM allowed), read with a bound on its size.
 
-    ``what`` names the kind of file in the messages (``"robot"``, ``"sweep"``).
+    ``what`` names the kind of file in the messages (``"robot"``, ``"sweep"``);
+    every failure is an :class:`~prp3.errors.InputFileError` naming the file
+    (and the line and column where TOML gives them).
     """
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as error:
-        raise InputFileError(f"{path}: cannot read {what} file ({error.strerror})") from None
-    except UnicodeDecodeError:
-        raise InputFileError(f"{path}: {what} file is not UTF-8 text") from None
+    return _parse_toml(path, read_text(path, what, MAX_ROBOT_FILE_BYTES))
+
+
+def _parse_toml(path: Path, text: str) -> dict[str, Any]:
+    """``tomllib.loads(text)``; every failure an InputFileError naming the file and line."""
+    long_number = re.search(rf"\d{{{MAX_TOML_DIGITS + 1},}}", text)
+    if long_number is not None:  # Python refuses > 4300 digits with a ValueError
+        line = text.count("\n", 0, long_number.start()) + 1
+        raise InputFileError(
+            f"invalid TOML: a number with more than {MAX_TOML_DIGITS} digits", file=path, line=line
+        )
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
-        message = str(error)
+        message = str(error)  # tomllib of Python 3.11 to 3.13 gives the place in the text only
         where = re.search(r"\(at line (\d+), column (\d+)\)", message)
         if where is None:
-            raise InputFileError(f"{path}: invalid TOML: {message}") from None
+            raise InputFileError(f"invalid TOML: {message}", file=path) from None
         reason = message[: where.start()].rstrip()
         raise InputFileError(
-            f"{path}:{where.group(1)}:{where.group(2)}: invalid TOML: {reason}"
+            f"invalid TOML: {reason}",
+            file=path,
+            line=int(where.group(1)),
+            column=int(where.group(2)),
         ) from None
-
-
-def check_robot(robot: object) -> Robot:
-    """Return ``robot`` if it is a :class:`Robot`, else raise :class:`ParameterError`.
-
-    >>> check_robot(None)
-    Traceback (most recent call last):
-    ...
-    prp3.errors.ParameterError: robot must be a prp3.Robot, got None
-    """
-    if not isinstance(robot, Robot):
-        raise ParameterError(f"robot must be a prp3.Robot, got {robot!r}"[:200])
-    return robot
+    except RecursionError:  # arrays or inline tables nested thousands deep
+        raise InputFileError(
+            "invalid TOML: arrays or tables nested too deeply", file=path
+        ) from None
+    except ValueError as error:  # a number tomllib cannot convert
+        raise InputFileError(f"invalid TOML: {error}", file=path) from None
 
 
 def _table(name: str, value: Any, allowed: set[str]) -> dict[str, Any]:
     if not isinstance(value, Mapping):
         what = f"[{name}]" if name else "the robot description"
-        raise ParameterError(f"robot: {what} must be a table of keys, got {value!r}")
+        raise ParameterError(
+            f"{what} must be a table of keys, got {value!r}"[:200], subject="robot", key=name
+        )
     for key in value:
         if key not in allowed:
             dotted = f"{name}.{key}" if name else key
             raise ParameterError(
-                f"robot: unknown key {dotted!r} (expected one of: {', '.join(sorted(allowed))})"
+                f"unknown key {dotted[:60]!r} (expected one of: {', '.join(sorted(allowed))})",
+                subject="robot",
+                key=dotted,
             )
     return dict(value)
 

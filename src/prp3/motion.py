@@ -18,14 +18,15 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._checks import real_array
 from .errors import TrajectoryError
+from .validation import check_finite, check_integer, check_real, check_scalar, check_times
 
 __all__ = [
     "MAX_SAMPLES",
     "PAPER_DURATION",
     "PAPER_MOTIONS",
     "Motion",
+    "differentiate_positions",
     "law_at",
     "law_motion",
     "paper_motion",
@@ -47,7 +48,7 @@ PAPER_MOTIONS: dict[str, tuple[float, float, float]] = {
 
 
 def _float_array(name: str, value: ArrayLike) -> FloatArray:
-    return real_array(f"motion: {name}", value, TrajectoryError)
+    return check_real(name, value, TrajectoryError, "motion")
 
 
 @dataclass(frozen=True)
@@ -81,7 +82,7 @@ class Motion:
     ...        acceleration=np.zeros((2, 3)))
     Traceback (most recent call last):
     ...
-    prp3.errors.TrajectoryError: motion: time must be strictly increasing; t[1] = 0.0 follows t[0] = 0.0
+    prp3.errors.TrajectoryError: motion: sample 1: time must be strictly increasing; t[1] = 0.0 follows t[0] = 0.0
     """
 
     t: FloatArray
@@ -93,37 +94,31 @@ class Motion:
     def __post_init__(self) -> None:
         t = _float_array("t", self.t)
         if t.ndim > 1:
-            raise TrajectoryError(f"motion: t must have shape (N,) or (), got {t.shape}")
+            raise TrajectoryError(f"t must have shape (N,) or (), got {t.shape}", subject="motion")
         if t.shape == (0,):
-            raise TrajectoryError("motion: needs at least 1 sample, got t of shape (0,)")
+            raise TrajectoryError("needs at least 1 sample, got t of shape (0,)", subject="motion")
+        if t.ndim == 1:
+            t = check_times("t", t, subject="motion")
+        else:
+            check_finite("t", t, subject="motion")
         expected = (*t.shape, 3)
-        names = ("pose", "velocity", "acceleration") + (("load",) if self.load is not None else ())
-        for name in names:
+        quantities = [
+            ("pose", ("x", "y", "phi")),
+            ("velocity", ("dx", "dy", "dphi")),
+            ("acceleration", ("ddx", "ddy", "ddphi")),
+        ]
+        if self.load is not None:
+            quantities.append(("load", ("fx", "fy", "mz")))
+        for name, components in quantities:
             array = _float_array(name, getattr(self, name))
             if array.shape != expected:
                 raise TrajectoryError(
-                    f"motion: {name} must have shape {expected} to match t, got {array.shape}"
+                    f"{name} must have shape {expected} to match t, got {array.shape}",
+                    subject="motion",
                 )
-            flat = array.reshape(-1, 3)
-            bad = ~np.isfinite(flat)
-            if bad.any():
-                index, column = np.argwhere(bad)[0].tolist()
-                raise TrajectoryError(
-                    f"motion: {name}[{index}, {column}] is not finite ({float(flat[index, column])!r})"
-                )
+            check_finite(name, array, components=components, subject="motion")
             array.flags.writeable = False
             object.__setattr__(self, name, array)
-        flat_t = t.reshape(-1)
-        if not np.isfinite(flat_t).all():
-            index = int(np.argmax(~np.isfinite(flat_t)))
-            raise TrajectoryError(f"motion: t[{index}] is not finite ({float(flat_t[index])!r})")
-        steps = np.diff(flat_t)
-        if (steps <= 0).any():
-            index = int(np.argmax(steps <= 0)) + 1
-            raise TrajectoryError(
-                "motion: time must be strictly increasing; "
-                f"t[{index}] = {float(flat_t[index])!r} follows t[{index - 1}] = {float(flat_t[index - 1])!r}"
-            )
         t.flags.writeable = False
         object.__setattr__(self, "t", t)
 
@@ -156,6 +151,13 @@ class Motion:
         )
 
 
+def _amplitude(amplitude: ArrayLike) -> FloatArray:
+    star = _float_array("amplitude", amplitude)
+    if star.shape != (3,):
+        raise TrajectoryError(f"amplitude must have shape (3,), got {star.shape}", subject="motion")
+    return check_finite("amplitude", star, components=("x*", "y*", "phi*"), subject="motion")
+
+
 def law_motion(
     amplitude: ArrayLike,
     samples: int = 301,
@@ -185,24 +187,12 @@ def law_motion(
     >>> m.t.tolist(), m.pose[:, 0].round(12).tolist(), m.velocity[:, 0].round(6).tolist()
     ([0.0, 1.5, 3.0], [0.0, 0.01, 0.02], [0.0, 0.010472, 0.0])
     """
-    star = _float_array("amplitude", amplitude)
-    if star.shape != (3,) or not np.isfinite(star).all():
-        raise TrajectoryError(f"motion: amplitude must be 3 finite numbers, got {amplitude!r}")
-    if (
-        isinstance(samples, bool)
-        or not isinstance(samples, int | np.integer)
-        or not 2 <= samples <= MAX_SAMPLES
-    ):
-        raise TrajectoryError(
-            f"motion: samples must be an integer from 2 to {MAX_SAMPLES:.0e}, got {samples!r}"
-        )
-    if (
-        isinstance(duration, bool | np.bool_)
-        or not isinstance(duration, int | float | np.integer | np.floating)
-        or not (math.isfinite(duration) and duration > 0)
-    ):
-        raise TrajectoryError(f"motion: duration must be a positive number (s), got {duration!r}")
-    return law_at(star, np.linspace(0.0, float(duration), int(samples)))
+    star = _amplitude(amplitude)
+    samples = check_integer("samples", samples, 2, MAX_SAMPLES, TrajectoryError, "motion")
+    duration = check_scalar(
+        "duration", duration, error=TrajectoryError, positive=True, unit="s", subject="motion"
+    )
+    return law_at(star, np.linspace(0.0, duration, samples))
 
 
 def law_at(amplitude: ArrayLike, t: ArrayLike) -> Motion:
@@ -226,12 +216,8 @@ def law_at(amplitude: ArrayLike, t: ArrayLike) -> Motion:
     >>> law_at([0.0, 0.025, 0.0], [0.0, 3.0]).pose[:, 1].round(12).tolist()
     [0.0, 0.05]
     """
-    star = _float_array("amplitude", amplitude)
-    if star.shape != (3,) or not np.isfinite(star).all():
-        raise TrajectoryError(f"motion: amplitude must be 3 finite numbers, got {amplitude!r}")
-    times = _float_array("t", t)
-    if times.ndim != 1:
-        raise TrajectoryError(f"motion: t must have shape (N,), got {times.shape}")
+    star = _amplitude(amplitude)
+    times = check_times("t", t, subject="motion")
     w = math.pi / 3.0
     cos_wt, sin_wt = np.cos(w * times)[:, None], np.sin(w * times)[:, None]
     return Motion(
@@ -254,6 +240,50 @@ def paper_motion(name: str, samples: int = 301) -> Motion:
     """
     if not isinstance(name, str) or name not in PAPER_MOTIONS:
         raise TrajectoryError(
-            f"motion: unknown motion {name!r} (expected 'vertical' or 'rotation')"
+            f"unknown motion {name!r} (expected 'vertical' or 'rotation')"[:200], subject="motion"
         )
     return law_motion(PAPER_MOTIONS[name], samples=samples)
+
+
+def differentiate_positions(t: FloatArray, pose: FloatArray) -> tuple[FloatArray, FloatArray, int]:
+    """Velocities and accelerations of sampled poses by an interpolating spline.
+
+    Each of ``x, y, φ`` is interpolated by a spline of degree 5 (quintic) with
+    the not-a-knot end conditions through all the samples
+    (``scipy.interpolate.make_interp_spline(t, q, k=5)``); the velocity and
+    acceleration are its first and second derivatives at the sample times.
+    With fewer than 6 samples the degree drops to 3 (4 or 5 samples) or 1
+    (2 or 3 samples; zero acceleration).  For a smooth motion sampled every
+    millisecond the derivatives are accurate to about 1e-9 relative away from
+    the ends; within a few samples of the ends the error is larger.
+
+    Parameters
+    ----------
+    t : ndarray, shape (N,)
+        Strictly increasing times (s), ``N >= 2``.
+    pose : ndarray, shape (N, 3)
+        ``(x, y, φ)`` (m, m, rad).
+
+    Returns
+    -------
+    velocity, acceleration : ndarray, shape (N, 3)
+        ``(ẋ, ẏ, φ̇)`` (m/s, rad/s) and ``(ẍ, ÿ, φ̈)`` (m/s², rad/s²).
+    degree : int
+        The spline degree used.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 11)
+    >>> pose = np.stack([t**2, 3.0 * t, np.zeros_like(t)], axis=-1)
+    >>> velocity, acceleration, degree = differentiate_positions(t, pose)
+    >>> degree, velocity[5].round(12).tolist(), acceleration[5].round(9).tolist()
+    (5, [1.0, 3.0, 0.0], [2.0, 0.0, 0.0])
+    """
+    from scipy.interpolate import make_interp_spline
+
+    samples = len(t)
+    degree = 5 if samples >= 6 else 3 if samples >= 4 else 1
+    spline = make_interp_spline(t, pose, k=degree, axis=0)
+    velocity = np.asarray(spline(t, 1), dtype=np.float64)
+    acceleration = np.asarray(spline(t, 2), dtype=np.float64)
+    return velocity, acceleration, degree

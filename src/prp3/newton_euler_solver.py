@@ -97,9 +97,11 @@ def newton_euler(robot: Robot, motion: Motion | Kinematics) -> InverseDynamics:
             if "locked" in part:
                 k = start + int(part.pop("locked"))
                 raise TrajectoryError(
-                    f"motion: the joint friction locks at sample {k}, "
-                    f"t = {float(motion.t.reshape(-1)[k]):.9g} s: the Newton-Euler balances "
-                    "with the mu terms of friction have no consistent solution (self-locking)"
+                    "the joint friction locks: the Newton-Euler balances with the mu terms "
+                    "of friction have no consistent solution (self-locking)",
+                    subject="motion",
+                    sample=k,
+                    time=float(motion.t.reshape(-1)[k]),
                 )
             parts.append(part)
     shape = motion.pose.shape

@@ -55,8 +55,9 @@ from ._checks import first_non_finite
 from .errors import TrajectoryError
 from .forces import InverseDynamics
 from .geometry import ALPHA, check_poses, check_stroke
-from .model import Robot, check_robot
+from .model import Robot
 from .motion import Motion
+from .validation import check_robot
 
 __all__ = [
     "FORCE_SETS",
@@ -402,9 +403,11 @@ def _evaluate_loaded(
     if not settled.all():
         k = first + int(np.flatnonzero(~settled)[0])
         raise TrajectoryError(
-            f"motion: the joint friction locks at sample {k}, "
-            f"t = {float(motion.t.reshape(-1)[k]):.9g} s: the fixed-point iteration of the mu "
-            f"terms does not settle in {MU_MAX_ITERATIONS} steps (self-locking)"
+            "the joint friction locks: the fixed-point iteration of the mu terms does not "
+            f"settle in {MU_MAX_ITERATIONS} steps (self-locking)",
+            subject="motion",
+            sample=k,
+            time=float(motion.t.reshape(-1)[k]),
         )
     chunk["fric10"], chunk["fric21"], chunk["fric32"] = fric
     chunk["iterations"] = iterations
@@ -755,7 +758,7 @@ def _checked_motion(robot: Robot, motion: Motion) -> tuple[FloatArray, FloatArra
     check_robot(robot)
     if not isinstance(motion, Motion):
         raise TrajectoryError(f"motion must be a prp3.Motion, got {motion!r}"[:200])
-    pose = check_poses(motion.pose).reshape(-1, 3)
+    pose = check_poses(motion.pose, robot).reshape(-1, 3)
     return pose, motion.velocity.reshape(-1, 3), motion.acceleration.reshape(-1, 3)
 
 
@@ -766,9 +769,11 @@ def _require_finite(chunk: dict[str, FloatArray], first: int, motion: Motion) ->
         return
     index, name = found[0] + first, found[1]
     raise TrajectoryError(
-        f"motion: the results overflow at sample {index}, "
-        f"t = {float(motion.t.reshape(-1)[index]):.9g} s: {name} is not finite; "
-        "the motion or the robot's parameters are too large for double precision"
+        f"the results overflow: {name} is not finite; "
+        "the motion or the robot's parameters are too large for double precision",
+        subject="motion",
+        sample=index,
+        time=float(motion.t.reshape(-1)[index]),
     )
 
 

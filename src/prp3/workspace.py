@@ -4,7 +4,7 @@ A pose is *reachable* when it is not singular (``|sin(φ − π/3)| >=
 SINGULARITY_THRESHOLD``) and, with ``[limits] stroke = [lower, upper]``, its
 three actuator displacements ``λ10`` (eq. 10) lie within the stroke.
 
-Structure of the workspace (derived in :mod:`prp3.forward`):
+Structure of the workspace (derived in :mod:`prp3.geometry`):
 
 * The orientation depends on ``Σλ10`` alone: ``Σλ10 = (3·l0/2)·(tan((φ −
   π/3)/2) + 1/√3)``.  The reachable orientations are therefore the interval
@@ -37,15 +37,16 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import ParameterError, SingularPoseError
-from .forward import forward_geometry
+from .errors import ParameterError, SingularPoseError, TrajectoryError
 from .geometry import (
     SINGULARITY_THRESHOLD,
     InverseGeometry,
+    forward_geometry,
     inverse_geometry,
     singularity_measure,
 )
 from .model import Limits, Robot
+from .validation import MAX_ORIENTATION, check_poses, check_real, check_robot, check_scalar
 
 __all__ = [
     "SINGULAR_ORIENTATIONS",
@@ -69,23 +70,20 @@ _SQRT3 = math.sqrt(3.0)
 
 
 def _free(robot: Robot) -> Robot:
+    check_robot(robot)
     return robot if robot.limits == Limits() else replace(robot, limits=Limits())
 
 
-def _real(value: ArrayLike) -> FloatArray:
-    """``value`` as float64; complex numbers and text raise TypeError instead of being cast."""
-    if np.asarray(value).dtype.kind in "cSUV":
-        raise TypeError("not real numbers")
-    return np.asarray(value, dtype=np.float64)
+def _poses(robot: Robot, value: ArrayLike) -> FloatArray:
+    """Poses ``(..., 3)`` validated as everywhere (:func:`prp3.validation.check_poses`).
 
-
-def _poses(value: ArrayLike) -> FloatArray:
-    try:
-        pose = _real(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"pose must be an array of real numbers, got {value!r}") from None
-    if pose.ndim < 1 or pose.shape[-1] != 3 or not np.isfinite(pose).all():
-        raise ParameterError(f"pose must be finite numbers of shape (..., 3), got {pose.shape}")
+    Singular poses are accepted here (they are reported unreachable, κ = ∞).
+    """
+    check_robot(robot)
+    pose = check_real("pose", value)
+    if pose.ndim < 1 or pose.shape[-1] != 3 or pose.size == 0:
+        raise TrajectoryError(f"pose must have shape (..., 3), got {pose.shape}")
+    check_poses(pose.reshape(-1, 3) if pose.ndim > 1 else pose, robot, singular=False)
     return pose
 
 
@@ -118,7 +116,7 @@ def reachable(robot: Robot, pose: ArrayLike) -> BoolArray:
     >>> reachable(robot, [[0.0, 0.0, 0.0], [0.0, 0.1, 0.0], [0.0, 0.0, math.pi / 3]]).tolist()
     [True, False, False]
     """
-    pose = _poses(pose)
+    pose = _poses(robot, pose)
     lam, regular = _displacements(robot, pose)
     stroke = robot.limits.stroke
     if stroke is None:
@@ -139,12 +137,18 @@ def jacobian_condition(robot: Robot, pose: ArrayLike) -> FloatArray:
     ``D²·J_nᵀJ_n = [[a·1, v], [vᵀ, b]]`` with ``a = 3/2``,
     ``v = −Σ c_i d⊥_i``, ``b = Σ c_i²``.  Its eigenvalues are ``a`` and
     ``μ± = (a + b)/2 ± √(((a − b)/2)² + |v|²)``, which bracket ``a``; so
-    ``κ = √(μ+/μ−)``, with ``μ− = (a·b − |v|²)/μ+`` (no cancellation).
+    ``κ = √(μ+/μ−)``.  ``μ+`` is a sum of positive terms; ``μ−`` is not taken
+    from ``a·b − |v|²``, which cancels near the singularity (28 % wrong at
+    ``|sin(φ − π/3)| = 1e-4``), but from the product of the eigenvalues,
+    ``a·μ+·μ− = det(D·J_n)²`` with the closed form
+    ``det(D·J_n) = (3√3/4)·tan(ψ/2)``, ``ψ = φ − π/3`` (``det J`` in the notes of
+    this module): ``κ = √a·μ+/|det(D·J_n)|``, accurate to round-off up to the
+    singularity (the tests hold it to 50-digit singular values).
 
     >>> round(float(jacobian_condition(Robot(), [0.0, 0.0, 0.0])) ** 2, 12)   # √6
     6.0
     """
-    pose = _poses(pose)
+    pose = _poses(robot, pose)
     batch = pose.shape[:-1]
     flat = pose.reshape(-1, 3)
     regular = np.abs(singularity_measure(flat[:, 2])) >= SINGULARITY_THRESHOLD
@@ -160,8 +164,9 @@ def _condition(robot: Robot, geo: InverseGeometry) -> FloatArray:
     v = -(c[..., None] * geo.slide_normal).sum(axis=-2)
     a, b, vv = 1.5, (c * c).sum(axis=-1), (v * v).sum(axis=-1)
     mu_plus = 0.5 * (a + b) + np.sqrt((0.5 * (a - b)) ** 2 + vv)
-    mu_minus = (a * b - vv) / mu_plus
-    return np.asarray(np.sqrt(mu_plus / mu_minus))
+    psi = geo.pose[..., 2] - math.pi / 3.0
+    det = (3.0 * _SQRT3 / 4.0) * np.tan(0.5 * psi)  # det(D·J_n), no cancellation
+    return np.asarray(math.sqrt(a) * mu_plus / np.abs(det))
 
 
 def orientation_range(robot: Robot) -> tuple[float, float]:
@@ -178,6 +183,7 @@ def orientation_range(robot: Robot) -> tuple[float, float]:
     >>> [round(v, 6) for v in orientation_range(Robot(limits=Limits(stroke=(-0.05, 0.05))))]
     [-0.430175, 0.568518]
     """
+    check_robot(robot)
     if robot.limits.stroke is None:
         return (-2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0)
     lower, upper = robot.limits.stroke
@@ -208,6 +214,7 @@ def reachable_region(robot: Robot, phi: float) -> FloatArray:
     >>> region.shape, round(float(np.hypot(*region.T).max()), 12)   # a regular hexagon
     ((6, 2), 0.05)
     """
+    check_robot(robot)
     if robot.limits.stroke is None:
         raise ParameterError(
             "robot: no [limits] stroke: the reachable region is the whole plane at every "
@@ -243,11 +250,12 @@ def reachable_region(robot: Robot, phi: float) -> FloatArray:
 
 
 def _orientation(phi: float) -> float:
-    if isinstance(phi, bool) or not isinstance(phi, int | float | np.floating):
-        raise ParameterError(f"phi must be a number (rad), got {phi!r}")
-    phi = float(phi)
-    if not math.isfinite(phi):
-        raise ParameterError(f"phi must be finite (rad), got {phi!r}")
+    phi = check_scalar("phi", phi, unit="rad")
+    if abs(phi) > MAX_ORIENTATION:
+        raise ParameterError(
+            f"phi = {phi!r} rad: |phi| must be at most {MAX_ORIENTATION:g} rad "
+            "(give the angle modulo 2*pi)"
+        )
     if abs(math.sin(phi - math.pi / 3.0)) < SINGULARITY_THRESHOLD:
         raise SingularPoseError(
             f"phi = {phi!r} rad is singular (|sin(phi - pi/3)| < {SINGULARITY_THRESHOLD:g}): at "
@@ -264,10 +272,7 @@ def _polygon_area(xy: FloatArray) -> float:
 
 
 def _grid(name: str, values: ArrayLike) -> FloatArray:
-    try:
-        array = _real(values)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be grid values (real numbers), got {values!r}") from None
+    array = check_real(name, values, ParameterError)
     if array.ndim != 1 or array.size < 2 or not np.isfinite(array).all():
         raise ParameterError(
             f"{name} must be at least 2 finite grid values, got shape {array.shape}"
@@ -348,6 +353,7 @@ def workspace_slice(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> Wor
     >>> ws.reachable.shape, bool(ws.reachable[20, 20]), round(ws.area, 6)
     ((41, 41), True, 0.006495)
     """
+    check_robot(robot)
     phi = _orientation(phi)
     xs, ys = _grid("x", x), _grid("y", y)
     X, Y = np.meshgrid(xs, ys)
@@ -448,6 +454,7 @@ def orientation_scan(robot: Robot, x: ArrayLike, y: ArrayLike, phi: ArrayLike) -
     >>> scan.reachable.shape, scan.count[10, 10].tolist()    # all but φ = -0.5 at the centre
     ((11, 21, 21), 10)
     """
+    check_robot(robot)
     xs, ys = _grid("x", x), _grid("y", y)
     phis = _grid("phi", phi)
     reach = np.zeros((phis.size, ys.size, xs.size), dtype=bool)

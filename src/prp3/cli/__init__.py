@@ -27,7 +27,7 @@ from types import FrameType
 from typing import Any, TextIO
 
 from .. import __version__
-from ..errors import Prp3Error
+from ..errors import OutputFileError, Prp3Error
 from . import control, design, excite, export, forward, identify, robot, simulate, workspace
 
 __all__ = ["main"]
@@ -69,12 +69,46 @@ class _Parser(argparse.ArgumentParser):
         return parsed
 
 
-class _Terminated(BaseException):
-    """Raised by the SIGTERM handler, so that partial outputs are cleaned up as on Ctrl-C."""
+#: Exit status after SIGINT (128 + 2, as the shell reports an interrupted process).
+EXIT_INTERRUPTED: int = 130
 
 
-def _terminate(signum: int, frame: FrameType | None) -> None:
-    raise _Terminated
+class _Signalled(BaseException):
+    """Raised by the signal handler, so that partial outputs are cleaned up as on Ctrl-C."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+class _SignalGuard:
+    """SIGINT and SIGTERM handlers that raise once: later signals of a burst are only counted.
+
+    The first signal raises :class:`_Signalled` in the main thread; the
+    clean-up that follows (removing the staging folder, putting older files
+    back) then runs to its end even when more signals arrive, and the command
+    ends with one line and 130 (SIGINT) or 143 (SIGTERM).
+    """
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+    def __init__(self) -> None:
+        self.received: list[int] = []
+        self.previous: dict[int, Any] = {}
+
+    def handle(self, signum: int, frame: FrameType | None) -> None:
+        self.received.append(signum)
+        if len(self.received) == 1:
+            raise _Signalled(signum)
+
+    def install(self) -> None:
+        with contextlib.suppress(ValueError):  # signal handlers only in the main thread
+            for number in self.SIGNALS:
+                self.previous[number] = signal.signal(number, self.handle)
+
+    def restore(self) -> None:
+        for number, handler in self.previous.items():
+            signal.signal(number, handler)
 
 
 def _one_line_warnings(program: str) -> Callable[..., None]:
@@ -100,7 +134,7 @@ def _one_line_warnings(program: str) -> Callable[..., None]:
 
 def _silence_stdout() -> None:
     """Point stdout at /dev/null so that the flush at exit raises nothing more."""
-    with contextlib.suppress(OSError, ValueError):  # as the Python docs advise
+    with contextlib.suppress(OSError, ValueError, AttributeError):  # as the Python docs advise
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
@@ -127,46 +161,80 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line with ``argv`` (default ``sys.argv[1:]``); return the exit status."""
+    """Run the command line with ``argv`` (default ``sys.argv[1:]``); return the exit status.
+
+    Every :class:`~prp3.errors.Prp3Error` becomes one line on stderr and exit
+    status 2; SIGINT and SIGTERM (also in bursts) one line and 130 or 143.
+    Standard output is flushed before the status is returned, so that a
+    failing one is reported too.
+    """
     parser = build_parser()
     args = parser.parse_args(list(argv) if argv is not None else None)
     if getattr(args, "handler", None) is None:
         parser.print_help(sys.stderr)
         return 2
     program = str(getattr(args, "program", "prp3"))
-    previous: Any = None
-    with contextlib.suppress(ValueError):  # signal handlers only in the main thread
-        previous = signal.signal(signal.SIGTERM, _terminate)
+    guard = _SignalGuard()
+    guard.install()
     try:
-        with warnings.catch_warnings():
-            warnings.showwarning = _one_line_warnings(program)
-            status = int(args.handler(args))
-            sys.stdout.flush()  # here, not at exit: a failing stdout gets its one line
+        return _run(args, program)
+    finally:
+        if argv is None and guard.received:
+            # the process is ending: signals of the burst still queued are swallowed
+            for number in guard.SIGNALS:
+                with contextlib.suppress(ValueError):
+                    signal.signal(number, signal.SIG_IGN)
+        else:
+            guard.restore()
+
+
+def _error(program: str, text: str) -> None:
+    with contextlib.suppress(OSError, ValueError, AttributeError):  # stderr may be gone too
+        print(f"{program}: error: {text}", file=sys.stderr)
+
+
+def _run(args: argparse.Namespace, program: str) -> int:
+    try:
+        try:
+            with warnings.catch_warnings():
+                warnings.showwarning = _one_line_warnings(program)
+                status = int(args.handler(args))
+            _flush_stdout()
             return status
+        except KeyboardInterrupt:  # raised by a handler prp3 did not install
+            raise _Signalled(signal.SIGINT) from None
+    except _Signalled as signalled:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            name = "interrupted" if signalled.signum == signal.SIGINT else "terminated"
+            print(f"{program}: {name}", file=sys.stderr)
+        return EXIT_INTERRUPTED if signalled.signum == signal.SIGINT else EXIT_TERMINATED
     except Prp3Error as error:
-        print(f"{program}: error: {error}", file=sys.stderr)
+        _error(program, str(error))
+        if error.origin == "standard output":
+            _silence_stdout()  # the flush at exit would fail again
         return 2
-    except KeyboardInterrupt:
-        print(f"{program}: interrupted", file=sys.stderr)
-        return 130
-    except _Terminated:
-        print(f"{program}: terminated", file=sys.stderr)
-        return EXIT_TERMINATED
     except BrokenPipeError:  # e.g. `prp3 robot --template | head -n 3`
         _silence_stdout()
         return 141
     except MemoryError as error:
-        print(
-            f"{program}: error: not enough memory ({error}): ask for fewer samples or grid points",
-            file=sys.stderr,
-        )
+        _error(program, f"not enough memory ({error}): ask for fewer samples or grid points")
         return 2
-    except OSError as error:  # e.g. stdout on a full disk: `prp3 robot --template > /dev/full`
-        where = error.filename if error.filename is not None else "standard output"
-        with contextlib.suppress(OSError, ValueError):
-            print(f"{program}: error: {where}: {error.strerror or error}", file=sys.stderr)
+    except OSError as error:  # a file operation prp3 did not wrap: name its file if known
+        where = f"{error.filename}: " if error.filename is not None else ""
+        _error(program, f"{where}{error.strerror or error}")
         _silence_stdout()
         return 2
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+
+
+def _flush_stdout() -> None:
+    """Flush standard output now (not at exit), turning a failure into a Prp3Error."""
+    stream = sys.stdout
+    if stream is None:
+        return
+    try:
+        stream.flush()
+    except BrokenPipeError:
+        raise
+    except (OSError, ValueError) as error:
+        reason = getattr(error, "strerror", None) or str(error)
+        raise OutputFileError(reason, origin="standard output") from None

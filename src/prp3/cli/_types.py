@@ -13,15 +13,18 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
+from ..errors import OutputFileError
 from ..io import MANIFEST_NAME, StagedOutput
 from ..model import Robot
 
 __all__ = [
     "add_output_directory",
     "add_robot_option",
+    "emit",
     "files_report",
     "finite_float",
     "integer_at_least",
@@ -121,21 +124,52 @@ def add_output_directory(parser: argparse.ArgumentParser) -> None:
 
 
 def files_report(staged: StagedOutput) -> list[str]:
-    """The lines of a summary that say which files a run wrote and removed.
+    """The lines of a summary that say which files a run writes and removes.
 
-    The files of an earlier run in the same folder (its manifest,
-    ``DIR/.prp3-manifest.json``) that this run did not write again are removed
-    and listed; those changed since are kept and listed.
+    Known before the files are moved in (the summary is printed first): the
+    files of an earlier run in the same folder (its manifest,
+    ``DIR/.prp3-manifest.json``) that this run does not write again are
+    removed and listed; those changed since are kept and listed.
     """
-    lines = ["files written:", *(f"  {path}" for path in staged.written)]
-    if staged.removed:
+    lines = ["files written:", *(f"  {path}" for path in staged.targets)]
+    removed = staged.stale()
+    if removed:
         lines += [
             f"files removed (an earlier run wrote them, {MANIFEST_NAME}; not written again):",
-            *(f"  {path}" for path in staged.removed),
+            *(f"  {path}" for path in removed),
         ]
-    if staged.kept:
+    kept = staged.changed()
+    if kept:
         lines += [
             "files kept (an earlier run wrote them, but they have changed since):",
-            *(f"  {path}" for path in staged.kept),
+            *(f"  {path}" for path in kept),
         ]
     return lines
+
+
+def emit(text: str, end: str = "\n") -> None:
+    """Print ``text`` and ``end`` on standard output, flushed now.
+
+    Flushing here, not at exit, makes a failing standard output (a full disk,
+    a closed descriptor) an error of the run, reported in one line, before
+    the run's files are moved in.
+
+    Raises
+    ------
+    OutputFileError
+        ``standard output: <reason>`` when it is closed or cannot be written.
+    BrokenPipeError
+        When the reader went away (``prp3 ... | head``): the command line
+        then exits quietly.
+    """
+    stream = sys.stdout
+    if stream is None:
+        raise OutputFileError("closed", origin="standard output")
+    try:
+        stream.write(text + end)
+        stream.flush()
+    except BrokenPipeError:
+        raise
+    except (OSError, ValueError) as error:  # ValueError: a closed file object
+        reason = getattr(error, "strerror", None) or str(error)
+        raise OutputFileError(reason, origin="standard output") from None

@@ -18,7 +18,6 @@ hold the run up to the stop, the reason goes to stderr and the exit status is 1.
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 from pathlib import Path
 from typing import Any
@@ -54,6 +53,7 @@ from ..plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not 
 from ._types import (
     add_output_directory,
     add_robot_option,
+    emit,
     files_report,
     finite_float,
     load_robot,
@@ -187,9 +187,10 @@ def run(args: argparse.Namespace) -> int:
         try:
             inverse_geometry(robot, motion.pose)
         except (SingularPoseError, UnreachablePoseError) as error:
-            found = re.search(r"at sample (\d+)", str(error))
-            line = f":{int(trajectory.lines[int(found[1])])}" if found else ""
-            raise type(error)(f"{args.trajectory}{line}: {error}") from None
+            sample = error.sample
+            line = int(trajectory.lines[sample]) if sample is not None else None
+            when = float(motion.t[sample]) if sample is not None else None
+            raise error.located(file=trajectory.path, line=line, time=when, subject=None) from None
         times = control_times(float(motion.t[0]), float(motion.t[-1]), args.rate)
         reference = hermite_reference(motion, times)
         what = f"trajectory {args.trajectory} (quintic Hermite reference)"
@@ -221,7 +222,8 @@ def run(args: argparse.Namespace) -> int:
                 tracking_figure(table, title=title, subtitle=subtitle),
                 staged.path(TRACKING_FIGURE),
             )
-    print(_summary(result, title, what, model_text, args, files_report(staged)), file=sys.stdout)
+        # printed before the files are moved in: a failing standard output keeps older results
+        emit(_summary(result, title, what, model_text, args, files_report(staged)))
     limit = robot.limits.max_force
     if limit is not None:  # the plant's actuators: the controller asked for more than they give
         peak = np.abs(result.f10).max(axis=0)

@@ -16,7 +16,6 @@ limits.  This module only parses and prints.
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
 
 import numpy as np
@@ -26,6 +25,7 @@ from ..io import check_output_directory, staged_output, write_table_csv
 from ._types import (
     add_output_directory,
     add_robot_option,
+    emit,
     files_report,
     integer_at_least,
     load_robot,
@@ -134,20 +134,23 @@ def run(args: argparse.Namespace) -> int:
     motion = result.series.motion(np.linspace(0.0, args.period, args.samples))
     names = ("t", "x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
     columns = [motion.t, *motion.pose.T, *motion.velocity.T, *motion.acceleration.T]
+    force = args.max_force if args.max_force is not None else robot.limits.max_force
     with staged_output(args.output) as staged:
         write_table_csv(staged.path(TRAJECTORY_NAME), dict(zip(names, columns, strict=True)))
-    force = args.max_force if args.max_force is not None else robot.limits.max_force
-    lines = [
-        f"prp3 excite: Fourier series, {args.harmonics} harmonics, period {args.period:g} s",
-        f"  condition number of the base regressor of f10: {result.condition:.4g} "
-        f"(starting guess {result.initial_condition:.4g}, {result.iterations} SLSQP iterations)",
-        f"  limits: |x|, |y| <= {args.reach:g} l0, |phi| <= {args.rotation:g} rad, "
-        f"|dlambda10| <= {args.max_velocity:g} m/s"
-        + (f", |f10| <= {force:g} N" if force is not None else "")
-        + (f", stroke {list(robot.limits.stroke)} m" if robot.limits.stroke is not None else ""),
-        f"  peaks (nominal robot): |lambda10| {result.peak_lambda10:.4g} m, "
-        f"|dlambda10| {result.peak_dlambda10:.4g} m/s, |f10| {result.peak_f10:.4g} N",
-        *files_report(staged),
-    ]
-    print("\n".join(lines), file=sys.stdout)
+        lines = [
+            f"prp3 excite: Fourier series, {args.harmonics} harmonics, period {args.period:g} s",
+            f"  condition number of the base regressor of f10: {result.condition:.4g} "
+            f"(starting guess {result.initial_condition:.4g}, {result.iterations} SLSQP iterations)",
+            f"  limits: |x|, |y| <= {args.reach:g} l0, |phi| <= {args.rotation:g} rad, "
+            f"|dlambda10| <= {args.max_velocity:g} m/s"
+            + (f", |f10| <= {force:g} N" if force is not None else "")
+            + (
+                f", stroke {list(robot.limits.stroke)} m" if robot.limits.stroke is not None else ""
+            ),
+            f"  peaks (nominal robot): |lambda10| {result.peak_lambda10:.4g} m, "
+            f"|dlambda10| {result.peak_dlambda10:.4g} m/s, |f10| {result.peak_f10:.4g} N",
+            *files_report(staged),
+        ]
+        # printed before the files are moved in: a failing standard output keeps older results
+        emit("\n".join(lines))
     return 0

@@ -13,15 +13,20 @@ dynamics as C99 code, ``DIR/prp3_inverse_dynamics.h`` and ``.c``
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
 from ..codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
-from ..errors import OutputFileError
 from ..io import atomic_writer, check_inputs_kept, check_output_directory, staged_output
 from ..mjcf import mjcf_model
-from ._types import add_output_directory, add_robot_option, files_report, load_robot, path_name
+from ._types import (
+    add_output_directory,
+    add_robot_option,
+    emit,
+    files_report,
+    load_robot,
+    path_name,
+)
 
 __all__ = ["register"]
 
@@ -112,21 +117,17 @@ def _export_mjcf(args: argparse.Namespace) -> int:
     text = mjcf_model(robot)
     output: Path | None = args.output
     if output is None:
-        sys.stdout.write(text)
-        sys.stdout.flush()
+        emit(text, end="")
         return 0
-    try:
-        with atomic_writer(output) as stream:
-            stream.write(text)
-    except OSError as error:
-        raise OutputFileError(f"{output}: cannot write ({error.strerror})") from None
     source = f"the robot of {args.robot}" if args.robot is not None else "the paper's robot"
-    print(
-        f"{args.program}: MuJoCo MJCF model of {source} (3 legs as chains, loops closed by "
-        f"2 welds, motors actuator_A/B/C on the sliders), {len(text.encode())} bytes\n"
-        f"files written:\n  {output}",
-        file=sys.stdout,
-    )
+    with atomic_writer(output) as stream:  # an OSError is an OutputFileError naming the file
+        stream.write(text)
+        # said before the file is moved in: a failing standard output keeps an older file
+        emit(
+            f"{args.program}: MuJoCo MJCF model of {source} (3 legs as chains, loops closed by "
+            f"2 welds, motors actuator_A/B/C on the sliders), {len(text.encode())} bytes\n"
+            f"files written:\n  {output}"
+        )
     return 0
 
 
@@ -135,14 +136,13 @@ def _export_c(args: argparse.Namespace) -> int:
     check_output_directory(output)
     check_inputs_kept(output, (HEADER_NAME, SOURCE_NAME), (args.robot,))
     code = c_inverse_dynamics(load_robot(args))
+    source = f"the robot of {args.robot}" if args.robot is not None else "the paper's robot"
     with staged_output(output) as staged:
         staged.path(HEADER_NAME).write_text(code.header, encoding="utf-8")
         staged.path(SOURCE_NAME).write_text(code.source, encoding="utf-8")
-    source = f"the robot of {args.robot}" if args.robot is not None else "the paper's robot"
-    print(
-        f"{args.program}: C99 inverse dynamics of {source} (prp3_inverse_dynamics: pose, "
-        "velocity, acceleration -> f10, f21y, f21z; returns 0, 1 non-finite, 2 singular, "
-        "3 outside the stroke)\n" + "\n".join(files_report(staged)),
-        file=sys.stdout,
-    )
+        emit(
+            f"{args.program}: C99 inverse dynamics of {source} (prp3_inverse_dynamics: pose, "
+            "velocity, acceleration -> f10, f21y, f21z; returns 0, 1 non-finite, 2 singular, "
+            "3 outside the stroke)\n" + "\n".join(files_report(staged))
+        )
     return 0

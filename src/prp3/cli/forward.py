@@ -19,7 +19,6 @@ to the stop, the reason goes to stderr and the exit status is 1.
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,34 +27,31 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import (
-    InputFileError,
-    ParameterError,
-    Prp3Error,
-    SingularPoseError,
-    UnreachablePoseError,
-)
+from ..errors import Prp3Error
 from ..forward import (
     MIN_RTOL,
-    ActuatorForces,
     ForwardDynamics,
     check_forward_friction,
     forward_dynamics,
     forward_velocity,
     open_loop_growth_rate,
 )
-from ..geometry import LEGS
 from ..io import (
+    FORCE_COLUMNS,
+    ForceInput,
     check_inputs_kept,
     check_output_directory,
-    read_table_csv,
+    read_forces,
+    results_table,
     staged_output,
+    trajectory_table,
     write_table_csv,
 )
-from ..results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
+from ..runs import check_memory
 from ._types import (
     add_output_directory,
     add_robot_option,
+    emit,
     files_report,
     finite_float,
     integer_at_least,
@@ -64,7 +60,7 @@ from ._types import (
     positive_float,
 )
 
-__all__ = [
+__all__ = [  # FORCE_COLUMNS, ForceInput and read_forces: from prp3.io
     "FORCE_COLUMNS",
     "ForceInput",
     "PlanDrift",
@@ -76,16 +72,16 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: Columns of a force history file.
-FORCE_COLUMNS: tuple[str, ...] = ("t", "f10_A", "f10_B", "f10_C")
-
-#: Columns of ``trajectory.csv`` (the ``TRAJ.csv`` layout of the data contract).
-TRAJECTORY_COLUMNS: tuple[str, ...] = (
-    "t", "x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi",
-)  # fmt: skip
-
 #: Exit status when the integration stopped before the last time.
 EXIT_STOPPED: int = 1
+
+#: Memory of a run per output sample (bytes): the inverse dynamics of 4 states per
+#: sample (the equations of motion), the results and trajectory tables.  tracemalloc
+#: measured a peak of 7.3 kB per sample at N = 2000 (14 kB at N = 500), falling with N.
+BYTES_PER_SAMPLE: int = 8_000
+
+#: Memory of a run besides its samples (bytes).
+BYTES_PER_RUN: int = 200 * 1024**2
 
 EXAMPLES = """\
 examples:
@@ -103,72 +99,6 @@ singularity (|sin(phi - pi/3)| = 2e-4) or at a stroke limit, or the integrator g
 up (the files hold the motion up to the stop; the reason is on stderr); 2 on bad
 input (one line on stderr, nothing written).
 """
-
-
-@dataclass(frozen=True)
-class ForceInput:
-    """A force file read by :func:`read_forces`.
-
-    Attributes
-    ----------
-    path : Path
-        The file.
-    forces : ActuatorForces
-        Its force samples.
-    first_pose, first_rates : ndarray (3,) or None
-        ``(x, y, phi)`` and ``dlambda10`` of the first row of a ``results.csv``;
-        ``None`` for a force table.
-    planned_pose : ndarray (N, 3) or None
-        ``(x, y, phi)`` of every row of a ``results.csv``: the motion the forces
-        were planned for (at the times ``forces.t``); ``None`` for a force table.
-    """
-
-    path: Path
-    forces: ActuatorForces
-    first_pose: FloatArray | None
-    first_rates: FloatArray | None
-    planned_pose: FloatArray | None = None
-
-    @property
-    def results(self) -> bool:
-        """Whether the file is a ``results.csv`` (all contract columns)."""
-        return self.first_pose is not None
-
-
-def read_forces(path: Path) -> ForceInput:
-    """Read ``t,f10_A,f10_B,f10_C`` or a complete ``results.csv``.
-
-    Raises
-    ------
-    InputFileError
-        A malformed file, unknown columns, or some but not all of the
-        ``results.csv`` columns (names the file and the missing columns).
-    TrajectoryError
-        Fewer than 2 rows or times that do not increase.
-    """
-    others = [name for name in RESULT_COLUMNS if name not in FORCE_COLUMNS]
-    columns = read_table_csv(
-        path, required=FORCE_COLUMNS, optional=[*others, *FRICTION_COLUMNS], what="forces"
-    )
-    extra = [name for name in others if name in columns]
-    if extra and len(extra) != len(others):
-        missing = [name for name in others if name not in columns]
-        raise InputFileError(
-            f"{path}: give either the columns {','.join(FORCE_COLUMNS)} or all the columns of a "
-            f"results.csv; missing {', '.join(missing[:6])}"
-            + (f" and {len(missing) - 6} more" if len(missing) > 6 else "")
-        )
-    t = columns["t"]
-    f10 = np.stack([columns[f"f10_{leg}"] for leg in LEGS], axis=-1)
-    try:
-        forces = ActuatorForces(t=t, f10=f10)
-    except Prp3Error as error:
-        raise type(error)(f"{path}: {error}") from None
-    if not extra:
-        return ForceInput(path, forces, None, None)
-    planned = np.stack([columns["x"], columns["y"], columns["phi"]], axis=-1)
-    rates = np.array([columns[f"dlambda10_{leg}"][0] for leg in LEGS])
-    return ForceInput(path, forces, planned[0].copy(), rates, planned)
 
 
 def _relative_tolerance(text: str) -> float:
@@ -251,9 +181,10 @@ def run(args: argparse.Namespace) -> int:
     robot = load_robot(args)
     try:
         check_forward_friction(robot)
-    except ParameterError as error:
-        where = args.robot if args.robot is not None else "robot"
-        raise ParameterError(f"{where}: {re.sub(r'^robot: ', '', str(error))}") from None
+    except Prp3Error as error:
+        if args.robot is None:
+            raise
+        raise error.located(file=args.robot, subject=None) from None
     given = read_forces(args.forces)
     forces = given.forces
     if args.initial_pose is not None:
@@ -262,12 +193,8 @@ def run(args: argparse.Namespace) -> int:
         pose = given.first_pose
     else:
         pose = np.zeros(3)
-    if args.initial_pose is not None:
-        pose_source = "--initial-pose " + " ".join(repr(v) for v in args.initial_pose)
-    elif given.first_pose is not None:
-        pose_source = f"{given.path}: initial pose from the first row"
-    else:
-        pose_source = "initial pose 0 0 0 (the central configuration)"
+    samples = args.samples if args.samples is not None else forces.t.size
+    check_memory(f"{samples} output samples", BYTES_PER_RUN + BYTES_PER_SAMPLE * samples)
     try:
         if args.initial_velocity is not None:
             velocity = np.array(args.initial_velocity, dtype=np.float64)
@@ -282,30 +209,29 @@ def run(args: argparse.Namespace) -> int:
         result = forward_dynamics(
             robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol
         )
-    except (SingularPoseError, UnreachablePoseError) as error:  # of the initial pose
-        raise type(error)(f"{pose_source}: {re.sub(r'^pose: ', '', str(error))}") from None
-    except ParameterError as error:
-        if str(error).startswith("forces:"):  # a force above limits.max_force
-            raise ParameterError(f"{given.path}: {error}") from None
+    except Prp3Error as error:
+        if error.subject in ("initial_pose", "pose"):  # the initial pose: say where it came from
+            if args.initial_pose is not None:
+                origin = "--initial-pose " + " ".join(repr(v) for v in args.initial_pose)
+                raise error.located(origin=origin, subject=None) from None
+            if given.first_pose is not None:
+                raise error.located(
+                    file=given.path, subject="initial pose from the first row"
+                ) from None
+            raise error.located(
+                origin="initial pose 0 0 0 (the central configuration)", subject=None
+            ) from None
+        if error.subject == "forces":  # a force above limits.max_force
+            raise error.located(file=given.path) from None
         raise
     table = results_table(result.kinematics, result.dynamics)
-    motion = result.motion
-    trajectory = {
-        "t": motion.t,
-        **{name: motion.pose[:, k] for k, name in enumerate(("x", "y", "phi"))},
-        **{name: motion.velocity[:, k] for k, name in enumerate(("dx", "dy", "dphi"))},
-        **{name: motion.acceleration[:, k] for k, name in enumerate(("ddx", "ddy", "ddphi"))},
-    }
     with staged_output(output) as staged:
         write_table_csv(staged.path("results.csv"), table)
-        write_table_csv(staged.path("trajectory.csv"), trajectory)
-
-    growth = open_loop_growth_rate(robot, pose)
-    drift = plan_drift(given, result)
-    print(
-        _summary(given, result, pose, velocity, drift, growth, files_report(staged)),
-        file=sys.stdout,
-    )
+        write_table_csv(staged.path("trajectory.csv"), trajectory_table(result.motion))
+        growth = open_loop_growth_rate(robot, pose)
+        drift = plan_drift(given, result)
+        # printed before the files are moved in: a failing standard output keeps older results
+        emit(_summary(given, result, pose, velocity, drift, growth, files_report(staged)))
     if result.status != "completed":
         print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED

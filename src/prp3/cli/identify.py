@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import re
 import sys
 from typing import Any
 
@@ -48,7 +47,7 @@ from ..io import (
 )
 from ..model import Robot
 from ..plotting.identification import IDENTIFICATION_FIGURE  # a constant: no matplotlib
-from ._types import add_output_directory, files_report, load_robot, path_name
+from ._types import add_output_directory, emit, files_report, load_robot, path_name
 
 __all__ = ["FRICTION_CHOICES", "PARAMETERS_NAME", "ROBOT_NAME", "register", "run"]
 
@@ -136,9 +135,10 @@ def run(args: argparse.Namespace) -> int:
     try:
         inverse_geometry(nominal, trajectory.motion.pose)
     except (SingularPoseError, UnreachablePoseError) as error:
-        found = re.search(r"at sample (\d+)", str(error))
-        line = f":{int(trajectory.lines[int(found[1])])}" if found else ""
-        raise type(error)(f"{args.measurements}{line}: {error}") from None
+        sample = error.sample
+        line = int(trajectory.lines[sample]) if sample is not None else None
+        when = float(trajectory.motion.t[sample]) if sample is not None else None
+        raise error.located(file=trajectory.path, line=line, time=when, subject=None) from None
     estimated = estimated_parameters(nominal, args.friction)
     result = identify(nominal, trajectory.motion, data.f10, estimated, where=str(args.measurements))
     robot = identified_robot(nominal, result)
@@ -160,7 +160,8 @@ def run(args: argparse.Namespace) -> int:
             stream.write(_robot_text(robot, args))
         _write_parameters(staged.path(PARAMETERS_NAME), result)
         save_figure(figure, staged.path(IDENTIFICATION_FIGURE))
-    print(_summary(result, robot, nominal, args, files_report(staged)), file=sys.stdout)
+        # printed before the files are moved in: a failing standard output keeps older results
+        emit(_summary(result, robot, nominal, args, files_report(staged)))
     return 0
 
 

@@ -9,11 +9,10 @@ it gives, defaults filled in.
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
 
 from ..model import Robot, robot_template
-from ._types import path_name
+from ._types import emit, path_name
 
 __all__ = ["register", "run"]
 
@@ -55,9 +54,9 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run ``prp3 robot`` with parsed ``args``; return the exit status."""
     if args.template:
-        sys.stdout.write(robot_template())
+        emit(robot_template(), end="")
         return 0
     robot = Robot.from_toml(args.check)
-    sys.stdout.write(f"# {args.check}: valid; the parameters it gives, defaults filled in:\n")
-    sys.stdout.write(robot_template(robot))
+    emit(f"# {args.check}: valid; the parameters it gives, defaults filled in:")
+    emit(robot_template(robot), end="")
     return 0

@@ -18,19 +18,17 @@ go to stderr.
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 import time
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..dynamics import METHODS, Method, inverse_dynamics
-from ..errors import Prp3Error, SingularPoseError, TrajectoryError, UnreachablePoseError
+from ..dynamics import METHODS
+from ..errors import Prp3Error
 from ..geometry import LEGS
 from ..io import (
     Trajectory,
@@ -43,13 +41,13 @@ from ..io import (
     write_table_parquet,
 )
 from ..kinematics import inverse_kinematics
-from ..model import Robot
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
-from ..results import result_columns, results_table
+from ..runs import CHUNK_SAMPLES, RunSummary, check_memory, simulate_table, summarize, summary_text
 from ._types import (
     add_output_directory,
     add_robot_option,
+    emit,
     files_report,
     integer_at_least,
     load_robot,
@@ -65,15 +63,20 @@ __all__ = [
     "run",
     "simulate_table",
     "summarize",
-]
+]  # the run table and summary are built by prp3.runs; re-exported for callers
 
 FloatArray = NDArray[np.float64]
 
 #: Samples of the paper's motions when ``--samples`` is not given.
 DEFAULT_SAMPLES: int = 301
 
-#: Samples computed at a time (bounds the memory of big runs; drives the progress bar).
-CHUNK_SAMPLES: int = 50_000
+#: Memory of a run per sample (bytes): the 46 columns of results.csv, the motion (10
+#: columns) and the figures' copies; tracemalloc measured a peak of 1.3 kB per sample
+#: at N = 8e4, chunk buffers included (those are BYTES_PER_RUN at large N).
+BYTES_PER_SAMPLE: int = 8 * (46 + 10 + 46)
+
+#: Memory of a run besides its samples (bytes): one chunk of intermediate results.
+BYTES_PER_RUN: int = 200 * 1024**2
 
 #: File formats of the results (``--format``) and the file each writes.
 FORMATS: tuple[str, ...] = ("csv", "parquet")
@@ -155,170 +158,6 @@ class Progress:
             self.drawn = False
 
 
-# ------------------------------------------------------------------ computation
-def simulate_table(
-    robot: Robot,
-    motion: Motion,
-    method: Method = "fast",
-    *,
-    progress: Callable[[int, int], None] | None = None,
-    chunk: int = CHUNK_SAMPLES,
-) -> dict[str, FloatArray]:
-    """The columns of ``results.csv`` for a batch motion, computed ``chunk`` samples at a time.
-
-    The same numbers as ``results_table(*inverse_dynamics(robot, motion,
-    method))``: every sample is computed on its own, so splitting the batch
-    changes nothing but the memory used.  Errors name the sample's index in
-    the whole motion.
-
-    >>> from prp3.motion import paper_motion
-    >>> from prp3.results import RESULT_COLUMNS
-    >>> table = simulate_table(Robot(), paper_motion("vertical", 7), chunk=3)
-    >>> list(table) == list(result_columns(False)), table["f10_A"].shape
-    (True, (7,))
-    """
-    samples = motion.samples
-    table = {name: np.empty(samples) for name in result_columns(robot.friction is not None)}
-    for start in range(0, samples, chunk):
-        stop = min(start + chunk, samples)
-        try:
-            part = results_table(*inverse_dynamics(robot, motion[start:stop], method))
-        except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
-            raise _shift_sample(error, start) from None
-        for name, column in part.items():
-            table[name][start:stop] = column
-        if progress is not None:
-            progress(stop, samples)
-    return table
-
-
-def _shift_sample(error: Prp3Error, offset: int) -> Prp3Error:
-    """The same error, the sample index in its message (``at sample k``) moved by ``offset``."""
-
-    def shift(found: re.Match[str]) -> str:
-        return f"at sample {int(found[1]) + offset}"
-
-    return type(error)(re.sub(r"at sample (\d+)", shift, str(error)))
-
-
-def _located(
-    error: Prp3Error, motion: Motion, source: str, trajectory: Trajectory | None
-) -> Prp3Error:
-    """The same error, its message naming the source, the sample's time and its file line.
-
-    ``source`` is ``--motion NAME`` or the trajectory file; for a file the
-    line of the sample is added (``path:line``).
-    """
-    message = re.sub(r"^(pose|motion): ", "", str(error))
-    found = re.search(r"at sample (\d+)(, t = \S+ s)?", message)
-    if found is None:
-        return type(error)(f"{source}: {message}")
-    sample = int(found[1])
-    where = source if trajectory is None else f"{source}:{int(trajectory.lines[sample])}"
-    when = f"at sample {sample}, t = {float(motion.t[sample]):.9g} s"
-    return type(error)(f"{where}: {message[: found.start()]}{when}{message[found.end() :]}")
-
-
-@dataclass(frozen=True)
-class RunSummary:
-    """Peaks and energies of a run, per leg A, B, C (arrays of shape (3,)).
-
-    Attributes
-    ----------
-    peak_f10, peak_p10, peak_f21 : ndarray (3,)
-        Largest ``|f10|`` (N), ``|p10|`` (W) and ``|f21| = √(f21y² + f21z²)`` (N).
-    peak_f10_time : ndarray (3,)
-        When ``|f10|`` peaks (s).
-    energy : ndarray (3,)
-        Energy each actuator delivers, ``∫ p10 dt`` by the trapezoid rule (J).
-    dissipated : ndarray (3,) or None
-        With friction columns: the energy friction dissipates in the actuator
-        guides, the revolute joints and the sleeves (the three legs together),
-        ``∫ −Σ fric·rate dt`` by the trapezoid rule (J); else ``None``.
-    """
-
-    peak_f10: FloatArray
-    peak_f10_time: FloatArray
-    peak_p10: FloatArray
-    peak_f21: FloatArray
-    energy: FloatArray
-    dissipated: FloatArray | None = None
-
-    @property
-    def total_energy(self) -> float:
-        """Energy the three actuators deliver together (J)."""
-        return float(self.energy.sum())
-
-
-def summarize(table: Mapping[str, FloatArray], dphi: FloatArray | None = None) -> RunSummary:
-    """Peaks and energies of the columns of ``results.csv`` (``N >= 1`` samples).
-
-    ``dphi`` (``φ̇`` of the samples) is needed for the energy dissipated in the
-    revolute joints when the table has the friction columns.
-
-    >>> t = np.array([0.0, 1.0, 2.0])
-    >>> table = {"t": t} | {f"{q}_{leg}": np.array([0.0, 2.0, -1.0])
-    ...                     for q in ("f10", "p10", "f21y", "f21z") for leg in "ABC"}
-    >>> s = summarize(table)
-    >>> s.peak_f10.tolist(), s.peak_f21.round(6).tolist()[0], s.energy.tolist()
-    ([2.0, 2.0, 2.0], 2.828427, [1.5, 1.5, 1.5])
-    """
-    t = np.asarray(table["t"], dtype=np.float64)
-
-    def legs(name: str) -> FloatArray:
-        return np.stack([np.asarray(table[f"{name}_{leg}"]) for leg in LEGS], axis=-1)
-
-    f10, p10 = legs("f10"), legs("p10")
-    f21 = np.hypot(legs("f21y"), legs("f21z"))
-    energy = (0.5 * (p10[1:] + p10[:-1]) * np.diff(t)[:, None]).sum(axis=0)  # trapezoid rule
-    dissipated = None
-    if "fric10_A" in table:
-        rate = np.zeros_like(t) if dphi is None else np.asarray(dphi, dtype=np.float64)
-        powers = np.stack(
-            [
-                -(legs("fric10") * legs("dlambda10")).sum(axis=-1),
-                -(legs("fric21") * rate[:, None]).sum(axis=-1),
-                -(legs("fric32") * legs("dlambda32")).sum(axis=-1),
-            ],
-            axis=-1,
-        )
-        dissipated = (0.5 * (powers[1:] + powers[:-1]) * np.diff(t)[:, None]).sum(axis=0)
-    return RunSummary(
-        peak_f10=np.abs(f10).max(axis=0),
-        peak_f10_time=t[np.abs(f10).argmax(axis=0)],
-        peak_p10=np.abs(p10).max(axis=0),
-        peak_f21=f21.max(axis=0),
-        energy=energy,
-        dissipated=dissipated,
-    )
-
-
-def _summary_text(summary: RunSummary, heading: str, files: list[str]) -> str:
-    def row(label: str, values: FloatArray, extra: str = "") -> str:
-        return f"  {label:<16}" + "".join(f"{v:>14.6g}" for v in values.tolist()) + extra
-
-    lines = [
-        heading,
-        f"  {'':<16}" + "".join(f"{'leg ' + leg:>14}" for leg in LEGS),
-        row("peak |f10| (N)", summary.peak_f10),
-        row("peak |p10| (W)", summary.peak_p10),
-        row("peak |f21| (N)", summary.peak_f21),
-        row("energy (J)", summary.energy, f"   total {summary.total_energy:.6g} J"),
-    ]
-    if summary.dissipated is not None:
-        kinds = ", ".join(
-            f"{kind} {value:.6g} J"
-            for kind, value in zip(
-                ("guides", "revolute joints", "sleeves"), summary.dissipated, strict=True
-            )
-        )
-        lines.append(f"  dissipated by friction (3 legs): {kinds}")
-    lines += [
-        *files,
-    ]
-    return "\n".join(lines)
-
-
 # ------------------------------------------------------------------ command line
 
 
@@ -398,15 +237,27 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``prp3 simulate`` with parsed ``args``; return the exit status."""
-    stdout, stderr = sys.stdout, sys.stderr
+    stderr = sys.stderr
     progress = Progress(stderr)
     try:
-        return _run(args, progress, stdout, stderr)
+        return _run(args, progress, stderr)
     finally:
         progress.close()
 
 
-def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: TextIO) -> int:
+def _located(
+    error: Prp3Error, motion: Motion, source: str, trajectory: Trajectory | None
+) -> Prp3Error:
+    """The same error, located at its source: the file line or ``--motion NAME``, and the time."""
+    sample = error.sample
+    time_ = float(motion.t[sample]) if sample is not None else None
+    if trajectory is None:
+        return error.located(origin=source, subject=None, time=time_)
+    line = int(trajectory.lines[sample]) if sample is not None else None
+    return error.located(file=trajectory.path, line=line, subject=None, time=time_)
+
+
+def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
     output: Path = args.output
     if args.frames is not None and not args.animate:
         raise Prp3Error(
@@ -434,7 +285,9 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
         motion = trajectory.motion
         heading = f"prp3 simulate: trajectory {trajectory.path}"
     else:
-        motion = paper_motion(args.motion, args.samples or DEFAULT_SAMPLES)
+        samples = args.samples or DEFAULT_SAMPLES
+        check_memory(f"--samples {samples}", BYTES_PER_RUN + BYTES_PER_SAMPLE * samples)
+        motion = paper_motion(args.motion, samples)
         heading = f"prp3 simulate: {args.motion} motion (paper eq. 4)"
     heading += (
         f", {motion.samples} samples over t = {float(motion.t[0]):g} .. "
@@ -444,7 +297,7 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
     source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
     try:
         table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
-    except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
+    except Prp3Error as error:
         raise _located(error, motion, source, trajectory) from None
     if trajectory is not None and trajectory.note is not None:
         # only for a run that goes on: a refused trajectory gets its one error line
@@ -489,9 +342,10 @@ def _run(args: argparse.Namespace, progress: Progress, stdout: TextIO, stderr: T
                 title=title,
                 progress=progress.stage("animation"),
             )
-    progress.close()
-
-    print(_summary_text(summary, heading, files_report(staged)), file=stdout)
+        progress.close()
+        # the summary goes out before the files are moved in: a failing standard
+        # output then leaves the earlier results in place
+        emit(summary_text(summary, heading, files_report(staged)))
     limit = robot.limits.max_force
     if limit is not None:
         for j, leg in enumerate(LEGS):

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +24,7 @@ from ..errors import ParameterError
 from ..geometry import SINGULARITY_THRESHOLD
 from ..io import check_output_directory, staged_output, write_table_csv
 from ..model import Robot
+from ..runs import check_memory
 from ..workspace import (
     OrientationScan,
     WorkspaceSlice,
@@ -36,6 +36,7 @@ from ..workspace import (
 from ._types import (
     add_output_directory,
     add_robot_option,
+    emit,
     files_report,
     finite_float,
     integer_at_least,
@@ -49,6 +50,13 @@ DEFAULT_POINTS: int = 201
 
 #: Orientations of the φ-scan when ``--orientations`` is not given.
 DEFAULT_ORIENTATIONS: int = 91
+
+#: Memory per grid point (bytes) besides one byte per scanned orientation: the slice's
+#: arrays and the 10 columns of workspace.csv.
+BYTES_PER_POINT: int = 8 * 40
+
+#: Memory of a run besides its grid (bytes).
+BYTES_PER_RUN: int = 200 * 1024**2
 
 #: Margin added around the reachable region by the default extent (fraction of its size).
 EXTENT_MARGIN: float = 0.1
@@ -200,6 +208,11 @@ def run(args: argparse.Namespace) -> int:
             )
     else:
         xmin, xmax, ymin, ymax = default_extent(robot)
+    points = args.points * args.points
+    check_memory(
+        f"--points {args.points} --orientations {args.orientations}",
+        BYTES_PER_RUN + points * (BYTES_PER_POINT + args.orientations),
+    )
     x = np.linspace(xmin, xmax, args.points)
     y = np.linspace(ymin, ymax, args.points)
     for axis, values in (("x", x), ("y", y)):
@@ -223,8 +236,8 @@ def run(args: argparse.Namespace) -> int:
         write_table_csv(staged.path("workspace.csv"), _grid_table(ws, scan))
         write_table_csv(staged.path("orientations.csv"), _scan_table(scan))
         save_workspace_map(staged.path("workspace.png"), robot, ws, scan)
-
-    print(_summary(robot, ws, (low, high), files_report(staged)), file=sys.stdout)
+        # printed before the files are moved in: a failing standard output keeps older results
+        emit(_summary(robot, ws, (low, high), files_report(staged)))
     return 0
 
 

@@ -10,9 +10,10 @@ matplotlib is imported lazily inside the functions (never at import time of
   ``results.csv``; with friction, the friction forces of every joint.
 * :mod:`prp3.plotting.animation`: an animated GIF of the mechanism.
 
->>> import sys, prp3.plotting
->>> "matplotlib" in sys.modules or "matplotlib.pyplot" not in sys.modules
-True
+>>> import subprocess, sys
+>>> code = "import sys, prp3.plotting; print('matplotlib' in sys.modules)"
+>>> subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.split()
+['False']
 """
 
 from __future__ import annotations

@@ -1,0 +1,572 @@
+"""Files on disk: bounded input reads, atomic output files and staged groups of them.
+
+Input files are read with bounds (:func:`read_text_lines`, :func:`read_text`):
+at most :data:`MAX_INPUT_BYTES` (or a smaller limit), lines of at most
+:data:`MAX_LINE_BYTES`, UTF-8 text without NUL bytes; so a device such as
+``/dev/zero`` or a huge file is refused early, naming the file.
+
+Output files are written whole or not at all: the text goes to a temporary
+file in the target directory, which is then renamed over the target
+(``os.replace`` is atomic on POSIX and Windows).  A failure while writing (a
+full disk) is an :class:`~prp3.errors.OutputFileError` naming the file.  A run
+that writes several files stages them in a temporary directory and moves them
+in place only when every one of them is complete (:func:`staged_output`).
+
+>>> import tempfile, pathlib
+>>> target = pathlib.Path(tempfile.mkdtemp()) / "note.txt"
+>>> with atomic_writer(target) as stream:
+...     _ = stream.write("done")
+>>> read_text(target, "note")
+'done'
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import shutil
+import stat
+import tempfile
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import IO
+
+from .errors import InputFileError, OutputFileError
+
+__all__ = [
+    "MANIFEST_NAME",
+    "MAX_INPUT_BYTES",
+    "MAX_LINE_BYTES",
+    "StagedOutput",
+    "atomic_path",
+    "atomic_writer",
+    "check_inputs_kept",
+    "check_output_directory",
+    "read_manifest",
+    "read_text",
+    "read_text_lines",
+    "staged_output",
+]
+
+#: Largest input file read (bytes): 2 GiB, more than the results.csv of 10⁶ samples.
+MAX_INPUT_BYTES: int = 2 * 1024**3
+
+#: Longest line of an input file (bytes); a CSV row of 46 full-precision numbers is ~1.2 KB.
+MAX_LINE_BYTES: int = 64 * 1024
+
+
+# ---------------------------------------------------------------- bounded input
+def read_text_lines(path: str | Path, what: str, limit: int | None = None) -> Iterator[str]:
+    """The lines of a UTF-8 text file (newlines kept, a BOM removed), read with bounds.
+
+    Raises
+    ------
+    InputFileError
+        The file cannot be opened or read, is larger than ``limit`` bytes,
+        has a line longer than :data:`MAX_LINE_BYTES`, contains NUL bytes
+        (a binary file or a device such as ``/dev/zero``) or is not UTF-8
+        (the fields name the file and the line).
+    """
+    path = Path(path)
+    limit = MAX_INPUT_BYTES if limit is None else limit
+    try:
+        stream = open(path, "rb")  # closed by the with below
+    except OSError as error:
+        raise InputFileError(
+            f"cannot read {what} file ({error.strerror or error})", file=path
+        ) from None
+    with stream:
+        total = 0
+        number = 0
+        while True:
+            try:
+                raw = stream.readline(MAX_LINE_BYTES + 1)
+            except OSError as error:
+                raise InputFileError(
+                    f"cannot read {what} file ({error.strerror or error})", file=path
+                ) from None
+            if not raw:
+                return
+            number += 1
+            total += len(raw)
+            if b"\0" in raw:
+                raise InputFileError(
+                    f"{what} file contains NUL bytes: not a text file", file=path, line=number
+                )
+            if len(raw) > MAX_LINE_BYTES:
+                raise InputFileError(
+                    f"line longer than {MAX_LINE_BYTES} bytes in the {what} file",
+                    file=path,
+                    line=number,
+                )
+            if total > limit:
+                raise InputFileError(
+                    f"{what} file is larger than {limit} bytes (the limit of prp3)",
+                    file=path,
+                    line=number,
+                )
+            try:
+                text = raw.decode("utf-8")
+            except UnicodeDecodeError:
+                raise InputFileError(
+                    f"{what} file is not UTF-8 text", file=path, line=number
+                ) from None
+            if number == 1 and text.startswith("\ufeff"):
+                text = text[1:]
+            yield text
+
+
+def read_text(path: str | Path, what: str, limit: int | None = None) -> str:
+    """The whole text of a UTF-8 file, read with the bounds of :func:`read_text_lines`."""
+    return "".join(read_text_lines(path, what, limit))
+
+
+# ---------------------------------------------------------------- atomic output
+def _file_mode() -> int:
+    """Permissions of a new file under the current umask (``mkstemp`` gives 0600)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
+def _check_replaceable(path: Path) -> None:
+    """Refuse a target that exists and is not a regular file (a rename would replace it).
+
+    Renaming a finished file over ``/dev/null``, a named pipe or a directory
+    would destroy it (or fail half-way through a group of files); symbolic
+    links are followed for the test.
+    """
+    try:
+        regular = not path.exists() or path.is_file()
+    except OSError as error:  # e.g. a name too long for the file system
+        raise OutputFileError(f"cannot write ({error.strerror})", file=path) from None
+    if not regular:
+        kind = "a directory" if path.is_dir() else "not a regular file"
+        raise OutputFileError(f"cannot write: it exists and is {kind}", file=path)
+
+
+@contextlib.contextmanager
+def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
+    """Open ``path`` for writing so that it appears whole or not at all.
+
+    The content goes to a temporary file beside ``path``; on success it is
+    renamed over ``path``, on any exception it is deleted and ``path`` is left
+    untouched.  The directory must exist.
+
+    Raises
+    ------
+    OutputFileError
+        If the directory does not exist or is not writable, or ``path`` exists
+        and is not a regular file (a directory, a device, a pipe), which a
+        rename would replace (names the path).
+    """
+    path = Path(path)
+    _check_replaceable(path)
+    try:
+        handle, temporary = tempfile.mkstemp(
+            prefix=f".{path.name}.", suffix=".tmp", dir=path.parent
+        )
+    except OSError as error:
+        raise OutputFileError(f"cannot write ({error.strerror})", file=path) from None
+    try:
+        os.chmod(temporary, _file_mode())
+        with os.fdopen(handle, mode, encoding="utf-8", newline="") as stream:
+            yield stream
+        os.replace(temporary, path)
+    except OSError as error:  # e.g. a full disk: name the file, not standard output
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise OutputFileError(f"cannot write ({error.strerror or error})", file=path) from None
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """Give a temporary path beside ``path`` to write to; rename it over ``path`` on success.
+
+    For writers that want a file name rather than a stream (``Figure.savefig``,
+    an animation writer).  The temporary name ends with ``path``'s suffix so
+    that writers which infer the format from it still work.  On any exception
+    the temporary file is deleted and ``path`` is left untouched.
+
+    Raises
+    ------
+    OutputFileError
+        If the directory does not exist or is not writable (names the path).
+
+    >>> import tempfile, pathlib
+    >>> target = pathlib.Path(tempfile.mkdtemp()) / "note.txt"
+    >>> with atomic_path(target) as temporary:
+    ...     _ = temporary.write_text("done")
+    >>> target.read_text(), sorted(p.name for p in target.parent.iterdir())
+    ('done', ['note.txt'])
+    """
+    path = Path(path)
+    _check_replaceable(path)
+    try:
+        handle, temporary = tempfile.mkstemp(
+            prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent
+        )
+    except OSError as error:
+        raise OutputFileError(f"cannot write ({error.strerror})", file=path) from None
+    os.close(handle)
+    try:
+        os.chmod(temporary, _file_mode())
+        yield Path(temporary)
+        os.replace(temporary, path)
+    except OSError as error:  # e.g. a full disk: name the file
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise OutputFileError(f"cannot write ({error.strerror or error})", file=path) from None
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+
+
+# ---------------------------------------------------------------- output folders
+def check_output_directory(directory: str | Path) -> None:
+    """Refuse early an output directory that cannot be created or written to.
+
+    The directory itself may be missing (it will be created with its
+    parents); its nearest existing ancestor must be a writable directory.
+
+    Raises
+    ------
+    OutputFileError
+        Naming the directory and the reason.
+    """
+    directory = Path(directory)
+    existing = directory
+    try:
+        while not existing.exists() and existing != existing.parent:
+            existing = existing.parent
+    except OSError as error:  # e.g. a name too long for the file system
+        raise OutputFileError(
+            f"cannot create output directory ({error.strerror})", file=directory
+        ) from None
+    if not existing.is_dir():
+        raise OutputFileError(
+            f"cannot create output directory ({existing} is not a directory)", file=directory
+        )
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise OutputFileError(
+            f"cannot write output directory ({existing} is not writable)", file=directory
+        )
+
+
+def check_inputs_kept(
+    directory: str | Path, names: Sequence[str], inputs: Sequence[str | Path | None]
+) -> None:
+    """Refuse a run whose output file ``directory/name`` is one of its input files.
+
+    ``prp3 forward --forces out/results.csv --output out`` would otherwise
+    replace the forces it read with its own results.
+
+    Raises
+    ------
+    OutputFileError
+        Naming the output file and the option it was read by.
+
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (out / "results.csv").write_text("t")
+    >>> try:
+    ...     check_inputs_kept(out, ["results.csv"], [out / "results.csv"])
+    ... except OutputFileError as error:
+    ...     print(str(error).split(": ", 1)[1])
+    the output would replace this input file; choose another output directory
+    """
+    for name in names:
+        target = Path(directory) / name
+        for given in inputs:
+            with contextlib.suppress(OSError):  # a missing file is not the same file
+                if given is not None and os.path.samefile(target, given):
+                    raise OutputFileError(
+                        "the output would replace this input file; choose another output directory",
+                        file=target,
+                    )
+
+
+#: The manifest a run leaves in its output directory: the files it wrote there.
+MANIFEST_NAME: str = ".prp3-manifest.json"
+
+#: Largest manifest read back (a longer file is not one prp3 wrote: it is ignored).
+_MANIFEST_MAX_BYTES: int = 1 << 20
+
+
+@dataclass
+class StagedOutput:
+    """Files of one run, written into a staging folder first (see :func:`staged_output`).
+
+    Attributes
+    ----------
+    directory : Path
+        The output directory the files end up in.
+    staging : Path
+        The temporary folder inside ``directory`` where they are written.
+    names : list of str
+        The file names asked for so far, in order.
+    written : list of Path
+        The final paths, filled in when the run succeeded.
+    removed : list of Path
+        Files an earlier run wrote into ``directory`` (listed in its manifest,
+        unchanged since) that this run did not write again, and removed.
+    kept : list of Path
+        Files of an earlier run's manifest that were changed or replaced since
+        (so they are not prp3's any more) and were left alone.
+    """
+
+    directory: Path
+    staging: Path
+    names: list[str] = field(default_factory=list)
+    written: list[Path] = field(default_factory=list)
+    removed: list[Path] = field(default_factory=list)
+    kept: list[Path] = field(default_factory=list)
+
+    @property
+    def targets(self) -> list[Path]:
+        """The final paths of the files asked for so far (where they will be moved)."""
+        return [self.directory / name for name in self.names]
+
+    def stale(self) -> list[Path]:
+        """The files of the earlier run that moving in will remove (see :func:`staged_output`).
+
+        Known before the files are moved in, so that a summary can list them first.
+        """
+        return [
+            self.directory / name
+            for name, stamp in read_manifest(self.directory).items()
+            if name not in self.names and _file_stamp(self.directory / name) == stamp
+        ]
+
+    def changed(self) -> list[Path]:
+        """The files of the earlier run's manifest changed since: moving in leaves them alone."""
+        return [
+            self.directory / name
+            for name, stamp in read_manifest(self.directory).items()
+            if name not in self.names
+            and _file_stamp(self.directory / name) != stamp
+            and os.path.lexists(self.directory / name)
+        ]
+
+    def final(self, path: str | Path) -> Path:
+        """The final path of a staging path (``path`` itself when it is not staged)."""
+        path = Path(path)
+        if path.parent == self.staging:
+            return self.directory / path.name
+        return path
+
+    def path(self, name: str) -> Path:
+        """The staging path to write the output file ``name`` to."""
+        if name in self.names or Path(name).name != name or name == MANIFEST_NAME:
+            raise ValueError(f"output file name {name!r} is repeated or not a plain name")
+        self.names.append(name)
+        return self.staging / name
+
+
+@contextlib.contextmanager
+def staged_output(directory: str | Path) -> Iterator[StagedOutput]:
+    """Write several output files so that they appear together or not at all.
+
+    Creates ``directory`` (and its parents) when missing, and a temporary
+    staging folder inside it.  Files are written to
+    ``staged.path(name)``; when the block ends without an exception they are
+    renamed into ``directory`` (replacing older files of the same name) and
+    :attr:`StagedOutput.written` lists them.  On an exception the staging
+    folder is deleted, folders this call created are removed again, and no
+    file in ``directory`` changes.  A failure while a file is written is
+    reported with the file's final path (:attr:`StagedOutput.targets`).
+
+    The directory keeps a manifest, :data:`MANIFEST_NAME`: the names, sizes
+    and modification times of the files the last run wrote there.  A new run
+    removes the files of the earlier manifest that it does not write again —
+    only those still exactly as prp3 wrote them (same size and modification
+    time, regular files); a file the user changed, replaced or added is never
+    touched — and writes its own manifest.  :attr:`StagedOutput.removed`
+    lists what was removed, :attr:`StagedOutput.kept` what was left alone.
+
+    Raises
+    ------
+    OutputFileError
+        If the directory cannot be created or written to (names it), or a file
+        cannot be moved in (an older file of the same name is then restored,
+        and nothing in ``directory`` changes).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "run"
+    >>> with staged_output(out) as staged:
+    ...     _ = staged.path("a.txt").write_text("a")
+    >>> [path.name for path in staged.written], sorted(p.name for p in out.iterdir())
+    (['a.txt'], ['.prp3-manifest.json', 'a.txt'])
+    >>> with staged_output(out) as staged:          # a run that writes b.txt only
+    ...     _ = staged.path("b.txt").write_text("b")
+    >>> [path.name for path in staged.removed], sorted(p.name for p in out.iterdir())
+    (['a.txt'], ['.prp3-manifest.json', 'b.txt'])
+    """
+    directory = Path(directory)
+    created: list[Path] = []
+    missing = directory
+    try:
+        while not missing.exists() and missing != missing.parent:
+            created.append(missing)
+            missing = missing.parent
+        directory.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".prp3-", suffix=".tmp", dir=directory))
+    except OSError as error:
+        _remove_empty(created)
+        reason = error.strerror or type(error).__name__
+        raise OutputFileError(f"cannot write output directory ({reason})", file=directory) from None
+    staged = StagedOutput(directory=directory, staging=staging)
+    try:
+        try:
+            yield staged
+        except OutputFileError as error:  # name the output file, not its staging copy
+            if error.file is None:
+                raise
+            raise error.located(file=staged.final(error.file)) from None
+        except OSError as error:  # a writer's own failure (a full disk): the file being written
+            if error.filename is not None:
+                where = staged.final(os.fsdecode(error.filename))
+            elif staged.names:
+                where = staged.directory / staged.names[-1]
+            else:
+                where = directory
+            reason = error.strerror or str(error)
+            raise OutputFileError(f"cannot write ({reason})", file=where) from None
+        _move_in(staged)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        _remove_empty(created)
+        raise
+    shutil.rmtree(staging, ignore_errors=True)
+
+
+def _file_stamp(path: Path) -> dict[str, int] | None:
+    """Size and modification time (ns) of a regular file (not a link); ``None`` otherwise."""
+    try:
+        info = os.lstat(path)
+    except OSError:
+        return None
+    if not stat.S_ISREG(info.st_mode):
+        return None
+    return {"size": int(info.st_size), "mtime_ns": int(info.st_mtime_ns)}
+
+
+def read_manifest(directory: str | Path) -> dict[str, dict[str, int]]:
+    """The files the last run wrote into ``directory``: ``name -> {size, mtime_ns}``.
+
+    An absent, unreadable, oversized or malformed manifest, and any entry that
+    is not a plain file name with integer stamps, count as nothing written:
+    prp3 then removes nothing.
+    """
+    path = Path(directory) / MANIFEST_NAME
+    try:
+        with open(path, "rb") as stream:
+            data = stream.read(_MANIFEST_MAX_BYTES + 1)
+        if len(data) > _MANIFEST_MAX_BYTES:
+            return {}
+        manifest = json.loads(data.decode("utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return {}
+    files = manifest.get("files") if isinstance(manifest, dict) else None
+    if not isinstance(files, dict):
+        return {}
+    entries: dict[str, dict[str, int]] = {}
+    for name, stamp in files.items():
+        plain = isinstance(name, str) and name not in ("", ".", "..") and Path(name).name == name
+        if (
+            plain
+            and name != MANIFEST_NAME
+            and isinstance(stamp, dict)
+            and all(type(stamp.get(key)) is int for key in ("size", "mtime_ns"))
+        ):
+            entries[name] = {"size": stamp["size"], "mtime_ns": stamp["mtime_ns"]}
+    return entries
+
+
+def _move_in(staged: StagedOutput) -> None:
+    """Rename the staged files into the output directory: all of them, or none.
+
+    Every target is checked first (an existing directory or special file of
+    the same name is refused before anything moves).  Older files are
+    hard-linked into the staging folder before they are replaced, so that a
+    failure half-way (or an interrupt) puts them back and removes the new
+    files already moved in.  The files of the earlier manifest that this run
+    does not write again (and that are unchanged) are moved into the staging
+    folder too, and the new manifest is moved in last.
+    """
+    names = [name for name in staged.names if (staged.staging / name).exists()]
+    for name in names:
+        _check_replaceable(staged.directory / name)
+    stale: list[str] = []
+    for name, stamp in read_manifest(staged.directory).items():
+        if name in names:
+            continue
+        now = _file_stamp(staged.directory / name)
+        if now == stamp:
+            stale.append(name)
+        elif now is not None or os.path.lexists(staged.directory / name):
+            staged.kept.append(staged.directory / name)
+    stamps = {name: _file_stamp(staged.staging / name) for name in names}
+    manifest = {
+        "about": "files prp3 wrote into this folder in its last run; the next run removes "
+        "those it does not write again (when unchanged), nothing else",
+        "files": {name: stamp for name, stamp in stamps.items() if stamp is not None},
+    }
+    try:
+        (staged.staging / MANIFEST_NAME).write_text(json.dumps(manifest, indent=1) + "\n")
+    except OSError as error:
+        raise OutputFileError(
+            f"cannot write ({error.strerror})", file=staged.directory / MANIFEST_NAME
+        ) from None
+    previous = staged.staging / ".previous"
+    previous.mkdir()
+    old = staged.staging / ".removed"
+    old.mkdir()
+    backups: dict[str, Path] = {}
+    moved: list[str] = []
+    taken: list[str] = []
+    target = staged.directory
+    try:
+        for name in [*names, MANIFEST_NAME]:
+            target = staged.directory / name
+            if os.path.lexists(target):
+                with contextlib.suppress(OSError):  # no hard links here: no way back
+                    os.link(target, previous / name, follow_symlinks=False)
+                    backups[name] = previous / name
+            os.replace(staged.staging / name, target)
+            moved.append(name)
+        for name in stale:
+            target = staged.directory / name
+            os.replace(target, old / name)
+            taken.append(name)
+    except BaseException as error:
+        for name in reversed(taken):
+            with contextlib.suppress(OSError):
+                os.replace(old / name, staged.directory / name)
+        for name in reversed(moved):
+            with contextlib.suppress(OSError):
+                if name in backups:
+                    os.replace(backups[name], staged.directory / name)
+                else:
+                    os.unlink(staged.directory / name)
+        if isinstance(error, OSError):
+            raise OutputFileError(f"cannot write ({error.strerror})", file=target) from None
+        raise
+    staged.written.extend(staged.directory / name for name in names)
+    staged.removed.extend(staged.directory / name for name in stale)
+
+
+def _remove_empty(folders: Sequence[Path]) -> None:
+    """Remove the folders (deepest first) that are empty; ignore the others."""
+    for folder in folders:
+        with contextlib.suppress(OSError):
+            folder.rmdir()

@@ -1,0 +1,224 @@
+"""Runs of the command line, built outside it: the results table of a run and its summary.
+
+:func:`simulate_table` computes the columns of ``results.csv`` for a motion in
+chunks (bounded memory), :func:`summarize` the peaks and energies that
+``prp3 simulate`` reports, and :func:`estimate_bytes` / :func:`check_memory`
+what a run needs before anything is allocated.  The command line only reads
+the options, calls these and prints.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .dynamics import Method, inverse_dynamics
+from .errors import Prp3Error
+from .geometry import LEGS
+from .io import result_columns, results_table
+from .model import Robot
+from .motion import Motion
+
+__all__ = [
+    "CHUNK_SAMPLES",
+    "RunSummary",
+    "available_memory",
+    "check_memory",
+    "simulate_table",
+    "summarize",
+    "summary_text",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Samples computed at a time (bounds the memory of big runs; drives the progress bar).
+CHUNK_SAMPLES: int = 50_000
+
+
+def simulate_table(
+    robot: Robot,
+    motion: Motion,
+    method: Method = "fast",
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    chunk: int = CHUNK_SAMPLES,
+) -> dict[str, FloatArray]:
+    """The columns of ``results.csv`` for a batch motion, computed ``chunk`` samples at a time.
+
+    The same numbers as ``results_table(*inverse_dynamics(robot, motion,
+    method))``: every sample is computed on its own, so splitting the batch
+    changes nothing but the memory used.  An error's ``sample`` field is the
+    sample's index in the whole motion.
+
+    >>> from prp3.motion import paper_motion
+    >>> table = simulate_table(Robot(), paper_motion("vertical", 7), chunk=3)
+    >>> list(table) == list(result_columns(friction=False)), table["f10_A"].shape
+    (True, (7,))
+    """
+    samples = motion.samples
+    table = {name: np.empty(samples) for name in result_columns(robot.friction is not None)}
+    for start in range(0, samples, chunk):
+        stop = min(start + chunk, samples)
+        try:
+            part = results_table(*inverse_dynamics(robot, motion[start:stop], method))
+        except Prp3Error as error:
+            if error.sample is None:
+                raise
+            raise error.located(sample=error.sample + start) from None
+        for name, column in part.items():
+            table[name][start:stop] = column
+        if progress is not None:
+            progress(stop, samples)
+    return table
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """Peaks and energies of a run, per leg A, B, C (arrays of shape (3,)).
+
+    Attributes
+    ----------
+    peak_f10, peak_p10, peak_f21 : ndarray (3,)
+        Largest ``|f10|`` (N), ``|p10|`` (W) and ``|f21| = √(f21y² + f21z²)`` (N).
+    peak_f10_time : ndarray (3,)
+        When ``|f10|`` peaks (s).
+    energy : ndarray (3,)
+        Energy each actuator delivers, ``∫ p10 dt`` by the trapezoid rule (J).
+    dissipated : ndarray (3,) or None
+        With friction columns: the energy friction dissipates in the actuator
+        guides, the revolute joints and the sleeves (the three legs together),
+        ``∫ −Σ fric·rate dt`` by the trapezoid rule (J); else ``None``.
+    """
+
+    peak_f10: FloatArray
+    peak_f10_time: FloatArray
+    peak_p10: FloatArray
+    peak_f21: FloatArray
+    energy: FloatArray
+    dissipated: FloatArray | None = None
+
+    @property
+    def total_energy(self) -> float:
+        """Energy the three actuators deliver together (J)."""
+        return float(self.energy.sum())
+
+
+def summarize(table: Mapping[str, FloatArray], dphi: FloatArray | None = None) -> RunSummary:
+    """Peaks and energies of the columns of ``results.csv`` (``N >= 1`` samples).
+
+    ``dphi`` (``φ̇`` of the samples) is needed for the energy dissipated in the
+    revolute joints when the table has the friction columns.
+
+    >>> t = np.array([0.0, 1.0, 2.0])
+    >>> table = {"t": t} | {f"{q}_{leg}": np.array([0.0, 2.0, -1.0])
+    ...                     for q in ("f10", "p10", "f21y", "f21z") for leg in "ABC"}
+    >>> s = summarize(table)
+    >>> s.peak_f10.tolist(), s.peak_f21.round(6).tolist()[0], s.energy.tolist()
+    ([2.0, 2.0, 2.0], 2.828427, [1.5, 1.5, 1.5])
+    """
+    t = np.asarray(table["t"], dtype=np.float64)
+
+    def legs(name: str) -> FloatArray:
+        return np.stack([np.asarray(table[f"{name}_{leg}"]) for leg in LEGS], axis=-1)
+
+    f10, p10 = legs("f10"), legs("p10")
+    f21 = np.hypot(legs("f21y"), legs("f21z"))
+    energy = (0.5 * (p10[1:] + p10[:-1]) * np.diff(t)[:, None]).sum(axis=0)  # trapezoid rule
+    dissipated = None
+    if "fric10_A" in table:
+        rate = np.zeros_like(t) if dphi is None else np.asarray(dphi, dtype=np.float64)
+        powers = np.stack(
+            [
+                -(legs("fric10") * legs("dlambda10")).sum(axis=-1),
+                -(legs("fric21") * rate[:, None]).sum(axis=-1),
+                -(legs("fric32") * legs("dlambda32")).sum(axis=-1),
+            ],
+            axis=-1,
+        )
+        dissipated = (0.5 * (powers[1:] + powers[:-1]) * np.diff(t)[:, None]).sum(axis=0)
+    return RunSummary(
+        peak_f10=np.abs(f10).max(axis=0),
+        peak_f10_time=t[np.abs(f10).argmax(axis=0)],
+        peak_p10=np.abs(p10).max(axis=0),
+        peak_f21=f21.max(axis=0),
+        energy=energy,
+        dissipated=dissipated,
+    )
+
+
+def summary_text(summary: RunSummary, heading: str, files: list[str]) -> str:
+    """The summary ``prp3 simulate`` prints: peaks and energies per leg, then ``files`` lines."""
+
+    def row(label: str, values: FloatArray, extra: str = "") -> str:
+        return f"  {label:<16}" + "".join(f"{v:>14.6g}" for v in values.tolist()) + extra
+
+    lines = [
+        heading,
+        f"  {'':<16}" + "".join(f"{'leg ' + leg:>14}" for leg in LEGS),
+        row("peak |f10| (N)", summary.peak_f10),
+        row("peak |p10| (W)", summary.peak_p10),
+        row("peak |f21| (N)", summary.peak_f21),
+        row("energy (J)", summary.energy, f"   total {summary.total_energy:.6g} J"),
+    ]
+    if summary.dissipated is not None:
+        kinds = ", ".join(
+            f"{kind} {value:.6g} J"
+            for kind, value in zip(
+                ("guides", "revolute joints", "sleeves"), summary.dissipated, strict=True
+            )
+        )
+        lines.append(f"  dissipated by friction (3 legs): {kinds}")
+    lines += files
+    return "\n".join(lines)
+
+
+# ---------------------------------------------------------------- memory
+def available_memory() -> int | None:
+    """Memory the system can give this process now (bytes), or None when unknown.
+
+    ``MemAvailable`` of ``/proc/meminfo`` (Linux), else the free physical pages.
+    """
+    try:
+        with open("/proc/meminfo", encoding="ascii") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_AVPHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def _size(nbytes: float) -> str:
+    for unit, scale in (("TiB", 1024**4), ("GiB", 1024**3), ("MiB", 1024**2)):
+        if nbytes >= scale:
+            return f"{nbytes / scale:.3g} {unit}"
+    return f"{nbytes / 1024:.3g} KiB"
+
+
+def check_memory(what: str, needed: float, available: int | None = None) -> None:
+    """Refuse a run that needs more memory than is available, saying how much, before it starts.
+
+    ``needed`` is the estimate of the run's peak memory (bytes);
+    ``available`` defaults to :func:`available_memory`.
+
+    >>> check_memory("--samples 1000000000", 1e12, available=8 * 1024**3)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.Prp3Error: --samples 1000000000: the run needs about 931 GiB of memory, 8 GiB are available: ask for fewer samples
+    """
+    if available is None:
+        available = available_memory()
+    if available is None or needed <= available:
+        return
+    raise Prp3Error(
+        f"the run needs about {_size(needed)} of memory, {_size(available)} are available: "
+        "ask for fewer samples",
+        origin=what,
+    )

@@ -1,0 +1,484 @@
+"""The one validation layer: ``check_*`` functions used by every public function.
+
+Every public function of prp3 passes its arguments through these checks
+before it computes anything, so that a bad value gets the same refusal
+wherever it is given (in the style of pytransform3d's ``check_*``):
+
+* booleans, text, bytes, ``None``, objects and complex numbers are refused,
+  never cast (numpy would read ``True`` as 1 and drop an imaginary part);
+* masked arrays are refused (numpy would silently use the hidden values);
+* integers too large for float64 (``10**400``) are refused;
+* shapes are checked, and non-finite values are refused naming the sample,
+  the leg or component, and the value;
+* poses must lie within :data:`POSE_BOUND` robot sizes of the centre and
+  :data:`MAX_ORIENTATION` rad of zero, and away from the singularity
+  (:data:`SINGULARITY_THRESHOLD`).
+
+Every refusal is a :class:`~prp3.errors.Prp3Error` whose fields
+(``subject``, ``sample``, ``leg``, ``pose``, ``key``) say where it happened.
+
+>>> check_real("pose", [0, 1.5, 2]).dtype
+dtype('float64')
+>>> check_real("pose", ["0", "1"])
+Traceback (most recent call last):
+...
+prp3.errors.TrajectoryError: pose must be an array of real numbers, got text (dtype <U1)
+>>> check_per_leg("lambda10", [[0.0, 0.0, 0.0], [0.0, float("nan"), 0.0]])
+Traceback (most recent call last):
+...
+prp3.errors.TrajectoryError: sample 1, leg B: lambda10 is not finite (nan)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import ParameterError, Prp3Error, SingularPoseError, TrajectoryError
+
+if TYPE_CHECKING:
+    from .model import Robot
+
+__all__ = [
+    "LEGS",
+    "MAX_ORIENTATION",
+    "POSE_BOUND",
+    "SINGULARITY_THRESHOLD",
+    "check_finite",
+    "check_integer",
+    "check_per_leg",
+    "check_poses",
+    "check_real",
+    "check_robot",
+    "check_same_shape",
+    "check_scalar",
+    "check_times",
+    "first_non_finite",
+    "require_finite",
+    "singularity_measure",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Leg names, in the order of the last axis of every per-leg array.
+LEGS: tuple[str, str, str] = ("A", "B", "C")
+
+#: Poses with ``|sin(φ − π/3)|`` below this value are refused as singular.
+#: At the threshold the actuator velocities are 10⁴ times the platform's.
+SINGULARITY_THRESHOLD: float = 1e-4
+
+#: Largest ``|x|``, ``|y|`` of a pose, and ``|λ10|``, in units of the robot's
+#: size ``l0``.  Farther away the three methods of the inverse dynamics lose
+#: agreement (their relative difference grows like ``|G|/l0 · 1e-16``) and
+#: the forces become round-off noise; at 100·l0 they still agree to ~1e-13.
+POSE_BOUND: float = 100.0
+
+#: Largest ``|φ|`` of a pose (rad): the mechanism cannot turn through its
+#: singular orientations, so larger angles only add round-off to ``sin φ``.
+MAX_ORIENTATION: float = 100.0
+
+_KINDS = {"b": "booleans", "c": "complex numbers", "U": "text", "S": "bytes", "V": "records"}
+_COMPONENTS = ("x", "y", "phi")
+
+
+def _describe(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def check_real(
+    name: str,
+    value: ArrayLike,
+    error: type[Prp3Error] = TrajectoryError,
+    subject: str | None = None,
+) -> FloatArray:
+    """A new float64 array of ``value``, refusing anything that is not real numbers.
+
+    Refused: booleans, text, bytes, ``None``, other objects, complex numbers,
+    masked arrays and integers beyond the range of float64.  Shapes and
+    finiteness are not checked here (see :func:`check_finite`).
+
+    >>> check_real("t", 10**400)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: t must be an array of real numbers, got an integer too large for float64
+    >>> check_real("t", np.ma.masked_array([0.0, 1.0], mask=[0, 1]))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: t is a masked array: not accepted (numpy would use the masked values); fill or remove them first
+    """
+    refusal = f"{name} must be an array of real numbers, got"
+    if isinstance(value, np.ma.MaskedArray):
+        raise error(
+            f"{name} is a masked array: not accepted (numpy would use the masked values); "
+            "fill or remove them first",
+            subject=subject,
+        )
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError, OverflowError):
+        raise error(f"{refusal} {_describe(value)}", subject=subject) from None
+    kind = raw.dtype.kind
+    if kind in "iuf":
+        return raw.astype(np.float64)
+    if kind == "O":
+        items = raw.reshape(-1).tolist()
+        if items and all(type(item) is int for item in items):  # beyond int64: exact ints
+            try:
+                return np.array(items, dtype=np.float64).reshape(raw.shape)
+            except OverflowError:
+                raise error(
+                    f"{refusal} an integer too large for float64", subject=subject
+                ) from None
+        if any(item is None for item in items):
+            raise error(f"{refusal} None", subject=subject)
+        raise error(f"{refusal} {_describe(value)}", subject=subject)
+    what = _KINDS.get(kind, "values")
+    raise error(f"{refusal} {what} (dtype {raw.dtype})", subject=subject)
+
+
+def check_finite(
+    name: str,
+    array: FloatArray,
+    error: type[Prp3Error] = TrajectoryError,
+    *,
+    components: tuple[str, ...] | None = None,
+    subject: str | None = None,
+) -> FloatArray:
+    """Refuse a non-finite value of ``array`` ``(..., k)``, naming its sample and component.
+
+    ``components`` names the last axis (legs ``A, B, C`` by default for 3
+    columns); a batch ``(N, k)`` names the sample's index.
+    """
+    if np.isfinite(array).all():
+        return array
+    if array.ndim == 0:
+        raise error(f"{name} is not finite ({float(array)!r})", subject=subject)
+    flat = array.reshape(-1, array.shape[-1])
+    index, column = np.argwhere(~np.isfinite(flat))[0].tolist()
+    value = float(flat[index, column])
+    sample = index if array.ndim >= 2 else None
+    if components is None and array.shape[-1] == 3:
+        raise error(
+            f"{name} is not finite ({value!r})", subject=subject, sample=sample, leg=LEGS[column]
+        )
+    if components is None:
+        raise error(f"{name}[{column}] is not finite ({value!r})", subject=subject, sample=sample)
+    label = components[column]
+    what = name if label == name else f"{label} of {name}"
+    raise error(f"{what} is not finite ({value!r})", subject=subject, sample=sample)
+
+
+def check_per_leg(
+    name: str,
+    value: ArrayLike,
+    error: type[Prp3Error] = TrajectoryError,
+    subject: str | None = None,
+) -> FloatArray:
+    """Finite values of the three legs, shape ``(3,)`` or ``(N, 3)`` with ``N >= 1``.
+
+    >>> check_per_leg("f10", [1, 2]).shape
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: f10 must have shape (3,) or (N, 3) with N >= 1, got (2,)
+    """
+    array = check_real(name, value, error, subject)
+    if array.ndim not in (1, 2) or array.shape[-1] != 3 or array.size == 0:
+        raise error(
+            f"{name} must have shape (3,) or (N, 3) with N >= 1, got {array.shape}",
+            subject=subject,
+        )
+    return check_finite(name, array, error, subject=subject)
+
+
+def singularity_measure(phi: ArrayLike) -> FloatArray:
+    """Determinant ``D = e_i × d_i = sin(φ − π/3)`` of every leg's system (eq. 10).
+
+    >>> round(float(singularity_measure(0.0)), 6)
+    -0.866025
+    """
+    return np.asarray(np.sin(np.asarray(phi, dtype=np.float64) - math.pi / 3.0))
+
+
+def check_poses(
+    pose: ArrayLike,
+    robot: Robot | None = None,
+    name: str = "pose",
+    *,
+    singular: bool = True,
+    error: type[Prp3Error] = TrajectoryError,
+) -> FloatArray:
+    """Validate platform poses ``(3,)`` or ``(N, 3)`` = ``(x, y, φ)``; return them as float64.
+
+    Finite; with ``robot``, ``|x|, |y| <= POSE_BOUND·l0``; ``|φ| <=
+    MAX_ORIENTATION``; with ``singular``, ``|sin(φ − π/3)| >=
+    SINGULARITY_THRESHOLD``.
+
+    Raises
+    ------
+    TrajectoryError
+        Wrong type or shape, a non-finite value, a pose beyond the bounds
+        (the fields name the sample and the pose).
+    SingularPoseError
+        A singular pose (names the sample and the pose).
+
+    Examples
+    --------
+    >>> check_poses([[0, 0, 0], [0, 0.1, 0.2]]).dtype
+    dtype('float64')
+    >>> check_poses([[0.0, 0.0, 0.0], [0.0, 0.0, float("nan")]])
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: sample 1: phi of pose is not finite (nan)
+    >>> from prp3.model import Robot
+    >>> check_poses([1e3, 0.0, 0.0], Robot())
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: pose: pose too far from the centre (x=1000.0, y=0.0, phi=0.0): |x| and |y| must be at most 100*l0 = 30 m (l0 = 0.3 m)
+    """
+    array = check_real(name, pose, error)
+    if array.ndim not in (1, 2) or array.shape[-1] != 3 or array.size == 0:
+        raise error(f"{name} must have shape (3,) or (N, 3) with N >= 1, got {array.shape}")
+    check_finite(name, array, error, components=_COMPONENTS)
+    flat = array.reshape(-1, 3)
+    batch = array.ndim == 2
+    if robot is not None:
+        reach = POSE_BOUND * robot.l0
+        far = (np.abs(flat[:, :2]) > reach).any(axis=1)
+        if far.any():
+            raise _pose_error(
+                error,
+                name,
+                flat,
+                int(np.argmax(far)),
+                batch,
+                "pose too far from the centre",
+                f"|x| and |y| must be at most {POSE_BOUND:g}*l0 = {reach:g} m "
+                f"(l0 = {robot.l0:g} m)",
+            )
+    turned = np.abs(flat[:, 2]) > MAX_ORIENTATION
+    if turned.any():
+        raise _pose_error(
+            error,
+            name,
+            flat,
+            int(np.argmax(turned)),
+            batch,
+            "orientation too large",
+            f"|phi| must be at most {MAX_ORIENTATION:g} rad (give the angle modulo 2*pi)",
+        )
+    if singular:
+        D = np.abs(singularity_measure(flat[:, 2]))
+        near = D < SINGULARITY_THRESHOLD
+        if near.any():
+            index = int(np.argmax(near))
+            raise _pose_error(
+                SingularPoseError,
+                name,
+                flat,
+                index,
+                batch,
+                "singular pose",
+                f"|sin(phi - pi/3)| = {float(D[index]):.3g} < {SINGULARITY_THRESHOLD:g} "
+                "(phi = pi/3 mod pi is singular)",
+            )
+    return array
+
+
+def _pose_error(
+    error: type[Prp3Error],
+    name: str,
+    flat: FloatArray,
+    index: int,
+    batch: bool,
+    what: str,
+    reason: str,
+) -> Prp3Error:
+    x, y, phi = flat[index].tolist()
+    return error(
+        f"{what} (x={x!r}, y={y!r}, phi={phi!r}): {reason}",
+        subject=name,
+        sample=index if batch else None,
+        pose=(x, y, phi),
+    )
+
+
+def check_times(
+    name: str, value: ArrayLike, *, minimum: int = 1, subject: str | None = None
+) -> FloatArray:
+    """Finite, strictly increasing times ``(N,)`` with ``N >= minimum`` (s).
+
+    >>> check_times("t", [0.0, 0.0])
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: sample 1: time must be strictly increasing; t[1] = 0.0 follows t[0] = 0.0
+    """
+    t = check_real(name, value, subject=subject)
+    if t.ndim != 1 or t.size < minimum:
+        raise TrajectoryError(
+            f"{name} must have shape (N,) with N >= {minimum}, got {t.shape}", subject=subject
+        )
+    check_finite(name, t[:, None], components=(name,), subject=subject)
+    steps = np.diff(t)
+    if (steps <= 0).any():
+        k = int(np.argmax(steps <= 0)) + 1
+        raise TrajectoryError(
+            f"time must be strictly increasing; {name}[{k}] = {float(t[k])!r} follows "
+            f"{name}[{k - 1}] = {float(t[k - 1])!r}",
+            subject=subject,
+            sample=k,
+        )
+    return t
+
+
+def check_same_shape(name: str, array: FloatArray, reference: FloatArray, other: str) -> None:
+    """Refuse ``array`` unless it has the shape of ``reference`` (named ``other``)."""
+    if array.shape != reference.shape:
+        raise TrajectoryError(
+            f"{name} must have the shape of {other} {reference.shape}, got {array.shape}"
+        )
+
+
+def check_scalar(
+    name: str,
+    value: Any,
+    *,
+    error: type[Prp3Error] = ParameterError,
+    positive: bool = False,
+    non_negative: bool = False,
+    unit: str = "",
+    subject: str | None = None,
+) -> float:
+    """A finite real number (not a boolean, not text), optionally > 0 or >= 0.
+
+    >>> check_scalar("rtol", 1e-8, positive=True)
+    1e-08
+    >>> check_scalar("rtol", True)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: rtol must be a number, got True (bool)
+    """
+    if isinstance(value, bool | np.bool_) or not isinstance(
+        value, int | float | np.floating | np.integer
+    ):
+        raise error(
+            f"{name} must be a number, got {_describe(value)} ({type(value).__name__})",
+            subject=subject,
+            key=name,
+        )
+    try:
+        number = float(value)
+    except OverflowError:
+        raise error(
+            f"{name} is too large for float64, got {_describe(value)}", subject=subject, key=name
+        ) from None
+    units = f" ({unit})" if unit else ""
+    if not math.isfinite(number):
+        raise error(f"{name} must be a finite number, got {value!r}", subject=subject, key=name)
+    if positive and not number > 0.0:
+        raise error(
+            f"{name} must be a positive finite number{units}, got {value!r}",
+            subject=subject,
+            key=name,
+        )
+    if non_negative and not number >= 0.0:
+        raise error(
+            f"{name} must be a non-negative finite number{units}, got {value!r}",
+            subject=subject,
+            key=name,
+        )
+    return number
+
+
+def check_integer(
+    name: str,
+    value: Any,
+    minimum: int,
+    maximum: int,
+    error: type[Prp3Error] = ParameterError,
+    subject: str | None = None,
+) -> int:
+    """An integer (not a boolean) from ``minimum`` to ``maximum``.
+
+    >>> check_integer("samples", 2.0, 2, 10)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: samples must be an integer from 2 to 10, got 2.0
+    """
+    if (
+        isinstance(value, bool | np.bool_)
+        or not isinstance(value, int | np.integer)
+        or not minimum <= value <= maximum
+    ):
+        raise error(
+            f"{name} must be an integer from {minimum} to {_bound(maximum)}, got "
+            f"{_describe(value)}",
+            key=name,
+            subject=subject,
+        )
+    return int(value)
+
+
+def _bound(value: int) -> str:
+    return f"{value:.0e}" if value >= 10**6 else str(value)
+
+
+def check_robot(robot: object) -> Robot:
+    """Return ``robot`` if it is a :class:`~prp3.model.Robot`, else raise :class:`ParameterError`.
+
+    >>> check_robot(None)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: robot must be a prp3.Robot, got None
+    """
+    from .model import Robot
+
+    if not isinstance(robot, Robot):
+        raise ParameterError(f"robot must be a prp3.Robot, got {_describe(robot)}")
+    return robot
+
+
+def first_non_finite(
+    arrays: Mapping[str, FloatArray], batch: tuple[int, ...]
+) -> tuple[int, str] | None:
+    """``(sample, name)`` of the first non-finite value of per-sample ``arrays``, or None."""
+    samples = int(np.prod(batch)) if batch else 1
+    first: tuple[int, str] | None = None
+    for name, array in arrays.items():
+        flat = np.asarray(array).reshape(samples, -1)
+        bad = ~np.isfinite(flat).all(axis=1)
+        if bad.any():
+            index = int(np.argmax(bad))
+            if first is None or index < first[0]:
+                first = (index, name)
+    return first
+
+
+def require_finite(
+    arrays: Mapping[str, FloatArray],
+    batch: tuple[int, ...],
+    what: str,
+    times: FloatArray | None = None,
+) -> None:
+    """Raise :class:`TrajectoryError` naming the first sample whose results overflowed.
+
+    The inputs are validated finite, so a non-finite result means that the
+    motion or the parameters are too large for float64: such numbers have
+    lost their meaning and are refused, never returned.
+    """
+    found = first_non_finite(arrays, batch)
+    if found is None:
+        return
+    index, name = found
+    time = float(np.asarray(times).reshape(-1)[index]) if times is not None else None
+    raise TrajectoryError(
+        f"the results overflow: {name} is not finite; "
+        "the motion or the robot's parameters are too large for double precision",
+        subject=what,
+        sample=index if batch else None,
+        time=time if batch else None,
+    )
