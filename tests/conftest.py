@@ -43,3 +43,13 @@ def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line(
         "filterwarnings", "ignore:mypy_extensions.TypedDict is deprecated:DeprecationWarning"
     )
+
+
+@pytest.fixture
+def earlier_run(tmp_path: Path) -> Path:
+    """An output directory holding the files of an earlier run (and a file of the user's)."""
+    folder = tmp_path / "run"
+    folder.mkdir()
+    (folder / "results.csv").write_text("t,x\n0.0,1.0\n")
+    (folder / "notes.txt").write_text("the user's own file\n")
+    return folder

@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 import prp3
+from clitools import cli
 from prp3.cli import main
 from prp3.cli.simulate import Progress, simulate_table
 from prp3.io import MANIFEST_NAME
@@ -36,16 +37,6 @@ CONTRACT = ["t", "x", "y", "phi"] + [f"{q}_{leg}" for leg in "ABC" for q in PER_
 
 G = 9.81
 W = math.pi / 3.0
-
-
-def cli(capsys, *argv) -> tuple[int, str, str]:
-    """Run ``prp3 argv`` in-process; return (exit status, stdout, stderr)."""
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:  # argparse: --help, --version, usage errors
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def read_results(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:

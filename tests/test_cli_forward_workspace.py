@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from clitools import cli
 from prp3 import (
     Limits,
     Robot,
@@ -24,7 +25,6 @@ from prp3 import (
     inverse_geometry,
     paper_motion,
 )
-from prp3.cli import main
 from prp3.io import write_table_csv
 from prp3.results import results_table
 
@@ -39,15 +39,6 @@ WORKSPACE_COLUMNS = (
 ORIENTATION_COLUMNS = (
     "phi,determinant,area,grid_area,reachable_points,condition_min,condition_max".split(",")
 )
-
-
-def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def read_csv(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:

@@ -12,16 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from prp3.cli import main
-
-
-def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
+from clitools import cli
 
 
 @pytest.mark.parametrize(

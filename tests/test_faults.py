@@ -28,6 +28,7 @@ import pytest
 
 import prp3.cli.simulate as simulate_cli
 import prp3.files as prp3_files
+from clitools import cli, listing, one_line
 from prp3 import Motion, Robot
 from prp3.cli import main
 from prp3.dynamics import inverse_dynamics
@@ -41,39 +42,6 @@ from prp3.validation import POSE_BOUND
 
 ROBOT = Robot()
 ENV = {key: value for key, value in os.environ.items() if key != "PYTHONUNBUFFERED"}
-
-
-def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def one_line(err: str) -> str:
-    assert "Traceback" not in err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    return lines[0]
-
-
-def listing(folder: Path) -> dict[str, bytes]:
-    return {
-        str(path.relative_to(folder)): path.read_bytes()
-        for path in sorted(folder.rglob("*"))
-        if path.is_file()
-    }
-
-
-@pytest.fixture
-def earlier_run(tmp_path: Path) -> Path:
-    folder = tmp_path / "run"
-    folder.mkdir()
-    (folder / "results.csv").write_text("t,x\n0.0,1.0\n")
-    (folder / "notes.txt").write_text("the user's own file\n")
-    return folder
 
 
 def prp3(*argv: str, **kwargs: object) -> subprocess.CompletedProcess[str]:

@@ -18,15 +18,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from clitools import cli
 from prp3 import Motion, Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.forward import forward_dynamics, open_loop_growth_rate
-
-
-def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    status = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def poses(path: Path) -> tuple[np.ndarray, np.ndarray]:

@@ -25,8 +25,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from clitools import cli
 from prp3 import LinkParameters, Motion, PistonParameters, PlatformParameters, Robot
-from prp3.cli import main
 from prp3.dynamics import inverse_dynamics
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.identification import (
@@ -346,13 +346,6 @@ def test_exciting_trajectory_lowers_the_condition_within_the_limits() -> None:
 
 
 # ------------------------------------------------------------------ commands
-def cli(capsys, *argv) -> tuple[int, str, str]:  # type: ignore[no-untyped-def]
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def write_measurements(path: Path, motion: Motion, f10: np.ndarray, derivatives: bool) -> Path:

@@ -24,21 +24,12 @@ from hypothesis import strategies as st
 
 import prp3.cli.simulate as simulate_cli
 import prp3.io as prp3_io
-from prp3.cli import main
+from clitools import cli
 from prp3.errors import OutputFileError
 from prp3.io import MANIFEST_NAME, format_floats, staged_output, write_table_csv
 from prp3.results import RESULT_COLUMNS
 
 PAPER_FIGURES = ["fig3_p10.png", "fig4_f21y.png", "fig5_f21z.png", "f10.png", "lambda10.png"]
-
-
-def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def names(folder: Path) -> list[str]:

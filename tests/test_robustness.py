@@ -29,8 +29,9 @@ import pytest
 import prp3.cli.simulate as simulate_cli
 import prp3.files as prp3_files
 import prp3.io as prp3_io
+from clitools import cli, listing
 from prp3 import Motion, Robot
-from prp3.cli import build_parser, main
+from prp3.cli import build_parser
 from prp3.dynamics import inverse_dynamics
 from prp3.errors import (
     InputFileError,
@@ -59,16 +60,6 @@ ZERO = np.zeros(3)
 SINGULAR_PHI = math.pi / 3.0  # sin(phi - pi/3) = 0: every leg singular (docs/model.md)
 
 
-def cli(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    """Run ``prp3 argv`` in-process; return (exit status, stdout, stderr)."""
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:  # argparse usage errors
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
 def program(argv: list[str]) -> str:
     """The prefix of prp3's messages for ``argv``: the command that was run."""
     return "prp3 " + ("export mjcf" if argv[0] == "export" else argv[0])
@@ -81,25 +72,6 @@ def error_line(status: int, err: str) -> str:
     lines = [line for line in err.strip().splitlines() if ": warning: " not in line]
     assert len(lines) == 1, err
     return lines[0]
-
-
-def listing(folder: Path) -> dict[str, bytes]:
-    """Every file under ``folder`` (hidden ones included) with its content."""
-    return {
-        str(path.relative_to(folder)): path.read_bytes()
-        for path in sorted(folder.rglob("*"))
-        if path.is_file()
-    }
-
-
-@pytest.fixture
-def earlier_run(tmp_path: Path) -> Path:
-    """An output directory holding the files of an earlier run (and a file of the user's)."""
-    folder = tmp_path / "run"
-    folder.mkdir()
-    (folder / "results.csv").write_text("t,x\n0.0,1.0\n")
-    (folder / "notes.txt").write_text("the user's own file\n")
-    return folder
 
 
 def write_trajectory(path: Path, rows: list[list[float]], derivatives: bool = False) -> Path:

@@ -24,7 +24,7 @@ pq = pytest.importorskip("pyarrow.parquet")
 
 import prp3  # noqa: E402
 import prp3.sweep  # noqa: E402
-from prp3.cli import main  # noqa: E402
+from clitools import cli  # noqa: E402
 from prp3.design import (  # noqa: E402
     design_robot,
     design_values,
@@ -74,15 +74,6 @@ def scheduler():
         scheduler_kwargs=prp3.sweep.QUIET_SCHEDULER,
     ) as cluster:
         yield cluster.scheduler_address
-
-
-def cli(capsys, *argv) -> tuple[int, str, str]:
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def write(path: Path, text: str) -> Path:
