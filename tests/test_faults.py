@@ -118,13 +118,10 @@ def test_a_full_disk_names_the_file_being_written(capsys, monkeypatch, earlier_r
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full")
 def test_atomic_writer_on_a_full_disk_names_the_file(tmp_path, monkeypatch):
-    real = os.fdopen
+    def onto_a_full_disk(_path: object, *args: object, **kwargs: object) -> object:
+        return open("/dev/full", *args, **kwargs)  # type: ignore[call-overload]
 
-    def onto_a_full_disk(handle: int, *args: object, **kwargs: object) -> object:
-        os.close(handle)
-        return real(os.open("/dev/full", os.O_WRONLY), *args, **kwargs)  # type: ignore[call-overload]
-
-    monkeypatch.setattr(prp3_files.os, "fdopen", onto_a_full_disk)
+    monkeypatch.setattr(prp3_files, "open", onto_a_full_disk, raising=False)
     target = tmp_path / "model.xml"
     with pytest.raises(OutputFileError) as info:
         with atomic_writer(target) as stream:

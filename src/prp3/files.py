@@ -162,27 +162,11 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO[str]]:
         and is not a regular file (a directory, a device, a pipe), which a
         rename would replace (names the path).
     """
-    path = Path(path)
-    _check_replaceable(path)
-    try:
-        handle, temporary = tempfile.mkstemp(
-            prefix=f".{path.name}.", suffix=".tmp", dir=path.parent
-        )
-    except OSError as error:
-        raise OutputFileError(f"cannot write ({error.strerror})", file=path) from None
-    try:
-        os.chmod(temporary, _file_mode())
-        with os.fdopen(handle, mode, encoding="utf-8", newline="") as stream:
-            yield stream
-        os.replace(temporary, path)
-    except OSError as error:  # e.g. a full disk: name the file, not standard output
-        with contextlib.suppress(OSError):
-            os.unlink(temporary)
-        raise OutputFileError(f"cannot write ({error.strerror or error})", file=path) from None
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(temporary)
-        raise
+    with (
+        atomic_path(path) as temporary,
+        open(temporary, mode, encoding="utf-8", newline="") as stream,
+    ):
+        yield stream
 
 
 @contextlib.contextmanager
