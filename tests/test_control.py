@@ -24,6 +24,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from clitools import cli
 from prp3 import (
     Motion,
     PlatformParameters,
@@ -264,13 +265,12 @@ def test_track_validates_its_inputs() -> None:
 
 def test_plants_refuse_what_they_would_not_simulate() -> None:
     reference = _paper_reference("vertical", 100.0, 0.05)
-    for extra in (
-        {"payload": Payload(mass=0.5)},
-        {"load": Load(force=(0.0, -5.0))},
-        {"friction": Friction(actuator=JointFriction(viscous=1.0))},
-    ):
-        with pytest.raises(ParameterError, match="plant 'mujoco': the exported MJCF has no"):
-            track(Robot(**extra), reference, plant="mujoco")
+    for kind, key, value in (("actuator", "coulomb", 1.0), ("sleeve", "mu", 0.1)):
+        robot = Robot(friction=Friction(**{kind: JointFriction(**{key: value})}))
+        with pytest.raises(
+            ParameterError, match=rf"plant 'mujoco': friction\.{kind}\.{key} = {value}: MuJoCo"
+        ):
+            track(robot, reference, plant="mujoco")
     sticky = Robot(friction=Friction(actuator=JointFriction(mu=0.1)))
     with pytest.raises(ParameterError, match="plant 'prp3': a friction proportional"):
         track(sticky, reference, plant="prp3")
@@ -305,15 +305,30 @@ def test_mujoco_plant_agrees_with_the_prp3_plant() -> None:
     assert np.abs(engine.f10 - ours.f10).max() < 1e-5
 
 
+def test_mujoco_plant_carries_the_payload_the_load_and_viscous_friction() -> None:
+    """The MJCF's payload body, joint damping and the load as xfrc_applied, against prp3's plant."""
+    pytest.importorskip("mujoco")
+    robot = Robot(
+        payload=Payload(mass=0.5, com=(0.02, -0.01), inertia=1e-3),
+        load=Load(force=(3.0, -5.0), moment=0.2),
+        friction=Friction(
+            actuator=JointFriction(viscous=20.0),
+            revolute=JointFriction(viscous=0.05),
+            sleeve=JointFriction(viscous=4.0),
+        ),
+    )
+    reference = _paper_reference("rotation", 1000.0, 0.5)
+    engine = track(robot, reference, plant="mujoco")
+    ours = track(robot, reference, plant="prp3")
+    bare = track(Robot(), reference, plant="mujoco", model=robot)
+    assert engine.status == ours.status == "completed"
+    assert np.abs(engine.pose - ours.pose).max() < 1e-8
+    assert np.abs(engine.f10 - ours.f10).max() < 1e-5
+    # the extras matter: MuJoCo without them, driven by the same controller, ends elsewhere
+    assert np.abs(bare.pose - engine.pose).max() > 1e-6
+
+
 # ------------------------------------------------------------------ command line
-def _cli(capsys, *argv) -> tuple[int, str, str]:
-    """Run ``prp3 argv`` in-process; return (exit status, stdout, stderr)."""
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as exit_:  # argparse usage errors
-        status = int(exit_.code or 0)
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def _trajectory(folder: Path, stop: float = 0.2) -> Path:
@@ -375,7 +390,7 @@ def test_cli_stopped_run_keeps_its_rows_and_exits_1(tmp_path: Path, capsys) -> N
 def test_cli_bad_options(tmp_path: Path, capsys, extra: list[str], message: str) -> None:
     out = tmp_path / "out"
     args = ["control", "--motion", "vertical", "--plant", "prp3", "--controller", "pd"]
-    status, _, err = _cli(capsys, *args, *extra, "-o", out)
+    status, _, err = cli(capsys, *args, *extra, "-o", out)
     assert status == 2
     assert message in err and len(err.strip().splitlines()) == 1
     assert not out.exists()
@@ -385,7 +400,7 @@ def test_cli_warns_when_the_controller_asks_more_than_max_force(tmp_path: Path, 
     robot = tmp_path / "robot.toml"
     robot.write_text("[limits]\nmax_force = 30.0\n")  # the static force of leg A is 31.9 N
     args = ["control", "--motion", "vertical", "--plant", "prp3", "--controller", "pd"]
-    status, _, err = _cli(capsys, *args, "--robot", robot, "--rate", "50", "-o", tmp_path / "o")
+    status, _, err = cli(capsys, *args, "--robot", robot, "--rate", "50", "-o", tmp_path / "o")
     assert status == 0
     assert "warning: the controller asks |f10_A| = " in err and "max_force = 30 N" in err
     assert "f10_B" not in err and (tmp_path / "o" / "tracking.csv").exists()

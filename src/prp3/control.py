@@ -43,6 +43,7 @@ from __future__ import annotations
 import importlib
 import math
 import time
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from types import ModuleType
@@ -62,7 +63,7 @@ from .fast import CompiledRobot, compile_robot, paper_forces, sample_forces_unch
 from .forward import SINGULARITY_STOP
 from .geometry import SINGULARITY_THRESHOLD, inverse_geometry
 from .kinematics import inverse_kinematics
-from .model import Limits, Load, Robot
+from .model import Limits, Robot
 from .motion import Motion, law_at
 from .validation import check_robot
 
@@ -327,34 +328,35 @@ def check_model(robot: Robot, model: Robot) -> None:
 def check_plant(robot: Robot, plant: Plant) -> None:
     """Refuse a robot the plant would not simulate as it is.
 
-    * ``"mujoco"``: the exported MJCF (:func:`prp3.mjcf.mjcf_model`) has the
-      inertial model only: a robot with a ``[payload]``, a ``[load]`` or
-      ``[friction]`` would be simulated without them.
+    * ``"mujoco"``: the exported MJCF (:func:`prp3.mjcf.mjcf_model`) carries
+      the payload (a body welded to the platform) and viscous friction (joint
+      damping), and the plant applies the constant ``[load]`` as
+      ``xfrc_applied``; MuJoCo has no counterpart of prp3's Coulomb law
+      (its ``frictionloss`` is its own dry friction) or of the ``mu`` terms.
     * ``"prp3"``: the plant solves ``f10 = A(q)·q̈ + b(q, q̇)`` for ``q̈``; a
       friction proportional to the joint reactions (``mu``) makes ``f10``
       non-affine in ``q̈``.
 
-    >>> from prp3.model import Payload
-    >>> check_plant(Robot(payload=Payload(mass=0.5)), "mujoco")
+    >>> from prp3.model import Friction, JointFriction
+    >>> check_plant(Robot(friction=Friction(sleeve=JointFriction(coulomb=0.5))), "mujoco")
     Traceback (most recent call last):
     ...
-    prp3.errors.ParameterError: plant 'mujoco': the exported MJCF has no payload, load or friction, and the robot has a [payload]: simulate it with plant 'prp3'
+    prp3.errors.ParameterError: plant 'mujoco': friction.sleeve.coulomb = 0.5: MuJoCo has no counterpart of prp3's Coulomb friction law (its frictionloss is its own dry friction): simulate it with plant 'prp3'
     """
     if plant == "mujoco":
-        extras = [
-            name
-            for name, present in (
-                ("[payload]", robot.payload.present),
-                ("[load]", robot.load != Load()),
-                ("[friction]", robot.friction is not None),
-            )
-            if present
-        ]
-        if extras:
-            raise ParameterError(
-                "plant 'mujoco': the exported MJCF has no payload, load or friction, and the "
-                f"robot has a {' and a '.join(extras)}: simulate it with plant 'prp3'"
-            )
+        friction = robot.friction
+        for kind in ("actuator", "revolute", "sleeve") if friction is not None else ():
+            joint = getattr(friction, kind)
+            for name, value, law in (
+                ("coulomb", joint.coulomb, "prp3's Coulomb friction law (its frictionloss is "
+                 "its own dry friction)"),
+                ("mu", joint.mu, "the load-dependent friction (mu)"),
+            ):  # fmt: skip
+                if value != 0.0:
+                    raise ParameterError(
+                        f"plant 'mujoco': friction.{kind}.{name} = {value!r}: MuJoCo has no "
+                        f"counterpart of {law}: simulate it with plant 'prp3'"
+                    )
     elif compile_robot(_without_limits(robot)).parameters.has_mu:
         raise ParameterError(
             "plant 'prp3': a friction proportional to the joint reactions (mu) makes the "
@@ -457,11 +459,13 @@ class _MujocoPlant:
     """
 
     def __init__(self, robot: Robot, reference: Motion) -> None:
-        from .mjcf import TIMESTEP, mjcf_model
+        from .mjcf import TIMESTEP, MjcfWarning, mjcf_model
 
         mujoco = _import_mujoco()
         self.mujoco = mujoco
-        self.model = mujoco.MjModel.from_xml_string(mjcf_model(robot))
+        with warnings.catch_warnings():  # the constant [load]: applied below
+            warnings.simplefilter("ignore", MjcfWarning)
+            self.model = mujoco.MjModel.from_xml_string(mjcf_model(robot))
         self.data = mujoco.MjData(self.model)
         self.timestep = TIMESTEP
         kin = inverse_kinematics(_without_limits(robot), reference[0])
@@ -469,6 +473,8 @@ class _MujocoPlant:
         self.data.qpos[:] = np.stack([geo.lambda10, geo.phi21, geo.lambda32], axis=-1).ravel()
         self.data.qvel[:] = np.stack([kin.dlambda10, kin.dphi21, kin.dlambda32], axis=-1).ravel()
         self.body = int(self.model.body("platform_A").id)
+        fx, fy = robot.load.force  # at G, the centre of mass of platform_A
+        self.data.xfrc_applied[self.body] = (fx, fy, 0.0, 0.0, 0.0, robot.load.moment)
         self.velocity = np.zeros(6)
         mujoco.mj_forward(self.model, self.data)
 
