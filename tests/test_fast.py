@@ -37,6 +37,7 @@ from prp3.fast import (
     paper_forces,
     sample_forces,
     sample_forces_unchecked,
+    solve_batch,
 )
 from prp3.motion import paper_motion
 from strategies import (
@@ -407,3 +408,151 @@ def test_single_sample_needs_a_compiled_robot() -> None:
         Prp3Error, match=r"compiled must come from compile_robot\(robot\), got Robot"
     ):
         sample_forces(Robot(), [0, 0, 0], [0, 0, 0], [0, 0, 0])  # type: ignore[arg-type]
+
+
+# -------------------------------------------------- single sample: inputs, checks, a load
+def test_single_sample_takes_arrays_tuples_lists_and_integers_alike() -> None:
+    compiled = compile_robot(Robot())
+    motion = paper_motion("rotation", samples=31)[12]
+    pose, velocity, acceleration = motion.pose, motion.velocity, motion.acceleration
+    expected = sample_forces(compiled, pose, velocity, acceleration)
+    as_tuples = [tuple(a.tolist()) for a in (pose, velocity, acceleration)]
+    as_lists = [a.tolist() for a in (pose, velocity, acceleration)]
+    assert sample_forces(compiled, *as_tuples) == expected
+    assert sample_forces(compiled, *as_lists) == expected
+    # np.float64 scalars and integers: the batch path's conversion, the same numbers
+    scalars = [tuple(np.float64(v) for v in a) for a in (pose, velocity, acceleration)]
+    batch = paper_forces(compiled, pose[None], velocity[None], acceleration[None])
+    for got in (
+        sample_forces(compiled, *scalars),
+        sample_forces(compiled, pose, [0, 0, 0], [1, 2, 3]),
+    ):
+        assert all(type(v) is float for legs in got for v in legs)
+    one = sample_forces(compiled, *scalars)
+    for name in OUTPUTS:
+        np.testing.assert_allclose(
+            getattr(one, name), getattr(batch, name)[0], rtol=1e-15, atol=1e-13
+        )
+    ints = sample_forces(compiled, (0, 0, 0), (0, 0, 0), (0, 0, 0))
+    assert ints == sample_forces(compiled, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+
+
+def test_checked_traced_code_refuses_before_dividing() -> None:
+    # The checks are in the traced code: the pose bounds first, then |D| before 1/D.
+    source = compile_robot(Robot()).checked_function.__doc__ or ""
+    lines = source.splitlines()
+    guard = next(k for k, line in enumerate(lines) if ">= 0.0001" in line)
+    division = next(k for k, line in enumerate(lines) if "1.0 /" in line)
+    assert "abs(x) <= 30.0" in lines[1] and guard < division
+    assert "isfinite(" in lines[-3]  # the results, before returning
+
+
+@pytest.mark.parametrize(
+    ("pose", "velocity", "error"),
+    [
+        ([0.0, 0.0, math.pi / 3], [0.0, 0.0, 0.0], SingularPoseError),
+        ([0.0, 31.0, 0.0], [0.0, 0.0, 0.0], TrajectoryError),  # beyond 100·l0
+        ([0.0, 0.0, 0.0], [0.0, 1e308, 1e308], TrajectoryError),  # a sum that overflows
+        ([0.0, 0.0, 0.0], [math.nan, 0.0, 0.0], TrajectoryError),
+        ((True, 0.0, 0.0), [0.0, 0.0, 0.0], None),  # whatever the batch path does
+        ({0.0, 1.0, 2.0}, [0.0, 0.0, 0.0], None),
+    ],
+)
+def test_single_sample_refuses_what_the_batch_path_refuses(
+    pose: object, velocity: list[float], error: type[Exception] | None
+) -> None:
+    compiled, zero = compile_robot(Robot()), [0.0, 0.0, 0.0]
+    try:
+        expected = paper_forces(compiled, pose, velocity, zero)  # type: ignore[arg-type]
+    except Prp3Error as refused:
+        assert error is None or type(refused) is error
+        with pytest.raises(type(refused)) as single:
+            sample_forces(compiled, pose, velocity, zero)  # type: ignore[arg-type]
+        assert str(single.value) == str(refused)
+    else:
+        assert error is None
+        one = sample_forces(compiled, pose, velocity, zero)  # type: ignore[arg-type]
+        np.testing.assert_allclose(one.f10, expected.f10, rtol=1e-15, atol=1e-13)
+
+
+def _with_effects(robot: Robot, friction: bool, mu: float) -> Robot:
+    from prp3.model import Friction, JointFriction, Load
+
+    joint = JointFriction(viscous=0.7, coulomb=0.4, mu=mu, smoothing=0.05)
+    return Robot(
+        l0=robot.l0, gravity=robot.gravity, piston=robot.piston, link=robot.link,
+        platform=robot.platform, load=Load(force=(1.5, -2.0), moment=0.3),
+        friction=Friction(joint, joint, joint) if friction else None,
+    )  # fmt: skip
+
+
+@settings(max_examples=10, deadline=None)
+@given(
+    scenario=scenarios(),
+    effects=st.sampled_from([(False, 0.0), (True, 0.0), (True, 0.02)]),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_single_sample_with_a_load_agrees_with_the_batch_path(
+    scenario: tuple[Robot, AnalyticMotion], effects: tuple[bool, float], seed: int
+) -> None:
+    # The time-varying load (f_x, f_y, m_z) as three more traced inputs: the single-sample
+    # path agrees with solve_batch(load=...) (the kernel on numpy arrays) to round-off,
+    # with the robot's constant load and friction (viscous and smoothed Coulomb traced,
+    # the mu terms by the kernel's Newton solve).
+    robot, analytic = scenario
+    robot = _with_effects(robot, *effects)
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 6))
+    load = np.random.default_rng(seed).normal(size=(6, 3)) * [20.0, 20.0, 2.0]
+    batch = solve_batch(robot, motion.pose, motion.velocity, motion.acceleration, load=load)
+    unloaded = solve_batch(robot, motion.pose, motion.velocity, motion.acceleration)
+    compiled = compile_robot(robot)
+    for k in range(6):
+        state = (motion.pose[k], motion.velocity[k], motion.acceleration[k])
+        one = sample_forces(compiled, *state, load=load[k])
+        assert sample_forces(compiled, *state, load=tuple(load[k].tolist())) == one
+        for name in OUTPUTS:
+            expected = batch[name][k]
+            scale = np.abs(expected).max() + 1.0
+            assert np.abs(np.array(getattr(one, name)) - expected).max() <= 1e-15 * scale, name
+        # and the load matters: without it the forces differ
+        assert not np.allclose(sample_forces(compiled, *state).f10, one.f10, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(
+            sample_forces(compiled, *state).f10, unloaded["f10"][k], rtol=1e-14, atol=1e-12
+        )
+
+
+def test_single_sample_load_is_traced_bit_for_bit_as_the_kernel() -> None:
+    from prp3 import kernel
+
+    robot = _with_effects(Robot(), True, 0.0)
+    compiled = compile_robot(robot)
+    assert "fx" in (compiled.loaded_function.__doc__ or "")
+    state = (0.01, -0.02, 0.3, 0.1, -0.2, 0.5, 1.0, -2.0, 3.0)
+    load = (4.0, -5.0, 0.25)
+    one = compiled.loaded_function(*state, *load)
+    expected = kernel.solve(kernel.MATH, compiled.parameters, *state, reactions=False, load=load)
+    assert one == (expected.f10, expected.p10, expected.f21y, expected.f21z)
+
+
+@pytest.mark.parametrize(
+    ("load", "message"),
+    [
+        ([math.nan, 0.0, 0.0], r"fx of load is not finite \(nan\)"),
+        ([0.0, 0.0, math.inf], r"mz of load is not finite \(inf\)"),
+        ([0.0, 1.0], r"load must have shape \(3,\) or \(N, 3\)"),
+        ("abc", "load must be an array of real numbers, got text"),
+        ([[0.0, 0.0, 0.0]], r"load must have the shape of pose \(3,\)"),
+    ],
+)
+def test_single_sample_bad_load_is_refused_as_the_batch_path(load: object, message: str) -> None:
+    zero = [0.0, 0.0, 0.0]
+    with pytest.raises(TrajectoryError, match=message):
+        sample_forces(compile_robot(Robot()), zero, zero, zero, load=load)  # type: ignore[arg-type]
+
+
+def test_batch_non_finite_load_is_refused_naming_the_sample() -> None:
+    load = np.zeros((4, 3))
+    load[2, 1] = math.nan
+    zeros = np.zeros((4, 3))
+    with pytest.raises(TrajectoryError, match=r"^sample 2: fy of load is not finite \(nan\)"):
+        solve_batch(Robot(), zeros, zeros, zeros, load=load)

@@ -31,7 +31,7 @@ the sign of a zero, see :class:`Traced`, and numpy's ``cos``/``sin``).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -172,18 +172,26 @@ def _compile(source: str, name: str, namespace: dict[str, Any]) -> Callable[...,
 
 
 def _scalar_code(
-    function: Callable[..., Sequence[Any]], arguments: Sequence[str], indent: str
+    lines: list[tuple[int, Line]],
+    outputs: list[int | float],
+    arguments: Sequence[str],
+    indent: str,
+    guards: dict[int, list[str]] | None = None,
 ) -> tuple[list[str], list[str]]:
-    """Statements of plain-float code for the recorded operations, and the outputs."""
-    lines, outputs = trace(function, len(arguments))
+    """Statements of plain-float code for the recorded operations, and the outputs.
+
+    ``guards`` maps a line index to conditions (Python expressions on its
+    variable ``t<index>``) emitted as ``if condition: return None`` right
+    after the line.
+    """
     uses: dict[int, int] = {}
     for _, (_, operands) in lines:
         for o in operands:
             if isinstance(o, int) and o >= 0:
                 uses[o] = uses.get(o, 0) + 1
-    for o in outputs:
+    for o in (*outputs, *(guards or {})):
         if isinstance(o, int) and o >= 0:
-            uses[o] = uses.get(o, 0) + 2  # outputs are kept in variables
+            uses[o] = uses.get(o, 0) + 2  # outputs and guarded values are kept in variables
     inline: dict[int, str] = {}  # values used once: written into their user, in parentheses
 
     def names(index: int) -> str:
@@ -206,23 +214,70 @@ def _scalar_code(
             inline[index] = f"({expression})"
         else:
             body.append(f"{indent}t{index} = {expression}")
+        for condition in (guards or {}).get(index, ()):
+            body.append(f"{indent}if {condition}:\n{indent}    return None")
     return body, [_operand(o, names) for o in outputs]
 
 
-_MATH = {"cos": math.cos, "sin": math.sin, "sqrt": math.sqrt, "tanh": math.tanh, "abs": abs}
+_MATH = {"cos": math.cos, "sin": math.sin, "sqrt": math.sqrt, "tanh": math.tanh, "abs": abs,
+         "isfinite": math.isfinite}  # fmt: skip
 
 
 def scalar_function(
-    function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
-) -> Callable[..., tuple[float, ...]]:
-    """A plain-float Python function with the recorded operations of ``function``."""
-    body, outputs = _scalar_code(function, arguments, "    ")
+    function: Callable[..., Sequence[Any]],
+    arguments: Sequence[str],
+    name: str = "traced",
+    *,
+    entry: Sequence[str] = (),
+    checks: Mapping[int, str] | None = None,
+    final: str | None = None,
+    returns: str | None = None,
+    namespace: Mapping[str, Any] | None = None,
+) -> Callable[..., Any]:
+    """A plain-float Python function with the recorded operations of ``function``.
+
+    Without the keyword arguments it returns the tuple of the outputs.  With
+    them it is a checked function that returns ``None`` as soon as a check
+    fails:
+
+    * ``entry``: conditions on the arguments (by name), tested first;
+    * ``checks``: output position → condition, ``{}`` standing for that
+      output's value, tested right after the output is computed (so that a
+      later division by it is never reached);
+    * ``final``: a condition on all outputs (``{0}``, ``{1}``, …), tested
+      before returning;
+    * ``returns``: the returned expression (``{0}``, ``{1}``, … the
+      outputs; default the tuple of all outputs);
+    * ``namespace``: names the conditions and ``returns`` use (``isfinite``
+      and the ``math`` functions are there).
+
+    >>> def f(ops, x, y):
+    ...     return (x - y, 1.0 / (x - y))
+    >>> g = scalar_function(f, ("x", "y"), entry=["not isfinite(x + y)"],
+    ...                     checks={0: "{} == 0.0"}, returns="{1}")
+    >>> g(3.0, 1.0), g(2.0, 2.0), g(float("nan"), 1.0)
+    (0.5, None, None)
+    """
+    lines, outs = trace(function, len(arguments))
+    guards: dict[int, list[str]] = {}
+    first = list(entry)
+    for position, condition in (checks or {}).items():
+        output = outs[position]
+        if isinstance(output, int) and output >= 0:
+            guards.setdefault(output, []).append(condition.format(f"t{output}"))
+        else:  # an input or a constant: tested on entry
+            first.append(condition.format(_operand(output, lambda i: arguments[-1 - i])))
+    body, outputs = _scalar_code(lines, outs, arguments, "    ", guards)
+    head = [f"    if {condition}:\n        return None" for condition in first]
+    if final is not None:
+        body.append(f"    if {final.format(*outputs)}:\n        return None")
+    value = f"({', '.join(outputs)},)" if returns is None else returns.format(*outputs)
     source = (
         f"def {name}({', '.join(arguments)}):\n"
-        + "\n".join(body)
-        + f"\n    return ({', '.join(outputs)},)\n"
+        + "\n".join(head + body)
+        + f"\n    return {value}\n"
     )
-    return _compile(source, name, dict(_MATH))
+    return _compile(source, name, {**_MATH, **(namespace or {})})
 
 
 def loop_source(
@@ -233,7 +288,8 @@ def loop_source(
     ``inputs`` is ``(len(arguments), n)``, ``out`` ``(outputs, n)``; for a
     compiler of loops (numba), which runs it at machine speed.
     """
-    body, outputs = _scalar_code(function, arguments, "        ")
+    lines, outs = trace(function, len(arguments))
+    body, outputs = _scalar_code(lines, outs, arguments, "        ")
     unpack = [f"        {arg} = inputs[{k}, i]" for k, arg in enumerate(arguments)]
     store = [f"        out[{k}, i] = {value}" for k, value in enumerate(outputs)]
     return (

@@ -130,6 +130,64 @@ class CompiledRobot:
 
         return scalar_function(outputs, kernel.STATE_SYMBOLS, "sample_forces_kernel")
 
+    @cached_property
+    def checked_function(self) -> Callable[..., SampleForces | None]:
+        """:func:`sample_forces`' traced kernel with its checks (built on first use).
+
+        ``f(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈)`` of floats returns the
+        :class:`SampleForces`, or ``None`` where :func:`paper_forces` could
+        refuse the sample: a pose beyond the bounds of
+        :func:`~prp3.validation.check_poses` or not finite, a velocity or
+        acceleration not finite, ``|sin(φ − π/3)|`` below the singularity
+        threshold (tested before the kernel divides by it), ``λ10`` outside
+        the stroke, a result that is not finite.  Its source is its ``__doc__``.
+        """
+        return self._checked(loaded=False)
+
+    @cached_property
+    def loaded_function(self) -> Callable[..., SampleForces | None]:
+        """:attr:`checked_function` with a time-varying load (built on first use).
+
+        ``f(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈, f_x, f_y, m_z)``: the wrench
+        ``(f_x, f_y, m_z)`` of the environment on the platform (as ``load``
+        of :func:`solve_batch`) is three more traced inputs; ``None`` also
+        where the load is not finite.
+        """
+        return self._checked(loaded=True)
+
+    def _checked(self, loaded: bool) -> Callable[..., SampleForces | None]:
+        params, stroke = self.parameters, self.stroke
+        reach = POSE_BOUND * self.robot.l0
+        arguments = kernel.STATE_SYMBOLS + (_LOAD_SYMBOLS if loaded else ())
+        rates = " + ".join(arguments[3:])
+        entry = (
+            f"not (abs(x) <= {reach!r} and abs(y) <= {reach!r} and abs(phi) <= {MAX_ORIENTATION!r}"
+            f" and isfinite({rates}))"
+        )
+        singular = f"not abs({{}}) >= {SINGULARITY_THRESHOLD!r}"
+        outside = "" if stroke is None else f"not {stroke[0]!r} <= {{}} <= {stroke[1]!r}"
+        checks = 1 if stroke is None else 4
+        if params.has_mu:  # implicit friction: the kernel on floats with its Newton solve
+            return _implicit_checked(self, loaded)
+
+        def outputs(ops: kernel.Ops, *values: kernel.Value) -> tuple[kernel.Value, ...]:
+            state, load = values[:9], (values[9:] if loaded else None)
+            geo = kernel.kernel_geometry(ops, params, *state[:3])
+            sol = kernel.solve(ops, params, *state, reactions=False, load=load)
+            lam = sol.lambda10 if stroke is not None else ()
+            return (geo.D, *lam, *sol.f10, *sol.p10, *sol.f21y, *sol.f21z)
+
+        f = [f"{{{checks + k}}}" for k in range(12)]
+        return scalar_function(
+            outputs, arguments, "sample_forces_checked" + ("_loaded" if loaded else ""),
+            entry=[entry],
+            checks={0: singular, **{k: outside for k in range(1, checks)}},
+            final=f"not isfinite({' + '.join(f)})",
+            returns="new(SampleForces, (({}, {}, {}), ({}, {}, {}), ({}, {}, {}), ({}, {}, {})))"
+            .format(*f),
+            namespace={"new": tuple.__new__, "SampleForces": SampleForces},
+        )  # fmt: skip
+
     def batch_function(self, names: tuple[str, ...]) -> Callable[..., None]:
         """The kernel traced into numpy ufunc calls on work rows (built once per ``names``).
 
@@ -340,10 +398,7 @@ def solve_batch(
     result = _outputs(None, KERNEL_OUTPUTS + (FRICTION_OUTPUTS if friction else ()), shape)
     wrench = None
     if load is not None:
-        wrench = _as_samples("load", load)
-        if wrench.shape != shape:
-            raise TrajectoryError(f"load must have the shape of pose {shape}, got {wrench.shape}")
-        wrench = wrench.reshape(-1, 3)
+        wrench = _load(load, shape).reshape(-1, 3)
     iterations = np.zeros(shape[:-1]) if compiled.parameters.has_mu else None
     if flat[0].shape[0]:
         targets = {name: array.reshape(-1, 3) for name, array in result.items()}
@@ -608,18 +663,27 @@ def sample_forces(
     pose: SampleInput,
     velocity: SampleInput,
     acceleration: SampleInput,
+    load: SampleInput | None = None,
 ) -> SampleForces:
     """Forces of one sample by the kernel, with plain floats.
 
     Validates its input (finite numbers, not singular, inside the stroke) and
-    its result (finite), and calls the traced kernel.
+    its result (finite) as :func:`paper_forces` does, in the traced kernel
+    itself (:attr:`CompiledRobot.checked_function`); anything the traced
+    checks do not pass is handed to the batch path, which refuses it with the
+    batch path's message or computes it.
 
     Parameters
     ----------
     compiled : CompiledRobot
         From :func:`compile_robot` (compile once, call many times).
-    pose, velocity, acceleration : sequence of 3 floats
+    pose, velocity, acceleration : sequence of 3 floats or ndarray (3,)
         ``(x, y, φ)``, ``(ẋ, ẏ, φ̇)``, ``(ẍ, ÿ, φ̈)`` (SI units, rad).
+    load : sequence of 3 floats or ndarray (3,), optional
+        A time-varying wrench ``(f_x, f_y, m_z)`` of the environment on the
+        platform (force at ``G`` in the fixed frame, N; moment, N·m), as the
+        ``load`` of :func:`solve_batch`; added to the robot's constant
+        ``[load]``.
 
     Returns
     -------
@@ -629,7 +693,7 @@ def sample_forces(
     Raises
     ------
     TrajectoryError, SingularPoseError, UnreachablePoseError
-        As :func:`paper_forces`.
+        As :func:`paper_forces` (and :func:`solve_batch` for ``load``).
 
     Examples
     --------
@@ -637,87 +701,145 @@ def sample_forces(
     >>> forces = sample_forces(compiled, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
     >>> [round(f, 4) for f in forces.f10]
     [31.8589, -8.4957, -23.3632]
+    >>> still = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    >>> pushed = sample_forces(compiled, *still, load=(0.0, -10.0, 0.0))  # 10 N downwards
+    >>> [round(f, 4) for f in pushed.f10]
+    [37.6324, -11.3825, -26.25]
     """
     if type(compiled) is not CompiledRobot:
         raise Prp3Error(
             f"compiled must come from compile_robot(robot), got {type(compiled).__name__}"
         )
-    values: tuple[float, ...]
-    masked = np.ma.MaskedArray
-    if isinstance(pose, masked) or isinstance(velocity, masked) or isinstance(acceleration, masked):
-        _sample_error(compiled, pose, velocity, acceleration)  # refused, never unpacked
+    # The fast path takes lists, tuples and plain ndarrays (``tolist``: floats, or ints,
+    # booleans, ... that the type test below sends to the batch path's checks).
+    p, v, a = pose, velocity, acceleration
+    kind = type(p)
+    if kind is _NDARRAY:
+        p = p.tolist()  # type: ignore[union-attr]
+    elif kind is not tuple and kind is not list:
+        return _sample_slow(compiled, pose, velocity, acceleration, load)
+    kind = type(v)
+    if kind is _NDARRAY:
+        v = v.tolist()  # type: ignore[union-attr]
+    elif kind is not tuple and kind is not list:
+        return _sample_slow(compiled, pose, velocity, acceleration, load)
+    kind = type(a)
+    if kind is _NDARRAY:
+        a = a.tolist()  # type: ignore[union-attr]
+    elif kind is not tuple and kind is not list:
+        return _sample_slow(compiled, pose, velocity, acceleration, load)
     try:
-        x, y, phi = pose
-        dx, dy, dphi = velocity
-        ddx, ddy, ddphi = acceleration
-        values = (x, y, phi, dx, dy, dphi, ddx, ddy, ddphi)
-        if type(x) is not float or not all(type(v) is float for v in values):
-            values = _floats(*values)
-    except (TypeError, ValueError, OverflowError):
-        values = _sample_error(compiled, pose, velocity, acceleration)
-    f = _checked_sample(compiled, values)
-    if f is None:
-        _sample_error(compiled, pose, velocity, acceleration)
-        raise AssertionError("unreachable")  # pragma: no cover
-    return SampleForces(
-        (f[0], f[1], f[2]), (f[3], f[4], f[5]), (f[6], f[7], f[8]), (f[9], f[10], f[11])
-    )
+        x, y, phi = p
+        dx, dy, dphi = v
+        ddx, ddy, ddphi = a
+    except (TypeError, ValueError):
+        return _sample_slow(compiled, pose, velocity, acceleration, load)
+    if (
+        type(x) is float and type(y) is float and type(phi) is float
+        and type(dx) is float and type(dy) is float and type(dphi) is float
+        and type(ddx) is float and type(ddy) is float and type(ddphi) is float
+    ):  # fmt: skip
+        try:
+            if load is None:
+                f = compiled.checked_function(x, y, phi, dx, dy, dphi, ddx, ddy, ddphi)
+                if f is not None:
+                    return f
+            else:
+                w = load.tolist() if type(load) is _NDARRAY else load
+                if type(w) is tuple or type(w) is list:
+                    fx, fy, mz = w
+                    if type(fx) is float and type(fy) is float and type(mz) is float:
+                        f = compiled.loaded_function(
+                            x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, fx, fy, mz
+                        )
+                        if f is not None:
+                            return f
+        except (ArithmeticError, TypeError, ValueError):
+            pass  # the batch path's checks decide (a division by zero, a bad load, ...)
+    return _sample_slow(compiled, pose, velocity, acceleration, load)
 
 
-def _floats(*values: object) -> tuple[float, ...]:
-    """The values as floats; text and booleans are refused (TypeError)."""
-    if any(type(v) is bool or isinstance(v, str | bytes | np.bool_) for v in values):
-        raise TypeError("not a number")
-    return tuple(float(v) for v in values)  # type: ignore[arg-type]
+_NDARRAY = np.ndarray
+#: Names of the traced load's inputs (:attr:`CompiledRobot.loaded_function`).
+_LOAD_SYMBOLS = ("fx", "fy", "mz")
 
 
-def _checked_sample(compiled: CompiledRobot, values: tuple[float, ...]) -> tuple[float, ...] | None:
-    """The traced kernel's outputs, or None if the input or the output needs the error path."""
-    if not math.isfinite(sum(values)):  # NaN, ±inf (or a sum that overflowed)
-        return None
-    if abs(math.sin(values[2] - math.pi / 3.0)) < SINGULARITY_THRESHOLD:  # as check_poses
-        return None
-    reach = POSE_BOUND * compiled.robot.l0
-    if abs(values[0]) > reach or abs(values[1]) > reach or abs(values[2]) > MAX_ORIENTATION:
-        return None  # beyond the bounds of check_poses
-    try:
-        f = compiled.sample_function(*values)
-    except (OverflowError, ZeroDivisionError):
-        return None
-    if not math.isfinite(sum(f)):
-        return None
-    if compiled.stroke is not None:
-        lower, upper = compiled.stroke
-        if not all(lower <= lam <= upper for lam in f[12:15]):
-            return None
-    return f
-
-
-def _sample_error(compiled: CompiledRobot, *values: SampleInput) -> tuple[float, ...]:
-    """Raise what :func:`paper_forces` raises for one sample; its floats if nothing is wrong."""
-    arrays = [_as_samples(name, value) for name, value in _named(*values)]
+def _sample_slow(
+    compiled: CompiledRobot,
+    pose: SampleInput,
+    velocity: SampleInput,
+    acceleration: SampleInput,
+    load: SampleInput | None,
+) -> SampleForces:
+    """One sample by the batch path: its refusals and messages, or its forces."""
+    arrays = [_as_samples(name, value) for name, value in _named(pose, velocity, acceleration)]
     for name, array in zip(_INPUTS, arrays, strict=True):
         if array.shape != (3,):
             raise TrajectoryError(f"{name} must be 3 numbers (shape (3,)), got shape {array.shape}")
-    flat = [array[None, :] for array in arrays]
+    wrench = None if load is None else _load(load, (3,)).reshape(1, 3)
     targets = {name: np.empty((1, 3)) for name in _FORCES}
-    _compute(compiled, flat, targets, 1)  # raises as the batch path does
-    return tuple(np.concatenate(arrays).tolist())
+    _compute(compiled, [array[None, :] for array in arrays], targets, 1, load=wrench)
+    f10, p10, f21y, f21z = (tuple(targets[name][0].tolist()) for name in _FORCES)
+    return SampleForces(f10, p10, f21y, f21z)
+
+
+def _load(load: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
+    """The time-varying load ``(f_x, f_y, m_z)``, validated: real, shaped as the pose, finite."""
+    wrench = _as_samples("load", load)
+    if wrench.shape != shape:
+        raise TrajectoryError(f"load must have the shape of pose {shape}, got {wrench.shape}")
+    return check_finite("load", wrench, components=("fx", "fy", "mz"))
+
+
+def _implicit_checked(compiled: CompiledRobot, loaded: bool) -> Callable[..., SampleForces | None]:
+    """:meth:`CompiledRobot._checked` with ``μ`` terms: the kernel on floats with its Newton solve.
+
+    ``None`` also where the friction locks (the batch path then names the sample).
+    """
+    params, stroke = compiled.parameters, compiled.stroke
+    reach = POSE_BOUND * compiled.robot.l0
+
+    def checked(*values: float) -> SampleForces | None:
+        x, y, phi = values[:3]
+        if not (
+            abs(x) <= reach
+            and abs(y) <= reach
+            and abs(phi) <= MAX_ORIENTATION
+            and math.isfinite(sum(values[3:]))
+        ):
+            return None
+        geo = kernel.kernel_geometry(kernel.MATH, params, x, y, phi)
+        if not abs(geo.D) >= SINGULARITY_THRESHOLD:
+            return None
+        if stroke is not None and not all(stroke[0] <= lam <= stroke[1] for lam in geo.lambda10):
+            return None
+        load = (values[9], values[10], values[11]) if loaded else None
+        sol = kernel.solve(kernel.MATH, params, *values[:9], reactions=False, load=load)
+        if sol.iterations is not None and sol.iterations < 0:
+            return None
+        forces = SampleForces(sol.f10, sol.p10, sol.f21y, sol.f21z)
+        return forces if math.isfinite(sum(sum(f) for f in forces)) else None
+
+    return checked
 
 
 def _sample_table(
     compiled: CompiledRobot, inputs: list[FloatArray], targets: dict[str, FloatArray]
 ) -> None:
     """Few samples: the single-sample function in a loop (numpy's call overhead dominates)."""
+    checked = compiled.checked_function
     for k, (pose, velocity, acceleration) in enumerate(
         zip(*(array.tolist() for array in inputs), strict=True)
     ):
-        f = _checked_sample(compiled, (*pose, *velocity, *acceleration))
+        try:
+            f = checked(*pose, *velocity, *acceleration)
+        except ArithmeticError:
+            f = None
         if f is None:
             _compute(compiled, inputs, targets, _FEW_SAMPLES)  # raises as the batch path does
             return
-        for j, name in enumerate(_FORCES):
-            targets[name][k] = f[3 * j : 3 * j + 3]
+        for name, values in zip(_FORCES, f, strict=True):
+            targets[name][k] = values
 
 
 def sample_forces_unchecked(
