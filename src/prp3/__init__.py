@@ -54,6 +54,7 @@ from .workspace import (
     reachable,
     reachable_region,
     workspace_slice,
+    workspace_statics,
 )
 
 try:
@@ -110,4 +111,5 @@ __all__ = [
     "reachable_region",
     "sample_forces",
     "workspace_slice",
+    "workspace_statics",
 ]

@@ -27,6 +27,12 @@ metres, so that the number does not depend on the units.  It is ``√6`` at the
 central configuration; it grows with the distance of ``G`` from the centre and
 without bound as ``φ`` approaches a singular orientation (the sliding
 displacements ``λ32`` grow like ``1/sin(φ − π/3)``).
+
+Statics: :func:`workspace_statics` maps the actuator forces ``f10`` that hold
+the platform still (with its payload, against gravity and the constant
+``[load]``) over the grid of a slice: the kernel's inverse dynamics
+(:func:`prp3.fast.paper_forces`, eqs. 19–25) at zero velocity and
+acceleration, compared with ``[limits] max_force``.
 """
 
 from __future__ import annotations
@@ -38,6 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import ParameterError, SingularPoseError, TrajectoryError
+from .fast import paper_forces
 from .geometry import (
     SINGULARITY_THRESHOLD,
     InverseGeometry,
@@ -52,12 +59,14 @@ __all__ = [
     "SINGULAR_ORIENTATIONS",
     "OrientationScan",
     "WorkspaceSlice",
+    "WorkspaceStatics",
     "jacobian_condition",
     "orientation_range",
     "orientation_scan",
     "reachable",
     "reachable_region",
     "workspace_slice",
+    "workspace_statics",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -380,6 +389,114 @@ def workspace_slice(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> Wor
         determinant=math.sin(phi - math.pi / 3.0),
         region=region,
         area=area,
+    )
+
+
+@dataclass(frozen=True)
+class WorkspaceStatics:
+    """The actuator forces that hold the platform still, over a slice of the workspace.
+
+    Grid arrays have shape ``(ny, nx)`` as in :class:`WorkspaceSlice`.
+
+    Attributes
+    ----------
+    phi : float
+        Orientation (rad), regular.
+    x, y : ndarray (nx,), (ny,)
+        Grid coordinates of ``G`` (m).
+    reachable : ndarray of bool (ny, nx)
+        Within the strokes (every point without a stroke).
+    f10 : ndarray (ny, nx, 3)
+        Force of actuator i on its piston along ``+e_i`` (N) holding the pose
+        at rest (zero velocity and acceleration): the weights of every body,
+        the payload and the constant ``[load]``, eq. (23); computed at every
+        grid pose, whether within the stroke or not.
+    peak : ndarray (ny, nx)
+        ``max_i |f10_i|`` (N), the largest actuator force of the pose.
+    max_force : float or None
+        ``[limits] max_force`` of the robot (N), ``None`` without it.
+    region : ndarray (k, 2) or None
+        Exact boundary of the reachable region (:func:`reachable_region`).
+    """
+
+    phi: float
+    x: FloatArray
+    y: FloatArray
+    reachable: BoolArray
+    f10: FloatArray
+    peak: FloatArray
+    max_force: float | None
+    region: FloatArray | None
+
+    @property
+    def held(self) -> BoolArray:
+        """Reachable poses held within ``max_force`` (every reachable pose without it), (ny, nx)."""
+        if self.max_force is None:
+            return self.reachable
+        return np.asarray(self.reachable & (self.peak <= self.max_force))
+
+    @property
+    def unheld_fraction(self) -> float | None:
+        """Share of the reachable grid points where ``peak > max_force``.
+
+        ``None`` without ``max_force`` or without a reachable grid point.
+        """
+        count = int(np.count_nonzero(self.reachable))
+        if self.max_force is None or count == 0:
+            return None
+        return float(count - np.count_nonzero(self.held)) / count
+
+
+def workspace_statics(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> WorkspaceStatics:
+    """The actuator forces holding the platform at rest over a grid of ``(x, y)`` at ``phi``.
+
+    The kernel's inverse dynamics (:func:`prp3.fast.paper_forces`,
+    eqs. 10, 19–25) at zero velocity and acceleration: the forces that hold
+    the weights of the bodies and of the ``[payload]`` and resist the
+    constant ``[load]``.  The friction of the model vanishes at rest
+    (``s(0) = 0``, no viscous force), so it neither helps nor hinders here.
+
+    Parameters
+    ----------
+    robot : Robot
+        Its ``[limits] max_force`` is the limit of :attr:`WorkspaceStatics.held`.
+    phi : float
+        Orientation (rad); refused when singular.
+    x, y : array_like, shape (nx,), (ny,)
+        Strictly increasing grid coordinates (m).
+
+    Returns
+    -------
+    WorkspaceStatics
+
+    Examples
+    --------
+    The paper's robot at the central pose holds its 3 kg platform with
+    ``f10 = ((√3/2)·t_i − (m1 + m2)·g·e_i)``, ``t = (2/3)·m3·g·(1, −1/2, −1/2)``
+    (``tests/test_statics.py`` derives it):
+
+    >>> robot = Robot(limits=Limits(stroke=(-0.05, 0.05), max_force=30.0))
+    >>> grid = np.linspace(-0.1, 0.1, 41)
+    >>> statics = workspace_statics(robot, 0.0, grid, grid)
+    >>> statics.f10[20, 20].round(4).tolist()
+    [31.8589, -8.4957, -23.3632]
+    >>> round(statics.unheld_fraction, 3)      # of the reachable hexagon, above 30 N
+    0.73
+    """
+    ws = workspace_slice(robot, phi, x, y)  # validates robot, φ and the grid
+    X, Y = np.meshgrid(ws.x, ws.y)
+    pose = np.stack([X, Y, np.full_like(X, ws.phi)], axis=-1).reshape(-1, 3)
+    rest = np.zeros_like(pose)
+    f10 = paper_forces(_free(robot), pose, rest, rest).f10.reshape(*X.shape, 3)
+    return WorkspaceStatics(
+        phi=ws.phi,
+        x=ws.x,
+        y=ws.y,
+        reachable=ws.reachable,
+        f10=f10,
+        peak=np.abs(f10).max(axis=-1),
+        max_force=robot.limits.max_force,
+        region=ws.region,
     )
 
 

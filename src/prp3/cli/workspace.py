@@ -3,11 +3,14 @@
 ::
 
     prp3 workspace [--robot ROBOT.toml] [--phi VALUE] [--extent XMIN XMAX YMIN YMAX]
-                   [--points N] [--orientations M] --output DIR
+                   [--points N] [--orientations M] [--statics | --no-statics] --output DIR
 
 writes ``DIR/workspace.csv`` (the grid at ``φ``), ``DIR/orientations.csv``
-(the scan of ``φ``) and ``DIR/workspace.png`` (the map), together or not at
-all (:func:`prp3.io.staged_output`).  The columns are documented in
+(the scan of ``φ``) and ``DIR/workspace.png`` (the map), and with the statics
+map (``--statics``; by default when the robot has a ``[payload]``, a
+``[load]`` or ``[limits] max_force``) ``DIR/statics.csv`` and
+``DIR/statics.png``, together or not at all (:func:`prp3.io.staged_output`).
+The columns are documented in
 ``docs/forward_and_workspace.md`` and in ``--help``.
 """
 
@@ -28,10 +31,12 @@ from ..runs import check_memory
 from ..workspace import (
     OrientationScan,
     WorkspaceSlice,
+    WorkspaceStatics,
     orientation_range,
     orientation_scan,
     reachable_region,
     workspace_slice,
+    workspace_statics,
 )
 from ._types import (
     add_output_directory,
@@ -43,7 +48,14 @@ from ._types import (
     load_robot,
 )
 
-__all__ = ["DEFAULT_ORIENTATIONS", "DEFAULT_POINTS", "default_extent", "register", "run"]
+__all__ = [
+    "DEFAULT_ORIENTATIONS",
+    "DEFAULT_POINTS",
+    "default_extent",
+    "register",
+    "run",
+    "wants_statics",
+]
 
 #: Grid points per axis when ``--points`` is not given.
 DEFAULT_POINTS: int = 201
@@ -54,6 +66,10 @@ DEFAULT_ORIENTATIONS: int = 91
 #: Memory per grid point (bytes) besides one byte per scanned orientation: the slice's
 #: arrays and the 10 columns of workspace.csv.
 BYTES_PER_POINT: int = 8 * 40
+
+#: Memory per grid point of the statics map (bytes): the kernel's work arrays (eqs. 19-25
+#: on a chunk of poses) and the 8 columns of statics.csv.
+BYTES_PER_STATICS_POINT: int = 8 * 60
 
 #: Memory of a run besides its grid (bytes).
 BYTES_PER_RUN: int = 200 * 1024**2
@@ -79,6 +95,16 @@ output files:
                     the grid), reachable_points, condition_min, condition_max (over the
                     reachable grid points, nan if none)
   workspace.png     the map at phi and the scan of phi
+  statics.csv       with the statics map: one row per grid point (x, y) at phi: x, y,
+                    reachable (1/0), f10_A, f10_B, f10_C (N: the actuator forces that hold
+                    the platform at rest against gravity, the payload and the constant
+                    [load]), f10_peak (max |f10| over the legs, N), held (1 when reachable
+                    and f10_peak <= [limits] max_force, or reachable without max_force)
+  statics.png       the map of f10_peak over the reachable points, the max_force contour
+                    and the region where the robot cannot hold its load
+
+The statics map is written with --statics, and by default when the robot has a
+[payload], a [load] or [limits] max_force (--no-statics leaves it out).
 
 The only singular configurations of this robot are the orientations phi = pi/3 mod pi,
 at every (x, y): a slice at a regular phi has no singular point; --phi at a singular
@@ -162,6 +188,14 @@ def register(subparsers: Any) -> None:
         help="orientations of the scan of phi, evenly over the reachable orientation range "
         f"(over -pi..pi without stroke limits; default {DEFAULT_ORIENTATIONS})",
     )
+    parser.add_argument(
+        "--statics",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="also write the statics map (statics.csv, statics.png): the actuator forces "
+        "that hold the platform at rest at every grid point, against [limits] max_force; "
+        "default: when the robot has a [payload], a [load] or [limits] max_force",
+    )
     add_output_directory(parser)
     parser.set_defaults(handler=run)
 
@@ -194,6 +228,32 @@ def _scan_table(scan: OrientationScan) -> dict[str, np.ndarray]:
     }
 
 
+def _statics_table(statics: WorkspaceStatics) -> dict[str, np.ndarray]:
+    X, Y = np.meshgrid(statics.x, statics.y)
+    table = {
+        "x": X.reshape(-1),
+        "y": Y.reshape(-1),
+        "reachable": statics.reachable.reshape(-1).astype(np.float64),
+    }
+    for j, leg in enumerate("ABC"):
+        table[f"f10_{leg}"] = statics.f10[..., j].reshape(-1)
+    table["f10_peak"] = statics.peak.reshape(-1)
+    table["held"] = statics.held.reshape(-1).astype(np.float64)
+    return table
+
+
+def wants_statics(robot: Robot, option: bool | None) -> bool:
+    """Whether ``prp3 workspace`` writes the statics map: ``--statics``/``--no-statics``, else
+    when ``robot`` has a payload, a load or ``[limits] max_force``.
+
+    >>> wants_statics(Robot(), None), wants_statics(Robot(), True)
+    (False, True)
+    """
+    if option is not None:
+        return option
+    return robot.payload.present or robot.load.present or robot.limits.max_force is not None
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``prp3 workspace`` with parsed ``args``; return the exit status."""
     output: Path = args.output
@@ -209,9 +269,11 @@ def run(args: argparse.Namespace) -> int:
     else:
         xmin, xmax, ymin, ymax = default_extent(robot)
     points = args.points * args.points
+    statics_wanted = wants_statics(robot, args.statics)
+    per_point = BYTES_PER_POINT + (BYTES_PER_STATICS_POINT if statics_wanted else 0)
     check_memory(
         f"--points {args.points} --orientations {args.orientations}",
-        BYTES_PER_RUN + points * (BYTES_PER_POINT + args.orientations),
+        BYTES_PER_RUN + points * (per_point + args.orientations),
     )
     x = np.linspace(xmin, xmax, args.points)
     y = np.linspace(ymin, ymax, args.points)
@@ -229,20 +291,45 @@ def run(args: argparse.Namespace) -> int:
     else:
         low, high = -math.pi, math.pi
     scan = orientation_scan(robot, x, y, np.linspace(low, high, args.orientations))
+    statics = workspace_statics(robot, ws.phi, x, y) if statics_wanted else None
 
-    from ..plotting.workspace import save_workspace_map
+    from ..plotting.workspace import save_statics_map, save_workspace_map
 
     with staged_output(output) as staged:
         write_table_csv(staged.path("workspace.csv"), _grid_table(ws, scan))
         write_table_csv(staged.path("orientations.csv"), _scan_table(scan))
         save_workspace_map(staged.path("workspace.png"), robot, ws, scan)
+        if statics is not None:
+            write_table_csv(staged.path("statics.csv"), _statics_table(statics))
+            save_statics_map(staged.path("statics.png"), robot, statics)
         # printed before the files are moved in: a failing standard output keeps older results
-        emit(_summary(robot, ws, (low, high), files_report(staged)))
+        emit(_summary(robot, ws, (low, high), files_report(staged), statics))
     return 0
 
 
+def _statics_summary(statics: WorkspaceStatics) -> list[str]:
+    held = statics.peak[statics.reachable]
+    if not held.size:
+        return ["  statics: no reachable grid point"]
+    lines = [
+        f"  statics (at rest): largest |f10| over the legs {held.min():.6g} .. "
+        f"{held.max():.6g} N over the reachable points"
+    ]
+    fraction = statics.unheld_fraction
+    if fraction is not None:
+        lines.append(
+            f"  above limits.max_force = {statics.max_force:g} N (cannot hold its load): "
+            f"{100.0 * fraction:.4g} % of the reachable grid points"
+        )
+    return lines
+
+
 def _summary(
-    robot: Robot, ws: WorkspaceSlice, phi_range: tuple[float, float], files: list[str]
+    robot: Robot,
+    ws: WorkspaceSlice,
+    phi_range: tuple[float, float],
+    files: list[str],
+    statics: WorkspaceStatics | None = None,
 ) -> str:
     stroke = robot.limits.stroke
     lines = [
@@ -271,5 +358,7 @@ def _summary(
         f"  singular points at this phi: none (|sin(phi - pi/3)| = {abs(ws.determinant):.6g}); "
         "singular orientations: phi = pi/3 mod pi"
     )
+    if statics is not None:
+        lines += _statics_summary(statics)
     lines += files
     return "\n".join(lines)

@@ -10,6 +10,12 @@ for scale.  The singular set of the slice is empty unless ``φ`` is singular
 worst conditioning over the reachable grid points, with the singular
 orientations ``φ ≡ π/3 (mod π)`` marked.
 
+The statics map (:func:`statics_figure`): the largest actuator force
+``max_i |f10_i|`` that holds the platform at rest at each reachable grid point
+(:func:`prp3.workspace.workspace_statics`), unreachable points in grey, the
+exact boundary, and with ``[limits] max_force`` its contour and the points
+beyond it hatched.
+
 matplotlib is imported inside the functions only; the figure is a
 :class:`matplotlib.figure.Figure` rendered by Agg, without pyplot.
 """
@@ -25,12 +31,12 @@ import numpy as np
 from ..geometry import base_vertices, platform_vertices
 from ..io import atomic_path
 from ..model import Robot
-from ..workspace import SINGULAR_ORIENTATIONS, OrientationScan, WorkspaceSlice
+from ..workspace import SINGULAR_ORIENTATIONS, OrientationScan, WorkspaceSlice, WorkspaceStatics
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["save_workspace_map", "workspace_figure"]
+__all__ = ["save_statics_map", "save_workspace_map", "statics_figure", "workspace_figure"]
 
 
 def cm_grey() -> tuple[float, float, float, float]:
@@ -236,6 +242,139 @@ def save_workspace_map(
     """Render :func:`workspace_figure` as a PNG file at ``path``, atomically."""
     path = Path(path)
     figure = workspace_figure(robot, workspace, scan)
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png", dpi=120)
+    return path
+
+
+def _loads(robot: Robot) -> str:
+    """What the platform carries, for the title of the statics map."""
+    parts = [f"platform {robot.platform.mass:g} kg"]
+    if robot.payload.present:
+        parts.append(f"payload {robot.payload.mass:g} kg")
+    if robot.load.present:
+        fx, fy = robot.load.force
+        parts.append(f"load ({fx:g}, {fy:g}) N, {robot.load.moment:g} N·m")
+    gx, gy = robot.gravity
+    parts.append(f"g = ({gx:g}, {gy:g}) m/s²")
+    return ", ".join(parts)
+
+
+def statics_figure(robot: Robot, statics: WorkspaceStatics) -> Figure:
+    """The statics map: ``max_i |f10_i|`` at rest over the reachable grid points.
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot the map was computed for (title, base triangle).
+    statics : WorkspaceStatics
+        From :func:`prp3.workspace.workspace_statics`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import Normalize
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    figure = Figure(figsize=(7.0, 6.4), layout="constrained")
+    ax = figure.subplots()
+    st = statics
+    ax.pcolormesh(
+        st.x,
+        st.y,
+        np.where(st.reachable, np.nan, 1.0),
+        cmap="Greys",
+        vmin=0.0,
+        vmax=4.0,
+        shading="nearest",
+    )
+    handles: list[object] = []
+    shown = st.peak[st.reachable]
+    limit = st.max_force
+    if shown.size:
+        low, high = float(shown.min()), float(shown.max())
+        high = max(high, low + 1e-9 * max(abs(low), 1.0))
+        peak = np.ma.masked_array(st.peak, mask=~st.reachable)
+        mesh = ax.pcolormesh(
+            st.x, st.y, peak, cmap="viridis", shading="nearest", norm=Normalize(low, high)
+        )
+        bar = figure.colorbar(mesh, ax=ax, label="largest actuator force max |f10| at rest (N)")
+        handles.append(
+            Patch(facecolor=cm_viridis(), edgecolor="none", label="reachable: colour = max |f10|")
+        )
+        if limit is not None:
+            if low <= limit <= high:
+                bar.ax.axhline(limit, color="tab:red", lw=1.5)
+            over = st.reachable & (st.peak > limit)
+            if over.any():
+                ax.contourf(
+                    st.x,
+                    st.y,
+                    over.astype(float),
+                    levels=[0.5, 1.5],
+                    colors="none",
+                    hatches=["//"],
+                )
+                handles.append(
+                    Patch(
+                        facecolor="none",
+                        edgecolor="black",
+                        hatch="//",
+                        label=f"max |f10| > max_force = {limit:g} N: cannot hold",
+                    )
+                )
+            if low < limit < high:
+                ax.contour(st.x, st.y, peak, levels=[limit], colors="tab:red", linewidths=1.5)
+                handles.append(
+                    Line2D(
+                        [],
+                        [],
+                        color="tab:red",
+                        lw=1.5,
+                        label=f"max |f10| = max_force = {limit:g} N",
+                    )
+                )
+    handles.append(Patch(facecolor=cm_grey(), edgecolor="none", label="unreachable grid points"))
+    if st.region is not None and len(st.region):
+        outline = _closed(st.region)
+        ax.plot(outline[:, 0], outline[:, 1], color="black", lw=1.2)
+        handles.append(
+            Line2D([], [], color="black", lw=1.2, label="boundary of the reachable region")
+        )
+    ax.set_xlim(st.x[0], st.x[-1])
+    ax.set_ylim(st.y[0], st.y[-1])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    fraction = st.unheld_fraction
+    verdict = (
+        f"above max_force = {limit:g} N on {100.0 * fraction:.3g} % of the reachable points"
+        if fraction is not None and limit is not None
+        else "no [limits] max_force"
+    )
+    ax.set_title(
+        f"statics at φ = {st.phi:.4g} rad: actuator forces holding the platform at rest\n"
+        f"{_loads(robot)}\n{verdict}",
+        fontsize=9,
+    )
+    ax.legend(
+        handles=handles,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.1),
+        fontsize=7,
+        ncols=2,
+        frameon=False,
+    )
+    return figure
+
+
+def save_statics_map(path: str | Path, robot: Robot, statics: WorkspaceStatics) -> Path:
+    """Render :func:`statics_figure` as a PNG file at ``path``, atomically."""
+    path = Path(path)
+    figure = statics_figure(robot, statics)
     with atomic_path(path) as temporary:
         figure.savefig(temporary, format="png", dpi=120)
     return path
