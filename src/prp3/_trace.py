@@ -10,7 +10,12 @@ The record becomes
   tuples or loops: the single-sample fast path;
 * :func:`array_function` — a function of 1-D float64 arrays that runs the
   same operations as numpy ufuncs into a few preallocated work rows (no
-  temporary arrays): the batch fast path.
+  temporary arrays): the batch fast path;
+* :func:`broadcast_function` — the same for inputs of several shapes that
+  broadcast (a design sweep: the robots' constants as a column, the states
+  as a row), each operation computed at the shape of the inputs it depends
+  on (what depends on the robot alone once per robot, on the state alone
+  once per sample), into work blocks the caller allocates once.
 
 Both perform exactly the kernel's floating-point operations in the kernel's
 order, so their results are bit for bit those of the kernel on floats (up to
@@ -38,7 +43,15 @@ import numpy as np
 
 from .kernel import Ops
 
-__all__ = ["TRACE", "Traced", "array_function", "loop_source", "scalar_function", "trace"]
+__all__ = [
+    "TRACE",
+    "Traced",
+    "array_function",
+    "broadcast_function",
+    "loop_source",
+    "scalar_function",
+    "trace",
+]
 
 # operation -> (scalar template, numpy ufunc name)
 _BINARY = {"+": "add", "-": "subtract", "*": "multiply", "/": "divide"}
@@ -52,17 +65,20 @@ Line = tuple[str, tuple[int | float, ...]]
 class _Tape:
     def __init__(self) -> None:
         self.lines: list[Line] = []
-        self.seen: dict[Line, Traced] = {}  # each operation on the same operands once
+        # each operation on the same operands once; the key tells a line index from a
+        # constant of the same value (2 and 2.0 are equal keys of a dict)
+        self.seen: dict[tuple[str, tuple[tuple[bool, int | float], ...]], Traced] = {}
 
     def record(self, operation: str, *operands: Any) -> Traced:
-        key: Line = (
+        line: Line = (
             operation,
             tuple(o.index if isinstance(o, Traced) else float(o) for o in operands),
         )
+        key = (operation, tuple((isinstance(o, int), o) for o in line[1]))
         if key in self.seen:
             return self.seen[key]
         value = Traced(self, len(self.lines))
-        self.lines.append(key)
+        self.lines.append(line)
         self.seen[key] = value
         return value
 
@@ -357,4 +373,123 @@ def array_function(
     namespace.update({u: getattr(np, u) for u in (*_BINARY.values(), *_UNARY.values())})
     compiled = _compile(source, name, namespace)
     compiled.rows = rows  # type: ignore[attr-defined]
+    return compiled
+
+
+def broadcast_function(
+    function: Callable[..., Sequence[Any]],
+    arguments: Sequence[str],
+    groups: Sequence[int],
+    name: str = "traced",
+) -> Callable[..., None]:
+    """A function of arrays of several broadcasting shapes with the recorded operations.
+
+    Argument ``k`` belongs to group ``groups[k]`` (``0 <= group < 8``); the
+    arguments of one group have one shape, and the shapes of the groups
+    broadcast (e.g. ``(B, 1)`` robots and ``(1, N)`` states).  Each recorded
+    operation is one numpy ufunc call at the broadcast shape of the groups it
+    depends on: an operation on the robot's constants alone is done once per
+    robot, one on the state alone once per sample.
+
+    ``f(*inputs, out, work)`` writes the outputs into ``out`` (a sequence of
+    arrays of the broadcast shape of every group).  ``work`` is a sequence of
+    float64 arrays, one per entry ``(mask, rows)`` of the function's
+    ``blocks`` attribute, each of shape ``(rows, *shape)`` with ``shape`` the
+    broadcast shape of the groups whose bits are set in ``mask``: the caller
+    allocates them once and reuses them, so a call allocates nothing.  The
+    operations and their order are the kernel's, as :func:`array_function`.
+
+    >>> def f(ops, a, x):
+    ...     return (a * 2.0 * x, ops.cos(x) + 1.0)
+    >>> fn = broadcast_function(f, ("a", "x"), (0, 1))
+    >>> a, x = np.array([[1.0], [2.0]]), np.zeros((1, 3))
+    >>> shapes = {1: a.shape, 2: x.shape, 3: (2, 3)}
+    >>> work = [np.empty((rows, *shapes[mask])) for mask, rows in fn.blocks]
+    >>> out = np.empty((2, 2, 3))
+    >>> fn(a, x, out=out, work=work)
+    >>> out.tolist()
+    [[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]], [[2.0, 2.0, 2.0], [2.0, 2.0, 2.0]]]
+    """
+    if len(groups) != len(arguments) or not all(0 <= g < 8 for g in groups):
+        raise ValueError("one group from 0 to 7 per argument")
+    lines, outputs = trace(function, len(arguments))
+    full = 0
+    for g in groups:
+        full |= 1 << g
+    mask: dict[int, int] = {}  # line -> the groups it depends on
+
+    def mask_of(o: int | float) -> int:
+        if not isinstance(o, int):
+            return 0
+        return 1 << groups[-1 - o] if o < 0 else mask[o]
+
+    last_use: dict[int, int] = {}
+    for position, (index, (_, operands)) in enumerate(lines):
+        mask[index] = 0
+        for o in operands:
+            mask[index] |= mask_of(o)
+            if isinstance(o, int) and o >= 0:
+                last_use[o] = position
+    direct: dict[int, int] = {}  # line -> the output it is written into (full shape only)
+    kept: set[int] = set()  # outputs of smaller shapes: copied at the end, their rows kept
+    for k, o in enumerate(outputs):
+        if isinstance(o, int) and o >= 0:
+            if mask[o] != full:
+                kept.add(o)
+            elif o not in direct:
+                direct[o] = k
+    place: dict[int, tuple[int, int]] = {}  # line -> (mask, row) of its work row
+    free: dict[int, list[int]] = {}
+    rows: dict[int, int] = {}
+
+    def operand(o: int | float) -> str:
+        if not isinstance(o, int):
+            return repr(o)
+        if o < 0:
+            return arguments[-1 - o]
+        if o in direct:
+            return f"out[{direct[o]}]"
+        m, row = place[o]
+        return f"w{m}[{row}]"
+
+    body = []
+    for position, (index, (operation, operands)) in enumerate(lines):
+        a = [operand(o) for o in operands]
+        for o in set(operands):  # operands dead after this line free their rows
+            if (
+                isinstance(o, int)
+                and o >= 0
+                and last_use[o] == position
+                and o not in direct
+                and o not in kept
+            ):
+                m, row = place[o]
+                free.setdefault(m, []).append(row)
+        if index in direct:
+            target = f"out[{direct[index]}]"
+        else:
+            m = mask[index]
+            spare = free.setdefault(m, [])
+            if spare:
+                row = spare.pop()
+            else:
+                row = rows.get(m, 0)
+                rows[m] = row + 1
+            place[index] = (m, row)
+            target = f"w{m}[{row}]"
+        ufunc = _BINARY.get(operation) or _UNARY[operation]
+        body.append(f"    {ufunc}({', '.join(a)}, out={target})")
+    for k, o in enumerate(outputs):  # outputs not computed in place: smaller shapes, repeats
+        if not (isinstance(o, int) and o >= 0 and direct.get(o) == k):
+            body.append(f"    out[{k}][...] = {operand(o)}")
+    blocks = sorted(rows.items())
+    unpack = [f"    w{m} = work[{k}]" for k, (m, _) in enumerate(blocks)]
+    source = (
+        f"def {name}({', '.join(arguments)}, out, work):\n"
+        + "\n".join(unpack + body)
+        + "\n"
+    )
+    namespace: dict[str, Any] = {u: getattr(np, u) for u in (*_BINARY.values(), *_UNARY.values())}
+    compiled = _compile(source, name, namespace)
+    compiled.blocks = tuple(blocks)  # type: ignore[attr-defined]
     return compiled

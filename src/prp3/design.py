@@ -62,7 +62,7 @@ import json
 import math
 import re
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
@@ -78,7 +78,17 @@ from .errors import (
 )
 from .geometry import LEGS, check_poses
 from .io import read_trajectory
-from .kernel import EFFECT_FIELDS, NUMPY, KernelParameters, kernel_parameters, solve
+from ._trace import broadcast_function
+from .kernel import (
+    EFFECT_FIELDS,
+    INERTIAL_FIELDS,
+    NUMPY,
+    STATE_SYMBOLS,
+    KernelParameters,
+    Ops,
+    kernel_parameters,
+    solve,
+)
 from .model import Robot, read_toml
 from .motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
 from .workspace import jacobian_condition, workspace_slice
@@ -232,17 +242,23 @@ class DesignEvaluator:
         The task: every motion, ``N >= 2`` samples each.
     workspace : bool
         Whether the designs have a stroke (``workspace_area``, ``max_condition`` columns).
+    bounds : tuple of (low, high)
+        The range of each parameter, if known: the kernel's parameters that
+        change over them are found once (inputs of the design kernel for
+        every chunk, so that its code is built once per worker).
     """
 
     nominal: dict[str, Any]
     paths: tuple[str, ...]
     motions: tuple[Motion, ...]
     workspace: bool
+    bounds: tuple[tuple[float, float], ...] = ()
     _pose: FloatArray = field(init=False, repr=False)
     _velocity: FloatArray = field(init=False, repr=False)
     _acceleration: FloatArray = field(init=False, repr=False)
     _segments: tuple[tuple[int, int, FloatArray], ...] = field(init=False, repr=False)
     _singular: bool = field(init=False, repr=False)
+    _varying: frozenset[str] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         # the motions one after the other: one block of samples for the kernel
@@ -260,6 +276,29 @@ class DesignEvaluator:
         except SingularPoseError:
             singular = True
         object.__setattr__(self, "_singular", singular)
+        object.__setattr__(self, "_varying", self._probe())
+
+    def _probe(self) -> frozenset[str]:
+        """Fields of the kernel's parameters that differ between probe designs in the ranges.
+
+        Each parameter at its low end, middle and high end, the others in
+        the middle.  Only a hint: a chunk whose designs differ in another
+        field passes it as an input too.
+        """
+        if not self.bounds:
+            return frozenset()
+        middle = [0.5 * (low + high) for low, high in self.bounds]
+        probes = []
+        for j, (low, high) in enumerate(self.bounds):
+            for value in (low, middle[j], high):
+                row = [*middle[:j], value, *middle[j + 1 :]]
+                try:
+                    probes.append(kernel_parameters(design_robot(self.nominal, self.paths, row)))
+                except ParameterError:
+                    continue
+        return frozenset(
+            n for n in _PARAMETER_FIELDS if len({getattr(p, n) for p in probes}) > 1
+        )
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -283,80 +322,212 @@ def design_columns(paths: Sequence[str], workspace: bool) -> tuple[str, ...]:
 _RESULTS = len(AGGREGATES) * 3 + 1  # peaks and energy
 
 
-#: Designs × samples per kernel call: the work rows stay in the CPU caches.
+#: Designs × samples of one call of the design kernel: its work blocks stay in the CPU caches.
 _BLOCK = 8192
 
 _PARAMETER_FIELDS = tuple(f.name for f in fields(KernelParameters))
+
+#: Fields of :class:`~prp3.kernel.KernelParameters` that may differ between the designs of
+#: one kernel call: the kernel performs the same operations whatever their values (it
+#: branches on the others: a zero smoothing is a sign, the mu terms are implicit).
+_BROADCAST_FIELDS: frozenset[str] = frozenset(INERTIAL_FIELDS) | {
+    name for name in EFFECT_FIELDS if name.startswith("load") or name.endswith(("viscous", "coulomb"))
+}
+
+#: Outputs of the design kernel: |f10|, |p10|, f21y, f21z, |n32| (3 legs each), the
+#: input power Σ p10, and with a stroke λ10 (3 legs).
+_PEAK_ROWS = (0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 13, 14)  # f10, p10, f21 (in rows 6-8), n32
+_POWER_ROW = 15
+
+#: The traced design kernels of this process: (varying fields, fixed fields, stroke) -> code.
+_KERNELS: dict[tuple[Any, ...], Callable[..., None]] = {}
+
+
+def _design_kernel(
+    varying: tuple[str, ...], fixed: tuple[tuple[str, float], ...], stroke: bool
+) -> Callable[..., None]:
+    """:func:`prp3.kernel.solve` traced for designs × samples (built once per process and key).
+
+    The ``varying`` fields of the parameters are inputs of shape ``(B, 1)``
+    (one row per design), the ``fixed`` ones constants of the code, the nine
+    states inputs of shape ``(1, n)``: the kernel's own operations in its
+    order (:func:`prp3._trace.broadcast_function`), each one at the shape of
+    what it depends on, so that the constants of a design are combined once
+    per design and the functions of the state once per sample.
+    """
+    key = (varying, fixed, stroke)
+    function = _KERNELS.get(key)
+    if function is None:
+        constants = dict(fixed)
+
+        def outputs(ops: Ops, *values: Any) -> tuple[Any, ...]:
+            named = dict(zip(varying, values[: len(varying)], strict=True))
+            k = KernelParameters(**constants, **named)
+            sol = solve(ops, k, *values[len(varying) :], reactions=True)
+            assert sol.n32 is not None
+            p10 = sol.p10
+            return (
+                *(ops.abs(v) for v in sol.f10),
+                *(ops.abs(v) for v in p10),
+                *sol.f21y,
+                *sol.f21z,
+                *(ops.abs(v) for v in sol.n32),
+                p10[0] + p10[1] + p10[2],
+                *(sol.lambda10 if stroke else ()),
+            )
+
+        groups = (0,) * len(varying) + (1,) * len(STATE_SYMBOLS)
+        function = broadcast_function(outputs, (*varying, *STATE_SYMBOLS), groups, "design_kernel")
+        if len(_KERNELS) >= 32:  # bounded: a sweep needs one or two
+            _KERNELS.clear()
+        _KERNELS[key] = function
+    return function
+
+
+def _kernel_results(
+    evaluator: DesignEvaluator, each: Sequence[KernelParameters], varying: tuple[str, ...],
+    stroke: bool,
+) -> tuple[FloatArray, FloatArray, FloatArray]:  # fmt: skip
+    """Peaks + energy ``(B, 13)`` and the least and largest ``λ10`` ``(B,)`` of designs.
+
+    The design kernel (:func:`_design_kernel`) on blocks of at most
+    :data:`_BLOCK` designs × samples, into work blocks allocated once; the
+    peaks are the maxima over the samples, the energy the trapezoid rule over
+    each motion.  Overflowing forces give ``inf`` or NaN, left to the caller.
+    """
+    count, samples = len(each), len(evaluator._pose)
+    first = each[0]
+    if not varying and count > 1:  # the same parameters: one design's results for all
+        results, low, high = _kernel_results(evaluator, [first], varying, stroke)
+        return np.repeat(results, count, axis=0), np.repeat(low, count), np.repeat(high, count)
+    fixed = tuple((n, getattr(first, n)) for n in _PARAMETER_FIELDS if n not in varying)
+    function = _design_kernel(varying, fixed, stroke)
+    table = np.array([[getattr(p, n) for n in varying] for p in each]).reshape(count, len(varying))
+    states = np.ascontiguousarray(
+        np.concatenate([evaluator._pose, evaluator._velocity, evaluator._acceleration], axis=1).T
+    )
+    width = min(samples, _BLOCK)
+    designs = min(count, max(1, _BLOCK // width))
+    shapes = {1: (designs, 1), 2: (1, width), 3: (designs, width)}
+    blocks = function.blocks  # type: ignore[attr-defined]
+    work = [np.empty((rows, *shapes[mask])) for mask, rows in blocks]
+    out = np.empty((_POWER_ROW + 1 + (3 if stroke else 0), designs, width))
+    power = np.empty((designs, samples))
+    results = np.empty((count, _RESULTS))
+    low = np.empty(count)
+    high = np.empty(count)
+    with np.errstate(all="ignore"):  # overflowing forces make the design "unreachable"
+        for start in range(0, count, designs):
+            b = min(designs, count - start)
+            parameters = [table[start : start + b, j : j + 1] for j in range(len(varying))]
+            peaks = np.full((len(_PEAK_ROWS), b), -np.inf)
+            least = np.full(b, np.inf)
+            largest = np.full(b, -np.inf)
+            for first_sample in range(0, samples, width):
+                n = min(width, samples - first_sample)
+                views = [
+                    w[:, :b, :n] if mask == 3 else w[:, :b] if mask == 1 else w[:, :, :n]
+                    for (mask, _), w in zip(blocks, work, strict=True)
+                ]
+                o = out[:, :b, :n]
+                state = [row[None, first_sample : first_sample + n] for row in states]
+                function(*parameters, *state, out=o, work=views)
+                np.hypot(o[6:9], o[9:12], out=o[6:9])
+                np.maximum(peaks, o[list(_PEAK_ROWS)].max(axis=2), out=peaks)
+                power[:b, first_sample : first_sample + n] = o[_POWER_ROW]
+                if stroke:
+                    np.fmin(least, np.fmin.reduce(o[16:19], axis=(0, 2)), out=least)
+                    np.fmax(largest, np.fmax.reduce(o[16:19], axis=(0, 2)), out=largest)
+            results[start : start + b, :-1] = peaks.T
+            results[start : start + b, -1] = _energy(evaluator, power[:b])
+            low[start : start + b] = least
+            high[start : start + b] = largest
+    return results, low, high
+
+
+def _energy(evaluator: DesignEvaluator, power: FloatArray) -> FloatArray:
+    """``Σ_motions ∫ Σ p10 dt`` of designs from their input power ``(B, N)``: trapezoid rule.
+
+    Summed along each row (numpy's pairwise sum), so that the energy of a
+    design does not depend on the other rows.
+    """
+    energy = np.zeros(power.shape[0])
+    for start, stop, dt in evaluator._segments:  # trapezoid rule over each motion
+        energy += 0.5 * ((power[:, start + 1 : stop] + power[:, start : stop - 1]) * dt).sum(axis=1)
+    return energy
+
+
+def _one_design(evaluator: DesignEvaluator, robot: Robot) -> tuple[FloatArray, FloatArray, bool]:
+    """Peaks + energy ``(1, 13)``, the ``λ10`` ``(3, N)`` and whether the friction locks.
+
+    :func:`prp3.kernel.solve` on the task's samples (1-D arrays), as
+    :func:`prp3.fast.paper_forces` calls it: for designs whose loads and
+    friction make the kernel branch differently (its implicit ``μ`` terms
+    solved sample by sample).
+    """
+    samples = len(evaluator._pose)
+    states = [
+        np.ascontiguousarray(array[:, j])
+        for array in (evaluator._pose, evaluator._velocity, evaluator._acceleration)
+        for j in range(3)
+    ]
+    with np.errstate(all="ignore"):
+        solution = solve(NUMPY, kernel_parameters(robot), *states, reactions=True)
+        assert solution.n32 is not None
+
+        def peak(legs: Sequence[Any]) -> list[float]:
+            return [float(np.broadcast_to(leg, (samples,)).max()) for leg in legs]
+
+        p10 = solution.p10
+        values = [
+            *peak([np.abs(v) for v in solution.f10]),
+            *peak([np.abs(v) for v in p10]),
+            *peak([np.hypot(a, b) for a, b in zip(solution.f21y, solution.f21z, strict=True)]),
+            *peak([np.abs(v) for v in solution.n32]),
+        ]
+        energy = float(_energy(evaluator, np.broadcast_to(p10[0] + p10[1] + p10[2], (1, samples)))[0])
+    lam = np.array([np.broadcast_to(v, (samples,)) for v in solution.lambda10])
+    locked = solution.iterations is not None and bool(
+        (np.broadcast_to(solution.iterations, (samples,)) < 0).any()
+    )
+    return np.array([[*values, energy]]), lam, locked
 
 
 def _block_results(
     evaluator: DesignEvaluator, robots: Sequence[Robot]
 ) -> tuple[list[str], FloatArray]:
-    """Status and peaks + energy (NaN unless ``ok``) of designs, one kernel call for all.
+    """Status and peaks + energy (NaN unless ``ok``) of designs.
 
-    :func:`prp3.kernel.solve` on numpy arrays: the robots' constants as
-    columns ``(B, 1)``, the task's states as a row ``(1, N)``, every output
-    ``(B, N)`` — the operations of :func:`prp3.fast.paper_forces`, one design
-    per row.  The kernel does not validate; here, as in ``paper_forces``: a
-    singular task (checked once), then the stroke, then non-finite results.
+    The kernel does not validate; here, as in ``paper_forces``: a singular
+    task (checked once), then the stroke, then non-finite results.  The
+    designs go through the design kernel together (:func:`_kernel_results`)
+    unless their loads or friction make the kernel branch differently
+    (:func:`_one_design`, one at a time).
     """
     count = len(robots)
     result = np.full((count, _RESULTS), np.nan)
     if evaluator._singular:
         return ["singular"] * count, result
     each = [kernel_parameters(robot) for robot in robots]
-    if len(each) > 1 and (
-        any(p.has_mu for p in each)
-        or any(len({getattr(p, name) for p in each}) > 1 for name in EFFECT_FIELDS)
-    ):
-        # loads and friction vary, or the friction is implicit: the kernel branches on
-        # them (a zero smoothing, the Newton solve of mu), so one design at a time
-        parts = [_block_results(evaluator, [robot]) for robot in robots]
-        return [s for part in parts for s in part[0]], np.concatenate([p[1] for p in parts])
-    # a field the designs share stays a float (the kernel's branches see a number)
-    columns: dict[str, Any] = {}
-    for name in _PARAMETER_FIELDS:
-        given = [getattr(p, name) for p in each]
-        same = all(v == given[0] for v in given)
-        columns[name] = given[0] if same else np.array(given, dtype=np.float64)[:, None]
-    # the states as a row (1, N) against the designs' column (B, 1); one design: 1-D,
-    # as paper_forces calls the kernel (its implicit friction solve works sample by sample)
-    samples = len(evaluator._pose)
-    states = [
-        np.ascontiguousarray(array[:, j]).reshape((1, samples) if count > 1 else (samples,))
-        for array in (evaluator._pose, evaluator._velocity, evaluator._acceleration)
-        for j in range(3)
-    ]
-    with np.errstate(all="ignore"):  # overflowing forces make the design "unreachable"
-        solution = solve(NUMPY, KernelParameters(**columns), *states, reactions=True)
-        assert solution.n32 is not None
-
-        def peak(legs: tuple[Any, Any, Any]) -> FloatArray:
-            return np.stack(
-                [np.broadcast_to(leg, (count, samples)).max(axis=1) for leg in legs],
-                axis=-1,
-            )
-
-        peaks = [
-            peak(tuple(np.abs(v) for v in solution.f10)),
-            peak(tuple(np.abs(v) for v in solution.p10)),
-            peak(tuple(np.hypot(a, b) for a, b in zip(solution.f21y, solution.f21z, strict=True))),
-            peak(tuple(np.abs(v) for v in solution.n32)),
-        ]
-        p10 = solution.p10
-        power = np.broadcast_to(p10[0] + p10[1] + p10[2], (count, samples))
-        energy = np.zeros(count)
-        for start, stop, dt in evaluator._segments:  # trapezoid rule over each motion
-            energy += 0.5 * ((power[:, start + 1 : stop] + power[:, start : stop - 1]) @ dt)
-        values = np.concatenate([*peaks, energy[:, None]], axis=1)
+    first = each[0]
+    varying = tuple(
+        n for n in _PARAMETER_FIELDS if any(getattr(p, n) != getattr(first, n) for p in each)
+    )
+    stroke = any(r.limits.stroke is not None for r in robots)
     lower = np.array([r.limits.stroke[0] if r.limits.stroke else -np.inf for r in robots])
     upper = np.array([r.limits.stroke[1] if r.limits.stroke else np.inf for r in robots])
-    outside = np.zeros(count, dtype=bool)
-    for lam in solution.lambda10:
-        outside |= ((lam < lower[:, None]) | (lam > upper[:, None])).any(axis=1)
-    finite = np.isfinite(values).all(axis=1)
-    if solution.iterations is not None:  # the implicit friction has no solution: it locks
-        finite &= ~(np.broadcast_to(solution.iterations, (count, samples)) < 0).any(axis=1)
+    locked = np.zeros(count, dtype=bool)
+    if first.has_mu or not _BROADCAST_FIELDS.issuperset(varying):
+        values = np.empty((count, _RESULTS))
+        least, largest = np.empty(count), np.empty(count)
+        for k, robot in enumerate(robots):
+            values[k : k + 1], lam, locked[k] = _one_design(evaluator, robot)
+            least[k], largest[k] = np.fmin.reduce(lam, axis=None), np.fmax.reduce(lam, axis=None)
+    else:
+        varying = tuple(n for n in _PARAMETER_FIELDS if n in evaluator._varying or n in varying)
+        values, least, largest = _kernel_results(evaluator, each, varying, stroke)
+    outside = (least < lower) | (largest > upper)
+    finite = np.isfinite(values).all(axis=1) & ~locked
     status = [
         "stroke" if o else "ok" if f else "unreachable"
         for o, f in zip(outside.tolist(), finite.tolist(), strict=True)
@@ -408,11 +579,8 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
             if robot.l0 not in conditions:  # κ depends on l0 and the poses alone
                 conditions[robot.l0] = float(jacobian_condition(robot, evaluator._pose).max())
             condition[k] = conditions[robot.l0]
-    block = max(1, _BLOCK // max(1, len(evaluator._pose)))
-    for start in range(0, count, block):
-        part, part_results = _block_results(evaluator, robots[start : start + block])
-        status += part
-        results[start : start + block] = part_results
+    if count:
+        status, results = _block_results(evaluator, robots)
     columns: dict[str, Any] = {path: values[:, j].copy() for j, path in enumerate(evaluator.paths)}
     columns["status"] = np.array(status, dtype=str)
     names = design_columns(evaluator.paths, evaluator.workspace)
@@ -845,7 +1013,13 @@ def sweep_spec(
     )
     workspace = "stroke" in nominal.get("limits", {})
     paths = tuple(p.path for p in parameters)
-    evaluator = DesignEvaluator(nominal=nominal, paths=paths, motions=motions, workspace=workspace)
+    evaluator = DesignEvaluator(
+        nominal=nominal,
+        paths=paths,
+        motions=motions,
+        workspace=workspace,
+        bounds=tuple((p.low, p.high) for p in parameters),
+    )
     optimize = _optimize(
         source, _table(source, "optimize", data.get("optimize", {})), evaluator.columns
     )
