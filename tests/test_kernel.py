@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import Prp3Error, Robot, SingularPoseError
-from prp3._trace import scalar_function
+from prp3._trace import array_function, broadcast_function, scalar_function
 from prp3.fast import compile_robot, paper_forces, sample_forces_unchecked, solve_batch
 from prp3.kernel import (
     INERTIAL_FIELDS,
@@ -232,3 +232,53 @@ def test_traced_batch_code_equals_the_kernel_on_arrays(robot: Robot, seed: int) 
     traced = paper_forces(warm, *args, reactions=True)
     for name in ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32"):
         np.testing.assert_array_equal(getattr(traced, name), getattr(direct, name))
+
+
+def test_a_constant_is_not_taken_for_the_line_of_its_value() -> None:
+    # lines are numbered 0, 1, 2...: x + 1.0 (a constant) is not x + line 1
+    def f(ops, x):  # type: ignore[no-untyped-def]
+        c, s = ops.cos(x), ops.sin(x)
+        return (c, x + s, x + 1.0, x * 2.0 + c * 2.0)
+
+    assert scalar_function(f, ("x",))(0.0) == (1.0, 0.0, 1.0, 2.0)
+    out = np.empty((4, 1))
+    array_function(f, ("x",))(np.zeros(1), out)
+    assert out[:, 0].tolist() == [1.0, 0.0, 1.0, 2.0]
+
+
+@settings(max_examples=10, deadline=None)
+@given(robot=robots(), seed=st.integers(0, 2**32 - 1))
+def test_broadcast_code_is_the_kernel_on_a_block_of_robots(robot: Robot, seed: int) -> None:
+    # The inertial parameters of 4 robots as a column (B, 1), the states as a row (1, n):
+    # the kernel traced at the shapes of what each operation depends on gives the same
+    # numbers as the kernel on those arrays, and as the kernel of each robot alone.
+    rng = np.random.default_rng(seed)
+    base = kernel_parameters(robot)
+    varied = ("l0", "link_mass", "platform_inertia", "piston_moment_x")
+    column = {
+        n: getattr(base, n) * rng.uniform(0.5, 1.5, (4, 1)) + (0.01 if "moment" in n else 0.0)
+        for n in varied
+    }
+    fixed = {n: getattr(base, n) for n in INERTIAL_FIELDS if n not in varied}
+    effects = {n: getattr(base, n) for n in KernelParameters.__dataclass_fields__ if n not in
+               INERTIAL_FIELDS}  # fmt: skip
+    if KernelParameters(**fixed, **effects, **{n: 1.0 for n in varied}).has_mu:
+        return  # implicit friction: the kernel solves it sample by sample
+    rows = states(robot, rng, 7).T[:, None, :]  # nine (1, 7) rows
+
+    def outputs(ops, *values):  # type: ignore[no-untyped-def]
+        k = KernelParameters(**fixed, **effects, **dict(zip(varied, values[:4], strict=True)))
+        sol = solve(ops, k, *values[4:])
+        return tuple(v for name in FIELDS for v in getattr(sol, name))
+
+    function = broadcast_function(outputs, (*varied, *STATE_SYMBOLS), (0,) * 4 + (1,) * 9)
+    shapes = {1: (4, 1), 2: (1, 7), 3: (4, 7)}
+    work = [np.empty((rows_, *shapes[mask])) for mask, rows_ in function.blocks]
+    out = np.empty((3 * len(FIELDS), 4, 7))
+    function(*(column[n] for n in varied), *rows, out=out, work=work)
+    on_arrays = outputs(NUMPY, *(column[n] for n in varied), *rows)
+    for j, value in enumerate(on_arrays):
+        np.testing.assert_array_equal(out[j], np.broadcast_to(value, (4, 7)))
+    alone = outputs(NUMPY, *(column[n][2:3] for n in varied), *rows)
+    for j, value in enumerate(alone):
+        np.testing.assert_array_equal(out[j, 2], np.broadcast_to(value, (1, 7))[0])

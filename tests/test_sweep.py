@@ -33,6 +33,7 @@ from prp3.design import (  # noqa: E402
     read_sweep_spec,
     sweep_spec,
 )
+from prp3.kernel import kernel_parameters  # noqa: E402
 
 LEGS = "ABC"
 GRID = """\
@@ -510,3 +511,67 @@ def test_loads_and_friction_are_parameters_too(tmp_path, parameters, robot):
             assert columns[f"peak_n32_{leg}"][k] == max(np.abs(f.n32[:, j]).max() for f in forces)
     if "friction.sleeve.mu" in parameters:
         assert set(columns["status"]) == {"ok", "unreachable"}
+
+
+def test_designs_in_a_box_of_valid_robots_are_not_built_one_by_one(monkeypatch):
+    # the kernel's parameters of the designs come from kernel_parameters traced over their
+    # values, the kernel from one trace per process: no robot and no solve per design
+    spec = sweep_spec(
+        {
+            "designs": 40,
+            "seed": 3,
+            "parameters": {"l0": [0.25, 0.35], "link.mass": [0.5, 1.0], "payload.mass": [0, 1]},
+            "task": {"motions": ["vertical", "rotation"], "samples": 31},
+        }
+    )
+    values = design_values(spec)
+    expected = evaluate_designs(spec.evaluator, values)  # traces what it needs
+    built, solved = [], []
+    real_from_mapping, real_solve = prp3.Robot.from_mapping.__func__, prp3.design.solve
+    monkeypatch.setattr(
+        prp3.Robot, "from_mapping", classmethod(lambda cls, m: built.append(m) or
+                                               real_from_mapping(cls, m))
+    )  # fmt: skip
+    monkeypatch.setattr(
+        prp3.design, "solve", lambda *a, **k: solved.append(1) or real_solve(*a, **k)
+    )
+    columns = evaluate_designs(spec.evaluator, values)
+    assert (built, solved) == ([], [])
+    for name, column in expected.items():
+        assert np.array_equal(column, columns[name]), name
+    # a design outside the box is built and checked, and refused by name
+    outside = values[:2].copy()
+    outside[1, 1] = -1.0
+    with pytest.raises(prp3.ParameterError, match=r"design l0 = .*link.mass = -1.0.*link.mass"):
+        evaluate_designs(spec.evaluator, outside)
+    assert len(built) == 2
+
+
+@pytest.mark.parametrize(
+    "paths",
+    [
+        {"l0": [0.2, 0.4], "platform.mass": [2.0, 4.0], "link.com.0": [-0.02, 0.02]},
+        {"platform.inertia": [0.05, 0.1], "piston.com.1": [-0.01, 0.01], "gravity.0": [-1, 1]},
+        {"payload.mass": [0.0, 1.0], "payload.com.1": [0.0, 0.02], "load.force.0": [-5, 5]},
+        {"friction.actuator.viscous": [0.0, 2.0], "link.inertia": [1e-4, 1e-3]},
+    ],
+)
+def test_traced_parameters_of_designs_are_kernel_parameters_of_their_robots(tmp_path, paths):
+    # a nominal robot with friction and a payload, so that every table can be swept
+    write(
+        tmp_path / "robot.toml",
+        "[friction.actuator]\ncoulomb = 0.5\n[payload]\nmass = 0.5\n[load]\nforce = [1.0, 0.0]\n",
+    )
+    spec = sweep_spec(
+        {"robot": "robot.toml", "designs": 9, "seed": 1, "parameters": paths,
+         "task": {"motions": ["rotation"]}},
+        base=tmp_path,
+    )  # fmt: skip
+    evaluator, values = spec.evaluator, design_values(spec)
+    fixed, columns, lower, upper = prp3.design._design_parameters(evaluator, values, None)
+    assert set(columns) and np.isneginf(lower).all() and np.isposinf(upper).all()
+    for k, row in enumerate(values.tolist()):
+        expected = kernel_parameters(design_robot(evaluator.nominal, spec.paths, row))
+        for name in prp3.design._PARAMETER_FIELDS:
+            got = fixed[name] if name in fixed else columns[name][k]
+            assert got == getattr(expected, name), (name, k)

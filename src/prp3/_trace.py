@@ -369,7 +369,7 @@ def array_function(
         f"def {name}({', '.join(arguments)}, out):\n"
         f"    w = empty(({max(rows, 1)}, {arguments[0]}.shape[0]))\n" + "\n".join(body) + "\n"
     )
-    namespace: dict[str, Any] = {"empty": np.empty}
+    namespace: dict[str, Any] = {"empty": np.empty, "inf": math.inf, "nan": math.nan}
     namespace.update({u: getattr(np, u) for u in (*_BINARY.values(), *_UNARY.values())})
     compiled = _compile(source, name, namespace)
     compiled.rows = rows  # type: ignore[attr-defined]
@@ -484,12 +484,9 @@ def broadcast_function(
             body.append(f"    out[{k}][...] = {operand(o)}")
     blocks = sorted(rows.items())
     unpack = [f"    w{m} = work[{k}]" for k, (m, _) in enumerate(blocks)]
-    source = (
-        f"def {name}({', '.join(arguments)}, out, work):\n"
-        + "\n".join(unpack + body)
-        + "\n"
-    )
+    source = f"def {name}({', '.join(arguments)}, out, work):\n" + "\n".join(unpack + body) + "\n"
     namespace: dict[str, Any] = {u: getattr(np, u) for u in (*_BINARY.values(), *_UNARY.values())}
+    namespace |= {"inf": math.inf, "nan": math.nan}  # constants as repr writes them
     compiled = _compile(source, name, namespace)
     compiled.blocks = tuple(blocks)  # type: ignore[attr-defined]
     return compiled

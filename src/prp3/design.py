@@ -58,6 +58,7 @@ from __future__ import annotations
 
 import copy
 import hashlib
+import itertools
 import json
 import math
 import re
@@ -71,6 +72,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import __version__
+from ._trace import array_function, broadcast_function, trace
 from .errors import (
     ParameterError,
     Prp3Error,
@@ -78,7 +80,6 @@ from .errors import (
 )
 from .geometry import LEGS, check_poses
 from .io import read_trajectory
-from ._trace import broadcast_function
 from .kernel import (
     EFFECT_FIELDS,
     INERTIAL_FIELDS,
@@ -128,6 +129,10 @@ STATUSES: tuple[str, ...] = ("ok", "singular", "unreachable", "stroke")
 
 #: Designs per Dask task: hundreds, so that the kernel, not Python or Dask, dominates.
 CHUNK_DESIGNS: int = 250
+
+#: Up to this many parameters the corners of their box are checked once (2**p robots);
+#: with more, every design is built and checked.
+_CORNER_PARAMETERS: int = 10
 
 #: Largest number of designs of one sweep (bounds the memory of the design table).
 MAX_DESIGNS: int = 10_000_000
@@ -243,9 +248,11 @@ class DesignEvaluator:
     workspace : bool
         Whether the designs have a stroke (``workspace_area``, ``max_condition`` columns).
     bounds : tuple of (low, high)
-        The range of each parameter, if known: the kernel's parameters that
-        change over them are found once (inputs of the design kernel for
-        every chunk, so that its code is built once per worker).
+        The range of each parameter, if known.  When every corner of this box
+        is a valid robot, so is every design inside it (the robot's checks
+        bound each value, and the products of masses and sizes that could
+        overflow): designs inside are then not built one by one
+        (:func:`evaluate_designs`).
     """
 
     nominal: dict[str, Any]
@@ -258,7 +265,7 @@ class DesignEvaluator:
     _acceleration: FloatArray = field(init=False, repr=False)
     _segments: tuple[tuple[int, int, FloatArray], ...] = field(init=False, repr=False)
     _singular: bool = field(init=False, repr=False)
-    _varying: frozenset[str] = field(init=False, repr=False)
+    _valid_box: bool = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         # the motions one after the other: one block of samples for the kernel
@@ -276,29 +283,26 @@ class DesignEvaluator:
         except SingularPoseError:
             singular = True
         object.__setattr__(self, "_singular", singular)
-        object.__setattr__(self, "_varying", self._probe())
+        object.__setattr__(self, "_valid_box", self._corners_valid())
 
-    def _probe(self) -> frozenset[str]:
-        """Fields of the kernel's parameters that differ between probe designs in the ranges.
+    def _corners_valid(self) -> bool:
+        """Whether the robot of every corner of ``bounds`` passes the robot's checks."""
+        if not self.bounds or len(self.bounds) > _CORNER_PARAMETERS:
+            return False
+        for corner in itertools.product(*self.bounds):
+            try:
+                design_robot(self.nominal, self.paths, corner)
+            except ParameterError:
+                return False
+        return True
 
-        Each parameter at its low end, middle and high end, the others in
-        the middle.  Only a hint: a chunk whose designs differ in another
-        field passes it as an input too.
-        """
-        if not self.bounds:
-            return frozenset()
-        middle = [0.5 * (low + high) for low, high in self.bounds]
-        probes = []
-        for j, (low, high) in enumerate(self.bounds):
-            for value in (low, middle[j], high):
-                row = [*middle[:j], value, *middle[j + 1 :]]
-                try:
-                    probes.append(kernel_parameters(design_robot(self.nominal, self.paths, row)))
-                except ParameterError:
-                    continue
-        return frozenset(
-            n for n in _PARAMETER_FIELDS if len({getattr(p, n) for p in probes}) > 1
-        )
+    def inside(self, values: FloatArray) -> bool:
+        """Whether designs ``(k, p)`` lie in a box of valid robots (see ``bounds``)."""
+        if not self._valid_box:
+            return False
+        low = np.array([lo for lo, _ in self.bounds])
+        high = np.array([hi for _, hi in self.bounds])
+        return bool(((values >= low) & (values <= high)).all())
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -331,7 +335,9 @@ _PARAMETER_FIELDS = tuple(f.name for f in fields(KernelParameters))
 #: one kernel call: the kernel performs the same operations whatever their values (it
 #: branches on the others: a zero smoothing is a sign, the mu terms are implicit).
 _BROADCAST_FIELDS: frozenset[str] = frozenset(INERTIAL_FIELDS) | {
-    name for name in EFFECT_FIELDS if name.startswith("load") or name.endswith(("viscous", "coulomb"))
+    name
+    for name in EFFECT_FIELDS
+    if name.startswith("load") or name.endswith(("viscous", "coulomb"))
 }
 
 #: Outputs of the design kernel: |f10|, |p10|, f21y, f21z, |n32| (3 legs each), the
@@ -385,24 +391,23 @@ def _design_kernel(
 
 
 def _kernel_results(
-    evaluator: DesignEvaluator, each: Sequence[KernelParameters], varying: tuple[str, ...],
-    stroke: bool,
+    evaluator: DesignEvaluator, fixed: tuple[tuple[str, float], ...], varying: tuple[str, ...],
+    table: FloatArray, stroke: bool,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:  # fmt: skip
     """Peaks + energy ``(B, 13)`` and the least and largest ``λ10`` ``(B,)`` of designs.
 
-    The design kernel (:func:`_design_kernel`) on blocks of at most
-    :data:`_BLOCK` designs × samples, into work blocks allocated once; the
-    peaks are the maxima over the samples, the energy the trapezoid rule over
-    each motion.  Overflowing forces give ``inf`` or NaN, left to the caller.
+    ``table`` ``(B, len(varying))`` holds the ``varying`` parameters of each
+    design, ``fixed`` the others.  The design kernel (:func:`_design_kernel`)
+    on blocks of at most :data:`_BLOCK` designs × samples, into work blocks
+    allocated once; the peaks are the maxima over the samples, the energy the
+    trapezoid rule over each motion.  Overflowing forces give ``inf`` or NaN,
+    left to the caller.
     """
-    count, samples = len(each), len(evaluator._pose)
-    first = each[0]
+    count, samples = len(table), len(evaluator._pose)
     if not varying and count > 1:  # the same parameters: one design's results for all
-        results, low, high = _kernel_results(evaluator, [first], varying, stroke)
+        results, low, high = _kernel_results(evaluator, fixed, varying, table[:1], stroke)
         return np.repeat(results, count, axis=0), np.repeat(low, count), np.repeat(high, count)
-    fixed = tuple((n, getattr(first, n)) for n in _PARAMETER_FIELDS if n not in varying)
     function = _design_kernel(varying, fixed, stroke)
-    table = np.array([[getattr(p, n) for n in varying] for p in each]).reshape(count, len(varying))
     states = np.ascontiguousarray(
         np.concatenate([evaluator._pose, evaluator._velocity, evaluator._acceleration], axis=1).T
     )
@@ -485,7 +490,9 @@ def _one_design(evaluator: DesignEvaluator, robot: Robot) -> tuple[FloatArray, F
             *peak([np.hypot(a, b) for a, b in zip(solution.f21y, solution.f21z, strict=True)]),
             *peak([np.abs(v) for v in solution.n32]),
         ]
-        energy = float(_energy(evaluator, np.broadcast_to(p10[0] + p10[1] + p10[2], (1, samples)))[0])
+        energy = float(
+            _energy(evaluator, np.broadcast_to(p10[0] + p10[1] + p10[2], (1, samples)))[0]
+        )
     lam = np.array([np.broadcast_to(v, (samples,)) for v in solution.lambda10])
     locked = solution.iterations is not None and bool(
         (np.broadcast_to(solution.iterations, (samples,)) < 0).any()
@@ -493,48 +500,173 @@ def _one_design(evaluator: DesignEvaluator, robot: Robot) -> tuple[FloatArray, F
     return np.array([[*values, energy]]), lam, locked
 
 
+class _UntraceableError(Exception):
+    """A key path that :func:`_parameter_function` cannot follow on the robot's objects."""
+
+
+def _with_value(node: Any, parts: Sequence[str | int], value: Any) -> Any:
+    """A copy of ``node`` (a robot, a part of it, a pair) with ``value`` at ``parts``.
+
+    Not validated: the value is a traced one (:mod:`prp3._trace`); the
+    copies share everything else with ``node``.
+    """
+    head, rest = parts[0], parts[1:]
+    if isinstance(node, tuple):
+        if not isinstance(head, int) or head >= len(node):
+            raise _UntraceableError(head)
+        items = list(node)
+        items[head] = _with_value(items[head], rest, value) if rest else value
+        return tuple(items)
+    if not isinstance(head, str) or head not in {f.name for f in fields(node)}:
+        raise _UntraceableError(head)
+    child = getattr(node, head)
+    if rest and child is None:  # a table the nominal robot leaves out ([friction])
+        raise _UntraceableError(head)
+    copied = copy.copy(node)
+    object.__setattr__(copied, head, _with_value(child, rest, value) if rest else value)
+    return copied
+
+
+#: The traced parameter functions of this process: (nominal, paths) -> (function, outputs).
+_PARAMETERS: dict[tuple[str, tuple[str, ...]], tuple[Callable[..., None], list[int | float]] | None]
+_PARAMETERS = {}
+
+
+def _parameter_function(
+    nominal: dict[str, Any], paths: tuple[str, ...]
+) -> tuple[Callable[..., None], list[int | float]] | None:
+    """:func:`prp3.kernel.kernel_parameters` of the designs, traced over their values.
+
+    The nominal robot with the values of the designs at ``paths``, through
+    the robot's own properties (the platform inertia that follows ``l0`` and
+    the mass) and ``kernel_parameters``: straight-line code
+    (:func:`prp3._trace.array_function`) from the ``(k,)`` columns of the
+    values to every field of :class:`~prp3.kernel.KernelParameters`, then the
+    lower and upper stroke.  Returns the function and the trace's outputs (a
+    line, or the float of a field that no parameter changes); ``None`` when a
+    path cannot be followed (the designs are then built one by one).
+    """
+    key = (json.dumps(nominal, sort_keys=True), paths)
+    if key not in _PARAMETERS:
+        base = Robot.from_mapping(nominal)
+
+        def parameters(ops: Ops, *values: Any) -> tuple[Any, ...]:
+            robot = base
+            for path, value in zip(paths, values, strict=True):
+                robot = _with_value(robot, _components(path), value)
+            k = kernel_parameters(robot)
+            stroke = robot.limits.stroke
+            lower, upper = stroke if stroke is not None else (-math.inf, math.inf)
+            return (*(getattr(k, n) for n in _PARAMETER_FIELDS), lower, upper)
+
+        names = tuple(f"v{j}" for j in range(len(paths)))
+        try:
+            _, outputs = trace(parameters, len(paths))
+            function = array_function(parameters, names, "design_parameters")
+        except (_UntraceableError, TypeError):  # e.g. a comparison of a traced value
+            _PARAMETERS[key] = None
+        else:
+            if len(_PARAMETERS) >= 32:
+                _PARAMETERS.clear()
+            _PARAMETERS[key] = (function, outputs)
+    return _PARAMETERS[key]
+
+
+def _design_parameters(
+    evaluator: DesignEvaluator, values: FloatArray, robots: Sequence[Robot] | None
+) -> tuple[dict[str, float], dict[str, FloatArray], FloatArray, FloatArray] | None:
+    """The kernel's parameters of designs: the fixed ones, the ``(k,)`` columns, the strokes.
+
+    By the traced :func:`_parameter_function` when it can follow the paths,
+    else from ``robots``; ``None`` when it cannot and no robots are given.
+    """
+    count = len(values)
+    traced = _parameter_function(evaluator.nominal, evaluator.paths) if evaluator.paths else None
+    if traced is not None:
+        function, outputs = traced
+        out = np.empty((len(outputs), count))
+        function(*(np.ascontiguousarray(values[:, j]) for j in range(values.shape[1])), out)
+        constant = dict(zip(_PARAMETER_FIELDS, outputs[: len(_PARAMETER_FIELDS)], strict=True))
+        given = {n: float(o) for n, o in constant.items() if not isinstance(o, int)}
+        traced_columns = {n: out[i] for i, n in enumerate(_PARAMETER_FIELDS) if n not in given}
+        return given, traced_columns, out[-2], out[-1]
+    if robots is None:
+        return None
+    each = [kernel_parameters(robot) for robot in robots]
+    fixed: dict[str, float] = {}
+    columns: dict[str, FloatArray] = {}
+    for name in _PARAMETER_FIELDS:
+        per_design = [getattr(p, name) for p in each]
+        if all(v == per_design[0] for v in per_design):
+            fixed[name] = per_design[0]
+        else:
+            columns[name] = np.array(per_design, dtype=np.float64)
+    lower = np.array([r.limits.stroke[0] if r.limits.stroke else -np.inf for r in robots])
+    upper = np.array([r.limits.stroke[1] if r.limits.stroke else np.inf for r in robots])
+    return fixed, columns, lower, upper
+
+
 def _block_results(
-    evaluator: DesignEvaluator, robots: Sequence[Robot]
+    evaluator: DesignEvaluator, values: FloatArray, robots: Sequence[Robot] | None
 ) -> tuple[list[str], FloatArray]:
-    """Status and peaks + energy (NaN unless ``ok``) of designs.
+    """Status and peaks + energy (NaN unless ``ok``) of designs ``values`` ``(k, p)``.
 
     The kernel does not validate; here, as in ``paper_forces``: a singular
     task (checked once), then the stroke, then non-finite results.  The
     designs go through the design kernel together (:func:`_kernel_results`)
     unless their loads or friction make the kernel branch differently
-    (:func:`_one_design`, one at a time).
+    (:func:`_one_design`, one at a time, on their robots: ``robots``, or
+    built here).
     """
-    count = len(robots)
+    count = len(values)
     result = np.full((count, _RESULTS), np.nan)
     if evaluator._singular:
         return ["singular"] * count, result
-    each = [kernel_parameters(robot) for robot in robots]
-    first = each[0]
-    varying = tuple(
-        n for n in _PARAMETER_FIELDS if any(getattr(p, n) != getattr(first, n) for p in each)
-    )
-    stroke = any(r.limits.stroke is not None for r in robots)
-    lower = np.array([r.limits.stroke[0] if r.limits.stroke else -np.inf for r in robots])
-    upper = np.array([r.limits.stroke[1] if r.limits.stroke else np.inf for r in robots])
+    described = _design_parameters(evaluator, values, robots)
+    if described is None:
+        robots = _robots(evaluator, values)
+        described = _design_parameters(evaluator, values, robots)
+        assert described is not None
+    fixed, columns, lower, upper = described
+    stroke = bool(np.isfinite(lower).any() or np.isfinite(upper).any())
     locked = np.zeros(count, dtype=bool)
-    if first.has_mu or not _BROADCAST_FIELDS.issuperset(varying):
-        values = np.empty((count, _RESULTS))
+    # the mu terms are implicit, a zero smoothing is a sign: the kernel branches on them
+    branching = KernelParameters(**{n: fixed.get(n, 1.0) for n in _PARAMETER_FIELDS}).has_mu
+    if branching or not _BROADCAST_FIELDS.issuperset(columns):
+        robots = robots if robots is not None else _robots(evaluator, values)
+        results = np.empty((count, _RESULTS))
         least, largest = np.empty(count), np.empty(count)
         for k, robot in enumerate(robots):
-            values[k : k + 1], lam, locked[k] = _one_design(evaluator, robot)
+            results[k : k + 1], lam, locked[k] = _one_design(evaluator, robot)
             least[k], largest[k] = np.fmin.reduce(lam, axis=None), np.fmax.reduce(lam, axis=None)
     else:
-        varying = tuple(n for n in _PARAMETER_FIELDS if n in evaluator._varying or n in varying)
-        values, least, largest = _kernel_results(evaluator, each, varying, stroke)
+        varying = tuple(n for n in _PARAMETER_FIELDS if n in columns)
+        table = np.empty((count, len(varying)))
+        for j, name in enumerate(varying):
+            table[:, j] = columns[name]
+        constants = tuple((n, fixed[n]) for n in _PARAMETER_FIELDS if n in fixed)
+        results, least, largest = _kernel_results(evaluator, constants, varying, table, stroke)
     outside = (least < lower) | (largest > upper)
-    finite = np.isfinite(values).all(axis=1) & ~locked
+    finite = np.isfinite(results).all(axis=1) & ~locked
     status = [
         "stroke" if o else "ok" if f else "unreachable"
         for o, f in zip(outside.tolist(), finite.tolist(), strict=True)
     ]
     good = ~outside & finite
-    result[good] = values[good]
+    result[good] = results[good]
     return status, result
+
+
+def _robots(evaluator: DesignEvaluator, values: FloatArray) -> list[Robot]:
+    """The robot of every design, built and checked (:func:`design_robot`)."""
+    robots = []
+    for row in values.tolist():
+        try:
+            robots.append(design_robot(evaluator.nominal, evaluator.paths, row))
+        except ParameterError as error:
+            described = ", ".join(f"{p} = {v!r}" for p, v in zip(evaluator.paths, row, strict=True))
+            raise ParameterError(f"design {described}: {error}") from None
+    return robots
 
 
 def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str, Any]:
@@ -542,6 +674,11 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
 
     Pure: the same values give the same numbers whatever the worker.  A
     design that fails the task is a row with its ``status`` and NaN forces.
+    The robots of the designs are built and checked one by one only where
+    it is needed: designs outside a box of valid robots
+    (:class:`DesignEvaluator`), the workspace columns, loads and friction
+    that make the kernel branch; the kernel's parameters of the designs come
+    from :func:`prp3.kernel.kernel_parameters` traced over their values.
 
     Returns
     -------
@@ -560,19 +697,16 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
     status: list[str] = []
     area = np.full(count, np.nan)
     condition = np.full(count, np.nan)
-    areas: dict[tuple[float, float], float] = {}
-    conditions: dict[float, float] = {}
-    robots: list[Robot] = []
-    for k in range(count):
-        row = values[k].tolist()
-        try:
-            robot = design_robot(evaluator.nominal, evaluator.paths, row)
-        except ParameterError as error:
-            described = ", ".join(f"{p} = {v!r}" for p, v in zip(evaluator.paths, row, strict=True))
-            raise ParameterError(f"design {described}: {error}") from None
-        robots.append(robot)
-        if evaluator.workspace and robot.limits.stroke is not None:
+    robots = None
+    if evaluator.workspace or not evaluator.inside(values):
+        robots = _robots(evaluator, values)
+    if evaluator.workspace and robots is not None:
+        areas: dict[tuple[float, float], float] = {}
+        conditions: dict[float, float] = {}
+        for k, robot in enumerate(robots):
             stroke = robot.limits.stroke
+            if stroke is None:
+                continue
             if stroke not in areas:  # the area at φ = 0 depends on the stroke alone
                 areas[stroke] = workspace_slice(robot, 0.0, [-1.0, 1.0], [-1.0, 1.0]).area
             area[k] = areas[stroke]
@@ -580,7 +714,7 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
                 conditions[robot.l0] = float(jacobian_condition(robot, evaluator._pose).max())
             condition[k] = conditions[robot.l0]
     if count:
-        status, results = _block_results(evaluator, robots)
+        status, results = _block_results(evaluator, values, robots)
     columns: dict[str, Any] = {path: values[:, j].copy() for j, path in enumerate(evaluator.paths)}
     columns["status"] = np.array(status, dtype=str)
     names = design_columns(evaluator.paths, evaluator.workspace)
