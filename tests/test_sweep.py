@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import math
+import sys
 import time
 from pathlib import Path
 
@@ -372,6 +373,38 @@ workspace_area = { min = 0.02 }
     assert status == 0, err
     for name in ("ROBOT.toml", "history.csv"):
         assert (tmp_path / "again" / name).read_bytes() == (tmp_path / "best" / name).read_bytes()
+
+
+class _FullStream:
+    """A standard output on a full disk."""
+
+    def write(self, text: str) -> int:
+        raise OSError(28, "No space left on device")
+
+    def flush(self) -> None:
+        raise OSError(28, "No space left on device")
+
+
+def test_optimize_prints_its_summary_before_the_files_move_in(
+    tmp_path, capsys, monkeypatch, scheduler
+):
+    # was: ROBOT.toml and history.csv moved in first, then the summary failed (exit 2)
+    spec = write(
+        tmp_path / "synthesis.toml",
+        "seed = 1\n[parameters]\nl0 = [0.25, 0.35]\n[task]\nsamples = 7\n"
+        "[optimize]\nmaxiter = 1\npopsize = 2\n",
+    )
+    earlier = tmp_path / "best"
+    earlier.mkdir()
+    (earlier / "ROBOT.toml").write_text("l0 = 0.3\n")
+    monkeypatch.setattr(sys, "stdout", _FullStream())
+    status, _, err = cli(
+        capsys, "optimize", "--spec", spec, "-o", earlier, "--scheduler", scheduler
+    )
+    assert status == 2
+    assert err == "prp3 optimize: error: standard output: No space left on device\n"
+    assert sorted(p.name for p in earlier.iterdir()) == ["ROBOT.toml"]
+    assert (earlier / "ROBOT.toml").read_text() == "l0 = 0.3\n"
 
 
 def test_plots_from_the_designs_file(tmp_path, capsys, scheduler):

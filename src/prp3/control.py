@@ -65,7 +65,7 @@ from .geometry import SINGULARITY_THRESHOLD, inverse_geometry
 from .kinematics import inverse_kinematics
 from .model import Limits, Robot
 from .motion import Motion, law_at
-from .validation import check_robot
+from .validation import check_instance, check_robot, check_scalar, check_times
 
 __all__ = [
     "CONTROLLERS",
@@ -115,16 +115,15 @@ _THIRD_PI = math.pi / 3.0
 
 
 def _gain(name: str, value: Any, unit: str) -> float:
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int | float | np.integer | np.floating)
-        or not math.isfinite(value)
-        or value < 0
-    ):
+    try:
+        return check_scalar(name, value, non_negative=True)
+    except ParameterError:
+        shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:37] + "..."
         raise ParameterError(
-            f"gains: {name} must be a non-negative finite number ({unit}), got {value!r}"
-        )
-    return float(value)
+            f"{name} must be a non-negative finite number ({unit}), got {shown}",
+            subject="gains",
+            key=name,
+        ) from None
 
 
 @dataclass(frozen=True)
@@ -233,14 +232,9 @@ def control_times(start: float, stop: float, rate: float) -> FloatArray:
     >>> control_times(0.0, 0.01, 300.0).round(6).tolist()
     [0.0, 0.003333, 0.006667, 0.01]
     """
-    if (
-        isinstance(rate, bool)
-        or not isinstance(rate, int | float | np.integer | np.floating)
-        or not math.isfinite(rate)
-        or rate <= 0
-    ):
-        raise ParameterError(f"rate must be a positive finite number (Hz), got {rate!r}")
-    start, stop = float(start), float(stop)
+    rate = check_scalar("rate", rate, positive=True, unit="Hz")
+    start = check_scalar("start", start, error=TrajectoryError)
+    stop = check_scalar("stop", stop, error=TrajectoryError)
     if not (math.isfinite(start) and math.isfinite(stop) and stop > start):
         raise TrajectoryError(
             f"the control interval must be finite with stop > start, got [{start!r}, {stop!r}] s"
@@ -287,9 +281,10 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     """
     from scipy.interpolate import BPoly
 
+    check_instance("motion", motion, Motion, "a prp3.Motion")
     if motion.t.ndim != 1 or motion.samples < 2:
         raise TrajectoryError("reference: the motion needs at least 2 samples")
-    at = np.asarray(times, dtype=np.float64)
+    at = check_times("times", times)
     first, last = float(motion.t[0]), float(motion.t[-1])
     if at.ndim != 1 or at.size == 0 or not (at.min() >= first and at.max() <= last):
         raise TrajectoryError(f"reference: times must lie within [{first!r}, {last!r}] s")
@@ -316,7 +311,7 @@ def check_model(robot: Robot, model: Robot) -> None:
     prp3.errors.ParameterError: model: l0 = 0.31 m differs from the plant robot's l0 = 0.3 m (the controller's kinematics must match the robot's)
     """
     check_robot(robot)
-    check_robot(model)
+    check_robot(model, "model")
     if model.l0 != robot.l0:
         raise ParameterError(
             f"model: l0 = {model.l0!r} m differs from the plant robot's l0 = {robot.l0!r} m "
@@ -407,7 +402,10 @@ class _Prp3Plant:
         ]
         bias = np.array(b)
         A = np.array(columns).T - bias[:, None]
-        acceleration = np.linalg.solve(A, force - bias)
+        try:
+            acceleration = np.linalg.solve(A, force - bias)
+        except np.linalg.LinAlgError:  # a state the step wandered to: reject the trial step
+            return np.full(6, np.nan)
         return np.array([vx, vy, vp, *acceleration.tolist()])
 
     def advance(

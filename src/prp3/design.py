@@ -92,6 +92,7 @@ from .kernel import (
 )
 from .model import Robot, read_toml
 from .motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
+from .validation import check_finite, check_instance, check_integer, check_real, check_scalar
 from .workspace import jacobian_condition, workspace_slice
 
 __all__ = [
@@ -206,7 +207,20 @@ def design_robot(
     nominal: Mapping[str, Any], paths: Sequence[str], values: Sequence[float]
 ) -> Robot:
     """The robot of a design (:func:`design_mapping` then :meth:`Robot.from_mapping`)."""
-    return Robot.from_mapping(design_mapping(nominal, paths, values))
+    nominal = check_instance("nominal", nominal, Mapping, "a mapping of ROBOT.toml keys")  # type: ignore[type-abstract]
+    if (
+        isinstance(paths, str)
+        or not isinstance(paths, Sequence)
+        or not all(isinstance(path, str) for path in paths)
+    ):
+        raise ParameterError(f"paths must be a sequence of ROBOT.toml key paths, got {paths!r}")
+    numbers = check_real("values", values, ParameterError)
+    if numbers.shape != (len(paths),):
+        raise ParameterError(
+            f"values must have shape ({len(paths)},), one per path, got {numbers.shape}"
+        )
+    check_finite("values", numbers, ParameterError, components=tuple(paths))
+    return Robot.from_mapping(design_mapping(nominal, paths, numbers.tolist()))
 
 
 def nominal_value(nominal: Mapping[str, Any], path: str) -> float | None:
@@ -761,8 +775,11 @@ def pareto_front(
     >>> pareto_front(np.array([1.0, 2.0, 3.0, 2.5]), np.array([3.0, 1.0, 0.5, 2.0])).tolist()
     [0, 1, 2]
     """
-    sx = -np.asarray(x, dtype=np.float64) if maximize_x else np.asarray(x, dtype=np.float64)
-    sy = -np.asarray(y, dtype=np.float64) if maximize_y else np.asarray(y, dtype=np.float64)
+    x, y = check_real("x", x, ParameterError), check_real("y", y, ParameterError)
+    if x.ndim != 1 or x.shape != y.shape:
+        raise ParameterError(f"x and y must have the same shape (N,), got {x.shape} and {y.shape}")
+    sx = -x if maximize_x else x
+    sy = -y if maximize_y else y
     valid = np.flatnonzero(np.isfinite(sx) & np.isfinite(sy))
     order = valid[np.lexsort((sy[valid], sx[valid]))]
     front: list[int] = []
@@ -772,7 +789,7 @@ def pareto_front(
             front.append(index)
             best = float(sy[index])
     result = np.array(front, dtype=np.int64)
-    return result[np.argsort(np.asarray(x, dtype=np.float64)[result], kind="stable")]
+    return result[np.argsort(x[result], kind="stable")]
 
 
 # ------------------------------------------------------------------ optimization
@@ -833,6 +850,18 @@ class Parameter:
     low: float
     high: float
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.path, str):
+            raise ParameterError(f"path must be a ROBOT.toml key path, got {self.path!r}")
+        low = check_scalar("low", self.low, subject=self.path)
+        high = check_scalar("high", self.high, subject=self.path)
+        if not low < high:
+            raise ParameterError(
+                f"low must be below high, got [{low!r}, {high!r}]", subject=self.path
+            )
+        object.__setattr__(self, "low", low)
+        object.__setattr__(self, "high", high)
+
 
 @dataclass(frozen=True)
 class OptimizeSpec:
@@ -856,6 +885,13 @@ class OptimizeSpec:
     maxiter: int = 30
     popsize: int = 10
     tol: float = 0.01
+
+    def __post_init__(self) -> None:
+        check_integer("maxiter", self.maxiter, 1, 100_000, subject="optimize")
+        check_integer("popsize", self.popsize, 1, 10**4, subject="optimize")
+        object.__setattr__(
+            self, "tol", check_scalar("tol", self.tol, positive=True, subject="optimize")
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -1100,6 +1136,7 @@ def sweep_spec(
         key path, ``low > high``, an empty range, an unknown sampling, a
         missing robot or trajectory file, too many designs, ...
     """
+    check_instance("data", data, Mapping, "a mapping (a parsed SWEEP.toml)")  # type: ignore[type-abstract]
     base = Path(base)
     _unknown(source, "", data, _TOP_KEYS)
     robot_file = data.get("robot")

@@ -27,7 +27,7 @@ from .model import Robot
 from .motion import Motion
 from .newton_euler_solver import newton_euler
 from .paper import paper_inverse_dynamics
-from .validation import check_robot
+from .validation import check_instance, check_robot
 
 __all__ = [
     "METHODS",
@@ -58,7 +58,7 @@ def kernel_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
     [31.8589, -8.4957, -23.3632]
     """
     check_robot(robot)
-    motion = kin.motion
+    motion = check_instance("kin", kin, Kinematics, "a prp3.Kinematics").motion
     values = solve_batch(robot, motion.pose, motion.velocity, motion.acceleration, load=motion.load)
     names = FORCE_NAMES + (FRICTION_NAMES if robot.friction is not None else ())
     extra = {"iterations": values["iterations"]} if "iterations" in values else {}

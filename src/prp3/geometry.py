@@ -69,10 +69,12 @@ from .validation import (
     LEGS,
     POSE_BOUND,
     SINGULARITY_THRESHOLD,
+    check_finite,
     check_per_leg,
     check_poses,
     check_real,
     check_robot,
+    check_scalar,
     require_finite,
     singularity_measure,
 )
@@ -158,7 +160,7 @@ def base_vertices(robot: Robot) -> FloatArray:
     [[0.0, -0.3], [0.2598, 0.15], [-0.2598, 0.15]]
     """
     s3 = math.sqrt(3.0)
-    return robot.l0 * np.array([[0.0, -1.0], [s3 / 2.0, 0.5], [-s3 / 2.0, 0.5]])
+    return check_robot(robot).l0 * np.array([[0.0, -1.0], [s3 / 2.0, 0.5], [-s3 / 2.0, 0.5]])
 
 
 def platform_vertices(robot: Robot, pose: ArrayLike) -> FloatArray:
@@ -362,7 +364,9 @@ def orientation_from_sum(l0: float, sum_lambda10: ArrayLike) -> FloatArray:
     >>> round(float(orientation_from_sum(0.3, 0.0)), 15)   # central configuration
     0.0
     """
-    total = np.asarray(sum_lambda10, dtype=np.float64)
+    l0 = check_scalar("l0", l0, positive=True)
+    total = check_real("sum_lambda10", sum_lambda10)
+    check_finite("sum_lambda10", total.reshape(-1, 1), components=("sum_lambda10",))
     psi = 2.0 * np.arctan(2.0 * total / (3.0 * l0) - 1.0 / _SQRT3)  # (ii), ψ in (−π, π)
     phi = math.pi / 3.0 + psi  # in (−2π/3, 4π/3)
     return np.asarray(np.where(phi > math.pi, phi - 2.0 * math.pi, phi))
@@ -376,7 +380,9 @@ def sum_from_orientation(l0: float, phi: ArrayLike) -> FloatArray:
     >>> round(float(sum_from_orientation(0.3, math.pi / 3.0)), 12)   # √3·l0/2
     0.259807621135
     """
-    phi = np.asarray(phi, dtype=np.float64)
+    l0 = check_scalar("l0", l0, positive=True)
+    phi = check_real("phi", phi)
+    check_finite("phi", phi.reshape(-1, 1), components=("phi",))
     return np.asarray(1.5 * l0 * (np.tan((phi - math.pi / 3.0) / 2.0) + 1.0 / _SQRT3))
 
 

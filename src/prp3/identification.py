@@ -71,6 +71,14 @@ from .model import (
     Robot,
 )
 from .motion import Motion
+from .validation import (
+    check_instance,
+    check_integer,
+    check_names,
+    check_per_leg,
+    check_robot,
+    check_scalar,
+)
 
 __all__ = [
     "FORCES",
@@ -218,20 +226,12 @@ def standard_parameters(
     >>> standard_parameters(Robot(), ("piston_mass", "link_inertia")).tolist()
     [1.0, 0.000625]
     """
-    k = kernel.kernel_parameters(robot)
+    k = kernel.kernel_parameters(check_robot(robot))
     return np.array([float(getattr(k, name)) for name in _check_names(parameters)])
 
 
-def _check_names(parameters: Sequence[str]) -> tuple[str, ...]:
-    names = tuple(parameters)
-    for name in names:
-        if name not in PARAMETERS:
-            raise ParameterError(
-                f"unknown parameter {name!r} (expected one of: {', '.join(PARAMETERS)})"
-            )
-    if len(set(names)) != len(names) or not names:
-        raise ParameterError(f"parameters must be distinct and at least one, got {names!r}")
-    return names
+def _check_names(parameters: Sequence[str], name: str = "parameters") -> tuple[str, ...]:
+    return check_names(name, parameters, PARAMETERS, item="parameter")
 
 
 @dataclass(frozen=True)
@@ -579,8 +579,9 @@ def base_parameters(
     >>> round(float(base.values(standard_parameters(Robot()))[3]), 12)  # J3 + 3·J2
     0.069375
     """
+    check_robot(robot)
     names = _check_names(parameters)
-    chosen = tuple(forces)
+    chosen = check_names("forces", forces, FORCES, item="force")
     if not chosen or any(f not in FORCES for f in chosen) or len(set(chosen)) != len(chosen):
         raise ParameterError(f"forces must be distinct names from {FORCES}, got {chosen!r}")
     free = replace(robot, limits=Limits())
@@ -698,11 +699,12 @@ def identify(
     >>> bool(np.allclose(result.estimate, result.base.values(standard_parameters(robot))))
     True
     """
+    check_robot(robot)
     names = _check_names(parameters)
     if not isinstance(motion, Motion) or motion.t.ndim != 1:
         raise TrajectoryError(f"{where}: the motion must be a batch prp3.Motion")
     _refuse_mu(robot)
-    measured = np.asarray(f10, dtype=np.float64)
+    measured = check_per_leg("f10", f10)
     samples = motion.samples
     if measured.shape != (samples, 3):
         raise TrajectoryError(
@@ -767,8 +769,10 @@ def known_forces(robot: Robot, motion: Motion, fixed: Sequence[str]) -> FloatArr
     >>> known_forces(Robot(), paper_motion("vertical", samples=3), ()).tolist()
     [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
     """
+    check_robot(robot)
+    check_instance("motion", motion, Motion, "a prp3.Motion")
     _refuse_mu(robot)
-    names = _check_names(fixed) if fixed else ()
+    names = check_names("fixed", fixed, PARAMETERS, item="parameter", empty=True)
     inverse_geometry(robot, motion.pose)
     k = _zero_parameters(robot, keep=(*names, "load_x", "load_y", "load_moment"))
     rows = _state_rows(motion)
@@ -1177,14 +1181,20 @@ def exciting_trajectory(
     """
     from scipy.optimize import minimize
 
-    for name, value in (("period", period), ("reach", reach), ("rotation", rotation),
-                        ("max_velocity", max_velocity)):  # fmt: skip
-        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0.0):
-            raise ParameterError(f"{name} must be a positive finite number, got {value!r}")
+    check_robot(robot)
+    period, reach, rotation, max_velocity = (
+        check_scalar(name, value, positive=True)
+        for name, value in (("period", period), ("reach", reach), ("rotation", rotation),
+                            ("max_velocity", max_velocity))
+    )  # fmt: skip
     if not 0.0 < rotation < 1.0:
         raise ParameterError(f"rotation must be in (0, 1) rad (singular at pi/3), got {rotation!r}")
-    if not (isinstance(harmonics, int) and 1 <= harmonics <= 20):
-        raise ParameterError(f"harmonics must be an integer from 1 to 20, got {harmonics!r}")
+    harmonics = check_integer("harmonics", harmonics, 1, 20)
+    samples = check_integer("samples", samples, 2, 10**7)
+    seed = check_integer("seed", seed, 0, 2**63 - 1)
+    max_iterations = check_integer("max_iterations", max_iterations, 1, 10**6)
+    if max_force is not None:
+        max_force = check_scalar("max_force", max_force, positive=True)
     force_limit = max_force if max_force is not None else robot.limits.max_force
     base = base_parameters(robot)
     free = replace(robot, limits=Limits())

@@ -55,7 +55,7 @@ from .files import (
 from .forward import ActuatorForces
 from .geometry import LEGS
 from .kinematics import Kinematics
-from .motion import Motion, differentiate_positions
+from .motion import Motion, differentiate_positions, spline_derivatives
 
 __all__ = [
     "DERIVATIVE_COLUMNS",
@@ -585,7 +585,7 @@ def _trajectory(path: Path, table: _Table) -> Trajectory:
         acceleration = np.stack([columns[name] for name in DERIVATIVE_COLUMNS[3:]], axis=-1)
     else:
         with np.errstate(all="ignore"):  # an overflow is reported below, naming the line
-            velocity, acceleration, degree = differentiate_positions(t, pose)
+            velocity, acceleration, degree = spline_derivatives(t, pose)
         for name, values in (("velocity", velocity), ("acceleration", acceleration)):
             bad = ~np.isfinite(values)
             if bad.any():

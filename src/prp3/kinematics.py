@@ -33,7 +33,7 @@ from .geometry import (
 from .kernel import NUMPY, kernel_geometry, kernel_kinematics, kernel_parameters
 from .model import Robot
 from .motion import Motion
-from .validation import check_robot
+from .validation import check_instance, check_robot
 
 __all__ = ["Kinematics", "inverse_kinematics", "jacobian"]
 
@@ -99,7 +99,7 @@ def jacobian(geometry: InverseGeometry) -> FloatArray:
     >>> jacobian(inverse_geometry(Robot(), [0.0, 0.0, 0.0])).shape
     (3, 3)
     """
-    d = geometry.slide
+    d = check_instance("geometry", geometry, InverseGeometry, "a prp3.InverseGeometry").slide
     D = geometry.determinant[..., None]
     rows = np.stack(
         [d[..., 1], -d[..., 0], dot2(geometry.lever, d)],

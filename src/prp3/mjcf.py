@@ -83,6 +83,7 @@ import numpy as np
 from .errors import ParameterError
 from .geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
 from .model import JointFriction, Payload, Robot
+from .validation import check_robot
 
 __all__ = [
     "INERTIA_FLOOR",
@@ -189,7 +190,7 @@ def unrepresented(robot: Robot) -> list[str]:
     ['the load-dependent friction friction.sleeve.mu']
     """
     items: list[str] = []
-    friction = robot.friction
+    friction = check_robot(robot).friction
     if friction is not None:
         mu = [f"friction.{k}.mu" for k in _KINDS if getattr(friction, k).has_mu]
         if mu:

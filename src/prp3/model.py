@@ -625,7 +625,7 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
     >>> Robot.from_mapping(tomllib.loads(robot_template())) == Robot()
     True
     """
-    robot = robot or Robot()
+    robot = Robot() if robot is None else check_robot(robot)
 
     def line(key: str, value: str, comment: str) -> str:
         return f"{key} = {value}" + (f"  # {comment}" if comments else "")

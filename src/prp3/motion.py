@@ -19,7 +19,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import TrajectoryError
-from .validation import check_finite, check_integer, check_real, check_scalar, check_times
+from .validation import (
+    check_finite,
+    check_integer,
+    check_real,
+    check_scalar,
+    check_times,
+    require_finite,
+)
 
 __all__ = [
     "MAX_SAMPLES",
@@ -236,11 +243,12 @@ def paper_motion(name: str, samples: int = 301) -> Motion:
     >>> paper_motion("spiral")
     Traceback (most recent call last):
     ...
-    prp3.errors.TrajectoryError: motion: unknown motion 'spiral' (expected 'vertical' or 'rotation')
+    prp3.errors.TrajectoryError: motion: unknown motion 'spiral' (name must be 'vertical' or 'rotation')
     """
     if not isinstance(name, str) or name not in PAPER_MOTIONS:
         raise TrajectoryError(
-            f"unknown motion {name!r} (expected 'vertical' or 'rotation')"[:200], subject="motion"
+            f"unknown motion {name!r} (name must be 'vertical' or 'rotation')"[:200],
+            subject="motion",
         )
     return law_motion(PAPER_MOTIONS[name], samples=samples)
 
@@ -279,9 +287,27 @@ def differentiate_positions(t: FloatArray, pose: FloatArray) -> tuple[FloatArray
     >>> degree, velocity[5].round(12).tolist(), acceleration[5].round(9).tolist()
     (5, [1.0, 3.0, 0.0], [2.0, 0.0, 0.0])
     """
+    times = check_times("t", t, minimum=2)
+    poses = check_real("pose", pose)
+    if poses.shape != (times.size, 3):
+        raise TrajectoryError(
+            f"pose must have shape (N, 3) with N = {times.size} (the samples of t), "
+            f"got {poses.shape}"
+        )
+    check_finite("pose", poses, components=("x", "y", "phi"))
+    with np.errstate(all="ignore"):  # an overflow is refused below, naming the sample
+        velocity, acceleration, degree = spline_derivatives(times, poses)
+    require_finite(
+        {"velocity": velocity, "acceleration": acceleration}, (times.size,), "pose", times
+    )
+    return velocity, acceleration, degree
+
+
+def spline_derivatives(t: FloatArray, pose: FloatArray) -> tuple[FloatArray, FloatArray, int]:
+    """:func:`differentiate_positions` on arrays already checked; may return non-finite values."""
     from scipy.interpolate import make_interp_spline
 
-    samples = len(t)
+    samples = t.size
     degree = 5 if samples >= 6 else 3 if samples >= 4 else 1
     spline = make_interp_spline(t, pose, k=degree, axis=0)
     velocity = np.asarray(spline(t, 1), dtype=np.float64)

@@ -27,6 +27,7 @@ from .forces import InverseDynamics, checked
 from .kinematics import Kinematics
 from .model import Robot, check_robot
 from .motion import Motion
+from .validation import check_instance
 
 __all__ = ["NEWTON_EULER_CHUNK", "newton_euler"]
 
@@ -85,6 +86,7 @@ def newton_euler(robot: Robot, motion: Motion | Kinematics) -> InverseDynamics:
     check_robot(robot)
     if isinstance(motion, Kinematics):
         motion = motion.motion
+    check_instance("motion", motion, Motion, "a prp3.Motion or prp3.Kinematics")
     with np.errstate(over="ignore", invalid="ignore"):
         load = np.zeros_like(motion.pose) if motion.load is None else motion.load
         flat = [

@@ -17,11 +17,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .dynamics import Method, inverse_dynamics
-from .errors import Prp3Error
+from .errors import ParameterError, Prp3Error
 from .geometry import LEGS
 from .io import result_columns, results_table
 from .model import Robot
 from .motion import Motion
+from .validation import check_instance, check_integer, check_robot
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -59,7 +60,9 @@ def simulate_table(
     >>> list(table) == list(result_columns(friction=False)), table["f10_A"].shape
     (True, (7,))
     """
-    samples = motion.samples
+    check_robot(robot)
+    samples = check_instance("motion", motion, Motion, "a prp3.Motion").samples
+    chunk = check_integer("chunk", chunk, 1, 2**31)
     table = {name: np.empty(samples) for name in result_columns(robot.friction is not None)}
     for start in range(0, samples, chunk):
         stop = min(start + chunk, samples)
@@ -120,6 +123,16 @@ def summarize(table: Mapping[str, FloatArray], dphi: FloatArray | None = None) -
     >>> s.peak_f10.tolist(), s.peak_f21.round(6).tolist()[0], s.energy.tolist()
     ([2.0, 2.0, 2.0], 2.828427, [1.5, 1.5, 1.5])
     """
+    check_instance("table", table, Mapping, "a mapping of results.csv columns")  # type: ignore[type-abstract]
+    missing = [
+        name
+        for name in ("t", *(f"{q}_A" for q in ("f10", "p10", "f21y", "f21z")))
+        if name not in table
+    ]
+    if missing:
+        raise ParameterError(
+            f"table lacks the results.csv columns {', '.join(missing)}", key="table"
+        )
     t = np.asarray(table["t"], dtype=np.float64)
 
     def legs(name: str) -> FloatArray:

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -48,8 +48,11 @@ __all__ = [
     "MAX_ORIENTATION",
     "POSE_BOUND",
     "SINGULARITY_THRESHOLD",
+    "check_choice",
     "check_finite",
+    "check_instance",
     "check_integer",
+    "check_names",
     "check_per_leg",
     "check_poses",
     "check_real",
@@ -63,6 +66,7 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+T = TypeVar("T")
 
 #: Leg names, in the order of the last axis of every per-leg array.
 LEGS: tuple[str, str, str] = ("A", "B", "C")
@@ -427,19 +431,83 @@ def _bound(value: int) -> str:
     return f"{value:.0e}" if value >= 10**6 else str(value)
 
 
-def check_robot(robot: object) -> Robot:
+def check_robot(robot: object, name: str = "robot") -> Robot:
     """Return ``robot`` if it is a :class:`~prp3.model.Robot`, else raise :class:`ParameterError`.
 
     >>> check_robot(None)
     Traceback (most recent call last):
     ...
     prp3.errors.ParameterError: robot must be a prp3.Robot, got None
+    >>> check_robot("robot.toml", "model")
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: model must be a prp3.Robot, got 'robot.toml'
     """
     from .model import Robot
 
     if not isinstance(robot, Robot):
-        raise ParameterError(f"robot must be a prp3.Robot, got {_describe(robot)}")
+        raise ParameterError(f"{name} must be a prp3.Robot, got {_describe(robot)}", key=name)
     return robot
+
+
+def check_instance(name: str, value: object, kind: type[T], what: str) -> T:
+    """Return ``value`` if it is a ``kind`` (called ``what`` in the message), else refuse it.
+
+    >>> from prp3.motion import Motion
+    >>> check_instance("motion", [0.0, 0.0, 0.0], Motion, "a prp3.Motion")
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: motion must be a prp3.Motion, got [0.0, 0.0, 0.0]
+    """
+    if not isinstance(value, kind):
+        raise ParameterError(f"{name} must be {what}, got {_describe(value)}", key=name)
+    return value
+
+
+def check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
+    """Return ``value`` if it is one of the strings ``choices``, else refuse it.
+
+    >>> check_choice("method", "euler", ("fast", "paper"))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: method must be one of 'fast', 'paper', got 'euler'
+    """
+    if not isinstance(value, str) or value not in choices:
+        expected = ", ".join(repr(choice) for choice in choices)
+        raise ParameterError(f"{name} must be one of {expected}, got {_describe(value)}", key=name)
+    return value
+
+
+def check_names(
+    name: str, value: object, known: tuple[str, ...], *, item: str = "name", empty: bool = False
+) -> tuple[str, ...]:
+    """Distinct names out of ``known`` (a sequence of strings, not one string).
+
+    >>> check_names("parameters", "platform_mass", ("platform_mass",))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: parameters must be a sequence of names, got 'platform_mass' (a single string)
+    """
+    if isinstance(value, str) or not isinstance(value, tuple | list):
+        if isinstance(value, str):
+            raise ParameterError(
+                f"{name} must be a sequence of names, got {_describe(value)} (a single string)",
+                key=name,
+            )
+        raise ParameterError(
+            f"{name} must be a sequence of names, got {_describe(value)}", key=name
+        )
+    names = tuple(value)
+    for entry in names:
+        if not isinstance(entry, str) or entry not in known:
+            raise ParameterError(
+                f"{name}: unknown {item} {_describe(entry)} (expected one of: {', '.join(known)})",
+                key=name,
+            )
+    if len(set(names)) != len(names) or (not names and not empty):
+        required = "distinct" if empty else "distinct and at least one"
+        raise ParameterError(f"{name} must be {required}, got {names!r}", key=name)
+    return names
 
 
 def first_non_finite(

@@ -169,7 +169,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     failing one is reported too.
     """
     parser = build_parser()
-    args = parser.parse_args(list(argv) if argv is not None else None)
+    words = list(argv) if argv is not None else sys.argv[1:]
+    try:
+        args = parser.parse_args(words)
+    except SystemExit as exit_:
+        if exit_.code == 0:  # --help, --version: their text must reach standard output
+            try:
+                _flush_stdout()
+            except BrokenPipeError:  # `prp3 --help | head -n 1`
+                _silence_stdout()
+                raise SystemExit(141) from None
+            except OutputFileError as error:
+                _error(_program_of(parser, words), str(error))
+                _silence_stdout()  # the flush at exit would fail again
+                raise SystemExit(2) from None
+        raise
     if getattr(args, "handler", None) is None:
         parser.print_help(sys.stderr)
         return 2
@@ -186,6 +200,20 @@ def main(argv: Sequence[str] | None = None) -> int:
                     signal.signal(number, signal.SIG_IGN)
         else:
             guard.restore()
+
+
+def _program_of(parser: argparse.ArgumentParser, words: Sequence[str]) -> str:
+    """``prp3`` and the (sub)command names at the start of ``words`` (``prp3 export mjcf``)."""
+    program = [parser.prog]
+    current: argparse.ArgumentParser | None = parser
+    for word in words:
+        if current is None:
+            break
+        commands = [a for a in current._actions if isinstance(a, argparse._SubParsersAction)]
+        current = commands[0].choices.get(word) if commands else None
+        if current is not None:
+            program.append(word)
+    return " ".join(program)
 
 
 def _error(program: str, text: str) -> None:

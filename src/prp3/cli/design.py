@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 from ..design import AGGREGATES, SweepSpec, design_robot, quantity, read_sweep_spec
 from ..errors import Prp3Error
 from ..io import check_inputs_kept, check_output_directory, staged_output, write_table_csv
-from ._types import files_report, integer_at_least, path_name
+from ._types import emit, files_report, integer_at_least, path_name
 from .simulate import Progress
 
 if TYPE_CHECKING:
@@ -229,7 +229,7 @@ def run_sweep(args: argparse.Namespace) -> int:
         "files written:",
         *(f"  {path}" for path in written),
     ]
-    print("\n".join(lines))
+    emit("\n".join(lines))
     return 0
 
 
@@ -247,9 +247,6 @@ def run_optimize(args: argparse.Namespace) -> int:
         outcome = sweep.optimize_design(spec, client)
     elapsed = time.monotonic() - start
     robot = design_robot(spec.evaluator.nominal, spec.paths, outcome.x.tolist())
-    with staged_output(output) as staged:
-        staged.path("ROBOT.toml").write_text(robot.to_toml(), encoding="utf-8")
-        write_table_csv(staged.path("history.csv"), outcome.history)
     settings = spec.optimize
     lines = [
         f"prp3 optimize: minimise {settings.objective} over {len(spec.parameters)} parameters, "
@@ -268,6 +265,10 @@ def run_optimize(args: argparse.Namespace) -> int:
     for name, low, high in settings.constraints:
         value = float(quantity(columns, name)[0])
         lines.append(f"  {name} = {value:.9g}  (required {low:g} .. {high:g})")
-    lines += files_report(staged)
-    print("\n".join(lines))
+    with staged_output(output) as staged:
+        staged.path("ROBOT.toml").write_text(robot.to_toml(), encoding="utf-8")
+        write_table_csv(staged.path("history.csv"), outcome.history)
+        # the summary goes out before the files are moved in: a failing standard
+        # output then leaves the earlier results in place
+        emit("\n".join(lines + files_report(staged)))
     return 0 if outcome.feasible else 1
