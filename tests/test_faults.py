@@ -1,4 +1,4 @@
-"""Faults and bad input (issue 9): each test pins down one class of defect and fails without its fix.
+"""Faults and bad input: each test pins down one class of defect and fails without its fix.
 
 * output failures: standard output full or closed (with ``PYTHONUNBUFFERED``
   unset), standard output failing after the files were written, a full disk

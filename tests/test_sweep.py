@@ -1,4 +1,4 @@
-"""``prp3 sweep`` / ``prp3 optimize`` on Dask, results in Parquet (issue 13).
+"""``prp3 sweep`` / ``prp3 optimize`` on Dask, results in Parquet.
 
 The expected numbers come from ``prp3 simulate``'s ``results.csv`` read back
 here (not from the sweep's code), from brute force, or from the robot file
@@ -261,7 +261,7 @@ def test_key_paths_are_generic_and_the_platform_inertia_follows_mass_and_l0():
     assert nominal == {"l0": 0.3, "link": {"com": [0.0, 0.0]}}  # not changed
     with pytest.raises(prp3.ParameterError, match="unknown key 'gripper'"):
         design_robot({}, ["gripper.mass"], [1.0])  # a table the robot does not know
-    assert design_robot({}, ["payload.mass"], [1.0]).payload.mass == 1.0  # issue 10's tables
+    assert design_robot({}, ["payload.mass"], [1.0]).payload.mass == 1.0  # not in nominal
     assert design_robot({}, ["friction.sleeve.mu"], [0.1]).friction.sleeve.mu == 0.1
 
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ._checks import require_finite
+from .validation import require_finite
 
 __all__ = ["FORCE_NAMES", "FRICTION_NAMES", "InverseDynamics", "checked"]
 

@@ -40,7 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .dynamics import InverseDynamics
-from .errors import InputFileError, OutputFileError, Prp3Error, TrajectoryError
+from .errors import InputFileError, OutputFileError, ParameterError, Prp3Error, TrajectoryError
 from .files import (
     MANIFEST_NAME,
     StagedOutput,
@@ -64,12 +64,14 @@ __all__ = [
     "LOAD_COLUMNS",
     "MANIFEST_NAME",
     "MEASURED_FORCE_COLUMNS",
+    "OUTPUT_QUANTITIES",
     "PER_LEG_COLUMNS",
     "POSITION_COLUMNS",
     "RESULT_COLUMNS",
     "TRAJECTORY_COLUMNS",
     "ForceInput",
     "Measurements",
+    "OutputQuantity",
     "StagedOutput",
     "Trajectory",
     "atomic_path",
@@ -79,6 +81,7 @@ __all__ = [
     "differentiate_positions",
     "format_float",
     "format_floats",
+    "output_quantity",
     "parquet_available",
     "read_forces",
     "read_manifest",
@@ -671,8 +674,9 @@ def trajectory_table(motion: Motion) -> dict[str, FloatArray]:
     """The columns :data:`TRAJECTORY_COLUMNS` of a batch motion, as named arrays ``(N,)``.
 
     >>> from prp3.motion import paper_motion
-    >>> list(trajectory_table(paper_motion("vertical", 3))) == list(TRAJECTORY_COLUMNS)
-    True
+    >>> table = trajectory_table(paper_motion("vertical", 3))
+    >>> list(table), table["y"].tolist()
+    (['t', 'x', 'y', 'phi', 'dx', 'dy', 'dphi', 'ddx', 'ddy', 'ddphi'], [0.0, 0.025, 0.05])
     """
     arrays = (motion.pose, motion.velocity, motion.acceleration)
     table: dict[str, FloatArray] = {"t": motion.t}
@@ -682,34 +686,130 @@ def trajectory_table(motion: Motion) -> dict[str, FloatArray]:
 
 
 # ---------------------------------------------------------------- results.csv
-#: Per-leg quantities, in the contract's order.
-PER_LEG_COLUMNS: tuple[str, ...] = (
-    "lambda10",
-    "dlambda10",
-    "ddlambda10",
-    "lambda32",
-    "dlambda32",
-    "ddlambda32",
-    "f10",
-    "p10",
-    "f21y",
-    "f21z",
-    "n10",
-    "m10",
-    "n32",
-    "m32",
+@dataclass(frozen=True)
+class OutputQuantity:
+    """One quantity of ``results.csv``: the one place its name, unit and meaning are given.
+
+    The columns of ``results.csv`` and Parquet (:data:`RESULT_COLUMNS`,
+    :data:`FRICTION_COLUMNS`), the labels of the figures
+    (:mod:`prp3.plotting.figures`) and the units of the run summary
+    (:func:`prp3.runs.summary_text`) are derived from :data:`OUTPUT_QUANTITIES`.
+
+    Attributes
+    ----------
+    name : str
+        The column (``t``) or, for a per-leg quantity, the stem of its three
+        columns ``name_A, name_B, name_C``.
+    unit : str
+        SI unit of the column.
+    description : str
+        Meaning and sign (``docs/model.md``, section *Quantities and signs*).
+    per_leg : bool
+        One column per leg A, B, C.
+    symbol : str
+        The paper's symbol (matplotlib mathtext), for labels.
+    friction : bool
+        Written only when the robot has ``[friction]`` (after the 46 columns).
+    """
+
+    name: str
+    unit: str
+    description: str
+    per_leg: bool
+    symbol: str
+    friction: bool = False
+
+    def columns(self) -> tuple[str, ...]:
+        """Its columns: ``(name,)``, or ``name_A, name_B, name_C``.
+
+        >>> OUTPUT_QUANTITIES["f10"].columns()
+        ('f10_A', 'f10_B', 'f10_C')
+        """
+        return tuple(f"{self.name}_{leg}" for leg in LEGS) if self.per_leg else (self.name,)
+
+
+def _quantities(*items: OutputQuantity) -> dict[str, OutputQuantity]:
+    return {item.name: item for item in items}
+
+
+#: Every output quantity of ``results.csv``, in the order of its columns.
+OUTPUT_QUANTITIES: dict[str, OutputQuantity] = _quantities(
+    OutputQuantity("t", "s", "time", False, "t"),
+    OutputQuantity("x", "m", "x of the platform centre G, fixed frame", False, "x"),
+    OutputQuantity("y", "m", "y of the platform centre G, fixed frame", False, "y"),
+    OutputQuantity("phi", "rad", "orientation of the platform", False, "\\varphi"),
+    OutputQuantity("lambda10", "m", "actuator displacement", True, "\\lambda_{10}"),
+    OutputQuantity("dlambda10", "m/s", "actuator velocity", True, "\\dot\\lambda_{10}"),
+    OutputQuantity("ddlambda10", "m/s²", "actuator acceleration", True, "\\ddot\\lambda_{10}"),
+    OutputQuantity("lambda32", "m", "slide of the platform along link 2", True, "\\lambda_{32}"),
+    OutputQuantity("dlambda32", "m/s", "its rate", True, "\\dot\\lambda_{32}"),
+    OutputQuantity("ddlambda32", "m/s²", "its second rate", True, "\\ddot\\lambda_{32}"),
+    OutputQuantity(
+        "f10", "N", "force of actuator i on its piston along +e_i, through P_i", True, "f_{10}"
+    ),
+    OutputQuantity("p10", "W", "input power of actuator i, f10·dlambda10", True, "p_{10}"),
+    OutputQuantity(
+        "f21y", "N", "force of piston i on link 2 at P_i, along n_i", True, "f_{21y}"
+    ),
+    OutputQuantity(
+        "f21z", "N", "force of piston i on link 2 at P_i, along e_i", True, "f_{21z}"
+    ),
+    OutputQuantity(
+        "n10", "N", "reaction of the base guide on piston i, along n_i", True, "n_{10}"
+    ),
+    OutputQuantity(
+        "m10", "N·m", "moment of that reaction about z0, taken about P_i", True, "m_{10}"
+    ),
+    OutputQuantity(
+        "n32", "N", "reaction of link 2 on the platform, along d⊥_i", True, "n_{32}"
+    ),
+    OutputQuantity(
+        "m32", "N·m", "moment of that reaction about z0, taken about P_i", True, "m_{32}"
+    ),
+    OutputQuantity(
+        "fric10", "N", "friction force of the guide on piston i, along e_i", True,
+        "f_{10}^{fr}", friction=True,
+    ),
+    OutputQuantity(
+        "fric21", "N·m", "friction moment of piston i on link 2 about z0", True,
+        "m_{21}^{fr}", friction=True,
+    ),
+    OutputQuantity(
+        "fric32", "N", "friction force of link 2 on the platform, along d_i", True,
+        "f_{32}^{fr}", friction=True,
+    ),
+)  # fmt: skip
+
+#: Per-leg quantities of the 46 columns, in the contract's order.
+PER_LEG_COLUMNS: tuple[str, ...] = tuple(
+    q.name for q in OUTPUT_QUANTITIES.values() if q.per_leg and not q.friction
 )
 
 #: Every column of ``results.csv``, in order.
-RESULT_COLUMNS: tuple[str, ...] = ("t", "x", "y", "phi") + tuple(
-    f"{quantity}_{leg}" for leg in LEGS for quantity in PER_LEG_COLUMNS
-)
+RESULT_COLUMNS: tuple[str, ...] = tuple(
+    q.name for q in OUTPUT_QUANTITIES.values() if not q.per_leg
+) + tuple(f"{quantity}_{leg}" for leg in LEGS for quantity in PER_LEG_COLUMNS)
 
 
 #: The 9 columns after the 46 when the robot has ``[friction]``, legs A, B, C in order.
 FRICTION_COLUMNS: tuple[str, ...] = tuple(
-    f"{quantity}_{leg}" for leg in LEGS for quantity in ("fric10", "fric21", "fric32")
+    f"{q.name}_{leg}" for leg in LEGS for q in OUTPUT_QUANTITIES.values() if q.friction
 )
+
+
+def output_quantity(column: str) -> OutputQuantity:
+    """The quantity of a ``results.csv`` column (``f10_A`` or ``f10``).
+
+    >>> q = output_quantity("m32_B")
+    >>> q.name, q.unit
+    ('m32', 'N·m')
+    """
+    stem, _, leg = column.rpartition("_")
+    if stem in OUTPUT_QUANTITIES and leg in LEGS and OUTPUT_QUANTITIES[stem].per_leg:
+        return OUTPUT_QUANTITIES[stem]
+    if column in OUTPUT_QUANTITIES:
+        return OUTPUT_QUANTITIES[column]
+    raise ParameterError(f"{column!r} is not a column of results.csv")
 
 
 def result_columns(friction: bool) -> tuple[str, ...]:
@@ -726,11 +826,11 @@ def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np
 
     >>> from prp3 import Robot, inverse_dynamics, paper_motion
     >>> table = results_table(*inverse_dynamics(Robot(), paper_motion("vertical", samples=4)))
-    >>> list(table) == list(RESULT_COLUMNS), table["f10_A"].shape
-    (True, (4,))
+    >>> len(table), list(table)[:6], list(table)[-1], table["f10_A"].shape
+    (46, ['t', 'x', 'y', 'phi', 'lambda10_A', 'dlambda10_A'], 'm32_C', (4,))
     """
     motion, geo = kin.motion, kin.geometry
-    per_leg = {
+    per_leg: dict[str, FloatArray | None] = {
         "lambda10": geo.lambda10,
         "dlambda10": kin.dlambda10,
         "ddlambda10": kin.ddlambda10,
@@ -745,21 +845,27 @@ def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np
         "m10": dyn.m10,
         "n32": dyn.n32,
         "m32": dyn.m32,
+        "fric10": dyn.fric10,
+        "fric21": dyn.fric21,
+        "fric32": dyn.fric32,
     }
-    table: dict[str, NDArray[np.float64]] = {
+    single = {
         "t": motion.t,
         "x": motion.pose[..., 0],
         "y": motion.pose[..., 1],
         "phi": motion.pose[..., 2],
     }
-    for j, leg in enumerate(LEGS):
-        for quantity in PER_LEG_COLUMNS:
-            table[f"{quantity}_{leg}"] = per_leg[quantity][..., j]
-    if dyn.fric10 is not None and dyn.fric21 is not None and dyn.fric32 is not None:
-        friction = {"fric10": dyn.fric10, "fric21": dyn.fric21, "fric32": dyn.fric32}
+    table: dict[str, NDArray[np.float64]] = {}
+    for quantity in OUTPUT_QUANTITIES.values():
+        if not quantity.per_leg:
+            table[quantity.name] = single[quantity.name]
+    friction = all(per_leg[q.name] is not None for q in OUTPUT_QUANTITIES.values() if q.friction)
+    for group in (False, True) if friction else (False,):
         for j, leg in enumerate(LEGS):
-            for quantity, values in friction.items():
-                table[f"{quantity}_{leg}"] = values[..., j]
+            for quantity in OUTPUT_QUANTITIES.values():
+                values = per_leg.get(quantity.name)
+                if quantity.per_leg and quantity.friction == group and values is not None:
+                    table[f"{quantity.name}_{leg}"] = values[..., j]
     return table
 
 

@@ -20,7 +20,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ._checks import require_finite
 from .errors import TrajectoryError
 from .geometry import (
     LEG_AXIS,
@@ -33,7 +32,7 @@ from .geometry import (
 from .kernel import NUMPY, kernel_geometry, kernel_kinematics, kernel_parameters
 from .model import Robot
 from .motion import Motion
-from .validation import check_instance, check_robot
+from .validation import check_instance, check_robot, require_finite
 
 __all__ = ["Kinematics", "inverse_kinematics", "jacobian"]
 

@@ -51,13 +51,12 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numpy.typing import NDArray
 
-from ._checks import first_non_finite
 from .errors import TrajectoryError
 from .forces import InverseDynamics
 from .geometry import ALPHA, check_poses, check_stroke
 from .model import Robot
 from .motion import Motion
-from .validation import check_robot
+from .validation import check_robot, first_non_finite
 
 __all__ = [
     "FORCE_SETS",

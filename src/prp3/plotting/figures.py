@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..geometry import LEGS
-from ..io import atomic_path
+from ..io import OUTPUT_QUANTITIES, atomic_path
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -89,23 +89,28 @@ class Quantity:
 
 
 #: The quantities drawn by :func:`results_figures`, in the order they are written.
+def _plotted(column: str, caption: str, unit: str | None = None, scale: float = 1.0) -> Quantity:
+    """A quantity of :data:`prp3.io.OUTPUT_QUANTITIES` as plotted.
+
+    Its symbol and unit come from there; or ``unit``, ``scale`` times the SI value.
+    """
+    quantity = OUTPUT_QUANTITIES[column]
+    return Quantity(column, caption, quantity.symbol, unit or quantity.unit, scale)
+
+
 QUANTITIES: dict[str, Quantity] = {
-    "p10": Quantity("p10", "Powers of the three actuators", "p_{10}", "W"),
-    "f21y": Quantity("f21y", "Internal joint forces", "f_{21y}", "N"),
-    "f21z": Quantity("f21z", "Internal joint forces", "f_{21z}", "N"),
-    "f10": Quantity("f10", "Forces of the three actuators", "f_{10}", "N"),
-    "lambda10": Quantity(
-        "lambda10", "Displacements of the three actuators", "\\lambda_{10}", "mm", 1e3
-    ),
+    "p10": _plotted("p10", "Powers of the three actuators"),
+    "f21y": _plotted("f21y", "Internal joint forces"),
+    "f21z": _plotted("f21z", "Internal joint forces"),
+    "f10": _plotted("f10", "Forces of the three actuators"),
+    "lambda10": _plotted("lambda10", "Displacements of the three actuators", "mm", 1e3),
 }
 
 #: The friction columns drawn by :func:`friction_figure`, top to bottom.
 FRICTION_QUANTITIES: dict[str, Quantity] = {
-    "fric10": Quantity(
-        "fric10", "actuator guide: force of the base on piston $i$ along $e_i$", "", "N"
-    ),
-    "fric21": Quantity("fric21", "revolute joint: moment of piston $i$ on link 2", "", "N·m"),
-    "fric32": Quantity("fric32", "sleeve: force of link 2 on the platform along $d_i$", "", "N"),
+    "fric10": _plotted("fric10", "actuator guide: force of the base on piston $i$ along $e_i$"),
+    "fric21": _plotted("fric21", "revolute joint: moment of piston $i$ on link 2"),
+    "fric32": _plotted("fric32", "sleeve: force of link 2 on the platform along $d_i$"),
 }
 
 #: File name of the friction figure.
