@@ -42,6 +42,7 @@ import prp3.model
 import prp3.motion
 import prp3.paper
 import prp3.runs
+import prp3.workspace
 from prp3.errors import Prp3Error
 
 #: Modules whose ``__all__`` is walked besides ``prp3``'s own.
@@ -78,6 +79,7 @@ EXEMPT: dict[str, str] = {
     "CompiledRobot": "built by compile_robot from a validated robot",
     "OrientationScan": "result type",
     "WorkspaceSlice": "result type",
+    "WorkspaceStatics": "result type",
     "Tracking": "result type",
     "RecursiveMatrixResult": "result type",
     "RunSummary": "result type",
@@ -509,6 +511,14 @@ CASES: dict[str, Case] = {
     ),
     "workspace_slice": _case(
         prp3.workspace_slice,
+        {"robot": OBJ, "phi": R, "x": T, "y": T},
+        robot=ROBOT,
+        phi=0.1,
+        x=np.array([0.0, 0.01]),
+        y=np.array([0.0, 0.01]),
+    ),
+    "workspace_statics": _case(
+        prp3.workspace.workspace_statics,
         {"robot": OBJ, "phi": R, "x": T, "y": T},
         robot=ROBOT,
         phi=0.1,
