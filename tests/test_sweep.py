@@ -608,3 +608,79 @@ def test_traced_parameters_of_designs_are_kernel_parameters_of_their_robots(tmp_
         for name in prp3.design._PARAMETER_FIELDS:
             got = fixed[name] if name in fixed else columns[name][k]
             assert got == getattr(expected, name), (name, k)
+
+
+def test_optimize_sends_its_objective_to_the_workers_once(scheduler, monkeypatch):
+    from dask.distributed import Client, Future
+
+    spec = sweep_spec(
+        {
+            "seed": 4,
+            "parameters": {"link.mass": [0.3, 1.0], "platform.mass": [2.0, 4.0]},
+            "task": {"motions": ["vertical"], "samples": 21},
+            "optimize": {"objective": "peak_f10", "maxiter": 3, "popsize": 3},
+        }
+    )
+    with Client(scheduler, set_as_default=False) as client:
+        scattered, submitted = [], []
+        real_scatter, real_submit = client.scatter, client.submit
+
+        def scatter(data, **options):
+            scattered.append(data)
+            return real_scatter(data, **options)
+
+        def submit(function, *args, **options):
+            submitted.append(args)
+            return real_submit(function, *args, **options)
+
+        monkeypatch.setattr(client, "scatter", scatter)
+        monkeypatch.setattr(client, "submit", submit)
+        outcome = prp3.sweep.optimize_design(spec, client)
+    assert len(scattered) == 1 and isinstance(scattered[0], prp3.design.DesignObjective)
+    assert outcome.generations >= 2 and len(submitted) > outcome.generations
+    assert all(isinstance(args[0], Future) for args in submitted)
+    assert len({args[0].key for args in submitted}) == 1  # every generation: the same copy
+    # evaluated together, each member has the value it has alone
+    objective = scattered[0]
+    xs = design_values(spec)[:6]
+    assert objective.many(xs).tolist() == [objective(x) for x in xs]
+
+
+def test_a_finished_sweep_leaves_no_staging_folder_of_its_own_or_of_other_specs(
+    tmp_path, capsys, scheduler, monkeypatch
+):
+    old = write(tmp_path / "old.toml", LHS)
+    new = write(tmp_path / "new.toml", LHS.replace("seed = 7", "seed = 8"))
+    out = tmp_path / "study"
+    mine = out / ".prp3-sweep-notes"  # not a staging folder: never touched
+    mine.mkdir(parents=True)
+    # the sweep of old.toml interrupted after two of its four chunks
+    original = prp3.sweep._arrow_table
+    written = []
+
+    def interrupt(columns, names):
+        if len(written) == 2:
+            raise KeyboardInterrupt
+        written.append(1)
+        return original(columns, names)
+
+    monkeypatch.setattr(prp3.sweep, "_arrow_table", interrupt)
+    assert cli(capsys, "sweep", "--spec", old, "-o", out, "--scheduler", scheduler)[0] == 130
+    monkeypatch.setattr(prp3.sweep, "_arrow_table", original)
+    (stale,) = [p for p in out.glob(".prp3-sweep-*") if p != mine]
+    # its spec changed: a new sweep into the same folder says what it will remove, then does
+    status, text, err = cli(capsys, "sweep", "--spec", new, "-o", out, "--scheduler", scheduler)
+    assert status == 0, err
+    described = f"{stale} (2 of 4 chunks of {old})"
+    assert err == (
+        f"prp3 sweep: warning: {described}: an unfinished sweep of another spec; it is "
+        "removed when this sweep finishes (resume it first to keep it)\n"
+    )
+    assert f"  removed {described}: superseded by this sweep" in text
+    assert sorted(out.iterdir()) == [mine, out / "designs.parquet"]
+    # a finished sweep whose own staging folder was left (stopped before removing it)
+    staging = prp3.sweep.staging_folder(out, read_sweep_spec(new))
+    staging.mkdir()
+    status, text, err = cli(capsys, "sweep", "--spec", new, "-o", out, "--scheduler", scheduler)
+    assert (status, err) == (0, "") and "0 of 4 chunks computed" in text
+    assert sorted(out.iterdir()) == [mine, out / "designs.parquet"]

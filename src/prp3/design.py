@@ -837,8 +837,15 @@ class DesignObjective:
 
     def __call__(self, x: FloatArray) -> float:
         """``penalized_objective`` of the design with parameter values ``x`` (shape (p,))."""
-        columns = evaluate_designs(self.evaluator, np.asarray(x, dtype=np.float64)[None, :])
-        return float(penalized_objective(self.optimize, columns)[0])
+        return float(self.many(np.asarray(x, dtype=np.float64)[None, :])[0])
+
+    def many(self, xs: FloatArray) -> FloatArray:
+        """``penalized_objective`` of designs ``xs`` ``(k, p)``, evaluated together: ``(k,)``.
+
+        The value of each design is the one :meth:`__call__` gives it alone.
+        """
+        columns = evaluate_designs(self.evaluator, np.asarray(xs, dtype=np.float64))
+        return penalized_objective(self.optimize, columns)
 
 
 # ------------------------------------------------------------------ SWEEP.toml

@@ -13,7 +13,12 @@ nominal robot, the parameters, the sampling, the task's samples).  A sweep
 that was interrupted and is run again with the same spec computes only the
 chunks the folder lacks; then the chunks are joined in order into one
 Parquet file, written atomically, and the folder is removed.  The Parquet
-file is the same, byte for byte, as the one of an uninterrupted run.  Its
+file is the same, byte for byte, as the one of an uninterrupted run.  The
+staging folders of other specs in ``DIR`` (an interrupted sweep whose spec
+was changed since) hold work that ``DIR/designs.parquet`` no longer is
+about: a sweep that finishes removes them, and says which
+(:attr:`SweepRun.removed`; :func:`stale_staging_folders` lists them
+before).  Its
 key-value metadata holds the digest, the spec and the row of the nominal
 design (``prp3.*`` keys; :func:`read_designs`).
 
@@ -72,6 +77,7 @@ __all__ = [
     "read_designs",
     "run_sweep",
     "staging_folder",
+    "stale_staging_folders",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -88,6 +94,12 @@ QUIET_SCHEDULER: dict[str, Any] = {"dashboard": False, "dashboard_address": ":0"
 
 #: Rows per Parquet row group of ``designs.parquet``.
 ROW_GROUP: int = 65_536
+
+#: Names of the staging folders of sweeps (``.prp3-sweep-`` and 20 hex digits of the digest).
+_STAGING = re.compile(r"^\.prp3-sweep-[0-9a-f]{20}$")
+
+#: The file of a staging folder that says which sweep it belongs to.
+_MANIFEST = "sweep.json"
 
 
 # ------------------------------------------------------------------ cluster
@@ -292,6 +304,9 @@ class SweepRun:
         folder of an interrupted run, or the file was complete already).
     status : dict
         Number of designs per status.
+    removed : tuple of str
+        The staging folders of other specs that were removed, described
+        (:func:`stale_staging_folders`).
     """
 
     path: Path
@@ -299,11 +314,52 @@ class SweepRun:
     chunks: int
     computed: int
     status: dict[str, int] = field(default_factory=dict)
+    removed: tuple[str, ...] = ()
 
 
 def staging_folder(output: str | Path, spec: SweepSpec) -> Path:
     """The staging folder of the chunks of ``spec`` in ``output``."""
     return Path(output) / f".prp3-sweep-{spec.digest()[:20]}"
+
+
+def stale_staging_folders(output: str | Path, spec: SweepSpec) -> list[tuple[Path, str]]:
+    """The staging folders in ``output`` of sweeps of other specs, each with its description.
+
+    An interrupted sweep leaves its folder; when its spec is changed and the
+    sweep run again into the same directory, the old folder can no longer be
+    resumed into ``output/designs.parquet`` (that file is the new spec's).
+    Only folders named as :func:`staging_folder` names them are listed.  The
+    description names the folder, its chunks and, when it says so, its spec
+    file: ``DIR/.prp3-sweep-… (2 of 4 chunks of old.toml)``.
+    """
+    output = Path(output)
+    own = staging_folder(output, spec).name
+    try:
+        entries = sorted(output.iterdir())
+    except OSError:
+        return []
+    stale = []
+    for folder in entries:
+        if folder.name == own or not _STAGING.match(folder.name) or not folder.is_dir():
+            continue
+        chunks = len(list(folder.glob("chunk-*.parquet")))
+        of = ""
+        try:  # written by the sweep that made the folder; a missing or odd one says less
+            manifest = json.loads((folder / _MANIFEST).read_text(encoding="utf-8"))
+            of = f" of {int(manifest['chunks'])} chunks of {str(manifest['spec'])[:200]}"
+        except (OSError, ValueError, KeyError, TypeError):
+            of = " chunks"
+        stale.append((folder, f"{folder} ({chunks}{of})"))
+    return stale
+
+
+def _remove_stale(output: Path, spec: SweepSpec) -> tuple[str, ...]:
+    removed = []
+    for folder, described in stale_staging_folders(output, spec):
+        shutil.rmtree(folder, ignore_errors=True)
+        if not folder.exists():
+            removed.append(described)
+    return tuple(removed)
 
 
 def _chunk_file(staging: Path, index: int) -> Path:
@@ -355,17 +411,23 @@ def run_sweep(
     target = output / DESIGNS_FILE
     digest = spec.digest()
     names = spec.evaluator.columns
+    staging = staging_folder(output, spec)
     if target.is_file():
         with contextlib.suppress(InputFileError):
             done = read_designs(target, ["status"])
-            if done.digest == digest:
-                return _summary(target, done.columns, 0, spec)
+            if done.digest == digest:  # finished: what is left of its staging goes
+                shutil.rmtree(staging, ignore_errors=True)
+                removed = _remove_stale(output, spec)
+                return _summary(target, done.columns, 0, spec, removed)
     values = design_values(spec)
     count = len(values)
     starts = list(range(0, count, spec.chunk))
-    staging = staging_folder(output, spec)
     try:
         staging.mkdir(parents=True, exist_ok=True)
+        if not (staging / _MANIFEST).is_file():
+            described = {"spec": spec.source, "digest": digest, "chunks": len(starts)}
+            with atomic_path(staging / _MANIFEST) as temporary:
+                temporary.write_text(json.dumps(described), encoding="utf-8")
     except OSError as error:
         raise OutputFileError(f"{staging}: cannot create ({error.strerror})") from None
     rows = [min(spec.chunk, count - start) for start in starts]
@@ -409,7 +471,9 @@ def run_sweep(
                     writer.write_table(pa.concat_tables(group), row_group_size=ROW_GROUP)
                     group, grouped = [], 0
     shutil.rmtree(staging, ignore_errors=True)
-    return _summary(target, read_designs(target, ["status"]).columns, len(missing), spec)
+    removed = _remove_stale(output, spec)
+    columns = read_designs(target, ["status"]).columns
+    return _summary(target, columns, len(missing), spec, removed)
 
 
 def _compute_chunks(
@@ -455,7 +519,9 @@ def _compute_chunks(
     return finished
 
 
-def _summary(path: Path, columns: dict[str, Any], computed: int, spec: SweepSpec) -> SweepRun:
+def _summary(
+    path: Path, columns: dict[str, Any], computed: int, spec: SweepSpec, removed: tuple[str, ...]
+) -> SweepRun:
     statuses, counts = np.unique(np.asarray(columns["status"]), return_counts=True)
     chunks = -(-spec.count // spec.chunk)
     return SweepRun(
@@ -464,6 +530,7 @@ def _summary(path: Path, columns: dict[str, Any], computed: int, spec: SweepSpec
         chunks=chunks,
         computed=computed,
         status={str(s): int(c) for s, c in zip(statuses, counts, strict=True)},
+        removed=removed,
     )
 
 
@@ -473,33 +540,61 @@ class DaskMap:
 
     The members of a generation are split into one part per worker, each
     evaluated by a Dask task; every evaluation is recorded in :attr:`history`
-    as ``(generation, x, value)``.
+    as ``(generation, x, value)``.  The function goes to the workers once
+    (scattered to every worker on its first use, ``broadcast=True``), and
+    every task refers to that copy: a generation sends only its members.
+    With ``batch``, a part is evaluated by one call ``batch.many(members)``
+    (``(k, p)`` -> ``(k,)``, the same values as ``func`` one by one) instead
+    of ``func`` member by member.
     """
 
-    def __init__(self, client: Client) -> None:
+    def __init__(self, client: Client, batch: DesignObjective | None = None) -> None:
         self.client = client
+        self.batch = batch
         self.generation = 0
         self.history: list[tuple[int, FloatArray, float]] = []
+        self._scattered: tuple[object, Any] | None = None  # (function, its future)
+
+    def _shared(self, func: object) -> Any:
+        """The future of ``func`` on the workers, scattered the first time it is seen."""
+        if self._scattered is None or self._scattered[0] is not func:
+            future = self.client.scatter(func, broadcast=True, hash=False)
+            self._scattered = (func, future)
+        return self._scattered[1]
 
     def __call__(self, func: Callable[[Any], float], iterable: Iterable[Any]) -> list[float]:
         """Evaluate ``func`` on every member of ``iterable`` on the workers, in order."""
         members = [np.asarray(x, dtype=np.float64) for x in iterable]
         parts = max(1, min(len(members), _worker_count(self.client)))
         split = [list(part) for part in np.array_split(np.arange(len(members)), parts)]
-        futures = [
-            self.client.submit(_apply, func, [members[k] for k in part], pure=False)
-            for part in split
-            if part
-        ]
-        values = [v for part in self.client.gather(futures) for v in part]
+        if self.batch is not None:
+            shared = self._shared(self.batch)
+            futures = [
+                self.client.submit(_apply_many, shared, np.stack([members[k] for k in part]),
+                                   pure=False)
+                for part in split
+                if part
+            ]  # fmt: skip
+        else:
+            shared = self._shared(func)
+            futures = [
+                self.client.submit(_apply, shared, [members[k] for k in part], pure=False)
+                for part in split
+                if part
+            ]
+        values = [float(v) for part in self.client.gather(futures) for v in part]
         for x, value in zip(members, values, strict=True):
-            self.history.append((self.generation, x, float(value)))
+            self.history.append((self.generation, x, value))
         self.generation += 1
         return values
 
 
 def _apply(func: Callable[[Any], float], members: list[FloatArray]) -> list[float]:
     return [float(func(x)) for x in members]
+
+
+def _apply_many(objective: DesignObjective, members: FloatArray) -> list[float]:
+    return [float(v) for v in objective.many(members)]
 
 
 @dataclass(frozen=True)
@@ -546,7 +641,7 @@ def optimize_design(spec: SweepSpec, client: Client) -> OptimizeOutcome:
 
     settings = spec.optimize
     objective = DesignObjective(spec.evaluator, settings)
-    mapper = DaskMap(client)
+    mapper = DaskMap(client, batch=objective)
     result = differential_evolution(
         objective,
         spec.bounds,

@@ -191,6 +191,12 @@ def run_sweep(args: argparse.Namespace) -> int:
     for name, _ in axes:
         _check_quantity(spec, name, "--pareto")
     _check_quantity(spec, args.sensitivity, "--sensitivity")
+    for _, described in sweep.stale_staging_folders(output, spec):
+        print(
+            f"{args.program}: warning: {described}: an unfinished sweep of another spec; "
+            "it is removed when this sweep finishes (resume it first to keep it)",
+            file=sys.stderr,
+        )
     progress = Progress(sys.stderr)
     start = time.monotonic()
     try:
@@ -226,6 +232,7 @@ def run_sweep(args: argparse.Namespace) -> int:
         f"  {result.computed} of {result.chunks} chunks computed"
         + (f", {reused} found done" if reused else "")
         + f", {elapsed:.3g} s",
+        *(f"  removed {described}: superseded by this sweep" for described in result.removed),
         "files written:",
         *(f"  {path}" for path in written),
     ]
