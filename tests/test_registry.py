@@ -7,14 +7,18 @@ expected texts below are written out here, not taken from the registry.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
+from hypothesis import given, settings
 
 import prp3
 from prp3.errors import ParameterError
-from prp3.io import OUTPUT_QUANTITIES, output_quantity, result_columns
+from prp3.io import OUTPUT_QUANTITIES, output_quantity, result_columns, results_table
 from prp3.model import Friction, JointFriction
 from prp3.runs import simulate_table, summarize, summary_text
+from strategies import scenarios
 
 #: The contract's units (docs/model.md, section *Quantities and signs*).
 UNITS = {
@@ -65,3 +69,30 @@ def test_figure_labels_and_summary_units_come_from_the_registry() -> None:
     ]
     text = summary_text(summarize(table, np.zeros(7)), "heading", [])
     assert "peak |f10| (N)" in text and "peak |p10| (W)" in text and "peak |f21| (N)" in text
+
+
+@settings(max_examples=8, deadline=None)
+@given(scenario=scenarios())
+def test_the_run_table_is_the_results_table_bit_for_bit(scenario) -> None:
+    # simulate_table takes the columns straight from the kernel (no joint and body vectors)
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 20))
+    friction = Friction(actuator=JointFriction(viscous=1.5, coulomb=0.3))
+    for subject in (robot, replace(robot, friction=friction)):
+        expected = results_table(*prp3.inverse_dynamics(subject, motion))
+        table = simulate_table(subject, motion, chunk=7)
+        assert list(table) == list(expected)
+        for name, column in expected.items():
+            assert np.array_equal(table[name], column), name
+
+
+def test_an_overflow_in_a_later_chunk_names_its_sample_and_time() -> None:
+    motion = prp3.paper_motion("vertical", 10)
+    velocity = motion.velocity.copy()
+    velocity[8] = [0.0, 0.0, 1e200]
+    spoilt = prp3.Motion(
+        t=motion.t, pose=motion.pose, velocity=velocity, acceleration=motion.acceleration
+    )
+    with pytest.raises(prp3.TrajectoryError, match="the results overflow") as info:
+        simulate_table(prp3.Robot(), spoilt, chunk=3)
+    assert (info.value.sample, info.value.time) == (8, float(motion.t[8]))

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 
 from .dynamics import Method, inverse_dynamics
 from .errors import ParameterError, Prp3Error
+from .fast import CompiledRobot, compile_robot, solve_batch
 from .geometry import LEGS
 from .io import OUTPUT_QUANTITIES, result_columns, results_table
 from .model import Robot
@@ -64,19 +65,47 @@ def simulate_table(
     samples = check_instance("motion", motion, Motion, "a prp3.Motion").samples
     chunk = check_integer("chunk", chunk, 1, 2**31)
     table = {name: np.empty(samples) for name in result_columns(robot.friction is not None)}
+    compiled = compile_robot(robot) if method == "fast" else None
     for start in range(0, samples, chunk):
         stop = min(start + chunk, samples)
+        piece = motion[start:stop]
         try:
-            part = results_table(*inverse_dynamics(robot, motion[start:stop], method))
+            if compiled is not None:  # the kernel's outputs are the columns: no vectors needed
+                part = _kernel_table(compiled, piece)
+            else:
+                part = results_table(*inverse_dynamics(robot, piece, method))
         except Prp3Error as error:
             if error.sample is None:
                 raise
-            raise error.located(sample=error.sample + start) from None
+            moved = error.located(sample=error.sample + start)
+            if error.subject == "motion" and error.time is None:
+                moved = moved.located(time=float(piece.t[error.sample]))
+            raise moved from None
         for name, column in part.items():
             table[name][start:stop] = column
         if progress is not None:
             progress(stop, samples)
     return table
+
+
+def _kernel_table(compiled: CompiledRobot, motion: Motion) -> dict[str, FloatArray]:
+    """The columns of ``results.csv`` straight from the kernel (``method="fast"``).
+
+    The same numbers, bit for bit, as ``results_table(*inverse_dynamics(...))``
+    (:func:`prp3.fast.solve_batch` returns every per-leg column), without the
+    joint and body vectors of :func:`~prp3.kinematics.inverse_kinematics` that
+    ``results.csv`` does not hold; the same refusals (poses, stroke, overflow).
+    """
+    values = solve_batch(
+        compiled, motion.pose, motion.velocity, motion.acceleration, load=motion.load
+    )
+    single = {"t": motion.t, "x": motion.pose[:, 0], "y": motion.pose[:, 1]}
+    single["phi"] = motion.pose[:, 2]
+    columns = result_columns(compiled.robot.friction is not None)
+    return {
+        name: single[name] if name in single else values[name[:-2]][:, LEGS.index(name[-1])]
+        for name in columns
+    }
 
 
 @dataclass(frozen=True)
