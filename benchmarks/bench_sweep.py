@@ -18,8 +18,8 @@ designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
   call for a robot it has not seen (what a sweep would pay per design through
   ``paper_forces``: the batch path prepares its code per robot);
 * ``evaluate_designs`` — :func:`prp3.design.evaluate_designs` on one chunk in
-  this process: :func:`prp3.kernel.solve` on blocks of designs × samples, the
-  robots, peaks and energy, no Dask;
+  this process: the kernel traced for blocks of designs × samples (the
+  designs' parameters traced from their values), peaks and energy, no Dask;
 * ``sweep, 1 worker`` / ``2 workers`` — :func:`prp3.sweep.run_sweep` on a
   LocalCluster of 1 or 2 worker processes (one thread each), Parquet files
   included; the cluster start is timed apart (it is paid once per command).
@@ -159,7 +159,7 @@ def main() -> int:
         ("kernel: paper_forces, 1e5 samples/call", kernel_rate / task),
         (f"paper_forces, 1 call of {task} samples", 1.0 / t_call),
         ("paper_forces per new robot (compile + call)", 1.0 / t_design),
-        ("evaluate_designs (kernel.solve blocks)", 1.0 / t_eval),
+        ("evaluate_designs (traced kernel, blocks)", 1.0 / t_eval),
     ]
     starts: dict[int, float] = {}
     for workers in (1, 2):

@@ -499,7 +499,7 @@ def test_rows_are_the_batch_kernel_of_each_design_bit_for_bit():
         ]
         for leg, j in zip(LEGS, range(3), strict=True):
             f10 = max(np.abs(f.f10[:, j]).max() for f in forces)
-            f21 = max(np.hypot(f.f21y[:, j], f.f21z[:, j]).max() for f in forces)
+            f21 = max(np.sqrt(f.f21y[:, j] ** 2 + f.f21z[:, j] ** 2).max() for f in forces)
             n32 = max(np.abs(f.n32[:, j]).max() for f in forces)
             assert columns[f"peak_f10_{leg}"][k] == f10
             assert columns[f"peak_f21_{leg}"][k] == f21

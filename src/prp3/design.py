@@ -354,10 +354,13 @@ _BROADCAST_FIELDS: frozenset[str] = frozenset(INERTIAL_FIELDS) | {
     if name.startswith("load") or name.endswith(("viscous", "coulomb"))
 }
 
-#: Outputs of the design kernel: |f10|, |p10|, f21y, f21z, |n32| (3 legs each), the
-#: input power Σ p10, and with a stroke λ10 (3 legs).
-_PEAK_ROWS = (0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 13, 14)  # f10, p10, f21 (in rows 6-8), n32
-_POWER_ROW = 15
+#: Outputs of the design kernel: |f10|, |p10|, f21y² + f21z², |n32| (3 legs each; the peaks
+#: are their maxima, the square root of the third taken after the maximum: the same
+#: number, √ is monotonic), the input power Σ p10, and with a stroke λ10 (3 legs).
+_PEAKS = 12
+_SQUARED = slice(6, 9)
+_POWER_ROW = 12
+_LAMBDA_ROWS = slice(13, 16)
 
 #: The traced design kernels of this process: (varying fields, fixed fields, stroke) -> code.
 _KERNELS: dict[tuple[Any, ...], Callable[..., None]] = {}
@@ -389,8 +392,7 @@ def _design_kernel(
             return (
                 *(ops.abs(v) for v in sol.f10),
                 *(ops.abs(v) for v in p10),
-                *sol.f21y,
-                *sol.f21z,
+                *(y * y + z * z for y, z in zip(sol.f21y, sol.f21z, strict=True)),
                 *(ops.abs(v) for v in sol.n32),
                 p10[0] + p10[1] + p10[2],
                 *(sol.lambda10 if stroke else ()),
@@ -430,7 +432,7 @@ def _kernel_results(
     shapes = {1: (designs, 1), 2: (1, width), 3: (designs, width)}
     blocks = function.blocks  # type: ignore[attr-defined]
     work = [np.empty((rows, *shapes[mask])) for mask, rows in blocks]
-    out = np.empty((_POWER_ROW + 1 + (3 if stroke else 0), designs, width))
+    out = np.empty((_POWER_ROW + 1 + (3 if stroke else 0), designs, width))  # rows as above
     power = np.empty((designs, samples))
     results = np.empty((count, _RESULTS))
     low = np.empty(count)
@@ -439,7 +441,7 @@ def _kernel_results(
         for start in range(0, count, designs):
             b = min(designs, count - start)
             parameters = [table[start : start + b, j : j + 1] for j in range(len(varying))]
-            peaks = np.full((len(_PEAK_ROWS), b), -np.inf)
+            peaks = np.full((_PEAKS, b), -np.inf)
             least = np.full(b, np.inf)
             largest = np.full(b, -np.inf)
             for first_sample in range(0, samples, width):
@@ -451,12 +453,13 @@ def _kernel_results(
                 o = out[:, :b, :n]
                 state = [row[None, first_sample : first_sample + n] for row in states]
                 function(*parameters, *state, out=o, work=views)
-                np.hypot(o[6:9], o[9:12], out=o[6:9])
-                np.maximum(peaks, o[list(_PEAK_ROWS)].max(axis=2), out=peaks)
+                np.maximum(peaks, o[:_PEAKS].max(axis=2), out=peaks)
                 power[:b, first_sample : first_sample + n] = o[_POWER_ROW]
                 if stroke:
-                    np.fmin(least, np.fmin.reduce(o[16:19], axis=(0, 2)), out=least)
-                    np.fmax(largest, np.fmax.reduce(o[16:19], axis=(0, 2)), out=largest)
+                    lam = o[_LAMBDA_ROWS]
+                    np.fmin(least, np.fmin.reduce(lam, axis=(0, 2)), out=least)
+                    np.fmax(largest, np.fmax.reduce(lam, axis=(0, 2)), out=largest)
+            np.sqrt(peaks[_SQUARED], out=peaks[_SQUARED])
             results[start : start + b, :-1] = peaks.T
             results[start : start + b, -1] = _energy(evaluator, power[:b])
             low[start : start + b] = least
@@ -501,7 +504,9 @@ def _one_design(evaluator: DesignEvaluator, robot: Robot) -> tuple[FloatArray, F
         values = [
             *peak([np.abs(v) for v in solution.f10]),
             *peak([np.abs(v) for v in p10]),
-            *peak([np.hypot(a, b) for a, b in zip(solution.f21y, solution.f21z, strict=True)]),
+            *np.sqrt(
+                peak([y * y + z * z for y, z in zip(solution.f21y, solution.f21z, strict=True)])
+            ),
             *peak([np.abs(v) for v in solution.n32]),
         ]
         energy = float(
