@@ -515,6 +515,7 @@ def test_rows_are_the_batch_kernel_of_each_design_bit_for_bit():
             "[friction.sleeve]\nviscous = 2.0\ncoulomb = 0.5\nsmoothing = 0.01\n",
         ),
         ({"friction.sleeve.mu": [0.2, 0.5]}, "[friction.sleeve]\ncoulomb = 0.5\n"),
+        ({"friction.actuator.viscous": [0.0, 2.0], "l0": [0.25, 0.35]}, ""),  # no [friction]
     ],
 )
 def test_loads_and_friction_are_parameters_too(tmp_path, parameters, robot):

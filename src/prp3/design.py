@@ -12,8 +12,10 @@ nominal robot gives ``platform.inertia`` or it is swept itself, as in
 
 The *task* is a list of motions (the paper's, or trajectory files).
 :func:`evaluate_designs` runs the one kernel (:func:`prp3.kernel.solve`,
-reactions included) on a block of designs × the task's samples per call —
-the robots' constants as columns, the states as a row: the operations of
+reactions included), traced once per process into numpy code for blocks of
+designs × the task's samples — the designs' constants as a column (their
+kernel parameters traced the same way from their values, no robot built
+per design), the states as a row: the operations of
 :func:`prp3.fast.paper_forces`, bit for bit, without its cost of preparing
 each new robot — and reduces the forces to the columns of
 ``designs.parquet`` (:func:`design_columns`):
