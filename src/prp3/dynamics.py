@@ -61,8 +61,13 @@ def kernel_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
     motion = check_instance("kin", kin, Kinematics, "a prp3.Kinematics").motion
     values = solve_batch(robot, motion.pose, motion.velocity, motion.acceleration, load=motion.load)
     names = FORCE_NAMES + (FRICTION_NAMES if robot.friction is not None else ())
-    extra = {"iterations": values["iterations"]} if "iterations" in values else {}
-    result = InverseDynamics(**{name: values[name] for name in names}, method="fast", **extra)
+    implicit = "iterations" in values
+    result = InverseDynamics(
+        **{name: values[name] for name in names},
+        method="fast",
+        iterations=values["iterations"] if implicit else None,
+        near_lock=values["near_lock"] > 0.5 if implicit else None,
+    )
     return checked(result, motion.t)
 
 

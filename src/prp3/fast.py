@@ -385,7 +385,9 @@ def solve_batch(
     The names are :data:`KERNEL_OUTPUTS` (joint displacements, rates, forces
     and reactions), with a robot's ``[friction]`` also :data:`FRICTION_OUTPUTS`
     and, with ``μ`` terms, ``"iterations"`` (shape ``(N,)``: Newton
-    iterations of each sample); shapes as :func:`paper_forces`.  ``load``:
+    iterations of each sample) and ``"near_lock"`` (shape ``(N,)``: 1.0 where
+    the sample is near a lock, :data:`prp3.kernel.NEAR_LOCK_MU`, else 0.0);
+    shapes as :func:`paper_forces`.  ``load``:
     the time-varying wrench ``(f_x, f_y, m_z)`` on the platform, shaped as
     ``pose``.
 
@@ -399,15 +401,19 @@ def solve_batch(
     wrench = None
     if load is not None:
         wrench = _load(load, shape).reshape(-1, 3)
-    iterations = np.zeros(shape[:-1]) if compiled.parameters.has_mu else None
+    implicit = compiled.parameters.has_mu
+    iterations = np.zeros(shape[:-1]) if implicit else None
+    near_lock = np.zeros(shape[:-1]) if implicit else None
     if flat[0].shape[0]:
         targets = {name: array.reshape(-1, 3) for name, array in result.items()}
         _compute(
             compiled, flat, targets, _chunk_size(chunk_size), load=wrench,
             mu_iterations=None if iterations is None else iterations.reshape(-1),
+            mu_near_lock=None if near_lock is None else near_lock.reshape(-1),
         )  # fmt: skip
-    if iterations is not None:
+    if iterations is not None and near_lock is not None:
         result["iterations"] = iterations
+        result["near_lock"] = near_lock
     return result
 
 
@@ -488,6 +494,7 @@ def _compute(
     backend: str = "numpy",
     load: FloatArray | None = None,
     mu_iterations: FloatArray | None = None,
+    mu_near_lock: FloatArray | None = None,
 ) -> None:
     """The kernel on chunks of samples into ``targets`` (name → ``(N, 3)``); validated.
 
@@ -495,7 +502,8 @@ def _compute(
     target; the numba backend into a block, then copied.  ``load``: the
     time-varying wrench ``(N, 3)`` on the platform, or ``None``;
     ``mu_iterations``: an ``(N,)`` array for the Newton iterations of the
-    ``μ`` terms.  With either, the kernel runs on numpy arrays directly
+    ``μ`` terms, ``mu_near_lock`` one for their near-lock flags (1.0).  With
+    either, the kernel runs on numpy arrays directly
     (:func:`_compute_direct`).
     """
     samples = inputs[0].shape[0]
@@ -505,7 +513,7 @@ def _compute(
         or compiled.parameters.has_mu
         or (backend == "numpy" and samples < _TRACE_SAMPLES and not traced)
     ):  # a few samples of a new robot: tracing would cost more than it saves
-        _compute_direct(compiled, inputs, targets, chunk_size, load, mu_iterations)
+        _compute_direct(compiled, inputs, targets, chunk_size, load, mu_iterations, mu_near_lock)
         return
     width = min(chunk_size, samples)
     names = tuple(targets)
@@ -547,6 +555,7 @@ def _compute_direct(
     chunk_size: int,
     load: FloatArray | None = None,
     mu_iterations: FloatArray | None = None,
+    mu_near_lock: FloatArray | None = None,
 ) -> None:
     """:func:`_compute` by the kernel on numpy arrays (a time-varying load, ``μ`` terms).
 
@@ -578,7 +587,7 @@ def _compute_direct(
                 if load is None
                 else (load[start:stop, 0], load[start:stop, 1], load[start:stop, 2])
             )
-            f10, f21y, f21z, rest, friction, iterations = kernel.dynamics(
+            f10, f21y, f21z, rest, friction, iterations, near_lock = kernel.dynamics(
                 kernel.NUMPY, params, kin, ddx, ddy, dphi, ddphi, reactions=reactions, load=wrench
             )
             values = {"f10": f10, "f21y": f21y, "f21z": f21z}
@@ -601,6 +610,8 @@ def _compute_direct(
                     )
                 if mu_iterations is not None:
                     mu_iterations[start:stop] = iterations
+                if mu_near_lock is not None:
+                    mu_near_lock[start:stop] = near_lock
             for name in ("lambda10", "lambda32"):
                 values[name] = getattr(geo, name)
             for name in ("dlambda10", "ddlambda10", "dlambda32", "ddlambda32"):

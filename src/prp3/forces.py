@@ -63,6 +63,12 @@ class InverseDynamics:
     iterations : ndarray or None
         With ``μ`` terms of friction: the iterations of the implicit solve of
         each sample (batch shape); else ``None``.
+    near_lock : ndarray of bool or None
+        With ``μ`` terms, by the kernel (``method="fast"``): whether each
+        sample is near a lock of the joint friction (batch shape): the
+        solution reached continuously from ``μ = 0`` would end with ``μ``
+        coefficients :data:`prp3.kernel.NEAR_LOCK_MU` times larger, and a
+        second solution may lie close by; else ``None``.
     """
 
     f10: FloatArray
@@ -78,6 +84,7 @@ class InverseDynamics:
     fric21: FloatArray | None = None
     fric32: FloatArray | None = None
     iterations: FloatArray | None = None
+    near_lock: NDArray[np.bool_] | None = None
 
 
 def checked(result: InverseDynamics, times: FloatArray) -> InverseDynamics:

@@ -75,6 +75,7 @@ __all__ = [
     "INERTIAL_FIELDS",
     "MATH",
     "MU_STEPS",
+    "NEAR_LOCK_MU",
     "NUMPY",
     "STATE_SYMBOLS",
     "BodyWrenches",
@@ -99,6 +100,7 @@ __all__ = [
 ]
 
 FloatArray = np.ndarray[Any, np.dtype[np.float64]]
+BoolArray = np.ndarray[Any, np.dtype[np.bool_]]
 #: A number of the kernel: a float, a 1-D float64 array or a sympy expression.
 Value = Any
 #: One value per leg, ``(A, B, C)``.
@@ -394,6 +396,7 @@ class KernelSolution(NamedTuple):
     m32: Legs | None
     friction: KernelFriction | None = None
     iterations: Value | None = None
+    near_lock: Value | None = None
 
 
 def _legs(ux: Value, uy: Value, u1: Value) -> Legs:
@@ -760,11 +763,13 @@ def solve(
         friction, :attr:`KernelSolution.friction` holds its forces; with
         ``μ`` terms (implicit, :func:`solve_mu`) :attr:`KernelSolution.iterations`
         the Newton iterations per sample, ``-1`` where no solution is reached
-        continuously from ``μ = 0`` (a self-locking joint).
+        continuously from ``μ = 0`` (a self-locking joint), and
+        :attr:`KernelSolution.near_lock` whether each sample is near a lock
+        (:data:`NEAR_LOCK_MU`).
     """
     geo = kernel_geometry(ops, k, x, y, phi)
     kin = kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
-    f10, f21y, f21z, rest, friction, iterations = dynamics(
+    f10, f21y, f21z, rest, friction, iterations, near_lock = dynamics(
         ops, k, kin, ddx, ddy, dphi, ddphi, reactions=reactions, load=load
     )
     v = kin.dlambda10
@@ -787,6 +792,7 @@ def solve(
         m32=m32,
         friction=friction,
         iterations=iterations,
+        near_lock=near_lock,
     )
 
 
@@ -801,33 +807,44 @@ def dynamics(
     *,
     reactions: bool = True,
     load: tuple[Value, Value, Value] | None = None,
-) -> tuple[Legs, Legs, Legs, tuple[Legs, Legs, Legs, Legs] | None, KernelFriction | None, Value]:
+) -> tuple[
+    Legs, Legs, Legs, tuple[Legs, Legs, Legs, Legs] | None, KernelFriction | None, Value, Value
+]:
     """The joint forces of a state of known kinematics (what :func:`solve` adds to them).
 
-    Returns ``(f10, f21y, f21z, (n10, m10, n32, m32) or None, friction, iterations)``:
-    body wrenches (:func:`body_wrenches`, with the load and the explicit
-    friction), virtual work (:func:`joint_forces`) and, with ``μ`` terms, the
-    implicit friction by :func:`solve_mu` (``iterations`` ``None`` without).
+    Returns ``(f10, f21y, f21z, (n10, m10, n32, m32) or None, friction,
+    iterations, near_lock)``: body wrenches (:func:`body_wrenches`, with the
+    load and the explicit friction), virtual work (:func:`joint_forces`) and,
+    with ``μ`` terms, the implicit friction by :func:`solve_mu`
+    (``iterations`` and ``near_lock`` ``None`` without).
     """
     friction = friction_forces(ops, k, kin, dphi)
     wrenches = body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=load, friction=friction)
     implicit = k.has_mu
     f10, f21y, f21z, rest = joint_forces(k, kin, wrenches, reactions or implicit)
     iterations: Value | None = None
+    near_lock: Value | None = None
     if implicit:
         if ops.name not in ("math", "numpy"):
             raise ValueError("the μ terms of friction are implicit: no closed form for sympy")
         assert rest is not None and friction is not None
-        friction, iterations = solve_mu(ops, k, kin, friction, (rest[0], f21y, f21z, rest[2]), dphi)
+        friction, iterations, near_lock = solve_mu(
+            ops, k, kin, friction, (rest[0], f21y, f21z, rest[2]), dphi
+        )
         wrenches = body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=load, friction=friction)
         f10, f21y, f21z, rest = joint_forces(k, kin, wrenches, reactions)
-    return f10, f21y, f21z, rest, friction, iterations
+    return f10, f21y, f21z, rest, friction, iterations, near_lock
 
 
 #: Steps of the continuation in ``μ`` of :func:`solve_mu` (fractions of the full ``μ``).
 MU_STEPS: tuple[float, ...] = (0.25, 0.5, 0.75, 1.0)
 #: Newton iterations allowed per continuation step.
 MU_MAX_ITERATIONS: int = 40
+#: A sample is *near a lock* when the branch of :func:`solve_mu` reached continuously from
+#: ``μ = 0`` does not extend to this multiple of the ``μ`` coefficients: friction 20 %
+#: higher (well within the uncertainty of a friction coefficient) would lock it.  Every
+#: sample with a second solution close by (the branch folds back before ``1.2·μ``) is one.
+NEAR_LOCK_MU: float = 1.2
 
 
 def solve_mu(
@@ -837,7 +854,7 @@ def solve_mu(
     explicit: KernelFriction,
     reactions: tuple[Legs, Legs, Legs, Legs],
     dphi: Value,
-) -> tuple[KernelFriction, Value]:
+) -> tuple[KernelFriction, Value, Value]:
     """The friction forces with their ``μ`` terms: the implicit problem solved per sample.
 
     The velocities are given, so ``s(v)`` is known and every friction force is
@@ -856,11 +873,19 @@ def solve_mu(
     on the way (a fold: the friction cone swallows the drive), has no such
     solution: ``-1`` iterations.
 
+    Near a lock: from the solution, the continuation goes on to
+    :data:`NEAR_LOCK_MU` times the ``μ`` coefficients (a discarded stage); a
+    sample whose branch ends before (no convergence, a fold, a magnitude
+    driven through zero) is *near a lock*: coefficients 20 % higher would lock
+    it, and a second solution may lie close to the one reported (the branch
+    folds back: two solutions merge at the lock).
+
     Returns
     -------
-    (KernelFriction, iterations)
-        The friction forces and the Newton iterations of each sample (floats
-        for :data:`MATH`, arrays for :data:`NUMPY`).
+    (KernelFriction, iterations, near_lock)
+        The friction forces, the Newton iterations of each sample (``-1``: it
+        locks) and whether it is near a lock (floats and a bool for
+        :data:`MATH`, arrays for :data:`NUMPY`).
     """
     single = ops.name == "math"
 
@@ -893,32 +918,18 @@ def solve_mu(
         for j in range(3):
             sv = arr(_s(NUMPY, arr(rates[a][j]), smooth[a]))
             coefficient[:, 3 * a + j] = -float(mus[a]) * sv
-    scale = np.abs(r0).max(axis=-1) + np.abs(R).max(axis=(-1, -2)) * 0.0 + 1.0
+    scale = np.abs(r0).max(axis=-1) + 1.0
     u = _magnitudes(r0)[0]
     iterations = np.zeros(samples)
     failed = np.zeros(samples, dtype=bool)
-    eye = np.eye(9)
     with np.errstate(all="ignore"):
         for step in MU_STEPS:
-            c = step * coefficient
-            B = R * c[:, None, :]  # ∂r/∂u
-            done = np.zeros(samples, dtype=bool)
-            for _ in range(MU_MAX_ITERATIONS):
-                r = r0 + np.einsum("nrq,nq->nr", B, u)
-                g, dg = _magnitudes(r)
-                residual = u - g
-                size = np.abs(residual).max(axis=-1)
-                done |= size <= 8e-16 * (np.abs(u).max(axis=-1) + scale)
-                active = ~done & ~failed
-                if not active.any():
-                    break
-                jac = eye - np.einsum("nur,nrq->nuq", dg[active], B[active])
-                u[active] = u[active] - np.linalg.solve(jac, residual[active][..., None])[..., 0]
-                iterations[active] += 1
-            r = r0 + np.einsum("nrq,nq->nr", B, u)
-            _, dg = _magnitudes(r)
-            det = np.linalg.det(eye - np.einsum("nur,nrq->nuq", dg, B))
-            failed |= ~done | ~(det > 0.0) | ~np.isfinite(u).all(axis=-1) | (u < 0.0).any(axis=-1)
+            failed |= _newton_stage(r0, R * (step * coefficient)[:, None, :], u, scale, failed,
+                                    iterations)  # fmt: skip
+        # near a lock: the branch ends before NEAR_LOCK_MU·μ (its result is discarded)
+        beyond = u.copy()
+        B = R * (NEAR_LOCK_MU * coefficient)[:, None, :]
+        near = ~failed & _newton_stage(r0, B, beyond, scale, failed.copy(), None)
     iterations[failed] = -1.0
     u[failed] = 0.0
     fric = coefficient * u  # the μ terms
@@ -931,7 +942,47 @@ def solve_mu(
         (values[0], values[1], values[2]), (values[3], values[4], values[5]),
         (values[6], values[7], values[8]),
     )  # fmt: skip
-    return result, (float(iterations[0]) if single else iterations)
+    if single:
+        return result, float(iterations[0]), bool(near[0])
+    return result, iterations, near
+
+
+def _newton_stage(
+    r0: FloatArray,
+    B: FloatArray,
+    u: FloatArray,
+    scale: FloatArray,
+    skip: BoolArray,
+    iterations: FloatArray | None,
+) -> BoolArray:
+    """One stage of the continuation of :func:`solve_mu`: Newton on ``u = g(r0 + B·u)``.
+
+    Updates ``u`` (and ``iterations``) in place for the samples not in
+    ``skip``; returns the samples that fail: no convergence to round-off, a
+    Jacobian determinant ``det(I − g'·B)`` not positive at the solution (a
+    fold), or magnitudes that are not finite or negative.
+    """
+    eye = np.eye(9)
+    done = skip.copy()
+    for _ in range(MU_MAX_ITERATIONS):
+        r = r0 + np.einsum("nrq,nq->nr", B, u)
+        g, dg = _magnitudes(r)
+        residual = u - g
+        size = np.abs(residual).max(axis=-1)
+        done |= size <= 8e-16 * (np.abs(u).max(axis=-1) + scale)
+        active = ~done
+        if not active.any():
+            break
+        jac = eye - np.einsum("nur,nrq->nuq", dg[active], B[active])
+        u[active] = u[active] - np.linalg.solve(jac, residual[active][..., None])[..., 0]
+        if iterations is not None:
+            iterations[active] += 1
+    r = r0 + np.einsum("nrq,nq->nr", B, u)
+    _, dg = _magnitudes(r)
+    det = np.linalg.det(eye - np.einsum("nur,nrq->nuq", dg, B))
+    converged = done & ~skip
+    bad = ~converged | ~(det > 0.0) | ~np.isfinite(u).all(axis=-1) | (u < 0.0).any(axis=-1)
+    return np.asarray(bad & ~skip)
 
 
 def _magnitudes(r: FloatArray) -> tuple[FloatArray, FloatArray]:

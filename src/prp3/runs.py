@@ -48,6 +48,7 @@ def simulate_table(
     *,
     progress: Callable[[int, int], None] | None = None,
     chunk: int = CHUNK_SAMPLES,
+    near_lock: list[int] | None = None,
 ) -> dict[str, FloatArray]:
     """The columns of ``results.csv`` for a batch motion, computed ``chunk`` samples at a time.
 
@@ -55,6 +56,10 @@ def simulate_table(
     method))``: every sample is computed on its own, so splitting the batch
     changes nothing but the memory used.  An error's ``sample`` field is the
     sample's index in the whole motion.
+
+    ``near_lock``: a list to which the indices of the samples near a lock of
+    the joint friction are appended (robots with ``μ`` terms; the kernel's
+    definition, :data:`prp3.kernel.NEAR_LOCK_MU`, whatever the ``method``).
 
     >>> from prp3.motion import paper_motion
     >>> table = simulate_table(Robot(), paper_motion("vertical", 7), chunk=3)
@@ -65,15 +70,22 @@ def simulate_table(
     samples = check_instance("motion", motion, Motion, "a prp3.Motion").samples
     chunk = check_integer("chunk", chunk, 1, 2**31)
     table = {name: np.empty(samples) for name in result_columns(robot.friction is not None)}
-    compiled = compile_robot(robot) if method == "fast" else None
+    implicit = robot.friction is not None and robot.friction.has_mu
+    compiled = compile_robot(robot) if method == "fast" or implicit else None
     for start in range(0, samples, chunk):
         stop = min(start + chunk, samples)
         piece = motion[start:stop]
         try:
-            if compiled is not None:  # the kernel's outputs are the columns: no vectors needed
-                part = _kernel_table(compiled, piece)
+            flags = None
+            if method == "fast":  # the kernel's outputs are the columns: no vectors needed
+                assert compiled is not None
+                part, flags = _kernel_table(compiled, piece)
             else:
                 part = results_table(*inverse_dynamics(robot, piece, method))
+                if near_lock is not None and compiled is not None:  # the kernel's test, too
+                    flags = solve_batch(
+                        compiled, piece.pose, piece.velocity, piece.acceleration, load=piece.load
+                    ).get("near_lock")
         except Prp3Error as error:
             if error.sample is None:
                 raise
@@ -81,6 +93,8 @@ def simulate_table(
             if error.subject == "motion" and error.time is None:
                 moved = moved.located(time=float(piece.t[error.sample]))
             raise moved from None
+        if near_lock is not None and flags is not None:
+            near_lock.extend((np.flatnonzero(flags) + start).tolist())
         for name, column in part.items():
             table[name][start:stop] = column
         if progress is not None:
@@ -88,8 +102,11 @@ def simulate_table(
     return table
 
 
-def _kernel_table(compiled: CompiledRobot, motion: Motion) -> dict[str, FloatArray]:
-    """The columns of ``results.csv`` straight from the kernel (``method="fast"``).
+def _kernel_table(
+    compiled: CompiledRobot, motion: Motion
+) -> tuple[dict[str, FloatArray], FloatArray | None]:
+    """The columns of ``results.csv`` straight from the kernel (``method="fast"``), and the
+    near-lock flags of its samples (``None`` without ``μ`` terms).
 
     The same numbers, bit for bit, as ``results_table(*inverse_dynamics(...))``
     (:func:`prp3.fast.solve_batch` returns every per-leg column), without the
@@ -102,10 +119,11 @@ def _kernel_table(compiled: CompiledRobot, motion: Motion) -> dict[str, FloatArr
     single = {"t": motion.t, "x": motion.pose[:, 0], "y": motion.pose[:, 1]}
     single["phi"] = motion.pose[:, 2]
     columns = result_columns(compiled.robot.friction is not None)
-    return {
+    table = {
         name: single[name] if name in single else values[name[:-2]][:, LEGS.index(name[-1])]
         for name in columns
     }
+    return table, values.get("near_lock")
 
 
 @dataclass(frozen=True)

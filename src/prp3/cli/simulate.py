@@ -40,6 +40,7 @@ from ..io import (
     write_table_csv,
     write_table_parquet,
 )
+from ..kernel import NEAR_LOCK_MU
 from ..kinematics import inverse_kinematics
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
@@ -59,6 +60,7 @@ __all__ = [
     "DEFAULT_SAMPLES",
     "Progress",
     "RunSummary",
+    "near_lock_note",
     "register",
     "run",
     "simulate_table",
@@ -257,6 +259,40 @@ def _located(
     return error.located(file=trajectory.path, line=line, subject=None, time=time_)
 
 
+def near_lock_note(samples: list[int], motion: Motion, trajectory: Trajectory | None) -> str:
+    """The warning of ``prp3 simulate`` for samples near a friction lock (one line).
+
+    Names the first three samples (file lines of a trajectory) with their
+    times, the last one and the count.
+
+    >>> from prp3.motion import paper_motion
+    >>> print(near_lock_note([5, 6, 7, 8, 9], paper_motion("rotation", 11), None))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    5 samples near a lock of the joint friction (mu coefficients 1.2 times larger would lock
+    them; a second solution may lie close to the one reported, which is reached continuously
+    from mu = 0): sample 5 (t = 1.5 s), sample 6 (t = 1.8 s), sample 7 (t = 2.1 s), ...,
+    sample 9 (t = 2.7 s); see docs/loads_and_friction.md
+    """
+
+    def where(k: int) -> str:
+        place = f"line {int(trajectory.lines[k])}" if trajectory is not None else f"sample {k}"
+        return f"{place} (t = {float(motion.t[k]):.6g} s)"
+
+    shown = [where(k) for k in samples[:3]]
+    if len(samples) > 4:
+        shown.append("...")
+    if len(samples) > 3:
+        shown.append(where(samples[-1]))
+    count = f"{len(samples)} sample{'s' if len(samples) > 1 else ''}"
+    return (
+        f"{count} near a lock of the joint friction (mu coefficients {NEAR_LOCK_MU:g} times "
+        f"larger would lock {'them' if len(samples) > 1 else 'it'}; a second solution may lie "
+        "close to the one reported, which is reached continuously from mu = 0): "
+        + ", ".join(shown)
+        + "; see docs/loads_and_friction.md"
+    )
+
+
 def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
     output: Path = args.output
     if args.frames is not None and not args.animate:
@@ -295,13 +331,20 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
     )
 
     source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
+    near_lock: list[int] = []
     try:
-        table = simulate_table(robot, motion, args.method, progress=progress.stage("computing"))
+        table = simulate_table(
+            robot, motion, args.method, progress=progress.stage("computing"), near_lock=near_lock
+        )
     except Prp3Error as error:
         raise _located(error, motion, source, trajectory) from None
     if trajectory is not None and trajectory.note is not None:
         # only for a run that goes on: a refused trajectory gets its one error line
         print(f"{args.program}: warning: {trajectory.note}", file=stderr)
+    if near_lock:
+        print(
+            f"{args.program}: warning: {near_lock_note(near_lock, motion, trajectory)}", file=stderr
+        )
     summary = summarize(table, motion.velocity[:, 2])
 
     trajectory_file = str(trajectory.path) if trajectory is not None else None
