@@ -15,6 +15,7 @@ piston i on link 2 at ``P_i``; ``n10_i`` (along ``n_i``) and ``m10_i`` (about
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -84,7 +85,9 @@ class InverseDynamics:
     fric21: FloatArray | None = None
     fric32: FloatArray | None = None
     iterations: FloatArray | None = None
-    near_lock: NDArray[np.bool_] | None = None
+    near_lock: NDArray[Any] | None = (
+        None  # of bool (Any: the methods build results from dicts of float arrays)
+    )
 
 
 def checked(result: InverseDynamics, times: FloatArray) -> InverseDynamics:
