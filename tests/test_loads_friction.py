@@ -240,7 +240,8 @@ def test_every_body_balances_with_loads_and_friction(scenario, extra, seed) -> N
         return
     for method, (kin, dyn) in results.items():
         table = results_table(kin, dyn)  # type: ignore[arg-type]
-        assert list(table) == list(RESULT_COLUMNS + FRICTION_COLUMNS)
+        load = ("fx", "fy", "mz") if motion.load is not None else ()  # the motion's load, last
+        assert list(table) == list(RESULT_COLUMNS + FRICTION_COLUMNS + load)
         assert np.abs(residuals(robot, motion, table)).max() < 1e-12, method
 
 
@@ -411,5 +412,5 @@ def test_simulate_writes_the_friction_columns_and_reads_the_load(tmp_path: Path)
                      "--output", str(tmp_path / "out")])  # fmt: skip
     assert code == 0
     header = (tmp_path / "out" / "results.csv").read_text().splitlines()[0].split(",")
-    assert header == list(RESULT_COLUMNS + FRICTION_COLUMNS)
+    assert header == list(RESULT_COLUMNS + FRICTION_COLUMNS) + ["fx", "fy", "mz"]
     assert "dissipated by friction" in out.getvalue()

@@ -28,6 +28,7 @@ UNITS = {
     "f10": "N", "p10": "W", "f21y": "N", "f21z": "N",
     "n10": "N", "m10": "N·m", "n32": "N", "m32": "N·m",
     "fric10": "N", "fric21": "N·m", "fric32": "N",
+    "fx": "N", "fy": "N", "mz": "N·m",
 }  # fmt: skip
 
 FRICTION = Friction(actuator=JointFriction(viscous=2.0), revolute=JointFriction(viscous=0.1))

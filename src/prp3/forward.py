@@ -272,7 +272,9 @@ class PlatformDynamics:
     jacobian: FloatArray
 
 
-def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> PlatformDynamics:
+def platform_dynamics(
+    robot: Robot, pose: ArrayLike, velocity: ArrayLike, *, load: ArrayLike | None = None
+) -> PlatformDynamics:
     """Build ``f10 = A(q)·q̈ + b(q, q̇)`` from the inverse dynamics (eq. 23).
 
     The actuator forces are affine in the platform acceleration, so four
@@ -292,6 +294,9 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
     robot : Robot
     pose, velocity : array_like, shape (3,) or (N, 3)
         Platform states.
+    load : array_like, shape of ``pose``, optional
+        A time-varying wrench ``(f_x, f_y, m_z)`` on the platform (added to the
+        constant ``[load]``); it enters ``b`` only.
 
     Returns
     -------
@@ -307,17 +312,22 @@ def platform_dynamics(robot: Robot, pose: ArrayLike, velocity: ArrayLike) -> Pla
     """
     check_robot(robot)
     check_forward_friction(robot)
-    return _platform_dynamics(compile_robot(robot), pose, velocity)
+    return _platform_dynamics(compile_robot(robot), pose, velocity, load)
 
 
 def _platform_dynamics(
-    compiled: CompiledRobot, pose: ArrayLike, velocity: ArrayLike
+    compiled: CompiledRobot, pose: ArrayLike, velocity: ArrayLike, load: ArrayLike | None = None
 ) -> PlatformDynamics:
     """:func:`platform_dynamics` of a robot compiled once (the integrator calls it per step)."""
     robot = compiled.robot
     q = check_poses(pose, robot)
     qdot = check_per_leg("velocity", velocity)
     check_same_shape("velocity", qdot, q, "pose")
+    wrench = None
+    if load is not None:
+        given = check_per_leg("load", load)
+        check_same_shape("load", given, q, "pose")
+        wrench = np.repeat(given.reshape(-1, 1, 3), 4, axis=1).reshape(-1, 3)  # enters b only
     batch = q.shape[:-1]
     flat_q = np.repeat(q.reshape(-1, 1, 3), 4, axis=1)  # (n, 4, 3)
     flat_v = np.repeat(qdot.reshape(-1, 1, 3), 4, axis=1)
@@ -331,7 +341,7 @@ def _platform_dynamics(
         velocity=flat_v.reshape(count, 3),
         acceleration=flat_a.reshape(count, 3),
     )
-    values = solve_batch(compiled, motion.pose, motion.velocity, motion.acceleration)
+    values = solve_batch(compiled, motion.pose, motion.velocity, motion.acceleration, load=wrench)
     if not np.isfinite(values["f10"]).all():
         raise TrajectoryError("platform_dynamics: the actuator forces overflow at this state")
     f10 = values["f10"].reshape(-1, 4, 3)  # eq. (23)
@@ -455,6 +465,11 @@ class ActuatorForces:
         Sample times (s), strictly increasing, ``N >= 2``.
     f10 : ndarray (N, 3)
         Forces of actuators A, B, C on their pistons along ``+e_i`` (N).
+    load : ndarray (N, 3) or None
+        A time-varying wrench of the environment on the platform at the same
+        times, ``(f_x, f_y, m_z)`` (N at ``G``, fixed frame; N·m), added to the
+        robot's constant ``[load]`` (the ``fx, fy, mz`` columns of a force
+        file); interpolated like the forces (:meth:`load_at`).
 
     Examples
     --------
@@ -465,7 +480,9 @@ class ActuatorForces:
 
     t: FloatArray
     f10: FloatArray
+    load: FloatArray | None = None
     _spline: Any = field(init=False, repr=False, compare=False)
+    _load_spline: Any = field(init=False, repr=False, compare=False, default=None)
 
     def __post_init__(self) -> None:
         t = check_times("t", self.t, minimum=2, subject="forces")
@@ -493,10 +510,38 @@ class ActuatorForces:
         if bad.any():  # steps so small (1e-300 s) that the cubic terms overflow
             raise _not_interpolable(t, int(np.argmax(bad)), "the spline's coefficients")
         object.__setattr__(self, "_spline", spline)
+        if self.load is not None:
+            load = check_real("load", self.load, subject="forces")
+            if load.shape != (t.size, 3):
+                raise TrajectoryError(
+                    f"load must have shape ({t.size}, 3) (fx, fy, mz), got {load.shape}",
+                    subject="forces",
+                )
+            check_finite("load", load, subject="forces")
+            load.flags.writeable = False
+            object.__setattr__(self, "load", load)
+            with np.errstate(all="ignore"):
+                load_spline = CubicSpline(t, load, axis=0)
+            bad = ~np.isfinite(load_spline.c).all(axis=(0, 2))
+            if bad.any():
+                raise _not_interpolable(t, int(np.argmax(bad)), "the load spline's coefficients")
+            object.__setattr__(self, "_load_spline", load_spline)
 
     def __call__(self, time: float) -> FloatArray:
         """Forces ``(3,)`` at ``time`` (s), within ``[t[0], t[-1]]``."""
         return np.asarray(self._spline(time), dtype=np.float64)
+
+    def load_at(self, time: float) -> FloatArray | None:
+        """The load ``(f_x, f_y, m_z)`` at ``time`` (s) by its cubic spline, or ``None``.
+
+        >>> forces = ActuatorForces(t=[0.0, 1.0], f10=np.zeros((2, 3)),
+        ...                         load=[[0.0, -2.0, 0.0], [1.0, -2.0, 0.5]])
+        >>> forces.load_at(0.5).tolist()
+        [0.5, -2.0, 0.25]
+        """
+        if self._load_spline is None:
+            return None
+        return np.asarray(self._load_spline(time), dtype=np.float64)
 
 
 def _not_interpolable(t: FloatArray, index: int, what: str) -> TrajectoryError:
@@ -557,6 +602,7 @@ def forward_dynamics(
     *,
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    load: ForceFunction | None = None,
 ) -> ForwardDynamics:
     """Integrate the platform motion driven by the actuator forces ``f10(t)``.
 
@@ -582,6 +628,12 @@ def forward_dynamics(
         singularity.
     rtol, atol : float
         Tolerances of ``solve_ivp`` (relative; absolute in m, rad, m/s, rad/s).
+    load : callable, optional
+        A time-varying wrench of the environment on the platform,
+        ``load(t) -> (f_x, f_y, m_z)`` (N at ``G``, fixed frame; N·m), added to
+        the robot's constant ``[load]``.  Sampled forces carry theirs
+        (:attr:`ActuatorForces.load`, interpolated like the forces); giving
+        both is refused.
 
     Returns
     -------
@@ -629,11 +681,12 @@ def forward_dynamics(
     rtol, atol = _tolerances(rtol, atol)
     q0, v0, aspect = _initial_state(robot, initial_pose, initial_velocity)
     force_of = _force_function(robot, forces, times)
+    load_of = _load_function(forces, load, times)
     free = _without_limits(robot)  # the stroke ends are events, not refusals
     stroke = robot.limits.stroke
-    solution = _integrate(free, stroke, force_of, times, q0, v0, aspect, (rtol, atol))
+    solution = _integrate(free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of)
     stop = _stop(free, stroke, solution, times, q0, v0)
-    return _result(free, force_of, stop, int(solution.nfev))
+    return _result(free, force_of, stop, int(solution.nfev), load_of)
 
 
 # ------------------------------------------------------- steps of forward_dynamics
@@ -690,6 +743,7 @@ def _integrate(
     v0: FloatArray,
     aspect: float,
     tolerances: tuple[float, float],
+    load_of: Callable[[float], FloatArray] | None = None,
 ) -> Any:
     """Step 3: ``solve_ivp`` (DOP853) of the state ``(q, q̇)``, with the terminal events."""
     from scipy.integrate import solve_ivp
@@ -697,7 +751,7 @@ def _integrate(
     compiled = compile_robot(robot)
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
-        return _state_derivative(compiled, force_of, time, state)
+        return _state_derivative(compiled, force_of, time, state, load_of)
 
     def singular(_time: float, state: FloatArray) -> float:
         return aspect * math.sin(state[2] - math.pi / 3.0) - SINGULARITY_STOP
@@ -767,17 +821,26 @@ def _stop(
 
 
 def _result(
-    robot: Robot, force_of: Callable[[float], FloatArray], stop: _Stop, evaluations: int
+    robot: Robot,
+    force_of: Callable[[float], FloatArray],
+    stop: _Stop,
+    evaluations: int,
+    load_of: Callable[[float], FloatArray] | None = None,
 ) -> ForwardDynamics:
     """Step 5: the motion with the model's accelerations, its inverse problems and residual."""
-    eq = platform_dynamics(robot, stop.states[:, :3], stop.states[:, 3:])
+    loads = None if load_of is None else np.stack([load_of(float(time)) for time in stop.t])
+    eq = platform_dynamics(robot, stop.states[:, :3], stop.states[:, 3:], load=loads)
     applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in stop.t])
     qddot = np.asarray(
         np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0],
         dtype=np.float64,
     )
     motion = Motion(
-        t=stop.t, pose=stop.states[:, :3], velocity=stop.states[:, 3:], acceleration=qddot
+        t=stop.t,
+        pose=stop.states[:, :3],
+        velocity=stop.states[:, 3:],
+        acceleration=qddot,
+        load=loads,
     )
     kin = inverse_kinematics(robot, motion)
     dyn = kernel_method(robot, kin)
@@ -798,6 +861,7 @@ def _state_derivative(
     force_of: Callable[[float], FloatArray],
     time: float,
     state: FloatArray,
+    load_of: Callable[[float], FloatArray] | None = None,
 ) -> FloatArray:
     """``(q̇, q̈)`` of the state ``(q, q̇)`` at ``time``; NaN in the refused zone.
 
@@ -812,7 +876,7 @@ def _state_derivative(
     ):
         return np.full(6, np.nan)
     try:
-        eq = _platform_dynamics(compiled, q, qdot)
+        eq = _platform_dynamics(compiled, q, qdot, None if load_of is None else load_of(time))
     except Prp3Error:  # a trial state beyond the bounds of prp3: reject the step
         return np.full(6, np.nan)
     qddot = np.linalg.solve(eq.force_matrix, force_of(time) - eq.force_bias)
@@ -864,6 +928,47 @@ def _force_function(
         return value
 
     return force_of
+
+
+def _load_function(
+    forces: ActuatorForces | ForceFunction, load: ForceFunction | None, times: FloatArray
+) -> Callable[[float], FloatArray] | None:
+    """The time-varying load ``(f_x, f_y, m_z)(t)``: the forces' own or ``load``; validated."""
+    sampled = isinstance(forces, ActuatorForces) and forces.load is not None
+    if load is None:
+        if not sampled:
+            return None
+        assert isinstance(forces, ActuatorForces)
+        spline = forces
+
+        def of_samples(time: float) -> FloatArray:
+            value = spline.load_at(time)
+            assert value is not None
+            return value
+
+        return of_samples
+    if sampled:
+        raise ParameterError(
+            "load: the sampled forces carry a load already (their fx, fy, mz); give one of the two",
+            subject="forces",
+        )
+    if not callable(load):
+        raise ParameterError(f"load must be a function of t, got {type(load).__name__}")
+    function = load
+
+    def load_of(time: float) -> FloatArray:
+        value = np.asarray(function(time), dtype=np.float64)
+        if value.shape != (3,) or not np.isfinite(value).all():
+            raise ParameterError(
+                f"load({time!r}) must be 3 finite numbers (fx, fy in N, mz in N·m), "
+                f"got {value.tolist()!r}",
+                subject="load",
+            )
+        return value
+
+    for time in (float(times[0]), float(times[-1])):
+        load_of(time)  # refused before the integration starts
+    return load_of
 
 
 def _lambda10_or_nan(robot: Robot, pose: FloatArray) -> FloatArray:

@@ -62,6 +62,7 @@ __all__ = [
     "FORCE_COLUMNS",
     "FRICTION_COLUMNS",
     "LOAD_COLUMNS",
+    "LOAD_RESULT_COLUMNS",
     "MANIFEST_NAME",
     "MEASURED_FORCE_COLUMNS",
     "OUTPUT_QUANTITIES",
@@ -712,6 +713,9 @@ class OutputQuantity:
         The paper's symbol (matplotlib mathtext), for labels.
     friction : bool
         Written only when the robot has ``[friction]`` (after the 46 columns).
+    load : bool
+        Written only when the motion has a time-varying load (a trajectory's
+        ``fx, fy, mz``; the last columns).
     """
 
     name: str
@@ -720,6 +724,7 @@ class OutputQuantity:
     per_leg: bool
     symbol: str
     friction: bool = False
+    load: bool = False
 
     def columns(self) -> tuple[str, ...]:
         """Its columns: ``(name,)``, or ``name_A, name_B, name_C``.
@@ -780,6 +785,18 @@ OUTPUT_QUANTITIES: dict[str, OutputQuantity] = _quantities(
         "fric32", "N", "friction force of link 2 on the platform, along d_i", True,
         "f_{32}^{fr}", friction=True,
     ),
+    OutputQuantity(
+        "fx", "N", "time-varying force of the environment on the platform at G, along x0",
+        False, "f_x", load=True,
+    ),
+    OutputQuantity(
+        "fy", "N", "time-varying force of the environment on the platform at G, along y0",
+        False, "f_y", load=True,
+    ),
+    OutputQuantity(
+        "mz", "N·m", "time-varying moment of the environment on the platform about z0",
+        False, "m_z", load=True,
+    ),
 )  # fmt: skip
 
 #: Per-leg quantities of the 46 columns, in the contract's order.
@@ -789,7 +806,7 @@ PER_LEG_COLUMNS: tuple[str, ...] = tuple(
 
 #: Every column of ``results.csv``, in order.
 RESULT_COLUMNS: tuple[str, ...] = tuple(
-    q.name for q in OUTPUT_QUANTITIES.values() if not q.per_leg
+    q.name for q in OUTPUT_QUANTITIES.values() if not q.per_leg and not q.load
 ) + tuple(f"{quantity}_{leg}" for leg in LEGS for quantity in PER_LEG_COLUMNS)
 
 
@@ -797,6 +814,10 @@ RESULT_COLUMNS: tuple[str, ...] = tuple(
 FRICTION_COLUMNS: tuple[str, ...] = tuple(
     f"{q.name}_{leg}" for leg in LEGS for q in OUTPUT_QUANTITIES.values() if q.friction
 )
+
+
+#: The 3 last columns when the motion has a time-varying load (the trajectory's ``fx, fy, mz``).
+LOAD_RESULT_COLUMNS: tuple[str, ...] = tuple(q.name for q in OUTPUT_QUANTITIES.values() if q.load)
 
 
 def output_quantity(column: str) -> OutputQuantity:
@@ -814,13 +835,20 @@ def output_quantity(column: str) -> OutputQuantity:
     raise ParameterError(f"{column!r} is not a column of results.csv")
 
 
-def result_columns(friction: bool) -> tuple[str, ...]:
-    """The columns of ``results.csv``: the 46, and the 9 friction columns with ``friction``.
+def result_columns(friction: bool, load: bool = False) -> tuple[str, ...]:
+    """The columns of ``results.csv``: the 46, the 9 friction columns with ``friction``,
+    then ``fx, fy, mz`` with a time-varying ``load`` (a trajectory's load columns).
 
     >>> len(result_columns(True)), result_columns(True)[46:49]
     (55, ('fric10_A', 'fric21_A', 'fric32_A'))
+    >>> result_columns(False, load=True)[46:]
+    ('fx', 'fy', 'mz')
     """
-    return RESULT_COLUMNS + (FRICTION_COLUMNS if friction else ())
+    return (
+        RESULT_COLUMNS
+        + (FRICTION_COLUMNS if friction else ())
+        + (LOAD_RESULT_COLUMNS if load else ())
+    )
 
 
 def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np.float64]]:
@@ -859,7 +887,7 @@ def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np
     }
     table: dict[str, NDArray[np.float64]] = {}
     for quantity in OUTPUT_QUANTITIES.values():
-        if not quantity.per_leg:
+        if not quantity.per_leg and not quantity.load:
             table[quantity.name] = single[quantity.name]
     friction = all(per_leg[q.name] is not None for q in OUTPUT_QUANTITIES.values() if q.friction)
     for group in (False, True) if friction else (False,):
@@ -868,6 +896,9 @@ def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np
                 values = per_leg.get(quantity.name)
                 if quantity.per_leg and quantity.friction == group and values is not None:
                     table[f"{quantity.name}_{leg}"] = values[..., j]
+    if motion.load is not None:  # the time-varying load of the motion, last
+        for k, name in enumerate(LOAD_RESULT_COLUMNS):
+            table[name] = motion.load[..., k]
     return table
 
 
@@ -905,6 +936,10 @@ class ForceInput:
 def read_forces(path: str | Path) -> ForceInput:
     """Read ``t,f10_A,f10_B,f10_C`` or a complete ``results.csv``.
 
+    Either may add the load columns ``fx, fy, mz`` (all three or none): the
+    time-varying wrench of the environment on the platform, as in a
+    trajectory file (:attr:`ActuatorForces.load`, interpolated like the forces).
+
     Raises
     ------
     InputFileError
@@ -914,8 +949,18 @@ def read_forces(path: str | Path) -> ForceInput:
         Fewer than 2 rows or times that do not increase.
     """
     others = [name for name in RESULT_COLUMNS if name not in FORCE_COLUMNS]
-    table = _read_table(Path(path), FORCE_COLUMNS, [*others, *FRICTION_COLUMNS], "forces")
+    table = _read_table(
+        Path(path), FORCE_COLUMNS, [*others, *FRICTION_COLUMNS, *LOAD_COLUMNS], "forces"
+    )
     columns = table.columns
+    loads = [name for name in LOAD_COLUMNS if name in columns]
+    if loads and len(loads) != len(LOAD_COLUMNS):
+        missing = [name for name in LOAD_COLUMNS if name not in columns]
+        raise InputFileError(
+            f"give all of the load columns {', '.join(LOAD_COLUMNS)} or none; "
+            f"missing {', '.join(missing)}",
+            file=path,
+        )
     extra = [name for name in others if name in columns]
     if extra and len(extra) != len(others):
         missing = [name for name in others if name not in columns]
@@ -927,8 +972,9 @@ def read_forces(path: str | Path) -> ForceInput:
         )
     t = columns["t"]
     f10 = np.stack([columns[f"f10_{leg}"] for leg in LEGS], axis=-1)
+    load = np.stack([columns[name] for name in LOAD_COLUMNS], axis=-1) if loads else None
     try:
-        forces = ActuatorForces(t=t, f10=f10)
+        forces = ActuatorForces(t=t, f10=f10, load=load)
     except Prp3Error as error:
         line = int(table.lines[error.sample]) if error.sample is not None else None
         raise error.located(file=path, line=line) from None

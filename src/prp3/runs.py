@@ -20,7 +20,7 @@ from .dynamics import Method, inverse_dynamics
 from .errors import ParameterError, Prp3Error
 from .fast import CompiledRobot, compile_robot, solve_batch
 from .geometry import LEGS
-from .io import OUTPUT_QUANTITIES, result_columns, results_table
+from .io import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_columns, results_table
 from .model import Robot
 from .motion import Motion
 from .validation import check_instance, check_integer, check_robot
@@ -69,7 +69,8 @@ def simulate_table(
     check_robot(robot)
     samples = check_instance("motion", motion, Motion, "a prp3.Motion").samples
     chunk = check_integer("chunk", chunk, 1, 2**31)
-    table = {name: np.empty(samples) for name in result_columns(robot.friction is not None)}
+    columns = result_columns(robot.friction is not None, load=motion.load is not None)
+    table = {name: np.empty(samples) for name in columns}
     implicit = robot.friction is not None and robot.friction.has_mu
     compiled = compile_robot(robot) if method == "fast" or implicit else None
     for start in range(0, samples, chunk):
@@ -118,7 +119,9 @@ def _kernel_table(
     )
     single = {"t": motion.t, "x": motion.pose[:, 0], "y": motion.pose[:, 1]}
     single["phi"] = motion.pose[:, 2]
-    columns = result_columns(compiled.robot.friction is not None)
+    if motion.load is not None:  # the time-varying load, last
+        single.update(zip(LOAD_RESULT_COLUMNS, motion.load.T, strict=True))
+    columns = result_columns(compiled.robot.friction is not None, load=motion.load is not None)
     table = {
         name: single[name] if name in single else values[name[:-2]][:, LEGS.index(name[-1])]
         for name in columns

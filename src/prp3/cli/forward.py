@@ -8,7 +8,9 @@
 
 ``FORCES.csv`` is either a table ``t,f10_A,f10_B,f10_C`` or the
 ``results.csv`` of a previous ``prp3 simulate`` (all 46 contract columns; the
-initial state then defaults to its first row).  Writes ``DIR/results.csv``
+initial state then defaults to its first row); either may add ``fx, fy, mz``,
+a time-varying load on the platform interpolated like the forces (a
+``results.csv`` of a trajectory with a load has them).  Writes ``DIR/results.csv``
 (the contract columns of the integrated motion) and ``DIR/trajectory.csv``
 (``t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi``, readable by ``prp3 simulate
 --trajectory``), together (:func:`prp3.io.staged_output`).  When the motion
@@ -91,9 +93,12 @@ examples:
       open-loop motion is unstable (errors grow about e^(6 t)): see the docs
   prp3 forward --robot robot.toml --forces push.csv --initial-pose 0 0.01 0 --output run
       push.csv: header t,f10_A,f10_B,f10_C (s, N); starts at rest unless
-      --initial-velocity is given
+      --initial-velocity is given; optional columns fx, fy, mz (N, N, N*m): a
+      time-varying wrench of the environment on the platform at G (fixed frame),
+      added to the robot's [load]
 
-The forces between samples follow the not-a-knot cubic spline through them.
+The forces (and the load) between samples follow the not-a-knot cubic spline
+through them.
 Exit status 0 when the motion reached the last time; 1 when it stopped early at a
 singularity (|sin(phi - pi/3)| = 2e-4) or at a stroke limit, or the integrator gave
 up (the files hold the motion up to the stop; the reason is on stderr); 2 on bad
@@ -129,7 +134,7 @@ def register(subparsers: Any) -> None:
         type=path_name,
         required=True,
         help="actuator forces: header t,f10_A,f10_B,f10_C (s, N), or a results.csv of "
-        "prp3 simulate",
+        "prp3 simulate; optionally fx, fy, mz: a time-varying load on the platform",
     )
     parser.add_argument(
         "--initial-pose",
@@ -332,6 +337,8 @@ def _summary(
     files: list[str],
 ) -> str:
     kind = "results.csv" if given.results else "force table"
+    if given.forces.load is not None:
+        kind += ", with the load fx, fy, mz"
     motion = result.motion
     lines = [
         f"prp3 forward: forces from {given.path} ({kind}, {given.forces.t.size} samples, "
