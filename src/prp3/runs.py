@@ -184,13 +184,23 @@ def summarize(table: Mapping[str, FloatArray], dphi: FloatArray | None = None) -
             f"table lacks the results.csv columns {', '.join(missing)}", key="table"
         )
     t = np.asarray(table["t"], dtype=np.float64)
+    dt = np.diff(t)
 
     def legs(name: str) -> FloatArray:
         return np.stack([np.asarray(table[f"{name}_{leg}"]) for leg in LEGS], axis=-1)
 
-    f10, p10 = legs("f10"), legs("p10")
-    f21 = np.hypot(legs("f21y"), legs("f21z"))
-    energy = (0.5 * (p10[1:] + p10[:-1]) * np.diff(t)[:, None]).sum(axis=0)  # trapezoid rule
+    def column(name: str, leg: str) -> FloatArray:
+        return np.asarray(table[f"{name}_{leg}"], dtype=np.float64)
+
+    peaks: list[list[float]] = [[], [], [], [], []]  # |f10|, its time, |p10|, |f21|, energy
+    for leg in LEGS:  # column by column: no (N, 3) copies of a big run
+        f10, p10 = np.abs(column("f10", leg)), column("p10", leg)
+        k = int(f10.argmax())
+        peaks[0].append(float(f10[k]))
+        peaks[1].append(float(t[k]))
+        peaks[2].append(float(np.abs(p10).max()))
+        peaks[3].append(float(np.hypot(column("f21y", leg), column("f21z", leg)).max()))
+        peaks[4].append(float((0.5 * (p10[1:] + p10[:-1]) * dt).sum()))  # trapezoid rule
     dissipated = None
     if "fric10_A" in table:
         rate = np.zeros_like(t) if dphi is None else np.asarray(dphi, dtype=np.float64)
@@ -203,11 +213,12 @@ def summarize(table: Mapping[str, FloatArray], dphi: FloatArray | None = None) -
             axis=-1,
         )
         dissipated = (0.5 * (powers[1:] + powers[:-1]) * np.diff(t)[:, None]).sum(axis=0)
+    peak_f10, peak_f10_time, peak_p10, peak_f21, energy = (np.array(p) for p in peaks)
     return RunSummary(
-        peak_f10=np.abs(f10).max(axis=0),
-        peak_f10_time=t[np.abs(f10).argmax(axis=0)],
-        peak_p10=np.abs(p10).max(axis=0),
-        peak_f21=f21.max(axis=0),
+        peak_f10=peak_f10,
+        peak_f10_time=peak_f10_time,
+        peak_p10=peak_p10,
+        peak_f21=peak_f21,
         energy=energy,
         dissipated=dissipated,
     )
