@@ -104,16 +104,30 @@ class _FullStream:
         raise OSError(28, "No space left on device")
 
 
+@pytest.mark.parametrize(
+    ("program", "argv"),
+    [
+        ("prp3 simulate", ["simulate", "--motion", "vertical", "--samples", "5"]),
+        ("prp3 forward", ["forward", "--forces", "FORCES", "--samples", "5"]),
+        ("prp3 control", ["control", "--motion", "vertical", "--plant", "prp3",
+                          "--controller", "pd", "--rate", "50"]),
+        ("prp3 export mjcf", ["export", "mjcf"]),
+    ],
+)  # fmt: skip
 def test_standard_output_failing_after_the_files_leaves_the_earlier_run(
-    capsys, monkeypatch, earlier_run
+    capsys, monkeypatch, earlier_run, program, argv
 ):
     # was: the files were moved in first, then the summary failed: results replaced, exit 2
+    forces = earlier_run.parent / "forces.csv"
+    forces.write_text("t,f10_A,f10_B,f10_C\n0,31.86,-8.50,-23.36\n0.1,31.86,-8.50,-23.36\n")
+    target = earlier_run / "prp3.xml" if argv[-1] == "mjcf" else earlier_run
     before = listing(earlier_run)
     monkeypatch.setattr(sys, "stdout", _FullStream())
-    status = main(["simulate", "--motion", "vertical", "--samples", "5", "-o", str(earlier_run)])
+    argv = [str(forces) if a == "FORCES" else a for a in argv]
+    status = main([*argv, "-o", str(target)])
     err = capsys.readouterr().err
     assert status == 2
-    assert one_line(err) == "prp3 simulate: error: standard output: No space left on device"
+    assert one_line(err) == f"{program}: error: standard output: No space left on device"
     assert listing(earlier_run) == before
 
 
