@@ -337,7 +337,10 @@ def statics_figure(robot: Robot, statics: WorkspaceStatics) -> Figure:
                         label=f"max |f10| = max_force = {limit:g} N",
                     )
                 )
-    handles.append(Patch(facecolor=cm_grey(), edgecolor="none", label="unreachable grid points"))
+    if not st.reachable.all():
+        handles.append(
+            Patch(facecolor=cm_grey(), edgecolor="none", label="unreachable grid points")
+        )
     if st.region is not None and len(st.region):
         outline = _closed(st.region)
         ax.plot(outline[:, 0], outline[:, 1], color="black", lw=1.2)
