@@ -94,6 +94,19 @@ def test_a_closed_standard_output_is_one_line():
     assert (run.returncode, run.stderr) == (2, "prp3 robot: error: standard output: closed\n")
 
 
+def test_help_and_runs_on_a_closed_standard_output_are_one_line(earlier_run):
+    # was: --help printed on stderr with exit 0; a run moved its files in, then failed
+    run = prp3("--help", stdout=subprocess.DEVNULL, preexec_fn=lambda: os.close(1))
+    assert (run.returncode, run.stderr) == (2, "prp3: error: standard output: closed\n")
+    before = listing(earlier_run)
+    run = prp3(
+        "simulate", "--motion", "vertical", "--samples", "5", "-o", str(earlier_run),
+        stdout=subprocess.DEVNULL, preexec_fn=lambda: os.close(1),
+    )  # fmt: skip
+    assert (run.returncode, run.stderr) == (2, "prp3 simulate: error: standard output: closed\n")
+    assert listing(earlier_run) == before
+
+
 class _FullStream:
     """A standard output on a full disk."""
 

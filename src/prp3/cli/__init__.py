@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import os
 import re
 import signal
@@ -111,6 +112,26 @@ class _SignalGuard:
             signal.signal(number, handler)
 
 
+class _ClosedStream:
+    """Standard output when the process started without one: every write fails.
+
+    A write that a caller swallowed (argparse's ``--help``) fails again at
+    the next :meth:`flush`, once, so that :func:`main` reports it.
+    """
+
+    def __init__(self) -> None:
+        self.failed = False
+
+    def write(self, text: str) -> int:
+        self.failed = True
+        raise OSError(errno.EBADF, "closed")
+
+    def flush(self) -> None:
+        if self.failed:
+            self.failed = False
+            raise OSError(errno.EBADF, "closed")
+
+
 def _one_line_warnings(program: str) -> Callable[..., None]:
     """A ``warnings.showwarning`` that shows a library's warning as one line on stderr."""
 
@@ -134,6 +155,9 @@ def _one_line_warnings(program: str) -> Callable[..., None]:
 
 def _silence_stdout() -> None:
     """Point stdout at /dev/null so that the flush at exit raises nothing more."""
+    if isinstance(sys.stdout, _ClosedStream):
+        sys.stdout = None
+        return
     with contextlib.suppress(OSError, ValueError, AttributeError):  # as the Python docs advise
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
@@ -168,6 +192,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     Standard output is flushed before the status is returned, so that a
     failing one is reported too.
     """
+    if sys.stdout is None:  # started with standard output closed (`prp3 ... >&-`)
+        sys.stdout = _ClosedStream()  # every write fails, as one error
     parser = build_parser()
     words = list(argv) if argv is not None else sys.argv[1:]
     try:
