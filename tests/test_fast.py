@@ -33,6 +33,7 @@ from prp3 import (
 from prp3.fast import (
     CompiledRobot,
     FastForces,
+    actuator_forces,
     compile_robot,
     paper_forces,
     sample_forces,
@@ -556,3 +557,39 @@ def test_batch_non_finite_load_is_refused_naming_the_sample() -> None:
     zeros = np.zeros((4, 3))
     with pytest.raises(TrajectoryError, match=r"^sample 2: fy of load is not finite \(nan\)"):
         solve_batch(Robot(), zeros, zeros, zeros, load=load)
+
+
+# ------------------------------------------------------------- f10 alone
+@settings(max_examples=10, deadline=None)
+@given(scenario=scenarios(), samples=st.sampled_from([1, 7, 40]), chunk=st.sampled_from([3, 4096]))
+def test_actuator_forces_are_paper_forces_f10(
+    scenario: tuple[Robot, AnalyticMotion], samples: int, chunk: int
+) -> None:
+    # The kernel traced for f10 alone: the same operations for f10, so the same numbers.
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, samples))
+    compiled = compile_robot(robot)
+    args = (motion.pose, motion.velocity, motion.acceleration)
+    expected = paper_forces(compiled, *args, chunk_size=chunk).f10
+    np.testing.assert_array_equal(actuator_forces(compiled, *args, chunk_size=chunk), expected)
+    out = np.empty_like(expected)
+    assert actuator_forces(robot, *args, out=out) is out
+    np.testing.assert_array_equal(out, expected)
+    one = actuator_forces(compiled, motion.pose[0], motion.velocity[0], motion.acceleration[0])
+    assert one.shape == (3,)
+    np.testing.assert_array_equal(one, expected[0])
+
+
+def test_actuator_forces_refuse_as_paper_forces() -> None:
+    motion = singular_motion(10, index=6)
+    args = (motion.pose, motion.velocity, motion.acceleration)
+    with pytest.raises(SingularPoseError) as batch:
+        paper_forces(Robot(), *args)
+    with pytest.raises(SingularPoseError) as alone:
+        actuator_forces(Robot(), *args)
+    assert str(alone.value) == str(batch.value)
+    zero = np.zeros((4, 3))
+    with pytest.raises(Prp3Error, match=r"^out must be a writeable C-contiguous float64 array"):
+        actuator_forces(Robot(), zero, zero, zero, out=np.zeros((4, 3)).T.copy().T)
+    with pytest.raises(TrajectoryError, match="pose must be an array of real numbers, got text"):
+        actuator_forces(Robot(), "abc", zero, zero)  # type: ignore[arg-type]

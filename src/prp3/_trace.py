@@ -341,9 +341,11 @@ def array_function(
     free: list[int] = []
     rows = 0
 
+    constants: dict[str, str] = {}  # repr -> name of a 0-d array (numpy converts a float per call)
+
     def operand(o: int | float) -> str:
         if not isinstance(o, int):
-            return repr(o)
+            return constants.setdefault(repr(o), f"k{len(constants)}")
         return arguments[-1 - o] if o < 0 else place[o]
 
     body = []
@@ -366,10 +368,12 @@ def array_function(
         if not (isinstance(o, int) and o >= 0 and direct[o] == k):
             body.append(f"    out[{k}][...] = {operand(o)}")
     source = (
-        f"def {name}({', '.join(arguments)}, out):\n"
+        "".join(f"{k} = array({value})\n" for value, k in constants.items())
+        + f"def {name}({', '.join(arguments)}, out):\n"
         f"    w = empty(({max(rows, 1)}, {arguments[0]}.shape[0]))\n" + "\n".join(body) + "\n"
     )
-    namespace: dict[str, Any] = {"empty": np.empty, "inf": math.inf, "nan": math.nan}
+    namespace: dict[str, Any] = {"empty": np.empty, "array": np.array, "inf": math.inf,
+                                 "nan": math.nan}  # fmt: skip
     namespace.update({u: getattr(np, u) for u in (*_BINARY.values(), *_UNARY.values())})
     compiled = _compile(source, name, namespace)
     compiled.rows = rows  # type: ignore[attr-defined]
