@@ -37,7 +37,6 @@ import argparse
 import ast
 import gc
 import importlib.util
-import inspect
 import json
 import os
 import platform
@@ -45,6 +44,7 @@ import resource
 import statistics
 import subprocess
 import sys
+import tempfile
 import textwrap
 import timeit
 import tracemalloc
@@ -56,11 +56,19 @@ from typing import Any
 import numpy as np
 
 import prp3
-from prp3.fast import compile_robot, paper_forces, sample_forces, sample_forces_unchecked
+from prp3.fast import (
+    actuator_forces,
+    compile_robot,
+    paper_forces,
+    sample_forces,
+    sample_forces_unchecked,
+)
 
 HERE = Path(__file__).resolve().parent
 MOTIONS = ("vertical", "rotation")
 AGREEMENT = 1e-8
+#: The last commit with the hand-fused fast path, before the one kernel (``--baseline``).
+BASELINE = "2731610"
 
 
 # ------------------------------------------------------------------ methods
@@ -106,6 +114,12 @@ def methods(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) -> li
     def fused_numba(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
         return paper_forces(compiled, *arrays, backend="numba").f10
 
+    def alone(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
+        return actuator_forces(compiled, *arrays)
+
+    def alone_numba(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
+        return actuator_forces(compiled, *arrays, backend="numba")
+
     def paper(motion: prp3.Motion) -> np.ndarray:
         return prp3.inverse_dynamics(robot, motion, "paper")[1].f10
 
@@ -117,7 +131,15 @@ def methods(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) -> li
 
     found = [
         Method("prp3 fast", fused_prepare, fused),
-        *([Method("prp3 fast numba", fused_prepare, fused_numba)] if _has_numba() else []),
+        Method("prp3 fast f10 alone", fused_prepare, alone),
+        *(
+            [
+                Method("prp3 fast numba", fused_prepare, fused_numba),
+                Method("prp3 fast f10 alone numba", fused_prepare, alone_numba),
+            ]
+            if _has_numba()
+            else []
+        ),
         Method("prp3 paper", identity, paper),
         Method("prp3 newton-euler", identity, newton_euler, args.ne_max),
     ]
@@ -155,14 +177,26 @@ def median_seconds(call: Callable[[], object], repeats: int, budget: float) -> f
 
 
 def run_throughput(
-    all_methods: list[Method], sizes: list[int], args: argparse.Namespace
+    all_methods: list[Method],
+    sizes: list[int],
+    args: argparse.Namespace,
+    kept: dict[str, np.ndarray] | None = None,
 ) -> tuple[dict[tuple[str, int], float], dict[str, float]]:
-    """Samples per second for every method and N, and the agreement of f10 with prp3 fast."""
+    """Samples per second for every method and N, and the agreement of f10 with prp3 fast.
+
+    ``kept`` receives the samples and prp3 fast's ``f10`` of every batch (for
+    the baseline).
+    """
     rates: dict[tuple[str, int], float] = {}
     agreement: dict[str, float] = {}
     for samples in sizes:
         for name in MOTIONS:
             motion = batch(motion_of(name, samples))
+            if kept is not None:
+                key = f"{samples}_{name}"
+                kept[f"pose_{key}"] = motion.pose
+                kept[f"velocity_{key}"] = motion.velocity
+                kept[f"acceleration_{key}"] = motion.acceleration
             reference: np.ndarray | None = None
             for method in all_methods:
                 if method.max_samples is not None and samples > method.max_samples:
@@ -171,6 +205,8 @@ def run_throughput(
                 f10 = np.asarray(method.run(state))
                 if reference is None:
                     reference = f10
+                    if kept is not None:
+                        kept[f"f10_{samples}_{name}"] = f10
                 deviation = float(np.abs(f10 - reference).max() / np.abs(reference).max())
                 agreement[method.name] = max(agreement.get(method.name, 0.0), deviation)
                 gc.collect()
@@ -192,20 +228,20 @@ def run_single(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) ->
     """Median microseconds of one single-sample call (the rotation motion at t = 1 s)."""
     compiled = compile_robot(robot)
     motion = motion_of("rotation", 1)
-    pose, velocity, acceleration = (
-        motion.pose.tolist(),
-        motion.velocity.tolist(),
-        motion.acceleration.tolist(),
-    )
+    arrays = (motion.pose, motion.velocity, motion.acceleration)  # ndarrays (3,)
+    pose, velocity, acceleration = (tuple(a.tolist()) for a in arrays)
     flat = (*pose, *velocity, *acceleration)
+    load = (1.5, -2.0, 0.25)
     calls: dict[str, Callable[[], object]] = {
-        "prp3 fast sample_forces (checked)": lambda: sample_forces(
+        "prp3 fast sample_forces, tuples": lambda: sample_forces(
             compiled, pose, velocity, acceleration
         ),
-        "prp3 fast sample_forces_unchecked": lambda: sample_forces_unchecked(compiled, *flat),
-        "prp3 fast paper_forces, (3,) arrays": lambda: paper_forces(
-            compiled, motion.pose, motion.velocity, motion.acceleration
+        "prp3 fast sample_forces, ndarray (3,)": lambda: sample_forces(compiled, *arrays),
+        "prp3 fast sample_forces, tuples, load=": lambda: sample_forces(
+            compiled, pose, velocity, acceleration, load=load
         ),
+        "prp3 fast sample_forces_unchecked": lambda: sample_forces_unchecked(compiled, *flat),
+        "prp3 fast paper_forces, (3,) arrays": lambda: paper_forces(compiled, *arrays),
         "prp3 paper inverse_dynamics": lambda: prp3.inverse_dynamics(robot, motion, "paper"),
         "prp3 newton-euler inverse_dynamics": lambda: prp3.inverse_dynamics(
             robot, motion, "newton-euler"
@@ -222,6 +258,48 @@ def run_single(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) ->
         name: 1e6 * median_seconds(call, max(args.repeats, 7), args.budget)
         for name, call in calls.items()
     }
+
+
+# ----------------------------------------------------------------- baseline
+def run_baseline(
+    commit: str, kept: dict[str, np.ndarray], args: argparse.Namespace
+) -> tuple[dict[tuple[str, int], float], dict[str, float], float, str]:
+    """An older commit's fast path timed on the same samples (``benchmarks/baseline.py``).
+
+    Returns its samples per second for each N (as ``rates``), its single-call
+    µs, its agreement with prp3 fast's ``f10``, and the row name.
+    """
+    name = f"prp3 {commit} (hand-fused)"
+    motion = motion_of("rotation", 1)
+    with tempfile.TemporaryDirectory(prefix="prp3-baseline-") as folder:
+        root = Path(folder)
+        archive = subprocess.run(
+            ["git", "-C", str(HERE.parent), "archive", "--format=tar", commit, "src"],
+            capture_output=True, check=True,
+        )  # fmt: skip
+        subprocess.run(["tar", "-x", "-C", str(root)], input=archive.stdout, check=True)
+        samples = root / "samples.npz"
+        arrays = {k: v for k, v in kept.items() if not k.startswith("f10_")}
+        np.savez(samples, **arrays, single_pose=motion.pose,
+                 single_velocity=motion.velocity, single_acceleration=motion.acceleration)  # fmt: skip
+        command = [sys.executable, str(HERE / "baseline.py"), str(samples), str(root / "out.json")]
+        command += ["--repeats", str(args.repeats), "--budget", str(args.budget)]
+        env = {**os.environ, "PYTHONPATH": str(root / "src")}
+        subprocess.run(command, check=True, env=env)
+        found = json.loads((root / "out.json").read_text())
+    if not found["prp3_file"].startswith(folder):
+        raise RuntimeError(f"the baseline imported {found['prp3_file']}, not the old source")
+    rates: dict[tuple[str, int], float] = {}
+    deviation = 0.0
+    for key, value in found["batches"].items():
+        samples_n = int(key.split("_", 1)[0])
+        rates.setdefault((name, samples_n), 0.0)
+        rates[(name, samples_n)] += samples_n / value["seconds"] / len(MOTIONS)
+        reference = kept[f"f10_{key}"]
+        difference = np.abs(np.asarray(value["f10"]) - reference).max()
+        deviation = max(deviation, float(difference / np.abs(reference).max()))
+    single = {f"{name} {call}": micro for call, micro in found["single"].items()}
+    return rates, single, deviation, name
 
 
 # ------------------------------------------------------------------- memory
@@ -284,9 +362,9 @@ def run_memory(
 
 
 # ------------------------------------------------------- paper vs Newton–Euler
-def count_operations(function: Callable[..., object]) -> dict[str, int]:
+def count_operations(source: str) -> dict[str, int]:
     """Arithmetic operations written in a scalar function's source (one sample)."""
-    tree = ast.parse(textwrap.dedent(inspect.getsource(function)))
+    tree = ast.parse(textwrap.dedent(source))
     counts = {"add/sub": 0, "mul": 0, "div": 0, "neg": 0, "cos/sin": 0}
     for node in ast.walk(tree):
         if isinstance(node, ast.BinOp):
@@ -297,11 +375,7 @@ def count_operations(function: Callable[..., object]) -> dict[str, int]:
                 counts[key] += 1
         elif isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
             counts["neg"] += 1
-        elif (
-            isinstance(node, ast.Call)
-            and isinstance(node.func, ast.Attribute)
-            and node.func.attr in ("cos", "sin")
-        ):
+        elif isinstance(node, ast.Call) and getattr(node.func, "id", None) in ("cos", "sin"):
             counts["cos/sin"] += 1
     return counts
 
@@ -325,7 +399,8 @@ def run_paper_vs_newton_euler(args: argparse.Namespace) -> dict[str, Any]:
         result["seconds_per_sample"][("inverse_kinematics", samples)] = kin_seconds / samples
     n = 21
     result["newton_euler_lu_flops"] = round(2 * n**3 / 3 + 2 * n**2)
-    result["fused_counts"] = count_operations(sample_forces_unchecked)
+    # the traced kernel of sample_forces_unchecked (its source is its __doc__)
+    result["fused_counts"] = count_operations(compile_robot(robot).sample_function.__doc__ or "")
     return result
 
 
@@ -365,6 +440,7 @@ def report(
     memory: dict[tuple[str, int], dict[str, float]],
     comparison: dict[str, Any],
     notes: list[str],
+    extra_rows: list[str],
 ) -> list[str]:
     out = [*notes, ""]
     out.append(
@@ -374,20 +450,20 @@ def report(
     out.append("")
     out.append("| method | " + " | ".join(f"N = {n:,}" for n in sizes) + " |")
     out.append("|---|" + "---|" * len(sizes))
-    for method in all_methods:
+    for row in [method.name for method in all_methods] + extra_rows:
         cells = []
         for n in sizes:
-            rate = rates.get((method.name, n))
+            rate = rates.get((row, n))
             base = rates.get(("prp3 fast", n))
             if rate is None:
                 cells.append("—")
-            elif method.name == "prp3 fast":
+            elif row == "prp3 fast":
                 cells.append(fmt_rate(rate))
             else:
                 cells.append(f"{fmt_rate(rate)} [{base / rate:.3g}×]" if base else fmt_rate(rate))
-        out.append(f"| {method.name} | " + " | ".join(cells) + " |")
+        out.append(f"| {row} | " + " | ".join(cells) + " |")
     out.append("")
-    fastest = single.get("prp3 fast sample_forces (checked)", float("nan"))
+    fastest = single.get(CHECKED_CALL, float("nan"))
     out.append(
         "Single-sample call (one pose, velocity, acceleration → f10), median µs; ratio to prp3's checked call."
     )
@@ -440,12 +516,12 @@ def report(
     counts = comparison["fused_counts"]
     total = sum(v for k, v in counts.items() if k != "cos/sin")
     out.append(
-        f"  Operations per sample, fused paper method incl. kinematics (source count of sample_forces_unchecked): "
+        f"  Operations per sample, fused paper method incl. kinematics (source count of the traced kernel of sample_forces_unchecked): "
         f"{total} ({', '.join(f'{k} {v}' for k, v in counts.items())}); the Newton–Euler solver's dense 21×21 LU "
         f"solve alone is about {comparison['newton_euler_lu_flops']:,} flops (2n³/3 + 2n²), before assembling the system."
     )
     out.append("")
-    out.extend(targets(rates, single, memory))
+    out.extend(targets(rates, single, memory, extra_rows))
     return out
 
 
@@ -457,34 +533,43 @@ def _has_numba() -> bool:
     return True
 
 
+#: The validated single-sample call the targets are about.
+CHECKED_CALL = "prp3 fast sample_forces, tuples"
+
+
 def targets(
     rates: dict[tuple[str, int], float],
     single: dict[str, float],
     memory: dict[tuple[str, int], dict[str, float]],
+    extra_rows: list[str],
 ) -> list[str]:
     out = ["Targets of issue 8 (the default install, numpy backend):"]
     n = 10**5
-    fused = rates.get(("prp3 fast", n))
     peers = {
         name: rate
         for (name, size), rate in rates.items()
         if size == n and name in ("mujoco", "pinocchio")
     }
-    if fused is not None:
-        line = f"  batch N = 10⁵: prp3 fast {fused:.3g} samples/s (target ≥ 1e7: {'met' if fused >= 1e7 else 'NOT met'})"
+    for row in ("prp3 fast", "prp3 fast f10 alone"):
+        fused = rates.get((row, n))
+        if fused is None:
+            continue
+        line = f"  batch N = 10⁵: {row} {fused:.3g} samples/s (target ≥ 1e7: {'met' if fused >= 1e7 else 'NOT met'})"
         if peers:
             best_name = max(peers, key=lambda k: peers[k])
             ratio = fused / peers[best_name]
             line += f"; faster peer {best_name} {peers[best_name]:.3g}/s, ratio {ratio:.3g} (target ≥ 150: {'met' if ratio >= 150 else 'NOT met'})"
         out.append(line)
-    checked = single.get("prp3 fast sample_forces (checked)")
     peer_single = {k: v for k, v in single.items() if k.endswith(" single")}
-    if checked is not None:
-        below = all(checked < v for v in peer_single.values())
+    for call in (CHECKED_CALL, "prp3 fast sample_forces, ndarray (3,)"):
+        checked = single.get(call)
+        if checked is None:
+            continue
         out.append(
-            f"  single sample: prp3 {checked:.3g} µs (target ≤ 3 µs: {'met' if checked <= 3 else 'NOT met'}"
+            f"  single sample, {call}: {checked:.3g} µs (target ≤ 3 µs: {'met' if checked <= 3 else 'NOT met'}"
             + (
-                f"; below every peer's {', '.join(f'{v:.3g}' for v in peer_single.values())} µs: {'met' if below else 'NOT met'}"
+                f"; below every peer's {', '.join(f'{v:.3g}' for v in peer_single.values())} µs: "
+                f"{'met' if all(checked < v for v in peer_single.values()) else 'NOT met'}"
                 if peer_single
                 else ""
             )
@@ -495,6 +580,21 @@ def targets(
         out.append(
             f"  memory N = 10⁶: prp3 fast peak RSS {big['rss']:.0f} MiB (target ≤ 300 MiB: {'met' if big['rss'] <= 300 else 'NOT met'})"
         )
+    for row in extra_rows:  # no speed lost: the same machine, the same run, the same samples
+        old, new = rates.get((row, n)), rates.get(("prp3 fast", n))
+        if old and new:
+            out.append(
+                f"  no speed lost against {row}: batch N = 10⁵ {new:.3g} against {old:.3g} samples/s "
+                f"({new / old:.3g}×: {'met' if new >= old else 'NOT met'})"
+            )
+        for call in ("tuples", "ndarray (3,)"):
+            before = single.get(f"{row} sample_forces, {call}")
+            now = single.get(f"prp3 fast sample_forces, {call}")
+            if before and now:
+                out.append(
+                    f"  no speed lost against {row}: sample_forces, {call}, {now:.3g} against "
+                    f"{before:.3g} µs ({before / now:.3g}× faster: {'met' if now <= before else 'NOT met'})"
+                )
     return out
 
 
@@ -518,6 +618,13 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--no-peers", action="store_true", help="prp3 only")
     parser.add_argument(
+        "--baseline",
+        default=BASELINE,
+        help=f"an older commit whose fast path is timed on the same samples (default {BASELINE}, "
+        "the hand-fused code before the one kernel; needs git)",
+    )
+    parser.add_argument("--no-baseline", action="store_true", help="skip the baseline row")
+    parser.add_argument(
         "--no-memory", action="store_true", help="skip the peak-memory subprocesses"
     )
     parser.add_argument("--child-memory", nargs=2, metavar=("METHOD", "N"), help=argparse.SUPPRESS)
@@ -538,9 +645,23 @@ def main(argv: list[str] | None = None) -> int:
     )
     all_methods = methods(robot, peers, args)
     print("timing batches ...", file=sys.stderr)
-    rates, agreement = run_throughput(all_methods, sizes, args)
+    kept: dict[str, np.ndarray] | None = None if args.no_baseline else {}
+    rates, agreement = run_throughput(all_methods, sizes, args, kept)
     print("timing single samples ...", file=sys.stderr)
     single = run_single(robot, peers, args)
+    extra_rows: list[str] = []
+    if kept is not None:
+        print(f"timing the baseline {args.baseline} on the same samples ...", file=sys.stderr)
+        try:
+            old_rates, old_single, deviation, row = run_baseline(args.baseline, kept, args)
+        except (OSError, subprocess.CalledProcessError, RuntimeError) as error:
+            notes.append(f"baseline {args.baseline} skipped: {error}")
+        else:
+            rates.update(old_rates)
+            single.update(old_single)
+            agreement[row] = deviation
+            extra_rows.append(row)
+        del kept
     memory = {}
     if not args.no_memory:
         print("measuring peak memory ...", file=sys.stderr)
@@ -548,7 +669,11 @@ def main(argv: list[str] | None = None) -> int:
     print("paper method vs Newton–Euler ...", file=sys.stderr)
     comparison = run_paper_vs_newton_euler(args)
     print(
-        "\n".join(report(sizes, all_methods, rates, agreement, single, memory, comparison, notes))
+        "\n".join(
+            report(
+                sizes, all_methods, rates, agreement, single, memory, comparison, notes, extra_rows
+            )
+        )
     )
     bad = {name: value for name, value in agreement.items() if not value <= AGREEMENT}
     if bad:

@@ -297,19 +297,36 @@ def scalar_function(
 
 
 def loop_source(
-    function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
+    function: Callable[..., Sequence[Any]],
+    arguments: Sequence[str],
+    name: str = "traced",
+    *,
+    parameters: Sequence[str] = ("inputs", "out"),
+    sources: Sequence[str] | None = None,
+    targets: Sequence[str] | None = None,
 ) -> str:
     """Source of ``name(inputs, out)``: the scalar code in a loop over columns.
 
     ``inputs`` is ``(len(arguments), n)``, ``out`` ``(outputs, n)``; for a
-    compiler of loops (numba), which runs it at machine speed.
+    compiler of loops (numba), which runs it at machine speed.  Another
+    layout: ``parameters`` of the function, ``sources`` the element each
+    argument is read from and ``targets`` the element each output is written
+    to, with ``i`` the loop's index (the loop runs over the first
+    parameter's first axis), for example ``"pose[i, 0]"``.
     """
     lines, outs = trace(function, len(arguments))
     body, outputs = _scalar_code(lines, outs, arguments, "        ")
-    unpack = [f"        {arg} = inputs[{k}, i]" for k, arg in enumerate(arguments)]
-    store = [f"        out[{k}, i] = {value}" for k, value in enumerate(outputs)]
+    if sources is None:
+        sources = [f"inputs[{k}, i]" for k in range(len(arguments))]
+    if targets is None:
+        targets = [f"out[{k}, i]" for k in range(len(outputs))]
+        loop = "inputs.shape[1]"
+    else:
+        loop = f"{parameters[0]}.shape[0]"
+    unpack = [f"        {arg} = {source}" for arg, source in zip(arguments, sources, strict=True)]
+    store = [f"        {target} = {value}" for target, value in zip(targets, outputs, strict=True)]
     return (
-        f"def {name}(inputs, out):\n    for i in range(inputs.shape[1]):\n"
+        f"def {name}({', '.join(parameters)}):\n    for i in range({loop}):\n"
         + "\n".join(unpack + body + store)
         + "\n"
     )

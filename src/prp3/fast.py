@@ -205,15 +205,18 @@ class CompiledRobot:
             )
         return cache[names]
 
-    def numba_function(self, names: tuple[str, ...]) -> Callable[[FloatArray, FloatArray], None]:
+    def numba_function(self, names: tuple[str, ...]) -> Callable[..., None]:
         """The outputs of :meth:`batch_function` by the kernel's scalar code compiled by numba.
 
-        ``f(inputs, out)`` with ``inputs`` ``(9, n)`` and ``out``
-        ``(outputs, n)``: the same straight-line code as the single-sample
-        path, in a loop that numba compiles to machine code (built once per
-        ``names``; compiling takes about a second).
+        ``f(pose, velocity, acceleration, checks, *targets)``: the inputs
+        ``(n, 3)`` as given, ``checks`` ``(1 or 4, n)`` (``sin(φ − π/3)``, and
+        ``λ10`` with a stroke), one ``(n, 3)`` target per name, written in
+        place; the same straight-line code as the single-sample path, in a
+        loop that numba compiles to machine code (built once per ``names``;
+        compiling takes about a second).  Its source is its ``source``
+        attribute.
         """
-        cache: dict[tuple[str, ...], Callable[[FloatArray, FloatArray], None]]
+        cache: dict[tuple[str, ...], Callable[..., None]]
         cache = self.__dict__.setdefault("_numba_functions", {})
         if names not in cache:
             try:
@@ -222,11 +225,21 @@ class CompiledRobot:
                 raise Prp3Error(
                     'backend="numba" needs numba, which is not installed: pip install "prp3[numba]"'
                 ) from None
-            source = loop_source(self._outputs(names), kernel.STATE_SYMBOLS, "batch_kernel_loop")
+            checks = 1 if self.stroke is None else 4
+            sources = [f"{array}[i, {k}]" for array in _INPUTS for k in range(3)]
+            targets = [f"checks[{k}, i]" for k in range(checks)]
+            targets += [f"{name}_[i, {leg}]" for name in names for leg in range(3)]
+            source = loop_source(
+                self._outputs(names), kernel.STATE_SYMBOLS, "batch_kernel_loop",
+                parameters=(*_INPUTS, "checks", *(f"{name}_" for name in names)),
+                sources=sources, targets=targets,
+            )  # fmt: skip
             namespace: dict[str, Any] = {"cos": math.cos, "sin": math.sin, "sqrt": math.sqrt,
                                          "tanh": math.tanh, "abs": abs}  # fmt: skip
             exec(compile(source, "<prp3 kernel: numba loop>", "exec"), namespace)
-            cache[names] = numba.njit(error_model="numpy")(namespace["batch_kernel_loop"])
+            function = numba.njit(error_model="numpy")(namespace["batch_kernel_loop"])
+            function.source = source  # type: ignore[attr-defined]
+            cache[names] = function
         return cache[names]
 
     def _outputs(self, names: tuple[str, ...]) -> Callable[..., tuple[kernel.Value, ...]]:
@@ -571,11 +584,10 @@ def _compute(
     width = min(chunk_size, samples)
     names = tuple(targets)
     checks = 4 if compiled.stroke is not None else 1
-    state = np.empty((9, width if backend == "numba" else 0))  # the chunk's inputs as rows
-    scratch = np.empty((checks + (3 * len(names) if backend == "numba" else 0), width))
+    scratch = np.empty((checks, width))
     numpy_function = compiled.batch_function(names) if backend == "numpy" else None
     numba_function = compiled.numba_function(names) if backend == "numba" else None
-    if not all(np.isfinite(array).all() for array in inputs) or _beyond(
+    if not all(_finite(array) for array in inputs[1:]) or _beyond(
         inputs[0], POSE_BOUND * compiled.robot.l0
     ):
         _raise_input_error(compiled, inputs, samples)
@@ -583,17 +595,18 @@ def _compute(
         for start in range(0, samples, width):
             stop = min(start + width, samples)
             n = stop - start
-            columns = [target[start:stop, leg] for target in targets.values() for leg in range(3)]
-            if numpy_function is not None:  # the input columns as they are (no copy)
+            if numpy_function is not None:  # the input and output columns as they are (no copy)
                 rows = [array[start:stop, k] for array in inputs for k in range(3)]
+                columns = [
+                    target[start:stop, leg] for target in targets.values() for leg in range(3)
+                ]
                 numpy_function(*rows, [*scratch[:checks, :n], *columns])
             else:
                 assert numba_function is not None
-                for k, array in enumerate(inputs):
-                    np.copyto(state[3 * k : 3 * k + 3, :n], array[start:stop].T)
-                numba_function(state[:, :n], scratch[:, :n])
-                for column, values in zip(columns, scratch[checks:, :n], strict=True):
-                    column[...] = values
+                numba_function(
+                    *(array[start:stop] for array in inputs), scratch[:, :n],
+                    *(target[start:stop] for target in targets.values()),
+                )  # fmt: skip
             if float(np.abs(scratch[0, :n]).min()) < SINGULARITY_THRESHOLD or (
                 compiled.stroke is not None and _outside(scratch[1:4, :n], compiled.stroke)
             ):
@@ -675,11 +688,25 @@ def _compute_direct(
     _require_finite_results(targets, inputs)
 
 
+def _finite(array: FloatArray) -> bool:
+    """Whether every value of ``array`` is finite (a finite sum says so in one pass)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = float(array.sum())
+    return math.isfinite(total) or bool(np.isfinite(array).all())
+
+
 def _beyond(pose: FloatArray, reach: float) -> bool:
-    """Whether poses ``(N, 3)`` leave the bounds of :func:`prp3.validation.check_poses`."""
-    return bool(
-        float(np.abs(pose[:, :2]).max()) > reach
-        or float(np.abs(pose[:, 2]).max()) > MAX_ORIENTATION
+    """Whether poses ``(N, 3)`` leave the bounds of :func:`prp3.validation.check_poses`.
+
+    Also true for a pose that is not finite.  The common case in two passes:
+    every coordinate within the smaller of the two bounds.
+    """
+    largest = max(-float(pose.min()), float(pose.max()))  # NaN if a value is NaN
+    if largest <= min(reach, MAX_ORIENTATION):
+        return False
+    return not (
+        float(np.abs(pose[:, :2]).max()) <= reach
+        and float(np.abs(pose[:, 2]).max()) <= MAX_ORIENTATION
     )
 
 
@@ -690,7 +717,7 @@ def _outside(lambda10: Any, stroke: tuple[float, float]) -> bool:
 
 def _require_finite_results(targets: dict[str, FloatArray], inputs: list[FloatArray]) -> None:
     """A TrajectoryError naming the first sample whose results overflowed."""
-    if all(np.isfinite(array).all() for array in targets.values()):
+    if all(_finite(array) for array in targets.values()):
         return
     require_finite(targets, (inputs[0].shape[0],), "motion")
 
