@@ -442,10 +442,10 @@ def test_checked_traced_code_refuses_before_dividing() -> None:
     # The checks are in the traced code: the pose bounds first, then |D| before 1/D.
     source = compile_robot(Robot()).checked_function.__doc__ or ""
     lines = source.splitlines()
-    guard = next(k for k, line in enumerate(lines) if ">= 0.0001" in line)
+    guard = next(k for k, line in enumerate(lines) if "< 0.0001:" in line)
     division = next(k for k, line in enumerate(lines) if "1.0 /" in line)
-    assert "abs(x) <= 30.0" in lines[1] and guard < division
-    assert "isfinite(" in lines[-3]  # the results, before returning
+    assert "-30.0 <= x <= 30.0" in lines[1] and guard < division
+    assert "0.0 * (" in lines[-3]  # the results are finite, before returning
 
 
 @pytest.mark.parametrize(

@@ -161,11 +161,14 @@ class CompiledRobot:
         reach = POSE_BOUND * self.robot.l0
         arguments = kernel.STATE_SYMBOLS + (_LOAD_SYMBOLS if loaded else ())
         rates = " + ".join(arguments[3:])
+        # comparisons rather than calls (cheaper in CPython); NaN fails every comparison, and
+        # 0·s == 0 says that the sum s is finite (a sum that overflows goes the slow way)
         entry = (
-            f"not (abs(x) <= {reach!r} and abs(y) <= {reach!r} and abs(phi) <= {MAX_ORIENTATION!r}"
-            f" and isfinite({rates}))"
+            f"not (-{reach!r} <= x <= {reach!r} and -{reach!r} <= y <= {reach!r}"
+            f" and -{MAX_ORIENTATION!r} <= phi <= {MAX_ORIENTATION!r}"
+            f" and 0.0 * ({rates}) == 0.0)"
         )
-        singular = f"not abs({{}}) >= {SINGULARITY_THRESHOLD!r}"
+        singular = f"-{SINGULARITY_THRESHOLD!r} < {{}} < {SINGULARITY_THRESHOLD!r}"
         outside = "" if stroke is None else f"not {stroke[0]!r} <= {{}} <= {stroke[1]!r}"
         checks = 1 if stroke is None else 4
         if params.has_mu:  # implicit friction: the kernel on floats with its Newton solve
@@ -183,7 +186,7 @@ class CompiledRobot:
             outputs, arguments, "sample_forces_checked" + ("_loaded" if loaded else ""),
             entry=[entry],
             checks={0: singular, **{k: outside for k in range(1, checks)}},
-            final=f"not isfinite({' + '.join(f)})",
+            final=f"0.0 * ({' + '.join(f)}) != 0.0",
             returns="new(SampleForces, (({}, {}, {}), ({}, {}, {}), ({}, {}, {}), ({}, {}, {})))"
             .format(*f),
             namespace={"new": tuple.__new__, "SampleForces": SampleForces},
