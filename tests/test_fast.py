@@ -384,10 +384,14 @@ def test_bad_shapes_are_refused(pose: object, velocity: object, message: str) ->
         paper_forces(Robot(), pose, velocity, velocity)  # type: ignore[arg-type]
 
 
-@pytest.mark.parametrize("chunk", [0, -3, 2.5, True])
+@pytest.mark.parametrize("chunk", [0, -3, 2.5, True, 10**400, 10**6 + 1])
 def test_bad_chunk_size_is_refused(chunk: object) -> None:
-    with pytest.raises(Prp3Error, match="chunk_size must be an integer >= 1"):
-        paper_forces(Robot(), [0, 0, 0], [0, 0, 0], [0, 0, 0], chunk_size=chunk)  # type: ignore[arg-type]
+    # also for one sample (the few-samples path uses no chunks: refused all the same)
+    for pose in ([0, 0, 0], [[0, 0, 0]] * 20):
+        with pytest.raises(Prp3Error, match=r"chunk_size must be an integer from 1 to 1e\+06"):
+            paper_forces(Robot(), pose, pose, pose, chunk_size=chunk)  # type: ignore[arg-type]
+    with pytest.raises(Prp3Error, match="backend must be one of 'numpy', 'numba', got 'cuda'"):
+        actuator_forces(Robot(), [0, 0, 0], [0, 0, 0], [0, 0, 0], backend="cuda")  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize(

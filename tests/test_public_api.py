@@ -501,6 +501,23 @@ CASES: dict[str, Case] = {
     "reachable_region": _case(
         prp3.reachable_region, {"robot": OBJ, "phi": R}, robot=LIMITED, phi=0.1
     ),
+    "actuator_forces": _case(
+        prp3.fast.actuator_forces,
+        {
+            "robot": OBJ,
+            "pose": A,
+            "velocity": A,
+            "acceleration": A,
+            "chunk_size": INT,
+            "backend": C,
+        },
+        robot=ROBOT,
+        pose=SMALL,
+        velocity=ZERO,
+        acceleration=ZERO,
+        chunk_size=64,
+        backend="numpy",
+    ),
     "sample_forces": _case(
         prp3.sample_forces,
         {"compiled": OBJ, "pose": A, "velocity": A, "acceleration": A},
@@ -696,15 +713,8 @@ SLOW = {"track", "exciting_trajectory"}
 
 #: Refusals still missing, by (function, argument[, label]): strict xfails, so that
 #: the fix makes them fail until the entry goes.
-OPEN = {
-    "paper_forces": "prp3.fast (another owner): chunk_size and backend are not validated",
-    "solve_batch": "prp3.fast (another owner): chunk_size is not validated",
-}
-OPEN_CASES = {
-    ("paper_forces", "chunk_size", "huge integer"),
-    ("paper_forces", "backend"),
-    ("solve_batch", "chunk_size", "huge integer"),
-}
+OPEN: dict[str, str] = {}
+OPEN_CASES: set[tuple[str, ...]] = set()
 
 
 def _public() -> dict[str, object]:

@@ -38,7 +38,9 @@ from .validation import (
     MAX_ORIENTATION,
     POSE_BOUND,
     SINGULARITY_THRESHOLD,
+    check_choice,
     check_finite,
+    check_integer,
     check_poses,
     check_real,
     require_finite,
@@ -48,6 +50,7 @@ __all__ = [
     "DEFAULT_CHUNK",
     "FRICTION_OUTPUTS",
     "KERNEL_OUTPUTS",
+    "MAX_CHUNK",
     "CompiledRobot",
     "FastForces",
     "SampleForces",
@@ -348,7 +351,7 @@ def paper_forces(
         ``reactions=True`` the reaction arrays too).  They are returned.  If
         an error is raised, their content is unspecified.
     chunk_size : int
-        Samples per chunk, >= 1.
+        Samples per chunk, from 1 to :data:`MAX_CHUNK`.
     backend : {"numpy", "numba"}
         ``"numpy"``: the kernel traced into numpy ufunc calls (the default
         install); ``"numba"``: the kernel's scalar code compiled by numba
@@ -379,12 +382,12 @@ def paper_forces(
     names = _FORCES + (_REACTIONS if reactions else ())
     flat, shape = _inputs(pose, velocity, acceleration)
     result = _outputs(out, names, shape)
-    samples, chunk = flat[0].shape[0], _chunk_size(chunk_size)
+    samples, chunk, engine = flat[0].shape[0], _chunk_size(chunk_size), _backend(backend)
     targets = {name: array.reshape(-1, 3) for name, array in result.items()}
     if samples and not reactions and samples <= _FEW_SAMPLES:
         _sample_table(compiled, flat, targets)
     elif samples:
-        _compute(compiled, flat, targets, chunk, _backend(backend))
+        _compute(compiled, flat, targets, chunk, engine)
     return FastForces(**result)
 
 
@@ -427,12 +430,12 @@ def actuator_forces(
     compiled = robot if isinstance(robot, CompiledRobot) else compile_robot(robot)
     flat, shape = _inputs(pose, velocity, acceleration)
     f10 = np.empty(shape) if out is None else _out_array("out", out, shape)
-    samples, chunk = flat[0].shape[0], _chunk_size(chunk_size)
+    samples, chunk, engine = flat[0].shape[0], _chunk_size(chunk_size), _backend(backend)
     targets = {"f10": f10.reshape(-1, 3)}
     if samples and samples <= _FEW_SAMPLES:
         _sample_table(compiled, flat, targets)
     elif samples:
-        _compute(compiled, flat, targets, chunk, _backend(backend))
+        _compute(compiled, flat, targets, chunk, engine)
     return f10
 
 
@@ -483,19 +486,15 @@ def solve_batch(
 
 
 def _backend(backend: object) -> str:
-    if backend not in ("numpy", "numba"):
-        raise Prp3Error(f"backend must be 'numpy' or 'numba', got {backend!r}")
-    return str(backend)
+    return check_choice("backend", backend, ("numpy", "numba"))
+
+
+#: The largest ``chunk_size``: work rows of at most about 200 MB.
+MAX_CHUNK = 10**6
 
 
 def _chunk_size(chunk_size: object) -> int:
-    if (
-        isinstance(chunk_size, bool)
-        or not isinstance(chunk_size, int | np.integer)
-        or chunk_size < 1
-    ):
-        raise Prp3Error(f"chunk_size must be an integer >= 1, got {chunk_size!r}")
-    return int(chunk_size)
+    return check_integer("chunk_size", chunk_size, 1, MAX_CHUNK)
 
 
 def _inputs(
