@@ -215,18 +215,20 @@ def test_a_burst_of_signals_is_one_line_and_keeps_the_earlier_run(
 FAR = 1e3  # m: more than POSE_BOUND robot sizes (l0 = 0.3 m) from the centre
 
 
+@pytest.mark.parametrize("far", [FAR, 1e6, 1e60, 1e300])
 @pytest.mark.parametrize("method", ["fast", "paper", "newton-euler"])
-def test_poses_far_beyond_the_robot_are_refused_by_every_method(method):
-    # was: accepted; the forces were round-off noise and the methods disagreed (even in sign)
+def test_poses_far_beyond_the_robot_are_refused_by_every_method(method, far):
+    # was: accepted; the forces were round-off noise and the methods disagreed (even in sign);
+    # at 1e60 m Newton-Euler raised LinAlgError
     motion = Motion(
         t=[0.0, 1.0],
-        pose=[[0.0, 0.0, 0.0], [FAR, 0.0, 0.0]],
+        pose=[[0.0, 0.0, 0.0], [0.0, -far, 0.0]],
         velocity=np.zeros((2, 3)),
         acceleration=np.zeros((2, 3)),
     )
     with pytest.raises(TrajectoryError, match=r"too far from the centre") as info:
         inverse_dynamics(ROBOT, motion, method)
-    assert info.value.sample == 1 and info.value.pose == (FAR, 0.0, 0.0)
+    assert info.value.sample == 1 and info.value.pose == (0.0, -far, 0.0)
     assert f"{POSE_BOUND:g}*l0 = 30 m" in str(info.value)
 
 
@@ -264,10 +266,19 @@ def test_far_trajectory_rows_are_refused_naming_file_and_line(tmp_path, capsys, 
 def test_derived_parameters_that_overflow_are_refused(tmp_path, capsys, text):
     # was: OverflowError in every command, or inf inertias in the MJCF
     (tmp_path / "big.toml").write_text(text)
+    forces = tmp_path / "forces.csv"
+    forces.write_text("t,f10_A,f10_B,f10_C\n0,0,0,0\n1,0,0,0\n")
+    out = ["-o", tmp_path / "out", "--robot"]
     for argv in (
         ["robot", "--check"],
         ["export", "mjcf", "--robot"],
-        ["simulate", "--motion", "vertical", "-o", tmp_path / "out", "--robot"],
+        ["export", "c", *out],
+        ["simulate", "--motion", "vertical", *out],
+        ["workspace", *out],
+        ["forward", "--forces", forces, *out],
+        ["control", "--motion", "vertical", "--plant", "prp3", "--controller", "pd", *out],
+        ["excite", *out],
+        ["identify", "--measurements", forces, *out],
     ):
         status, out, err = cli(capsys, *argv, tmp_path / "big.toml")
         assert (status, out) == (2, "")
