@@ -384,6 +384,10 @@ def test_absurd_toml_is_one_error_naming_the_file(tmp_path, capsys, text, fragme
         ["simulate", "--trajectory", "/dev/zero"],
         ["simulate", "--motion", "vertical", "--robot", "/dev/zero"],
         ["forward", "--forces", "/dev/zero"],
+        ["identify", "--measurements", "/dev/zero"],
+        ["control", "--trajectory", "/dev/zero", "--plant", "prp3", "--controller", "pd"],
+        ["workspace", "--robot", "/dev/zero"],
+        ["sweep", "--spec", "/dev/zero"],
     ],
 )
 def test_dev_zero_is_refused_at_once_naming_it(tmp_path, capsys, argv):
