@@ -102,7 +102,10 @@ def load_peers(robot: prp3.Robot) -> tuple[list[Any], str]:
     )
 
 
-def methods(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) -> list[Method]:
+def methods(
+    robot: prp3.Robot, peers: list[Any], args: argparse.Namespace, numba: bool | None = None
+) -> list[Method]:
+    """The methods timed; ``numba``: with the numba backend rows (default: if it imports)."""
     compiled = compile_robot(robot)
 
     def fused_prepare(motion: prp3.Motion) -> tuple[np.ndarray, ...]:
@@ -137,7 +140,7 @@ def methods(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) -> li
                 Method("prp3 fast numba", fused_prepare, fused_numba),
                 Method("prp3 fast f10 alone numba", fused_prepare, alone_numba),
             ]
-            if _has_numba()
+            if (_has_numba() if numba is None else numba)
             else []
         ),
         Method("prp3 paper", identity, paper),
@@ -323,7 +326,9 @@ def child_memory(method_name: str, samples: int, args: argparse.Namespace) -> No
     robot = prp3.Robot()
     prp3_only = method_name.startswith("prp3 ")
     peers = [] if prp3_only else load_peers(robot)[0]
-    method = next(m for m in methods(robot, peers, args) if m.name == method_name)
+    # numba imported only for its rows (its import alone adds about 60 MiB of RSS)
+    found = methods(robot, peers, args, numba="numba" in method_name)
+    method = next(m for m in found if m.name == method_name)
     motion = batch(motion_of("rotation", samples))
     state = method.prepare(motion)
     gc.collect()

@@ -5,12 +5,14 @@ conditions of connectivity eqs. 14, 17, body wrenches eqs. 19–22 and virtual
 work eqs. 15, 16, 21, 23–25):
 
 * :func:`paper_forces` — ``(N, 3)`` arrays in, ``(N, 3)`` arrays out: the
-  kernel on 1-D numpy arrays of :data:`DEFAULT_CHUNK` samples at a time
-  (memory bounded for any N).
+  kernel traced into numpy ufunc calls on :data:`DEFAULT_CHUNK` samples at a
+  time (memory bounded for any N), or compiled by numba
+  (``backend="numba"``); :func:`actuator_forces` the same for ``f10`` alone.
 * :func:`sample_forces` — one sample with plain floats, on a
   :class:`CompiledRobot` built once by :func:`compile_robot`: the kernel traced
   once into straight-line code (:mod:`prp3._trace`) that performs the kernel's
-  own floating-point operations in the kernel's order.
+  own floating-point operations in the kernel's order, with the checks of the
+  batch path written into it; an optional time-varying load.
   :func:`sample_forces_unchecked` is its inner function for a control loop
   that has validated its input already.
 
@@ -71,8 +73,9 @@ DEFAULT_CHUNK = 8192
 #: the single-sample function: below it numpy's per-call overhead dominates.
 _FEW_SAMPLES = 16
 
-#: Fewer samples than this on a robot whose batch code is not built yet run the
-#: kernel on numpy directly: tracing (about 15 ms) costs more than it saves.
+#: Until this many samples have been computed for a robot whose batch code is
+#: not built yet, the kernel runs on numpy directly: tracing (about 15 ms)
+#: would cost more than it saves; then the batch code is traced (once).
 _TRACE_SAMPLES = 20_000
 
 #: Every per-leg output of the kernel, in the order of :class:`~prp3.kernel.KernelSolution`.
@@ -576,11 +579,15 @@ def _compute(
     """
     samples = inputs[0].shape[0]
     traced = tuple(targets) in compiled.__dict__.get("_batch_functions", {})
+    # samples computed so far without the traced code: once they add up to
+    # _TRACE_SAMPLES, tracing (once) costs less than it saves
+    direct = compiled.__dict__.get("_direct_samples", 0) + samples
     if (
         load is not None
         or compiled.parameters.has_mu
-        or (backend == "numpy" and samples < _TRACE_SAMPLES and not traced)
+        or (backend == "numpy" and direct < _TRACE_SAMPLES and not traced)
     ):  # a few samples of a new robot: tracing would cost more than it saves
+        compiled.__dict__["_direct_samples"] = direct
         _compute_direct(compiled, inputs, targets, chunk_size, load, mu_iterations, mu_near_lock)
         return
     width = min(chunk_size, samples)
