@@ -3,14 +3,20 @@
 
 Run from the repository root (``pip install -e ".[bench]"`` for the engines)::
 
-    python benchmarks/bench_inverse_dynamics.py            # full run, a few minutes
+    python benchmarks/bench_inverse_dynamics.py            # full run, about 20 minutes
     python benchmarks/bench_inverse_dynamics.py --quick    # smaller sizes, ~30 s
 
 Methods, all on the same samples of the paper's ``vertical`` and ``rotation``
 motions (eq. 4) resampled to N samples:
 
-* ``prp3 fast`` — :func:`prp3.fast.paper_forces`, the paper's method fused
-  (numpy, chunked); single sample: :func:`prp3.fast.sample_forces` (math module).
+* ``prp3 fast`` — :func:`prp3.fast.paper_forces`, the one kernel traced into
+  numpy ufunc calls (chunked); ``prp3 fast f10 alone`` —
+  :func:`prp3.fast.actuator_forces`; the ``numba`` rows — the same with
+  ``backend="numba"`` (when numba is installed); single sample:
+  :func:`prp3.fast.sample_forces` (tuples, ndarrays, a load).
+* ``prp3 2731610 (hand-fused)`` — ``--baseline``: that commit's fast path on
+  the same samples (``benchmarks/baseline.py`` run on ``git archive`` of its
+  ``src``; ``--no-baseline`` to skip).
 * ``prp3 paper`` — ``prp3.inverse_dynamics(robot, motion, "paper")``: the
   reference implementation (inverse kinematics + :func:`prp3.kernel_method`).
 * ``prp3 newton-euler`` — ``inverse_dynamics(..., "newton-euler")``: 21×21
