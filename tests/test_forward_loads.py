@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import io
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -200,9 +201,51 @@ def test_exact_sign_coulomb_and_mu_terms_are_refused(kind: str) -> None:
     with pytest.raises(ParameterError, match=rf"friction\.{kind}\.coulomb"):
         platform_dynamics(exact, still, still)
     extra = {"pin_radius": 0.01} if kind == "revolute" else {}
+    exact_mu = Robot(friction=Friction(**{kind: JointFriction(mu=0.1, **extra)}))  # type: ignore[arg-type]
+    with pytest.raises(
+        ParameterError, match=rf"friction\.{kind}\.mu = 0\.1 with smoothing = 0 \(the exact sign\)"
+    ):
+        forward_dynamics(exact_mu, lambda t: np.zeros(3), [0.0, 0.1], still, still)
     mu = Robot(friction=Friction(**{kind: JointFriction(mu=0.1, smoothing=0.1, **extra)}))  # type: ignore[arg-type]
-    with pytest.raises(ParameterError, match=rf"friction\.{kind}\.mu = 0\.1"):
-        forward_dynamics(mu, lambda t: np.zeros(3), [0.0, 0.1], still, still)
+    with pytest.raises(ParameterError, match="mu terms make f10 non-affine"):
+        platform_dynamics(mu, still, still)  # no A·q̈ + b form; forward_dynamics iterates
+
+
+def test_mu_terms_drive_the_motion_back() -> None:
+    """Forces of Newton–Euler with load-dependent friction integrate back to the planned motion.
+
+    The μ terms make f10 non-linear in q̈ (the reactions depend on it): the
+    forward dynamics solves for q̈ by chord iterations on the kernel's f10.
+    Expected: the planned poses (the paper's law), to the integration and
+    force-spline error; the same forces on the robot without μ terms go elsewhere.
+    """
+    smooth = {"smoothing": 0.01}
+    robot = Robot(
+        payload=Payload(mass=0.5),
+        friction=Friction(
+            actuator=JointFriction(viscous=2.0, coulomb=0.5, mu=0.05, **smooth),
+            revolute=JointFriction(mu=0.05, pin_radius=0.01, **smooth),
+            sleeve=JointFriction(viscous=1.0, mu=0.1, **smooth),
+        ),
+    )
+    planned = paper_motion("vertical", samples=1501)[:51]  # 0.1 s, steps of 2 ms
+    forces = ActuatorForces(
+        t=planned.t, f10=inverse_dynamics(robot, planned, "newton-euler")[1].f10
+    )
+    start = (planned.pose[0], planned.velocity[0])
+    back = forward_dynamics(robot, forces, planned.t, *start)
+    assert back.status == "completed"
+    assert np.abs(back.motion.pose - planned.pose).max() < 1e-8
+    assert back.force_residual < 1e-9  # the kernel's f10 (μ solved) at the integrated states
+    no_mu = replace(
+        robot,
+        friction=Friction(
+            actuator=JointFriction(viscous=2.0, coulomb=0.5, **smooth),
+            sleeve=JointFriction(viscous=1.0),
+        ),
+    )
+    other = forward_dynamics(no_mu, forces, planned.t, *start)
+    assert np.abs(other.motion.pose[-1] - planned.pose[other.motion.t.size - 1]).max() > 1e-6
 
 
 def _cli(*args: object) -> tuple[int, str, str]:

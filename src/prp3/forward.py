@@ -25,15 +25,15 @@ and the constant ``[load]`` and the friction forces to the body wrenches, all
 in the kernel (:func:`prp3.kernel.body_wrenches`), so ``A`` and ``b`` carry
 them.  Viscous and Coulomb friction depend on the velocities only: at a given
 ``(q, q̇)`` they are part of ``b`` and ``f10`` stays exactly affine in ``q̈``.
-Two kinds of friction are refused (:func:`check_forward_friction`):
-
-* Coulomb friction with the exact sign (``smoothing = 0``): ``s(v)`` jumps
-  where a joint rate passes zero, the motion is then not an ordinary
-  differential equation (sticking needs a complementarity problem);
-* the load-dependent ``μ`` terms: ``f10`` is no longer affine in ``q̈`` (the
-  reaction magnitudes depend on ``q̈``) and near a self-locking pose the
-  implicit equation ``f10(q, q̇, q̈) = f_applied`` has several or no
-  solutions ``q̈``; prp3 does not pick one for you.
+The load-dependent ``μ`` terms make ``f10`` non-linear in ``q̈`` (the
+reaction magnitudes depend on ``q̈``): the acceleration is then solved by chord
+iterations on the kernel's ``f10`` (:func:`_accelerations`), and near a
+self-locking pose, where ``f10(q, q̇, q̈) = f_applied`` has several or no
+solutions, the step is rejected rather than a branch chosen.  Refused
+(:func:`check_forward_friction`): Coulomb or ``μ`` friction with the exact
+sign (``smoothing = 0``): ``s(v)`` jumps where a joint rate passes zero, the
+motion is then not an ordinary differential equation (sticking needs a
+complementarity problem).
 """
 
 from __future__ import annotations
@@ -312,7 +312,9 @@ def platform_dynamics(
     """
     check_robot(robot)
     check_forward_friction(robot)
-    return _platform_dynamics(compile_robot(robot), pose, velocity, load)
+    compiled = compile_robot(robot)
+    _check_affine(compiled)
+    return _platform_dynamics(compiled, pose, velocity, load)
 
 
 def _platform_dynamics(
@@ -416,11 +418,15 @@ def open_loop_growth_rate(robot: Robot, pose: ArrayLike) -> float:
 def check_forward_friction(robot: Robot) -> None:
     """Refuse the friction forward dynamics cannot integrate (module notes).
 
+    The sign of a Coulomb or ``μ`` term must be smoothed: with the exact sign
+    the joint force jumps where the joint velocity changes sign, and the
+    equations of motion have no unique acceleration there.
+
     Raises
     ------
     ParameterError
-        A Coulomb term with the exact sign (``coulomb > 0``, ``smoothing = 0``)
-        or a load-dependent ``μ`` term; the message names the table and key.
+        A Coulomb or ``μ`` term with the exact sign (``coulomb > 0`` or
+        ``mu > 0`` with ``smoothing = 0``); the message names the table and key.
 
     >>> from prp3.model import Friction, JointFriction
     >>> check_forward_friction(Robot(friction=Friction(actuator=JointFriction(coulomb=1.0))))
@@ -434,21 +440,72 @@ def check_forward_friction(robot: Robot) -> None:
     for kind in ("actuator", "revolute", "sleeve"):
         joint = getattr(friction, kind)
         unit = "N·m" if kind == "revolute" else "N"
-        if joint.coulomb > 0.0 and joint.smoothing == 0.0:
-            raise ParameterError(
-                f"friction.{kind}.coulomb = {joint.coulomb!r} {unit} with smoothing = 0 "
-                f"(the exact sign): forward dynamics needs friction.{kind}.smoothing > 0",
-                subject="robot",
-                key=f"friction.{kind}.coulomb",
-            )
-        if joint.has_mu:
-            raise ParameterError(
-                f"friction.{kind}.mu = {joint.mu!r}: forward dynamics does not take the "
-                f"load-dependent mu terms (f10 is not affine in the acceleration); set "
-                f"friction.{kind}.mu = 0",
-                subject="robot",
-                key=f"friction.{kind}.mu",
-            )
+        for key, value, shown in (
+            ("coulomb", joint.coulomb, f"{joint.coulomb!r} {unit}"),
+            ("mu", joint.mu, f"{joint.mu!r}"),
+        ):
+            if value > 0.0 and joint.smoothing == 0.0:
+                raise ParameterError(
+                    f"friction.{kind}.{key} = {shown} with smoothing = 0 (the exact sign): "
+                    f"forward dynamics needs friction.{kind}.smoothing > 0",
+                    subject="robot",
+                    key=f"friction.{kind}.{key}",
+                )
+
+
+def _check_affine(compiled: CompiledRobot) -> None:
+    """Refuse ``μ`` terms where the affine form ``f10 = A·q̈ + b`` is asked for."""
+    if compiled.parameters.has_mu:
+        raise ParameterError(
+            "friction mu terms make f10 non-affine in the acceleration, so it has no "
+            "A(q)·q̈ + b(q, q̇) form; forward_dynamics solves them iteratively",
+            subject="robot",
+        )
+
+
+#: Largest number of chord iterations of :func:`_accelerations` (``μ`` terms).
+MU_CHORD_ITERATIONS: int = 60
+
+
+def _accelerations(
+    compiled: CompiledRobot,
+    q: FloatArray,
+    qdot: FloatArray,
+    applied: FloatArray,
+    load: FloatArray | None = None,
+) -> FloatArray:
+    """The platform acceleration ``q̈`` at which the actuator forces are ``applied``.
+
+    Without ``μ`` terms ``f10`` is affine in ``q̈`` and one solve of
+    ``A·q̈ = f − b`` (:func:`_platform_dynamics`) is exact.  The ``μ`` terms
+    (friction proportional to the joint reactions, which depend on ``q̈``)
+    make ``f10(q̈)`` non-linear: from that first solve, chord iterations
+    ``q̈ ← q̈ + A⁻¹·(f − f10(q̈))`` with the kernel's ``f10`` (its own Newton
+    solve of the ``μ`` terms) run until the residual is round-off
+    (``1e-12`` of the force scale), at most :data:`MU_CHORD_ITERATIONS`.
+
+    Raises
+    ------
+    TrajectoryError
+        The iterations do not converge, or the friction locks (no motion has
+        these forces: the friction cone swallows the drive).
+    """
+    eq = _platform_dynamics(compiled, q, qdot, load)
+    qddot = np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0]
+    if not compiled.parameters.has_mu:
+        return np.asarray(qddot, dtype=np.float64)
+    scale = 1.0 + np.maximum(np.abs(applied).max(axis=-1), np.abs(eq.force_bias).max(axis=-1))
+    for _ in range(MU_CHORD_ITERATIONS):
+        f10 = solve_batch(compiled, q, qdot, qddot, load=load)["f10"]
+        residual = applied - f10
+        if (np.abs(residual).max(axis=-1) <= 1e-12 * scale).all():
+            return np.asarray(qddot, dtype=np.float64)
+        qddot = qddot + np.linalg.solve(eq.force_matrix, residual[..., None])[..., 0]
+    raise TrajectoryError(
+        f"the acceleration under the friction's mu terms did not converge in "
+        f"{MU_CHORD_ITERATIONS} iterations (near a self-locking joint)",
+        subject="forward dynamics",
+    )
 
 
 @dataclass(frozen=True)
@@ -829,12 +886,9 @@ def _result(
 ) -> ForwardDynamics:
     """Step 5: the motion with the model's accelerations, its inverse problems and residual."""
     loads = None if load_of is None else np.stack([load_of(float(time)) for time in stop.t])
-    eq = platform_dynamics(robot, stop.states[:, :3], stop.states[:, 3:], load=loads)
     applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in stop.t])
-    qddot = np.asarray(
-        np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0],
-        dtype=np.float64,
-    )
+    compiled = compile_robot(robot)
+    qddot = _accelerations(compiled, stop.states[:, :3], stop.states[:, 3:], applied, loads)
     motion = Motion(
         t=stop.t,
         pose=stop.states[:, :3],
@@ -875,11 +929,11 @@ def _state_derivative(
         SINGULARITY_THRESHOLD
     ):
         return np.full(6, np.nan)
+    applied, load = force_of(time), None if load_of is None else load_of(time)
     try:
-        eq = _platform_dynamics(compiled, q, qdot, None if load_of is None else load_of(time))
-    except Prp3Error:  # a trial state beyond the bounds of prp3: reject the step
+        qddot = _accelerations(compiled, q, qdot, applied, load)
+    except Prp3Error:  # a trial state beyond the bounds of prp3 (or a lock): reject the step
         return np.full(6, np.nan)
-    qddot = np.linalg.solve(eq.force_matrix, force_of(time) - eq.force_bias)
     return np.concatenate([qdot, qddot])
 
 
