@@ -34,7 +34,7 @@ call (median); the peak memory of one call for each N (a subprocess per
 method and N: ``tracemalloc`` peak of the call and peak RSS of the process);
 the agreement of every method with prp3 fast (max |Δf10| / max |f10| ≤ 1e-8,
 exit status 1 otherwise); the paper's method against Newton–Euler (dynamics
-step alone, and operation counts); the targets of issue 5.
+step alone, and operation counts); the speed targets.
 """
 
 from __future__ import annotations
@@ -554,7 +554,7 @@ def targets(
     memory: dict[tuple[str, int], dict[str, float]],
     extra_rows: list[str],
 ) -> list[str]:
-    out = ["Targets of issue 8 (the default install, numpy backend):"]
+    out = ["Speed targets (the default install, numpy backend):"]
     n = 10**5
     peers = {
         name: rate
