@@ -302,6 +302,15 @@ def _case(
 
 A, T, R, INT, OBJ, C, N = "array", "times", "real", "int", "object", "choice", "names"
 POSE = {"pose": A}
+#: The arguments of the batch paths of prp3.fast, and good values of them.
+BATCH = {"robot": OBJ, "pose": A, "velocity": A, "acceleration": A, "chunk_size": INT}
+BATCH_GOOD = {
+    "robot": ROBOT,
+    "pose": SMALL,
+    "velocity": ZERO,
+    "acceleration": ZERO,
+    "chunk_size": 64,
+}
 
 CASES: dict[str, Case] = {
     # ---------------------------------------------------------------- prp3
@@ -465,19 +474,8 @@ CASES: dict[str, Case] = {
     ),
     "paper_forces": _case(
         prp3.paper_forces,
-        {
-            "robot": OBJ,
-            "pose": A,
-            "velocity": A,
-            "acceleration": A,
-            "chunk_size": INT,
-            "backend": C,
-        },
-        robot=ROBOT,
-        pose=SMALL,
-        velocity=ZERO,
-        acceleration=ZERO,
-        chunk_size=64,
+        {**BATCH, "backend": C},
+        **BATCH_GOOD,
         backend="numpy",
     ),
     "paper_motion": _case(
@@ -503,19 +501,8 @@ CASES: dict[str, Case] = {
     ),
     "actuator_forces": _case(
         prp3.fast.actuator_forces,
-        {
-            "robot": OBJ,
-            "pose": A,
-            "velocity": A,
-            "acceleration": A,
-            "chunk_size": INT,
-            "backend": C,
-        },
-        robot=ROBOT,
-        pose=SMALL,
-        velocity=ZERO,
-        acceleration=ZERO,
-        chunk_size=64,
+        {**BATCH, "backend": C},
+        **BATCH_GOOD,
         backend="numpy",
     ),
     "sample_forces": _case(
@@ -545,12 +532,8 @@ CASES: dict[str, Case] = {
     # ---------------------------------------------------------------- submodules
     "solve_batch": _case(
         prp3.fast.solve_batch,
-        {"robot": OBJ, "pose": A, "velocity": A, "acceleration": A, "chunk_size": INT},
-        robot=ROBOT,
-        pose=SMALL,
-        velocity=ZERO,
-        acceleration=ZERO,
-        chunk_size=64,
+        BATCH,
+        **BATCH_GOOD,
     ),
     "open_loop_growth_rate": _case(
         prp3.forward.open_loop_growth_rate, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL
