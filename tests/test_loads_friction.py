@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from prp3 import METHODS, Motion, Robot, inverse_dynamics
@@ -102,8 +102,23 @@ def solved(robot: Robot, motion: Motion) -> dict[str, tuple[object, object]] | N
             assert "locks" in str(error), error
             refused.append(method)
     if refused:
+        assert refused == list(METHODS), f"only {refused} refuse: the methods disagree"
         return None
     return out
+
+
+def assert_methods_agree(robot: Robot, motion: Motion, tolerance: float) -> None:
+    """The paper's matrices and the kernel against Newton–Euler, friction columns included."""
+    results = solved(robot, motion)
+    assume(results is not None)  # a lock, refused alike by every method
+    assert results is not None
+    reference = results["newton-euler"][1]
+    for method in ("fast", "paper"):
+        dyn = results[method][1]
+        for name in (*NAMES, "fric10", "fric21", "fric32"):
+            want, got = getattr(reference, name), getattr(dyn, name)
+            scale = np.abs(want).max() + 1.0
+            assert np.abs(got - want).max() <= tolerance * scale, (method, name)
 
 
 def _scenario(robot, analytic, extra, seed, samples=8):  # type: ignore[no-untyped-def]
@@ -120,17 +135,7 @@ def _scenario(robot, analytic, extra, seed, samples=8):  # type: ignore[no-untyp
     seed=st.integers(0, 2**32 - 1),
 )
 def test_methods_agree_with_smoothed_friction(scenario, extra, seed) -> None:  # type: ignore[no-untyped-def]
-    robot, motion = _scenario(*scenario, extra, seed)
-    results = solved(robot, motion)
-    if results is None:
-        return
-    reference = results["newton-euler"][1]
-    for method in ("fast", "paper"):
-        dyn = results[method][1]
-        for name in (*NAMES, "fric10", "fric21", "fric32"):
-            want, got = getattr(reference, name), getattr(dyn, name)
-            scale = np.abs(want).max() + 1.0
-            assert np.abs(got - want).max() <= 1e-12 * scale, (method, name)
+    assert_methods_agree(*_scenario(*scenario, extra, seed), 1e-12)
 
 
 @settings(max_examples=6, deadline=None)
@@ -138,17 +143,7 @@ def test_methods_agree_with_smoothed_friction(scenario, extra, seed) -> None:  #
     scenario=scenarios(), extra=effects(mu=True, smoothing=False), seed=st.integers(0, 2**32 - 1)
 )
 def test_methods_agree_with_exact_sign_and_mu(scenario, extra, seed) -> None:  # type: ignore[no-untyped-def]
-    robot, motion = _scenario(*scenario, extra, seed)
-    results = solved(robot, motion)
-    if results is None:
-        return
-    reference = results["newton-euler"][1]
-    for method in ("fast", "paper"):
-        dyn = results[method][1]
-        for name in (*NAMES, "fric10", "fric21", "fric32"):
-            want, got = getattr(reference, name), getattr(dyn, name)
-            scale = np.abs(want).max() + 1.0
-            assert np.abs(got - want).max() <= 1e-10 * scale, (method, name)
+    assert_methods_agree(*_scenario(*scenario, extra, seed), 1e-10)
 
 
 # ------------------------------------------------------- balances and energy from the table
@@ -236,8 +231,8 @@ def residuals(robot: Robot, motion: Motion, table: dict[str, np.ndarray]) -> np.
 def test_every_body_balances_with_loads_and_friction(scenario, extra, seed) -> None:  # type: ignore[no-untyped-def]
     robot, motion = _scenario(*scenario, extra, seed)
     results = solved(robot, motion)
-    if results is None:
-        return
+    assume(results is not None)  # a lock, refused alike by every method
+    assert results is not None
     for method, (kin, dyn) in results.items():
         table = results_table(kin, dyn)  # type: ignore[arg-type]
         load = ("fx", "fy", "mz") if motion.load is not None else ()  # the motion's load, last
@@ -256,8 +251,8 @@ def test_energy_balance_with_external_power_and_dissipation(scenario, extra, see
     # states rebuilt from the columns, the payload counted in both energies.
     robot, motion = _scenario(*scenario, extra, seed)
     results = solved(robot, motion)
-    if results is None:
-        return
+    assume(results is not None)  # a lock, refused alike by every method
+    assert results is not None
     m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
     I2, I3 = robot.link.inertia, platform_inertia(robot)
     g = np.asarray(robot.gravity)
