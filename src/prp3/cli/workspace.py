@@ -200,13 +200,18 @@ def register(subparsers: Any) -> None:
     parser.set_defaults(handler=run)
 
 
-def _grid_table(ws: WorkspaceSlice, scan: OrientationScan) -> dict[str, np.ndarray]:
-    X, Y = np.meshgrid(ws.x, ws.y)
-    table = {
+def _grid_columns(x: np.ndarray, y: np.ndarray, reachable: np.ndarray) -> dict[str, np.ndarray]:
+    """The columns ``x, y, reachable`` of a grid table, one row per grid point."""
+    X, Y = np.meshgrid(x, y)
+    return {
         "x": X.reshape(-1),
         "y": Y.reshape(-1),
-        "reachable": ws.reachable.reshape(-1).astype(np.float64),
+        "reachable": reachable.reshape(-1).astype(np.float64),
     }
+
+
+def _grid_table(ws: WorkspaceSlice, scan: OrientationScan) -> dict[str, np.ndarray]:
+    table = _grid_columns(ws.x, ws.y, ws.reachable)
     for j, leg in enumerate("ABC"):
         table[f"lambda10_{leg}"] = ws.lambda10[..., j].reshape(-1)
     table["condition"] = ws.condition.reshape(-1)
@@ -229,12 +234,7 @@ def _scan_table(scan: OrientationScan) -> dict[str, np.ndarray]:
 
 
 def _statics_table(statics: WorkspaceStatics) -> dict[str, np.ndarray]:
-    X, Y = np.meshgrid(statics.x, statics.y)
-    table = {
-        "x": X.reshape(-1),
-        "y": Y.reshape(-1),
-        "reachable": statics.reachable.reshape(-1).astype(np.float64),
-    }
+    table = _grid_columns(statics.x, statics.y, statics.reachable)
     for j, leg in enumerate("ABC"):
         table[f"f10_{leg}"] = statics.f10[..., j].reshape(-1)
     table["f10_peak"] = statics.peak.reshape(-1)

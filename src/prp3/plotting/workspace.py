@@ -34,6 +34,7 @@ from ..model import Robot
 from ..workspace import SINGULAR_ORIENTATIONS, OrientationScan, WorkspaceSlice, WorkspaceStatics
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 __all__ = ["save_statics_map", "save_workspace_map", "statics_figure", "workspace_figure"]
@@ -88,15 +89,7 @@ def workspace_figure(
     ax = axes[0]
     ws = workspace
     kappa = np.ma.masked_array(ws.condition, mask=~ws.reachable | ~np.isfinite(ws.condition))
-    ax.pcolormesh(
-        ws.x,
-        ws.y,
-        np.where(ws.reachable, np.nan, 1.0),
-        cmap="Greys",
-        vmin=0.0,
-        vmax=4.0,
-        shading="nearest",
-    )
+    _grey_unreachable(ax, ws.x, ws.y, ws.reachable)
     finite = ws.condition[ws.reachable & np.isfinite(ws.condition)]
     if finite.size:
         low, high = float(finite.min()), max(float(finite.max()), float(finite.min()) * 1.001)
@@ -282,15 +275,7 @@ def statics_figure(robot: Robot, statics: WorkspaceStatics) -> Figure:
     figure = Figure(figsize=(7.0, 6.4), layout="constrained")
     ax = figure.subplots()
     st = statics
-    ax.pcolormesh(
-        st.x,
-        st.y,
-        np.where(st.reachable, np.nan, 1.0),
-        cmap="Greys",
-        vmin=0.0,
-        vmax=4.0,
-        shading="nearest",
-    )
+    _grey_unreachable(ax, st.x, st.y, st.reachable)
     handles: list[object] = []
     shown = st.peak[st.reachable]
     limit = st.max_force
@@ -381,3 +366,10 @@ def save_statics_map(path: str | Path, robot: Robot, statics: WorkspaceStatics) 
     with atomic_path(path) as temporary:
         figure.savefig(temporary, format="png", dpi=120)
     return path
+
+
+def _grey_unreachable(ax: Axes, x: np.ndarray, y: np.ndarray, reachable: np.ndarray) -> None:
+    """Light grey on the grid points outside the reachable region (the colour of :func:`cm_grey`)."""
+    ax.pcolormesh(
+        x, y, np.where(reachable, np.nan, 1.0), cmap="Greys", vmin=0.0, vmax=4.0, shading="nearest"
+    )
