@@ -25,7 +25,12 @@ from prp3 import Motion, Robot, inverse_dynamics, paper_motion
 from prp3.cli import main
 from prp3.errors import ParameterError
 from prp3.fast import compile_robot, solve_batch
-from prp3.forward import ActuatorForces, forward_dynamics, platform_dynamics
+from prp3.forward import (
+    ActuatorForces,
+    forward_dynamics,
+    open_loop_growth_rate,
+    platform_dynamics,
+)
 from prp3.geometry import inverse_geometry
 from prp3.io import write_table_csv
 from prp3.kinematics import jacobian
@@ -211,6 +216,18 @@ def test_exact_sign_coulomb_and_mu_terms_are_refused(kind: str) -> None:
         platform_dynamics(mu, still, still)  # no A·q̈ + b form; forward_dynamics iterates
 
 
+def test_open_loop_growth_rate_ignores_friction_that_vanishes_at_rest() -> None:
+    # s(0) = 0 and no viscous force at rest: the linearised motion there is the bare robot's
+    sticky = Robot(
+        friction=Friction(
+            actuator=JointFriction(viscous=5.0, coulomb=1.0, mu=0.1, smoothing=0.01),
+            sleeve=JointFriction(mu=0.2, smoothing=0.01),
+        )
+    )
+    pose = [0.02, -0.01, 0.1]
+    assert open_loop_growth_rate(sticky, pose) == open_loop_growth_rate(Robot(), pose) > 0.0
+
+
 def test_mu_terms_drive_the_motion_back() -> None:
     """Forces of Newton–Euler with load-dependent friction integrate back to the planned motion.
 
@@ -294,3 +311,27 @@ def test_cli_forward_reads_the_results_of_a_robot_with_friction(tmp_path: Path) 
     early = reference.t <= 1.5  # a coarse spline and a loose tolerance, unstable open loop
     np.testing.assert_array_equal(table["t"][: early.sum()], reference.t[early])
     assert np.abs(table["y"][: early.sum()] - reference.pose[early, 1]).max() < 1e-3
+
+
+def test_cli_forward_with_mu_terms_drives_the_motion_back(tmp_path: Path) -> None:
+    """``prp3 simulate`` then ``prp3 forward`` of a robot with load-dependent friction (0.1 s)."""
+    robot = tmp_path / "robot.toml"
+    robot.write_text("[friction.sleeve]\nmu = 0.05\nsmoothing = 0.01\n")
+    planned = paper_motion("vertical", samples=1501)[:51]  # 0.1 s, steps of 2 ms
+    trajectory = tmp_path / "path.csv"
+    columns = {"t": planned.t}
+    for k, name in enumerate(("x", "y", "phi")):
+        columns[name] = planned.pose[:, k]
+        columns["d" + name] = planned.velocity[:, k]
+        columns["dd" + name] = planned.acceleration[:, k]
+    write_table_csv(trajectory, columns)
+    args = ["--robot", robot]
+    status, _, err = _cli("simulate", *args, "--trajectory", trajectory, "-o", tmp_path / "inv")
+    assert status == 0, err
+    results = tmp_path / "inv" / "results.csv"
+    status, out, err = _cli("forward", *args, "--forces", results, "-o", tmp_path / "fwd")
+    assert status == 0, err
+    table = np.genfromtxt(tmp_path / "fwd" / "results.csv", delimiter=",", names=True)
+    back = np.stack([table["x"], table["y"], table["phi"]], axis=-1)
+    assert np.abs(back - planned.pose).max() < 1e-7  # the force spline of 2 ms steps
+    assert "drift from the planned motion" in out

@@ -401,7 +401,9 @@ def open_loop_growth_rate(robot: Robot, pose: ArrayLike) -> float:
     q = check_poses(pose, robot)
     if q.shape != (3,):
         raise TrajectoryError(f"pose must have shape (3,), got {q.shape}")
-    free = _without_limits(robot)
+    # at rest every friction force of the model vanishes (s(0) = 0, no viscous force), so
+    # A and b(q, 0) are those of the robot without friction, whatever its friction law
+    free = replace(_without_limits(robot), friction=None)
     steps = np.array([_GROWTH_STEP * robot.l0, _GROWTH_STEP * robot.l0, _GROWTH_STEP])
     shifts = np.concatenate([np.diag(steps), -np.diag(steps)])  # (6, 3): +h e_k, then −h e_k
     poses = np.concatenate([q[None, :], q + shifts])
