@@ -66,6 +66,7 @@ from prp3.fast import (
     actuator_forces,
     compile_robot,
     paper_forces,
+    sample_actuator_forces,
     sample_forces,
     sample_forces_unchecked,
 )
@@ -249,6 +250,12 @@ def run_single(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) ->
         "prp3 fast sample_forces, tuples, load=": lambda: sample_forces(
             compiled, pose, velocity, acceleration, load=load
         ),
+        "prp3 fast sample_actuator_forces (f10 alone), tuples": lambda: sample_actuator_forces(
+            compiled, pose, velocity, acceleration
+        ),
+        "prp3 fast sample_actuator_forces (f10 alone), ndarray (3,)": lambda: (
+            sample_actuator_forces(compiled, *arrays)
+        ),
         "prp3 fast sample_forces_unchecked": lambda: sample_forces_unchecked(compiled, *flat),
         "prp3 fast paper_forces, (3,) arrays": lambda: paper_forces(compiled, *arrays),
         "prp3 paper inverse_dynamics": lambda: prp3.inverse_dynamics(robot, motion, "paper"),
@@ -257,6 +264,7 @@ def run_single(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) ->
         ),
     }
     expected = np.asarray(sample_forces(compiled, pose, velocity, acceleration).f10)
+    assert sample_actuator_forces(compiled, pose, velocity, acceleration) == tuple(expected)
     for peer in peers:
         prepared = peer.prepare(batch(motion))
         q, qd, qdd = peer.single_state(prepared, 0)
@@ -572,7 +580,12 @@ def targets(
             line += f"; faster peer {best_name} {peers[best_name]:.3g}/s, ratio {ratio:.3g} (target ≥ 150: {'met' if ratio >= 150 else 'NOT met'})"
         out.append(line)
     peer_single = {k: v for k, v in single.items() if k.endswith(" single")}
-    for call in (CHECKED_CALL, "prp3 fast sample_forces, ndarray (3,)"):
+    for call in (
+        CHECKED_CALL,
+        "prp3 fast sample_forces, ndarray (3,)",
+        "prp3 fast sample_actuator_forces (f10 alone), tuples",
+        "prp3 fast sample_actuator_forces (f10 alone), ndarray (3,)",
+    ):
         checked = single.get(call)
         if checked is None:
             continue

@@ -36,6 +36,7 @@ from prp3.fast import (
     actuator_forces,
     compile_robot,
     paper_forces,
+    sample_actuator_forces,
     sample_forces,
     sample_forces_unchecked,
     solve_batch,
@@ -440,15 +441,22 @@ def test_single_sample_takes_arrays_tuples_lists_and_integers_alike() -> None:
         )
     ints = sample_forces(compiled, (0, 0, 0), (0, 0, 0), (0, 0, 0))
     assert ints == sample_forces(compiled, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    for inputs in (as_tuples, as_lists, scalars, (pose, velocity, acceleration)):
+        f10 = sample_actuator_forces(compiled, *inputs)
+        assert type(f10) is tuple and f10 == expected.f10
 
 
 def test_checked_traced_code_refuses_before_dividing() -> None:
-    # The checks are in the traced code: the pose bounds first, then |D| before 1/D.
+    # The checks are in the traced code: the types and pose bounds before the kernel's
+    # first operation, then |D| before 1/D.
     source = compile_robot(Robot()).checked_function.__doc__ or ""
     lines = source.splitlines()
-    guard = next(k for k, line in enumerate(lines) if "< 0.0001:" in line)
-    division = next(k for k, line in enumerate(lines) if "1.0 /" in line)
-    assert "-30.0 <= x <= 30.0" in lines[1] and guard < division
+
+    def first(text: str) -> int:
+        return next(k for k, line in enumerate(lines) if text in line)
+
+    assert first("type(ddphi) is float") < first("-30.0 <= x <= 30.0") < first("cos(phi)")
+    assert first("< 0.0001:") < first("1.0 /")
     assert "0.0 * (" in lines[-3]  # the results are finite, before returning
 
 
@@ -471,13 +479,15 @@ def test_single_sample_refuses_what_the_batch_path_refuses(
         expected = paper_forces(compiled, pose, velocity, zero)  # type: ignore[arg-type]
     except Prp3Error as refused:
         assert error is None or type(refused) is error
-        with pytest.raises(type(refused)) as single:
-            sample_forces(compiled, pose, velocity, zero)  # type: ignore[arg-type]
-        assert str(single.value) == str(refused)
+        for single_sample in (sample_forces, sample_actuator_forces):
+            with pytest.raises(type(refused)) as single:
+                single_sample(compiled, pose, velocity, zero)  # type: ignore[arg-type]
+            assert str(single.value) == str(refused)
     else:
         assert error is None
         one = sample_forces(compiled, pose, velocity, zero)  # type: ignore[arg-type]
         np.testing.assert_allclose(one.f10, expected.f10, rtol=1e-15, atol=1e-13)
+        assert sample_actuator_forces(compiled, pose, velocity, zero) == one.f10  # type: ignore[arg-type]
 
 
 def _with_effects(robot: Robot, friction: bool, mu: float) -> Robot:
@@ -515,6 +525,9 @@ def test_single_sample_with_a_load_agrees_with_the_batch_path(
         state = (motion.pose[k], motion.velocity[k], motion.acceleration[k])
         one = sample_forces(compiled, *state, load=load[k])
         assert sample_forces(compiled, *state, load=tuple(load[k].tolist())) == one
+        # f10 alone: the kernel traced for f10 only, the same operations (bit for bit)
+        assert sample_actuator_forces(compiled, *state, load=load[k]) == one.f10
+        assert sample_actuator_forces(compiled, *state) == sample_forces(compiled, *state).f10
         for name in OUTPUTS:
             expected = batch[name][k]
             scale = np.abs(expected).max() + 1.0
@@ -534,7 +547,7 @@ def test_single_sample_load_is_traced_bit_for_bit_as_the_kernel() -> None:
     assert "fx" in (compiled.loaded_function.__doc__ or "")
     state = (0.01, -0.02, 0.3, 0.1, -0.2, 0.5, 1.0, -2.0, 3.0)
     load = (4.0, -5.0, 0.25)
-    one = compiled.loaded_function(*state, *load)
+    one = compiled.loaded_function(state[:3], state[3:6], state[6:], load)
     expected = kernel.solve(kernel.MATH, compiled.parameters, *state, reactions=False, load=load)
     assert one == (expected.f10, expected.p10, expected.f21y, expected.f21z)
 

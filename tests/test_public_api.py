@@ -507,11 +507,21 @@ CASES: dict[str, Case] = {
     ),
     "sample_forces": _case(
         prp3.sample_forces,
-        {"compiled": OBJ, "pose": A, "velocity": A, "acceleration": A},
+        {"compiled": OBJ, "pose": A, "velocity": A, "acceleration": A, "load": A + "?"},
         compiled=_compiled,
         pose=SMALL,
         velocity=ZERO,
         acceleration=ZERO,
+        load=ZERO,
+    ),
+    "sample_actuator_forces": _case(
+        prp3.fast.sample_actuator_forces,
+        {"compiled": OBJ, "pose": A, "velocity": A, "acceleration": A, "load": A + "?"},
+        compiled=_compiled,
+        pose=SMALL,
+        velocity=ZERO,
+        acceleration=ZERO,
+        load=ZERO,
     ),
     "workspace_slice": _case(
         prp3.workspace_slice,

@@ -36,6 +36,7 @@ the sign of a zero, see :class:`Traced`, and numpy's ``cos``/``sin``).
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -249,6 +250,8 @@ def scalar_function(
     final: str | None = None,
     returns: str | None = None,
     namespace: Mapping[str, Any] | None = None,
+    parameters: Sequence[str] | None = None,
+    prologue: Sequence[str] = (),
 ) -> Callable[..., Any]:
     """A plain-float Python function with the recorded operations of ``function``.
 
@@ -256,6 +259,9 @@ def scalar_function(
     them it is a checked function that returns ``None`` as soon as a check
     fails:
 
+    * ``parameters`` and ``prologue``: the function's parameters (default
+      ``arguments``) and statements (one per item, without indentation) run
+      first, which must bind every name of ``arguments``;
     * ``entry``: conditions on the arguments (by name), tested first;
     * ``checks``: output position → condition, ``{}`` standing for that
       output's value, tested right after the output is computed (so that a
@@ -284,12 +290,13 @@ def scalar_function(
         else:  # an input or a constant: tested on entry
             first.append(condition.format(_operand(output, lambda i: arguments[-1 - i])))
     body, outputs = _scalar_code(lines, outs, arguments, "    ", guards)
-    head = [f"    if {condition}:\n        return None" for condition in first]
+    head = [textwrap.indent(statement, "    ") for statement in prologue]
+    head += [f"    if {condition}:\n        return None" for condition in first]
     if final is not None:
         body.append(f"    if {final.format(*outputs)}:\n        return None")
     value = f"({', '.join(outputs)},)" if returns is None else returns.format(*outputs)
     source = (
-        f"def {name}({', '.join(arguments)}):\n"
+        f"def {name}({', '.join(arguments if parameters is None else parameters)}):\n"
         + "\n".join(head + body)
         + f"\n    return {value}\n"
     )
@@ -370,24 +377,29 @@ def array_function(
         a = [operand(o) for o in operands]
         for o in set(operands):  # operands dead after this line free their rows
             if isinstance(o, int) and o >= 0 and last_use[o] == position and o not in direct:
-                free.append(int(place[o][2:-1]))
+                free.append(int(place[o][1:]))
         if index in direct:
-            place[index] = f"out[{direct[index]}]"
+            place[index] = f"o{direct[index]}"
         else:
             if free:
                 row = free.pop()
             else:
                 row, rows = rows, rows + 1
-            place[index] = f"w[{row}]"
+            place[index] = f"w{row}"
         ufunc = _BINARY.get(operation) or _UNARY[operation]
-        body.append(f"    {ufunc}({', '.join(a)}, out={place[index]})")
+        body.append(f"    {ufunc}({', '.join(a)}, {place[index]})")
     for k, o in enumerate(outputs):  # outputs not computed in place: constants, inputs, repeats
         if not (isinstance(o, int) and o >= 0 and direct[o] == k):
-            body.append(f"    out[{k}][...] = {operand(o)}")
+            body.append(f"    o{k}[...] = {operand(o)}")
+    # the rows and outputs as local names (an index costs more than the operation on a
+    # row of a few thousand floats), the output passed by position (cheaper than out=)
+    work = "".join(f"w{k}, " for k in range(max(rows, 1)))
+    unpack = "".join(f"o{k}, " for k in range(len(outputs)))
     source = (
         "".join(f"{k} = array({value})\n" for value, k in constants.items())
         + f"def {name}({', '.join(arguments)}, out):\n"
-        f"    w = empty(({max(rows, 1)}, {arguments[0]}.shape[0]))\n" + "\n".join(body) + "\n"
+        f"    {work}= empty(({max(rows, 1)}, {arguments[0]}.shape[0]))\n"
+        f"    {unpack}= out\n" + "\n".join(body) + "\n"
     )
     namespace: dict[str, Any] = {"empty": np.empty, "array": np.array, "inf": math.inf,
                                  "nan": math.nan}  # fmt: skip
@@ -469,9 +481,9 @@ def broadcast_function(
         if o < 0:
             return arguments[-1 - o]
         if o in direct:
-            return f"out[{direct[o]}]"
+            return f"o{direct[o]}"
         m, row = place[o]
-        return f"w{m}[{row}]"
+        return f"w{m}_{row}"
 
     body = []
     for position, (index, (operation, operands)) in enumerate(lines):
@@ -487,7 +499,7 @@ def broadcast_function(
                 m, row = place[o]
                 free.setdefault(m, []).append(row)
         if index in direct:
-            target = f"out[{direct[index]}]"
+            target = f"o{direct[index]}"
         else:
             m = mask[index]
             spare = free.setdefault(m, [])
@@ -497,14 +509,19 @@ def broadcast_function(
                 row = rows.get(m, 0)
                 rows[m] = row + 1
             place[index] = (m, row)
-            target = f"w{m}[{row}]"
+            target = f"w{m}_{row}"
         ufunc = _BINARY.get(operation) or _UNARY[operation]
-        body.append(f"    {ufunc}({', '.join(a)}, out={target})")
+        body.append(f"    {ufunc}({', '.join(a)}, {target})")
     for k, o in enumerate(outputs):  # outputs not computed in place: smaller shapes, repeats
         if not (isinstance(o, int) and o >= 0 and direct.get(o) == k):
-            body.append(f"    out[{k}][...] = {operand(o)}")
+            body.append(f"    o{k}[...] = {operand(o)}")
     blocks = sorted(rows.items())
-    unpack = [f"    w{m} = work[{k}]" for k, (m, _) in enumerate(blocks)]
+    # rows and outputs as local names, the output by position: as array_function
+    unpack = [
+        f"    {''.join(f'w{m}_{row}, ' for row in range(count))}= work[{k}]"
+        for k, (m, count) in enumerate(blocks)
+    ]
+    unpack.append(f"    {''.join(f'o{k}, ' for k in range(len(outputs)))}= out")
     source = f"def {name}({', '.join(arguments)}, out, work):\n" + "\n".join(unpack + body) + "\n"
     namespace: dict[str, Any] = {u: getattr(np, u) for u in (*_BINARY.values(), *_UNARY.values())}
     namespace |= {"inf": math.inf, "nan": math.nan}  # constants as repr writes them

@@ -59,6 +59,7 @@ __all__ = [
     "actuator_forces",
     "compile_robot",
     "paper_forces",
+    "sample_actuator_forces",
     "sample_forces",
     "sample_forces_unchecked",
     "solve_batch",
@@ -141,13 +142,16 @@ class CompiledRobot:
     def checked_function(self) -> Callable[..., SampleForces | None]:
         """:func:`sample_forces`' traced kernel with its checks (built on first use).
 
-        ``f(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈)`` of floats returns the
-        :class:`SampleForces`, or ``None`` where :func:`paper_forces` could
-        refuse the sample: a pose beyond the bounds of
+        ``f(pose, velocity, acceleration)``, each a tuple, list or ``(3,)``
+        ndarray of three floats, returns the :class:`SampleForces`, or
+        ``None`` where :func:`paper_forces` could refuse the sample: a value
+        that is not a float (an int, a boolean, text: the batch path's checks
+        decide), a pose beyond the bounds of
         :func:`~prp3.validation.check_poses` or not finite, a velocity or
         acceleration not finite, ``|sin(φ − π/3)|`` below the singularity
         threshold (tested before the kernel divides by it), ``λ10`` outside
-        the stroke, a result that is not finite.  Its source is its ``__doc__``.
+        the stroke, a result that is not finite.  An input that is not three
+        values raises TypeError or ValueError.  Its source is its ``__doc__``.
         """
         return self._checked(loaded=False)
 
@@ -155,17 +159,49 @@ class CompiledRobot:
     def loaded_function(self) -> Callable[..., SampleForces | None]:
         """:attr:`checked_function` with a time-varying load (built on first use).
 
-        ``f(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈, f_x, f_y, m_z)``: the wrench
-        ``(f_x, f_y, m_z)`` of the environment on the platform (as ``load``
-        of :func:`solve_batch`) is three more traced inputs; ``None`` also
-        where the load is not finite.
+        ``f(pose, velocity, acceleration, load)``: the wrench ``load = (f_x,
+        f_y, m_z)`` of the environment on the platform (as ``load`` of
+        :func:`solve_batch`) is three more traced inputs; ``None`` also where
+        the load is not finite.
         """
         return self._checked(loaded=True)
 
-    def _checked(self, loaded: bool) -> Callable[..., SampleForces | None]:
+    @cached_property
+    def actuator_function(self) -> Callable[..., tuple[float, float, float] | None]:
+        """:attr:`checked_function` for ``f10`` alone (:func:`sample_actuator_forces`).
+
+        ``f(pose, velocity, acceleration)`` returns ``(f10_A, f10_B, f10_C)``
+        or ``None``, with the same checks, from the kernel traced for ``f10``
+        only.  Its source is its ``__doc__``.
+        """
+        return self._checked(loaded=False, f10_only=True)
+
+    @cached_property
+    def loaded_actuator_function(self) -> Callable[..., tuple[float, float, float] | None]:
+        """:attr:`actuator_function` with a time-varying load, as :attr:`loaded_function`."""
+        return self._checked(loaded=True, f10_only=True)
+
+    def _checked(self, loaded: bool, f10_only: bool = False) -> Callable[..., Any]:
         params, stroke = self.parameters, self.stroke
         reach = POSE_BOUND * self.robot.l0
         arguments = kernel.STATE_SYMBOLS + (_LOAD_SYMBOLS if loaded else ())
+        sequences = _INPUTS + (("load",) if loaded else ())
+        # tuples and lists of floats as they are, a (3,) ndarray by ``tolist`` (floats, or
+        # ints, booleans, ... that the type test sends to the batch path's checks)
+        prologue = [
+            f"if type({name}) is not tuple:\n"
+            f"    if type({name}) is ndarray:\n        {name} = {name}.tolist()\n"
+            f"    elif type({name}) is not list:\n        return None"
+            for name in sequences
+        ]
+        prologue += [
+            f"{', '.join(arguments[3 * k : 3 * k + 3])} = {name}"
+            for k, name in enumerate(sequences)
+        ]
+        prologue.append(
+            "if not (" + " and ".join(f"type({a}) is float" for a in arguments) + "):\n"
+            "    return None"
+        )
         rates = " + ".join(arguments[3:])
         # comparisons rather than calls (cheaper in CPython); NaN fails every comparison, and
         # 0·s == 0 says that the sum s is finite (a sum that overflows goes the slow way)
@@ -178,24 +214,27 @@ class CompiledRobot:
         outside = "" if stroke is None else f"not {stroke[0]!r} <= {{}} <= {stroke[1]!r}"
         checks = 1 if stroke is None else 4
         if params.has_mu:  # implicit friction: the kernel on floats with its Newton solve
-            return _implicit_checked(self, loaded)
+            return _implicit_checked(self, loaded, f10_only)
 
         def outputs(ops: kernel.Ops, *values: kernel.Value) -> tuple[kernel.Value, ...]:
             state, load = values[:9], (values[9:] if loaded else None)
             geo = kernel.kernel_geometry(ops, params, *state[:3])
             sol = kernel.solve(ops, params, *state, reactions=False, load=load)
             lam = sol.lambda10 if stroke is not None else ()
-            return (geo.D, *lam, *sol.f10, *sol.p10, *sol.f21y, *sol.f21z)
+            forces = sol.f10 if f10_only else (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z)
+            return (geo.D, *lam, *forces)
 
-        f = [f"{{{checks + k}}}" for k in range(12)]
+        f = [f"{{{checks + k}}}" for k in range(3 if f10_only else 12)]
+        returns = "new(SampleForces, (({}, {}, {}), ({}, {}, {}), ({}, {}, {}), ({}, {}, {})))"
+        name = ("sample_actuator_forces" if f10_only else "sample_forces") + "_checked"
         return scalar_function(
-            outputs, arguments, "sample_forces_checked" + ("_loaded" if loaded else ""),
+            outputs, arguments, name + ("_loaded" if loaded else ""),
             entry=[entry],
             checks={0: singular, **{k: outside for k in range(1, checks)}},
             final=f"0.0 * ({' + '.join(f)}) != 0.0",
-            returns="new(SampleForces, (({}, {}, {}), ({}, {}, {}), ({}, {}, {}), ({}, {}, {})))"
-            .format(*f),
-            namespace={"new": tuple.__new__, "SampleForces": SampleForces},
+            returns=("({}, {}, {})" if f10_only else returns).format(*f),
+            namespace={"new": tuple.__new__, "SampleForces": SampleForces, "ndarray": np.ndarray},
+            parameters=sequences, prologue=prologue,
         )  # fmt: skip
 
     def batch_function(self, names: tuple[str, ...]) -> Callable[..., None]:
@@ -616,7 +655,8 @@ def _compute(
                     *(array[start:stop] for array in inputs), scratch[:, :n],
                     *(target[start:stop] for target in targets.values()),
                 )  # fmt: skip
-            if float(np.abs(scratch[0, :n]).min()) < SINGULARITY_THRESHOLD or (
+            measure = np.absolute(scratch[0, :n], scratch[0, :n])  # |sin(φ − π/3)|, in place
+            if float(measure.min()) < SINGULARITY_THRESHOLD or (
                 compiled.stroke is not None and _outside(scratch[1:4, :n], compiled.stroke)
             ):
                 _raise_input_error(compiled, inputs, stop)
@@ -810,58 +850,71 @@ def sample_forces(
         raise Prp3Error(
             f"compiled must come from compile_robot(robot), got {type(compiled).__name__}"
         )
-    # The fast path takes lists, tuples and plain ndarrays (``tolist``: floats, or ints,
-    # booleans, ... that the type test below sends to the batch path's checks).
-    p, v, a = pose, velocity, acceleration
-    kind = type(p)
-    if kind is _NDARRAY:
-        p = p.tolist()  # type: ignore[union-attr]
-    elif kind is not tuple and kind is not list:
-        return _sample_slow(compiled, pose, velocity, acceleration, load)
-    kind = type(v)
-    if kind is _NDARRAY:
-        v = v.tolist()  # type: ignore[union-attr]
-    elif kind is not tuple and kind is not list:
-        return _sample_slow(compiled, pose, velocity, acceleration, load)
-    kind = type(a)
-    if kind is _NDARRAY:
-        a = a.tolist()  # type: ignore[union-attr]
-    elif kind is not tuple and kind is not list:
-        return _sample_slow(compiled, pose, velocity, acceleration, load)
-    try:
-        x, y, phi = p
-        dx, dy, dphi = v
-        ddx, ddy, ddphi = a
-    except (TypeError, ValueError):
-        return _sample_slow(compiled, pose, velocity, acceleration, load)
-    if (
-        type(x) is float and type(y) is float and type(phi) is float
-        and type(dx) is float and type(dy) is float and type(dphi) is float
-        and type(ddx) is float and type(ddy) is float and type(ddphi) is float
-    ):  # fmt: skip
-        try:
-            if load is None:
-                f = compiled.checked_function(x, y, phi, dx, dy, dphi, ddx, ddy, ddphi)
-                if f is not None:
-                    return f
-            else:
-                w = load.tolist() if type(load) is _NDARRAY else load
-                if type(w) is tuple or type(w) is list:
-                    fx, fy, mz = w
-                    if type(fx) is float and type(fy) is float and type(mz) is float:
-                        f = compiled.loaded_function(
-                            x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, fx, fy, mz
-                        )
-                        if f is not None:
-                            return f
-        except (ArithmeticError, TypeError, ValueError):
-            pass  # the batch path's checks decide (a division by zero, a bad load, ...)
+    try:  # the traced kernel with its checks: None (or an error) where it cannot decide
+        if load is None:
+            f = compiled.checked_function(pose, velocity, acceleration)
+        else:
+            f = compiled.loaded_function(pose, velocity, acceleration, load)
+    except (ArithmeticError, TypeError, ValueError):
+        f = None  # the batch path's checks decide (not three values, a division by zero, ...)
+    if f is not None:
+        return f
     return _sample_slow(compiled, pose, velocity, acceleration, load)
 
 
-_NDARRAY = np.ndarray
 #: Names of the traced load's inputs (:attr:`CompiledRobot.loaded_function`).
 _LOAD_SYMBOLS = ("fx", "fy", "mz")
+
+
+def sample_actuator_forces(
+    compiled: CompiledRobot,
+    pose: SampleInput,
+    velocity: SampleInput,
+    acceleration: SampleInput,
+    load: SampleInput | None = None,
+) -> tuple[float, float, float]:
+    """The actuator forces ``f10`` alone (eq. 23) of one sample, with plain floats.
+
+    :func:`sample_forces` for what needs only the drives' forces (a
+    feed-forward in a control loop): the kernel traced for ``f10`` only
+    (:attr:`CompiledRobot.actuator_function`), the same checks, errors and
+    numbers.
+
+    Parameters
+    ----------
+    compiled, pose, velocity, acceleration, load
+        As :func:`sample_forces`.
+
+    Returns
+    -------
+    tuple of 3 floats
+        ``f10`` of legs A, B, C (N).
+
+    Raises
+    ------
+    TrajectoryError, SingularPoseError, UnreachablePoseError
+        As :func:`sample_forces`.
+
+    Examples
+    --------
+    >>> compiled = compile_robot(Robot())
+    >>> [round(f, 4) for f in sample_actuator_forces(compiled, (0.0, 0.0, 0.0), (0, 0, 0), (0, 0, 0))]
+    [31.8589, -8.4957, -23.3632]
+    """
+    if type(compiled) is not CompiledRobot:
+        raise Prp3Error(
+            f"compiled must come from compile_robot(robot), got {type(compiled).__name__}"
+        )
+    try:  # as sample_forces
+        if load is None:
+            f = compiled.actuator_function(pose, velocity, acceleration)
+        else:
+            f = compiled.loaded_actuator_function(pose, velocity, acceleration, load)
+    except (ArithmeticError, TypeError, ValueError):
+        f = None
+    if f is not None:
+        return f
+    return _sample_slow(compiled, pose, velocity, acceleration, load).f10
 
 
 def _sample_slow(
@@ -891,7 +944,9 @@ def _load(load: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
     return check_finite("load", wrench, components=("fx", "fy", "mz"))
 
 
-def _implicit_checked(compiled: CompiledRobot, loaded: bool) -> Callable[..., SampleForces | None]:
+def _implicit_checked(
+    compiled: CompiledRobot, loaded: bool, f10_only: bool = False
+) -> Callable[..., Any]:
     """:meth:`CompiledRobot._checked` with ``μ`` terms: the kernel on floats with its Newton solve.
 
     ``None`` also where the friction locks (the batch path then names the sample).
@@ -899,7 +954,10 @@ def _implicit_checked(compiled: CompiledRobot, loaded: bool) -> Callable[..., Sa
     params, stroke = compiled.parameters, compiled.stroke
     reach = POSE_BOUND * compiled.robot.l0
 
-    def checked(*values: float) -> SampleForces | None:
+    def checked(*sequences: SampleInput) -> SampleForces | tuple[float, ...] | None:
+        values = [v for seq in sequences for v in _plain_floats(seq)]
+        if len(values) != 3 * len(sequences):
+            return None
         x, y, phi = values[:3]
         if not (
             abs(x) <= reach
@@ -918,9 +976,20 @@ def _implicit_checked(compiled: CompiledRobot, loaded: bool) -> Callable[..., Sa
         if sol.iterations is not None and sol.iterations < 0:
             return None
         forces = SampleForces(sol.f10, sol.p10, sol.f21y, sol.f21z)
-        return forces if math.isfinite(sum(sum(f) for f in forces)) else None
+        if not math.isfinite(sum(sum(f) for f in forces)):
+            return None
+        return tuple(sol.f10) if f10_only else forces
 
     return checked
+
+
+def _plain_floats(values: SampleInput) -> list[float]:
+    """The three floats of a tuple, list or ``(3,)`` ndarray; ``[]`` for anything else."""
+    if type(values) is np.ndarray:
+        values = values.tolist()
+    if type(values) not in (tuple, list) or len(values) != 3:
+        return []
+    return list(values) if all(type(v) is float for v in values) else []
 
 
 def _sample_table(
@@ -932,7 +1001,7 @@ def _sample_table(
         zip(*(array.tolist() for array in inputs), strict=True)
     ):
         try:
-            f = checked(*pose, *velocity, *acceleration)
+            f = checked(pose, velocity, acceleration)
         except ArithmeticError:
             f = None
         if f is None:
