@@ -33,6 +33,7 @@ from prp3 import (
     inverse_kinematics,
     paper_motion,
 )
+from prp3.fast import compile_robot, sample_actuator_forces
 from prp3.forward import (
     DEGENERATE_ASSEMBLY,
     SINGULARITY_STOP,
@@ -363,18 +364,18 @@ def test_platform_dynamics_batch_matches_single_samples() -> None:
 
 # ----------------------------------------------------------- forward dynamics
 def _exact_forces(name: str):  # type: ignore[no-untyped-def]
-    """f10(t) of the paper's motion (eq. 4) by the core's inverse dynamics at any t."""
+    """f10(t) of the paper's motion (eq. 4) by the core's kernel at any t (one sample)."""
     star = np.array(PAPER_MOTIONS[name])
     w = math.pi / 3.0
+    compiled = compile_robot(ROBOT)
 
-    def f10(t: float) -> np.ndarray:
-        motion = Motion(
-            t=t,
-            pose=star * (1.0 - math.cos(w * t)),
-            velocity=star * w * math.sin(w * t),
-            acceleration=star * w * w * math.cos(w * t),
+    def f10(t: float) -> tuple[float, float, float]:
+        return sample_actuator_forces(
+            compiled,
+            star * (1.0 - math.cos(w * t)),
+            star * w * math.sin(w * t),
+            star * w * w * math.cos(w * t),
         )
-        return inverse_dynamics(ROBOT, motion)[1].f10
 
     return f10
 

@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 from prp3 import Motion, Robot, inverse_dynamics, paper_motion
 from prp3.cli import main
 from prp3.errors import ParameterError
-from prp3.fast import compile_robot, solve_batch
+from prp3.fast import compile_robot, sample_actuator_forces
 from prp3.forward import (
     ActuatorForces,
     forward_dynamics,
@@ -67,8 +67,8 @@ def smoothed_robots(draw: st.DrawFn) -> Robot:
 def _exact_forces(robot: Robot, name: str):  # type: ignore[no-untyped-def]
     """f10(t) of the paper's motion (eq. 4) by the inverse dynamics at any t.
 
-    The kernel's batch path, compiled once (the three methods agree on it,
-    tests/test_loads_friction.py); Newton–Euler per call would take minutes.
+    The kernel's single-sample path, compiled once (the three methods agree on
+    it, tests/test_loads_friction.py); Newton–Euler per call would take minutes.
     """
     star = np.array(PAPER_MOTIONS[name])
     w = math.pi / 3.0
@@ -78,7 +78,7 @@ def _exact_forces(robot: Robot, name: str):  # type: ignore[no-untyped-def]
         pose = star * (1.0 - math.cos(w * t))
         velocity = star * w * math.sin(w * t)
         acceleration = star * w * w * math.cos(w * t)
-        return solve_batch(compiled, pose, velocity, acceleration)["f10"]
+        return np.array(sample_actuator_forces(compiled, pose, velocity, acceleration))
 
     return f10
 

@@ -53,7 +53,7 @@ from .errors import (
     SingularPoseError,
     TrajectoryError,
 )
-from .fast import CompiledRobot, compile_robot, solve_batch
+from .fast import CompiledRobot, actuator_forces, compile_robot, solve_batch
 from .geometry import (
     DEGENERATE_ASSEMBLY,
     LEGS,
@@ -343,10 +343,15 @@ def _platform_dynamics(
         velocity=flat_v.reshape(count, 3),
         acceleration=flat_a.reshape(count, 3),
     )
-    values = solve_batch(compiled, motion.pose, motion.velocity, motion.acceleration, load=wrench)
-    if not np.isfinite(values["f10"]).all():
+    if wrench is None:  # f10 alone: a few states by the traced single-sample code
+        forces = actuator_forces(compiled, motion.pose, motion.velocity, motion.acceleration)
+    else:
+        forces = solve_batch(
+            compiled, motion.pose, motion.velocity, motion.acceleration, load=wrench
+        )["f10"]
+    if not np.isfinite(forces).all():
         raise TrajectoryError("platform_dynamics: the actuator forces overflow at this state")
-    f10 = values["f10"].reshape(-1, 4, 3)  # eq. (23)
+    f10 = forces.reshape(-1, 4, 3)  # eq. (23)
     b = f10[:, 0, :]
     A = np.swapaxes(f10[:, 1:, :] - b[:, None, :], -1, -2)  # column k = f10(e_k) − b
     J = jacobian(inverse_geometry(robot, q.reshape(-1, 3)))
@@ -498,7 +503,10 @@ def _accelerations(
         return np.asarray(qddot, dtype=np.float64)
     scale = 1.0 + np.maximum(np.abs(applied).max(axis=-1), np.abs(eq.force_bias).max(axis=-1))
     for _ in range(MU_CHORD_ITERATIONS):
-        f10 = solve_batch(compiled, q, qdot, qddot, load=load)["f10"]
+        if load is None:
+            f10 = actuator_forces(compiled, q, qdot, qddot)
+        else:
+            f10 = solve_batch(compiled, q, qdot, qddot, load=load)["f10"]
         residual = applied - f10
         if (np.abs(residual).max(axis=-1) <= 1e-12 * scale).all():
             return np.asarray(qddot, dtype=np.float64)
