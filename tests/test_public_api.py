@@ -311,6 +311,15 @@ BATCH_GOOD = {
     "acceleration": ZERO,
     "chunk_size": 64,
 }
+#: The arguments of the single-sample paths of prp3.fast, and good values of them.
+SINGLE = {"compiled": OBJ, "pose": A, "velocity": A, "acceleration": A, "load": A + "?"}
+SINGLE_GOOD = {
+    "compiled": _compiled,
+    "pose": SMALL,
+    "velocity": ZERO,
+    "acceleration": ZERO,
+    "load": ZERO,
+}
 
 CASES: dict[str, Case] = {
     # ---------------------------------------------------------------- prp3
@@ -505,24 +514,8 @@ CASES: dict[str, Case] = {
         **BATCH_GOOD,
         backend="numpy",
     ),
-    "sample_forces": _case(
-        prp3.sample_forces,
-        {"compiled": OBJ, "pose": A, "velocity": A, "acceleration": A, "load": A + "?"},
-        compiled=_compiled,
-        pose=SMALL,
-        velocity=ZERO,
-        acceleration=ZERO,
-        load=ZERO,
-    ),
-    "sample_actuator_forces": _case(
-        prp3.fast.sample_actuator_forces,
-        {"compiled": OBJ, "pose": A, "velocity": A, "acceleration": A, "load": A + "?"},
-        compiled=_compiled,
-        pose=SMALL,
-        velocity=ZERO,
-        acceleration=ZERO,
-        load=ZERO,
-    ),
+    "sample_forces": _case(prp3.sample_forces, SINGLE, **SINGLE_GOOD),
+    "sample_actuator_forces": _case(prp3.fast.sample_actuator_forces, SINGLE, **SINGLE_GOOD),
     "workspace_slice": _case(
         prp3.workspace_slice,
         {"robot": OBJ, "phi": R, "x": T, "y": T},
