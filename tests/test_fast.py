@@ -501,6 +501,17 @@ def _with_effects(robot: Robot, friction: bool, mu: float) -> Robot:
     )  # fmt: skip
 
 
+@pytest.mark.parametrize(("friction", "mu"), [(False, 0.0), (True, 0.0), (True, 0.02)])
+def test_the_unchecked_f10_alone_is_the_unchecked_call_s_f10(friction: bool, mu: float) -> None:
+    # a constant load, viscous and smoothed Coulomb friction traced, mu terms by the
+    # kernel's Newton solve: f10 alone is the first three values of sample_function
+    compiled = compile_robot(_with_effects(Robot(), friction, mu))
+    state = (0.01, -0.02, 0.3, 0.1, -0.2, 0.5, 1.0, -2.0, 3.0)
+    f10 = compiled.actuator_sample_function(*state)
+    assert len(f10) == 3 and f10 == compiled.sample_function(*state)[:3]
+    assert f10 == sample_forces(compiled, state[:3], state[3:6], state[6:]).f10
+
+
 @settings(max_examples=10, deadline=None)
 @given(
     scenario=scenarios(),

@@ -102,6 +102,8 @@ def test_single_sample_and_batch_paths_agree(scenario, seed) -> None:  # type: i
     batch = paper_forces(compiled, rows[:, :3], rows[:, 3:6], rows[:, 6:])
     for n, row in enumerate(rows.tolist()):
         one = sample_forces_unchecked(compiled, *row)
+        # f10 alone (the control loop's model): the same operations for f10, bit for bit
+        assert compiled.actuator_sample_function(*row) == one[:3]
         for j, name in enumerate(("f10", "p10", "f21y", "f21z")):
             expected = getattr(batch, name)[n]
             scale = np.abs(expected).max() + 1.0

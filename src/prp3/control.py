@@ -59,7 +59,7 @@ from .errors import (
     TrajectoryError,
     UnreachablePoseError,
 )
-from .fast import CompiledRobot, compile_robot, paper_forces, sample_forces_unchecked
+from .fast import CompiledRobot, compile_robot, paper_forces
 from .forward import SINGULARITY_STOP
 from .geometry import SINGULARITY_THRESHOLD, inverse_geometry
 from .kinematics import inverse_kinematics
@@ -161,8 +161,9 @@ def control_force(
     """Actuator forces ``f10`` (N) of one control step (see the module notes).
 
     Pure Python floats on prp3's single-sample inverse dynamics
-    (:func:`prp3.fast.sample_forces_unchecked`): it does not validate, the
-    caller guarantees finite numbers and poses away from the singularity.
+    (:attr:`prp3.fast.CompiledRobot.actuator_sample_function`, ``f10`` alone):
+    it does not validate, the caller guarantees finite numbers and poses away
+    from the singularity.
 
     Parameters
     ----------
@@ -191,22 +192,23 @@ def control_force(
     rx, ry, rp, rvx, rvy, rvp, rax, ray, rap = reference
     x, y, p, vx, vy, vp = measured
     kp, kd = gains.kp, gains.kd
+    inverse = model.actuator_sample_function  # f10 alone, unchecked
     if controller == "computed-torque":
-        f = sample_forces_unchecked(
-            model, x, y, p, vx, vy, vp,
+        f = inverse(
+            x, y, p, vx, vy, vp,
             rax + kd * (rvx - vx) + kp * (rx - x),
             ray + kd * (rvy - vy) + kp * (ry - y),
             rap + kd * (rvp - vp) + kp * (rp - p),
         )  # fmt: skip
     elif controller == "pd":
-        f = sample_forces_unchecked(
-            model, x, y, p, 0.0, 0.0, 0.0,
+        f = inverse(
+            x, y, p, 0.0, 0.0, 0.0,
             kd * (rvx - vx) + kp * (rx - x),
             kd * (rvy - vy) + kp * (ry - y),
             kd * (rvp - vp) + kp * (rp - p),
         )  # fmt: skip
     elif controller == "feedforward":
-        f = sample_forces_unchecked(model, rx, ry, rp, rvx, rvy, rvp, rax, ray, rap)
+        f = inverse(rx, ry, rp, rvx, rvy, rvp, rax, ray, rap)
     else:
         raise ParameterError(
             f"controller must be one of {', '.join(CONTROLLERS)}, got {controller!r}"
@@ -393,12 +395,12 @@ class _Prp3Plant:
         x, y, p, vx, vy, vp = state.tolist()
         if not math.isfinite(x + y + p + vx + vy + vp) or abs(math.sin(p - math.pi / 3.0)) < 1e-4:
             return np.full(6, np.nan)  # rejects the trial step (see forward_dynamics)
-        cr, f = self.compiled, sample_forces_unchecked
-        b = f(cr, x, y, p, vx, vy, vp, 0.0, 0.0, 0.0)[:3]
+        f = self.compiled.actuator_sample_function  # f10 alone, unchecked
+        b = f(x, y, p, vx, vy, vp, 0.0, 0.0, 0.0)
         columns = [
-            f(cr, x, y, p, vx, vy, vp, 1.0, 0.0, 0.0)[:3],
-            f(cr, x, y, p, vx, vy, vp, 0.0, 1.0, 0.0)[:3],
-            f(cr, x, y, p, vx, vy, vp, 0.0, 0.0, 1.0)[:3],
+            f(x, y, p, vx, vy, vp, 1.0, 0.0, 0.0),
+            f(x, y, p, vx, vy, vp, 0.0, 1.0, 0.0),
+            f(x, y, p, vx, vy, vp, 0.0, 0.0, 1.0),
         ]
         bias = np.array(b)
         A = np.array(columns).T - bias[:, None]

@@ -120,23 +120,40 @@ class CompiledRobot:
         code; with ``μ`` terms (implicit) it is the kernel on floats with its
         Newton solve (NaN where the friction locks).
         """
-        params, stroke = self.parameters, self.stroke is not None
+        return self._unchecked(f10_only=False)
+
+    @cached_property
+    def actuator_sample_function(self) -> Callable[..., tuple[float, ...]]:
+        """:attr:`sample_function` for ``f10`` alone: ``f(x, …, φ̈)`` returns its 3 floats.
+
+        The kernel traced for ``f10`` only (the same operations for ``f10``,
+        fewer in all), for a control loop that needs only the drives' forces.
+        """
+        return self._unchecked(f10_only=True)
+
+    def _unchecked(self, f10_only: bool) -> Callable[..., tuple[float, ...]]:
+        params, stroke = self.parameters, self.stroke is not None and not f10_only
+
+        def forces(sol: kernel.KernelSolution) -> tuple[kernel.Value, ...]:
+            if f10_only:
+                return tuple(sol.f10)
+            return (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z, *(sol.lambda10 if stroke else ()))
+
         if params.has_mu:  # implicit friction: the kernel on floats, with its Newton solve
 
             def implicit(*state: float) -> tuple[float, ...]:
                 sol = kernel.solve(kernel.MATH, params, *state, reactions=False)
                 if sol.iterations is not None and sol.iterations < 0:
-                    return (math.nan,) * (15 if stroke else 12)
-                lam = sol.lambda10 if stroke else ()
-                return (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z, *lam)
+                    return (math.nan,) * (3 if f10_only else 15 if stroke else 12)
+                return forces(sol)
 
             return implicit
 
         def outputs(ops: kernel.Ops, *state: kernel.Value) -> tuple[kernel.Value, ...]:
-            sol = kernel.solve(ops, params, *state, reactions=False)
-            return (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z, *(sol.lambda10 if stroke else ()))
+            return forces(kernel.solve(ops, params, *state, reactions=False))
 
-        return scalar_function(outputs, kernel.STATE_SYMBOLS, "sample_forces_kernel")
+        name = "sample_actuator_forces_kernel" if f10_only else "sample_forces_kernel"
+        return scalar_function(outputs, kernel.STATE_SYMBOLS, name)
 
     @cached_property
     def checked_function(self) -> Callable[..., SampleForces | None]:
