@@ -247,6 +247,19 @@ def test_traced_batch_code_equals_the_kernel_on_arrays(robot: Robot, seed: int) 
         np.testing.assert_array_equal(getattr(traced, name), getattr(direct, name))
 
 
+def test_argument_names_of_the_generated_code_s_own_are_refused() -> None:
+    # the generated code names its rows w0, w1, ..., its outputs o0, ... and constants k0, ...
+    def f(ops, a, b):  # type: ignore[no-untyped-def]
+        return (a * b,)
+
+    for names in (("w1", "b"), ("a", "o0"), ("k3", "b"), ("w1_2", "b")):
+        with pytest.raises(ValueError, match="the generated code's own"):
+            array_function(f, names)
+        with pytest.raises(ValueError, match="the generated code's own"):
+            broadcast_function(f, names, (0, 1))
+    assert array_function(f, ("w", "o1x")).rows == 0  # not of that form: accepted
+
+
 def test_a_constant_is_not_taken_for_the_line_of_its_value() -> None:
     # lines are numbered 0, 1, 2...: x + 1.0 (a constant) is not x + line 1
     def f(ops, x):  # type: ignore[no-untyped-def]

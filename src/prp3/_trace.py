@@ -36,6 +36,7 @@ the sign of a zero, see :class:`Traced`, and numpy's ``cos``/``sin``).
 from __future__ import annotations
 
 import math
+import re
 import textwrap
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
@@ -339,6 +340,13 @@ def loop_source(
     )
 
 
+def _own_names(arguments: Sequence[str]) -> None:
+    """Refuse argument names of the generated code's own locals (``w3``, ``o0``, ``k2``, …)."""
+    taken = [a for a in arguments if re.fullmatch(r"[wok]\d+(_\d+)?", a)]
+    if taken:
+        raise ValueError(f"argument names {taken} are the generated code's own")
+
+
 def array_function(
     function: Callable[..., Sequence[Any]], arguments: Sequence[str], name: str = "traced"
 ) -> Callable[..., None]:
@@ -351,6 +359,7 @@ def array_function(
     allocates one block of ``rows × n`` floats and nothing else.  The
     function's ``rows`` attribute is the number of work rows.
     """
+    _own_names(arguments)
     lines, outputs = trace(function, len(arguments))
     last_use: dict[int, int] = {}
     for position, (_, (_, operands)) in enumerate(lines):
@@ -445,6 +454,7 @@ def broadcast_function(
     """
     if len(groups) != len(arguments) or not all(0 <= g < 8 for g in groups):
         raise ValueError("one group from 0 to 7 per argument")
+    _own_names(arguments)
     lines, outputs = trace(function, len(arguments))
     full = 0
     for g in groups:

@@ -13,6 +13,7 @@ work eqs. 15, 16, 21, 23–25):
   once into straight-line code (:mod:`prp3._trace`) that performs the kernel's
   own floating-point operations in the kernel's order, with the checks of the
   batch path written into it; an optional time-varying load.
+  :func:`sample_actuator_forces` the same for ``f10`` alone.
   :func:`sample_forces_unchecked` is its inner function for a control loop
   that has validated its input already.
 
