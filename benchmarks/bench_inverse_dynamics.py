@@ -286,7 +286,7 @@ def run_baseline(
     Returns its samples per second for each N (as ``rates``), its single-call
     µs, its agreement with prp3 fast's ``f10``, and the row name.
     """
-    name = f"prp3 {commit} (hand-fused)"
+    name = f"prp3 {commit}" + (" (hand-fused)" if commit == BASELINE else "")
     motion = motion_of("rotation", 1)
     with tempfile.TemporaryDirectory(prefix="prp3-baseline-") as folder:
         root = Path(folder)
