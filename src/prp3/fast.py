@@ -27,7 +27,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, Literal, NamedTuple
+from typing import Any, Literal, NamedTuple, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -865,9 +865,7 @@ def sample_forces(
     [37.6324, -11.3825, -26.25]
     """
     if type(compiled) is not CompiledRobot:
-        raise Prp3Error(
-            f"compiled must come from compile_robot(robot), got {type(compiled).__name__}"
-        )
+        _not_compiled(compiled)
     try:  # the traced kernel with its checks: None (or an error) where it cannot decide
         if load is None:
             f = compiled.checked_function(pose, velocity, acceleration)
@@ -878,6 +876,10 @@ def sample_forces(
     if f is not None:
         return f
     return _sample_slow(compiled, pose, velocity, acceleration, load)
+
+
+def _not_compiled(compiled: object) -> NoReturn:
+    raise Prp3Error(f"compiled must come from compile_robot(robot), got {type(compiled).__name__}")
 
 
 #: Names of the traced load's inputs (:attr:`CompiledRobot.loaded_function`).
@@ -920,10 +922,8 @@ def sample_actuator_forces(
     [31.8589, -8.4957, -23.3632]
     """
     if type(compiled) is not CompiledRobot:
-        raise Prp3Error(
-            f"compiled must come from compile_robot(robot), got {type(compiled).__name__}"
-        )
-    try:  # as sample_forces
+        _not_compiled(compiled)
+    try:  # as sample_forces (written out in both: one Python call less on the hot path)
         if load is None:
             f = compiled.actuator_function(pose, velocity, acceleration)
         else:
