@@ -10,6 +10,7 @@ force plus the total weight), as in ``test_dynamics``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from types import SimpleNamespace
 
@@ -30,6 +31,7 @@ from prp3 import (
     inverse_kinematics,
     newton_euler,
 )
+from prp3._trace import non_finite_reach
 from prp3.fast import (
     CompiledRobot,
     FastForces,
@@ -41,6 +43,7 @@ from prp3.fast import (
     sample_forces_unchecked,
     solve_batch,
 )
+from prp3.model import Friction, JointFriction
 from prp3.motion import paper_motion
 from strategies import (
     REF_E,
@@ -369,6 +372,68 @@ def test_non_finite_input_is_refused(name: str, bad: float, reactions: bool) -> 
     single = {n: a[4] for n, a in arrays.items()}
     with pytest.raises(TrajectoryError, match=rf"{component} of {name} is not finite"):
         sample_forces(compile_robot(Robot()), **single)
+
+
+@pytest.mark.parametrize("singular", [False, True])
+@pytest.mark.parametrize("through_results", [True, False])
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_non_finite_rates_are_refused_by_the_batch_path(
+    bad: float, through_results: bool, singular: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the traced batch path (40 samples, chunks of 16) checks the rates with the results
+    # when a non-finite rate always shows there (through_results), else before the chunks
+    compiled = compile_robot(Robot())
+    for names in (("f10",), ("f10", "p10", "f21y", "f21z")):
+        compiled.batch_function(names)  # traced: the batch path runs it from the first call
+        assert compiled.results_check_rates(names)
+    if not through_results:
+        monkeypatch.setattr(CompiledRobot, "results_check_rates", lambda self, names: False)
+    motion = paper_motion("rotation", samples=40)
+    for name in ("velocity", "acceleration"):
+        for k, component in enumerate(("x", "y", "phi")):
+            arrays = {n: getattr(motion, n).copy() for n in ("pose", "velocity", "acceleration")}
+            arrays[name][25, k] = bad
+            if singular:  # a singular pose earlier: the non-finite rate is still named first
+                arrays["pose"][3, 2] = math.pi / 3
+            prefix = {"velocity": "d", "acceleration": "dd"}[name]
+            message = rf"^sample 25: {prefix}{component} of {name} is not finite"
+            with pytest.raises(TrajectoryError, match=message):
+                actuator_forces(compiled, **arrays, chunk_size=16)
+            with pytest.raises(TrajectoryError, match=message):
+                paper_forces(compiled, **arrays, chunk_size=16)
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    scenarios(),
+    st.booleans(),
+    st.sampled_from([math.nan, math.inf, -math.inf]),
+    st.integers(0, 8),
+)
+def test_a_non_finite_input_reaches_the_outputs_the_trace_says(  # type: ignore[no-untyped-def]
+    scenario, coulomb, bad, k
+) -> None:
+    # the claim of non_finite_reach, checked by running the traced code on a non-finite
+    # input; Coulomb friction alone sees a rate through its sign (where an infinity ends)
+    robot, motion_of = scenario
+    if coulomb:
+        joint = JointFriction(coulomb=1.5)
+        robot = dataclasses.replace(robot, friction=Friction(joint, joint, joint))
+    compiled = compile_robot(robot)
+    pose, velocity, acceleration = motion_of.evaluate(np.linspace(0.0, motion_of.duration, 5))
+    state = [a[:, j].copy() for a in (pose, velocity, acceleration) for j in range(3)]
+    state[k][2] = bad
+    names = ("f10", "p10", "f21y", "f21z")
+    out = np.empty((13 if robot.limits.stroke is None else 16, 5))
+    with np.errstate(all="ignore"):
+        compiled.batch_function(names)(*state, list(out))
+    reach = non_finite_reach(compiled._outputs(names), 9)
+    assert len(reach) == len(out)
+    for row, inputs in zip(out, reach, strict=True):
+        if k in inputs:
+            assert not math.isfinite(row[2])
+        assert np.isfinite(row[[0, 1, 3, 4]]).all()  # the other samples untouched
+    assert compiled.results_check_rates(names)  # every rate shows in the results
 
 
 @pytest.mark.parametrize(

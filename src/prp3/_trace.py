@@ -51,6 +51,7 @@ __all__ = [
     "array_function",
     "broadcast_function",
     "loop_source",
+    "non_finite_reach",
     "scalar_function",
     "trace",
 ]
@@ -176,6 +177,43 @@ def trace(
             needed.add(index)
             stack.extend(o for o in tape.lines[index][1] if isinstance(o, int) and o >= 0)
     return [(k, line) for k, line in enumerate(tape.lines) if k in needed], outputs
+
+
+#: Operations whose result is not finite whenever an operand is not (IEEE 754:
+#: ``inf ± x``, ``inf × x``, ``inf/x``, ``cos(inf)``, … are ``±inf`` or NaN, and NaN
+#: stays NaN).  A division by a non-finite value can give zero, ``tanh`` and
+#: ``sign`` of an infinity are ±1: there only the numerator carries it, or nothing.
+_STRICT = {"+", "-", "*", "neg", "cos", "sin", "sqrt", "abs"}
+
+
+def non_finite_reach(function: Callable[..., Sequence[Any]], arity: int) -> list[frozenset[int]]:
+    """For each output of ``function``, the inputs whose non-finite value makes it non-finite.
+
+    Input ``k`` (``0 <= k < arity``) is in the set of an output if that output
+    is ``±inf`` or NaN at every sample where input ``k`` is, whatever the
+    other inputs: it depends on the input through operations of
+    :data:`_STRICT` and numerators alone.  A finite output then proves the
+    input finite, so a check of the outputs also checks these inputs.
+
+    >>> def f(ops, x, y):
+    ...     return (x * y, 1.0 / y, ops.tanh(x) + y)
+    >>> [sorted(s) for s in non_finite_reach(f, 2)]
+    [[0, 1], [], [1]]
+    """
+    lines, outputs = trace(function, arity)
+    reach: dict[int, frozenset[int]] = {-1 - k: frozenset((k,)) for k in range(arity)}
+
+    def of(o: int | float) -> frozenset[int]:
+        return reach[o] if isinstance(o, int) else frozenset()
+
+    for index, (operation, operands) in lines:
+        if operation in _STRICT:
+            reach[index] = frozenset().union(*(of(o) for o in operands))
+        elif operation == "/":
+            reach[index] = of(operands[0])
+        else:  # tanh, sign: an infinity gives a finite value
+            reach[index] = frozenset()
+    return [of(o) for o in outputs]
 
 
 def _operand(value: int | float, names: Callable[[int], str]) -> str:

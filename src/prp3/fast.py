@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import kernel
-from ._trace import array_function, loop_source, scalar_function
+from ._trace import array_function, loop_source, non_finite_reach, scalar_function
 from .errors import Prp3Error, TrajectoryError
 from .geometry import inverse_geometry as _inverse_geometry
 from .model import Robot
@@ -306,6 +306,23 @@ class CompiledRobot:
             function = numba.njit(error_model="numpy")(namespace["batch_kernel_loop"])
             function.source = source  # type: ignore[attr-defined]
             cache[names] = function
+        return cache[names]
+
+    def results_check_rates(self, names: tuple[str, ...]) -> bool:
+        """Whether a non-finite velocity or acceleration always gives a non-finite result.
+
+        True when every component of ``velocity`` and ``acceleration`` reaches
+        one of the outputs ``names`` through operations that keep an infinity
+        or a NaN (:func:`prp3._trace.non_finite_reach`): the finiteness check
+        of the results then also checks these inputs, and the batch path reads
+        them once less.  False, for example, for a robot without masses whose
+        Coulomb friction sees a rate only through its sign.
+        """
+        cache: dict[tuple[str, ...], bool] = self.__dict__.setdefault("_results_check_rates", {})
+        if names not in cache:
+            reach = non_finite_reach(self._outputs(names), len(kernel.STATE_SYMBOLS))
+            checks = 4 if self.stroke is not None else 1
+            cache[names] = set(range(3, 9)) <= frozenset().union(*reach[checks:])
         return cache[names]
 
     def _outputs(self, names: tuple[str, ...]) -> Callable[..., tuple[kernel.Value, ...]]:
@@ -653,7 +670,9 @@ def _compute(
     scratch = np.empty((checks, width))
     numpy_function = compiled.batch_function(names) if backend == "numpy" else None
     numba_function = compiled.numba_function(names) if backend == "numba" else None
-    if not all(_finite(array) for array in inputs[1:]) or _beyond(
+    # the rates are checked with the results when a non-finite rate shows there
+    rates = () if compiled.results_check_rates(names) else inputs[1:]
+    if not all(_finite(array) for array in rates) or _beyond(
         inputs[0], POSE_BOUND * compiled.robot.l0
     ):
         _raise_input_error(compiled, inputs, samples)
@@ -783,9 +802,11 @@ def _outside(lambda10: Any, stroke: tuple[float, float]) -> bool:
 
 
 def _require_finite_results(targets: dict[str, FloatArray], inputs: list[FloatArray]) -> None:
-    """A TrajectoryError naming the first sample whose results overflowed."""
+    """A TrajectoryError naming the first non-finite input, else the first overflowed result."""
     if all(_finite(array) for array in targets.values()):
         return
+    for name, array, components in zip(_INPUTS, inputs, _COMPONENTS, strict=True):
+        check_finite(name, array, components=components)
     require_finite(targets, (inputs[0].shape[0],), "motion")
 
 
