@@ -668,6 +668,7 @@ def _compute(
     names = tuple(targets)
     checks = 4 if compiled.stroke is not None else 1
     scratch = np.empty((checks, width))
+    state = np.empty((9, width))  # the numpy backend's inputs of one chunk, as rows
     numpy_function = compiled.batch_function(names) if backend == "numpy" else None
     numba_function = compiled.numba_function(names) if backend == "numba" else None
     # the rates are checked with the results when a non-finite rate shows there
@@ -680,8 +681,12 @@ def _compute(
         for start in range(0, samples, width):
             stop = min(start + width, samples)
             n = stop - start
-            if numpy_function is not None:  # the input and output columns as they are (no copy)
-                rows = [array[start:stop, k] for array in inputs for k in range(3)]
+            if numpy_function is not None:
+                # the inputs copied into contiguous rows once (the kernel reads most of
+                # them several times), the outputs written straight into their columns
+                rows = state[:, :n]
+                for k, array in enumerate(inputs):
+                    np.copyto(rows[3 * k : 3 * k + 3], array[start:stop].T)
                 columns = [
                     target[start:stop, leg] for target in targets.values() for leg in range(3)
                 ]
