@@ -35,17 +35,23 @@ sample and combines them per leg.
 
 Virtual work (eqs. 15, 16, 21, 23–25), with the wrenches each body needs,
 ``F10_i, M10_i`` (piston, about ``P_i``), ``F20_i, M20_i`` (link 2, about
-``P_i``), ``F3, M3`` (platform, about ``G``), ``T = d_A·F3``,
-``M2 = Σ_i M20_i + M3 + ρ_A × F3`` (eq. 21, the platform in chain A),
-``S·D = 3l0/2 − 3q − (√3/2)·l0·D`` and ``Z = (M2 + K·T)/S``,
-``K = (2/3)·d_A·Σ_i d⊥_i(ρ_i·d_i) + l0/2``:
+``P_i``), ``F3, M3`` (platform, about ``G``).  The virtual velocities of eqs.
+(15), (16) are the rows of the Jacobian of eq. (14),
+``λ̇10_i = J_i·(Ġ, φ̇)``, ``J_i = (d_iy, −d_ix, r_i)/D``, ``r_i = ρ_i·d_i = λ32_i − c_x``,
+and virtual work (eq. 23) is ``Jᵀ·z = (F3, M)`` for
+``z_i = f10_i − (F10_i + F20_i)·e_i``, with ``M = Σ_i M20_i + M3`` (eq. 21: the
+links turn with the platform).  The legs are turned by 120°, so
+``Σ_i d_i = 0``, ``Σ_i d_i·d_iᵀ = (3/2)·I`` and, with ``U = (F3 × d_A, d_A·F3)``
+and the leg directions ``a_i`` at ``φ = 0``, the solution is
+``z_i = D·ν_i``, ``ν_i = (2/3)·a_i·U + ν₀``,
+``ν₀ = (M − U_x·(ly/2 − (√3/2)·lx) + U_y·(lx/2 + (√3/2)·ly))/(3·(l1 − c_x))``
+(``Σ_i r_i = 3·(l1 − c_x)``).  Then
 
-* ``f21z_j = F20_j·e_j + D·Z + κ_j`` (eq. 25), ``f21y_j = F20_j·n_j − C·Z + ν_j`` (eq. 24),
-  with the chain-A terms ``κ_A = F3·e_A − C·T``, ``ν_A = F3·n_A − D·T`` and the
-  leg terms ``κ_B = −κ_C = D·T/√3``, ``ν_B = −ν_C = −C·T/√3``;
+* ``f21z_j = F20_j·e_j + D·ν_j`` (eq. 25), ``f21y_j = F20_j·n_j − C·ν_j`` (eq. 24);
 * ``f10_j = F10_j·e_j + f21z_j`` (eq. 23);
-* reactions: ``n10_j = F10_j·n_j + f21y_j``, ``m10_j = M10_j``,
-  ``n32_j = C·(f21y_j − F20_j·n_j) − D·(f21z_j − F20_j·e_j)``, ``m32_j = −M20_j``.
+* reactions: ``n10_j = F10_j·n_j + f21y_j``, ``m10_j = M10_j``, ``n32_j = −ν_j``
+  (the balance of link 2 across its sleeve, ``d⊥_j = C·n_j − D·e_j``),
+  ``m32_j = −M20_j``.
 
 A new effect on a body (a payload, an external load, a friction force) enters
 :func:`body_wrenches` once and reaches every path from there.
@@ -673,41 +679,34 @@ def joint_forces(
     Returns ``(f10, f21y, f21z, (n10, m10, n32, m32) or None)``.
     """
     geo = kin.geometry
-    c, s, D, C, p, q = geo.cos_phi, geo.sin_phi, geo.D, geo.C, geo.p, geo.q
-    cy = 0.5 * k.l0
+    c, s, D, C = geo.cos_phi, geo.sin_phi, geo.D, geo.C
+    lx, ly = geo.lx, geo.ly
     F3x, F3y = w.platform_x, w.platform_y
-    T = c * F3x + s * F3y  # d_A·F3, d_A = (cos φ, sin φ)
-    # eq. (21): M2 = Σ M20_i + M3 + ρ_A × F3, ρ_A = λ32_A·d_A + Rot(α_A + φ)·c
-    rho_cross_F3 = (
-        geo.lambda32[0] * (c * F3y - s * F3x) + (0.5 * p - _H * q) * F3y - (_H * p + 0.5 * q) * F3x
-    )
-    M2 = w.link_moment[0] + w.link_moment[1] + w.link_moment[2] + w.platform_moment + rho_cross_F3
-    # eqs. (15)-(16): Z = (M2 + K·T)/S, K = (2/3)·d_A·Σ d⊥_i(ρ_i·d_i) + l0/2
-    SD = 1.5 * k.l0 - 3 * q - (_H * k.l0) * D  # S·D, S = Σ ρ_i·d_i
-    Z = (M2 + (0.5 * geo.lx + _H * geo.ly + cy) * T) * D / SD
-    DZ = D * Z
-    CZ = C * Z
-    DT3 = D * T * _INV_SQRT3
-    CT3 = C * T * _INV_SQRT3
-    # eq. (25)
-    f21z = (
-        w.link_e[0] + DZ + 0.5 * F3x + _H * F3y - C * T,
-        w.link_e[1] + DZ + DT3,
-        w.link_e[2] + DZ - DT3,
-    )
-    # eq. (24)
-    f21y = (
-        w.link_n[0] - CZ + 0.5 * F3y - _H * F3x - D * T,
-        w.link_n[1] - CZ - CT3,
-        w.link_n[2] - CZ + CT3,
-    )
+    # eq. (21): the moment the platform and the links need about z0 (the links turn with φ)
+    M = w.link_moment[0] + w.link_moment[1] + w.link_moment[2] + w.platform_moment
+    # eqs. (15), (16), (23): virtual work with λ̇10_i = J_i·(Ġ, φ̇), J_i = (d_iy, −d_ix, r_i)/D,
+    # r_i = ρ_i·d_i = λ32_i − c_x, is Jᵀ·z = (F3, M) for z_i = f10_i − (F10_i + F20_i)·e_i.
+    # With Σ d_i = 0 and Σ d_i·d_iᵀ = (3/2)·I: z_i = D·((2/3)·a_i·U + ν₀), where
+    # U = (F3 × d_A, d_A·F3) (U = Rot(−φ)·(−F3y, F3x)) and ν₀ = (M − Σ_i (2/3)(a_i·U)·r_i)/Σ_i r_i.
+    Ux = s * F3x - c * F3y  # F3 × d_A, d_A = (cos φ, sin φ)
+    T = c * F3x + s * F3y  # d_A·F3
+    # Σ_i (2/3)(a_i·U)·λ32_i = Ux·(½·ly − (√3/2)·lx) − T·(½·lx + (√3/2)·ly) (Σ a_i = 0)
+    moment = Ux * (0.5 * ly - _H * lx) - T * (0.5 * lx + _H * ly)
+    common = (M - moment) / (3 * (geo.l1 - k.l0 * (0.5 * _INV_SQRT3)))  # Σ r_i = 3·(l1 − c_x)
+    third = common - Ux / 3
+    tilt = T * _INV_SQRT3
+    # ν_i = (2/3)·a_i·U + ν₀ = −n32_i, a_A = (1, 0), a_B, a_C = (−1/2, ±√3/2): z_i = D·ν_i
+    normal = (common + Ux * (2.0 / 3.0), third + tilt, third - tilt)
+    # eq. (25): f21z_j = F20_j·e_j + z_j; eq. (24): f21y_j = F20_j·n_j − C·ν_j
+    f21z = tuple(w.link_e[j] + D * normal[j] for j in range(3))
+    f21y = tuple(w.link_n[j] - C * normal[j] for j in range(3))
     # eq. (23)
     f10 = (w.piston_e[0] + f21z[0], w.piston_e[1] + f21z[1], w.piston_e[2] + f21z[2])
     if not reactions:
         return f10, f21y, f21z, None
-    # balance of each piston (along n_i, moment about P_i) and link 2 (along d⊥_i, about P_i)
+    # balance of each piston (along n_i, moment about P_i) and link 2 (about P_i)
     n10 = tuple(w.piston_n[j] + f21y[j] for j in range(3))
-    n32 = tuple(C * (f21y[j] - w.link_n[j]) - D * (f21z[j] - w.link_e[j]) for j in range(3))
+    n32 = tuple(-normal[j] for j in range(3))
     m32 = tuple(-w.link_moment[j] for j in range(3))
     return (
         f10,
