@@ -29,6 +29,11 @@ for the three legs, ``(p, q) = Rot(φ)·c``):
 * eq. (17): ``λ̈32_i = (n_i·G̈ − φ̈·(C·λ32_i + p) + φ̇²·(D·λ32_i + q) − 2φ̇·C·λ̇32_i)/D``,
   ``λ̈10_i = (G̈ × d_i + φ̈·ρ_i·d_i − (l0/2)·φ̇² + 2φ̇·λ̇32_i)/D``.
 
+With ``Rot(π/3)·c = (−c_x, c_y)``, ``(p, q) = (−c_x·C − c_y·D, c_y·C − c_x·D)``, so
+``l0/2 − q = c_y·(1 − C) + c_x·D`` and, with ``E = c_y·(1 − C)/D``:
+``ρ_i·d_i = n_i·G/D + E``, ``C·λ32_i + p = C·n_i·G/D − E`` and
+``D·λ32_i + q = n_i·G + c_y``: ``p`` and ``q`` themselves are never needed.
+
 Every per-leg quantity of the kinematics is a combination ``u_x·n_ix + u_y·n_iy + u_1``
 of the leg normal ``n_i``: the kernel computes the three coefficients once per
 sample and combines them per leg.
@@ -328,8 +333,7 @@ class KernelGeometry(NamedTuple):
     D: Value  # sin(φ − π/3), the determinant of every leg's closure
     C: Value  # cos(φ − π/3)
     inv: Value  # 1/D
-    p: Value  # (p, q) = Rot(φ)·c
-    q: Value
+    E: Value  # c_y·(1 − C)/D: ρ_i·d_i = λ32_i − c_x = lx·n_ix + ly·n_iy + E
     lx: Value  # λ32_i = lx·n_ix + ly·n_iy + l1
     ly: Value
     l1: Value
@@ -422,12 +426,11 @@ def kernel_geometry(
     D = 0.5 * s - _H * c  # e_i × d_i = sin(φ − π/3), eq. (10)'s determinant
     C = 0.5 * c + _H * s  # e_i·d_i = cos(φ − π/3)
     inv = 1 / D
-    p = cx * c - cy * s  # (p, q) = Rot(φ)·c, eq. (8)
-    q = cx * s + cy * c
-    # eq. (10): λ32_i = (n_i·G + l0/2 − q)/D
+    # eq. (10): λ32_i = (n_i·G + l0/2 − q)/D, (p, q) = Rot(φ)·c (eq. 8), l0/2 − q = c_y·(1 − C) + c_x·D
+    E = cy * (1 - C) * inv
     lx = x * inv
     ly = y * inv
-    l1 = (cy - q) * inv
+    l1 = E + cx
     # eq. (10): λ10_i = (G × d_i − l0·cos φ + l0/2)/D − l0/√3, G × d_i = (Rot(5π/6 − φ)·G) × n_i
     ax = -(C * x + D * y) * inv
     ay = (D * x - C * y) * inv
@@ -438,8 +441,7 @@ def kernel_geometry(
         D=D,
         C=C,
         inv=inv,
-        p=p,
-        q=q,
+        E=E,
         lx=lx,
         ly=ly,
         l1=l1,
@@ -459,18 +461,18 @@ def kernel_kinematics(
     ddphi: Value,
 ) -> KernelKinematics:
     """Joint velocities and accelerations: eqs. (14) and (17) in closed form."""
-    cx, cy = k.l0 * (0.5 * _INV_SQRT3), k.l0 * 0.5
-    D, C, inv, p, q = geo.D, geo.C, geo.inv, geo.p, geo.q
-    lx, ly, l1 = geo.lx, geo.ly, geo.l1
-    # eq. (14): λ̇32_i = (n_i·Ġ − φ̇·(C·λ32_i + p))/D
+    cy = k.l0 * 0.5
+    D, C, inv, E = geo.D, geo.C, geo.inv, geo.E
+    lx, ly = geo.lx, geo.ly
+    # eq. (14): λ̇32_i = (n_i·Ġ − φ̇·(C·λ32_i + p))/D, C·λ32_i + p = C·n_i·G/D − E
     u = dphi * C
     vx = (dx - u * lx) * inv
     vy = (dy - u * ly) * inv
-    v1 = -(u * l1 + dphi * p) * inv
-    # eq. (14): λ̇10_i = (Ġ × d_i + φ̇·ρ_i·d_i)/D, ρ_i·d_i = λ32_i − c_x
+    v1 = dphi * E * inv
+    # eq. (14): λ̇10_i = (Ġ × d_i + φ̇·ρ_i·d_i)/D, ρ_i·d_i = λ32_i − c_x = n_i·G/D + E
     rx = (dphi * lx - C * dx - D * dy) * inv
     ry = (dphi * ly + D * dx - C * dy) * inv
-    r1 = dphi * (l1 - cx) * inv
+    r1 = v1
     # eq. (17): λ̈10_i = (G̈ × d_i + φ̈·ρ_i·d_i − (l0/2)·φ̇² + 2φ̇·λ̇32_i)/D
     tx = D * ddx - C * ddy  # Rot(5π/6 − φ)·G̈
     ty = C * ddx + D * ddy
@@ -478,13 +480,14 @@ def kernel_kinematics(
     w2 = dphi * dphi
     gx = (ddphi * lx + dphi2 * vx - ty) * inv
     gy = (ddphi * ly + dphi2 * vy + tx) * inv
-    g1 = (ddphi * (l1 - cx) + dphi2 * v1 - cy * w2) * inv
-    # eq. (17): λ̈32_i = (n_i·G̈ − φ̈·(C·λ32_i + p) + φ̇²·(D·λ32_i + q) − 2φ̇·C·λ̇32_i)/D
+    g1 = (ddphi * E + dphi2 * v1 - cy * w2) * inv
+    # eq. (17): λ̈32_i = (n_i·G̈ − φ̈·(C·λ32_i + p) + φ̇²·(D·λ32_i + q) − 2φ̇·C·λ̇32_i)/D,
+    # D·λ32_i + q = n_i·G + c_y
     b = w2 * D - ddphi * C
     e2 = dphi2 * C
     hx = (ddx + b * lx - e2 * vx) * inv
     hy = (ddy + b * ly - e2 * vy) * inv
-    h1 = (b * l1 + w2 * q - ddphi * p - e2 * v1) * inv
+    h1 = (cy * w2 + ddphi * E - e2 * v1) * inv
     return KernelKinematics(
         geometry=geo,
         dlambda10=_legs(rx, ry, r1),
@@ -692,8 +695,8 @@ def joint_forces(
     T = c * F3x + s * F3y  # d_A·F3
     # Σ_i (2/3)(a_i·U)·λ32_i = Ux·(½·ly − (√3/2)·lx) − T·(½·lx + (√3/2)·ly) (Σ a_i = 0)
     moment = Ux * (0.5 * ly - _H * lx) - T * (0.5 * lx + _H * ly)
-    common = (M - moment) / (3 * (geo.l1 - k.l0 * (0.5 * _INV_SQRT3)))  # Σ r_i = 3·(l1 − c_x)
-    third = common - Ux / 3
+    common = (M - moment) / (3 * geo.E)  # Σ_i r_i = 3·E (Σ n_i = 0)
+    third = common - Ux * (1.0 / 3.0)
     tilt = T * _INV_SQRT3
     # ν_i = (2/3)·a_i·U + ν₀ = −n32_i, a_A = (1, 0), a_B, a_C = (−1/2, ±√3/2): z_i = D·ν_i
     normal = (common + Ux * (2.0 / 3.0), third + tilt, third - tilt)
