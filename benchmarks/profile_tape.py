@@ -11,15 +11,17 @@ Times, interleaved in one process on the same samples of the rotation motion
 
 * ``actuator_forces`` — the whole validated call;
 * ``tape`` — the traced ufunc calls alone, chunk after chunk on the same
-  inputs (no validation, no checks of the results);
+  inputs copied into contiguous rows as :mod:`prp3.fast` does (no validation,
+  no checks of the results);
 * ``tape, cos/sin replaced`` — the same with ``cos`` and ``sin`` replaced by
   ``negative`` (wrong numbers, right memory traffic): the share of the two
   transcendental calls;
 
 then the tape's operations counted by kind, and the median time of each kind
 on one chunk in isolation (every operation repeated on warm rows): what one
-ufunc call costs at this chunk size, with an input column read in place
-(``strided``: a column of an ``(N, 3)`` array) or a work row.
+ufunc call costs at this chunk size, on work rows, the inputs' contiguous
+rows (``input``) and the output's columns of an ``(N, 3)`` array (``output
+column``, strided).
 """
 
 from __future__ import annotations
@@ -47,13 +49,15 @@ def chunks(
     function: Callable[..., None], arrays: tuple[np.ndarray, ...], chunk: int
 ) -> Callable[[], None]:
     samples = arrays[0].shape[0]
-    out, checks = np.empty((samples, 3)), np.empty(chunk)
+    out, checks, state = np.empty((samples, 3)), np.empty(chunk), np.empty((9, chunk))
 
     def run() -> None:
         with np.errstate(all="ignore"):
             for start in range(0, samples, chunk):
                 stop = min(start + chunk, samples)
-                rows = [a[start:stop, k] for a in arrays for k in range(3)]
+                rows = state[:, : stop - start]  # as prp3.fast: contiguous copies of the inputs
+                for k, array in enumerate(arrays):
+                    np.copyto(rows[3 * k : 3 * k + 3], array[start:stop].T)
                 targets = [checks[: stop - start], *(out[start:stop, leg] for leg in range(3))]
                 function(*rows, targets)
 
@@ -80,7 +84,7 @@ def operation_costs(
     start = next(k for k, line in enumerate(lines) if line.startswith("def "))
     namespace: dict[str, Any] = dict(function.__globals__)  # type: ignore[attr-defined]
     exec("\n".join([*lines, "    return locals()"]), namespace)
-    rows = [a[:chunk, k] for a in arrays for k in range(3)]
+    rows = list(np.ascontiguousarray(np.concatenate([a[:chunk].T for a in arrays])))
     out, checks = np.empty((chunk, 3)), np.empty(chunk)
     with np.errstate(all="ignore"):
         env = namespace["batch_kernel"](*rows, [checks, *(out[:, leg] for leg in range(3))])
@@ -91,9 +95,15 @@ def operation_costs(
                 continue
             name = statement.split("(")[0]
             operands = statement[statement.index("(") + 1 : -1].split(", ")
-            strided = any(o in STATE_SYMBOLS or (o.startswith("o") and o != "o0") for o in operands)
+            strided = any(o.startswith("o") and o != "o0" for o in operands)
+            state = any(o in STATE_SYMBOLS for o in operands)
             constant = any(o.startswith("k") for o in operands)
-            kind = name + (", strided" if strided else "") + (", constant" if constant else "")
+            kind = (
+                name
+                + (", input" if state else "")
+                + (", output column" if strided else "")
+                + (", constant" if constant else "")
+            )
             seconds = min(timeit.repeat(statement, globals=env, number=20, repeat=5)) / 20
             kinds[kind].append(seconds)
     total = sum(sum(v) for v in kinds.values())
