@@ -389,7 +389,7 @@ def test_forward_dynamics_reproduces_the_paper_motions(name: str) -> None:
         reference.t,
         reference.pose[0],
         reference.velocity[0],
-        rtol=1e-10,
+        rtol=1e-11,  # the open loop grows errors like e^(6.18 t): at rtol 1e-10 they reach 1e-6
         atol=1e-14,
     )
     assert result.status == "completed"

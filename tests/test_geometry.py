@@ -252,9 +252,13 @@ def test_poses_outside_the_stroke_are_unreachable() -> None:
     message = str(info.value)
     assert "sample 1" in message and "lambda10_A" in message and "y=0.02" in message
     assert "[-0.01, 0.02]" in message
-    # x = 0.015, φ = 0: λ10 = (0, −x, x) = (0, −0.015, 0.015): only leg B below −0.01.
-    with pytest.raises(UnreachablePoseError, match=r"lambda10_B = -0\.015"):
+    # x = 0.015, φ = 0: λ10 = (0, −x, x) = (0, −0.015, 0.015): only leg B below −0.01,
+    # named with its value as computed (−0.015 to round-off: repr shows every digit)
+    with pytest.raises(
+        UnreachablePoseError, match=r"lambda10_B = (-0\.015|-0\.01499999999999\d*) m"
+    ) as info:
         inverse_geometry(robot, [0.015, 0.0, 0.0])
+    assert info.value.leg == "B" and info.value.sample is None
 
 
 def test_without_limits_far_poses_are_accepted() -> None:

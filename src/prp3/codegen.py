@@ -121,9 +121,9 @@ def _template(with_stroke: bool) -> _Template:
     solution = kernel.solve(kernel.sympy_ops(), parameters, *inputs, reactions=False)
     outputs = [*solution.f10, *solution.f21y, *solution.f21z]
     checks = list(solution.lambda10) if with_stroke else []
-    # cos φ and sin φ once, before the singularity check that uses them too
-    phi = inputs[2]
-    trig = {sympy.cos(phi): sympy.Symbol("cos_phi"), sympy.sin(phi): sympy.Symbol("sin_phi")}
+    # cos(φ − π/3) and sin(φ − π/3) once, before the singularity check that uses the sine
+    psi = inputs[2] - kernel.PI_3
+    trig = {sympy.cos(psi): sympy.Symbol("cos_psi"), sympy.sin(psi): sympy.Symbol("sin_psi")}
     outputs = [expr.xreplace(trig) for expr in outputs]
     checks = [expr.xreplace(trig) for expr in checks]
     replacements, reduced = sympy.cse(outputs + checks, symbols=sympy.numbered_symbols("t"))
@@ -252,11 +252,11 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
         "        return prp3_refuse(f10, f21y, f21z, PRP3_NOT_FINITE);",
         "    }",
         "    {",
-        "        const double cos_phi = cos(phi);",
-        "        const double sin_phi = sin(phi);",
-        "        /* sin(phi - pi/3) = sin(phi)/2 - (sqrt(3)/2) cos(phi): singular below 1e-4 */",
-        f"        if (fabs(0.5 * sin_phi - {_c_number(math.sqrt(3.0) / 2.0)} * cos_phi)"
-        " < PRP3_SINGULARITY_THRESHOLD) {",
+        f"        const double psi = phi - {_c_number(kernel.PI_3)};",
+        "        const double cos_psi = cos(psi);",
+        "        const double sin_psi = sin(psi);",
+        "        /* sin(phi - pi/3), the determinant of every leg: singular below 1e-4 */",
+        "        if (fabs(sin_psi) < PRP3_SINGULARITY_THRESHOLD) {",
         "            return prp3_refuse(f10, f21y, f21z, PRP3_SINGULAR);",
         "        }",
         *(f"        {line}" for line in template.body),

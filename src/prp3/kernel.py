@@ -46,11 +46,15 @@ Virtual work (eqs. 15, 16, 21, 23–25), with the wrenches each body needs,
 and virtual work (eq. 23) is ``Jᵀ·z = (F3, M)`` for
 ``z_i = f10_i − (F10_i + F20_i)·e_i``, with ``M = Σ_i M20_i + M3`` (eq. 21: the
 links turn with the platform).  The legs are turned by 120°, so
-``Σ_i d_i = 0``, ``Σ_i d_i·d_iᵀ = (3/2)·I`` and, with ``U = (F3 × d_A, d_A·F3)``
-and the leg directions ``a_i`` at ``φ = 0``, the solution is
-``z_i = D·ν_i``, ``ν_i = (2/3)·a_i·U + ν₀``,
-``ν₀ = (M − U_x·(ly/2 − (√3/2)·lx) + U_y·(lx/2 + (√3/2)·ly))/(3·(l1 − c_x))``
-(``Σ_i r_i = 3·(l1 − c_x)``).  Then
+``Σ_i d_i = 0`` and ``Σ_i d_i·d_iᵀ = (3/2)·I``; in the frame turned by
+``ψ = φ − π/3``, in which each ``d_i`` has the direction of ``e_i``
+(``d_i = Rot(ψ)·e_i``), the platform's force is ``F̃ = Rot(−ψ)·F3``, and the
+solution is ``z_i = D·ν_i`` with
+
+``ν_i = ν₀ − (2/3)·n_i·F̃``,  ``ν₀ = (M + (lx, ly)·F̃)/(3·E)``  (``(lx, ly) = G/D``,
+``Σ_i r_i = 3·E``).
+
+Then
 
 * ``f21z_j = F20_j·e_j + D·ν_j`` (eq. 25), ``f21y_j = F20_j·n_j − C·ν_j`` (eq. 24);
 * ``f10_j = F10_j·e_j + f21z_j`` (eq. 23);
@@ -88,6 +92,7 @@ __all__ = [
     "MU_STEPS",
     "NEAR_LOCK_MU",
     "NUMPY",
+    "PI_3",
     "STATE_SYMBOLS",
     "BodyWrenches",
     "KernelFriction",
@@ -119,6 +124,8 @@ Legs = tuple[Value, Value, Value]
 
 _H = math.sqrt(3.0) / 2.0  # sin(π/3)
 _INV_SQRT3 = 1.0 / math.sqrt(3.0)
+#: ``π/3``: the singular orientation of every leg (``φ ≡ π/3 mod π``), rad.
+PI_3 = math.pi / 3.0
 
 #: ``α_i`` of legs A, B, C (eq. 1), rad.
 ALPHA_LEGS: tuple[float, float, float] = (math.pi / 3.0, math.pi, -math.pi / 3.0)
@@ -421,10 +428,11 @@ def kernel_geometry(
 ) -> KernelGeometry:
     """Joint displacements of a pose: eqs. (7)–(10) in closed form."""
     cx, cy = k.l0 * (0.5 * _INV_SQRT3), k.l0 * 0.5
-    c = ops.cos(phi)
-    s = ops.sin(phi)
-    D = 0.5 * s - _H * c  # e_i × d_i = sin(φ − π/3), eq. (10)'s determinant
-    C = 0.5 * c + _H * s  # e_i·d_i = cos(φ − π/3)
+    psi = phi - PI_3  # φ − π/3: d_i = C·e_i + D·n_i for every leg
+    D = ops.sin(psi)  # e_i × d_i = sin(φ − π/3), eq. (10)'s determinant
+    C = ops.cos(psi)  # e_i·d_i = cos(φ − π/3)
+    c = 0.5 * C - _H * D  # cos φ = cos(ψ + π/3) (the directions d_i, the platform's offsets)
+    s = _H * C + 0.5 * D  # sin φ
     inv = 1 / D
     # eq. (10): λ32_i = (n_i·G + l0/2 − q)/D, (p, q) = Rot(φ)·c (eq. 8), l0/2 − q = c_y·(1 − C) + c_x·D
     E = cy * (1 - C) * inv
@@ -432,9 +440,9 @@ def kernel_geometry(
     ly = y * inv
     l1 = E + cx
     # eq. (10): λ10_i = (G × d_i − l0·cos φ + l0/2)/D − l0/√3, G × d_i = (Rot(5π/6 − φ)·G) × n_i
+    # and (l0/2 − l0·cos φ)/D − l0/√3 = E + c_x = l1
     ax = -(C * x + D * y) * inv
     ay = (D * x - C * y) * inv
-    a1 = (cy - k.l0 * c) * inv - 2 * cx
     return KernelGeometry(
         cos_phi=c,
         sin_phi=s,
@@ -445,7 +453,7 @@ def kernel_geometry(
         lx=lx,
         ly=ly,
         l1=l1,
-        lambda10=_legs(ax, ay, a1),
+        lambda10=_legs(ax, ay, l1),
         lambda32=_legs(lx, ly, l1),
     )
 
@@ -682,24 +690,21 @@ def joint_forces(
     Returns ``(f10, f21y, f21z, (n10, m10, n32, m32) or None)``.
     """
     geo = kin.geometry
-    c, s, D, C = geo.cos_phi, geo.sin_phi, geo.D, geo.C
-    lx, ly = geo.lx, geo.ly
+    D, C, lx, ly = geo.D, geo.C, geo.lx, geo.ly
     F3x, F3y = w.platform_x, w.platform_y
     # eq. (21): the moment the platform and the links need about z0 (the links turn with φ)
     M = w.link_moment[0] + w.link_moment[1] + w.link_moment[2] + w.platform_moment
     # eqs. (15), (16), (23): virtual work with λ̇10_i = J_i·(Ġ, φ̇), J_i = (d_iy, −d_ix, r_i)/D,
     # r_i = ρ_i·d_i = λ32_i − c_x, is Jᵀ·z = (F3, M) for z_i = f10_i − (F10_i + F20_i)·e_i.
-    # With Σ d_i = 0 and Σ d_i·d_iᵀ = (3/2)·I: z_i = D·((2/3)·a_i·U + ν₀), where
-    # U = (F3 × d_A, d_A·F3) (U = Rot(−φ)·(−F3y, F3x)) and ν₀ = (M − Σ_i (2/3)(a_i·U)·r_i)/Σ_i r_i.
-    Ux = s * F3x - c * F3y  # F3 × d_A, d_A = (cos φ, sin φ)
-    T = c * F3x + s * F3y  # d_A·F3
-    # Σ_i (2/3)(a_i·U)·λ32_i = Ux·(½·ly − (√3/2)·lx) − T·(½·lx + (√3/2)·ly) (Σ a_i = 0)
-    moment = Ux * (0.5 * ly - _H * lx) - T * (0.5 * lx + _H * ly)
-    common = (M - moment) / (3 * geo.E)  # Σ_i r_i = 3·E (Σ n_i = 0)
-    third = common - Ux * (1.0 / 3.0)
-    tilt = T * _INV_SQRT3
-    # ν_i = (2/3)·a_i·U + ν₀ = −n32_i, a_A = (1, 0), a_B, a_C = (−1/2, ±√3/2): z_i = D·ν_i
-    normal = (common + Ux * (2.0 / 3.0), third + tilt, third - tilt)
+    # With Σ d_i = 0 and Σ d_i·d_iᵀ = (3/2)·I, in the frame turned by ψ = φ − π/3 (d_i = Rot(ψ)·e_i)
+    # with F̃ = (P, Q) = Rot(−ψ)·F3: z_i = D·ν_i, ν_i = ν₀ − (2/3)·n_i·F̃, ν₀ = (M + (lx, ly)·F̃)/(3E)
+    P = C * F3x + D * F3y
+    Q = C * F3y - D * F3x
+    common = (M + (lx * P + ly * Q)) / (3 * geo.E)  # ν₀, Σ_i r_i = 3·E (Σ n_i = 0)
+    third = common - Q * (1.0 / 3.0)
+    tilt = P * _INV_SQRT3
+    # ν_i = −n32_i: (ν₀ + P/√3 − Q/3, ν₀ + 2Q/3, ν₀ − P/√3 − Q/3), n_A, n_B, n_C as _LEGS
+    normal = (third + tilt, common + Q * (2.0 / 3.0), third - tilt)
     # eq. (25): f21z_j = F20_j·e_j + z_j; eq. (24): f21y_j = F20_j·n_j − C·ν_j
     f21z = tuple(w.link_e[j] + D * normal[j] for j in range(3))
     f21y = tuple(w.link_n[j] - C * normal[j] for j in range(3))
