@@ -673,9 +673,7 @@ def _compute(
     numba_function = compiled.numba_function(names) if backend == "numba" else None
     # the rates are checked with the results when a non-finite rate shows there
     rates = () if compiled.results_check_rates(names) else inputs[1:]
-    if not all(_finite(array) for array in rates) or _beyond(
-        inputs[0], POSE_BOUND * compiled.robot.l0
-    ):
+    if not _finite(*rates) or _beyond(inputs[0], POSE_BOUND * compiled.robot.l0):
         _raise_input_error(compiled, inputs, samples)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         for start in range(0, samples, width):
@@ -779,11 +777,15 @@ def _compute_direct(
     _require_finite_results(targets, inputs)
 
 
-def _finite(array: FloatArray) -> bool:
-    """Whether every value of ``array`` is finite (a finite sum says so in one pass)."""
+def _finite(*arrays: FloatArray) -> bool:
+    """Whether every value of ``arrays`` is finite (a finite sum of their sums says so).
+
+    One pass over each array; the exact test only when the sum is not finite
+    (a value that is not, or a sum that overflows).
+    """
     with np.errstate(over="ignore", invalid="ignore"):
-        total = float(array.sum())
-    return math.isfinite(total) or bool(np.isfinite(array).all())
+        total = sum(float(np.add.reduce(array, axis=None)) for array in arrays)
+    return math.isfinite(total) or all(bool(np.isfinite(array).all()) for array in arrays)
 
 
 def _beyond(pose: FloatArray, reach: float) -> bool:
@@ -808,7 +810,7 @@ def _outside(lambda10: Any, stroke: tuple[float, float]) -> bool:
 
 def _require_finite_results(targets: dict[str, FloatArray], inputs: list[FloatArray]) -> None:
     """A TrajectoryError naming the first non-finite input, else the first overflowed result."""
-    if all(_finite(array) for array in targets.values()):
+    if _finite(*targets.values()):
         return
     for name, array, components in zip(_INPUTS, inputs, _COMPONENTS, strict=True):
         check_finite(name, array, components=components)
