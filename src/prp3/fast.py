@@ -220,14 +220,6 @@ class CompiledRobot:
             "if not (" + " and ".join(f"type({a}) is float" for a in arguments) + "):\n"
             "    return None"
         )
-        rates = " + ".join(arguments[3:])
-        # comparisons rather than calls (cheaper in CPython); NaN fails every comparison, and
-        # 0·s == 0 says that the sum s is finite (a sum that overflows goes the slow way)
-        entry = (
-            f"not (-{reach!r} <= x <= {reach!r} and -{reach!r} <= y <= {reach!r}"
-            f" and -{MAX_ORIENTATION!r} <= phi <= {MAX_ORIENTATION!r}"
-            f" and 0.0 * ({rates}) == 0.0)"
-        )
         singular = f"-{SINGULARITY_THRESHOLD!r} < {{}} < {SINGULARITY_THRESHOLD!r}"
         outside = "" if stroke is None else f"not {stroke[0]!r} <= {{}} <= {stroke[1]!r}"
         checks = 1 if stroke is None else 4
@@ -242,6 +234,18 @@ class CompiledRobot:
             forces = sol.f10 if f10_only else (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z)
             return (geo.D, *lam, *forces)
 
+        # comparisons rather than calls (cheaper in CPython); NaN fails every comparison, and
+        # 0·s == 0 says that the sum s is finite (a sum that overflows goes the slow way).
+        # A rate (or load) whose non-finite value always reaches a result is checked with
+        # the results (non_finite_reach), the others on entry.
+        reach_of = non_finite_reach(outputs, len(arguments))
+        shown = frozenset().union(*reach_of[checks:])
+        rates = [a for k, a in enumerate(arguments) if k >= 3 and k not in shown]
+        entry = (
+            f"not (-{reach!r} <= x <= {reach!r} and -{reach!r} <= y <= {reach!r}"
+            f" and -{MAX_ORIENTATION!r} <= phi <= {MAX_ORIENTATION!r}"
+            + (f" and 0.0 * ({' + '.join(rates)}) == 0.0)" if rates else ")")
+        )
         f = [f"{{{checks + k}}}" for k in range(3 if f10_only else 12)]
         returns = "new(SampleForces, (({}, {}, {}), ({}, {}, {}), ({}, {}, {}), ({}, {}, {})))"
         name = ("sample_actuator_forces" if f10_only else "sample_forces") + "_checked"
