@@ -238,8 +238,7 @@ class CompiledRobot:
         # 0·s == 0 says that the sum s is finite (a sum that overflows goes the slow way).
         # A rate (or load) whose non-finite value always reaches a result is checked with
         # the results (non_finite_reach), the others on entry.
-        reach_of = non_finite_reach(outputs, len(arguments))
-        shown = frozenset().union(*reach_of[checks:])
+        shown = _shown_inputs(outputs, len(arguments), checks)
         rates = [a for k, a in enumerate(arguments) if k >= 3 and k not in shown]
         entry = (
             f"not (-{reach!r} <= x <= {reach!r} and -{reach!r} <= y <= {reach!r}"
@@ -319,14 +318,15 @@ class CompiledRobot:
         one of the outputs ``names`` through operations that keep an infinity
         or a NaN (:func:`prp3._trace.non_finite_reach`): the finiteness check
         of the results then also checks these inputs, and the batch path reads
-        them once less.  False, for example, for a robot without masses whose
-        Coulomb friction sees a rate only through its sign.
+        them once less.  It would be False where a rate entered the results only
+        through the sign or ``tanh`` of a friction law (it enters the inertia
+        terms of every robot with positive masses).
         """
         cache: dict[tuple[str, ...], bool] = self.__dict__.setdefault("_results_check_rates", {})
         if names not in cache:
-            reach = non_finite_reach(self._outputs(names), len(kernel.STATE_SYMBOLS))
             checks = 4 if self.stroke is not None else 1
-            cache[names] = set(range(3, 9)) <= frozenset().union(*reach[checks:])
+            shown = _shown_inputs(self._outputs(names), len(kernel.STATE_SYMBOLS), checks)
+            cache[names] = set(range(3, 9)) <= shown
         return cache[names]
 
     def _outputs(self, names: tuple[str, ...]) -> Callable[..., tuple[kernel.Value, ...]]:
@@ -341,6 +341,18 @@ class CompiledRobot:
             return (*checks, *(v for name in names for v in _field(sol, name)))
 
         return outputs
+
+
+def _shown_inputs(
+    function: Callable[..., tuple[kernel.Value, ...]], arity: int, checks: int
+) -> frozenset[int]:
+    """The inputs whose non-finite value always makes a result non-finite.
+
+    The results are the outputs of ``function`` after its first ``checks``
+    (the singularity measure and the strokes, which are not tested for
+    finiteness); see :func:`prp3._trace.non_finite_reach`.
+    """
+    return frozenset().union(*non_finite_reach(function, arity)[checks:])
 
 
 def _field(sol: kernel.KernelSolution, name: str) -> kernel.Legs:
