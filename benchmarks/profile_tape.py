@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import collections
+import re
 import statistics
 import timeit
 from collections.abc import Callable
@@ -127,8 +128,7 @@ def main() -> None:
     tape = compiled.batch_function(("f10",))
     source = tape.__doc__ or ""
     namespace: dict[str, Any] = dict(tape.__globals__)  # type: ignore[attr-defined]
-    exec(source.replace("    cos(phi,", "    negative(phi,").replace("    sin(phi,", "    negative(phi,"),
-         namespace)  # fmt: skip
+    exec(re.sub(r"^    (cos|sin)\(", "    negative(", source, flags=re.MULTILINE), namespace)
     no_trig = namespace["batch_kernel"]
     for _ in range(3):
         actuator_forces(compiled, *arrays, chunk_size=args.chunk)
