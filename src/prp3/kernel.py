@@ -128,7 +128,7 @@ _INV_SQRT3 = 1.0 / math.sqrt(3.0)
 PI_3 = math.pi / 3.0
 
 #: ``α_i`` of legs A, B, C (eq. 1), rad.
-ALPHA_LEGS: tuple[float, float, float] = (math.pi / 3.0, math.pi, -math.pi / 3.0)
+ALPHA_LEGS: tuple[float, float, float] = (PI_3, math.pi, -PI_3)
 
 
 class _Leg(NamedTuple):
