@@ -1,12 +1,16 @@
 """The code base stays lint-, format- and type-clean (ruff, mypy from the test extra).
 
-Also the one-way import rule of the architecture: the library never imports
-the command line, and only ``prp3.plotting`` imports matplotlib.
+Also the one-way import rule of the architecture: the import graph of
+``src/prp3``, derived from the source, follows the layers of the table in
+ARCHITECTURE.md (section "Import layers", the one statement of them) and has no
+cycle; the library never imports the command line, and only ``prp3.plotting``
+imports matplotlib.
 """
 
 from __future__ import annotations
 
 import ast
+import re
 import shutil
 import subprocess
 import sys
@@ -34,6 +38,149 @@ def test_mypy_strict() -> None:
     pytest.importorskip("mypy")
     result = _run(sys.executable, "-m", "mypy")
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def _type_checking_nodes(tree: ast.AST) -> set[int]:
+    """The ids of the import nodes under ``if TYPE_CHECKING:`` (for the type checker only)."""
+    skipped: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            skipped.update(id(inner) for stmt in node.body for inner in ast.walk(stmt))
+    return skipped
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _runtime_imports(path: Path, text: str | None = None) -> set[str]:
+    """The ``prp3`` modules ``path`` (or ``text`` in its place) imports when it runs.
+
+    A name imported from the package itself is ``prp3:NAME``.
+    """
+    tree = ast.parse(path.read_text(encoding="utf-8") if text is None else text)
+    skipped = _type_checking_nodes(tree)
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if id(node) in skipped:
+            continue
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            module = node.module or ""
+            if node.level:  # relative: resolve against the file's package
+                parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+                base = parts[: len(parts) - node.level]
+                module = ".".join((*base, module)) if module else ".".join(base)
+            for alias in node.names:
+                full = f"{module}.{alias.name}"
+                submodule = PACKAGE.parent.joinpath(*full.split("."))
+                if submodule.with_suffix(".py").is_file() or submodule.is_dir():
+                    names.add(full)  # ``from . import kernel``: the module kernel
+                elif module == "prp3":
+                    names.add(f"prp3:{alias.name}")  # a name of the package itself
+                else:
+                    names.add(module)
+    return {name for name in names if name == "prp3" or name.startswith(("prp3.", "prp3:"))}
+
+
+def _layers() -> dict[str, int]:
+    """ARCHITECTURE.md's table of import layers: unit (``model``, ``cli``, ``prp3``) → layer."""
+    text = (ROOT / "ARCHITECTURE.md").read_text(encoding="utf-8")
+    section = text.split("## Import layers", 1)[1].split("\n## ", 1)[0]
+    layers: dict[str, int] = {}
+    for number, cells in re.findall(r"^\| (\d+) [^|]*\| ([^|]*) \|$", section, re.M):
+        for unit in re.findall(r"`([\w.]+)`", cells.split("(")[0]):
+            assert unit not in layers, f"ARCHITECTURE.md names {unit} in two layers"
+            layers[unit] = int(number)
+    assert len(layers) > 20 and "prp3" in layers, "the table of import layers was not found"
+    return layers
+
+
+def _exceptions() -> set[tuple[str, str]]:
+    """The imports against the table that ARCHITECTURE.md lists: ``- `a` → `b`: why``."""
+    text = (ROOT / "ARCHITECTURE.md").read_text(encoding="utf-8")
+    section = text.split("## Import layers", 1)[1].split("\n## ", 1)[0]
+    return set(re.findall(r"^- `([\w.]+)` → `([\w.]+)`:", section, re.M))
+
+
+def _unit(module: str) -> str:
+    """The unit of the layer table a module belongs to: ``prp3.cli.simulate`` → ``cli``."""
+    return "prp3" if module == "prp3" else module.split(".")[1]
+
+
+def _import_graph() -> dict[str, set[str]]:
+    return {_module_name(path): _runtime_imports(path) for path in sorted(PACKAGE.rglob("*.py"))}
+
+
+def test_the_layer_table_names_every_module_and_no_other():
+    layers = _layers()
+    units = {_unit(module) for module in _import_graph()}
+    assert units - set(layers) == set(), "modules missing from ARCHITECTURE.md's import layers"
+    assert set(layers) - units == set(), "ARCHITECTURE.md's import layers name missing modules"
+
+
+def test_every_import_follows_the_layers_of_architecture_md():
+    layers = _layers()
+    against = []
+    for module, imports in _import_graph().items():
+        for name in sorted(imports):
+            if name.startswith("prp3:"):  # a name from the package: only its version
+                if name != "prp3:__version__" and layers[_unit(module)] < layers["prp3"]:
+                    against.append(f"{module} imports {name[5:]} from prp3")
+                continue
+            if (_unit(module), _unit(name)) in _exceptions():
+                continue
+            if layers[_unit(name)] > layers[_unit(module)]:
+                against.append(
+                    f"{module} (layer {layers[_unit(module)]}) imports {name} "
+                    f"(layer {layers[_unit(name)]})"
+                )
+    assert against == []
+
+
+def test_the_import_graph_has_no_cycle():
+    graph = {
+        module: {name for name in imports if not name.startswith("prp3:")}
+        for module, imports in _import_graph().items()
+    }
+    allowed = _exceptions()
+    graph = {
+        module: {
+            name for name in names if name in graph and (_unit(module), _unit(name)) not in allowed
+        }
+        for module, names in graph.items()
+    }
+    state: dict[str, int] = {}  # 1 on the path, 2 done
+
+    def visit(module: str, path: list[str]) -> None:
+        state[module] = 1
+        for name in sorted(graph[module]):
+            if state.get(name) == 1:
+                raise AssertionError("import cycle: " + " -> ".join([*path, module, name]))
+            if name not in state:
+                visit(name, [*path, module])
+        state[module] = 2
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [])
+
+
+def test_the_layering_check_catches_an_upward_import() -> None:
+    # the check itself can fail: a kernel importing the command line is reported
+    layers = _layers()
+    assert layers["kernel"] < layers["cli"] and layers["plotting"] > layers["io"]
+    kernel = PACKAGE / "kernel.py"
+    assert _runtime_imports(kernel, "def f():\n    from .cli import main\n") == {"prp3.cli"}
+    assert _runtime_imports(kernel, "from . import geometry, __version__\n") == {
+        "prp3.geometry",
+        "prp3:__version__",
+    }
+    lazy = "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .cli import main\n"
+    assert _runtime_imports(kernel, lazy) == set()
+    assert len(_exceptions()) <= 1  # ARCHITECTURE.md's list of exceptions does not grow
 
 
 def _imports(path: Path) -> set[str]:
