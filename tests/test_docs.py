@@ -1,5 +1,9 @@
 """The repository stands on its own, and its documents say what the code does.
 
+* every output a document quotes after ``<!-- output of: COMMAND -->`` (the
+  summaries of the commands, the tables of ``docs/examples/*.py``) is what
+  COMMAND prints today, so that a quoted number cannot drift from the code;
+
 * nothing in it sends the reader to a file it does not contain (the model and
   the data contract are ``docs/model.md``);
 * the ``ROBOT.toml`` shown in ``docs/model.md`` is the one ``prp3 robot
@@ -9,9 +13,15 @@
 from __future__ import annotations
 
 import contextlib
+import doctest
 import io
 import re
+import runpy
+import shlex
+import sys
 from pathlib import Path
+
+import pytest
 
 from prp3.cli import main
 from prp3.model import robot_template
@@ -81,3 +91,76 @@ def test_the_readme_says_what_the_test_extra_installs() -> None:
     pyproject = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
     test_extra = pyproject.split("test = [", 1)[1].split("]", 1)[0]
     assert all(name in test_extra for name in ('"mujoco', '"pin', '"pyarrow'))
+
+
+# --- the numbers the documents quote come from commands the suite runs -------------------------
+
+#: ``<!-- output of: COMMAND -->`` before a fenced block, a table or a paragraph: that text is
+#: exactly what COMMAND prints (``...`` on a line of its own stands for any lines, as in doctest).
+_MARKER = re.compile(r"^<!-- output of: (.+?) -->\n", re.M)
+
+
+def _documents() -> list[Path]:
+    return [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
+def _quoted_outputs() -> list[tuple[str, str, str]]:
+    """(document, command, quoted text) for every marker of the documents."""
+    found = []
+    for document in _documents():
+        text = document.read_text(encoding="utf-8")
+        for match in _MARKER.finditer(text):
+            rest = text[match.end() :]
+            if rest.startswith("```"):
+                body = rest.split("\n", 1)[1].split("\n```", 1)[0] + "\n"
+            else:
+                body = rest.split("\n\n", 1)[0] + "\n"
+            found.append((str(document.relative_to(ROOT)), match[1], body))
+    return found
+
+
+def _run_documented(command: str, folder: Path) -> str:
+    """What ``command`` (``prp3 …`` or ``python docs/examples/NAME.py …``) prints in ``folder``."""
+    argv = shlex.split(command)
+    out = io.StringIO()
+    with contextlib.chdir(folder), contextlib.redirect_stdout(out), contextlib.redirect_stderr(
+        io.StringIO()
+    ):
+        if argv[0] == "prp3":
+            main(argv[1:])
+        else:
+            assert argv[0] == "python" and argv[1].startswith("docs/examples/"), command
+            figures = folder / "figures"
+            figures.mkdir(exist_ok=True)
+            saved = sys.argv
+            script = ROOT / argv[1]
+            extra = ["--figures", str(figures)] if "--figures" in script.read_text() else []
+            sys.argv = [str(script), *argv[2:], *extra]
+            try:
+                runpy.run_path(str(ROOT / argv[1]), run_name="__main__")
+            finally:
+                sys.argv = saved
+    return out.getvalue()
+
+
+def _same(quoted: str, printed: str) -> bool:
+    checker = doctest.OutputChecker()
+    return checker.check_output(quoted, printed, doctest.ELLIPSIS)
+
+
+def test_every_script_of_docs_examples_is_quoted_by_a_document() -> None:
+    commands = " ".join(command for _, command, _ in _quoted_outputs())
+    for script in sorted((ROOT / "docs" / "examples").glob("*.py")):
+        assert f"docs/examples/{script.name}" in commands, script
+
+
+@pytest.mark.parametrize(
+    "document, command, quoted",
+    _quoted_outputs(),
+    ids=[f"{doc}: {command}" for doc, command, _ in _quoted_outputs()],
+)
+def test_the_quoted_output_is_what_the_command_prints(
+    document: str, command: str, quoted: str, tmp_path: Path
+) -> None:
+    printed = _run_documented(command, tmp_path)
+    assert _same(quoted, printed), f"{document} quotes for `{command}`:\n{quoted}\nit prints:\n{printed}"
