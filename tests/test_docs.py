@@ -123,8 +123,10 @@ def _run_documented(command: str, folder: Path) -> str:
     """What ``command`` (``prp3 …`` or ``python docs/examples/NAME.py …``) prints in ``folder``."""
     argv = shlex.split(command)
     out = io.StringIO()
-    with contextlib.chdir(folder), contextlib.redirect_stdout(out), contextlib.redirect_stderr(
-        io.StringIO()
+    with (
+        contextlib.chdir(folder),
+        contextlib.redirect_stdout(out),
+        contextlib.redirect_stderr(io.StringIO()),
     ):
         if argv[0] == "prp3":
             main(argv[1:])
@@ -154,6 +156,7 @@ def test_every_script_of_docs_examples_is_quoted_by_a_document() -> None:
         assert f"docs/examples/{script.name}" in commands, script
 
 
+@pytest.mark.slow  # the scripts of docs/examples run for 5-20 s each
 @pytest.mark.parametrize(
     "document, command, quoted",
     _quoted_outputs(),
@@ -163,4 +166,24 @@ def test_the_quoted_output_is_what_the_command_prints(
     document: str, command: str, quoted: str, tmp_path: Path
 ) -> None:
     printed = _run_documented(command, tmp_path)
-    assert _same(quoted, printed), f"{document} quotes for `{command}`:\n{quoted}\nit prints:\n{printed}"
+    assert _same(quoted, printed), (
+        f"{document} quotes for `{command}`:\n{quoted}\nit prints:\n{printed}"
+    )
+
+
+def test_the_documents_show_the_inputs_their_scripts_use() -> None:
+    # the spec of the worked synthesis and the true robot of the worked identification
+    design = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    spec = (ROOT / "docs" / "examples" / "synthesis.toml").read_text(encoding="utf-8")
+    assert f"```toml\n{spec}```" in design
+    identification = (ROOT / "docs" / "identification.md").read_text(encoding="utf-8")
+    script = runpy.run_path(str(ROOT / "docs" / "examples" / "identification.py"))
+    assert f"```toml\n{script['TRUE_TOML']}```" in identification
+
+
+def test_a_changed_number_is_caught() -> None:
+    # the comparison is exact but for "..." lines: a digit changed in the quoted text fails
+    printed = "prp3 simulate: 301 samples\n  peak |f10| (N)  31.9618\nfiles written:\n  a\n  b\n"
+    assert _same(printed, printed)
+    assert _same("prp3 simulate: 301 samples\n...\nfiles written:\n...\n", printed)
+    assert not _same(printed.replace("31.9618", "31.9619"), printed)

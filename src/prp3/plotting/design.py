@@ -91,7 +91,7 @@ def pareto_figure(
         maximize_x=maximize_x,
         maximize_y=maximize_y,
     )
-    figure = Figure(figsize=(7.0, 5.0), layout="constrained")
+    figure = Figure(figsize=(7.5, 5.8), layout="constrained")
     axes = figure.add_subplot()
     axes.scatter(xs[ok], ys[ok], s=6, color="0.6", alpha=0.6, label=f"designs ({int(ok.sum())} ok)")
     axes.plot(
@@ -112,7 +112,9 @@ def pareto_figure(
     axes.set_ylabel(f"{label(y)}  [{better[1]} is better]")
     axes.set_title(title or f"Pareto front: {y} against {x}")
     axes.grid(True, alpha=0.3)
-    axes.legend(loc="best", fontsize="small")
+    # beside the axes, never over the designs
+    figure.legend(*axes.get_legend_handles_labels(), loc="outside lower center", ncols=2,
+                  fontsize="small")  # fmt: skip
     return figure
 
 
@@ -138,7 +140,8 @@ def sensitivity_figure(
     count = len(parameters)
     ncols = min(count, 3)
     nrows = -(-count // ncols)
-    figure = Figure(figsize=(4.2 * ncols, 3.4 * nrows + 0.4), layout="constrained")
+    width = max(4.2 * ncols, 6.4)  # one parameter: room for the title
+    figure = Figure(figsize=(width, 3.4 * nrows + 0.9), layout="constrained")
     grid = figure.subplots(nrows, ncols, squeeze=False, sharey=True)
     for k, name in enumerate(parameters):
         axes = grid[k // ncols][k % ncols]
@@ -151,8 +154,10 @@ def sensitivity_figure(
             counts = np.bincount(which, minlength=bins)
             filled = counts > 0
             centres = 0.5 * (edges[1:] + edges[:-1])
+            mean = (f"mean over the other parameters in {bins} bins" if count > 1
+                    else f"mean of the designs in {bins} bins")  # fmt: skip
             axes.plot(centres[filled], sums[filled] / counts[filled], "-", color="tab:blue", lw=2,
-                      label="mean over the other parameters")  # fmt: skip
+                      label=mean)  # fmt: skip
         if nominal is not None:
             nx, ny = (
                 float(nominal.get(name, np.nan)),
@@ -162,13 +167,18 @@ def sensitivity_figure(
                 axes.axvline(nx, color="tab:red", ls="--", lw=1)
                 if np.isfinite(ny):
                     axes.plot(nx, ny, "*", color="tab:red", markersize=12, label="nominal design")
+                else:
+                    axes.lines[-1].set_label("nominal value")
         axes.set_xlabel(label(name))
         if k % ncols == 0:
             axes.set_ylabel(label(y))
         axes.grid(True, alpha=0.3)
-        if k == 0:
-            axes.legend(loc="best", fontsize="small")
     for k in range(count, nrows * ncols):
         grid[k // ncols][k % ncols].set_visible(False)
-    figure.suptitle(title or f"Sensitivity of {y} to the parameters ({int(ok.sum())} designs)")
+    handles, labels = grid[0][0].get_legend_handles_labels()
+    if handles:  # under the panels, never over the designs
+        figure.legend(handles, labels, loc="outside lower center", ncols=len(handles),
+                      fontsize="small")  # fmt: skip
+    what = parameters[0] if count == 1 else f"{count} parameters"
+    figure.suptitle(title or f"Sensitivity of {y} to {what} ({int(ok.sum())} designs)")
     return figure
