@@ -163,3 +163,28 @@ def test_frame_schedule_plays_in_real_time(samples, duration, max_frames, uneven
     # each frame is shown from its sample's time to the next frame's (within 10 ms)
     starts = np.cumsum([0, *durations[:-1]]) / 1000.0
     assert np.abs(starts - (t[indices] - t[0])).max() <= 0.005 + 1e-9
+
+
+# ---------------------------------------------------------------- friction figure
+@pytest.mark.parametrize(
+    ("motion", "notes"),
+    [
+        ("rotation", ["legs A, B and C coincide"] * 3),
+        ("vertical", ["legs B and C coincide", "zero for every leg", "legs A and C coincide"]),
+    ],
+)
+def test_the_friction_figure_says_which_curves_coincide(motion, notes):
+    # was: three revolute curves of the rotation on top of each other, without a word
+    from prp3.model import Friction, JointFriction
+    from prp3.plotting.figures import friction_figure
+
+    joint = JointFriction(viscous=1.0, coulomb=0.5, smoothing=1e-3)
+    robot = prp3.Robot(friction=Friction(actuator=joint, revolute=joint, sleeve=joint))
+    table = results_table(*prp3.inverse_dynamics(robot, prp3.paper_motion(motion, 61)))
+    figure = friction_figure(table, motion=motion)
+    for axes, note in zip(figure.axes[:3], notes, strict=True):
+        assert note in axes.get_title(loc="left")
+        lines = axes.get_lines()[:3]
+        assert len({line.get_marker() for line in lines}) == 3
+        shown = [set(np.flatnonzero(_marked(line))) for line in lines]
+        assert not (shown[0] & shown[1] or shown[0] & shown[2] or shown[1] & shown[2])

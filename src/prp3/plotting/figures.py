@@ -33,6 +33,7 @@ from ..geometry import LEGS
 from ..io import OUTPUT_QUANTITIES, atomic_path
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 __all__ = [
@@ -182,6 +183,37 @@ def coinciding_legs(values: FloatArray, rtol: float = 1e-3) -> list[tuple[str, .
     return [tuple(LEGS[j] for j in group) for group in groups if len(group) > 1]
 
 
+def _plot_legs(axes: Axes, t: FloatArray, values: FloatArray, symbol: str = "") -> str:
+    """Draw the three legs' curves on ``axes``; return the note on coinciding curves, or "".
+
+    Each leg has its colour, line style and marker, the markers staggered
+    from leg to leg (about 12 per curve), so that curves lying on each other
+    stay visible; the note says which ones do.
+    """
+    step = max(len(t) // 12, 1)
+    for j, leg in enumerate(LEGS):
+        color, style = LEG_STYLES[leg]
+        label = f"leg {leg}" + (f"  ${symbol}^{leg}$" if symbol else "")
+        axes.plot(
+            t,
+            values[:, j],
+            color=color,
+            linestyle=style,
+            linewidth=2.0,
+            marker=LEG_MARKERS[leg],
+            markersize=6,
+            markevery=(j * step // 3, step),
+            label=label,
+        )
+    if values.size and not np.abs(values).max() > 0.0:
+        return "zero for every leg (drawn on top of each other; markers staggered)"
+    together = coinciding_legs(values)
+    if not together:
+        return ""
+    legs = "; ".join(f"legs {', '.join(group[:-1])} and {group[-1]}" for group in together)
+    return f"the curves of {legs} coincide (drawn on top of each other; markers staggered)"
+
+
 def leg_figure(
     t: FloatArray,
     values: FloatArray,
@@ -214,28 +246,9 @@ def leg_figure(
 
     figure = Figure(figsize=(8.0, 4.6), dpi=120, layout="constrained")
     axes = figure.add_subplot()
-    samples = len(t)
-    step = max(samples // 12, 1)  # about 12 markers per curve, staggered from leg to leg
-    for j, leg in enumerate(LEGS):
-        color, style = LEG_STYLES[leg]
-        label = f"leg {leg}" + (f"  ${symbol}^{leg}$" if symbol else "")
-        axes.plot(
-            t,
-            values[:, j],
-            color=color,
-            linestyle=style,
-            linewidth=2.0,
-            marker=LEG_MARKERS[leg],
-            markersize=6,
-            markevery=(j * step // 3, step),
-            label=label,
-        )
-    together = coinciding_legs(values)
-    if together:
-        note = "; ".join(f"legs {', '.join(group[:-1])} and {group[-1]}" for group in together)
-        subtitle = (subtitle + "\n" if subtitle else "") + (
-            f"the curves of {note} coincide (drawn on top of each other; markers staggered)"
-        )
+    note = _plot_legs(axes, t, values, symbol)
+    if note:
+        subtitle = (subtitle + "\n" if subtitle else "") + note
     axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
     axes.set_xlim(float(t[0]), float(t[-1]))
     axes.set_xlabel("time $t$ (s)")
@@ -286,21 +299,12 @@ def friction_figure(
     figure = Figure(figsize=(8.0, 7.2), dpi=120, layout="constrained")
     axes_list = figure.subplots(3, 1, sharex=True)
     for axes, quantity in zip(axes_list, FRICTION_QUANTITIES.values(), strict=True):
-        values = _legs(table, quantity)
-        for j, leg in enumerate(LEGS):
-            color, style = LEG_STYLES[leg]
-            axes.plot(
-                t,
-                values[:, j],
-                color=color,
-                linestyle=style,
-                linewidth=2.0,
-                label=f"leg {leg}",
-            )
+        note = _plot_legs(axes, t, _legs(table, quantity))
         axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
         axes.set_xlim(float(t[0]), float(t[-1]))
         axes.set_ylabel(f"{quantity.column} ({quantity.unit})")
-        axes.set_title(quantity.caption, fontsize=10, loc="left", color="0.3")
+        axes.set_title(quantity.caption + (f"\n{note}" if note else ""), fontsize=10, loc="left",
+                       color="0.3")  # fmt: skip
         axes.grid(True, color="0.88")
         axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     axes_list[-1].set_xlabel("time $t$ (s)")
