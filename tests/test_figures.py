@@ -188,3 +188,106 @@ def test_the_friction_figure_says_which_curves_coincide(motion, notes):
         assert len({line.get_marker() for line in lines}) == 3
         shown = [set(np.flatnonzero(_marked(line))) for line in lines]
         assert not (shown[0] & shown[1] or shown[0] & shown[2] or shown[1] & shown[2])
+
+
+# ---------------------------------------------------------------- tracking figure
+def test_the_tracking_figure_marks_the_stop_and_names_only_gains_in_use(tmp_path, capsys):
+    # was: a run stopped at 0.42 s drawn as if it ended there, and KP, KD printed for the
+    # feed-forward controller, which has no gains
+    from prp3.cli import main
+    from prp3.plotting.control import tracking_figure
+
+    robot, model = tmp_path / "r.toml", tmp_path / "m.toml"
+    robot.write_text("[limits]\nstroke = [-0.06, 0.06]\n")
+    model.write_text("[platform]\nmass = 3.3\n[limits]\nstroke = [-0.06, 0.06]\n")
+    argv = ["control", "--robot", str(robot), "--model", str(model), "--motion", "vertical",
+            "--plant", "prp3", "--controller", "feedforward", "--rate", "200"]  # fmt: skip
+    assert main([*argv, "-o", str(tmp_path / "ff")]) == 1  # stopped at the stroke
+    out = capsys.readouterr().out
+    assert "KP" not in out and "no gains" in out
+    import csv
+
+    with open(tmp_path / "ff" / "tracking.csv", newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    table = {name: np.array([float(row[name]) for row in rows]) for name in rows[0]}
+    figure = tracking_figure(table, title="t", subtitle="s", stop="stroke", end=3.0)
+    renderer = _drawn(figure)
+    last = float(table["t"][-1])
+    assert last < 1.0
+    for axes in figure.axes:
+        assert axes.get_xlim() == (0.0, 3.0)  # the plan's span: the stop shows
+        stops = [line for line in axes.get_lines() if "stop" in str(line.get_label())]
+        assert len(stops) == 1 and list(stops[0].get_xdata()) == [last, last]
+    assert "stopped early: stroke" in figure.axes[-1].get_xlabel()
+    _inside_the_figure(figure, renderer)
+    completed = tracking_figure(table, title="t")
+    assert not any(
+        "stop" in str(line.get_label()) for a in completed.axes for line in a.get_lines()
+    )
+
+
+def _inside_the_figure(figure, renderer) -> None:
+    """Every title, axis label and legend lies inside the figure (nothing clipped at its edge)."""
+    bounds = figure.bbox
+    texts = [figure._suptitle] if figure._suptitle is not None else []
+    for axes in figure.axes:
+        texts += [axes.title, axes._left_title, axes._right_title, axes.xaxis.label,
+                  axes.yaxis.label]  # fmt: skip
+        if axes.get_legend() is not None:
+            texts.append(axes.get_legend())
+    texts += list(figure.legends)
+    for text in texts:
+        if text.get_visible() and (not hasattr(text, "get_text") or text.get_text()):
+            box = text.get_window_extent(renderer)
+            assert box.x0 >= bounds.x0 - 1 and box.x1 <= bounds.x1 + 1, text
+            assert box.y0 >= bounds.y0 - 1 and box.y1 <= bounds.y1 + 1, text
+
+
+# ---------------------------------------------------------------- design figures
+@pytest.fixture(scope="module")
+def one_parameter_designs():
+    from prp3.design import design_values, evaluate_designs, sweep_spec
+
+    spec = sweep_spec({"designs": 9, "sampling": "grid",
+                       "parameters": {"platform.mass": [2.0, 4.0]},
+                       "task": {"motions": ["vertical"], "samples": 31}})  # fmt: skip
+    return evaluate_designs(spec.evaluator, design_values(spec))
+
+
+def test_the_pareto_legend_lies_beside_the_designs(one_parameter_designs):
+    # was: the legend drawn in the axes, over the designs
+    from prp3.plotting.design import pareto_figure
+
+    columns = one_parameter_designs
+    row = {name: values[4] for name, values in columns.items()}
+    figure = pareto_figure(columns, "platform.mass", "peak_f10", nominal=row,
+                           marks={"optimum": row})  # fmt: skip
+    renderer = _drawn(figure)
+    (axes,) = figure.axes
+    assert axes.get_legend() is None and len(figure.legends) == 1
+    assert (
+        not figure.legends[0].get_window_extent(renderer).overlaps(axes.get_window_extent(renderer))
+    )
+    _inside_the_figure(figure, renderer)
+
+
+def test_the_sensitivity_of_one_parameter_has_its_whole_title(one_parameter_designs):
+    # was: "Sensitivity of peak_f10 to the parameters (..." cut at both edges, and a "mean over
+    # the other parameters" when there is none
+    from prp3.plotting.design import sensitivity_figure
+
+    columns = one_parameter_designs
+    row = {name: values[4] for name, values in columns.items()}
+    figure = sensitivity_figure(columns, ("platform.mass",), "peak_f10", nominal=row)
+    renderer = _drawn(figure)
+    assert figure._suptitle.get_text() == "Sensitivity of peak_f10 to platform.mass (9 designs)"
+    labels = [text.get_text() for text in figure.legends[0].get_texts()]
+    assert labels == ["mean of the designs in 12 bins", "nominal design"]
+    assert (
+        not figure.legends[0]
+        .get_window_extent(renderer)
+        .overlaps(figure.axes[0].get_window_extent(renderer))
+    )
+    _inside_the_figure(figure, renderer)
+    two = sensitivity_figure(columns, ("platform.mass", "platform.mass"), "peak_f10")
+    assert "to 2 parameters" in two._suptitle.get_text()

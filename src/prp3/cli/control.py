@@ -211,7 +211,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"{args.program}: warning: {note}", file=sys.stderr)
     table = tracking_table(result)
     title = f"{args.controller} control, {args.plant} plant, {args.rate:g} Hz"
-    subtitle = f"{what}; {model_text}; KP = {args.kp:g} 1/s², KD = {args.kd:g} 1/s"
+    subtitle = f"{what}; {model_text}" + (
+        "" if args.controller == "feedforward" else f"; KP = {args.kp:g} 1/s², KD = {args.kd:g} 1/s"
+    )
     with staged_output(output) as staged:
         write_table_csv(staged.path("tracking.csv"), table)
         if result.t.size >= 2:
@@ -219,7 +221,13 @@ def run(args: argparse.Namespace) -> int:
             from ..plotting.figures import save_figure
 
             save_figure(
-                tracking_figure(table, title=title, subtitle=subtitle),
+                tracking_figure(
+                    table,
+                    title=title,
+                    subtitle=subtitle,
+                    stop=None if result.status == "completed" else result.message,
+                    end=float(reference.t[-1]),
+                ),
                 staged.path(TRACKING_FIGURE),
             )
         # printed before the files are moved in: a failing standard output keeps older results
@@ -258,7 +266,12 @@ def _summary(
         f"prp3 control: {title}",
         f"  reference: {what}, {result.reference.t.size} instants over "
         f"t = {float(result.t[0]):g} .. {float(result.t[-1]):g} s",
-        f"  {model_text}; gains KP = {args.kp:g} 1/s^2, KD = {args.kd:g} 1/s",
+        f"  {model_text}"
+        + (
+            "; no gains (open loop)"
+            if args.controller == "feedforward"
+            else f"; gains KP = {args.kp:g} 1/s^2, KD = {args.kd:g} 1/s"
+        ),
         f"  {result.message}",
         f"  {'tracking error':<18}" + "".join(f"{h:>14}" for h in ("x (m)", "y (m)", "phi (rad)")),
         row("max |error|", result.max_error),

@@ -12,6 +12,7 @@ that suits its size) and the forces ``f10`` of legs A, B, C.
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
@@ -42,7 +43,14 @@ def scaled_unit(peak: float, unit: str) -> tuple[float, str]:
     return (_PREFIXES[-1][0], _PREFIXES[-1][1] + unit) if peak else (1.0, unit)
 
 
-def tracking_figure(table: Mapping[str, FloatArray], *, title: str, subtitle: str = "") -> Figure:
+def tracking_figure(
+    table: Mapping[str, FloatArray],
+    *,
+    title: str,
+    subtitle: str = "",
+    stop: str | None = None,
+    end: float | None = None,
+) -> Figure:
     """Tracking errors and forces of a closed-loop run (columns of ``tracking.csv``).
 
     Parameters
@@ -51,6 +59,13 @@ def tracking_figure(table: Mapping[str, FloatArray], *, title: str, subtitle: st
         ``t, x, y, phi, x_ref, y_ref, phi_ref, f10_A, f10_B, f10_C``, ``N >= 2``.
     title, subtitle : str
         Figure title and a smaller line under it (controller, plant, model).
+    stop : str, optional
+        Why the plant stopped before the end (a run stopped early): its last
+        row is marked in every panel by a vertical line, and the reason is
+        written under the panels.
+    end : float, optional
+        The planned end of the motion (s); the time axis runs to it, so that a
+        stop before it shows.
 
     Returns
     -------
@@ -99,11 +114,17 @@ def tracking_figure(table: Mapping[str, FloatArray], *, title: str, subtitle: st
         )
     force.set_ylabel("actuator force (N)")
     force.set_xlabel("time $t$ (s)")
-    force.set_xlim(float(t[0]), float(t[-1]))
+    force.set_xlim(float(t[0]), max(float(t[-1]), end if end is not None else float(t[-1])))
     for axes in (position, orientation, force):
         axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+        if stop is not None:
+            axes.axvline(float(t[-1]), color="k", linestyle=":", linewidth=1.6,
+                         label=f"stop (last row, t = {float(t[-1]):.4g} s)")  # fmt: skip
         axes.grid(True, color="0.88")
         axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    if stop is not None:  # in the x label, so that the layout leaves it room
+        reason = textwrap.fill("the plant stopped early: " + stop, 80)
+        force.set_xlabel(f"time $t$ (s)\n\n{reason}", fontsize=9)
     figure.suptitle(title, fontsize=12, fontweight="bold")
     if subtitle:
         position.set_title(subtitle, fontsize=10, color="0.3")
