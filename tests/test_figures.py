@@ -57,6 +57,40 @@ def test_the_workspace_map_covers_nothing_and_says_what_it_plots(stroke):
     assert twin and all("log scale" in a.get_ylabel() for a in twin)
 
 
+@pytest.mark.parametrize("stroke", [(-0.05, 0.05), None])
+def test_the_workspace_map_is_whole_and_its_colour_bar_beside_it(stroke):
+    # was: the triangles' tips cut at the window's edge, the colour bar far from the map, the
+    # area in cm² beside m² everywhere else, the base triangle in the red of the singularities
+    from matplotlib.colors import to_hex
+
+    robot = prp3.Robot(limits=prp3.Limits(stroke=stroke))
+    grid = np.linspace(-0.07, 0.07, 31) if stroke else np.linspace(-0.3, 0.3, 31)
+    ws = workspace_slice(robot, 0.1, grid, grid)
+    scan = orientation_scan(robot, grid, grid, np.linspace(-0.4, 0.5, 19))
+    figure = workspace_figure(robot, ws, scan)
+    renderer = _drawn(figure)
+    left, right = figure.axes[0], figure.axes[1]
+    x0, x1 = left.get_xlim()
+    y0, y1 = left.get_ylim()
+    for line in left.get_lines():  # every drawn outline lies inside the window
+        xs, ys = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
+        assert xs.min() > x0 and xs.max() < x1 and ys.min() > y0 and ys.max() < y1, line
+        if "triangle" in line.get_label():
+            assert to_hex(line.get_color()) != to_hex("tab:red")
+    (bar,) = left.child_axes  # an inset of the map's axes: it follows the map
+    assert "condition number κ of J" in bar.get_ylabel()
+    gap = bar.get_window_extent(renderer).x0 - left.get_window_extent(renderer).x1
+    assert 0 <= gap <= 0.05 * figure.bbox.width  # beside the map, not across the panel
+    labels = [text.get_text() for text in left.get_legend().get_texts()]
+    if stroke:
+        assert any("m²" in text for text in labels) and not any("cm" in t for t in labels)
+        assert right.get_ylabel() == "reachable area (m²)"
+    else:
+        assert "unreachable grid points" not in labels  # there is none
+    assert min(text.get_fontsize() for text in left.get_legend().get_texts()) >= 9
+    _inside_the_figure(figure, renderer)
+
+
 def test_a_log_colour_scale_says_so():
     robot = prp3.Robot()
     grid = np.linspace(-0.3, 0.3, 41)
@@ -65,7 +99,7 @@ def test_a_log_colour_scale_says_so():
     assert finite.max() / finite.min() > 10.0
     figure = workspace_figure(robot, ws)
     _drawn(figure)
-    colorbar = figure.axes[-1]
+    (colorbar,) = figure.axes[0].child_axes  # the colour bar is an inset of the map's axes
     assert colorbar.get_yscale() == "log" and "(log scale)" in colorbar.get_ylabel()
 
 

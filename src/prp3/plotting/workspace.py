@@ -103,10 +103,12 @@ def workspace_figure(
             norm=LogNorm(vmin=low, vmax=high) if wide else Normalize(vmin=low, vmax=high),
         )
         scale = " (log scale)" if wide else ""
-        figure.colorbar(mesh, ax=ax, label=f"condition number κ of J·diag(1, 1, 1/l0){scale}")
+        # beside the map itself (an inset of its axes: it follows the equal-aspect window)
+        bar = figure.colorbar(mesh, cax=ax.inset_axes((1.03, 0.0, 0.045, 1.0)))
+        bar.set_label(f"condition number κ of J·diag(1, 1, 1/l0){scale}", fontsize=10)
     if ws.region is not None and len(ws.region):
         outline = _closed(ws.region)
-        area = f"; reachable area {ws.area * 1e4:.4g} cm² (grid {ws.grid_area * 1e4:.4g} cm²)"
+        area = f"; reachable area {ws.area:.4g} m² (grid {ws.grid_area:.4g} m²)"
         ax.plot(
             outline[:, 0],
             outline[:, 1],
@@ -120,21 +122,23 @@ def workspace_figure(
         inside_x = (points[:, 0] >= ws.x[0]) & (points[:, 0] <= ws.x[-1])
         return bool((inside_x & (points[:, 1] >= ws.y[0]) & (points[:, 1] <= ws.y[-1])).any())
 
+    # for scale, when the window shows some of them, whole (the window grows to their tips);
+    # in colours of their own (red marks the singular orientations, the legs have theirs)
+    low_x, high_x, low_y, high_y = float(ws.x[0]), float(ws.x[-1]), float(ws.y[0]), float(ws.y[-1])
     base = _closed(base_vertices(robot))
-    if visible(base):  # for scale, when the window shows some of it
-        ax.plot(base[:, 0], base[:, 1], color="tab:red", lw=0.8, ls="--", label="base triangle")
     platform = _closed(platform_vertices(robot, [0.0, 0.0, ws.phi]))
-    if visible(platform):
-        ax.plot(
-            platform[:, 0],
-            platform[:, 1],
-            color="tab:orange",
-            lw=0.8,
-            ls=":",
-            label=f"platform at (0, 0, {ws.phi:.3g})",
-        )
-    ax.set_xlim(ws.x[0], ws.x[-1])
-    ax.set_ylim(ws.y[0], ws.y[-1])
+    for points, colour, style, text in (
+        (base, "0.2", "--", "base triangle"),
+        (platform, "tab:brown", ":", f"platform at (0, 0, {ws.phi:.3g})"),
+    ):
+        if visible(points):
+            ax.plot(points[:, 0], points[:, 1], color=colour, lw=1.4, ls=style, label=text)
+            low_x, high_x = min(low_x, points[:, 0].min()), max(high_x, points[:, 0].max())
+            low_y, high_y = min(low_y, points[:, 1].min()), max(high_y, points[:, 1].max())
+    drawn = any(visible(points) for points in (base, platform))  # their tips off the edge
+    margin = 0.03 * max(high_x - low_x, high_y - low_y) if drawn else 0.0
+    ax.set_xlim(low_x - margin, high_x + margin)
+    ax.set_ylim(low_y - margin, high_y + margin)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -142,24 +146,25 @@ def workspace_figure(
     limits = f"stroke [{stroke[0]:g}, {stroke[1]:g}] m" if stroke else "no stroke limits"
     ax.set_title(
         f"workspace at φ = {ws.phi:.4g} rad ({math.degrees(ws.phi):.3g}°), {limits}\n"
-        f"no singular point at this φ (|sin(φ − π/3)| = {abs(ws.determinant):.3g}); "
+        f"no singular point at this φ (|sin(φ − π/3)| = {abs(ws.determinant):.3g});\n"
         "singular: φ ≡ π/3 (mod π), every (x, y)",
-        fontsize=9,
+        fontsize=10,
     )
     from matplotlib.patches import Patch
 
     handles, _ = ax.get_legend_handles_labels()
-    handles += [
-        Patch(facecolor=cm_grey(), edgecolor="none", label="unreachable grid points"),
-        Patch(facecolor=cm_viridis(), edgecolor="none", label="reachable: colour = κ"),
-    ]
+    if not ws.reachable.all():
+        handles.append(
+            Patch(facecolor=cm_grey(), edgecolor="none", label="unreachable grid points")
+        )
+    handles.append(Patch(facecolor=cm_viridis(), edgecolor="none", label="reachable: colour = κ"))
     # below the axes: nothing drawn in the window is covered
     ax.legend(
         handles=handles,
         loc="upper center",
-        bbox_to_anchor=(0.5, -0.12),
-        fontsize=7,
-        ncols=2,
+        bbox_to_anchor=(0.5, -0.1),
+        fontsize=9,
+        ncols=1,
         frameon=False,
     )
 
@@ -167,16 +172,16 @@ def workspace_figure(
     if scan is not None:
         ax = axes[1]
         if np.isfinite(scan.area).any() and stroke is not None:
-            ax.plot(scan.phi, scan.area * 1e4, color="black", label="reachable area, exact")
+            ax.plot(scan.phi, scan.area, color="black", label="reachable area, exact")
             ax.plot(
                 scan.phi,
-                scan.grid_area * 1e4,
+                scan.grid_area,
                 ".",
                 color="tab:blue",
                 ms=3,
                 label="reachable area, grid",
             )
-            ax.set_ylabel("reachable area (cm²)")
+            ax.set_ylabel("reachable area (m²)")
         else:
             ax.plot(
                 scan.phi,
@@ -214,9 +219,9 @@ def workspace_figure(
         ax.legend(  # below the axes, over no curve
             unique.values(),
             unique.keys(),
-            fontsize=7,
+            fontsize=9,
             loc="upper center",
-            bbox_to_anchor=(0.5, -0.12),
+            bbox_to_anchor=(0.5, -0.1),
             ncols=2,
             frameon=False,
         )
@@ -224,7 +229,7 @@ def workspace_figure(
         ax.set_title(
             f"scan of φ: {measure} (left axis) and the best and worst κ over the\n"
             "reachable grid points (right axis, log scale)",
-            fontsize=9,
+            fontsize=10,
         )
     return figure
 
