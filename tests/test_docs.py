@@ -209,3 +209,56 @@ def test_the_measured_size_of_the_test_extra_is_the_one_quoted(tmp_path: Path) -
     assert f"about {said} GB" in text.split("## ", 1)[0]
     if "not installed" not in printed:  # the whole extra here: the README's size holds
         assert abs(size - said) <= 0.15 * said, printed
+
+
+def _notation_names(heading: str) -> list[str]:
+    """The backquoted names of the last column of the tables of a section of notation.md."""
+    text = (ROOT / "docs" / "notation.md").read_text(encoding="utf-8")
+    section = text.split(heading, 1)[1].split("\n## ", 1)[0]
+    rows = [line for line in section.splitlines() if line.startswith("| ") and "---" not in line]
+    return [name for row in rows[1:] for name in re.findall(r"`([^`]+)`", row.rsplit("|", 2)[1])]
+
+
+def test_the_names_of_notation_md_exist() -> None:
+    # was: Ĵ2, Ĵ3 said to be about the centres of mass; each name of prp3 there is checked here
+    import dataclasses
+
+    import prp3
+    from prp3 import geometry, kernel, kinematics, paper
+
+    classes = {
+        "InverseDynamics": prp3.InverseDynamics,
+        "InverseGeometry": geometry.InverseGeometry,
+        "KernelGeometry": kernel.KernelGeometry,
+        "Motion": prp3.Motion,
+        "Robot": prp3.Robot(),
+    }
+    checked = 0
+    for heading in ("## Geometry and motion", "## Dynamics (eqs. 19–25)"):
+        for name in _notation_names(heading):
+            head, _, rest = name.partition(".")
+            target = classes.get(head) or (prp3 if head == "prp3" else None)
+            if target is None or not rest:
+                continue
+            for part in re.sub(r"\[.*\]$", "", rest).split("."):
+                if isinstance(target, type) and dataclasses.is_dataclass(target):
+                    fields = {f.name for f in dataclasses.fields(target)}
+                    assert part in fields or hasattr(target, part), name
+                    target = None
+                    break
+                target = getattr(target, part)
+            checked += 1
+    fields = {f.name for f in dataclasses.fields(kinematics.Kinematics)}
+    for name in _notation_names("## Kinematics (eqs. 11–18)"):
+        assert name in fields or (name == "jacobian" and hasattr(kinematics, name)), name
+        checked += 1
+    result = {f.name for f in dataclasses.fields(paper.RecursiveMatrixResult)}
+    for name in _notation_names("## The paper as printed"):
+        base = name.split("(")[0]
+        if re.fullmatch(r"T\d|r0\^G", base):  # a frame, the paper's symbol of `centre`
+            continue
+        assert base in result or hasattr(paper, base) or base == "inverse_dynamics", name
+        checked += 1
+    assert checked > 60
+    text = (ROOT / "docs" / "notation.md").read_text(encoding="utf-8")
+    assert "about their centres of mass |" not in text  # Ĵ2, Ĵ3 are about A2 and A3 (the paper)
