@@ -28,9 +28,9 @@ def _run(*command: str) -> subprocess.CompletedProcess[str]:
 
 @pytest.mark.skipif(shutil.which("ruff") is None, reason="ruff not installed")
 def test_ruff_check_and_format() -> None:
-    lint = _run("ruff", "check", "src", "tests", "benchmarks")
+    lint = _run("ruff", "check", "src", "tests", "benchmarks", "docs/examples")
     assert lint.returncode == 0, lint.stdout + lint.stderr
-    form = _run("ruff", "format", "--check", "src", "tests", "benchmarks")
+    form = _run("ruff", "format", "--check", "src", "tests", "benchmarks", "docs/examples")
     assert form.returncode == 0, form.stdout + form.stderr
 
 

@@ -23,9 +23,9 @@ import mujoco
 import numpy as np
 
 from prp3 import LinkParameters, PistonParameters, PlatformParameters, Robot, inverse_dynamics
-from prp3.model import Friction, JointFriction, Load, Payload
 from prp3.geometry import LEGS
 from prp3.mjcf import TIMESTEP, MjcfWarning, mjcf_model
+from prp3.model import Friction, JointFriction, Load, Payload
 from prp3.motion import PAPER_MOTIONS, law_motion
 
 #: The robots of the runs: the paper's, and one with offsets and another gravity.
