@@ -276,3 +276,127 @@ def test_every_figure_of_the_documents_is_rebuilt_by_a_script() -> None:
     assert figures
     for figure in figures:
         assert f'"{figure.name}"' in scripts, f"no script of docs/examples writes {figure.name}"
+
+
+# --- the error messages docs/cli.md shows are the ones prp3 prints ----------------------------
+
+#: Rows of the table that depend on the machine (its memory, a full disk or standard output).
+_MACHINE_ROWS = {"a full disk while writing", "a run too big for the memory",
+                 "standard output full or closed"}  # fmt: skip
+
+_TRAJ = "t,x,y,phi\n0,0,0,0\n0.1,0,0,0\n0.2,0,0,0\n0.3,0,0,0\n"
+_ERROR_CASES: dict[str, tuple[dict[str, str], list[str]]] = {
+    "missing, unknown or misspelled column": (
+        {"traj.csv": "t,x,y,phy\n0,0,0,0\n1,0,0,0\n"},
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "only some derivative columns": (
+        {"traj.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy\n0,0,0,0,0,0,0,0,0\n1,0,0,0,0,0,0,0,0\n"},
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "non-numeric cell, NaN, inf": (
+        {"traj.csv": "t,x,y,phi\n0,0,0,0\n0.1,0,0,0\n0.2,0,oops,0\n"},
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "row of the wrong length": (
+        {"traj.csv": _TRAJ + "0.4,0,0,0\n0.5,0,0\n"},
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "time not increasing": (
+        {"traj.csv": "t,x,y,phi\n0,0,0,0\n0.1,0,0,0\n0.2,0,0,0\n0.2,0,0,0\n"},
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "fewer than 2 samples": (
+        {"traj.csv": "t,x,y,phi\n0,0,0,0\n"},
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "singular pose (`φ ≡ π/3 mod π`)": (
+        {"traj.csv": "t,x,y,phi\n0,0,0,0\n0.1,0,0,0.5\n0.2,0,0,1.0471975511965976\n0.3,0,0,0\n"},
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "pose beyond the bounds (below)": (
+        {
+            "traj.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,0,0,0,0,0,0,0,0\n0.5,0,0,0,0,0,0,0,0,0\n1,0,1000000.0,0,0,0,0,0,0,0\n"
+        },
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "pose outside `[limits] stroke`": (
+        {"r.toml": "[limits]\nstroke = [-0.01, 0.01]\n"},
+        ["simulate", "--robot", "r.toml", "--motion", "vertical", "-o", "out"],
+    ),
+    "malformed TOML": (
+        {"robot.toml": "mass=\n"},
+        ["simulate", "--robot", "robot.toml", "--motion", "vertical", "-o", "out"],
+    ),
+    "invalid or unknown key": (
+        {"robot.toml": "[platform]\nmass = -3.0\n"},
+        ["simulate", "--robot", "robot.toml", "--motion", "vertical", "-o", "out"],
+    ),
+    "unreadable input file": ({}, ["simulate", "--trajectory", "none.csv", "-o", "out"]),
+    "output directory not writable": (
+        {"file.txt": "x"},
+        ["simulate", "--motion", "vertical", "-o", "file.txt/out"],
+    ),
+    "results that overflow (absurd speeds)": (
+        {
+            "big.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,0,0,0,0,1e160,0,0,0\n1,0,0,0,0,0,0,0,0,0\n"
+        },
+        ["simulate", "--trajectory", "big.csv", "-o", "out"],
+    ),
+    "parameters whose inertias overflow": (
+        {"big.toml": "l0 = 1e200\n"},
+        ["simulate", "--robot", "big.toml", "--motion", "vertical", "-o", "out"],
+    ),
+    "a huge or binary input file": ({}, ["simulate", "--trajectory", "/dev/zero", "-o", "out"]),
+    "a line longer than 64 KiB": (
+        {"big.csv": "t,x,y,phi\n0,0,0,0\n" + "1" * 70000 + "\n"},
+        ["simulate", "--trajectory", "big.csv", "-o", "out"],
+    ),
+    "TOML nested too deeply, numbers of 4300+ digits": (
+        {"robot.toml": "[platform]\nmass = " + "1" * 4400 + "\n"},
+        ["robot", "--check", "robot.toml"],
+    ),
+    "an output that would replace an input": (
+        {"out/results.csv": _TRAJ},
+        ["simulate", "--trajectory", "out/results.csv", "-o", "out"],
+    ),
+    "a folder or special file under an output's name": (
+        {"out/results.csv/x": ""},
+        ["simulate", "--motion", "vertical", "-o", "out"],
+    ),
+    "bad option": ({}, ["simulate", "--motion", "vertical", "--samples", "1", "-o", "out"]),
+    "empty path": ({}, ["simulate", "--motion", "vertical", "-o", ""]),
+    "`--frames` without `--animate`": (
+        {},
+        ["simulate", "--motion", "vertical", "--frames", "12", "-o", "out"],
+    ),
+}
+
+
+def _error_rows() -> dict[str, str]:
+    text = (ROOT / "docs" / "cli.md").read_text(encoding="utf-8")
+    section = text.split("## Errors", 1)[1].split("### Bounds", 1)[0]
+    found = re.findall(r"^\| (.+?) \| `(prp3 .+)` \|$", section, re.M)
+    return {what: message.replace("\\|", "|") for what, message in found}
+
+
+def test_every_error_row_of_cli_md_is_checked() -> None:
+    assert set(_error_rows()) - set(_ERROR_CASES) == _MACHINE_ROWS
+
+
+@pytest.mark.parametrize("what", sorted(_ERROR_CASES))
+def test_the_error_messages_of_cli_md_are_printed(
+    what: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    files, argv = _ERROR_CASES[what]
+    for name, content in files.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(content, encoding="utf-8")
+    with contextlib.chdir(tmp_path):
+        try:
+            status = main(argv)
+        except SystemExit as exit_:  # argparse
+            status = int(exit_.code or 0)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1, err
+    assert _same(_error_rows()[what] + "\n", err[0] + "\n"), (_error_rows()[what], err[0])
