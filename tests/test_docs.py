@@ -400,3 +400,41 @@ def test_the_error_messages_of_cli_md_are_printed(
     err = capsys.readouterr().err.strip().splitlines()
     assert status == 2 and len(err) == 1, err
     assert _same(_error_rows()[what] + "\n", err[0] + "\n"), (_error_rows()[what], err[0])
+
+
+_SWEEP_SPEC = 'designs = 2\n[task]\nmotions = ["vertical"]\n[parameters]\n'
+_SWEEP_CASES = {
+    "unknown key path": _SWEEP_SPEC + '"platfrom.mass" = [2.0, 4.0]\n',
+    "`low > high`": _SWEEP_SPEC + '"platform.mass" = [4.0, 2.0]\n',
+    "empty range": _SWEEP_SPEC + '"platform.mass" = []\n',
+    "a range end that is no robot": _SWEEP_SPEC + '"platform.mass" = [-1.0, 2.0]\n',
+    "unknown sampling": 'sampling = "sobol"\n' + _SWEEP_SPEC + '"platform.mass" = [2.0, 4.0]\n',
+    "missing trajectory file": _SWEEP_SPEC.replace('"vertical"', '"path.csv"')
+    + '"platform.mass" = [2.0, 4.0]\n',
+}
+#: Rows that need a machine on the network or an environment without the extra.
+_SWEEP_UNCHECKED = {"unreachable scheduler", "missing extra"}
+
+
+def _sweep_error_rows() -> dict[str, str]:
+    text = (ROOT / "docs" / "cli.md").read_text(encoding="utf-8")
+    section = text.split("## `prp3 sweep` and `prp3 optimize`", 1)[1]
+    return dict(re.findall(r"^\| (.+?) \| `(prp3 sweep: .+)` \|$", section, re.M))
+
+
+def test_every_sweep_error_row_of_cli_md_is_checked() -> None:
+    assert set(_sweep_error_rows()) - set(_SWEEP_CASES) == _SWEEP_UNCHECKED
+
+
+@pytest.mark.parametrize("what", sorted(_SWEEP_CASES))
+def test_the_sweep_error_messages_of_cli_md_are_printed(
+    what: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    pytest.importorskip("distributed")
+    (tmp_path / "sweep.toml").write_text(_SWEEP_CASES[what], encoding="utf-8")
+    with contextlib.chdir(tmp_path):
+        status = main(["sweep", "--spec", "sweep.toml", "-o", "out", "--workers", "1"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1, err
+    assert _same(_sweep_error_rows()[what] + "\n", err[0] + "\n"), err[0]
+    assert not (tmp_path / "out").exists()  # nothing written
