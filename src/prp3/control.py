@@ -65,7 +65,7 @@ from .geometry import SINGULARITY_THRESHOLD, inverse_geometry
 from .kinematics import inverse_kinematics
 from .model import Limits, Robot
 from .motion import Motion, law_at
-from .validation import check_instance, check_robot, check_scalar, check_times
+from .validation import check_instance, check_path, check_robot, check_scalar, check_times
 
 __all__ = [
     "CONTROLLERS",
@@ -286,6 +286,7 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     check_instance("motion", motion, Motion, "a prp3.Motion")
     if motion.t.ndim != 1 or motion.samples < 2:
         raise TrajectoryError("reference: the motion needs at least 2 samples")
+    check_path(motion.t, motion.pose)  # an interpolant across the singularity: refused
     at = check_times("times", times)
     first, last = float(motion.t[0]), float(motion.t[-1])
     if at.ndim != 1 or at.size == 0 or not (at.min() >= first and at.max() <= last):
