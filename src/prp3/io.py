@@ -623,7 +623,7 @@ def _trajectory(path: Path, table: _Table) -> Trajectory:
         # between the samples: no singular orientation crossed, no step the given rates deny
         rates = (motion.velocity, motion.acceleration) if given else (None, None)
         check_path(motion.t, motion.pose, *rates, lines=lines, subject=None)
-    except (TrajectoryError, SingularPoseError) as error:
+    except (TrajectoryError, SingularPoseError) as error:  # SingularPoseError: check_path's
         line = int(lines[error.sample]) if error.sample is not None else None
         raise error.located(file=path, line=line) from None
     return Trajectory(path=path, motion=motion, lines=lines, note=note)
@@ -678,7 +678,10 @@ def read_measurements(path: str | Path) -> Measurements:
     """
     path = Path(path)
     table = _read_table(
-        path, POSITION_COLUMNS + MEASURED_FORCE_COLUMNS, DERIVATIVE_COLUMNS, "measurement"
+        path,
+        POSITION_COLUMNS + MEASURED_FORCE_COLUMNS,
+        DERIVATIVE_COLUMNS + LOAD_COLUMNS,
+        "measurement",
     )
     f10 = np.stack([table.columns[name] for name in MEASURED_FORCE_COLUMNS], axis=-1)
     return Measurements(trajectory=_trajectory(path, table), f10=f10)

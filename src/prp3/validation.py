@@ -316,7 +316,8 @@ def check_poses(
 def _crossing(t: FloatArray, phi: FloatArray) -> int | None:
     """The first sample ``k`` such that a singular orientation lies between ``k − 1`` and ``k``."""
     band = np.floor((phi - math.pi / 3.0) / math.pi)  # singular orientations below φ
-    crossed = band[1:] != band[:-1]
+    regular = np.abs(singularity_measure(phi)) >= SINGULARITY_THRESHOLD
+    crossed = (band[1:] != band[:-1]) & regular[1:] & regular[:-1]  # else check_poses says
     return int(np.argmax(crossed)) + 1 if crossed.any() else None
 
 
@@ -362,7 +363,8 @@ def check_path(
     ------
     SingularPoseError, TrajectoryError
         Naming both samples and their times (``sample`` and ``time`` fields:
-        the later one).
+        the later one).  A sample that is singular itself is left to
+        :func:`check_poses`, which names it.
 
     Examples
     --------
