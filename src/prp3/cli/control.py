@@ -265,7 +265,7 @@ def _summary(
         f"  reference: {what}, {result.reference.t.size} instants over "
         f"t = {float(result.t[0]):g} .. {float(result.t[-1]):g} s",
         f"  {model_text}; gains KP = {args.kp:g} 1/s^2, KD = {args.kd:g} 1/s",
-        f"  {result.message}",
+        *([f"  {result.message}"] if result.status == "completed" else []),  # else a warning
         f"  {'tracking error':<18}" + "".join(f"{h:>14}" for h in ("x (m)", "y (m)", "phi (rad)")),
         row("max |error|", result.max_error),
         row("RMS error", result.rms_error),
