@@ -16,8 +16,8 @@ import warnings
 from pathlib import Path
 
 import pytest
-from clitools import cli, one_line
 
+from clitools import cli, one_line
 from prp3.cli import _one_line_warnings, build_parser
 
 
@@ -70,7 +70,7 @@ def test_figure_options_of_sweep_need_plots(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, option: tuple[str, str]
 ) -> None:
     spec = tmp_path / "spec.toml"
-    spec.write_text('designs = 2\n[parameters]\nl0 = [0.25, 0.3]\n[task]\nsamples = 5\n')
+    spec.write_text("designs = 2\n[parameters]\nl0 = [0.25, 0.3]\n[task]\nsamples = 5\n")
     status, _, err = cli(capsys, "sweep", "--spec", spec, *option, "--output", tmp_path / "o")
     line = one_line(err)
     assert status == 2 and f"{option[0]} {option[1]} applies to the figures only" in line
@@ -78,7 +78,7 @@ def test_figure_options_of_sweep_need_plots(
 
 
 def test_frames_says_why_it_makes_fewer(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
-    status, out, err = cli(
+    status, _out, err = cli(
         capsys, "simulate", "--motion", "vertical", "--samples", "31", "--animate",
         "--frames", "301", "--output", tmp_path / "o",
     )  # fmt: skip
@@ -103,7 +103,9 @@ def test_warnings_name_no_internal_file(capsys: pytest.CaptureFixture[str]) -> N
     assert err == "prp3 workspace: warning: overflow encountered\n"
 
 
-def test_control_says_why_it_stopped_once(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_control_says_why_it_stopped_once(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
     status, out, err = cli(
         capsys, "control", "--motion", "rotation", "--controller", "feedforward", "--plant",
         "prp3", "--rate", "100", "--output", tmp_path / "o",

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clitools import cli, one_line
 
+from clitools import cli, one_line
 from prp3 import Robot
 from prp3.control import control_times, hermite_reference
 from prp3.design import DesignEvaluator, evaluate_designs
@@ -70,7 +70,7 @@ def test_sweep_uses_the_load_columns(tmp_path: Path, capsys: pytest.CaptureFixtu
         'designs = 2\nsampling = "grid"\n[parameters]\nl0 = [0.25, 0.3]\n'
         '[task]\nmotions = ["loaded.csv"]\n'
     )
-    status, out, err = cli(capsys, "sweep", "--spec", spec, "--output", tmp_path / "o")
+    status, _out, err = cli(capsys, "sweep", "--spec", spec, "--output", tmp_path / "o")
     assert status == 0, err
     import pyarrow.parquet as pq
 
@@ -93,7 +93,11 @@ def test_control_refuses_the_load_columns_by_name(
     )  # fmt: skip
     line = one_line(err)
     assert status == 2 and out == ""
-    assert line.startswith(f"prp3 control: error: {file}: ") and "fx, fy, mz" in line and "prp3 control" in line
+    assert (
+        line.startswith(f"prp3 control: error: {file}: ")
+        and "fx, fy, mz" in line
+        and "prp3 control" in line
+    )
     assert not (tmp_path / "o").exists()
 
 
@@ -116,7 +120,7 @@ def test_identify_accepts_and_subtracts_the_load_columns(
     motion = loaded(series.motion(np.linspace(0.0, 4.0, 100)), scale=5.0)
     f10 = inverse_dynamics(true, motion, method="newton-euler")[1].f10  # with the load
     file = write(tmp_path / "m.csv", motion, f10)
-    status, out, err = cli(capsys, "identify", "--measurements", file, "--output", tmp_path / "o")
+    status, _out, err = cli(capsys, "identify", "--measurements", file, "--output", tmp_path / "o")
     assert status == 0, err
     found = Robot.from_mapping(tomllib.loads((tmp_path / "o" / "robot.toml").read_text()))
     bare = paper_motion("rotation", 31)  # another motion, no load: the robot's own forces

@@ -15,11 +15,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clitools import cli, listing, one_line
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from strategies import analytic_motions, robots
 
+from clitools import cli, listing, one_line
 from prp3 import Robot
 from prp3.dynamics import METHODS, inverse_dynamics
 from prp3.errors import SingularPoseError, TrajectoryError
@@ -27,6 +26,7 @@ from prp3.model import Friction, JointFriction
 from prp3.motion import Motion, law_motion, paper_motion
 from prp3.runs import simulate_table
 from prp3.validation import RATE_TOLERANCE, check_path, rest_rates
+from strategies import analytic_motions, robots
 
 # x = 0.01 m, φ = 2t rad, every 0.2 s: φ passes π/3 between t = 0.4 and 0.6 s
 CROSSING_T = np.round(np.arange(0.0, 1.01, 0.2), 12)
@@ -154,7 +154,7 @@ def test_commands_refuse_a_jump_the_velocities_do_not_explain(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], command: str
 ) -> None:
     file = jump_file(tmp_path)
-    status, out, err = cli(
+    status, _out, err = cli(
         capsys, command, *EXTRA[command], "--trajectory", file, "--output", tmp_path / "out"
     )
     line = one_line(err)

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clitools import cli, one_line
 
+from clitools import cli, one_line
 from prp3 import Robot
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.forward import forward_dynamics
@@ -60,12 +60,13 @@ def test_a_start_that_works_is_still_a_result() -> None:
 
 # ------------------------------------------------------------------ workspace
 @pytest.mark.parametrize(
-    "extent", [("-1e308", "1e308", "-1", "1"), ("-1", "1", "-1e308", "1e308"), ("0", "1e308", "0", "1")]
+    "extent",
+    [("-1e308", "1e308", "-1", "1"), ("-1", "1", "-1e308", "1e308"), ("0", "1e308", "0", "1")],
 )
 def test_workspace_refuses_a_huge_extent_in_one_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], extent: tuple[str, ...]
 ) -> None:
-    status, out, err = cli(capsys, "workspace", "--extent", *extent, "-o", tmp_path / "o")
+    status, _out, err = cli(capsys, "workspace", "--extent", *extent, "-o", tmp_path / "o")
     line = one_line(err)  # no numpy warning
     assert status == 2 and line.startswith("prp3 workspace: error: --extent ")
     assert "100*l0 = 30 m" in line
@@ -76,7 +77,7 @@ def test_workspace_refuses_a_huge_stroke_in_one_line(
 ) -> None:
     robot = tmp_path / "robot.toml"
     robot.write_text("[limits]\nstroke = [-1e308, 1e308]\n")
-    status, out, err = cli(capsys, "workspace", "--robot", robot, "-o", tmp_path / "o")
+    status, _out, err = cli(capsys, "workspace", "--robot", robot, "-o", tmp_path / "o")
     line = one_line(err)
     assert status == 2 and "limits.stroke" in line and "100*l0 = 30 m" in line
 
@@ -88,7 +89,7 @@ def test_the_library_refuses_a_huge_stroke_too() -> None:
         lambda: orientation_range(robot),
         lambda: workspace_slice(robot, 0.0, [-0.1, 0.1], [-0.1, 0.1]),
     ):
-        with pytest.raises(ParameterError, match="limits.stroke"):
+        with pytest.raises(ParameterError, match=r"limits\.stroke"):
             call()
     # a stroke within the bound is a workspace as before
     assert reachable_region(Robot(limits=Limits(stroke=(-30.0, 30.0))), 0.0).shape == (6, 2)

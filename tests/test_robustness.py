@@ -239,7 +239,7 @@ def test_warnings_of_the_libraries_are_one_line(capsys, monkeypatch):
     status, out, err = cli(capsys, "robot", "--template")
     assert status == 0 and out == template()
     assert re.fullmatch(
-        r"prp3 robot: warning: overflow encountered in multiply \(RuntimeWarning, test_robustness\.py:\d+\)\n",
+        r"prp3 robot: warning: overflow encountered in multiply\n",  # no internal file.py:line
         err,
     )
 

@@ -517,7 +517,15 @@ def _one_design(evaluator: DesignEvaluator, robot: Robot) -> tuple[FloatArray, F
         for j in range(3)
     ]
     load = evaluator._load
-    wrench = None if load is None else tuple(np.ascontiguousarray(load[:, j]) for j in range(3))
+    wrench = (
+        None
+        if load is None
+        else (
+            np.ascontiguousarray(load[:, 0]),
+            np.ascontiguousarray(load[:, 1]),
+            np.ascontiguousarray(load[:, 2]),
+        )
+    )
     with np.errstate(all="ignore"):
         solution = solve(NUMPY, kernel_parameters(robot), *states, reactions=True, load=wrench)
         assert solution.n32 is not None

@@ -196,8 +196,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     for option, value in (("--pareto", args.pareto), ("--sensitivity", args.sensitivity)):
         if value is not None and not args.plots:
             raise Prp3Error(
-                f"{option} {value} applies to the figures only: add --plots, or leave "
-                f"{option} out"
+                f"{option} {value} applies to the figures only: add --plots, or leave {option} out"
             )
     args.sensitivity = args.sensitivity or "peak_f10"
     spec = _read_spec(args)
