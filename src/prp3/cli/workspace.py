@@ -260,6 +260,12 @@ def run(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     robot = load_robot(args)
+    try:
+        orientation_range(robot)  # refuses a stroke beyond the bounds of the poses
+    except ParameterError as error:
+        if args.robot is None:
+            raise
+        raise error.located(file=args.robot) from None
     if args.extent is not None:
         xmin, xmax, ymin, ymax = args.extent
         if not (xmin < xmax and ymin < ymax):
