@@ -231,3 +231,27 @@ def test_a_slow_motion_keeps_its_friction() -> None:
     assert dyn.fric10 is not None
     assert np.all(np.abs(dyn.fric10[1:-1]) >= 2.0)  # the full Coulomb level while moving
     assert np.all(dyn.fric10[-1] == 0.0)
+
+
+@pytest.mark.parametrize("phase", np.linspace(0.0, 2.0 * math.pi, 37).tolist())
+def test_a_sine_sampled_at_1_6_samples_per_period_passes(phase: float) -> None:
+    # docs/model.md: the corrected trapezoid misses a sine by at most 0.18 of the
+    # step's size at h·w = 4 (1.57 samples per period), below STEP_TOLERANCE = 0.25
+    t = np.arange(6) * 4.0
+    q = np.zeros((6, 3))
+    qd, qdd = np.zeros((6, 3)), np.zeros((6, 3))
+    q[:, 0], qd[:, 0], qdd[:, 0] = np.sin(t + phase), np.cos(t + phase), -np.sin(t + phase)
+    check_path(t, q, qd, qdd)
+
+
+def test_a_jump_across_blocks_is_found(monkeypatch: pytest.MonkeyPatch) -> None:
+    import prp3.validation
+
+    monkeypatch.setattr(prp3.validation, "_STEP_BLOCK", 3)
+    t = np.linspace(0.0, 1.0, 11)
+    for k in range(1, 11):  # every position of the step against the blocks
+        pose = np.zeros((11, 3))
+        pose[k:, 1] = 0.1
+        with pytest.raises(TrajectoryError) as caught:
+            check_path(t, pose, np.zeros((11, 3)))
+        assert caught.value.sample == k and caught.value.time == t[k]

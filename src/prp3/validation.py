@@ -32,7 +32,7 @@ prp3.errors.TrajectoryError: sample 1, leg B: lambda10 is not finite (nan)
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
@@ -412,7 +412,23 @@ def check_path(
         if acceleration is None
         else np.asarray(acceleration, dtype=np.float64).reshape(q.shape)
     )
-    h = np.diff(times)[:, None]
+    floor = 1e-6 * np.abs(q).max(axis=0)  # digits lost in a file's text
+    for first in range(0, times.size - 1, _STEP_BLOCK):  # bounded memory
+        last = min(first + _STEP_BLOCK, times.size - 1) + 1
+        _check_steps(times[first:last], q[first:last], qd[first:last], qdd[first:last],
+                     floor, first, sample, subject)  # fmt: skip
+
+
+#: Steps of a motion checked at a time by :func:`check_path` (bounds its memory).
+_STEP_BLOCK: int = 65_536
+
+
+def _check_steps(
+    t: FloatArray, q: FloatArray, qd: FloatArray, qdd: FloatArray, floor: FloatArray,
+    offset: int, sample: Callable[[int], str], subject: str | None,
+) -> None:  # fmt: skip
+    """The step test of :func:`check_path` on samples ``offset, offset + 1, ...``."""
+    h = np.diff(t)[:, None]
     with np.errstate(over="ignore", invalid="ignore"):
         trapezoid = h * (qd[1:] + qd[:-1]) / 2.0 - h * h * (qdd[1:] - qdd[:-1]) / 12.0
         step = np.diff(q, axis=0)
@@ -421,12 +437,11 @@ def check_path(
             + h * (np.abs(qd[1:]) + np.abs(qd[:-1])) / 2.0
             + h * h * (np.abs(qdd[1:]) + np.abs(qdd[:-1])) / 12.0
         )
-        misfit = np.abs(step - trapezoid)
-        bad = misfit > STEP_TOLERANCE * size + 1e-6 * np.abs(q).max(axis=0)
+        bad = np.abs(step - trapezoid) > STEP_TOLERANCE * size + floor
     if not bad.any():
         return
     index, axis = np.argwhere(bad)[0].tolist()
-    k = index + 1
+    k = offset + index + 1
     name = _COMPONENTS[axis]
     raise TrajectoryError(
         f"{name} jumps by {float(step[index, axis]):.6g} from {sample(k - 1)}) to {sample(k)}), "
@@ -435,7 +450,7 @@ def check_path(
         "derivatives (or none)",
         subject=subject,
         sample=k,
-        time=float(times[k]),
+        time=float(t[index + 1]),
     )
 
 
