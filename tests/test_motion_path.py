@@ -255,3 +255,10 @@ def test_a_jump_across_blocks_is_found(monkeypatch: pytest.MonkeyPatch) -> None:
         with pytest.raises(TrajectoryError) as caught:
             check_path(t, pose, np.zeros((11, 3)))
         assert caught.value.sample == k and caught.value.time == t[k]
+
+
+def test_track_refuses_a_reference_across_the_singularity() -> None:
+    from prp3.control import track
+
+    with pytest.raises(SingularPoseError, match="crosses the singular orientation"):
+        track(Robot(), crossing_motion(), controller="pd")

@@ -658,6 +658,7 @@ def track(
         raise TrajectoryError("reference must be a Motion of at least 2 samples")
     if reference.load is not None:
         raise TrajectoryError(LOAD_REFUSAL, subject="reference")
+    check_path(reference.t, reference.pose, subject="reference")  # no singularity between
     if reference.samples > MAX_STEPS + 1:
         raise ParameterError(
             f"reference: {reference.samples} control instants, more than {MAX_STEPS + 1}"
