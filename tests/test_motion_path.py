@@ -244,6 +244,17 @@ def test_a_sine_sampled_at_1_6_samples_per_period_passes(phase: float) -> None:
     check_path(t, q, qd, qdd)
 
 
+def test_the_misfit_of_a_sine_at_1_6_samples_per_period_is_0_18() -> None:
+    # the number docs/model.md quotes, from the definitions there (h = 4, w = 1)
+    h, p = 4.0, np.linspace(0.0, 2.0 * math.pi, 3601)
+    step = np.sin(p + h) - np.sin(p)
+    rates = h * (np.cos(p) + np.cos(p + h)) / 2 - h * h * (-np.sin(p + h) + np.sin(p)) / 12
+    size = (np.abs(step) + h * (np.abs(np.cos(p)) + np.abs(np.cos(p + h))) / 2
+            + h * h * (np.abs(np.sin(p)) + np.abs(np.sin(p + h))) / 12)  # fmt: skip
+    assert round(float((np.abs(step - rates) / size).max()), 2) == 0.18
+    assert 2 * math.pi / h == pytest.approx(1.57, abs=0.01)
+
+
 def test_a_jump_across_blocks_is_found(monkeypatch: pytest.MonkeyPatch) -> None:
     import prp3.validation
 
