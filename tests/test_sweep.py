@@ -420,7 +420,7 @@ def test_plots_from_the_designs_file(tmp_path, capsys, scheduler):
         with Image.open(tmp_path / "s" / name) as image:
             assert image.size[0] > 400
     status, _out, err = cli(
-        capsys, "sweep", "--spec", spec, "-o", tmp_path / "s", "--pareto", "energy,bogus"
+        capsys, "sweep", "--spec", spec, "-o", tmp_path / "s", "--plots", "--pareto", "energy,bogus"
     )
     assert status == 2 and "unknown column 'bogus'" in err
 

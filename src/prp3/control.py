@@ -65,13 +65,14 @@ from .geometry import SINGULARITY_THRESHOLD, inverse_geometry
 from .kinematics import inverse_kinematics
 from .model import Limits, Robot
 from .motion import Motion, law_at
-from .validation import check_instance, check_robot, check_scalar, check_times
+from .validation import check_instance, check_path, check_robot, check_scalar, check_times
 
 __all__ = [
     "CONTROLLERS",
     "DEFAULT_KD",
     "DEFAULT_KP",
     "DEFAULT_RATE",
+    "LOAD_REFUSAL",
     "MAX_STEPS",
     "PLANTS",
     "PLANT_ATOL",
@@ -255,6 +256,14 @@ def control_times(start: float, stop: float, rate: float) -> FloatArray:
     return times
 
 
+#: Why the control loop refuses a motion with a time-varying load ``fx, fy, mz``.
+LOAD_REFUSAL: str = (
+    "a time-varying load fx, fy, mz is not modelled by the control loop (neither the "
+    "controller's model nor the plants apply it): give the wrench as a constant [load] of "
+    "the robots, or leave the columns out"
+)
+
+
 def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     """The motion interpolated at ``times`` by quintic Hermite polynomials.
 
@@ -274,7 +283,10 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     Raises
     ------
     TrajectoryError
-        A single-sample motion, or times outside the motion.
+        A single-sample motion, times outside the motion, a motion with a
+        time-varying load (:data:`LOAD_REFUSAL`).
+    SingularPoseError
+        A motion that crosses the singularity (:func:`prp3.validation.check_path`).
 
     >>> m = law_at([0.01, 0.0, 0.0], np.linspace(0.0, 3.0, 31))
     >>> r = hermite_reference(m, [0.05, 1.55])
@@ -286,6 +298,9 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     check_instance("motion", motion, Motion, "a prp3.Motion")
     if motion.t.ndim != 1 or motion.samples < 2:
         raise TrajectoryError("reference: the motion needs at least 2 samples")
+    if motion.load is not None:
+        raise TrajectoryError(LOAD_REFUSAL, subject="reference")
+    check_path(motion.t, motion.pose)  # an interpolant across the singularity: refused
     at = check_times("times", times)
     first, last = float(motion.t[0]), float(motion.t[-1])
     if at.ndim != 1 or at.size == 0 or not (at.min() >= first and at.max() <= last):
@@ -641,6 +656,9 @@ def track(
         raise ParameterError(f"plant must be one of {', '.join(PLANTS)}, got {plant!r}")
     if not isinstance(reference, Motion) or reference.t.ndim != 1 or reference.samples < 2:
         raise TrajectoryError("reference must be a Motion of at least 2 samples")
+    if reference.load is not None:
+        raise TrajectoryError(LOAD_REFUSAL, subject="reference")
+    check_path(reference.t, reference.pose, subject="reference")  # no singularity between
     if reference.samples > MAX_STEPS + 1:
         raise ParameterError(
             f"reference: {reference.samples} control instants, more than {MAX_STEPS + 1}"

@@ -279,6 +279,7 @@ class DesignEvaluator:
     _pose: FloatArray = field(init=False, repr=False)
     _velocity: FloatArray = field(init=False, repr=False)
     _acceleration: FloatArray = field(init=False, repr=False)
+    _load: FloatArray | None = field(init=False, repr=False)
     _segments: tuple[tuple[int, int, FloatArray], ...] = field(init=False, repr=False)
     _singular: bool = field(init=False, repr=False)
     _valid_box: bool = field(init=False, repr=False)
@@ -288,6 +289,16 @@ class DesignEvaluator:
         for name in ("pose", "velocity", "acceleration"):
             joined = np.concatenate([getattr(m, name) for m in self.motions])
             object.__setattr__(self, f"_{name}", joined)
+        # the time-varying loads (fx, fy, mz) of the trajectories that give them, zero elsewhere
+        loaded = any(m.load is not None for m in self.motions)
+        load = (
+            np.concatenate(
+                [m.load if m.load is not None else np.zeros_like(m.pose) for m in self.motions]
+            )
+            if loaded
+            else None
+        )
+        object.__setattr__(self, "_load", load)
         segments, start = [], 0
         for motion in self.motions:
             segments.append((start, start + motion.samples, np.diff(motion.t)))
@@ -364,13 +375,17 @@ _SQUARED = slice(6, 9)
 _POWER_ROW = 12
 _LAMBDA_ROWS = slice(13, 16)
 
+#: Inputs of the time-varying load of the samples (the trajectories' fx, fy, mz).
+_LOAD_SYMBOLS: tuple[str, str, str] = ("fx", "fy", "mz")
+
 #: The traced design kernels of this process: (varying fields, fixed fields, stroke) -> code.
 _KERNELS: dict[tuple[Any, ...], Callable[..., None]] = {}
 
 
 def _design_kernel(
-    varying: tuple[str, ...], fixed: tuple[tuple[str, float], ...], stroke: bool
-) -> Callable[..., None]:
+    varying: tuple[str, ...], fixed: tuple[tuple[str, float], ...], stroke: bool,
+    loaded: bool = False,
+) -> Callable[..., None]:  # fmt: skip
     """:func:`prp3.kernel.solve` traced for designs × samples (built once per process and key).
 
     The ``varying`` fields of the parameters are inputs of shape ``(B, 1)``
@@ -378,9 +393,11 @@ def _design_kernel(
     states inputs of shape ``(1, n)``: the kernel's own operations in its
     order (:func:`prp3._trace.broadcast_function`), each one at the shape of
     what it depends on, so that the constants of a design are combined once
-    per design and the functions of the state once per sample.
+    per design and the functions of the state once per sample.  ``loaded``:
+    the time-varying load ``(f_x, f_y, m_z)`` of the samples follows the
+    states (three more inputs of shape ``(1, n)``).
     """
-    key = (varying, fixed, stroke)
+    key = (varying, fixed, stroke, loaded)
     function = _KERNELS.get(key)
     if function is None:
         constants = dict(fixed)
@@ -388,7 +405,9 @@ def _design_kernel(
         def outputs(ops: Ops, *values: Any) -> tuple[Any, ...]:
             named = dict(zip(varying, values[: len(varying)], strict=True))
             k = KernelParameters(**constants, **named)
-            sol = solve(ops, k, *values[len(varying) :], reactions=True)
+            states = values[len(varying) : len(varying) + len(STATE_SYMBOLS)]
+            wrench = values[len(varying) + len(STATE_SYMBOLS) :] if loaded else None
+            sol = solve(ops, k, *states, reactions=True, load=wrench)
             assert sol.n32 is not None
             p10 = sol.p10
             return (
@@ -400,8 +419,9 @@ def _design_kernel(
                 *(sol.lambda10 if stroke else ()),
             )
 
-        groups = (0,) * len(varying) + (1,) * len(STATE_SYMBOLS)
-        function = broadcast_function(outputs, (*varying, *STATE_SYMBOLS), groups, "design_kernel")
+        inputs = (*STATE_SYMBOLS, *(_LOAD_SYMBOLS if loaded else ()))
+        groups = (0,) * len(varying) + (1,) * len(inputs)
+        function = broadcast_function(outputs, (*varying, *inputs), groups, "design_kernel")
         if len(_KERNELS) >= 32:  # bounded: a sweep needs one or two
             _KERNELS.clear()
         _KERNELS[key] = function
@@ -425,10 +445,11 @@ def _kernel_results(
     if not varying and count > 1:  # the same parameters: one design's results for all
         results, low, high = _kernel_results(evaluator, fixed, varying, table[:1], stroke)
         return np.repeat(results, count, axis=0), np.repeat(low, count), np.repeat(high, count)
-    function = _design_kernel(varying, fixed, stroke)
-    states = np.ascontiguousarray(
-        np.concatenate([evaluator._pose, evaluator._velocity, evaluator._acceleration], axis=1).T
-    )
+    function = _design_kernel(varying, fixed, stroke, evaluator._load is not None)
+    blocks_of = [evaluator._pose, evaluator._velocity, evaluator._acceleration]
+    if evaluator._load is not None:
+        blocks_of.append(evaluator._load)
+    states = np.ascontiguousarray(np.concatenate(blocks_of, axis=1).T)
     width = min(samples, _BLOCK)
     designs = min(count, max(1, _BLOCK // width))
     shapes = {1: (designs, 1), 2: (1, width), 3: (designs, width)}
@@ -495,8 +516,18 @@ def _one_design(evaluator: DesignEvaluator, robot: Robot) -> tuple[FloatArray, F
         for array in (evaluator._pose, evaluator._velocity, evaluator._acceleration)
         for j in range(3)
     ]
+    load = evaluator._load
+    wrench = (
+        None
+        if load is None
+        else (
+            np.ascontiguousarray(load[:, 0]),
+            np.ascontiguousarray(load[:, 1]),
+            np.ascontiguousarray(load[:, 2]),
+        )
+    )
     with np.errstate(all="ignore"):
-        solution = solve(NUMPY, kernel_parameters(robot), *states, reactions=True)
+        solution = solve(NUMPY, kernel_parameters(robot), *states, reactions=True, load=wrench)
         assert solution.n32 is not None
 
         def peak(legs: Sequence[Any]) -> list[float]:

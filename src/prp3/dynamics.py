@@ -27,7 +27,7 @@ from .model import Robot
 from .motion import Motion
 from .newton_euler_solver import newton_euler
 from .paper import paper_inverse_dynamics
-from .validation import check_instance, check_robot
+from .validation import check_instance, check_path, check_robot
 
 __all__ = [
     "METHODS",
@@ -97,8 +97,10 @@ def inverse_dynamics(
     >>> dyn.f10.shape
     (3, 3)
     """
+    check_instance("motion", motion, Motion, "a prp3.Motion")
     if method not in METHODS:
         raise Prp3Error(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
+    check_path(motion.t, motion.pose)  # no singular orientation between two samples
     kin = inverse_kinematics(robot, motion)
     if method == "fast":
         return kin, kernel_method(robot, kin)

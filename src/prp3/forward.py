@@ -753,7 +753,29 @@ def forward_dynamics(
     stroke = robot.limits.stroke
     solution = _integrate(free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of)
     stop = _stop(free, stroke, solution, times, q0, v0)
+    if stop.status == "failed" and stop.t_stop <= float(times[0]):
+        raise TrajectoryError(_failed_start(stop, force_of, q0, v0, load_of))
     return _result(free, force_of, stop, int(solution.nfev), load_of)
+
+
+def _failed_start(
+    stop: _Stop,
+    force_of: Callable[[float], FloatArray],
+    q0: FloatArray,
+    v0: FloatArray,
+    load_of: Callable[[float], FloatArray] | None,
+) -> str:
+    """The refusal of an integration that failed at its first step: nothing was integrated."""
+    t0 = float(stop.t[0])
+    forces = np.asarray(force_of(t0), dtype=np.float64).tolist()
+    loads = "" if load_of is None else f", load {np.asarray(load_of(t0)).tolist()!r}"
+    return (
+        f"the integration fails at its first step (t = {t0!r} s): "
+        f"{stop.message.split(': ', 1)[-1].rstrip('.')}; nothing was integrated: with the forces f10(t0) = {forces!r} N{loads}, the initial pose "
+        f"{q0.tolist()!r} and the initial velocity {v0.tolist()!r} the equations of motion "
+        "leave double precision (or the step size vanishes); give forces and velocities of the "
+        "robot's size"
+    )
 
 
 # ------------------------------------------------------- steps of forward_dynamics

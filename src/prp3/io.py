@@ -40,7 +40,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .dynamics import InverseDynamics
-from .errors import InputFileError, OutputFileError, ParameterError, Prp3Error, TrajectoryError
+from .errors import (
+    InputFileError,
+    OutputFileError,
+    ParameterError,
+    Prp3Error,
+    SingularPoseError,
+    TrajectoryError,
+)
 from .files import (
     MANIFEST_NAME,
     StagedOutput,
@@ -56,6 +63,7 @@ from .forward import ActuatorForces
 from .geometry import LEGS
 from .kinematics import Kinematics
 from .motion import Motion, differentiate_positions, spline_derivatives
+from .validation import check_path
 
 __all__ = [
     "DERIVATIVE_COLUMNS",
@@ -612,7 +620,10 @@ def _trajectory(path: Path, table: _Table) -> Trajectory:
     try:
         load = np.stack([columns[name] for name in LOAD_COLUMNS], axis=-1) if loads else None
         motion = Motion(t=t, pose=pose, velocity=velocity, acceleration=acceleration, load=load)
-    except TrajectoryError as error:
+        # between the samples: no singular orientation crossed, no step the given rates deny
+        rates = (motion.velocity, motion.acceleration) if given else (None, None)
+        check_path(motion.t, motion.pose, *rates, lines=lines, subject=None)
+    except (TrajectoryError, SingularPoseError) as error:  # SingularPoseError: check_path's
         line = int(lines[error.sample]) if error.sample is not None else None
         raise error.located(file=path, line=line) from None
     return Trajectory(path=path, motion=motion, lines=lines, note=note)
@@ -667,7 +678,10 @@ def read_measurements(path: str | Path) -> Measurements:
     """
     path = Path(path)
     table = _read_table(
-        path, POSITION_COLUMNS + MEASURED_FORCE_COLUMNS, DERIVATIVE_COLUMNS, "measurement"
+        path,
+        POSITION_COLUMNS + MEASURED_FORCE_COLUMNS,
+        DERIVATIVE_COLUMNS + LOAD_COLUMNS,
+        "measurement",
     )
     f10 = np.stack([table.columns[name] for name in MEASURED_FORCE_COLUMNS], axis=-1)
     return Measurements(trajectory=_trajectory(path, table), f10=f10)

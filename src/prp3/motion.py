@@ -26,6 +26,7 @@ from .validation import (
     check_scalar,
     check_times,
     require_finite,
+    rest_rates,
 )
 
 __all__ = [
@@ -69,7 +70,10 @@ class Motion:
     pose : ndarray, shape (N, 3) or (3,)
         ``(x, y, φ)``: mass centre ``G`` (m) and orientation (rad).
     velocity : ndarray, same shape as ``pose``
-        ``(ẋ, ẏ, φ̇)`` (m/s, m/s, rad/s).
+        ``(ẋ, ẏ, φ̇)`` (m/s, m/s, rad/s).  Rates of round-off size (at most
+        :data:`~prp3.validation.RATE_TOLERANCE` times the motion's largest of
+        their kind, :func:`~prp3.validation.rest_rates`) are stored as zero:
+        the platform is at rest there, and the sign of a Coulomb friction is 0.
     acceleration : ndarray, same shape as ``pose``
         ``(ẍ, ÿ, φ̈)`` (m/s², m/s², rad/s²).
     load : ndarray, same shape as ``pose``, or None
@@ -124,6 +128,8 @@ class Motion:
                     subject="motion",
                 )
             check_finite(name, array, components=components, subject="motion")
+            if name == "velocity":  # rates of round-off size at rest are zero
+                array = rest_rates(array)
             array.flags.writeable = False
             object.__setattr__(self, name, array)
         t.flags.writeable = False

@@ -23,7 +23,7 @@ from .geometry import LEGS
 from .io import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_columns, results_table
 from .model import Robot
 from .motion import Motion
-from .validation import check_instance, check_integer, check_robot
+from .validation import check_instance, check_integer, check_path, check_robot
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -69,6 +69,7 @@ def simulate_table(
     check_robot(robot)
     samples = check_instance("motion", motion, Motion, "a prp3.Motion").samples
     chunk = check_integer("chunk", chunk, 1, 2**31)
+    check_path(motion.t, motion.pose)  # the whole motion: a crossing between two chunks too
     columns = result_columns(robot.friction is not None, load=motion.load is not None)
     table = {name: np.empty(samples) for name in columns}
     implicit = robot.friction is not None and robot.friction.has_mu

@@ -53,7 +53,14 @@ from .geometry import (
     singularity_measure,
 )
 from .model import Limits, Robot
-from .validation import MAX_ORIENTATION, check_poses, check_real, check_robot, check_scalar
+from .validation import (
+    MAX_ORIENTATION,
+    POSE_BOUND,
+    check_poses,
+    check_real,
+    check_robot,
+    check_scalar,
+)
 
 __all__ = [
     "SINGULAR_ORIENTATIONS",
@@ -127,7 +134,7 @@ def reachable(robot: Robot, pose: ArrayLike) -> BoolArray:
     """
     pose = _poses(robot, pose)
     lam, regular = _displacements(robot, pose)
-    stroke = robot.limits.stroke
+    stroke = _stroke(robot)
     if stroke is None:
         return regular
     with np.errstate(invalid="ignore"):
@@ -193,9 +200,10 @@ def orientation_range(robot: Robot) -> tuple[float, float]:
     [-0.430175, 0.568518]
     """
     check_robot(robot)
-    if robot.limits.stroke is None:
+    stroke = _stroke(robot)
+    if stroke is None:
         return (-2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0)
-    lower, upper = robot.limits.stroke
+    lower, upper = stroke
     l0 = robot.l0
 
     def phi_of(total: float) -> float:
@@ -224,13 +232,14 @@ def reachable_region(robot: Robot, phi: float) -> FloatArray:
     ((6, 2), 0.05)
     """
     check_robot(robot)
-    if robot.limits.stroke is None:
+    stroke = _stroke(robot)
+    if stroke is None:
         raise ParameterError(
             "robot: no [limits] stroke: the reachable region is the whole plane at every "
             "regular orientation"
         )
     phi = _orientation(phi)
-    lower, upper = robot.limits.stroke
+    lower, upper = stroke
     total = 1.5 * robot.l0 * (math.tan((phi - math.pi / 3.0) / 2.0) + 1.0 / _SQRT3)
     points = []
     corners = np.array(
@@ -256,6 +265,27 @@ def reachable_region(robot: Robot, phi: float) -> FloatArray:
     keep = np.ones(len(xy), dtype=bool)  # drop repeated vertices (plane through a corner)
     keep[1:] = np.linalg.norm(np.diff(xy, axis=0), axis=1) > 1e-15
     return np.asarray(xy[keep])
+
+
+def _stroke(robot: Robot) -> tuple[float, float] | None:
+    """``robot.limits.stroke``, refused when an end lies beyond ``POSE_BOUND·l0``.
+
+    prp3 computes poses and displacements up to ``POSE_BOUND·l0``
+    (:func:`prp3.validation.check_poses`); a longer stroke reaches nothing
+    more there, and its cube's sums overflow float64 near ``1e308``.
+    """
+    stroke = robot.limits.stroke
+    if stroke is None:
+        return None
+    reach = POSE_BOUND * robot.l0
+    if max(abs(stroke[0]), abs(stroke[1])) > reach:
+        raise ParameterError(
+            f"limits.stroke [{stroke[0]!r}, {stroke[1]!r}] reaches beyond {POSE_BOUND:g}*l0 = "
+            f"{reach:g} m (l0 = {robot.l0:g} m), farther than prp3 computes poses: give a stroke "
+            "within that bound",
+            key="limits.stroke",
+        )
+    return stroke
 
 
 def _orientation(phi: float) -> float:
@@ -370,7 +400,7 @@ def workspace_slice(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> Wor
     geo = inverse_geometry(_free(robot), pose.reshape(-1, 3))  # φ is regular
     lam = geo.lambda10.reshape(*X.shape, 3)
     condition = _condition(robot, geo).reshape(X.shape)
-    stroke = robot.limits.stroke
+    stroke = _stroke(robot)
     inside: BoolArray
     if stroke is None:
         inside = np.ones(X.shape, dtype=bool)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import difflib
 import errno
 import os
 import re
@@ -23,7 +24,6 @@ import signal
 import sys
 import warnings
 from collections.abc import Callable, Sequence
-from pathlib import Path
 from types import FrameType
 from typing import Any, TextIO
 
@@ -51,13 +51,46 @@ class _Parser(argparse.ArgumentParser):
     """
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("allow_abbrev", False)  # no silent prefixes: --samp is not --samples
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = _NEGATIVE_NUMBER
+        self._words: list[str] = []
         # the innermost (sub)command parsed sets it last: the prefix of every message
         self.set_defaults(program=self.prog)
 
     def error(self, message: str) -> None:  # type: ignore[override]
+        unknown = self._unknown_options()
+        if unknown:  # a misspelled option makes argparse complain of something else: name it
+            message += "; unknown option" + ("s " if len(unknown) > 1 else " ")
+            message += ", ".join(self._suggest(name) for name in unknown)
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+    def parse_known_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> tuple[argparse.Namespace, list[str]]:
+        self._words = list(sys.argv[1:] if args is None else args)
+        return super().parse_known_args(args, namespace)
+
+    def _unknown_options(self) -> list[str]:
+        """The option-like words given to this parser that it does not know (before a command)."""
+        commands = any(isinstance(a, argparse._SubParsersAction) for a in self._actions)
+        unknown = []
+        for word in self._words:
+            if word == "--" or (commands and not word.startswith("-")):
+                break  # the options of a (mistyped) command are its own
+            if not word.startswith("-") or word == "-" or self._negative_number_matcher.match(word):
+                continue
+            name = word.split("=", 1)[0]
+            attached = not word.startswith("--") and word[:2] in self._option_string_actions
+            if name not in self._option_string_actions and not attached and name not in unknown:
+                unknown.append(name)
+        return unknown
+
+    def _suggest(self, name: str) -> str:
+        """``name`` and the known option it is closest to, if any."""
+        known = [option for option in self._option_string_actions if option.startswith("--")]
+        close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+        return f"{name} (did you mean {close[0]}?)" if close else name
 
     def parse_args(  # type: ignore[override]
         self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
@@ -66,8 +99,21 @@ class _Parser(argparse.ArgumentParser):
         parsed, extras = self.parse_known_args(args, namespace)
         if extras:
             program = getattr(parsed, "program", self.prog)
-            self.exit(2, f"{program}: error: unrecognized arguments: {' '.join(extras)}\n")
+            command = self._command_parser(program)
+            named = [command._suggest(word) if word.startswith("-") else word for word in extras]
+            self.exit(2, f"{program}: error: unrecognized arguments: {' '.join(named)}\n")
         return parsed
+
+    def _command_parser(self, program: str) -> _Parser:
+        """The (sub)parser whose ``prog`` is ``program`` (this one if none is)."""
+        parser: _Parser = self
+        for word in program.split()[1:]:
+            choices = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+            child = choices[0].choices.get(word) if choices else None
+            if not isinstance(child, _Parser):
+                break
+            parser = child
+        return parser
 
 
 #: Exit status after SIGINT (128 + 2, as the shell reports an interrupted process).
@@ -143,12 +189,8 @@ def _one_line_warnings(program: str) -> Callable[..., None]:
         file: TextIO | None = None,
         line: str | None = None,
     ) -> None:
-        with contextlib.suppress(OSError, ValueError):
-            print(
-                f"{program}: warning: {message} ({category.__name__}, "
-                f"{Path(filename).name}:{lineno})",
-                file=sys.stderr,
-            )
+        with contextlib.suppress(OSError, ValueError):  # no internal file.py:line for users
+            print(f"{program}: warning: {message}", file=sys.stderr)
 
     return show
 

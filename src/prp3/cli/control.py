@@ -29,6 +29,7 @@ from ..control import (
     DEFAULT_KD,
     DEFAULT_KP,
     DEFAULT_RATE,
+    LOAD_REFUSAL,
     PLANTS,
     Gains,
     Tracking,
@@ -38,7 +39,7 @@ from ..control import (
     law_at,
     track,
 )
-from ..errors import SingularPoseError, UnreachablePoseError
+from ..errors import SingularPoseError, TrajectoryError, UnreachablePoseError
 from ..geometry import LEGS, inverse_geometry
 from ..io import (
     check_inputs_kept,
@@ -182,6 +183,11 @@ def run(args: argparse.Namespace) -> int:
         model_text = "model = the plant's robot"
     if args.trajectory is not None:
         trajectory = read_trajectory(args.trajectory)
+        if trajectory.motion.load is not None:
+            raise TrajectoryError(
+                f"prp3 control does not use the load columns: {LOAD_REFUSAL}",
+                file=trajectory.path,
+            )
         note = trajectory.note
         motion = trajectory.motion
         try:
@@ -272,7 +278,7 @@ def _summary(
             if args.controller == "feedforward"
             else f"; gains KP = {args.kp:g} 1/s^2, KD = {args.kd:g} 1/s"
         ),
-        f"  {result.message}",
+        *([f"  {result.message}"] if result.status == "completed" else []),  # else a warning
         f"  {'tracking error':<18}" + "".join(f"{h:>14}" for h in ("x (m)", "y (m)", "phi (rad)")),
         row("max |error|", result.max_error),
         row("RMS error", result.rms_error),

@@ -20,13 +20,21 @@ import contextlib
 import importlib.util
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from ..design import AGGREGATES, SweepSpec, design_robot, quantity, read_sweep_spec
 from ..errors import Prp3Error
-from ..io import check_inputs_kept, check_output_directory, staged_output, write_table_csv
+from ..io import (
+    atomic_writer,
+    check_inputs_kept,
+    check_output_directory,
+    format_float,
+    staged_output,
+)
 from ._types import emit, files_report, integer_at_least, path_name
 from .simulate import Progress
 
@@ -109,11 +117,13 @@ def register(subparsers: Any) -> None:
     sweep.add_argument(
         "--pareto", metavar="X,Y",
         help="columns of the Pareto front, each may end with :max or :min (default: "
-        "workspace_area:max,peak_f10 with a stroke, else the first parameter and peak_f10)",
+        "workspace_area:max,peak_f10 with a stroke, else the first parameter and peak_f10); "
+        "only with --plots",
     )  # fmt: skip
     sweep.add_argument(
-        "--sensitivity", metavar="COLUMN", default="peak_f10",
-        help="quantity of the sensitivity plots (default peak_f10, the largest of legs A, B, C)",
+        "--sensitivity", metavar="COLUMN",
+        help="quantity of the sensitivity plots (default peak_f10, the largest of legs A, B, C); "
+        "only with --plots",
     )  # fmt: skip
     sweep.set_defaults(handler=run_sweep)
 
@@ -183,6 +193,12 @@ def run_sweep(args: argparse.Namespace) -> int:
     from .. import sweep
 
     _require_design_extra()
+    for option, value in (("--pareto", args.pareto), ("--sensitivity", args.sensitivity)):
+        if value is not None and not args.plots:
+            raise Prp3Error(
+                f"{option} {value} applies to the figures only: add --plots, or leave {option} out"
+            )
+    args.sensitivity = args.sensitivity or "peak_f10"
     spec = _read_spec(args)
     output: Path = args.output
     check_output_directory(output)
@@ -227,7 +243,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     statuses = ", ".join(f"{count} {name}" for name, count in sorted(result.status.items()))
     reused = result.chunks - result.computed
     lines = [
-        f"prp3 sweep: {result.rows} designs ({spec.sampling}, {len(spec.parameters)} parameters) "
+        f"prp3 sweep: {result.rows} designs ({spec.sampling}, {_count(len(spec.parameters))}) "
         f"on {', '.join(spec.motions)}: {statuses}",
         f"  {result.computed} of {result.chunks} chunks computed"
         + (f", {reused} found done" if reused else "")
@@ -238,6 +254,29 @@ def run_sweep(args: argparse.Namespace) -> int:
     ]
     emit("\n".join(lines))
     return 0
+
+
+def _count(parameters: int) -> str:
+    """``"1 parameter"``, ``"2 parameters"``.
+
+    >>> _count(1), _count(3)
+    ('1 parameter', '3 parameters')
+    """
+    return f"{parameters} parameter{'' if parameters == 1 else 's'}"
+
+
+def _write_history(path: Path, history: Mapping[str, Any]) -> None:
+    """``history.csv``: the generation as an integer, every other number in full precision."""
+    names = list(history)
+    columns = [np.asarray(history[name], dtype=np.float64).tolist() for name in names]
+    with atomic_writer(path) as stream:
+        stream.write(",".join(names) + "\n")
+        for row in zip(*columns, strict=True):
+            cells = [
+                str(int(value)) if name == "generation" else format_float(value)
+                for name, value in zip(names, row, strict=True)
+            ]
+            stream.write(",".join(cells) + "\n")
 
 
 def run_optimize(args: argparse.Namespace) -> int:
@@ -256,7 +295,7 @@ def run_optimize(args: argparse.Namespace) -> int:
     robot = design_robot(spec.evaluator.nominal, spec.paths, outcome.x.tolist())
     settings = spec.optimize
     lines = [
-        f"prp3 optimize: minimise {settings.objective} over {len(spec.parameters)} parameters, "
+        f"prp3 optimize: minimise {settings.objective} over {_count(len(spec.parameters))}, "
         f"{outcome.generations} generations, {outcome.evaluations} designs, {elapsed:.3g} s "
         f"({outcome.message})",
     ]
@@ -274,7 +313,7 @@ def run_optimize(args: argparse.Namespace) -> int:
         lines.append(f"  {name} = {value:.9g}  (required {low:g} .. {high:g})")
     with staged_output(output) as staged:
         staged.path("ROBOT.toml").write_text(robot.to_toml(), encoding="utf-8")
-        write_table_csv(staged.path("history.csv"), outcome.history)
+        _write_history(staged.path("history.csv"), outcome.history)
         # the summary goes out before the files are moved in: a failing standard
         # output then leaves the earlier results in place
         emit("\n".join(lines + files_report(staged)))

@@ -231,8 +231,9 @@ def register(subparsers: Any) -> None:
         "--frames",
         metavar="N",
         type=integer_at_least(2),
-        help=f"largest number of frames of the animation (default {MAX_FRAMES}); "
-        "only with --animate",
+        help=f"largest number of frames of the animation (default {MAX_FRAMES}); fewer when "
+        "the motion has fewer samples or frames would last under 30 ms (real time; a warning "
+        "says so); only with --animate",
     )
     parser.set_defaults(handler=run)
 
@@ -291,6 +292,26 @@ def near_lock_note(samples: list[int], motion: Motion, trajectory: Trajectory | 
         + ", ".join(shown)
         + "; see docs/loads_and_friction.md"
     )
+
+
+def _fewer_frames(asked: int, motion: Motion, made: int) -> str:
+    """Why the animation has ``made`` frames, fewer than ``--frames asked``.
+
+    >>> from prp3.motion import paper_motion
+    >>> print(_fewer_frames(301, paper_motion("vertical", 301), 101))
+    ... # doctest: +NORMALIZE_WHITESPACE
+    --frames 301: the animation has 101 frames: it plays the motion in real time (3 s) and
+    shows a frame for 30 ms on average at least (a GIF counts hundredths of a second)
+    """
+    duration = float(motion.t[-1] - motion.t[0])
+    if motion.samples < asked and made >= motion.samples:
+        why = f"the motion has {motion.samples} samples"
+    else:
+        why = (
+            f"it plays the motion in real time ({duration:.6g} s) and shows a frame for 30 ms on "
+            "average at least (a GIF counts hundredths of a second)"
+        )
+    return f"--frames {asked}: the animation has {made} frames: {why}"
 
 
 def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
@@ -365,6 +386,9 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
             from ..plotting.animation import frame_schedule, save_animation
 
             indices, durations = frame_schedule(motion.t, frames)
+            if args.frames is not None and len(indices) < args.frames:
+                print(f"{args.program}: warning: {_fewer_frames(args.frames, motion, len(indices))}",
+                      file=stderr)  # fmt: skip
             shown = Motion(
                 t=motion.t[indices],
                 pose=motion.pose[indices],

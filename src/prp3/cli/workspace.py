@@ -28,6 +28,7 @@ from ..geometry import SINGULARITY_THRESHOLD
 from ..io import check_output_directory, staged_output, write_table_csv
 from ..model import Robot
 from ..runs import check_memory
+from ..validation import POSE_BOUND
 from ..workspace import (
     OrientationScan,
     WorkspaceSlice,
@@ -259,12 +260,25 @@ def run(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     robot = load_robot(args)
+    try:
+        orientation_range(robot)  # refuses a stroke beyond the bounds of the poses
+    except ParameterError as error:
+        if args.robot is None:
+            raise
+        raise error.located(file=args.robot) from None
     if args.extent is not None:
         xmin, xmax, ymin, ymax = args.extent
         if not (xmin < xmax and ymin < ymax):
             raise ParameterError(
                 f"--extent must be XMIN XMAX YMIN YMAX with XMIN < XMAX and YMIN < YMAX, got "
                 f"{' '.join(repr(v) for v in args.extent)}"
+            )
+        reach = POSE_BOUND * robot.l0
+        if max(abs(v) for v in args.extent) > reach:
+            raise ParameterError(
+                f"--extent {' '.join(repr(v) for v in args.extent)} reaches beyond "
+                f"{POSE_BOUND:g}*l0 = {reach:g} m (l0 = {robot.l0:g} m), farther than prp3 "
+                "computes poses: give a window within that bound"
             )
     else:
         xmin, xmax, ymin, ymax = default_extent(robot)
