@@ -42,6 +42,7 @@ import prp3.model
 import prp3.motion
 import prp3.paper
 import prp3.paper_kinematics
+import prp3.paper_wrenches
 import prp3.runs
 import prp3.workspace
 from prp3.errors import Prp3Error
@@ -63,6 +64,7 @@ MODULES = (
     "prp3.newton_euler_solver",
     "prp3.paper",
     "prp3.paper_kinematics",
+    "prp3.paper_wrenches",
     "prp3.runs",
     "prp3.workspace",
 )
@@ -128,6 +130,7 @@ EXEMPT: dict[str, str] = {
     "paper_accelerations": "stage of the paper's method (internal numerics)",
     "virtual_velocities": "stage of the paper's method (internal numerics)",
     "fixed_frame_kinematics": "stage of the paper's method (internal numerics)",
+    "body_constants": "stage of the paper's method (takes a validated Robot)",
     "weight_wrenches": "stage of the paper's method (internal numerics)",
     "inertia_wrenches": "stage of the paper's method (internal numerics)",
     "chain_wrenches": "stage of the paper's method (internal numerics)",
