@@ -33,7 +33,7 @@ t,x
 from __future__ import annotations
 
 import csv
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -44,6 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import InputFileError, OutputFileError, Prp3Error, TrajectoryError
 from .files import (
     MANIFEST_NAME,
+    MAX_LINE_BYTES,
     StagedOutput,
     atomic_path,
     atomic_writer,
@@ -300,8 +301,36 @@ def _is_blank(line: str) -> bool:
     return not line.strip(" \t\r\n,")
 
 
+def _records(path: Path, lines: Iterator[str]) -> Iterator[tuple[int, str]]:
+    """``(first line, text)`` of each non-blank CSV record of ``lines``.
+
+    A record goes on over the next lines while a quoted cell is open (an odd
+    number of ``"`` so far, as ``csv`` and ``numpy.loadtxt`` read quotes), so
+    that its line is the file line where it starts; a record longer than a
+    line may be (:data:`prp3.files.MAX_LINE_BYTES`) is refused.
+    """
+    record, start = "", 0
+    for number, line in enumerate(lines, 1):
+        if not record:
+            start = number
+        record += line
+        if record.count('"') % 2:
+            if len(record) > MAX_LINE_BYTES:
+                raise InputFileError(
+                    f"malformed CSV (a quoted cell still open after {MAX_LINE_BYTES} characters)",
+                    file=path,
+                    line=start,
+                )
+            continue
+        if not _is_blank(record):
+            yield start, record
+        record = ""
+    if record and not _is_blank(record):
+        yield start, record
+
+
 def _cells(line: str) -> list[str]:
-    """The cells of one CSV line (quotes as ``numpy.loadtxt`` reads them: ``"``)."""
+    """The cells of one CSV record (quotes as ``numpy.loadtxt`` reads them: ``"``)."""
     return next(csv.reader([line.rstrip("\r\n")]), [])
 
 
@@ -360,15 +389,11 @@ def _block(path: Path, header: list[str], lines: list[str], numbers: list[int]) 
 
 
 def _read_table(path: Path, required: Sequence[str], optional: Sequence[str], what: str) -> _Table:
-    lines = read_text_lines(path, what)  # bounded; \n, \r\n or \r line ends
-    number = 0
-    for line in lines:
-        number += 1
-        if not _is_blank(line):
-            header_line, header = number, [cell.strip() for cell in _cells(line)]
-            break
-    else:
+    records = _records(path, read_text_lines(path, what))  # bounded; \n, \r\n or \r line ends
+    first = next(records, None)
+    if first is None:
         raise InputFileError(f"empty {what} file (expected a header row)", file=path)
+    header_line, header = first[0], [cell.strip() for cell in _cells(first[1])]
     allowed = list(required) + list(optional)
     for name in header:
         if name not in allowed:
@@ -394,11 +419,8 @@ def _read_table(path: Path, required: Sequence[str], optional: Sequence[str], wh
     blocks: list[FloatArray] = []
     numbers: list[int] = []
     pending: list[str] = []
-    for line in lines:
-        number += 1
-        if _is_blank(line):
-            continue
-        pending.append(line)
+    for number, record in records:
+        pending.append(record)
         numbers.append(number)
         if len(pending) == _READ_BLOCK:
             blocks.append(_block(path, header, pending, numbers[-len(pending) :]))
