@@ -11,6 +11,12 @@
   frames; the virtual velocities against the real ones (eq. 14 is eq. 15 with the
   real rates) and against the sleeve constraints written in the plane; the body
   wrenches against m(a − g) of the reference body states.
+* Eq. (5), the orientation condition, solved for q21 (whence φ21 = φ, eq. 7) for
+  any φ in ±100 rad and at random poses, against the matrices written out here.
+* ``--method paper`` whole (``paper_method``): its kinematics against the reference
+  geometry, rates and body states of tests/strategies.py and the kernel's, and
+  against finite differences of its own positions; results.csv of ``--method
+  paper`` from the paper's recursion alone (the kernel's kinematics disabled).
 """
 
 from __future__ import annotations
