@@ -369,7 +369,9 @@ def _block(path: Path, header: list[str], lines: list[str], numbers: list[int]) 
             raise InputFileError(
                 f"expected {width} values, got {len(cells)}", file=path, line=number
             )
-        c = next((c for c in range(width) if _parsed([line], width, usecols=c) is None), 0)
+        c = next((c for c in range(width) if _parsed([line], width, usecols=c) is None), None)
+        if c is None:  # each cell alone is a number, the row is not (quotes misplaced)
+            raise InputFileError("malformed CSV row", file=path, line=number)
         raise InputFileError(
             f"column {header[c]!r}: not a number: {cells[c].strip()[:40]!r}",
             file=path,
