@@ -40,7 +40,7 @@ from prp3 import (
     newton_euler,
 )
 from prp3.motion import law_motion, paper_motion
-from prp3.paper import paper_inverse_dynamics
+from prp3.paper import paper_inverse_dynamics, paper_method
 from prp3.results import RESULT_COLUMNS, results_table
 from strategies import (
     REF_E,
@@ -95,6 +95,7 @@ def test_inverse_dynamics_dispatches_to_both_methods(
     robot, analytic = scenario
     motion = analytic.motion(np.linspace(0.0, analytic.duration, 3))
     kin = inverse_kinematics(robot, motion)
+    paper_kin, _ = paper_method(robot, motion)  # the paper's own kinematics (eqs. 10–18)
     for method, solver in (
         ("fast", kernel_method),
         ("paper", lambda r, k: paper_inverse_dynamics(r, k.motion)),
@@ -103,7 +104,9 @@ def test_inverse_dynamics_dispatches_to_both_methods(
         kin_out, dyn = inverse_dynamics(robot, motion, method=method)  # type: ignore[arg-type]
         expected = solver(robot, kin)
         assert dyn.method == method
-        np.testing.assert_array_equal(kin_out.dlambda10, kin.dlambda10)
+        own = paper_kin if method == "paper" else kin
+        np.testing.assert_array_equal(kin_out.dlambda10, own.dlambda10)
+        np.testing.assert_array_equal(kin_out.geometry.lambda10, own.geometry.lambda10)
         for name in QUANTITIES:
             np.testing.assert_array_equal(getattr(dyn, name), getattr(expected, name))
     assert METHODS == ("fast", "paper", "newton-euler")

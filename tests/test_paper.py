@@ -11,6 +11,12 @@
   frames; the virtual velocities against the real ones (eq. 14 is eq. 15 with the
   real rates) and against the sleeve constraints written in the plane; the body
   wrenches against m(a − g) of the reference body states.
+* Eq. (5), the orientation condition, solved for q21 (whence φ21 = φ, eq. 7) for
+  any φ in ±100 rad and at random poses, against the matrices written out here.
+* ``--method paper`` whole (``paper_method``): its kinematics against the reference
+  geometry, rates and body states of tests/strategies.py and the kernel's, and
+  against finite differences of its own positions; results.csv of ``--method
+  paper`` from the paper's recursion alone (the kernel's kinematics disabled).
 """
 
 from __future__ import annotations
@@ -19,7 +25,8 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import prp3
 from prp3 import (
@@ -37,8 +44,10 @@ from prp3.paper import (
     MAX_RECORDED_SAMPLES,
     RecursiveMatrixResult,
     paper_inverse_dynamics,
+    paper_method,
     recursive_matrix_method,
 )
+from prp3.paper_kinematics import orientation_condition
 from strategies import (
     REF_ALPHA,
     REF_E,
@@ -48,6 +57,7 @@ from strategies import (
     body_states,
     cross,
     differentiate,
+    poses,
     ref_geometry,
     ref_rates,
     scenarios,
@@ -126,9 +136,6 @@ def test_forces_agree_with_newton_euler_and_the_other_methods(
     references = [inverse_dynamics(robot, motion, method="newton-euler")[1]]
     if "fast" in prp3.METHODS:  # the fused kernel, once it exists
         references.append(inverse_dynamics(robot, motion, method="fast")[1])  # type: ignore[arg-type]
-    old_planar = getattr(prp3.dynamics, "paper_method", None)  # the planar reformulation
-    if old_planar is not None:
-        references.append(old_planar(robot, prp3.inverse_kinematics(robot, motion)))
     for reference in references:
         assert_forces_agree(robot, motion, dyn, reference)
 
@@ -253,7 +260,13 @@ def test_frames_closure_and_geometry(scenario: tuple[Robot, AnalyticMotion]) -> 
     np.testing.assert_allclose(result.lambda10, ref.lambda10, rtol=0, atol=1e-14 * l0)
     np.testing.assert_allclose(result.lambda32, ref.lambda32, rtol=0, atol=1e-14 * l0)
     np.testing.assert_allclose(plane(result.position[:, :, 1]), ref.joint, rtol=0, atol=1e-14 * l0)
-    np.testing.assert_allclose(result.phi21, np.broadcast_to(phi[:, None], (6, 3)), atol=0)
+    # eq. (7) from eq. (5): φ21 = φ to round-off of φ
+    np.testing.assert_allclose(
+        result.phi21,
+        np.broadcast_to(phi[:, None], (6, 3)),
+        rtol=0,
+        atol=4e-16 * (1 + np.abs(phi).max()),
+    )
 
 
 # ------------------------------------------------------------------ kinematics, eqs. (11)–(18)
@@ -518,3 +531,174 @@ def test_errors_name_the_sample_across_chunks(monkeypatch: pytest.MonkeyPatch) -
     huge = Motion(t=motion.t, pose=motion.pose, velocity=motion.velocity, acceleration=acceleration)
     with pytest.raises(TrajectoryError, match=r"sample 9, t = 2\.7 s: the results overflow"):
         paper_inverse_dynamics(Robot(), huge)
+
+
+# ------------------------------------------------------------------ eq. (5), the orientation
+@settings(max_examples=60)
+@given(phi=st.lists(st.floats(-100.0, 100.0), min_size=1, max_size=8))
+def test_the_orientation_condition_gives_phi21_equal_phi(phi: list[float]) -> None:
+    # eq. (5) q30°ᵀ q30 = R = rot(φ), with q30 = q32 q21 q10 and q30° = θ1 θ2 θα^i
+    # (eq. 6), written out again here from the print; φ anywhere in ±100 rad.
+    angles = np.array(phi)
+    a21, phi21 = orientation_condition(angles)
+    theta_alpha = rot_z(REF_ALPHA)
+    q10, q32 = THETA_1 @ theta_alpha, THETA_1 @ THETA_2
+    q30 = q32 @ a21 @ q10
+    q30_circle = THETA_1 @ THETA_2 @ theta_alpha
+    R = rot_z(np.broadcast_to(angles[:, None], (len(phi), 3)))
+    np.testing.assert_allclose(np.swapaxes(q30_circle, -1, -2) @ q30, R, rtol=0, atol=2e-15)
+    # eq. (2): q21 = rot(φ21)·θ1ᵀ, and eq. (7): φ21 = φ for every leg
+    # (φ21 is φ to the round-off of φ: its sine and cosine to that too)
+    turn_by = 4e-16 * (1.0 + np.abs(angles).max())
+    np.testing.assert_allclose(a21, rot_z(phi21) @ THETA_1.T, rtol=0, atol=2e-15 + turn_by)
+    np.testing.assert_allclose(
+        phi21, np.broadcast_to(angles[:, None], phi21.shape), rtol=0,
+        atol=4e-16 * (1.0 + np.abs(angles).max()),
+    )  # fmt: skip
+
+
+@given(pose=poses())
+def test_the_frames_satisfy_eq_5_at_any_pose(pose: np.ndarray) -> None:
+    # the platform frame T3 of every leg is the fixed one turned by φ: a30 = q30°·rot(φ)
+    result = recursive_matrix_method(Robot(), Motion.at_rest(pose))
+    q30_circle = THETA_1 @ THETA_2 @ rot_z(REF_ALPHA)
+    np.testing.assert_allclose(
+        np.swapaxes(q30_circle, -1, -2) @ result.a0[:, 2],
+        np.broadcast_to(rot_z(pose[2]), (3, 3, 3)),
+        rtol=0,
+        atol=2e-15,
+    )
+    np.testing.assert_allclose(result.phi21, pose[2], rtol=0, atol=4e-16 * (1 + abs(pose[2])))
+
+
+# ------------------------------------------------------------------ --method paper, whole
+KINEMATICS_FIELDS = (
+    "dlambda10", "ddlambda10", "dlambda32", "ddlambda32", "dphi21", "ddphi21",
+    "joint_velocity", "joint_acceleration", "piston_com", "piston_velocity",
+    "piston_acceleration", "link_com", "link_velocity", "link_acceleration", "jacobian",
+)  # fmt: skip
+GEOMETRY_FIELDS = ("lambda10", "lambda32", "phi21", "joint", "slide", "slide_normal", "lever")
+
+
+@given(scenario=scenarios())
+def test_paper_kinematics_agree_with_the_references(
+    scenario: tuple[Robot, AnalyticMotion],
+) -> None:
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 7))
+    kin, dyn = paper_method(robot, motion)
+    l0 = robot.l0
+    # the independent geometry, rates and body states of tests/strategies.py
+    ref = ref_geometry(l0, motion.pose)
+    rates = ref_rates(l0, motion.pose, motion.velocity, motion.acceleration)
+    bodies = body_states(
+        robot, ref.lambda10, rates.dlambda10, rates.ddlambda10,
+        motion.pose, motion.velocity, motion.acceleration,
+    )  # fmt: skip
+    speed = np.abs(motion.velocity).max() * (1.0 + l0) + 1e-300
+    accel = (np.abs(motion.acceleration).max() + np.abs(motion.velocity).max() ** 2) * (1 + l0)
+    pairs = [
+        (kin.geometry.lambda10, ref.lambda10, l0),
+        (kin.geometry.lambda32, ref.lambda32, l0),
+        (kin.geometry.joint, ref.joint, l0),
+        (kin.geometry.slide, ref.slide, 1.0),
+        (kin.geometry.lever, ref.lever, l0),
+        (kin.geometry.slide_normal, turn(ref.slide), 1.0),
+        (kin.dlambda10, rates.dlambda10, speed),
+        (kin.dlambda32, rates.dlambda32, speed),
+        (kin.ddlambda10, rates.ddlambda10, accel),
+        (kin.ddlambda32, rates.ddlambda32, accel),
+        (kin.piston_com, bodies.piston, l0),
+        (kin.piston_velocity, bodies.piston_velocity, speed),
+        (kin.piston_acceleration, bodies.piston_acceleration, accel),
+        (kin.link_com, bodies.link, l0),
+        (kin.link_velocity, bodies.link_velocity, speed),
+        (kin.link_acceleration, bodies.link_acceleration, accel),
+        (kin.joint_velocity, bodies.piston_velocity, speed),
+    ]
+    for mine, theirs, scale in pairs:
+        np.testing.assert_allclose(mine, theirs, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(
+        kin.geometry.determinant, np.sin(motion.pose[:, 2] - math.pi / 3), rtol=0, atol=1e-15
+    )
+    # the Jacobian of eq. (14) maps the platform's rates to the actuators'
+    np.testing.assert_allclose(
+        np.einsum("nij,nj->ni", kin.jacobian, motion.velocity), rates.dlambda10,
+        rtol=0, atol=1e-12 * speed,
+    )  # fmt: skip
+    # and the kernel's kinematics, field by field
+    kernel = prp3.inverse_kinematics(robot, motion)
+    for name in KINEMATICS_FIELDS:
+        theirs = getattr(kernel, name)
+        scale = np.abs(theirs).max() + 1e-300
+        np.testing.assert_allclose(getattr(kin, name), theirs, rtol=0, atol=1e-12 * scale)
+    for name in GEOMETRY_FIELDS:
+        theirs = getattr(kernel.geometry, name)
+        np.testing.assert_allclose(getattr(kin.geometry, name), theirs, rtol=0, atol=1e-13)
+    # the forces are those of paper_inverse_dynamics, bit for bit
+    alone = paper_inverse_dynamics(robot, motion)
+    for name in QUANTITIES:
+        np.testing.assert_array_equal(getattr(dyn, name), getattr(alone, name))
+
+
+@given(scenario=scenarios(offsets=True))
+def test_paper_kinematics_are_derivatives(scenario: tuple[Robot, AnalyticMotion]) -> None:
+    # 6th-order central differences (h = 1e-3) of the paper's positions against its rates:
+    # truncation O(h⁶) plus round-off ≈ ε·|x|/h and ε·|x|/h².
+    robot, analytic = scenario
+    T = analytic.duration
+    t = np.linspace(0.1 * T, 0.9 * T, 4)
+    h = 1e-3
+    stencil, _ = paper_method(robot, analytic.motion(stencil_times(t, h)))
+    kin, _ = paper_method(robot, analytic.motion(t))
+    size = robot.l0 + np.abs(stencil.geometry.joint).max()
+    for position, velocity, acceleration in (
+        (stencil.geometry.lambda10, kin.dlambda10, kin.ddlambda10),
+        (stencil.geometry.lambda32, kin.dlambda32, kin.ddlambda32),
+        (stencil.geometry.joint, kin.joint_velocity, kin.joint_acceleration),
+        (stencil.piston_com, kin.piston_velocity, kin.piston_acceleration),
+        (stencil.link_com, kin.link_velocity, kin.link_acceleration),
+        (stencil.geometry.phi21, kin.dphi21, kin.ddphi21),
+    ):
+        first, second = differentiate(position, h, len(t))
+        np.testing.assert_allclose(
+            velocity, first, rtol=0, atol=1e-8 * (np.abs(first).max() + size)
+        )
+        np.testing.assert_allclose(
+            acceleration, second, rtol=0, atol=2e-5 * (np.abs(second).max() + size)
+        )
+
+
+def test_method_paper_writes_only_the_papers_numbers(monkeypatch: pytest.MonkeyPatch) -> None:
+    # --method paper: every column of results.csv from prp3.paper's recursion; with the
+    # kernel's kinematics and prp3.kinematics disabled, the same table, bit for bit.
+    from prp3.results import results_table
+    from prp3.runs import simulate_table
+
+    robot = Robot(gravity=(1.5, -9.81))
+    motion = paper_motion("rotation", samples=13)
+    recorded = recursive_matrix_method(robot, motion)
+    expected = results_table(*inverse_dynamics(robot, motion, "paper"))
+    for j, leg in enumerate("ABC"):
+        for column, value in (
+            ("lambda10", recorded.lambda10), ("dlambda10", recorded.v10),
+            ("ddlambda10", recorded.gamma10), ("lambda32", recorded.lambda32),
+            ("dlambda32", recorded.v32), ("ddlambda32", recorded.gamma32),
+            ("f10", recorded.f10), ("n32", recorded.n32),
+        ):  # fmt: skip
+            np.testing.assert_array_equal(expected[f"{column}_{leg}"], value[:, j])
+
+    def refused(*args: object, **kwargs: object) -> None:
+        raise AssertionError("--method paper used the kernel")
+
+    for module, name in (
+        (prp3.dynamics, "inverse_kinematics"),
+        (prp3.kinematics, "kernel_kinematics"),
+        (prp3.kinematics, "kernel_geometry"),
+        (prp3.geometry, "kernel_geometry"),
+    ):
+        monkeypatch.setattr(module, name, refused)
+    table = simulate_table(robot, motion, "paper", chunk=5)
+    assert list(table) == list(expected)
+    for name, column in expected.items():
+        np.testing.assert_array_equal(table[name], column)

@@ -41,6 +41,8 @@ import prp3.mjcf
 import prp3.model
 import prp3.motion
 import prp3.paper
+import prp3.paper_kinematics
+import prp3.paper_wrenches
 import prp3.runs
 import prp3.workspace
 from prp3.errors import Prp3Error
@@ -61,6 +63,8 @@ MODULES = (
     "prp3.motion",
     "prp3.newton_euler_solver",
     "prp3.paper",
+    "prp3.paper_kinematics",
+    "prp3.paper_wrenches",
     "prp3.runs",
     "prp3.workspace",
 )
@@ -82,6 +86,11 @@ EXEMPT: dict[str, str] = {
     "WorkspaceStatics": "result type",
     "Tracking": "result type",
     "RecursiveMatrixResult": "result type",
+    "PaperGeometry": "result type",
+    "PaperVelocities": "result type",
+    "PaperAccelerations": "result type",
+    "VirtualVelocities": "result type",
+    "FixedFrameKinematics": "result type",
     "RunSummary": "result type",
     "BaseParameters": "result type",
     "ExcitingTrajectory": "result type",
@@ -113,6 +122,20 @@ EXEMPT: dict[str, str] = {
     "skew": "3x3 matrix helper of the paper's method (internal numerics)",
     "vee": "3x3 matrix helper of the paper's method (internal numerics)",
     "theta_alpha": "3x3 matrix helper of the paper's method (internal numerics)",
+    "platform_centre": "constant vector of the paper's method (internal numerics)",
+    # the stages of the paper's method, on the arrays paper_method has validated
+    "orientation_condition": "stage of the paper's method (internal numerics)",
+    "paper_geometry": "stage of the paper's method (internal numerics)",
+    "paper_velocities": "stage of the paper's method (internal numerics)",
+    "paper_accelerations": "stage of the paper's method (internal numerics)",
+    "virtual_velocities": "stage of the paper's method (internal numerics)",
+    "fixed_frame_kinematics": "stage of the paper's method (internal numerics)",
+    "body_constants": "stage of the paper's method (takes a validated Robot)",
+    "weight_wrenches": "stage of the paper's method (internal numerics)",
+    "inertia_wrenches": "stage of the paper's method (internal numerics)",
+    "chain_wrenches": "stage of the paper's method (internal numerics)",
+    "virtual_work": "stage of the paper's method (internal numerics)",
+    "other_reactions": "stage of the paper's method (internal numerics)",
     "weighted_least_squares": "linear algebra on the validated regressor (internal)",
     "check_forward_friction": "a check itself (takes a validated Robot)",
     "check_stroke": "a check itself, called by inverse_geometry on validated arrays",
@@ -568,6 +591,12 @@ CASES: dict[str, Case] = {
     ),
     "paper_inverse_dynamics": _case(
         prp3.paper.paper_inverse_dynamics,
+        {"robot": OBJ, "motion": OBJ},
+        robot=ROBOT,
+        motion=_motion,
+    ),
+    "paper_method": _case(
+        prp3.paper.paper_method,
         {"robot": OBJ, "motion": OBJ},
         robot=ROBOT,
         motion=_motion,

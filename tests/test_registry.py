@@ -1,4 +1,4 @@
-"""One registry of the output quantities (``prp3.io.OUTPUT_QUANTITIES``).
+"""One registry of the output quantities (``prp3.results.OUTPUT_QUANTITIES``).
 
 The columns of ``results.csv``, the labels of the figures and the units of the
 run summary come from it: a quantity's unit or symbol is written once.  The
@@ -15,8 +15,8 @@ from hypothesis import given, settings
 
 import prp3
 from prp3.errors import ParameterError
-from prp3.io import OUTPUT_QUANTITIES, output_quantity, result_columns, results_table
 from prp3.model import Friction, JointFriction
+from prp3.results import OUTPUT_QUANTITIES, output_quantity, result_columns, results_table
 from prp3.runs import simulate_table, summarize, summary_text
 from strategies import scenarios
 

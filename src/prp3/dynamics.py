@@ -4,8 +4,8 @@ Three methods give the same numbers (``method`` of :func:`inverse_dynamics`):
 
 * ``"fast"`` — :func:`kernel_method`, the kernel's closed form of the paper's
   method (eqs. 10–25, :mod:`prp3.kernel`), the default;
-* ``"paper"`` — :func:`prp3.paper.paper_inverse_dynamics`, the paper's recursive 3×3
-  matrices as printed, with every intermediate quantity;
+* ``"paper"`` — :func:`prp3.paper.paper_method`, the paper's recursive 3×3
+  matrices as printed, kinematics and forces (nothing from the kernel);
 * ``"newton-euler"`` — :func:`prp3.newton_euler_solver.newton_euler`, the balances of
   the 7 bodies in maximal coordinates, one 21×21 solve per sample.
 
@@ -26,7 +26,7 @@ from .kinematics import Kinematics, inverse_kinematics
 from .model import Robot
 from .motion import Motion
 from .newton_euler_solver import newton_euler
-from .paper import paper_inverse_dynamics
+from .paper import paper_method
 from .validation import check_instance, check_path, check_robot
 
 __all__ = [
@@ -83,8 +83,9 @@ def inverse_dynamics(
         ``N`` samples or a single one.
     method : {"fast", "paper", "newton-euler"}
         :func:`kernel_method` (the kernel's closed form of eqs. 19–25, the
-        default), :func:`prp3.paper.paper_inverse_dynamics` (the paper's recursive 3×3
-        matrices as printed) or :func:`prp3.newton_euler_solver.newton_euler`.
+        default), :func:`prp3.paper.paper_method` (the paper's recursive 3×3
+        matrices as printed: its own kinematics too) or
+        :func:`prp3.newton_euler_solver.newton_euler`.
 
     Returns
     -------
@@ -101,9 +102,9 @@ def inverse_dynamics(
     if method not in METHODS:
         raise Prp3Error(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
     check_path(motion.t, motion.pose)  # no singular orientation between two samples
+    if method == "paper":
+        return paper_method(robot, motion)
     kin = inverse_kinematics(robot, motion)
     if method == "fast":
         return kin, kernel_method(robot, kin)
-    if method == "paper":
-        return kin, paper_inverse_dynamics(robot, motion)
     return kin, newton_euler(robot, motion)

@@ -59,7 +59,10 @@ MAX_LINE_BYTES: int = 64 * 1024
 
 # ---------------------------------------------------------------- bounded input
 def read_text_lines(path: str | Path, what: str, limit: int | None = None) -> Iterator[str]:
-    """The lines of a UTF-8 text file (newlines kept, a BOM removed), read with bounds.
+    """The lines of a UTF-8 text file (line ends kept, a BOM removed), read with bounds.
+
+    A line ends at ``\n``, ``\r\n`` or a lone ``\r`` (old Mac files): Python's
+    universal newlines (``open(..., newline="")``), the ends kept as they are.
 
     Raises
     ------
@@ -71,8 +74,8 @@ def read_text_lines(path: str | Path, what: str, limit: int | None = None) -> It
     """
     path = Path(path)
     limit = MAX_INPUT_BYTES if limit is None else limit
-    try:
-        stream = open(path, "rb")  # closed by the with below
+    try:  # undecodable bytes kept as surrogates, to name the line they are on
+        stream = open(path, encoding="utf-8", errors="surrogateescape", newline="")
     except OSError as error:
         raise InputFileError(
             f"cannot read {what} file ({error.strerror or error})", file=path
@@ -82,16 +85,17 @@ def read_text_lines(path: str | Path, what: str, limit: int | None = None) -> It
         number = 0
         while True:
             try:
-                raw = stream.readline(MAX_LINE_BYTES + 1)
+                text = stream.readline(MAX_LINE_BYTES + 1)  # characters: at least as many bytes
             except OSError as error:
                 raise InputFileError(
                     f"cannot read {what} file ({error.strerror or error})", file=path
                 ) from None
-            if not raw:
+            if not text:
                 return
             number += 1
+            raw = text.encode("utf-8", "surrogateescape")  # the bytes of the file
             total += len(raw)
-            if b"\0" in raw:
+            if "\0" in text:
                 raise InputFileError(
                     f"{what} file contains NUL bytes: not a text file", file=path, line=number
                 )
@@ -108,8 +112,8 @@ def read_text_lines(path: str | Path, what: str, limit: int | None = None) -> It
                     line=number,
                 )
             try:
-                text = raw.decode("utf-8")
-            except UnicodeDecodeError:
+                text.encode("utf-8")
+            except UnicodeEncodeError:
                 raise InputFileError(
                     f"{what} file is not UTF-8 text", file=path, line=number
                 ) from None

@@ -1,15 +1,18 @@
-"""The file formats of prp3, in one place: CSV tables, ``TRAJ.csv``, ``results.csv``, forces.
+"""The file formats of prp3, in one place: CSV tables, ``TRAJ.csv``, forces, measurements.
 
 * :func:`write_table_csv` / :func:`read_table_csv`: numeric CSV tables with a
-  header row of column names, full-precision numbers (``repr(float)``),
-  written atomically, read strictly (known columns, numbers only; every error
-  names the file, the line and the column) and with bounds
-  (:mod:`prp3.files`).
-* ``TRAJ.csv`` of the data contract (``docs/model.md``; :func:`read_trajectory`, :func:`trajectory_table`): a platform
-  motion, columns :data:`POSITION_COLUMNS` and optionally
-  :data:`DERIVATIVE_COLUMNS`.
-* ``results.csv`` (:data:`RESULT_COLUMNS`, :func:`results_table`): the
-  kinematics and complete inverse dynamics of a run.
+  header row of column names, full-precision numbers (the shortest text that
+  reads back to the same float: Arrow's CSV writer, or ``repr``), written
+  atomically; read by ``numpy.loadtxt``, strictly (known columns, numbers only;
+  every error names the file, the line and the column) and with bounds
+  (:func:`prp3.files.read_text_lines`: size, line length, UTF-8; ``\n``,
+  ``\r\n`` and old Mac ``\r`` line ends).
+* ``TRAJ.csv`` of the data contract (``docs/model.md``; :func:`read_trajectory`,
+  :func:`trajectory_table`): a platform motion, columns :data:`POSITION_COLUMNS`
+  and optionally :data:`DERIVATIVE_COLUMNS`.
+* ``results.csv``: written by :func:`write_table_csv` (or
+  :func:`write_table_parquet`) from :func:`prp3.results.results_table`, whose
+  module holds the registry of its columns.
 * the forces table (:data:`FORCE_COLUMNS`, :func:`read_forces`): actuator
   force histories for ``prp3 forward``, or a whole ``results.csv``.
 
@@ -18,19 +21,18 @@ The files themselves (bounded reads, atomic and staged writes) are
 
 >>> import tempfile, pathlib
 >>> folder = pathlib.Path(tempfile.mkdtemp())
->>> write_table_csv(folder / "a.csv", {"t": np.array([0.0, 0.1]), "x": np.array([1.0, 2.0])})
+>>> write_table_csv(folder / "a.csv", {"t": np.array([0.5, 0.1]), "x": np.array([1.5, 2.25])})
 >>> print((folder / "a.csv").read_text(), end="")
 t,x
-0.0,1.0
-0.1,2.0
+0.5,1.5
+0.1,2.25
 >>> read_table_csv(folder / "a.csv", required=("t", "x"))["x"].tolist()
-[1.0, 2.0]
+[1.5, 2.25]
 """
 
 from __future__ import annotations
 
 import csv
-import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,17 +41,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .dynamics import InverseDynamics
 from .errors import (
     InputFileError,
     OutputFileError,
-    ParameterError,
     Prp3Error,
     SingularPoseError,
     TrajectoryError,
 )
 from .files import (
     MANIFEST_NAME,
+    MAX_LINE_BYTES,
     StagedOutput,
     atomic_path,
     atomic_writer,
@@ -61,26 +62,20 @@ from .files import (
 )
 from .forward import ActuatorForces
 from .geometry import LEGS
-from .kinematics import Kinematics
 from .motion import Motion, differentiate_positions, spline_derivatives
+from .results import FRICTION_COLUMNS, RESULT_COLUMNS
 from .validation import check_path
 
 __all__ = [
     "DERIVATIVE_COLUMNS",
     "FORCE_COLUMNS",
-    "FRICTION_COLUMNS",
     "LOAD_COLUMNS",
-    "LOAD_RESULT_COLUMNS",
     "MANIFEST_NAME",
     "MEASURED_FORCE_COLUMNS",
-    "OUTPUT_QUANTITIES",
-    "PER_LEG_COLUMNS",
     "POSITION_COLUMNS",
-    "RESULT_COLUMNS",
     "TRAJECTORY_COLUMNS",
     "ForceInput",
     "Measurements",
-    "OutputQuantity",
     "StagedOutput",
     "Trajectory",
     "atomic_path",
@@ -90,15 +85,12 @@ __all__ = [
     "differentiate_positions",
     "format_float",
     "format_floats",
-    "output_quantity",
     "parquet_available",
     "read_forces",
     "read_manifest",
     "read_measurements",
     "read_table_csv",
     "read_trajectory",
-    "result_columns",
-    "results_table",
     "staged_output",
     "trajectory_table",
     "write_table_csv",
@@ -126,8 +118,8 @@ _ROWS_PER_BLOCK = 20_000
 #: Rows per block when Arrow makes the text (bounds the memory of the texts).
 _ARROW_ROWS_PER_BLOCK = 100_000
 
-#: Rows parsed per block by :func:`read_table_csv`.
-_READ_BLOCK = 65_536
+#: Data lines read per ``numpy.loadtxt`` call by :func:`read_table_csv` (bounds the texts held).
+_READ_BLOCK = 4096
 
 ProgressCallback = Callable[[int, int], None]
 
@@ -152,12 +144,13 @@ def write_table_csv(
 ) -> None:
     """Write named columns ``(N,)`` (or scalars) as CSV, full precision, atomically.
 
-    Every number is written as ``repr(float)`` (:func:`format_float`), the
-    shortest text that reads back to the same float.  With pyarrow installed
-    the texts are made by Arrow's shortest round-trip conversion, laid out as
-    ``repr`` lays them out (:func:`format_floats`), and written by Arrow's CSV
-    writer: byte for byte the same file, about 3 times faster.  ``progress(rows_done,
-    rows)`` is called after each block of rows when given.
+    Every number is written as the shortest decimal text that reads back to
+    the very same float.  With pyarrow installed, Arrow's CSV writer writes the
+    float64 columns itself (its shortest round-trip conversion: the digits of
+    ``repr``, laid out its own way, e.g. ``2``, ``0.00001``, ``1e+16``); else
+    Python writes ``repr`` of each float (``2.0``, ``1e-05``, ``1e+16``).  Both
+    read back bit for bit (:func:`format_floats` gives the texts).
+    ``progress(rows_done, rows)`` is called after each block of rows when given.
     """
     names = list(table)
     columns = [np.atleast_1d(np.asarray(table[name], dtype=np.float64)) for name in names]
@@ -198,108 +191,24 @@ def _pyarrow() -> Any:
     return pyarrow
 
 
-#: ``repr`` writes ``|x|`` in positional notation from this double up (and 0)...
-_POSITIONAL_FROM: float = 1e-4
-#: ... to below this one; in scientific notation with 2 or 3 exponent digits otherwise.
-_POSITIONAL_BELOW: float = 1e16
-#: Scientific texts of ``|x|`` from here to ``_POSITIONAL_FROM`` have 1-digit exponents in Arrow.
-_TWO_DIGIT_EXPONENT_BELOW: float = 1e-9
-
-
-def _arrow_texts(column: FloatArray) -> Any:
-    """``repr`` of every float of ``column`` (N,), as a ``pyarrow.StringArray``.
-
-    Arrow casts a double to its shortest round-trip decimal digits (the digits
-    ``repr`` gives: the shortest text that reads back, the closest one to the
-    double when there are several) but lays them out its own way.  Which
-    layout ``repr`` uses is decided from the value: positional notation exactly
-    for ``1e-4 <= |x| < 1e16`` (a double below ``1e-4`` cannot have the
-    shortest text ``0.0001``, which reads back to the double ``1e-4``;
-    likewise at ``1e16``, exactly representable), scientific notation with at
-    least two exponent digits otherwise.  So Arrow's text is kept where it has
-    ``repr``'s notation: positional with a fraction, or scientific with a
-    two-digit exponent (``|x| < 1e-9`` or ``|x| >= 1e16``).  The others are
-    rewritten: zeros become ``0.0`` and ``-0.0``; positional integral values
-    get ``repr``'s ``.0``; ``1e-9 <= |x| < 1e-4`` (Arrow writes ``0.0000123``
-    or ``1.5e-8``) is moved to ``repr``'s ``1.23e-05`` and ``1.5e-08`` by
-    regular expressions on the digits, each result checked against the only
-    form it can have; anything else (Arrow's scientific texts from ``1e15`` to
-    ``1e16``, non-finite numbers, a text that failed the check) is formatted
-    by ``repr`` itself.  The tests hold the result to ``repr`` byte for byte.
-    """
-    pa = _pyarrow()
-    pc = pa.compute
-    size = column.size
-    zero = column == 0.0
-    zeros = pa.array(["0.0", "-0.0"], type=pa.string())
-    if zero.all():  # a common column (x = 0, m10 = 0, ...): no conversion at all
-        return pc.take(zeros, pa.array(np.signbit(column).astype(np.int8)))
-    magnitude = np.abs(column)
-    text = pc.cast(pa.array(column, type=pa.float64()), pa.string())
-    scientific = np.asarray(pc.match_substring(text, "e"), dtype=bool)
-    with np.errstate(invalid="ignore"):
-        positional = (magnitude >= _POSITIONAL_FROM) & (magnitude < _POSITIONAL_BELOW)
-        integral = column == np.trunc(column)
-        small = (magnitude >= _TWO_DIGIT_EXPONENT_BELOW) & (magnitude < _POSITIONAL_FROM)
-        two_digits = (magnitude < _TWO_DIGIT_EXPONENT_BELOW) | (magnitude >= _POSITIONAL_BELOW)
-    kept = (positional & ~scientific & ~integral) | (scientific & two_digits & ~zero)
-    if kept.all():
-        return text
-    indices: list[Any] = []
-    replacements: list[Any] = []
-
-    def replace(where: NDArray[np.bool_], texts: Any) -> None:
-        indices.append(np.flatnonzero(where))
-        replacements.append(texts)
-
-    if zero.any():
-        replace(zero, pc.take(zeros, pa.array(np.signbit(column[zero]).astype(np.int8))))
-    whole = positional & ~scientific & integral
-    if whole.any():
-        replace(whole, pc.binary_join_element_wise(pc.filter(text, pa.array(whole)), ".0", ""))
-    rest = ~(kept | zero | whole)
-    if (small & rest).any():
-        subset = small & rest
-        moved = pc.filter(text, pa.array(subset))
-        for zeros, exponent in (("0000", "05"), ("00000", "06"), ("000000", "07")):
-            # 0.0000123 -> 1.23e-05, 0.00001 -> 1e-05 (the first digit after the zeros is 1-9)
-            pattern = f"^(-?)0\\.{zeros}([1-9])"
-            moved = pc.replace_substring_regex(moved, pattern + "$", f"\\1\\2e-{exponent}")
-            moved = pc.replace_substring_regex(
-                moved, pattern + "([0-9]+)$", f"\\1\\2.\\3e-{exponent}"
-            )
-        moved = pc.replace_substring_regex(moved, "e-([5-9])$", "e-0\\1")  # 1.5e-8 -> 1.5e-08
-        good = np.asarray(
-            pc.match_substring_regex(moved, "^-?[1-9](\\.[0-9]*[1-9])?e-0[5-9]$"), dtype=bool
-        )
-        positions = np.flatnonzero(subset)
-        replace(np.isin(np.arange(size), positions[good]), pc.filter(moved, pa.array(good)))
-        rest[positions[good]] = False
-    if rest.any():
-        replace(rest, pa.array([repr(value) for value in column[rest].tolist()], type=pa.string()))
-    where = np.concatenate(indices)
-    order = np.argsort(where, kind="stable")
-    values = pc.take(pa.concat_arrays(replacements), pa.array(order))
-    mask = np.zeros(size, dtype=bool)
-    mask[where] = True
-    return pc.replace_with_mask(text, pa.array(mask), values)
-
-
 def format_floats(values: ArrayLike) -> list[str]:
-    """``repr`` of every float of a 1-d array, the way :func:`write_table_csv` writes them.
+    """The texts :func:`write_table_csv` writes for the floats of a 1-d array.
 
-    With pyarrow installed the texts come from Arrow's shortest round-trip
-    conversion (see ``_arrow_texts``), else from ``repr``; they are the same.
+    With pyarrow installed, Arrow's shortest round-trip conversion (the one its
+    CSV writer uses), else ``repr``: the same decimal numbers, each reading
+    back to its float.
 
-    >>> format_floats([0.1, 2.0, -0.0, 1e-05, 5e-324, 1e300, 1234.5])
-    ['0.1', '2.0', '-0.0', '1e-05', '5e-324', '1e+300', '1234.5']
+    >>> values = [0.1, 2.0, -0.0, 1e-05, 5e-324, 1e300, 1234.5]
+    >>> [float(text) for text in format_floats(values)] == values
+    True
     """
     column = np.atleast_1d(np.asarray(values, dtype=np.float64))
     if column.ndim != 1:
         raise ValueError(f"format_floats takes a 1-d array, got shape {column.shape}")
-    if column.size == 0 or _pyarrow() is None:
+    pa = _pyarrow()
+    if column.size == 0 or pa is None:
         return [repr(value) for value in column.tolist()]
-    return list(_arrow_texts(column).to_pylist())
+    return list(pa.compute.cast(pa.array(column, type=pa.float64()), pa.string()).to_pylist())
 
 
 def _write_csv_arrow(
@@ -308,18 +217,18 @@ def _write_csv_arrow(
     columns: list[FloatArray],
     progress: ProgressCallback | None,
 ) -> None:
-    """The CSV text of :func:`_write_csv_python`, made and written by Arrow, block by block."""
+    """The float64 columns written by Arrow's CSV writer, block by block, after the header."""
     pa = _pyarrow()
     rows = len(columns[0])
-    schema = pa.schema([(name, pa.string()) for name in names])
+    schema = pa.schema([(name, pa.float64()) for name in names])
     options = pa.csv.WriteOptions(include_header=False, quoting_style="none")
     with pa.OSFile(str(path), "wb") as sink:
         sink.write((",".join(names) + "\n").encode("utf-8"))
         with pa.csv.CSVWriter(sink, schema, write_options=options) as writer:
             for start in range(0, rows, _ARROW_ROWS_PER_BLOCK):
                 stop = min(start + _ARROW_ROWS_PER_BLOCK, rows)
-                texts = [_arrow_texts(column[start:stop]) for column in columns]
-                writer.write_batch(pa.record_batch(texts, schema=schema))
+                arrays = [pa.array(column[start:stop], type=pa.float64()) for column in columns]
+                writer.write_batch(pa.record_batch(arrays, schema=schema))
                 if progress is not None:
                     progress(stop, rows)
 
@@ -394,34 +303,106 @@ class _Table:
     header_line: int
 
 
-def _records(path: Path, what: str) -> Iterator[tuple[int, list[str]]]:
-    """``(first line, cells)`` of each non-blank CSV record of a bounded read of ``path``.
+def _is_blank(line: str) -> bool:
+    """A line without a value: whitespace and commas only (a spreadsheet's empty row)."""
+    return not line.strip(" \t\r\n,")
 
-    The line is the file line where the record starts, also when a quoted
-    cell spans several lines.
+
+def _records(path: Path, lines: Iterator[str]) -> Iterator[tuple[int, str]]:
+    """``(first line, text)`` of each non-blank CSV record of ``lines``.
+
+    A record goes on over the next lines while a quoted cell is open (an odd
+    number of ``"`` so far, as ``csv`` and ``numpy.loadtxt`` read quotes), so
+    that its line is the file line where it starts; a record longer than a
+    line may be (:data:`prp3.files.MAX_LINE_BYTES`) is refused.
     """
-    reader = csv.reader(read_text_lines(path, what))
-    line = 0
-    while True:
-        start = line + 1
-        try:
-            row = next(reader)
-        except StopIteration:
-            return
-        except csv.Error as error:  # e.g. a quoted cell longer than csv's field limit
-            raise InputFileError(f"malformed CSV ({error})", file=path, line=start) from None
-        line = reader.line_num
-        if any(cell.strip() for cell in row):
-            yield start, row
+    record, start = "", 0
+    for number, line in enumerate(lines, 1):
+        if not record:
+            start = number
+        record += line
+        if record.count('"') % 2:
+            if len(record) > MAX_LINE_BYTES:
+                raise InputFileError(
+                    f"malformed CSV (a quoted cell still open after {MAX_LINE_BYTES} characters)",
+                    file=path,
+                    line=start,
+                )
+            continue
+        if not _is_blank(record):
+            yield start, record
+        record = ""
+    if record and not _is_blank(record):
+        yield start, record
+
+
+def _cells(line: str) -> list[str]:
+    """The cells of one CSV record (quotes as ``numpy.loadtxt`` reads them: ``"``)."""
+    return next(csv.reader([line.rstrip("\r\n")]), [])
+
+
+def _parsed(lines: list[str], width: int, usecols: int | None = None) -> FloatArray | None:
+    """``numpy.loadtxt`` of CSV lines, ``(len(lines), width)``; ``None`` if it refuses them."""
+    try:
+        values = np.loadtxt(
+            lines, dtype=np.float64, delimiter=",", comments=None, quotechar='"',
+            ndmin=2, usecols=usecols,
+        )  # fmt: skip
+    except ValueError:
+        return None
+    return values if usecols is not None or values.shape[1] == width else None
+
+
+def _block(path: Path, header: list[str], lines: list[str], numbers: list[int]) -> FloatArray:
+    """The numbers of a block of data lines, or the error naming the first bad cell.
+
+    ``numpy.loadtxt`` reads the block; when it refuses it, the first line it
+    refuses is found by bisection (each prefix read again) and the cell by
+    reading that line's columns one at a time, so that what is refused is
+    what ``numpy.loadtxt`` refuses.
+    """
+    width = len(header)
+    values = _parsed(lines, width)
+    if values is None:
+        good, bad = 0, len(lines)  # lines[:good] are read, lines[:bad] are refused
+        while bad - good > 1:
+            middle = (good + bad) // 2
+            good, bad = (
+                (middle, bad) if _parsed(lines[:middle], width) is not None else (good, middle)
+            )
+        line, number = lines[bad - 1], numbers[bad - 1]
+        cells = _cells(line)
+        if len(cells) != width:
+            raise InputFileError(
+                f"expected {width} values, got {len(cells)}", file=path, line=number
+            )
+        c = next((c for c in range(width) if _parsed([line], width, usecols=c) is None), None)
+        if c is None:  # each cell alone is a number, the row is not (quotes misplaced)
+            raise InputFileError("malformed CSV row", file=path, line=number)
+        raise InputFileError(
+            f"column {header[c]!r}: not a number: {cells[c].strip()[:40]!r}",
+            file=path,
+            line=number,
+            key=header[c],
+        )
+    finite = np.isfinite(values)
+    if not finite.all():
+        row, c = (int(k) for k in np.argwhere(~finite)[0])
+        raise InputFileError(
+            f"column {header[c]!r}: not a finite number: {_cells(lines[row])[c].strip()[:40]!r}",
+            file=path,
+            line=numbers[row],
+            key=header[c],
+        )
+    return values
 
 
 def _read_table(path: Path, required: Sequence[str], optional: Sequence[str], what: str) -> _Table:
-    records = _records(path, what)
+    records = _records(path, read_text_lines(path, what))  # bounded; \n, \r\n or \r line ends
     first = next(records, None)
     if first is None:
         raise InputFileError(f"empty {what} file (expected a header row)", file=path)
-    header_line, raw_header = first
-    header = [cell.strip() for cell in raw_header]
+    header_line, header = first[0], [cell.strip() for cell in _cells(first[1])]
     allowed = list(required) + list(optional)
     for name in header:
         if name not in allowed:
@@ -444,41 +425,17 @@ def _read_table(path: Path, required: Sequence[str], optional: Sequence[str], wh
     missing = [name for name in required if name not in seen]
     if missing:
         raise InputFileError(f"missing column(s) {', '.join(missing)}", file=path, line=header_line)
-    width = len(header)
     blocks: list[FloatArray] = []
     numbers: list[int] = []
-    block = np.empty((_READ_BLOCK, width))
-    filled = 0
-    for line, row in records:
-        if len(row) != width:
-            raise InputFileError(f"expected {width} values, got {len(row)}", file=path, line=line)
-        for c, cell in enumerate(row):
-            try:
-                if "_" in cell or not cell.isascii():  # float() takes '1_0' and other digits
-                    raise ValueError(cell)
-                number = float(cell)
-            except ValueError:
-                raise InputFileError(
-                    f"column {header[c]!r}: not a number: {cell.strip()[:40]!r}",
-                    file=path,
-                    line=line,
-                    key=header[c],
-                ) from None
-            if not math.isfinite(number):
-                raise InputFileError(
-                    f"column {header[c]!r}: not a finite number: {cell.strip()!r}",
-                    file=path,
-                    line=line,
-                    key=header[c],
-                )
-            block[filled, c] = number
-        numbers.append(line)
-        filled += 1
-        if filled == _READ_BLOCK:
-            blocks.append(block)
-            block = np.empty((_READ_BLOCK, width))
-            filled = 0
-    blocks.append(block[:filled])
+    pending: list[str] = []
+    for number, record in records:
+        pending.append(record)
+        numbers.append(number)
+        if len(pending) == _READ_BLOCK:
+            blocks.append(_block(path, header, pending, numbers[-len(pending) :]))
+            pending = []
+    if pending:
+        blocks.append(_block(path, header, pending, numbers[-len(pending) :]))
     if not numbers:
         raise InputFileError("no data rows after the header", file=path)
     values = np.concatenate(blocks) if len(blocks) > 1 else blocks[0]
@@ -699,220 +656,6 @@ def trajectory_table(motion: Motion) -> dict[str, FloatArray]:
     table: dict[str, FloatArray] = {"t": motion.t}
     for k, name in enumerate(TRAJECTORY_COLUMNS[1:]):
         table[name] = arrays[k // 3][..., k % 3]
-    return table
-
-
-# ---------------------------------------------------------------- results.csv
-@dataclass(frozen=True)
-class OutputQuantity:
-    """One quantity of ``results.csv``: the one place its name, unit and meaning are given.
-
-    The columns of ``results.csv`` and Parquet (:data:`RESULT_COLUMNS`,
-    :data:`FRICTION_COLUMNS`), the labels of the figures
-    (:mod:`prp3.plotting.figures`) and the units of the run summary
-    (:func:`prp3.runs.summary_text`) are derived from :data:`OUTPUT_QUANTITIES`.
-
-    Attributes
-    ----------
-    name : str
-        The column (``t``) or, for a per-leg quantity, the stem of its three
-        columns ``name_A, name_B, name_C``.
-    unit : str
-        SI unit of the column.
-    description : str
-        Meaning and sign (``docs/model.md``, section *Quantities and signs*).
-    per_leg : bool
-        One column per leg A, B, C.
-    symbol : str
-        The paper's symbol (matplotlib mathtext), for labels.
-    friction : bool
-        Written only when the robot has ``[friction]`` (after the 46 columns).
-    load : bool
-        Written only when the motion has a time-varying load (a trajectory's
-        ``fx, fy, mz``; the last columns).
-    """
-
-    name: str
-    unit: str
-    description: str
-    per_leg: bool
-    symbol: str
-    friction: bool = False
-    load: bool = False
-
-    def columns(self) -> tuple[str, ...]:
-        """Its columns: ``(name,)``, or ``name_A, name_B, name_C``.
-
-        >>> OUTPUT_QUANTITIES["f10"].columns()
-        ('f10_A', 'f10_B', 'f10_C')
-        """
-        return tuple(f"{self.name}_{leg}" for leg in LEGS) if self.per_leg else (self.name,)
-
-
-def _quantities(*items: OutputQuantity) -> dict[str, OutputQuantity]:
-    return {item.name: item for item in items}
-
-
-#: Every output quantity of ``results.csv``, in the order of its columns.
-OUTPUT_QUANTITIES: dict[str, OutputQuantity] = _quantities(
-    OutputQuantity("t", "s", "time", False, "t"),
-    OutputQuantity("x", "m", "x of the platform centre G, fixed frame", False, "x"),
-    OutputQuantity("y", "m", "y of the platform centre G, fixed frame", False, "y"),
-    OutputQuantity("phi", "rad", "orientation of the platform", False, "\\varphi"),
-    OutputQuantity("lambda10", "m", "actuator displacement", True, "\\lambda_{10}"),
-    OutputQuantity("dlambda10", "m/s", "actuator velocity", True, "\\dot\\lambda_{10}"),
-    OutputQuantity("ddlambda10", "m/s²", "actuator acceleration", True, "\\ddot\\lambda_{10}"),
-    OutputQuantity("lambda32", "m", "slide of the platform along link 2", True, "\\lambda_{32}"),
-    OutputQuantity("dlambda32", "m/s", "its rate", True, "\\dot\\lambda_{32}"),
-    OutputQuantity("ddlambda32", "m/s²", "its second rate", True, "\\ddot\\lambda_{32}"),
-    OutputQuantity(
-        "f10", "N", "force of actuator i on its piston along +e_i, through P_i", True, "f_{10}"
-    ),
-    OutputQuantity("p10", "W", "input power of actuator i, f10·dlambda10", True, "p_{10}"),
-    OutputQuantity(
-        "f21y", "N", "force of piston i on link 2 at P_i, along n_i", True, "f_{21y}"
-    ),
-    OutputQuantity(
-        "f21z", "N", "force of piston i on link 2 at P_i, along e_i", True, "f_{21z}"
-    ),
-    OutputQuantity(
-        "n10", "N", "reaction of the base guide on piston i, along n_i", True, "n_{10}"
-    ),
-    OutputQuantity(
-        "m10", "N·m", "moment of that reaction about z0, taken about P_i", True, "m_{10}"
-    ),
-    OutputQuantity(
-        "n32", "N", "reaction of link 2 on the platform, along d⊥_i", True, "n_{32}"
-    ),
-    OutputQuantity(
-        "m32", "N·m", "moment of that reaction about z0, taken about P_i", True, "m_{32}"
-    ),
-    OutputQuantity(
-        "fric10", "N", "friction force of the guide on piston i, along e_i", True,
-        "f_{10}^{fr}", friction=True,
-    ),
-    OutputQuantity(
-        "fric21", "N·m", "friction moment of piston i on link 2 about z0", True,
-        "m_{21}^{fr}", friction=True,
-    ),
-    OutputQuantity(
-        "fric32", "N", "friction force of link 2 on the platform, along d_i", True,
-        "f_{32}^{fr}", friction=True,
-    ),
-    OutputQuantity(
-        "fx", "N", "time-varying force of the environment on the platform at G, along x0",
-        False, "f_x", load=True,
-    ),
-    OutputQuantity(
-        "fy", "N", "time-varying force of the environment on the platform at G, along y0",
-        False, "f_y", load=True,
-    ),
-    OutputQuantity(
-        "mz", "N·m", "time-varying moment of the environment on the platform about z0",
-        False, "m_z", load=True,
-    ),
-)  # fmt: skip
-
-#: Per-leg quantities of the 46 columns, in the contract's order.
-PER_LEG_COLUMNS: tuple[str, ...] = tuple(
-    q.name for q in OUTPUT_QUANTITIES.values() if q.per_leg and not q.friction
-)
-
-#: Every column of ``results.csv``, in order.
-RESULT_COLUMNS: tuple[str, ...] = tuple(
-    q.name for q in OUTPUT_QUANTITIES.values() if not q.per_leg and not q.load
-) + tuple(f"{quantity}_{leg}" for leg in LEGS for quantity in PER_LEG_COLUMNS)
-
-
-#: The 9 columns after the 46 when the robot has ``[friction]``, legs A, B, C in order.
-FRICTION_COLUMNS: tuple[str, ...] = tuple(
-    f"{q.name}_{leg}" for leg in LEGS for q in OUTPUT_QUANTITIES.values() if q.friction
-)
-
-
-#: The 3 last columns when the motion has a time-varying load (the trajectory's ``fx, fy, mz``).
-LOAD_RESULT_COLUMNS: tuple[str, ...] = tuple(q.name for q in OUTPUT_QUANTITIES.values() if q.load)
-
-
-def output_quantity(column: str) -> OutputQuantity:
-    """The quantity of a ``results.csv`` column (``f10_A`` or ``f10``).
-
-    >>> q = output_quantity("m32_B")
-    >>> q.name, q.unit
-    ('m32', 'N·m')
-    """
-    stem, _, leg = column.rpartition("_")
-    if stem in OUTPUT_QUANTITIES and leg in LEGS and OUTPUT_QUANTITIES[stem].per_leg:
-        return OUTPUT_QUANTITIES[stem]
-    if column in OUTPUT_QUANTITIES:
-        return OUTPUT_QUANTITIES[column]
-    raise ParameterError(f"{column!r} is not a column of results.csv")
-
-
-def result_columns(friction: bool, load: bool = False) -> tuple[str, ...]:
-    """The columns of ``results.csv``: the 46, the 9 friction columns with ``friction``,
-    then ``fx, fy, mz`` with a time-varying ``load`` (a trajectory's load columns).
-
-    >>> len(result_columns(True)), result_columns(True)[46:49]
-    (55, ('fric10_A', 'fric21_A', 'fric32_A'))
-    >>> result_columns(False, load=True)[46:]
-    ('fx', 'fy', 'mz')
-    """
-    return (
-        RESULT_COLUMNS
-        + (FRICTION_COLUMNS if friction else ())
-        + (LOAD_RESULT_COLUMNS if load else ())
-    )
-
-
-def results_table(kin: Kinematics, dyn: InverseDynamics) -> dict[str, NDArray[np.float64]]:
-    """Every column of ``results.csv`` as a named array ``(N,)`` (or ``()``), in order.
-
-    >>> from prp3 import Robot, inverse_dynamics, paper_motion
-    >>> table = results_table(*inverse_dynamics(Robot(), paper_motion("vertical", samples=4)))
-    >>> len(table), list(table)[:6], list(table)[-1], table["f10_A"].shape
-    (46, ['t', 'x', 'y', 'phi', 'lambda10_A', 'dlambda10_A'], 'm32_C', (4,))
-    """
-    motion, geo = kin.motion, kin.geometry
-    per_leg: dict[str, FloatArray | None] = {
-        "lambda10": geo.lambda10,
-        "dlambda10": kin.dlambda10,
-        "ddlambda10": kin.ddlambda10,
-        "lambda32": geo.lambda32,
-        "dlambda32": kin.dlambda32,
-        "ddlambda32": kin.ddlambda32,
-        "f10": dyn.f10,
-        "p10": dyn.p10,
-        "f21y": dyn.f21y,
-        "f21z": dyn.f21z,
-        "n10": dyn.n10,
-        "m10": dyn.m10,
-        "n32": dyn.n32,
-        "m32": dyn.m32,
-        "fric10": dyn.fric10,
-        "fric21": dyn.fric21,
-        "fric32": dyn.fric32,
-    }
-    single = {
-        "t": motion.t,
-        "x": motion.pose[..., 0],
-        "y": motion.pose[..., 1],
-        "phi": motion.pose[..., 2],
-    }
-    table: dict[str, NDArray[np.float64]] = {}
-    for quantity in OUTPUT_QUANTITIES.values():
-        if not quantity.per_leg and not quantity.load:
-            table[quantity.name] = single[quantity.name]
-    friction = all(per_leg[q.name] is not None for q in OUTPUT_QUANTITIES.values() if q.friction)
-    for group in (False, True) if friction else (False,):
-        for j, leg in enumerate(LEGS):
-            for quantity in OUTPUT_QUANTITIES.values():
-                values = per_leg.get(quantity.name)
-                if quantity.per_leg and quantity.friction == group and values is not None:
-                    table[f"{quantity.name}_{leg}"] = values[..., j]
-    if motion.load is not None:  # the time-varying load of the motion, last
-        for k, name in enumerate(LOAD_RESULT_COLUMNS):
-            table[name] = motion.load[..., k]
     return table
 
 

@@ -20,9 +20,9 @@ from .dynamics import Method, inverse_dynamics
 from .errors import ParameterError, Prp3Error
 from .fast import CompiledRobot, compile_robot, solve_batch
 from .geometry import LEGS
-from .io import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_columns, results_table
 from .model import Robot
 from .motion import Motion
+from .results import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_columns, results_table
 from .validation import check_instance, check_integer, check_path, check_robot
 
 __all__ = [

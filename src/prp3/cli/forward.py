@@ -44,11 +44,11 @@ from ..io import (
     check_inputs_kept,
     check_output_directory,
     read_forces,
-    results_table,
     staged_output,
     trajectory_table,
     write_table_csv,
 )
+from ..results import results_table
 from ..runs import check_memory
 from ._types import (
     add_output_directory,

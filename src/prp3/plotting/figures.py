@@ -30,7 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..geometry import LEGS
-from ..io import OUTPUT_QUANTITIES, atomic_path
+from ..io import atomic_path
+from ..results import OUTPUT_QUANTITIES
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -91,7 +92,7 @@ class Quantity:
 
 #: The quantities drawn by :func:`results_figures`, in the order they are written.
 def _plotted(column: str, caption: str, unit: str | None = None, scale: float = 1.0) -> Quantity:
-    """A quantity of :data:`prp3.io.OUTPUT_QUANTITIES` as plotted.
+    """A quantity of :data:`prp3.results.OUTPUT_QUANTITIES` as plotted.
 
     Its symbol and unit come from there; or ``unit``, ``scale`` times the SI value.
     """
