@@ -44,7 +44,6 @@ from ..io import (
     check_inputs_kept,
     check_output_directory,
     read_trajectory,
-    staged_output,
     write_table_csv,
 )
 from ..model import Robot
@@ -57,6 +56,7 @@ from ._types import (
     files_report,
     finite_float,
     load_robot,
+    output_folder,
     path_name,
     positive_float,
 )
@@ -212,7 +212,7 @@ def run(args: argparse.Namespace) -> int:
     table = tracking_table(result)
     title = f"{args.controller} control, {args.plant} plant, {args.rate:g} Hz"
     subtitle = f"{what}; {model_text}; KP = {args.kp:g} 1/s², KD = {args.kd:g} 1/s"
-    with staged_output(output) as staged:
+    with output_folder(args, output) as staged:
         write_table_csv(staged.path("tracking.csv"), table)
         if result.t.size >= 2:
             from ..plotting.control import tracking_figure

@@ -45,7 +45,6 @@ from ..io import (
     check_output_directory,
     read_forces,
     results_table,
-    staged_output,
     trajectory_table,
     write_table_csv,
 )
@@ -58,6 +57,7 @@ from ._types import (
     finite_float,
     integer_at_least,
     load_robot,
+    output_folder,
     path_name,
     positive_float,
 )
@@ -230,7 +230,7 @@ def run(args: argparse.Namespace) -> int:
             raise error.located(file=given.path) from None
         raise
     table = results_table(result.kinematics, result.dynamics)
-    with staged_output(output) as staged:
+    with output_folder(args, output) as staged:
         write_table_csv(staged.path("results.csv"), table)
         write_table_csv(staged.path("trajectory.csv"), trajectory_table(result.motion))
         growth = open_loop_growth_rate(robot, pose)

@@ -43,11 +43,10 @@ from ..io import (
     check_output_directory,
     format_float,
     read_measurements,
-    staged_output,
 )
 from ..model import Robot
 from ..plotting.identification import IDENTIFICATION_FIGURE  # a constant: no matplotlib
-from ._types import add_output_directory, emit, files_report, load_robot, path_name
+from ._types import add_output_directory, emit, files_report, load_robot, output_folder, path_name
 
 __all__ = ["FRICTION_CHOICES", "PARAMETERS_NAME", "ROBOT_NAME", "register", "run"]
 
@@ -155,7 +154,7 @@ def run(args: argparse.Namespace) -> int:
         subtitle=f"{args.measurements}: {result.t.size} samples, {result.base.count} base "
         f"parameters, residual RMS {', '.join(f'{v:.3g}' for v in result.residual_rms)} N",
     )
-    with staged_output(args.output) as staged:
+    with output_folder(args, args.output) as staged:
         with atomic_writer(staged.path(ROBOT_NAME)) as stream:
             stream.write(_robot_text(robot, args))
         _write_parameters(staged.path(PARAMETERS_NAME), result)

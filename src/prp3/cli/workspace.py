@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..geometry import SINGULARITY_THRESHOLD
-from ..io import check_output_directory, staged_output, write_table_csv
+from ..io import check_output_directory, write_table_csv
 from ..model import Robot
 from ..runs import check_memory
 from ..workspace import (
@@ -46,6 +46,7 @@ from ._types import (
     finite_float,
     integer_at_least,
     load_robot,
+    output_folder,
 )
 
 __all__ = [
@@ -295,7 +296,7 @@ def run(args: argparse.Namespace) -> int:
 
     from ..plotting.workspace import save_statics_map, save_workspace_map
 
-    with staged_output(output) as staged:
+    with output_folder(args, output) as staged:
         write_table_csv(staged.path("workspace.csv"), _grid_table(ws, scan))
         write_table_csv(staged.path("orientations.csv"), _scan_table(scan))
         save_workspace_map(staged.path("workspace.png"), robot, ws, scan)
