@@ -44,7 +44,7 @@ import importlib
 import math
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from types import ModuleType
 from typing import Any, Literal, Protocol
@@ -592,6 +592,7 @@ def track(
     plant: Plant = "prp3",
     model: Robot | None = None,
     gains: Gains | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Tracking:
     """Simulate the closed loop: the controller at the instants ``reference.t``, the plant between.
 
@@ -612,7 +613,9 @@ def track(
     model : Robot, optional
         The controller's model; same ``l0`` as ``robot`` (:func:`check_model`).
     gains : Gains, optional
-        Default ``KP = 400 1/s²``, ``KD = 40 1/s``.
+        Default ``KP = 400 1/s²``, ``KD = 40 1/s`` on every axis.
+    progress : callable, optional
+        ``progress(instants_done, N)`` after every control instant.
 
     Returns
     -------
@@ -687,6 +690,8 @@ def track(
         forces[k] = f10
         elapsed[k] = (stop - start) * 1e-9
         done = k + 1
+        if progress is not None:
+            progress(done, count)
         if not math.isfinite(f10[0] + f10[1] + f10[2]):
             status, message = "failed", f"stopped at t = {times[k]!r} s: non-finite forces"
             break

@@ -670,6 +670,7 @@ def forward_dynamics(
     rtol: float = 1e-10,
     atol: float = 1e-12,
     load: ForceFunction | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> ForwardDynamics:
     """Integrate the platform motion driven by the actuator forces ``f10(t)``.
 
@@ -701,6 +702,9 @@ def forward_dynamics(
         the robot's constant ``[load]``.  Sampled forces carry theirs
         (:attr:`ActuatorForces.load`, interpolated like the forces); giving
         both is refused.
+    progress : callable, optional
+        ``progress(samples_reached, N)``: the output times the integration
+        has reached (the furthest time evaluated), reported when it grows.
 
     Returns
     -------
@@ -751,7 +755,11 @@ def forward_dynamics(
     load_of = _load_function(forces, load, times)
     free = _without_limits(robot)  # the stroke ends are events, not refusals
     stroke = robot.limits.stroke
-    solution = _integrate(free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of)
+    solution = _integrate(
+        free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of, progress
+    )
+    if progress is not None:
+        progress(times.size, times.size)
     stop = _stop(free, stroke, solution, times, q0, v0)
     return _result(free, force_of, stop, int(solution.nfev), load_of)
 
@@ -811,13 +819,20 @@ def _integrate(
     aspect: float,
     tolerances: tuple[float, float],
     load_of: Callable[[float], FloatArray] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Any:
     """Step 3: ``solve_ivp`` (DOP853) of the state ``(q, q̇)``, with the terminal events."""
     from scipy.integrate import solve_ivp
 
     compiled = compile_robot(robot)
+    reached = [0]
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
+        if progress is not None:
+            done = int(np.searchsorted(times, time, side="right"))
+            if done > reached[0]:
+                reached[0] = done
+                progress(min(done, times.size), times.size)
         return _state_derivative(compiled, force_of, time, state, load_of)
 
     def singular(_time: float, state: FloatArray) -> float:

@@ -13,11 +13,13 @@ has lasted :data:`DELAY` seconds.
 
 from __future__ import annotations
 
+import contextlib
+import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, TextIO
 
-__all__ = ["DELAY", "Progress"]
+__all__ = ["DELAY", "Progress", "progress_bar"]
 
 #: Seconds a run lasts before its bar appears (shorter runs stay silent).
 DELAY: float = 1.0
@@ -121,3 +123,13 @@ class Progress:
         except (OSError, ValueError):
             pass
         self.drawn = False
+
+
+@contextlib.contextmanager
+def progress_bar(stream: TextIO | None = None) -> Iterator[Progress]:
+    """A :class:`Progress` on ``stream`` (default: stderr now), erased when the block ends."""
+    bar = Progress(sys.stderr if stream is None else stream)
+    try:
+        yield bar
+    finally:
+        bar.close()

@@ -49,6 +49,7 @@ from ..io import (
 from ..model import Robot
 from ..motion import PAPER_DURATION, PAPER_MOTIONS
 from ..plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
+from ._progress import progress_bar
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -199,14 +200,16 @@ def run(args: argparse.Namespace) -> int:
         times = control_times(0.0, PAPER_DURATION, args.rate)
         reference = law_at(PAPER_MOTIONS[args.motion], times)
         what = f"{args.motion} motion (paper eq. 4)"
-    result = track(
-        robot,
-        reference,
-        controller=args.controller,
-        plant=args.plant,
-        model=model,
-        gains=Gains(kp=args.kp, kd=args.kd),
-    )
+    with progress_bar() as bar:
+        result = track(
+            robot,
+            reference,
+            controller=args.controller,
+            plant=args.plant,
+            model=model,
+            gains=Gains(kp=args.kp, kd=args.kd),
+            progress=bar.stage("tracking", "steps"),
+        )
     if note is not None:  # only for a run that goes on: a refused input gets its one line
         print(f"{args.program}: warning: {note}", file=sys.stderr)
     table = tracking_table(result)

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..identification import exciting_trajectory
 from ..io import check_output_directory, write_table_csv
+from ._progress import progress_bar
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -121,17 +122,19 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 excite`` with parsed ``args``; return the exit status."""
     check_output_directory(args.output)
     robot = load_robot(args)
-    result = exciting_trajectory(
-        robot,
-        period=args.period,
-        harmonics=args.harmonics,
-        reach=args.reach,
-        rotation=args.rotation,
-        max_velocity=args.max_velocity,
-        max_force=args.max_force,
-        seed=args.seed,
-        max_iterations=args.iterations,
-    )
+    with progress_bar() as bar:
+        result = exciting_trajectory(
+            robot,
+            period=args.period,
+            harmonics=args.harmonics,
+            reach=args.reach,
+            rotation=args.rotation,
+            max_velocity=args.max_velocity,
+            max_force=args.max_force,
+            seed=args.seed,
+            max_iterations=args.iterations,
+            progress=bar.stage("optimising", "iterations"),
+        )
     motion = result.series.motion(np.linspace(0.0, args.period, args.samples))
     names = ("t", "x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
     columns = [motion.t, *motion.pose.T, *motion.velocity.T, *motion.acceleration.T]

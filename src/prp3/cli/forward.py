@@ -49,6 +49,7 @@ from ..io import (
     write_table_csv,
 )
 from ..runs import check_memory
+from ._progress import progress_bar
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -211,9 +212,11 @@ def run(args: argparse.Namespace) -> int:
             times = np.linspace(float(forces.t[0]), float(forces.t[-1]), args.samples)
         else:
             times = np.asarray(forces.t)
-        result = forward_dynamics(
-            robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol
-        )
+        with progress_bar() as bar:
+            result = forward_dynamics(
+                robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol,
+                progress=bar.stage("integrating", "samples"),
+            )  # fmt: skip
     except Prp3Error as error:
         if error.subject in ("initial_pose", "pose"):  # the initial pose: say where it came from
             if args.initial_pose is not None:

@@ -46,6 +46,7 @@ from ..io import (
 )
 from ..model import Robot
 from ..plotting.identification import IDENTIFICATION_FIGURE  # a constant: no matplotlib
+from ._progress import progress_bar
 from ._types import add_output_directory, emit, files_report, load_robot, output_folder, path_name
 
 __all__ = ["FRICTION_CHOICES", "PARAMETERS_NAME", "ROBOT_NAME", "register", "run"]
@@ -139,7 +140,11 @@ def run(args: argparse.Namespace) -> int:
         when = float(trajectory.motion.t[sample]) if sample is not None else None
         raise error.located(file=trajectory.path, line=line, time=when, subject=None) from None
     estimated = estimated_parameters(nominal, args.friction)
-    result = identify(nominal, trajectory.motion, data.f10, estimated, where=str(args.measurements))
+    with progress_bar() as bar:
+        result = identify(
+            nominal, trajectory.motion, data.f10, estimated, where=str(args.measurements),
+            progress=bar.stage("regressor", "samples"),
+        )  # fmt: skip
     robot = identified_robot(nominal, result)
     if trajectory.note is not None:  # only for a run that goes on
         print(f"{args.program}: warning: {trajectory.note}", file=sys.stderr)
