@@ -761,7 +761,7 @@ def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
         for given_ in (client, lambda: prp3.sweep.dask_client(scheduler=scheduler)):
             reports: list[tuple[int, int]] = []
             outcome = prp3.sweep.optimize_design(
-                spec, given_, progress=lambda done, total: reports.append((done, total))
+                spec, given_, progress=lambda done, total, seen=reports: seen.append((done, total))
             )
             outcomes.append(outcome)
             # one report per generation (the initial population is the first), then the end
@@ -773,3 +773,31 @@ def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
     for bad in (42, lambda: 42):
         with pytest.raises(prp3.errors.ParameterError, match="client"):
             prp3.sweep.optimize_design(spec, bad)
+
+
+def test_sweep_and_optimize_draw_a_bar_on_a_terminal(tmp_path, monkeypatch, scheduler):
+    import io
+
+    import prp3.cli._progress
+    from prp3.cli import main
+
+    class FakeTerminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    monkeypatch.setattr(prp3.cli._progress, "DELAY", 0.0)
+    spec = write(
+        tmp_path / "synthesis.toml",
+        GRID.replace("[task]", '[optimize]\nobjective = "peak_f10"\nmaxiter = 2\npopsize = 3\n'
+                     '[task]').replace('motions = ["vertical", "rotation"]',
+                                       'motions = ["vertical"]\nsamples = 21'),
+    )  # fmt: skip
+    for command, stage in (("sweep", "designs"), ("optimize", "generations")):
+        stream = FakeTerminal()
+        monkeypatch.setattr(sys, "stderr", stream)
+        status = main([command, "--spec", str(spec), "-o", str(tmp_path / command),
+                       "--scheduler", scheduler])  # fmt: skip
+        monkeypatch.setattr(sys, "stderr", sys.__stderr__)
+        assert status in (0, 1), stream.getvalue()
+        text = stream.getvalue()
+        assert f"\r{stage}: 100%|" in text, text
