@@ -971,7 +971,9 @@ class IdentifiedRobot:
         Standard parameters kept at the nominal robot's values.
     clamped : tuple of str
         Friction coefficients estimated below zero but within 3 standard
-        deviations of it (or round-off), written as 0.
+        deviations of it (or round-off), and, for a nominal robot without a
+        payload, the platform's first moments ``h3x``, ``h3y`` estimated within
+        3 standard deviations of zero: written as 0.
     """
 
     robot: Robot
@@ -1043,7 +1045,22 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     centre of mass), the other choices are tried in order of dominance.  A
     friction coefficient estimated below 0 but within 3 standard deviations
     of it is written as 0 (and listed in :attr:`IdentifiedRobot.clamped`);
-    further below, the robot is invalid.
+    further below, the robot is invalid.  Likewise, without a payload in
+    ``nominal`` the platform's centre of mass is ``G`` (``h3 = 0``, the
+    robot cannot say otherwise): the first moments ``h3x``, ``h3y`` estimated
+    within 3 standard deviations of zero (noise, or round-off on exact
+    forces) are written as 0; farther from it, the robot is invalid (give
+    ``nominal`` a ``[payload]``).
+
+    Examples
+    --------
+    >>> from prp3.motion import law_motion
+    >>> from prp3.dynamics import inverse_dynamics
+    >>> robot, motion = Robot(), law_motion((0.01, 0.02, 0.2), samples=101)
+    >>> result = identify(robot, motion, inverse_dynamics(robot, motion)[1].f10)
+    >>> identified = identified_robot(robot, result)
+    >>> round(identified.robot.platform.mass, 9), identified.clamped
+    (3.0, ('platform_moment_x', 'platform_moment_y'))
 
     Raises
     ------
@@ -1053,12 +1070,22 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     base = result.base
     estimate = result.estimate.copy()
     clamped = []
+    without_payload = not nominal.payload.mass > 0.0
     for b, name in enumerate(base.names):  # a friction coefficient of 0 estimated below 0
-        if name in FRICTION_PARAMETERS and base.members(b) == (base.independent[b],):
-            floor = max(3.0 * result.std[b], 1e-12 * float(np.abs(result.measured).max()))
-            if -floor <= estimate[b] < 0.0:
-                estimate[b] = 0.0
-                clamped.append(name)
+        if base.members(b) != (base.independent[b],):
+            continue
+        floor = max(3.0 * result.std[b], 1e-12 * float(np.abs(result.measured).max()))
+        if name in FRICTION_PARAMETERS and -floor <= estimate[b] < 0.0:
+            estimate[b] = 0.0
+            clamped.append(name)
+        elif (  # no payload: the centre of mass of the platform is G
+            without_payload
+            and name in ("platform_moment_x", "platform_moment_y")
+            and estimate[b] != 0.0
+            and abs(estimate[b]) <= 3.0 * result.std[b]
+        ):
+            estimate[b] = 0.0
+            clamped.append(name)
     nominal_values = standard_parameters(nominal, base.parameters)
     candidates = []
     for b in range(base.count):

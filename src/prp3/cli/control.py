@@ -96,6 +96,36 @@ def non_negative_float(text: str) -> float:
     return value
 
 
+def axis_gains(text: str) -> float | tuple[float, float, float]:
+    """A gain for every axis (``400``) or one per axis ``x,y,phi`` (``400,400,900``).
+
+    >>> axis_gains("400"), axis_gains("400,400,900")
+    (400.0, (400.0, 400.0, 900.0))
+    >>> axis_gains("1,2")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: expected a number or 3 numbers X,Y,PHI, got '1,2'
+    """
+    parts = text.split(",")
+    if len(parts) == 1:
+        return non_negative_float(text)
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"expected a number or 3 numbers X,Y,PHI, got {text!r}")
+    x, y, phi = (non_negative_float(part) for part in parts)
+    return (x, y, phi)
+
+
+def gains_text(value: float | tuple[float, float, float]) -> str:
+    """``400`` or ``(400, 400, 900)`` for the summary and the figure.
+
+    >>> gains_text(400.0), gains_text((400.0, 400.0, 900.0))
+    ('400', '(400, 400, 900)')
+    """
+    if isinstance(value, tuple):
+        return "(" + ", ".join(f"{v:g}" for v in value) + ")"
+    return f"{value:g}"
+
+
 def register(subparsers: Any) -> None:
     """Add the ``control`` subcommand."""
     parser = subparsers.add_parser(
@@ -142,16 +172,18 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--kp",
         metavar="KP",
-        type=non_negative_float,
+        type=axis_gains,
         default=DEFAULT_KP,
-        help=f"position gain (1/s^2, default {DEFAULT_KP:g})",
+        help=f"position gain (1/s^2, default {DEFAULT_KP:g}): one for every axis, or "
+        "KP_X,KP_Y,KP_PHI",
     )
     parser.add_argument(
         "--kd",
         metavar="KD",
-        type=non_negative_float,
+        type=axis_gains,
         default=DEFAULT_KD,
-        help=f"velocity gain (1/s, default {DEFAULT_KD:g})",
+        help=f"velocity gain (1/s, default {DEFAULT_KD:g}): one for every axis, or "
+        "KD_X,KD_Y,KD_PHI",
     )
     add_output_directory(parser)
     parser.set_defaults(handler=run)
@@ -214,7 +246,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"{args.program}: warning: {note}", file=sys.stderr)
     table = tracking_table(result)
     title = f"{args.controller} control, {args.plant} plant, {args.rate:g} Hz"
-    subtitle = f"{what}; {model_text}; KP = {args.kp:g} 1/s², KD = {args.kd:g} 1/s"
+    subtitle = (
+        f"{what}; {model_text}; KP = {gains_text(args.kp)} 1/s², KD = {gains_text(args.kd)} 1/s"
+    )
     with output_folder(args, output) as staged:
         write_table_csv(staged.path("tracking.csv"), table)
         if result.t.size >= 2:
@@ -261,7 +295,7 @@ def _summary(
         f"prp3 control: {title}",
         f"  reference: {what}, {result.reference.t.size} instants over "
         f"t = {float(result.t[0]):g} .. {float(result.t[-1]):g} s",
-        f"  {model_text}; gains KP = {args.kp:g} 1/s^2, KD = {args.kd:g} 1/s",
+        f"  {model_text}; gains KP = {gains_text(args.kp)} 1/s^2, KD = {gains_text(args.kd)} 1/s",
         f"  {result.message}",
         f"  {'tracking error':<18}" + "".join(f"{h:>14}" for h in ("x (m)", "y (m)", "phi (rad)")),
         row("max |error|", result.max_error),

@@ -258,9 +258,11 @@ def _summary(
         + "; every other parameter is NOMINAL's"
     )
     for name in robot.clamped:
-        lines.append(
-            f"  {PARAMETER_SYMBOLS[name]} estimated below 0, within 3 standard deviations of 0: "
-            "written as 0"
+        why = (
+            "estimated within 3 standard deviations of 0 (the nominal robot has no payload)"
+            if name in ("platform_moment_x", "platform_moment_y")
+            else "estimated below 0, within 3 standard deviations of 0"
         )
+        lines.append(f"  {PARAMETER_SYMBOLS[name]} {why}: written as 0")
     lines += files
     return "\n".join(lines)
