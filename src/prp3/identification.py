@@ -973,7 +973,7 @@ class IdentifiedRobot:
         Friction coefficients estimated below zero but within 3 standard
         deviations of it (or round-off), and, for a nominal robot without a
         payload, the platform's first moments ``h3x``, ``h3y`` estimated within
-        3 standard deviations of zero: written as 0.
+        3 standard deviations of zero (or ``1e-9·m3·l0``): written as 0.
     """
 
     robot: Robot
@@ -1048,8 +1048,8 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     further below, the robot is invalid.  Likewise, without a payload in
     ``nominal`` the platform's centre of mass is ``G`` (``h3 = 0``, the
     robot cannot say otherwise): the first moments ``h3x``, ``h3y`` estimated
-    within 3 standard deviations of zero (noise, or round-off on exact
-    forces) are written as 0; farther from it, the robot is invalid (give
+    within 3 standard deviations of zero (noise), or within ``1e-9·m3·l0``
+    (round-off on exact forces), are written as 0; farther from it, the robot is invalid (give
     ``nominal`` a ``[payload]``).
 
     Examples
@@ -1071,6 +1071,7 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     estimate = result.estimate.copy()
     clamped = []
     without_payload = not nominal.payload.mass > 0.0
+    moment_floor = 1e-9 * nominal.platform.mass * nominal.l0  # kg m: round-off of h3
     for b, name in enumerate(base.names):  # a friction coefficient of 0 estimated below 0
         if base.members(b) != (base.independent[b],):
             continue
@@ -1082,7 +1083,7 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
             without_payload
             and name in ("platform_moment_x", "platform_moment_y")
             and estimate[b] != 0.0
-            and abs(estimate[b]) <= 3.0 * result.std[b]
+            and abs(estimate[b]) <= max(3.0 * result.std[b], moment_floor)
         ):
             estimate[b] = 0.0
             clamped.append(name)
