@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import prp3.cli._progress as progress_module
 from prp3 import Robot
@@ -28,7 +29,7 @@ from prp3.motion import PAPER_MOTIONS, law_motion
 from prp3.workspace import orientation_scan
 
 #: A bar of tqdm: ``stage:  50%|#####     | 5/10 [00:01<00:01, 4.2it/s]`` (the ETA after ``<``).
-BAR = re.compile(r"(\w[\w.]*): +(\d+)%\|[# \d]*\| (\d+)/(\d+) \[\d\d:\d\d<(\d\d:\d\d|\?)")
+BAR = re.compile(r"(\w[\w.]*): +(\d+)%\|[^|]*\| (\d+)/(\d+) \[\d\d:\d\d<(\d\d:\d\d|\?)")
 
 
 class FakeTerminal(io.StringIO):
@@ -156,3 +157,36 @@ def test_every_long_command_draws_a_bar_on_a_terminal_and_nothing_elsewhere(tmp_
                 assert set(stages) <= drawn, (argv[0], drawn, text)
             else:
                 assert "\r" not in text and not BAR.search(text), (argv[0], text)
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+def test_a_real_terminal_of_unknown_size_shows_the_bar(tmp_path):
+    # was: a new pseudo-terminal reports 0 x 0 and tqdm drew an empty bar, hidden below
+    # row 0: nothing on the screen
+    import os
+    import pty
+    import subprocess
+
+    code = (
+        "import sys, prp3.cli._progress as p; p.DELAY = 0.0; from prp3.cli import main; "
+        "sys.exit(main(['workspace', '--points', '21', '--orientations', '9', '-o', 'w']))"
+    )
+    master, slave = pty.openpty()
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL,
+                             stderr=slave, cwd=tmp_path, env=env)  # fmt: skip
+    os.close(slave)
+    received = b""
+    while True:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:  # the child closed its end
+            break
+        if not chunk:
+            break
+        received += chunk
+    os.close(master)
+    assert child.wait(timeout=300) == 0
+    text = received.decode("utf-8", "replace")
+    assert {m.group(1) for m in BAR.finditer(text)} >= {"orientations", "workspace.csv"}, text
+    assert text.endswith("\r")  # erased at the end

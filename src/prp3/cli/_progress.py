@@ -14,6 +14,7 @@ has lasted :data:`DELAY` seconds.
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 import time
 from collections.abc import Callable, Iterator
@@ -26,6 +27,20 @@ DELAY: float = 1.0
 
 #: Seconds between two redraws of a bar.
 INTERVAL: float = 0.1
+
+
+def _screen(stream: TextIO) -> tuple[int, int]:
+    """The terminal's columns and rows; 80 and 24 when it says none.
+
+    A new pseudo-terminal reports 0 x 0, and tqdm then draws nothing (an empty
+    bar, hidden below row 0).
+    """
+    try:
+        size = os.get_terminal_size(stream.fileno())
+        columns, rows = size.columns, size.lines
+    except (AttributeError, OSError, ValueError):  # no file descriptor: a test's fake terminal
+        columns, rows = 0, 0
+    return (columns if columns > 0 else 80, rows if rows > 0 else 24)
 
 
 class Progress:
@@ -84,6 +99,7 @@ class Progress:
                 self._end()
                 from tqdm import tqdm
 
+                columns, rows = _screen(self.stream)
                 self._bar = tqdm(
                     total=max(int(total), 0),
                     initial=max(int(done), 0),
@@ -91,7 +107,8 @@ class Progress:
                     unit=unit,
                     file=self.stream,
                     leave=False,
-                    dynamic_ncols=True,
+                    ncols=columns,
+                    nrows=rows,
                     mininterval=0.0,
                     miniters=1,
                     delay=0.0,

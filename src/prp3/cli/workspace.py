@@ -292,15 +292,17 @@ def run(args: argparse.Namespace) -> int:
         low, high = orientation_range(robot)
     else:
         low, high = -math.pi, math.pi
-    with progress_bar() as bar:
+    with progress_bar() as bar:  # one bar for the run: its delay counts from here
         orientations = np.linspace(low, high, args.orientations)
         scan = orientation_scan(robot, x, y, orientations, progress=bar.stage("orientations"))
-    statics = workspace_statics(robot, ws.phi, x, y) if statics_wanted else None
+        statics = None
+        if statics_wanted:
+            bar.update("statics", 0, 1)
+            statics = workspace_statics(robot, ws.phi, x, y)
 
-    from ..plotting.workspace import save_statics_map, save_workspace_map
+        from ..plotting.workspace import save_statics_map, save_workspace_map
 
-    with output_folder(args, output) as staged:
-        with progress_bar() as bar:
+        with output_folder(args, output) as staged:
             for name, table in (
                 ("workspace.csv", _grid_table(ws, scan)),
                 ("orientations.csv", _scan_table(scan)),
@@ -316,8 +318,10 @@ def run(args: argparse.Namespace) -> int:
                 )
                 bar.update("statics.png", 0, 1)
                 save_statics_map(staged.path("statics.png"), robot, statics)
-        # printed before the files are moved in: a failing standard output keeps older results
-        emit(_summary(robot, ws, (low, high), files_report(staged), statics))
+            bar.close()
+            # printed before the files are moved in: a failing standard output keeps older
+            # results
+            emit(_summary(robot, ws, (low, high), files_report(staged), statics))
     return 0
 
 
