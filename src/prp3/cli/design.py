@@ -195,13 +195,13 @@ def run_sweep(args: argparse.Namespace) -> int:
     for name, _ in axes:
         _check_quantity(spec, name, "--pareto")
     _check_quantity(spec, args.sensitivity, "--sensitivity")
+    sweep.check_sweep_folder(output, spec, force=args.force)  # before any warning
     for _, described in sweep.stale_staging_folders(output, spec):
         print(
             f"{args.program}: warning: {described}: an unfinished sweep of another spec; "
             "it is removed when this sweep finishes (resume it first to keep it)",
             file=sys.stderr,
         )
-    sweep.check_sweep_folder(output, spec, force=args.force)
     progress = Progress(sys.stderr)
     start = time.monotonic()
     try:
