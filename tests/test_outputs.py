@@ -327,3 +327,15 @@ def test_parquet_without_pyarrow_is_refused_before_anything_runs(tmp_path, capsy
     with pytest.raises(OutputFileError, match="writing Parquet needs pyarrow"):
         prp3_io.write_table_parquet(tmp_path / "x.parquet", {"t": np.zeros(2)})
     assert not os.path.exists(tmp_path / "x.parquet")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+def test_an_input_that_is_not_a_regular_file_is_recorded_without_a_hash(tmp_path):
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)  # hashing it would wait for a writer
+    with staged_output(tmp_path / "out", command="c", inputs=[pipe, None]) as staged:
+        staged.path("a.txt").write_text("a")
+    record = json.loads((tmp_path / "out" / MANIFEST_NAME).read_text())["commands"]["c"]
+    assert record["inputs"] == [
+        {"path": str(pipe), "sha256": None, "unreadable": "not a regular file"}
+    ]

@@ -318,7 +318,12 @@ def _input_record(path: str | Path) -> dict[str, Any]:
     """What the manifest says of an input file: its path, size and SHA-256 (or why not)."""
     record: dict[str, Any] = {"path": os.fspath(path)}
     try:
-        record["size"] = os.stat(path).st_size
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode):  # a pipe read already: its bytes are gone
+            record["sha256"] = None
+            record["unreadable"] = "not a regular file"
+            return record
+        record["size"] = info.st_size
         record["sha256"] = file_digest(path)
     except OSError as error:
         record["sha256"] = None
