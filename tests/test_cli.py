@@ -10,7 +10,6 @@ poses at rest, stroke violations from the closed-form inverse of eq. (4).
 from __future__ import annotations
 
 import csv
-import io
 import math
 import os
 import re
@@ -26,7 +25,7 @@ import pytest
 import prp3
 from clitools import cli
 from prp3.cli import main
-from prp3.cli.simulate import Progress, simulate_table
+from prp3.cli.simulate import simulate_table
 from prp3.io import MANIFEST_NAME
 
 #: The contract's columns (docs/model.md), written out here rather than imported.
@@ -321,31 +320,7 @@ def test_reruns_replace_the_files_of_the_same_name(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == [MANIFEST_NAME, "results.csv"]
 
 
-# ---------------------------------------------------------------- progress bar
-class FakeTerminal(io.StringIO):
-    def isatty(self) -> bool:
-        return True
-
-
-def test_progress_bar_only_on_a_terminal_after_a_second():
-    times = iter([0.0, 0.5, 1.2, 1.25, 1.5])
-    stream = FakeTerminal()
-    bar = Progress(stream, clock=lambda: next(times))  # created at t = 0
-    bar.update("computing", 1, 10)  # t = 0.5 s: too early
-    assert stream.getvalue() == ""
-    bar.update("computing", 5, 10)  # t = 1.2 s: drawn
-    assert stream.getvalue().endswith("]  50%") and stream.getvalue().startswith("\rcomputing")
-    bar.update("computing", 6, 10)  # t = 1.25 s: throttled
-    assert stream.getvalue().count("\r") == 1
-    bar.update("computing", 10, 10)  # t = 1.5 s
-    assert stream.getvalue().endswith("[" + "#" * Progress.WIDTH + "] 100%")
-    bar.close()
-    assert stream.getvalue().endswith("\r") and bar.drawn is False
-    quiet = io.StringIO()  # not a terminal
-    silent = Progress(quiet, clock=lambda: 100.0)
-    silent.update("computing", 5, 10)
-    silent.close()
-    assert quiet.getvalue() == ""
+# (the progress bar: tests/test_progress.py)
 
 
 # ---------------------------------------------------------------- bad input

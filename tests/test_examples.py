@@ -36,7 +36,13 @@ def test_the_example_files_are_what_the_docs_say():
     assert trajectory.motion.samples == 201 and float(trajectory.motion.t[-1]) == 2.0
     robot = prp3.Robot.from_toml(EXAMPLES / "robot.toml")
     assert robot.limits.stroke == (-0.04, 0.04) and robot.limits.max_force == 60.0
-    assert robot.platform.mass == 3.5
+    # the tool is a payload (its own mass and inertia), not a heavier plate
+    assert robot.platform == prp3.Robot().platform
+    assert (robot.payload.mass, robot.payload.com, robot.payload.inertia) == (
+        0.5,
+        (0.0, 0.0),
+        2.25e-4,
+    )
     forces = read_forces(EXAMPLES / "forces.csv")
     assert not forces.results and forces.forces.t.size == 9
     # at t = 0 they hold the robot of robot.toml still at the centre (to their 4 decimals)

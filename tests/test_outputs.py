@@ -1,8 +1,11 @@
 """Output folders and result files: the manifest, CSV text byte for byte, Parquet.
 
-* A run keeps a manifest of the files it wrote (``DIR/.prp3-manifest.json``);
-  the next run into the same folder removes those it does not write again,
-  and nothing else: never a file the user added, changed or replaced.
+* A run keeps a manifest of the files it wrote (``DIR/.prp3-manifest.json``),
+  one record per command with the prp3 version, the command line and the
+  SHA-256 of its input files; the next run of the same command into the
+  folder removes those it does not write again (and says so on stderr), and
+  nothing else: never a file of another command, nor one the user added,
+  changed or replaced.
 * The CSV text of every float is the shortest decimal that reads back to it,
   whichever writer makes it (Arrow's CSV writer, or Python's ``repr``): the
   same decimal number as ``repr``, held against ``repr`` cell by cell (and
@@ -24,6 +27,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import prp3
 import prp3.cli.simulate as simulate_cli
 import prp3.io as prp3_io
 from clitools import cli
@@ -48,8 +52,15 @@ def test_a_new_run_removes_its_own_stale_files_and_nothing_else(tmp_path, capsys
     assert names(out) == sorted([MANIFEST_NAME, "results.csv", *PAPER_FIGURES])
     (out / "notes.txt").write_text("mine")  # the user's own file
     (out / "f10.png").write_bytes(b"edited by the user")  # changed since prp3 wrote it
-    status, report, _ = cli(capsys, "simulate", "--motion", "rotation", "--samples", "7", "-o", out)
+    status, report, err = cli(
+        capsys, "simulate", "--motion", "rotation", "--samples", "7", "-o", out
+    )
     assert status == 0
+    assert err == (
+        "prp3 simulate: note: removed 4 files that the last `prp3 simulate` wrote into "
+        f"{out} and this run did not write again (fig3_p10.png, fig4_f21y.png, fig5_f21z.png, "
+        "lambda10.png); files of other commands are kept\n"
+    )
     assert names(out) == [MANIFEST_NAME, "f10.png", "notes.txt", "results.csv"]
     assert (out / "notes.txt").read_text() == "mine"
     assert (out / "f10.png").read_bytes() == b"edited by the user"
@@ -58,12 +69,13 @@ def test_a_new_run_removes_its_own_stale_files_and_nothing_else(tmp_path, capsys
         f"  {out / name}" for name in PAPER_FIGURES if name != "f10.png"
     )
     assert (
-        f"files kept (an earlier run wrote them, but they have changed since):\n  {out / 'f10.png'}"
-        in report
+        "files kept (the last run of this command wrote them, but they have changed since):"
+        f"\n  {out / 'f10.png'}" in report
     )
     manifest = json.loads((out / MANIFEST_NAME).read_text())
-    assert list(manifest["files"]) == ["results.csv"]
-    assert manifest["files"]["results.csv"]["size"] == (out / "results.csv").stat().st_size
+    (record,) = manifest["commands"].values()
+    assert list(record["files"]) == ["results.csv"]
+    assert record["files"]["results.csv"]["size"] == (out / "results.csv").stat().st_size
 
 
 def test_a_file_of_the_same_name_rewritten_is_not_removed_twice(tmp_path, capsys):
@@ -86,8 +98,8 @@ def test_parquet_after_csv_removes_the_csv(tmp_path, capsys):
     assert status == 0
     assert names(out) == [MANIFEST_NAME, "results.parquet"]
     assert (
-        f"files removed (an earlier run wrote them, {MANIFEST_NAME}; not written again):\n  {out / 'results.csv'}"
-        in report
+        f"files removed (the last run of this command wrote them, {MANIFEST_NAME}; not written "
+        f"again):\n  {out / 'results.csv'}" in report
     )
 
 
@@ -114,7 +126,7 @@ def test_a_manifest_never_removes_anything_outside_its_folder_or_not_a_regular_f
     (out / "sub" / "inner.txt").write_text("keep")
     (out / "link.txt").symlink_to(outside)
     stamp = {"size": 4, "mtime_ns": outside.stat().st_mtime_ns}
-    forged = {
+    forged: dict[str, object] = {
         "files": {
             "../precious.txt": stamp,
             str(outside): stamp,
@@ -128,6 +140,7 @@ def test_a_manifest_never_removes_anything_outside_its_folder_or_not_a_regular_f
             MANIFEST_NAME: stamp,
         }
     }
+    forged = {"commands": {"library": forged}}  # the runs of staged_output without a command
     (out / MANIFEST_NAME).write_text(json.dumps(forged))
     with staged_output(out) as staged:
         staged.path("new.txt").write_text("new")
@@ -139,15 +152,78 @@ def test_a_manifest_never_removes_anything_outside_its_folder_or_not_a_regular_f
 
 @pytest.mark.parametrize(
     "text", ["", "not json", "[1, 2]", '{"files": [1]}', '{"files": {"a.txt": {"size": "4"}}}',
-             '{"files": {"a.txt": {"size": true, "mtime_ns": 1}}}', "[" * 100_000]
+             '{"files": {"a.txt": {"size": true, "mtime_ns": 1}}}', "[" * 100_000,
+             '{"commands": [1]}', '{"commands": {"library": {"files": {"a.txt": 1}}}}',
+             '{"commands": {"library": {"files": {"a.txt": {"size": true, "mtime_ns": 1}}}}}',
+             '{"files": {"a.txt": {"size": 4, "mtime_ns": %d}}}']  # a manifest of older prp3
 )  # fmt: skip
 def test_a_malformed_manifest_counts_as_nothing_written(tmp_path, text):
     (tmp_path / "a.txt").write_text("user")
+    if "%d" in text:
+        text = text % (tmp_path / "a.txt").stat().st_mtime_ns
     (tmp_path / MANIFEST_NAME).write_text(text)
     with staged_output(tmp_path) as staged:
         staged.path("b.txt").write_text("b")
     assert staged.removed == [] and (tmp_path / "a.txt").read_text() == "user"
-    assert json.loads((tmp_path / MANIFEST_NAME).read_text())["files"].keys() == {"b.txt"}
+    manifest = json.loads((tmp_path / MANIFEST_NAME).read_text())
+    assert manifest["commands"]["library"]["files"].keys() == {"b.txt"}
+
+
+def _sha256(path: Path) -> str:
+    import hashlib
+
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def test_commands_sharing_a_folder_keep_each_others_files(tmp_path, capsys):
+    # was: simulate, then workspace, then export c into one folder: each run deleted the
+    # files of the one before (one manifest for the folder, whatever the command)
+    out = tmp_path / "out"
+    simulate = ("simulate", "--motion", "vertical", "--samples", "5", "-o", out, "--plots")
+    assert cli(capsys, *simulate)[0] == 0
+    assert cli(capsys, "workspace", "--points", "11", "--orientations", "5", "-o", out)[0] == 0
+    status, report, err = cli(capsys, "export", "c", "-o", out)
+    assert (status, err) == (0, "") and "files removed" not in report
+    expected = sorted([MANIFEST_NAME, "results.csv", *PAPER_FIGURES,
+                       "workspace.csv", "orientations.csv", "workspace.png",
+                       "prp3_inverse_dynamics.c", "prp3_inverse_dynamics.h"])  # fmt: skip
+    assert names(out) == expected
+    records = json.loads((out / MANIFEST_NAME).read_text())["commands"]
+    assert sorted(records) == ["export c", "simulate", "workspace"]
+    assert sorted(records["workspace"]["files"]) == ["orientations.csv", "workspace.csv",
+                                                     "workspace.png"]  # fmt: skip
+    # simulate again, without --plots: only its own figures go, and stderr says so
+    status, _, err = cli(capsys, *simulate[:-1])
+    assert status == 0 and err.startswith("prp3 simulate: note: removed 5 files that the last "
+                                          "`prp3 simulate` wrote")  # fmt: skip
+    assert names(out) == sorted(set(expected) - set(PAPER_FIGURES))
+    # a file of the same name written by another command leaves the first one's record
+    (tmp_path / "forces.csv").write_bytes((out / "results.csv").read_bytes())
+    # (5 samples of forces: the platform drifts to the singularity, exit 1, files written)
+    assert cli(capsys, "forward", "--forces", tmp_path / "forces.csv", "-o", out)[0] in (0, 1)
+    records = json.loads((out / MANIFEST_NAME).read_text())["commands"]
+    assert "simulate" not in records  # its one file, results.csv, is forward's now
+    assert "results.csv" in records["forward"]["files"]
+
+
+def test_the_manifest_says_how_the_folder_was_made(tmp_path, capsys, monkeypatch):
+    robot = tmp_path / "robot.toml"
+    robot.write_text("[platform]\nmass = 3.5\n")
+    traj = tmp_path / "traj.csv"
+    traj.write_text("t,x,y,phi\n0,0,0,0\n0.5,0.01,0,0.1\n1,0.02,0,0.2\n1.5,0.03,0,0.3\n")
+    out = tmp_path / "out"
+    monkeypatch.chdir(tmp_path)
+    argv = ["simulate", "--robot", "robot.toml", "--trajectory", str(traj), "-o", "out"]
+    assert cli(capsys, *argv)[0] == 0
+    record = json.loads((out / MANIFEST_NAME).read_text())["commands"]["simulate"]
+    assert record["prp3"] == prp3.__version__
+    assert record["command_line"] == ["prp3", *argv]
+    assert record["working_directory"] == str(tmp_path)
+    assert record["inputs"] == [
+        {"path": "robot.toml", "size": robot.stat().st_size, "sha256": _sha256(robot)},
+        {"path": str(traj), "size": traj.stat().st_size, "sha256": _sha256(traj)},
+    ]
+    assert record["finished"].endswith("Z") and record["finished"][:2] == "20"
 
 
 # ---------------------------------------------------------------- CSV text
@@ -276,3 +352,15 @@ def test_parquet_without_pyarrow_is_refused_before_anything_runs(tmp_path, capsy
     with pytest.raises(OutputFileError, match="writing Parquet needs pyarrow"):
         prp3_io.write_table_parquet(tmp_path / "x.parquet", {"t": np.zeros(2)})
     assert not os.path.exists(tmp_path / "x.parquet")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+def test_an_input_that_is_not_a_regular_file_is_recorded_without_a_hash(tmp_path):
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)  # hashing it would wait for a writer
+    with staged_output(tmp_path / "out", command="c", inputs=[pipe, None]) as staged:
+        staged.path("a.txt").write_text("a")
+    record = json.loads((tmp_path / "out" / MANIFEST_NAME).read_text())["commands"]["c"]
+    assert record["inputs"] == [
+        {"path": str(pipe), "sha256": None, "unreadable": "not a regular file"}
+    ]

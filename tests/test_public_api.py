@@ -476,8 +476,28 @@ CASES: dict[str, Case] = {
     "inverse_kinematics": _case(
         prp3.inverse_kinematics, {"robot": OBJ, "motion": OBJ}, robot=ROBOT, motion=_motion
     ),
-    "jacobian": _case(
-        prp3.jacobian, {"geometry": OBJ}, geometry=lambda: prp3.inverse_geometry(ROBOT, SMALL)
+    "jacobian": _case(prp3.jacobian, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL),
+    "mass_matrix": _case(
+        prp3.mass_matrix,
+        {"robot": OBJ, **POSE, "space": C},
+        robot=ROBOT,
+        pose=SMALL,
+        space="platform",
+    ),
+    "bias_forces": _case(
+        prp3.bias_forces,
+        {"robot": OBJ, **POSE, "velocity": A, "space": C},
+        robot=ROBOT,
+        pose=SMALL,
+        velocity=ZERO,
+        space="platform",
+    ),
+    "gravity_forces": _case(
+        prp3.gravity_forces,
+        {"robot": OBJ, **POSE, "space": C},
+        robot=ROBOT,
+        pose=SMALL,
+        space="actuator",
     ),
     "jacobian_condition": _case(
         prp3.jacobian_condition, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL

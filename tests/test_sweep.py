@@ -678,10 +678,126 @@ def test_a_finished_sweep_leaves_no_staging_folder_of_its_own_or_of_other_specs(
         "removed when this sweep finishes (resume it first to keep it)\n"
     )
     assert f"  removed {described}: superseded by this sweep" in text
-    assert sorted(out.iterdir()) == [mine, out / "designs.parquet"]
+    assert sorted(out.iterdir()) == [out / ".prp3-manifest.json", mine, out / "designs.parquet"]
     # a finished sweep whose own staging folder was left (stopped before removing it)
     staging = prp3.sweep.staging_folder(out, read_sweep_spec(new))
     staging.mkdir()
     status, text, err = cli(capsys, "sweep", "--spec", new, "-o", out, "--scheduler", scheduler)
     assert (status, err) == (0, "") and "0 of 4 chunks computed" in text
-    assert sorted(out.iterdir()) == [mine, out / "designs.parquet"]
+    assert sorted(out.iterdir()) == [out / ".prp3-manifest.json", mine, out / "designs.parquet"]
+
+
+# ---------------------------------------------------------------- the output folder
+def test_a_folder_of_another_spec_is_refused_unless_forced_and_stale_figures_go(
+    tmp_path, capsys, scheduler
+):
+    # was: designs.parquet of another spec replaced silently, pareto.png and
+    # sensitivity.png of the old sweep left beside it, and no manifest
+    import hashlib
+    import json
+
+    old = write(tmp_path / "old.toml", GRID)
+    new = write(tmp_path / "new.toml", GRID.replace("[2.0, 4.0]", "[2.0, 5.0]"))
+    out = tmp_path / "study"
+    run = ("-o", out, "--scheduler", scheduler)
+    assert cli(capsys, "sweep", "--spec", old, *run, "--plots")[0] == 0
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [".prp3-manifest.json", "designs.parquet", "pareto.png", "sensitivity.png"]
+    record = json.loads((out / ".prp3-manifest.json").read_text())["commands"]["sweep"]
+    assert sorted(record["files"]) == ["designs.parquet", "pareto.png", "sensitivity.png"]
+    assert record["inputs"] == [
+        {"path": str(old), "size": old.stat().st_size,
+         "sha256": hashlib.sha256(old.read_bytes()).hexdigest()}
+    ]  # fmt: skip
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    status, text, err = cli(capsys, "sweep", "--spec", new, *run)
+    assert (status, text) == (2, "")
+    assert err == (
+        f"prp3 sweep: error: {out / 'designs.parquet'}: holds the designs of another sweep "
+        f"({old}); choose another output directory, or replace it (--force, force=True)\n"
+    )
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    # the same spec again, without --plots: its own figures of the last run go
+    status, text, err = cli(capsys, "sweep", "--spec", old, *run)
+    assert status == 0 and "0 of 1 chunks computed" in text
+    assert err.startswith("prp3 sweep: note: removed 2 files that the last `prp3 sweep` wrote")
+    assert sorted(p.name for p in out.iterdir()) == [".prp3-manifest.json", "designs.parquet"]
+    # forced: replaced, and the manifest says by which spec
+    status, text, err = cli(capsys, "sweep", "--spec", new, *run, "--force")
+    assert (status, err) == (0, ""), err
+    assert prp3.sweep.read_designs(out / "designs.parquet").columns["platform.mass"].tolist() == [
+        2.0, 3.5, 5.0
+    ]  # fmt: skip
+    record = json.loads((out / ".prp3-manifest.json").read_text())["commands"]["sweep"]
+    assert record["inputs"][0]["path"] == str(new) and "--force" in record["command_line"]
+    # a designs.parquet prp3 did not write is not replaced either
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "designs.parquet").write_bytes(b"mine")
+    status, _, err = cli(capsys, "sweep", "--spec", old, "-o", other, "--scheduler", scheduler)
+    assert status == 2 and "is not a designs file of prp3 sweep" in err
+    assert (other / "designs.parquet").read_bytes() == b"mine"
+
+
+def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
+    from dask.distributed import Client
+
+    spec = sweep_spec(
+        {
+            "designs": 3,
+            "sampling": "grid",
+            "parameters": {"platform.mass": [2.0, 4.0]},
+            "task": {"motions": ["vertical"], "samples": 21},
+            "optimize": {"objective": "peak_f10", "maxiter": 2, "popsize": 3},
+        }
+    )
+    files = []
+    with Client(scheduler, set_as_default=False) as client:
+        for k, given_ in enumerate((client, lambda: Client(scheduler, set_as_default=False))):
+            run = prp3.sweep.run_sweep(spec, tmp_path / f"s{k}", given_)
+            files.append(run.path.read_bytes())
+        assert client.status == "running"  # a client given is left open
+        outcomes = []
+        for given_ in (client, lambda: prp3.sweep.dask_client(scheduler=scheduler)):
+            reports: list[tuple[int, int]] = []
+            outcome = prp3.sweep.optimize_design(
+                spec, given_, progress=lambda done, total, seen=reports: seen.append((done, total))
+            )
+            outcomes.append(outcome)
+            # one report per generation (the initial population is the first), then the end
+            assert reports[-1] == (3, 3) and len(reports) == outcome.generations + 2
+            assert [done for done, _ in reports[:-1]] == list(range(1, outcome.generations + 2))
+        assert client.status == "running"
+    assert files[0] == files[1]
+    assert outcomes[0].x.tolist() == outcomes[1].x.tolist()
+    for bad in (42, lambda: 42):
+        with pytest.raises(prp3.errors.ParameterError, match="client"):
+            prp3.sweep.optimize_design(spec, bad)
+
+
+def test_sweep_and_optimize_draw_a_bar_on_a_terminal(tmp_path, monkeypatch, scheduler):
+    import io
+
+    import prp3.cli._progress
+    from prp3.cli import main
+
+    class FakeTerminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    monkeypatch.setattr(prp3.cli._progress, "DELAY", 0.0)
+    spec = write(
+        tmp_path / "synthesis.toml",
+        GRID.replace("[task]", '[optimize]\nobjective = "peak_f10"\nmaxiter = 2\npopsize = 3\n'
+                     '[task]').replace('motions = ["vertical", "rotation"]',
+                                       'motions = ["vertical"]\nsamples = 21'),
+    )  # fmt: skip
+    for command, stage in (("sweep", "designs"), ("optimize", "generations")):
+        stream = FakeTerminal()
+        monkeypatch.setattr(sys, "stderr", stream)
+        status = main([command, "--spec", str(spec), "-o", str(tmp_path / command),
+                       "--scheduler", scheduler])  # fmt: skip
+        monkeypatch.setattr(sys, "stderr", sys.__stderr__)
+        assert status in (0, 1), stream.getvalue()
+        text = stream.getvalue()
+        assert f"\r{stage}: 100%|" in text, text

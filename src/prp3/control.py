@@ -44,8 +44,8 @@ import importlib
 import math
 import time
 import warnings
-from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
 from types import ModuleType
 from typing import Any, Literal, Protocol
 
@@ -77,6 +77,7 @@ __all__ = [
     "PLANTS",
     "PLANT_ATOL",
     "PLANT_RTOL",
+    "AxisGains",
     "Controller",
     "Gains",
     "Plant",
@@ -127,29 +128,64 @@ def _gain(name: str, value: Any, unit: str) -> float:
         ) from None
 
 
+AxisGains = float | tuple[float, float, float]
+
+
+def _gains(name: str, value: Any, unit: str) -> AxisGains:
+    """One gain for every axis (a number) or one per axis ``(x, y, φ)`` (3 numbers)."""
+    if (
+        isinstance(value, (str, bytes))
+        or not isinstance(value, (Sequence, np.ndarray))
+        or (isinstance(value, np.ndarray) and value.ndim != 1)
+    ):
+        return _gain(name, value, unit)
+    if len(value) != 3:
+        shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:37] + "..."
+        raise ParameterError(
+            f"{name} must be a number or 3 numbers (x, y, phi), got {len(value)} numbers: {shown}",
+            subject="gains",
+            key=name,
+        )
+    x, y, phi = (_gain(f"{name}[{k}]", v, unit) for k, v in enumerate(value))
+    return (x, y, phi)
+
+
+def _per_axis(value: AxisGains) -> tuple[float, float, float]:
+    return value if isinstance(value, tuple) else (value, value, value)
+
+
 @dataclass(frozen=True)
 class Gains:
-    """Gains of the control laws, the same for ``x``, ``y`` and ``φ``.
+    """Gains of the control laws: the same for ``x``, ``y`` and ``φ``, or one per axis.
 
     Attributes
     ----------
-    kp : float
-        ``KP`` (1/s²), >= 0.
-    kd : float
-        ``KD`` (1/s), >= 0.
+    kp : float or tuple of 3 floats
+        ``KP`` (1/s²), >= 0: one for every axis, or ``(KP_x, KP_y, KP_φ)``.
+    kd : float or tuple of 3 floats
+        ``KD`` (1/s), >= 0: one for every axis, or ``(KD_x, KD_y, KD_φ)``.
+    kp_axes, kd_axes : tuple of 3 floats
+        The gains of ``x``, ``y``, ``φ`` (derived).
 
     >>> Gains(kd=-1.0)
     Traceback (most recent call last):
     ...
     prp3.errors.ParameterError: gains: kd must be a non-negative finite number (1/s), got -1.0
+    >>> Gains(kp=(400.0, 400.0, 900.0)).kp_axes, Gains(kd=60).kd_axes
+    ((400.0, 400.0, 900.0), (60.0, 60.0, 60.0))
     """
 
-    kp: float = DEFAULT_KP
-    kd: float = DEFAULT_KD
+    kp: AxisGains = DEFAULT_KP
+    kd: AxisGains = DEFAULT_KD
+    kp_axes: tuple[float, float, float] = field(init=False, repr=False, compare=False)
+    kd_axes: tuple[float, float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "kp", _gain("kp", self.kp, "1/s²"))
-        object.__setattr__(self, "kd", _gain("kd", self.kd, "1/s"))
+        kp, kd = _gains("kp", self.kp, "1/s²"), _gains("kd", self.kd, "1/s")
+        object.__setattr__(self, "kp", kp)
+        object.__setattr__(self, "kd", kd)
+        object.__setattr__(self, "kp_axes", _per_axis(kp))
+        object.__setattr__(self, "kd_axes", _per_axis(kd))
 
 
 def control_force(
@@ -192,21 +228,22 @@ def control_force(
     """
     rx, ry, rp, rvx, rvy, rvp, rax, ray, rap = reference
     x, y, p, vx, vy, vp = measured
-    kp, kd = gains.kp, gains.kd
+    kpx, kpy, kpp = gains.kp_axes
+    kdx, kdy, kdp = gains.kd_axes
     inverse = model.actuator_sample_function  # f10 alone, unchecked
     if controller == "computed-torque":
         f = inverse(
             x, y, p, vx, vy, vp,
-            rax + kd * (rvx - vx) + kp * (rx - x),
-            ray + kd * (rvy - vy) + kp * (ry - y),
-            rap + kd * (rvp - vp) + kp * (rp - p),
+            rax + kdx * (rvx - vx) + kpx * (rx - x),
+            ray + kdy * (rvy - vy) + kpy * (ry - y),
+            rap + kdp * (rvp - vp) + kpp * (rp - p),
         )  # fmt: skip
     elif controller == "pd":
         f = inverse(
             x, y, p, 0.0, 0.0, 0.0,
-            kd * (rvx - vx) + kp * (rx - x),
-            kd * (rvy - vy) + kp * (ry - y),
-            kd * (rvp - vp) + kp * (rp - p),
+            kdx * (rvx - vx) + kpx * (rx - x),
+            kdy * (rvy - vy) + kpy * (ry - y),
+            kdp * (rvp - vp) + kpp * (rp - p),
         )  # fmt: skip
     elif controller == "feedforward":
         f = inverse(rx, ry, rp, rvx, rvy, rvp, rax, ray, rap)
@@ -607,6 +644,7 @@ def track(
     plant: Plant = "prp3",
     model: Robot | None = None,
     gains: Gains | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Tracking:
     """Simulate the closed loop: the controller at the instants ``reference.t``, the plant between.
 
@@ -627,7 +665,9 @@ def track(
     model : Robot, optional
         The controller's model; same ``l0`` as ``robot`` (:func:`check_model`).
     gains : Gains, optional
-        Default ``KP = 400 1/s²``, ``KD = 40 1/s``.
+        Default ``KP = 400 1/s²``, ``KD = 40 1/s`` on every axis.
+    progress : callable, optional
+        ``progress(instants_done, N)`` after every control instant.
 
     Returns
     -------
@@ -705,6 +745,8 @@ def track(
         forces[k] = f10
         elapsed[k] = (stop - start) * 1e-9
         done = k + 1
+        if progress is not None:
+            progress(done, count)
         if not math.isfinite(f10[0] + f10[1] + f10[2]):
             status, message = "failed", f"stopped at t = {times[k]!r} s: non-finite forces"
             break

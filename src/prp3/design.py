@@ -965,6 +965,9 @@ class SweepSpec:
     notes : tuple of str
         Warnings for the user (a trajectory file of positions only: how its
         derivatives were computed).
+    files : tuple of Path
+        The files the spec reads besides itself (its robot file, trajectory
+        files), as a run's manifest records them.
     """
 
     source: str
@@ -978,6 +981,7 @@ class SweepSpec:
     evaluator: DesignEvaluator
     optimize: OptimizeSpec
     notes: tuple[str, ...] = ()
+    files: tuple[Path, ...] = ()
 
     @property
     def paths(self) -> tuple[str, ...]:
@@ -1251,6 +1255,11 @@ def sweep_spec(
         evaluator=evaluator,
         optimize=optimize,
         notes=notes,
+        files=tuple(
+            Path(name) if Path(name).is_absolute() else base / name
+            for name in [*names, *([robot_file] if isinstance(robot_file, str) else [])]
+            if name not in PAPER_MOTIONS
+        ),
     )
 
 

@@ -66,9 +66,10 @@ from .geometry import (
     sum_from_orientation,
 )
 from .kinematics import Kinematics, inverse_kinematics, jacobian
-from .model import Limits, Robot
+from .model import Limits, Load, Robot
 from .motion import Motion
 from .validation import (
+    check_choice,
     check_finite,
     check_per_leg,
     check_poses,
@@ -83,16 +84,20 @@ __all__ = [
     "DEGENERATE_ASSEMBLY",
     "MIN_RTOL",
     "SINGULARITY_STOP",
+    "SPACES",
     "ActuatorForces",
     "ForwardDynamics",
     "ForwardGeometry",
     "PlatformDynamics",
+    "bias_forces",
     "check_forward_friction",
     "forward_acceleration",
     "forward_dynamics",
     "forward_geometry",
     "forward_kinematics",
     "forward_velocity",
+    "gravity_forces",
+    "mass_matrix",
     "open_loop_growth_rate",
     "orientation_from_sum",
     "platform_dynamics",
@@ -363,6 +368,95 @@ def _platform_dynamics(
         bias=(Jt @ b[..., None])[..., 0].reshape(*batch, 3),
         jacobian=J.reshape(*batch, 3, 3),
     )
+
+
+#: The spaces of :func:`mass_matrix`, :func:`bias_forces`, :func:`gravity_forces`.
+SPACES: tuple[str, ...] = ("actuator", "platform")
+
+
+def _at_rest(robot: Robot, pose: ArrayLike) -> FloatArray:
+    """Poses validated, and the zero velocities of their shape."""
+    check_robot(robot)
+    return np.zeros_like(check_poses(pose, robot))
+
+
+def mass_matrix(robot: Robot, pose: ArrayLike, *, space: str = "actuator") -> FloatArray:
+    """The inertia of the equations of motion at ``pose``, shape ``(3, 3)`` or ``(N, 3, 3)``.
+
+    ``space="actuator"`` (default): ``A(q) = ∂f10/∂q̈``, the actuator forces
+    per unit platform acceleration, so that the inverse dynamics is
+    ``f10 = A(q)·q̈ + b(q, q̇)`` (:func:`bias_forces`; eq. 23, as
+    :func:`platform_dynamics` builds it).  ``space="platform"``: the mass
+    matrix ``M(q) = Jᵀ·A`` of the platform coordinates ``(x, y, φ)``,
+    symmetric positive definite, as ``pinocchio.crba`` gives it for a serial
+    robot (``Jᵀ·f10 = M·q̈ + Jᵀ·b``).  The payload is included.
+
+    Raises
+    ------
+    SingularPoseError, UnreachablePoseError, TrajectoryError, ParameterError
+        A singular pose, one outside ``robot.limits.stroke``, a bad shape or
+        value; friction :func:`check_forward_friction` refuses; ``space``
+        not one of ``"actuator"``, ``"platform"``.
+
+    >>> A = mass_matrix(Robot(), [0.0, 0.0, 0.0])
+    >>> A.shape, mass_matrix(Robot(), [[0.0, 0.0, 0.0]] * 2).shape
+    ((3, 3), (2, 3, 3))
+    >>> M = mass_matrix(Robot(), [0.0, 0.0, 0.0], space="platform")
+    >>> bool(np.allclose(M, M.T, rtol=0.0, atol=1e-12)), bool((np.linalg.eigvalsh(M) > 0).all())
+    (True, True)
+    """
+    check_choice("space", space, SPACES)
+    eq = platform_dynamics(robot, pose, _at_rest(robot, pose))
+    return eq.force_matrix if space == "actuator" else eq.mass_matrix
+
+
+def bias_forces(
+    robot: Robot, pose: ArrayLike, velocity: ArrayLike, *, space: str = "actuator"
+) -> FloatArray:
+    """The forces of the equations of motion at zero acceleration, shape ``(3,)`` or ``(N, 3)``.
+
+    ``space="actuator"`` (default): ``b(q, q̇) = f10`` at ``q̈ = 0`` (N):
+    gravity, the velocity terms, the constant ``[load]`` and the viscous and
+    smoothed Coulomb friction, so that ``f10 = A(q)·q̈ + b(q, q̇)``
+    (:func:`mass_matrix`).  ``space="platform"``: ``Jᵀ·b`` (N, N, N·m), the
+    platform-space bias, as ``pinocchio.nonLinearEffects`` gives it for a
+    serial robot.
+
+    Raises
+    ------
+    As :func:`mass_matrix`; ``velocity`` of another shape than ``pose``.
+
+    >>> bias_forces(Robot(), [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]).round(4).tolist()
+    [31.8589, -8.4957, -23.3632]
+    """
+    check_choice("space", space, SPACES)
+    eq = platform_dynamics(robot, pose, velocity)
+    return eq.force_bias if space == "actuator" else eq.bias
+
+
+def gravity_forces(robot: Robot, pose: ArrayLike, *, space: str = "actuator") -> FloatArray:
+    """The actuator forces that hold the robot still against gravity, shape ``(3,)`` or ``(N, 3)``.
+
+    ``space="actuator"`` (default): ``g(q) = f10`` at rest (``q̇ = q̈ = 0``)
+    of the robot without its external ``[load]`` and friction: the weight
+    of the bodies and of the payload alone (N).  ``space="platform"``:
+    ``Jᵀ·g`` (N, N, N·m), as ``pinocchio.computeGeneralizedGravity`` gives it
+    for a serial robot.  Without a load, ``g = b(q, 0)`` (:func:`bias_forces`).
+
+    Raises
+    ------
+    As :func:`mass_matrix` (without the friction refusals: friction is left out).
+
+    >>> gravity_forces(Robot(), [0.0, 0.0, 0.0]).round(4).tolist()
+    [31.8589, -8.4957, -23.3632]
+    >>> gravity_forces(Robot(gravity=(0.0, 0.0)), [0.01, 0.02, 0.1]).tolist()
+    [0.0, 0.0, 0.0]
+    """
+    check_choice("space", space, SPACES)
+    check_robot(robot)
+    weight_only = replace(robot, load=Load(), friction=None)
+    eq = platform_dynamics(weight_only, pose, _at_rest(weight_only, pose))
+    return eq.force_bias if space == "actuator" else eq.bias
 
 
 #: Step of the central differences of :func:`open_loop_growth_rate`, as a fraction of ``l0``
@@ -670,6 +764,7 @@ def forward_dynamics(
     rtol: float = 1e-10,
     atol: float = 1e-12,
     load: ForceFunction | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> ForwardDynamics:
     """Integrate the platform motion driven by the actuator forces ``f10(t)``.
 
@@ -701,6 +796,9 @@ def forward_dynamics(
         the robot's constant ``[load]``.  Sampled forces carry theirs
         (:attr:`ActuatorForces.load`, interpolated like the forces); giving
         both is refused.
+    progress : callable, optional
+        ``progress(samples_reached, N)``: the output times the integration
+        has reached (the furthest time evaluated), reported when it grows.
 
     Returns
     -------
@@ -751,7 +849,11 @@ def forward_dynamics(
     load_of = _load_function(forces, load, times)
     free = _without_limits(robot)  # the stroke ends are events, not refusals
     stroke = robot.limits.stroke
-    solution = _integrate(free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of)
+    solution = _integrate(
+        free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of, progress
+    )
+    if progress is not None:
+        progress(times.size, times.size)
     stop = _stop(free, stroke, solution, times, q0, v0)
     if stop.status == "failed" and stop.t_stop <= float(times[0]):
         raise TrajectoryError(_failed_start(stop, force_of, q0, v0, load_of))
@@ -833,13 +935,20 @@ def _integrate(
     aspect: float,
     tolerances: tuple[float, float],
     load_of: Callable[[float], FloatArray] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Any:
     """Step 3: ``solve_ivp`` (DOP853) of the state ``(q, q̇)``, with the terminal events."""
     from scipy.integrate import solve_ivp
 
     compiled = compile_robot(robot)
+    reached = [0]
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
+        if progress is not None:
+            done = int(np.searchsorted(times, time, side="right"))
+            if done > reached[0]:
+                reached[0] = done
+                progress(min(done, times.size), times.size)
         return _state_derivative(compiled, force_of, time, state, load_of)
 
     def singular(_time: float, state: FloatArray) -> float:

@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from fractions import Fraction
 from typing import Any
@@ -331,6 +331,7 @@ def regressor(
     parameters: Sequence[str] = STANDARD_PARAMETERS,
     *,
     chunk_size: int = DEFAULT_CHUNK,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Regressor:
     """The regressor ``Y`` of ``f10``, ``f21y``, ``f21z`` for a motion (batch or one sample).
 
@@ -354,6 +355,8 @@ def regressor(
         :data:`STANDARD_PARAMETERS`, in that order).
     chunk_size : int
         Samples per chunk (memory bounded for any ``N``).
+    progress : callable, optional
+        ``progress(samples_done, N)`` after every chunk.
 
     Raises
     ------
@@ -389,6 +392,8 @@ def regressor(
         forces[:, start:stop] = block
         lambda10[start:stop] = lam
         dlambda10[start:stop] = dlam
+        if progress is not None:
+            progress(stop, samples)
     shape = motion.pose.shape[:-1]
     return Regressor(
         parameters=names,
@@ -653,6 +658,7 @@ def identify(
     parameters: Sequence[str] = STANDARD_PARAMETERS,
     *,
     where: str = "measurements",
+    progress: Callable[[int, int], None] | None = None,
 ) -> Identification:
     """Base parameters from measured actuator forces by weighted least squares.
 
@@ -682,6 +688,8 @@ def identify(
         The standard parameters to estimate.
     where : str
         Names the data in messages (the file).
+    progress : callable, optional
+        ``progress(samples_done, N)`` while the regressor is built (the long part).
 
     Raises
     ------
@@ -718,7 +726,7 @@ def identify(
             f"(at least {MIN_SAMPLES_PER_PARAMETER} per parameter: {needed})"
         )
     fixed = tuple(name for name in PARAMETERS if name not in names)
-    Y = regressor(robot, motion, names)
+    Y = regressor(robot, motion, names, progress=progress)
     known = known_forces(robot, motion, fixed)
     target = measured - known
     W = Y.f10[..., list(base.independent)]  # (N, 3, B)
@@ -963,7 +971,9 @@ class IdentifiedRobot:
         Standard parameters kept at the nominal robot's values.
     clamped : tuple of str
         Friction coefficients estimated below zero but within 3 standard
-        deviations of it (or round-off), written as 0.
+        deviations of it (or round-off), and, for a nominal robot without a
+        payload, the platform's first moments ``h3x``, ``h3y`` estimated within
+        3 standard deviations of zero (or ``1e-9·m3·l0``): written as 0.
     """
 
     robot: Robot
@@ -1035,7 +1045,22 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     centre of mass), the other choices are tried in order of dominance.  A
     friction coefficient estimated below 0 but within 3 standard deviations
     of it is written as 0 (and listed in :attr:`IdentifiedRobot.clamped`);
-    further below, the robot is invalid.
+    further below, the robot is invalid.  Likewise, without a payload in
+    ``nominal`` the platform's centre of mass is ``G`` (``h3 = 0``, the
+    robot cannot say otherwise): the first moments ``h3x``, ``h3y`` estimated
+    within 3 standard deviations of zero (noise), or within ``1e-9·m3·l0``
+    (round-off on exact forces), are written as 0; farther from it, the robot is invalid (give
+    ``nominal`` a ``[payload]``).
+
+    Examples
+    --------
+    >>> from prp3.motion import law_motion
+    >>> from prp3.dynamics import inverse_dynamics
+    >>> robot, motion = Robot(), law_motion((0.01, 0.02, 0.2), samples=101)
+    >>> result = identify(robot, motion, inverse_dynamics(robot, motion)[1].f10)
+    >>> identified = identified_robot(robot, result)
+    >>> round(identified.robot.platform.mass, 9), identified.clamped
+    (3.0, ('platform_moment_x', 'platform_moment_y'))
 
     Raises
     ------
@@ -1045,12 +1070,23 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     base = result.base
     estimate = result.estimate.copy()
     clamped = []
+    without_payload = not nominal.payload.mass > 0.0
+    moment_floor = 1e-9 * nominal.platform.mass * nominal.l0  # kg m: round-off of h3
     for b, name in enumerate(base.names):  # a friction coefficient of 0 estimated below 0
-        if name in FRICTION_PARAMETERS and base.members(b) == (base.independent[b],):
-            floor = max(3.0 * result.std[b], 1e-12 * float(np.abs(result.measured).max()))
-            if -floor <= estimate[b] < 0.0:
-                estimate[b] = 0.0
-                clamped.append(name)
+        if base.members(b) != (base.independent[b],):
+            continue
+        floor = max(3.0 * result.std[b], 1e-12 * float(np.abs(result.measured).max()))
+        if name in FRICTION_PARAMETERS and -floor <= estimate[b] < 0.0:
+            estimate[b] = 0.0
+            clamped.append(name)
+        elif (  # no payload: the centre of mass of the platform is G
+            without_payload
+            and name in ("platform_moment_x", "platform_moment_y")
+            and estimate[b] != 0.0
+            and abs(estimate[b]) <= max(3.0 * result.std[b], moment_floor)
+        ):
+            estimate[b] = 0.0
+            clamped.append(name)
     nominal_values = standard_parameters(nominal, base.parameters)
     candidates = []
     for b in range(base.count):
@@ -1150,6 +1186,17 @@ class ExcitingTrajectory:
     iterations: int
 
 
+def _counter(progress: Callable[[int, int], None], total: int) -> Callable[..., None]:
+    """A ``minimize`` callback that reports the iterations done of ``total``."""
+    done = [0]
+
+    def step(*_: object) -> None:
+        done[0] += 1
+        progress(min(done[0], total), total)
+
+    return step
+
+
 def exciting_trajectory(
     robot: Robot,
     *,
@@ -1162,6 +1209,7 @@ def exciting_trajectory(
     samples: int = 120,
     seed: int = 0,
     max_iterations: int = 150,
+    progress: Callable[[int, int], None] | None = None,
 ) -> ExcitingTrajectory:
     """A Fourier-series motion that minimises the condition number of the base regressor.
 
@@ -1172,7 +1220,9 @@ def exciting_trajectory(
     ``|φ| ≤ rotation`` (rad, away from the singularity ``φ = π/3``),
     ``λ10`` inside ``robot.limits.stroke`` (when set), ``|λ̇10| ≤ max_velocity``
     and ``|f10| ≤ max_force`` (default ``robot.limits.max_force``; none if
-    neither) of the nominal robot.
+    neither) of the nominal robot.  ``progress(iterations_done,
+    max_iterations)`` is called after every SLSQP iteration (and with
+    ``max_iterations`` at the end: the optimiser may stop earlier).
 
     Raises
     ------
@@ -1254,7 +1304,10 @@ def exciting_trajectory(
         constraints=[{"type": "ineq", "fun": constraints}],
         bounds=[(-1.0, 1.0)] * 3 + [(-1.0, 1.0)] * (6 * L),
         options={"maxiter": max_iterations, "ftol": 1e-6},
+        callback=None if progress is None else _counter(progress, max_iterations),
     )
+    if progress is not None:
+        progress(max_iterations, max_iterations)
     z = np.asarray(solution.x, dtype=np.float64)
     if constraints(z).min() < -1e-6 or objective(z) > objective(z0):
         z = z0  # the optimiser left the limits: keep the feasible guess

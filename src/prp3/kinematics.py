@@ -15,12 +15,12 @@ and (18) are ``ω10 = 0``, ``ω20 = ω30 = φ̇`` and ``ε10 = 0``, ``ε20 = ε3
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
-from .errors import TrajectoryError
+from .errors import ParameterError, TrajectoryError
 from .geometry import (
     LEG_AXIS,
     LEG_NORMAL,
@@ -30,7 +30,7 @@ from .geometry import (
     perp,
 )
 from .kernel import NUMPY, kernel_geometry, kernel_kinematics, kernel_parameters
-from .model import Robot
+from .model import Limits, Robot
 from .motion import Motion
 from .validation import check_instance, check_robot, require_finite
 
@@ -87,18 +87,45 @@ class Kinematics:
     jacobian: FloatArray
 
 
-def jacobian(geometry: InverseGeometry) -> FloatArray:
+def jacobian(robot: Robot | InverseGeometry, pose: ArrayLike | None = None) -> FloatArray:
     """Jacobian ``∂λ10/∂(x, y, φ)`` of the actuator displacements, shape ``(..., 3, 3)``.
+
+    ``jacobian(robot, pose)``, as :func:`prp3.jacobian_condition` takes them
+    (poses ``(3,)`` or ``(..., 3)``, validated; the strokes do not matter),
+    or ``jacobian(geometry)`` of an inverse geometry computed already.  The
+    rank follows the input: ``(3,)`` gives ``(3, 3)``, ``(N, 3)`` gives
+    ``(N, 3, 3)``.  ``λ̇10 = J·(ẋ, ẏ, φ̇)``.
 
     Row ``i`` is ``[d_iy, −d_ix, ρ_i·d_i] / sin(φ − π/3)``: eq. (14) solved for
     ``v10`` (the cross product of eq. (14) with ``d_i`` removes ``v32``).
+
+    Raises
+    ------
+    SingularPoseError
+        A pose at the singularity ``sin(φ − π/3) = 0`` (where ``J`` is infinite).
+    TrajectoryError, ParameterError
+        Poses of the wrong shape, non-finite or out of bounds; a missing
+        pose; not a robot (nor an inverse geometry).
 
     >>> from prp3.model import Robot
     >>> from prp3.geometry import inverse_geometry
     >>> jacobian(inverse_geometry(Robot(), [0.0, 0.0, 0.0])).shape
     (3, 3)
+    >>> jacobian(Robot(), [[0.0, 0.0, 0.0], [0.01, 0.0, 0.1]]).shape
+    (2, 3, 3)
     """
-    d = check_instance("geometry", geometry, InverseGeometry, "a prp3.InverseGeometry").slide
+    if isinstance(robot, InverseGeometry) and pose is None:
+        geometry = robot
+    else:
+        check_instance(
+            "robot", robot, Robot, "a prp3.Robot (with a pose) or a prp3.InverseGeometry"
+        )
+        if pose is None:
+            raise ParameterError("pose is missing: jacobian(robot, pose)", key="pose")
+        assert isinstance(robot, Robot)
+        free = robot if robot.limits == Limits() else replace(robot, limits=Limits())
+        geometry = inverse_geometry(free, pose)
+    d = geometry.slide
     D = geometry.determinant[..., None]
     rows = np.stack(
         [d[..., 1], -d[..., 0], dot2(geometry.lever, d)],

@@ -59,7 +59,7 @@ from .design import (
     evaluate_designs,
     nominal_value,
 )
-from .errors import InputFileError, OutputFileError, Prp3Error
+from .errors import InputFileError, OutputFileError, ParameterError, Prp3Error
 from .io import atomic_path, check_output_directory
 
 if TYPE_CHECKING:
@@ -68,20 +68,28 @@ if TYPE_CHECKING:
 __all__ = [
     "CONNECT_TIMEOUT",
     "DESIGNS_FILE",
+    "ClientOrFactory",
     "DaskMap",
     "DesignTable",
     "OptimizeOutcome",
     "SweepRun",
+    "check_sweep_folder",
     "dask_client",
     "optimize_design",
     "read_designs",
     "run_sweep",
     "staging_folder",
     "stale_staging_folders",
+    "sweep_of",
 ]
 
 FloatArray = NDArray[np.float64]
 Progress = Callable[[int, int], None]
+
+#: What :func:`run_sweep` and :func:`optimize_design` take as ``client``: a Dask client, or
+#: a callable of no argument that makes one (or a context manager giving one, e.g.
+#: ``lambda: dask_client(2)``).
+ClientOrFactory = Any
 
 #: Name of the sweep's output file in its directory.
 DESIGNS_FILE: str = "designs.parquet"
@@ -175,6 +183,50 @@ def _worker_count(client: Client) -> int:
 
 
 # ------------------------------------------------------------------ Parquet
+@contextlib.contextmanager
+def _using(client: ClientOrFactory, name: str) -> Iterator[Client]:
+    """The Dask client of ``client``: a client itself (left open), or made by a factory.
+
+    A factory is called with no argument; what it returns is a client (closed
+    at the end) or a context manager giving one (entered, then left).
+
+    Raises
+    ------
+    ParameterError
+        ``client`` is neither (names the argument and the value).
+    """
+    from dask.distributed import Client
+
+    if isinstance(client, Client):
+        yield client
+        return
+    if not callable(client):
+        raise ParameterError(
+            f"{name} must be a dask.distributed.Client or a callable of no argument that makes "
+            f"one (e.g. lambda: dask_client(2)), got {type(client).__name__}",
+            key=name,
+        )
+    made = client()
+    if isinstance(made, Client):
+        with made:
+            yield made
+        return
+    if isinstance(made, contextlib.AbstractContextManager):
+        with made as entered:
+            if not isinstance(entered, Client):
+                raise ParameterError(
+                    f"{name}() must give a dask.distributed.Client, got {type(entered).__name__}",
+                    key=name,
+                )
+            yield entered
+        return
+    raise ParameterError(
+        f"{name}() must make a dask.distributed.Client or a context manager giving one, "
+        f"got {type(made).__name__}",
+        key=name,
+    )
+
+
 def _arrow_table(columns: dict[str, Any], names: Sequence[str]) -> Any:
     import pyarrow as pa
 
@@ -317,6 +369,53 @@ class SweepRun:
     removed: tuple[str, ...] = ()
 
 
+def sweep_of(path: str | Path) -> tuple[str, str] | None:
+    """The digest and the spec file of the sweep whose designs ``path`` holds.
+
+    ``None`` when ``path`` is not a designs file of prp3 (unreadable, not
+    Parquet, without prp3's metadata).
+    """
+    import pyarrow.parquet as pq
+
+    try:
+        metadata = pq.read_schema(Path(path)).metadata or {}
+        digest = metadata[b"prp3.digest"].decode()
+    except (OSError, ValueError, KeyError, UnicodeDecodeError):
+        return None
+    source = "an unnamed spec"
+    with contextlib.suppress(KeyError, ValueError, TypeError, AttributeError):
+        source = str(json.loads(metadata[b"prp3.spec"])["source"])[:200]
+    return digest, source
+
+
+def check_sweep_folder(output: str | Path, spec: SweepSpec, *, force: bool = False) -> None:
+    """Refuse an output folder whose ``designs.parquet`` is not of ``spec`` (unless ``force``).
+
+    The designs of another spec (or a file of that name prp3 did not write)
+    would otherwise be replaced silently.
+
+    Raises
+    ------
+    OutputFileError
+        Naming the file and the spec it holds.
+    """
+    target = Path(output) / DESIGNS_FILE
+    if force or not os.path.lexists(target):
+        return
+    held = sweep_of(target)
+    if held is not None and held[0] == spec.digest():
+        return
+    what = (
+        f"holds the designs of another sweep ({held[1]})"
+        if held is not None
+        else "is not a designs file of prp3 sweep"
+    )
+    raise OutputFileError(
+        f"{what}; choose another output directory, or replace it (--force, force=True)",
+        file=target,
+    )
+
+
 def staging_folder(output: str | Path, spec: SweepSpec) -> Path:
     """The staging folder of the chunks of ``spec`` in ``output``."""
     return Path(output) / f".prp3-sweep-{spec.digest()[:20]}"
@@ -379,9 +478,10 @@ def _chunk_ok(path: Path, rows: int, names: Sequence[str]) -> bool:
 def run_sweep(
     spec: SweepSpec,
     output: str | Path,
-    client: Callable[[], contextlib.AbstractContextManager[Client]],
+    client: ClientOrFactory,
     *,
     progress: Progress | None = None,
+    force: bool = False,
 ) -> SweepRun:
     """Evaluate every design of ``spec`` and write ``output/designs.parquet``.
 
@@ -390,24 +490,31 @@ def run_sweep(
     spec : SweepSpec
     output : path
         Output directory, created when missing.
-    client : callable
-        Makes the Dask client as a context manager (e.g.
-        ``lambda: dask_client(2)``); called only when some chunk is missing.
+    client : dask.distributed.Client or callable
+        A Dask client (used, left open), or a callable of no argument that
+        makes one or a context manager giving one (e.g.
+        ``lambda: dask_client(2)``), called only when some chunk is missing.
     progress : callable, optional
         ``progress(chunks_done, chunks)``.
+    force : bool
+        Replace a ``designs.parquet`` of another spec (refused otherwise,
+        :func:`check_sweep_folder`).
 
     Raises
     ------
     OutputFileError
-        The directory cannot be written.
+        The directory cannot be written, or it holds the designs of another
+        spec and not ``force``.
     ParameterError
-        A design that is not a valid robot.
+        A design that is not a valid robot; ``client`` neither a client nor a
+        factory.
     """
     import pyarrow as pa
     import pyarrow.parquet as pq
 
     output = Path(output)
     check_output_directory(output)
+    check_sweep_folder(output, spec, force=force)
     target = output / DESIGNS_FILE
     digest = spec.digest()
     names = spec.evaluator.columns
@@ -440,7 +547,7 @@ def run_sweep(
     if progress is not None:
         progress(finished, len(starts))
     if missing:
-        with client() as dask:
+        with _using(client, "client") as dask:
             finished = _compute_chunks(
                 dask,
                 spec.chunk,
@@ -548,9 +655,15 @@ class DaskMap:
     of ``func`` member by member.
     """
 
-    def __init__(self, client: Client, batch: DesignObjective | None = None) -> None:
+    def __init__(
+        self,
+        client: Client,
+        batch: DesignObjective | None = None,
+        progress: Callable[[int], None] | None = None,
+    ) -> None:
         self.client = client
         self.batch = batch
+        self.progress = progress
         self.generation = 0
         self.history: list[tuple[int, FloatArray, float]] = []
         self._scattered: tuple[object, Any] | None = None  # (function, its future)
@@ -586,6 +699,8 @@ class DaskMap:
         for x, value in zip(members, values, strict=True):
             self.history.append((self.generation, x, value))
         self.generation += 1
+        if self.progress is not None:
+            self.progress(self.generation)
         return values
 
 
@@ -628,8 +743,16 @@ class OptimizeOutcome:
     history: dict[str, FloatArray]
 
 
-def optimize_design(spec: SweepSpec, client: Client) -> OptimizeOutcome:
+def optimize_design(
+    spec: SweepSpec, client: ClientOrFactory, *, progress: Progress | None = None
+) -> OptimizeOutcome:
     """Minimise ``spec.optimize.objective`` subject to its constraints over the parameter ranges.
+
+    ``client`` is a Dask client (used, left open) or a callable of no
+    argument that makes one or a context manager giving one (as
+    :func:`run_sweep` takes it).  ``progress(generations_done, maxiter + 1)``
+    is called after every generation (the initial population counts as one;
+    the run may stop before the last one when it converges).
 
     :func:`scipy.optimize.differential_evolution` (``best1bin``, Latin-hypercube
     initial population, ``rng = seed``, no polishing, deferred updating) with
@@ -641,19 +764,24 @@ def optimize_design(spec: SweepSpec, client: Client) -> OptimizeOutcome:
 
     settings = spec.optimize
     objective = DesignObjective(spec.evaluator, settings)
-    mapper = DaskMap(client, batch=objective)
-    result = differential_evolution(
-        objective,
-        spec.bounds,
-        maxiter=settings.maxiter,
-        popsize=settings.popsize,
-        tol=settings.tol,
-        rng=spec.seed,
-        polish=False,
-        init="latinhypercube",
-        updating="deferred",
-        workers=mapper,
-    )
+    total = settings.maxiter + 1
+    report = None if progress is None else (lambda done: progress(min(done, total), total))
+    with _using(client, "client") as dask:
+        mapper = DaskMap(dask, batch=objective, progress=report)
+        result = differential_evolution(
+            objective,
+            spec.bounds,
+            maxiter=settings.maxiter,
+            popsize=settings.popsize,
+            tol=settings.tol,
+            rng=spec.seed,
+            polish=False,
+            init="latinhypercube",
+            updating="deferred",
+            workers=mapper,
+        )
+    if progress is not None:
+        progress(total, total)
     x = np.asarray(result.x, dtype=np.float64)
     columns = evaluate_designs(spec.evaluator, x[None, :])
     row = {name: (str(v[0]) if name == "status" else float(v[0])) for name, v in columns.items()}

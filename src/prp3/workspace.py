@@ -38,6 +38,7 @@ acceleration, compared with ``[limits] max_force``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -579,7 +580,14 @@ class OrientationScan:
         return np.asarray(np.where(np.isfinite(values), values, np.nan))
 
 
-def orientation_scan(robot: Robot, x: ArrayLike, y: ArrayLike, phi: ArrayLike) -> OrientationScan:
+def orientation_scan(
+    robot: Robot,
+    x: ArrayLike,
+    y: ArrayLike,
+    phi: ArrayLike,
+    *,
+    progress: Callable[[int, int], None] | None = None,
+) -> OrientationScan:
     """Reachability of every ``(x, y, φ)`` of a grid, slice by slice.
 
     Parameters
@@ -590,6 +598,8 @@ def orientation_scan(robot: Robot, x: ArrayLike, y: ArrayLike, phi: ArrayLike) -
     phi : array_like, shape (m,)
         Orientations to scan (rad), strictly increasing; singular ones are
         kept and reported unreachable.
+    progress : callable, optional
+        ``progress(orientations_done, m)`` after every slice.
 
     Returns
     -------
@@ -610,6 +620,8 @@ def orientation_scan(robot: Robot, x: ArrayLike, y: ArrayLike, phi: ArrayLike) -
     cmin = np.full(phis.size, np.nan)
     cmax = np.full(phis.size, np.nan)
     for k, angle in enumerate(phis.tolist()):
+        if progress is not None:
+            progress(k, phis.size)
         if abs(math.sin(angle - math.pi / 3.0)) < SINGULARITY_THRESHOLD:
             continue
         ws = workspace_slice(robot, angle, xs, ys)
@@ -619,6 +631,8 @@ def orientation_scan(robot: Robot, x: ArrayLike, y: ArrayLike, phi: ArrayLike) -
         if ws.reachable.any():
             cmin[k] = ws.condition[ws.reachable].min()
             cmax[k] = ws.condition[ws.reachable].max()
+    if progress is not None:
+        progress(phis.size, phis.size)
     return OrientationScan(
         phi=phis,
         x=xs,

@@ -256,6 +256,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     program = str(getattr(args, "program", "prp3"))
+    args.command_line = ["prp3", *words]  # recorded in the manifest of the output folder
     guard = _SignalGuard()
     guard.install()
     try:

@@ -12,13 +12,14 @@ argparse.ArgumentTypeError: expected a finite number, got 'nan'
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 from ..errors import OutputFileError
-from ..io import MANIFEST_NAME, StagedOutput
+from ..files import MANIFEST_NAME, StagedOutput, staged_output
 from ..model import Robot
 
 __all__ = [
@@ -27,8 +28,10 @@ __all__ = [
     "emit",
     "files_report",
     "finite_float",
+    "input_paths",
     "integer_at_least",
     "load_robot",
+    "output_folder",
     "path_name",
     "positive_float",
 ]
@@ -123,25 +126,77 @@ def add_output_directory(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def command_name(args: argparse.Namespace) -> str:
+    """The subcommand that was run, as the manifest keys it: ``simulate``, ``export c``."""
+    program = str(getattr(args, "program", "prp3"))
+    return program.removeprefix("prp3").strip() or "prp3"
+
+
+def input_paths(args: argparse.Namespace) -> list[Path]:
+    """The input files of a run: the values of its path options (``--robot``, ``--trajectory``...).
+
+    Every option parsed by :func:`path_name` but ``--output``, in the order of ``args``.
+
+    >>> input_paths(argparse.Namespace(robot=Path("r.toml"), output=Path("out"), samples=3))
+    [PosixPath('r.toml')]
+    """
+    return [
+        value for name, value in vars(args).items() if isinstance(value, Path) and name != "output"
+    ]
+
+
+@contextlib.contextmanager
+def output_folder(
+    args: argparse.Namespace,
+    directory: str | Path,
+    inputs: Sequence[str | Path | None] | None = None,
+) -> Iterator[StagedOutput]:
+    """:func:`prp3.files.staged_output` for a subcommand: its record in the manifest, a note.
+
+    The manifest records the subcommand, its command line (``args.command_line``,
+    set by :func:`prp3.cli.main`) and the SHA-256 of ``inputs`` (default:
+    every path option of ``args`` but ``--output``, :func:`input_paths`).  After the
+    files are moved in, one note on stderr names the files of the same
+    subcommand's earlier run that were removed (the files of other
+    subcommands in the folder are kept).
+    """
+    command = command_name(args)
+    inputs = input_paths(args) if inputs is None else inputs
+    line = getattr(args, "command_line", None) or ["prp3", *command.split()]
+    with staged_output(directory, command=command, command_line=line, inputs=inputs) as staged:
+        yield staged
+    if staged.removed:
+        names = ", ".join(path.name for path in staged.removed)
+        count = len(staged.removed)
+        print(
+            f"{args.program}: note: removed {count} file{'s' if count > 1 else ''} that the "
+            f"last `prp3 {command}` wrote into {staged.directory} and this run did not write "
+            f"again ({names}); files of other commands are kept",
+            file=sys.stderr,
+        )
+
+
 def files_report(staged: StagedOutput) -> list[str]:
     """The lines of a summary that say which files a run writes and removes.
 
     Known before the files are moved in (the summary is printed first): the
-    files of an earlier run in the same folder (its manifest,
-    ``DIR/.prp3-manifest.json``) that this run does not write again are
-    removed and listed; those changed since are kept and listed.
+    files of the same command's earlier run in the folder (its record in the
+    manifest, ``DIR/.prp3-manifest.json``) that this run does not write again
+    are removed and listed; those changed since are kept and listed.  Files
+    of other commands are not touched.
     """
     lines = ["files written:", *(f"  {path}" for path in staged.targets)]
     removed = staged.stale()
     if removed:
         lines += [
-            f"files removed (an earlier run wrote them, {MANIFEST_NAME}; not written again):",
+            f"files removed (the last run of this command wrote them, {MANIFEST_NAME}; "
+            "not written again):",
             *(f"  {path}" for path in removed),
         ]
     kept = staged.changed()
     if kept:
         lines += [
-            "files kept (an earlier run wrote them, but they have changed since):",
+            "files kept (the last run of this command wrote them, but they have changed since):",
             *(f"  {path}" for path in kept),
         ]
     return lines

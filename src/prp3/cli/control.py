@@ -45,12 +45,12 @@ from ..io import (
     check_inputs_kept,
     check_output_directory,
     read_trajectory,
-    staged_output,
     write_table_csv,
 )
 from ..model import Robot
 from ..motion import PAPER_DURATION, PAPER_MOTIONS
 from ..plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
+from ._progress import progress_bar
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -58,6 +58,7 @@ from ._types import (
     files_report,
     finite_float,
     load_robot,
+    output_folder,
     path_name,
     positive_float,
 )
@@ -94,6 +95,36 @@ def non_negative_float(text: str) -> float:
     if value < 0.0:
         raise argparse.ArgumentTypeError(f"expected a non-negative number, got {text!r}")
     return value
+
+
+def axis_gains(text: str) -> float | tuple[float, float, float]:
+    """A gain for every axis (``400``) or one per axis ``x,y,phi`` (``400,400,900``).
+
+    >>> axis_gains("400"), axis_gains("400,400,900")
+    (400.0, (400.0, 400.0, 900.0))
+    >>> axis_gains("1,2")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: expected a number or 3 numbers X,Y,PHI, got '1,2'
+    """
+    parts = text.split(",")
+    if len(parts) == 1:
+        return non_negative_float(text)
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"expected a number or 3 numbers X,Y,PHI, got {text!r}")
+    x, y, phi = (non_negative_float(part) for part in parts)
+    return (x, y, phi)
+
+
+def gains_text(value: float | tuple[float, float, float]) -> str:
+    """``400`` or ``(400, 400, 900)`` for the summary and the figure.
+
+    >>> gains_text(400.0), gains_text((400.0, 400.0, 900.0))
+    ('400', '(400, 400, 900)')
+    """
+    if isinstance(value, tuple):
+        return "(" + ", ".join(f"{v:g}" for v in value) + ")"
+    return f"{value:g}"
 
 
 def register(subparsers: Any) -> None:
@@ -142,16 +173,18 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--kp",
         metavar="KP",
-        type=non_negative_float,
+        type=axis_gains,
         default=DEFAULT_KP,
-        help=f"position gain (1/s^2, default {DEFAULT_KP:g})",
+        help=f"position gain (1/s^2, default {DEFAULT_KP:g}): one for every axis, or "
+        "KP_X,KP_Y,KP_PHI",
     )
     parser.add_argument(
         "--kd",
         metavar="KD",
-        type=non_negative_float,
+        type=axis_gains,
         default=DEFAULT_KD,
-        help=f"velocity gain (1/s, default {DEFAULT_KD:g})",
+        help=f"velocity gain (1/s, default {DEFAULT_KD:g}): one for every axis, or "
+        "KD_X,KD_Y,KD_PHI",
     )
     add_output_directory(parser)
     parser.set_defaults(handler=run)
@@ -205,22 +238,26 @@ def run(args: argparse.Namespace) -> int:
         times = control_times(0.0, PAPER_DURATION, args.rate)
         reference = law_at(PAPER_MOTIONS[args.motion], times)
         what = f"{args.motion} motion (paper eq. 4)"
-    result = track(
-        robot,
-        reference,
-        controller=args.controller,
-        plant=args.plant,
-        model=model,
-        gains=Gains(kp=args.kp, kd=args.kd),
-    )
+    with progress_bar() as bar:
+        result = track(
+            robot,
+            reference,
+            controller=args.controller,
+            plant=args.plant,
+            model=model,
+            gains=Gains(kp=args.kp, kd=args.kd),
+            progress=bar.stage("tracking", "steps"),
+        )
     if note is not None:  # only for a run that goes on: a refused input gets its one line
         print(f"{args.program}: warning: {note}", file=sys.stderr)
     table = tracking_table(result)
     title = f"{args.controller} control, {args.plant} plant, {args.rate:g} Hz"
     subtitle = f"{what}; {model_text}" + (
-        "" if args.controller == "feedforward" else f"; KP = {args.kp:g} 1/s², KD = {args.kd:g} 1/s"
+        ""
+        if args.controller == "feedforward"
+        else f"; KP = {gains_text(args.kp)} 1/s², KD = {gains_text(args.kd)} 1/s"
     )
-    with staged_output(output) as staged:
+    with output_folder(args, output) as staged:
         write_table_csv(staged.path("tracking.csv"), table)
         if result.t.size >= 2:
             from ..plotting.control import tracking_figure
@@ -276,7 +313,7 @@ def _summary(
         + (
             "; no gains (open loop)"
             if args.controller == "feedforward"
-            else f"; gains KP = {args.kp:g} 1/s^2, KD = {args.kd:g} 1/s"
+            else f"; gains KP = {gains_text(args.kp)} 1/s^2, KD = {gains_text(args.kd)} 1/s"
         ),
         *([f"  {result.message}"] if result.status == "completed" else []),  # else a warning
         f"  {'tracking error':<18}" + "".join(f"{h:>14}" for h in ("x (m)", "y (m)", "phi (rad)")),

@@ -28,15 +28,9 @@ import numpy as np
 
 from ..design import AGGREGATES, SweepSpec, design_robot, quantity, read_sweep_spec
 from ..errors import Prp3Error
-from ..io import (
-    atomic_writer,
-    check_inputs_kept,
-    check_output_directory,
-    format_float,
-    staged_output,
-)
-from ._types import emit, files_report, integer_at_least, path_name
-from .simulate import Progress
+from ..io import atomic_writer, check_inputs_kept, check_output_directory, format_float
+from ._progress import Progress
+from ._types import emit, files_report, integer_at_least, output_folder, path_name
 
 if TYPE_CHECKING:
     from dask.distributed import Client
@@ -125,6 +119,10 @@ def register(subparsers: Any) -> None:
         help="quantity of the sensitivity plots (default peak_f10, the largest of legs A, B, C); "
         "only with --plots",
     )  # fmt: skip
+    sweep.add_argument(
+        "--force", action="store_true",
+        help="replace the designs.parquet of another spec in DIR (refused otherwise)",
+    )  # fmt: skip
     sweep.set_defaults(handler=run_sweep)
 
     optimize = subparsers.add_parser(
@@ -207,6 +205,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     for name, _ in axes:
         _check_quantity(spec, name, "--pareto")
     _check_quantity(spec, args.sensitivity, "--sensitivity")
+    sweep.check_sweep_folder(output, spec, force=args.force)  # before any warning
     for _, described in sweep.stale_staging_folders(output, spec):
         print(
             f"{args.program}: warning: {described}: an unfinished sweep of another spec; "
@@ -217,29 +216,15 @@ def run_sweep(args: argparse.Namespace) -> int:
     start = time.monotonic()
     try:
         result = sweep.run_sweep(
-            spec, output, lambda: _client(args), progress=progress.stage("designs")
+            spec,
+            output,
+            lambda: _client(args),
+            progress=progress.stage("designs"),
+            force=args.force,
         )
     finally:
         progress.close()
     elapsed = time.monotonic() - start
-    written = [result.path]
-    if args.plots:
-        from ..plotting.design import pareto_figure, sensitivity_figure
-        from ..plotting.figures import save_figure
-
-        (x, max_x), (y, max_y) = axes
-        wanted = {*spec.paths, "status"}
-        for name in (x, y, args.sensitivity):  # an aggregate reads its three legs
-            wanted |= {f"{name}_{leg}" for leg in "ABC"} if name in AGGREGATES else {name}
-        table = sweep.read_designs(result.path, [c for c in spec.evaluator.columns if c in wanted])
-        figure = pareto_figure(
-            table.columns, x, y, maximize_x=max_x, maximize_y=max_y, nominal=table.nominal
-        )
-        written.append(save_figure(figure, output / "pareto.png"))
-        figure = sensitivity_figure(
-            table.columns, table.parameters, args.sensitivity, nominal=table.nominal
-        )
-        written.append(save_figure(figure, output / "sensitivity.png"))
     statuses = ", ".join(f"{count} {name}" for name, count in sorted(result.status.items()))
     reused = result.chunks - result.computed
     lines = [
@@ -249,10 +234,30 @@ def run_sweep(args: argparse.Namespace) -> int:
         + (f", {reused} found done" if reused else "")
         + f", {elapsed:.3g} s",
         *(f"  removed {described}: superseded by this sweep" for described in result.removed),
-        "files written:",
-        *(f"  {path}" for path in written),
     ]
-    emit("\n".join(lines))
+    # designs.parquet is written in place (resumable); the figures are staged with it, and
+    # the manifest records them: a later sweep without --plots removes its stale figures
+    with output_folder(args, output, [args.spec, *spec.files]) as staged:
+        staged.adopt(sweep.DESIGNS_FILE)
+        if args.plots:
+            from ..plotting.design import pareto_figure, sensitivity_figure
+            from ..plotting.figures import save_figure
+
+            (x, max_x), (y, max_y) = axes
+            wanted = {*spec.paths, "status"}
+            for name in (x, y, args.sensitivity):  # an aggregate reads its three legs
+                wanted |= {f"{name}_{leg}" for leg in "ABC"} if name in AGGREGATES else {name}
+            columns = [c for c in spec.evaluator.columns if c in wanted]
+            table = sweep.read_designs(result.path, columns)
+            figure = pareto_figure(
+                table.columns, x, y, maximize_x=max_x, maximize_y=max_y, nominal=table.nominal
+            )
+            save_figure(figure, staged.path("pareto.png"))
+            figure = sensitivity_figure(
+                table.columns, table.parameters, args.sensitivity, nominal=table.nominal
+            )
+            save_figure(figure, staged.path("sensitivity.png"))
+        emit("\n".join(lines + files_report(staged)))
     return 0
 
 
@@ -289,8 +294,13 @@ def run_optimize(args: argparse.Namespace) -> int:
     check_output_directory(output)
     check_inputs_kept(output, ("ROBOT.toml", "history.csv"), (args.spec,))
     start = time.monotonic()
-    with _client(args) as client:
-        outcome = sweep.optimize_design(spec, client)
+    progress = Progress(sys.stderr)
+    try:
+        outcome = sweep.optimize_design(
+            spec, lambda: _client(args), progress=progress.stage("generations")
+        )
+    finally:
+        progress.close()
     elapsed = time.monotonic() - start
     robot = design_robot(spec.evaluator.nominal, spec.paths, outcome.x.tolist())
     settings = spec.optimize
@@ -311,7 +321,7 @@ def run_optimize(args: argparse.Namespace) -> int:
     for name, low, high in settings.constraints:
         value = float(quantity(columns, name)[0])
         lines.append(f"  {name} = {value:.9g}  (required {low:g} .. {high:g})")
-    with staged_output(output) as staged:
+    with output_folder(args, output) as staged:
         staged.path("ROBOT.toml").write_text(robot.to_toml(), encoding="utf-8")
         _write_history(staged.path("history.csv"), outcome.history)
         # the summary goes out before the files are moved in: a failing standard

@@ -21,7 +21,8 @@ from typing import Any
 import numpy as np
 
 from ..identification import exciting_trajectory
-from ..io import check_output_directory, staged_output, write_table_csv
+from ..io import check_output_directory, write_table_csv
+from ._progress import progress_bar
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -29,6 +30,7 @@ from ._types import (
     files_report,
     integer_at_least,
     load_robot,
+    output_folder,
     positive_float,
 )
 
@@ -120,22 +122,24 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 excite`` with parsed ``args``; return the exit status."""
     check_output_directory(args.output)
     robot = load_robot(args)
-    result = exciting_trajectory(
-        robot,
-        period=args.period,
-        harmonics=args.harmonics,
-        reach=args.reach,
-        rotation=args.rotation,
-        max_velocity=args.max_velocity,
-        max_force=args.max_force,
-        seed=args.seed,
-        max_iterations=args.iterations,
-    )
+    with progress_bar() as bar:
+        result = exciting_trajectory(
+            robot,
+            period=args.period,
+            harmonics=args.harmonics,
+            reach=args.reach,
+            rotation=args.rotation,
+            max_velocity=args.max_velocity,
+            max_force=args.max_force,
+            seed=args.seed,
+            max_iterations=args.iterations,
+            progress=bar.stage("optimising", "iterations"),
+        )
     motion = result.series.motion(np.linspace(0.0, args.period, args.samples))
     names = ("t", "x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
     columns = [motion.t, *motion.pose.T, *motion.velocity.T, *motion.acceleration.T]
     force = args.max_force if args.max_force is not None else robot.limits.max_force
-    with staged_output(args.output) as staged:
+    with output_folder(args, args.output) as staged:
         write_table_csv(staged.path(TRAJECTORY_NAME), dict(zip(names, columns, strict=True)))
         lines = [
             f"prp3 excite: Fourier series, {args.harmonics} harmonics, period {args.period:g} s",

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from ..codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
-from ..io import atomic_writer, check_inputs_kept, check_output_directory, staged_output
+from ..io import atomic_writer, check_inputs_kept, check_output_directory
 from ..mjcf import mjcf_model
 from ._types import (
     add_output_directory,
@@ -25,6 +25,7 @@ from ._types import (
     emit,
     files_report,
     load_robot,
+    output_folder,
     path_name,
 )
 
@@ -137,7 +138,7 @@ def _export_c(args: argparse.Namespace) -> int:
     check_inputs_kept(output, (HEADER_NAME, SOURCE_NAME), (args.robot,))
     code = c_inverse_dynamics(load_robot(args))
     source = f"the robot of {args.robot}" if args.robot is not None else "the paper's robot"
-    with staged_output(output) as staged:
+    with output_folder(args, output) as staged:
         staged.path(HEADER_NAME).write_text(code.header, encoding="utf-8")
         staged.path(SOURCE_NAME).write_text(code.source, encoding="utf-8")
         emit(

@@ -44,12 +44,12 @@ from ..io import (
     check_inputs_kept,
     check_output_directory,
     read_forces,
-    staged_output,
     trajectory_table,
     write_table_csv,
 )
 from ..results import results_table
 from ..runs import check_memory
+from ._progress import progress_bar
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -58,6 +58,7 @@ from ._types import (
     finite_float,
     integer_at_least,
     load_robot,
+    output_folder,
     path_name,
     positive_float,
 )
@@ -211,9 +212,11 @@ def run(args: argparse.Namespace) -> int:
             times = np.linspace(float(forces.t[0]), float(forces.t[-1]), args.samples)
         else:
             times = np.asarray(forces.t)
-        result = forward_dynamics(
-            robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol
-        )
+        with progress_bar() as bar:
+            result = forward_dynamics(
+                robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol,
+                progress=bar.stage("integrating", "samples"),
+            )  # fmt: skip
     except Prp3Error as error:
         if error.subject in ("initial_pose", "pose"):  # the initial pose: say where it came from
             if args.initial_pose is not None:
@@ -230,7 +233,7 @@ def run(args: argparse.Namespace) -> int:
             raise error.located(file=given.path) from None
         raise
     table = results_table(result.kinematics, result.dynamics)
-    with staged_output(output) as staged:
+    with output_folder(args, output) as staged:
         write_table_csv(staged.path("results.csv"), table)
         write_table_csv(staged.path("trajectory.csv"), trajectory_table(result.motion))
         growth = open_loop_growth_rate(robot, pose)

@@ -43,11 +43,11 @@ from ..io import (
     check_output_directory,
     format_float,
     read_measurements,
-    staged_output,
 )
 from ..model import Robot
 from ..plotting.identification import IDENTIFICATION_FIGURE  # a constant: no matplotlib
-from ._types import add_output_directory, emit, files_report, load_robot, path_name
+from ._progress import progress_bar
+from ._types import add_output_directory, emit, files_report, load_robot, output_folder, path_name
 
 __all__ = ["FRICTION_CHOICES", "PARAMETERS_NAME", "ROBOT_NAME", "register", "run"]
 
@@ -140,7 +140,11 @@ def run(args: argparse.Namespace) -> int:
         when = float(trajectory.motion.t[sample]) if sample is not None else None
         raise error.located(file=trajectory.path, line=line, time=when, subject=None) from None
     estimated = estimated_parameters(nominal, args.friction)
-    result = identify(nominal, trajectory.motion, data.f10, estimated, where=str(args.measurements))
+    with progress_bar() as bar:
+        result = identify(
+            nominal, trajectory.motion, data.f10, estimated, where=str(args.measurements),
+            progress=bar.stage("regressor", "samples"),
+        )  # fmt: skip
     robot = identified_robot(nominal, result)
     if trajectory.note is not None:  # only for a run that goes on
         print(f"{args.program}: warning: {trajectory.note}", file=sys.stderr)
@@ -155,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
         subtitle=f"{args.measurements}: {result.t.size} samples, {result.base.count} base "
         f"parameters, residual RMS {', '.join(f'{v:.3g}' for v in result.residual_rms)} N",
     )
-    with staged_output(args.output) as staged:
+    with output_folder(args, args.output) as staged:
         with atomic_writer(staged.path(ROBOT_NAME)) as stream:
             stream.write(_robot_text(robot, args))
         _write_parameters(staged.path(PARAMETERS_NAME), result)
@@ -254,9 +258,11 @@ def _summary(
         + "; every other parameter is NOMINAL's"
     )
     for name in robot.clamped:
-        lines.append(
-            f"  {PARAMETER_SYMBOLS[name]} estimated below 0, within 3 standard deviations of 0: "
-            "written as 0"
+        why = (
+            "estimated within 3 standard deviations of 0 (the nominal robot has no payload)"
+            if name in ("platform_moment_x", "platform_moment_y")
+            else "estimated below 0, within 3 standard deviations of 0"
         )
+        lines.append(f"  {PARAMETER_SYMBOLS[name]} {why}: written as 0")
     lines += files
     return "\n".join(lines)

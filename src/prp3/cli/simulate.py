@@ -19,8 +19,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -36,7 +34,6 @@ from ..io import (
     check_output_directory,
     parquet_available,
     read_trajectory,
-    staged_output,
     write_table_csv,
     write_table_parquet,
 )
@@ -45,6 +42,7 @@ from ..kinematics import inverse_kinematics
 from ..motion import PAPER_MOTIONS, Motion, paper_motion
 from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from ..runs import CHUNK_SAMPLES, RunSummary, check_memory, simulate_table, summarize, summary_text
+from ._progress import Progress
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -52,6 +50,7 @@ from ._types import (
     files_report,
     integer_at_least,
     load_robot,
+    output_folder,
     path_name,
 )
 
@@ -97,67 +96,6 @@ examples:
 
 Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
 """
-
-
-# ------------------------------------------------------------------ progress bar
-class Progress:
-    """A one-line progress bar on stderr, only on a terminal and only for long runs.
-
-    Nothing is drawn unless ``stream`` is a terminal and at least ``delay``
-    seconds have passed since the bar was created (so short runs stay
-    silent); redraws are throttled to ten per second.
-
-    >>> import io
-    >>> bar = Progress(io.StringIO())          # not a terminal: never draws
-    >>> bar.update("writing", 5, 10); bar.close()
-    >>> bar.drawn
-    False
-    """
-
-    WIDTH = 28
-
-    def __init__(
-        self,
-        stream: TextIO,
-        *,
-        delay: float = 1.0,
-        clock: Callable[[], float] = time.monotonic,
-        enabled: bool | None = None,
-    ) -> None:
-        isatty = getattr(stream, "isatty", None)
-        self.stream = stream
-        self.enabled = bool(isatty and isatty()) if enabled is None else enabled
-        self.delay = delay
-        self.clock = clock
-        self.start = clock()
-        self.last = -np.inf
-        self.drawn = False
-
-    def update(self, stage: str, done: int, total: int) -> None:
-        """Report ``done`` of ``total`` units of work of ``stage``."""
-        if not self.enabled:
-            return
-        now = self.clock()
-        if now - self.start < self.delay or (now - self.last < 0.1 and done < total):
-            return
-        self.last = now
-        fraction = min(max(done / total, 0.0), 1.0) if total > 0 else 1.0
-        filled = round(fraction * self.WIDTH)
-        bar = "#" * filled + "-" * (self.WIDTH - filled)
-        self.stream.write(f"\r{stage:<20.20} [{bar}] {100 * fraction:3.0f}%")
-        self.stream.flush()
-        self.drawn = True
-
-    def stage(self, stage: str) -> Callable[[int, int], None]:
-        """A ``progress(done, total)`` callback for ``stage``."""
-        return lambda done, total: self.update(stage, done, total)
-
-    def close(self) -> None:
-        """Erase the bar if it was drawn."""
-        if self.drawn:
-            self.stream.write("\r" + " " * (self.WIDTH + 28) + "\r")
-            self.stream.flush()
-            self.drawn = False
 
 
 # ------------------------------------------------------------------ command line
@@ -369,7 +307,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
     summary = summarize(table, motion.velocity[:, 2])
 
     trajectory_file = str(trajectory.path) if trajectory is not None else None
-    with staged_output(output) as staged:
+    with output_folder(args, output) as staged:
         if args.format == "parquet":
             progress.update(results_name, 0, 1)
             write_table_parquet(staged.path(results_name), table)

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..geometry import SINGULARITY_THRESHOLD
-from ..io import check_output_directory, staged_output, write_table_csv
+from ..io import check_output_directory, write_table_csv
 from ..model import Robot
 from ..runs import check_memory
 from ..validation import POSE_BOUND
@@ -39,6 +39,7 @@ from ..workspace import (
     workspace_slice,
     workspace_statics,
 )
+from ._progress import progress_bar
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -47,6 +48,7 @@ from ._types import (
     finite_float,
     integer_at_least,
     load_robot,
+    output_folder,
 )
 
 __all__ = [
@@ -304,20 +306,36 @@ def run(args: argparse.Namespace) -> int:
         low, high = orientation_range(robot)
     else:
         low, high = -math.pi, math.pi
-    scan = orientation_scan(robot, x, y, np.linspace(low, high, args.orientations))
-    statics = workspace_statics(robot, ws.phi, x, y) if statics_wanted else None
+    with progress_bar() as bar:  # one bar for the run: its delay counts from here
+        orientations = np.linspace(low, high, args.orientations)
+        scan = orientation_scan(robot, x, y, orientations, progress=bar.stage("orientations"))
+        statics = None
+        if statics_wanted:
+            bar.update("statics", 0, 1)
+            statics = workspace_statics(robot, ws.phi, x, y)
 
-    from ..plotting.workspace import save_statics_map, save_workspace_map
+        from ..plotting.workspace import save_statics_map, save_workspace_map
 
-    with staged_output(output) as staged:
-        write_table_csv(staged.path("workspace.csv"), _grid_table(ws, scan))
-        write_table_csv(staged.path("orientations.csv"), _scan_table(scan))
-        save_workspace_map(staged.path("workspace.png"), robot, ws, scan)
-        if statics is not None:
-            write_table_csv(staged.path("statics.csv"), _statics_table(statics))
-            save_statics_map(staged.path("statics.png"), robot, statics)
-        # printed before the files are moved in: a failing standard output keeps older results
-        emit(_summary(robot, ws, (low, high), files_report(staged), statics))
+        with output_folder(args, output) as staged:
+            for name, table in (
+                ("workspace.csv", _grid_table(ws, scan)),
+                ("orientations.csv", _scan_table(scan)),
+            ):
+                write_table_csv(staged.path(name), table, progress=bar.stage(name, "rows"))
+            bar.update("workspace.png", 0, 1)
+            save_workspace_map(staged.path("workspace.png"), robot, ws, scan)
+            if statics is not None:
+                write_table_csv(
+                    staged.path("statics.csv"),
+                    _statics_table(statics),
+                    progress=bar.stage("statics.csv", "rows"),
+                )
+                bar.update("statics.png", 0, 1)
+                save_statics_map(staged.path("statics.png"), robot, statics)
+            bar.close()
+            # printed before the files are moved in: a failing standard output keeps older
+            # results
+            emit(_summary(robot, ws, (low, high), files_report(staged), statics))
     return 0
 
 
