@@ -503,6 +503,23 @@ def _applied(
     return F_star, M_star
 
 
+def _spring(
+    robot: Robot, F_star: FloatArray, lambda10: FloatArray, v10: FloatArray
+) -> FloatArray:
+    """``F_1*`` with the spring with damper of the actuator added (``[spring.actuator]``).
+
+    The force ``(−k·(λ10 − λ_rest) − c·v10)·u3`` on body 1 along its axis
+    ``z1 = e_i`` (``T1``), through ``A1`` (no moment), like ``fric10``.
+    """
+    if robot.spring is None:
+        return F_star
+    spring = robot.spring.actuator
+    force = -spring.stiffness * (lambda10 - spring.rest) - spring.damping * v10
+    F_star = F_star.copy()
+    F_star[:, :, 0] += force[..., None] * U3
+    return F_star
+
+
 def _evaluate(
     robot: Robot,
     pose: FloatArray,
@@ -645,6 +662,7 @@ def _evaluate(
     M_star = np.cross(r_C, F_star)  # r̃_k^C F_k*
     # beyond the paper: the applied forces enter F_k*, M_k* as the weight does
     F_star, M_star = _applied(robot, F_star, M_star, a0, position, r3G, load, friction)
+    F_star = _spring(robot, F_star, lambda10, v10)
     # eq. (20): inertia force and moment of inertia forces about A_k
     F_in = -m * (gamma + _mv(omega2_epsilon, r_C))
     M_in = -m * (np.cross(r_C, gamma) + _mv(J, epsilon) + _mv(omega_tilde, _mv(J, omega)))
