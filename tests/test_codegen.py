@@ -24,11 +24,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import Limits, Motion, Robot, inverse_dynamics
-from prp3.errors import ParameterError
-from prp3.model import Friction, JointFriction, Load, Spring, SpringParameters
 from prp3.cli import main
 from prp3.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
+from prp3.errors import ParameterError
 from prp3.fast import compile_robot, paper_forces
+from prp3.model import Friction, JointFriction, Load, Spring, SpringParameters
 from strategies import poses, robots
 
 pytest.importorskip("sympy")
@@ -229,8 +229,9 @@ def test_the_actuator_spring_is_in_the_c_code(
     robot = replace(robot, spring=spring)
     code = c_inverse_dynamics(robot)
     for name, value in (("stiffness", stiffness), ("rest", rest), ("damping", damping)):
-        assert (f"prp3_spring_{name} = " in code.source) == (value != 0.0 and (
-            name != "rest" or stiffness != 0.0))
+        assert (f"prp3_spring_{name} = " in code.source) == (
+            value != 0.0 and (name != "rest" or stiffness != 0.0)
+        )
     compiled = build(robot, tmp_path_factory.mktemp("spring"))
     pose = np.stack([data.draw(poses(robot.l0)) for _ in range(10)])
     rates = st.lists(st.floats(-5.0, 5.0), min_size=30, max_size=30)

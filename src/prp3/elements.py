@@ -310,7 +310,9 @@ class PayloadElement(Element):
 
     def potential(self, robot: Any, state: State) -> FloatArray | None:
         r, _ = _payload_offset(robot, state)
-        return np.asarray(-robot.payload.mass * ((state.pose[:, :2] + r) @ np.asarray(robot.gravity)))
+        return np.asarray(
+            -robot.payload.mass * ((state.pose[:, :2] + r) @ np.asarray(robot.gravity))
+        )
 
 
 @dataclass(frozen=True)
@@ -594,7 +596,10 @@ class SpringElement(Element):
     regressor: tuple[str, ...] = ("spring_stiffness", "spring_damping")
     kept: tuple[str, ...] = ("spring_rest",)
     broadcast: tuple[str, ...] = ("spring_stiffness", "spring_rest", "spring_damping")
-    symbols: tuple[tuple[str, str], ...] = (("spring_stiffness", "k_s"), ("spring_damping", "c_s"))
+    symbols: tuple[tuple[str, str], ...] = (
+        ("spring_stiffness", "k_sp"),
+        ("spring_damping", "c_sp"),
+    )
     units: tuple[tuple[str, str], ...] = (("spring_stiffness", "N/m"), ("spring_damping", "N s/m"))
     generated_c: bool = True
 
@@ -666,7 +671,9 @@ class SpringElement(Element):
         if robot.spring is None and stiffness == 0.0 and damping == 0.0:
             return robot
         _refuse_negative(self, values)
-        return robot.with_keys({f"{self.name}.stiffness": stiffness, f"{self.name}.damping": damping})
+        return robot.with_keys(
+            {f"{self.name}.stiffness": stiffness, f"{self.name}.damping": damping}
+        )
 
 
 #: The elements, in the order the kernel applies them.

@@ -399,7 +399,9 @@ class SpringParameters:
             self, "stiffness", _non_negative(f"{where}.stiffness", self.stiffness, "N/m")
         )
         object.__setattr__(self, "rest", _number(f"{where}.rest", self.rest))
-        object.__setattr__(self, "damping", _non_negative(f"{where}.damping", self.damping, "N·s/m"))
+        object.__setattr__(
+            self, "damping", _non_negative(f"{where}.damping", self.damping, "N·s/m")
+        )
 
 
 @dataclass(frozen=True)

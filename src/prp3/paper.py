@@ -503,9 +503,7 @@ def _applied(
     return F_star, M_star
 
 
-def _spring(
-    robot: Robot, F_star: FloatArray, lambda10: FloatArray, v10: FloatArray
-) -> FloatArray:
+def _spring(robot: Robot, F_star: FloatArray, lambda10: FloatArray, v10: FloatArray) -> FloatArray:
     """``F_1*`` with the spring with damper of the actuator added (``[spring.actuator]``).
 
     The force ``(−k·(λ10 − λ_rest) − c·v10)·u3`` on body 1 along its axis
