@@ -67,6 +67,7 @@ __all__ = [
     "Wrenches",
     "effect_fields",
     "is_zero",
+    "number_text",
     "rate_sign",
 ]
 
@@ -79,6 +80,12 @@ _SQRT3 = math.sqrt(3.0)
 _ALPHA = np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
 _E = np.stack([np.cos(_ALPHA), np.sin(_ALPHA)], axis=-1)  # e_i (3, 2)
 _N = np.stack([-np.sin(_ALPHA), np.cos(_ALPHA)], axis=-1)  # n_i
+
+
+def number_text(value: float) -> str:
+    """Full-precision text of a float (``repr``: the shortest exact form; ``"0"`` for zero)."""
+    number = float(value)
+    return "0" if number == 0.0 else repr(number)
 
 
 def is_zero(value: Value) -> bool:
@@ -358,9 +365,10 @@ class LoadElement(Element):
         if not robot.load.present:
             return []
         (fx, fy), m = robot.load.force, robot.load.moment
+        wrench = ", ".join(number_text(v) for v in (fx, fy, 0.0, 0.0, 0.0, m))
         return [
-            "the constant [load]: apply it as data.xfrc_applied[platform_A] = "
-            f"({fx!r}, {fy!r}, 0, 0, 0, {m!r}) (numeric prp3_load)"
+            f"the constant [load]: apply it as data.xfrc_applied[platform_A] = ({wrench}) "
+            "(numeric prp3_load)"
         ]
 
 
