@@ -12,9 +12,10 @@ spring with damper of the actuators.  An element says, in one class,
   (:meth:`Element.apply`, on the :class:`Wrenches` of
   :func:`prp3.kernel.body_wrenches`, in the kernel's ``+ − × ÷`` so that the
   same code runs on floats, arrays, sympy and the traced paths);
-* its power on the robot and its potential energy where it has one
-  (:meth:`Element.power`, :meth:`Element.potential`, on a :class:`State` of
-  arrays; ``tests/test_energy.py`` sums them);
+* its power on the robot, its potential energy where it has one and the
+  power it dissipates (:meth:`Element.power`, :meth:`Element.potential`,
+  :meth:`Element.dissipation`, on a :class:`State` of arrays;
+  ``tests/test_energy.py`` sums them);
 * what supports it: the generated C code (:attr:`Element.generated_c`), the
   MJCF model (:meth:`Element.mjcf_joints`, :meth:`Element.mjcf_omissions`),
   the identification regressor (:attr:`Element.regressor`, the fields the
@@ -203,6 +204,13 @@ class Element:
     def potential(self, robot: Any, state: State) -> FloatArray | None:
         """Its potential energy (J), ``(N,)``, or ``None`` when it has none."""
         return None
+
+    def dissipation(self, robot: Any, state: State) -> FloatArray:
+        """The power its forces dissipate (W, >= 0), ``(N,)``.
+
+        For an element with a potential, ``power = −d(potential)/dt − dissipation``.
+        """
+        return np.zeros(state.pose.shape[0])
 
     def mjcf_joints(self, robot: Any) -> dict[str, dict[str, float]]:
         """MuJoCo joint attributes it sets, by joint (``"lambda10"``, ``"phi"``, ``"lambda32"``).
@@ -506,6 +514,9 @@ class FrictionElement(Element):
                 state.dlambda32)[index]  # fmt: skip
         return np.asarray((state.friction[index] * rate).sum(axis=-1))
 
+    def dissipation(self, robot: Any, state: State) -> FloatArray:
+        return np.asarray(-self.power(robot, state))
+
     def mjcf_joints(self, robot: Any) -> dict[str, dict[str, float]]:
         if robot.friction is None:
             return {}
@@ -661,6 +672,13 @@ class SpringElement(Element):
             return None
         _, stretch = self._stretch(robot, state)
         return np.asarray(0.5 * robot.spring.actuator.stiffness * (stretch * stretch).sum(axis=-1))
+
+    def dissipation(self, robot: Any, state: State) -> FloatArray:
+        """The damper's ``c·Σ_i λ̇10_i²``."""
+        if robot.spring is None:
+            return np.zeros(state.pose.shape[0])
+        rate = state.dlambda10
+        return np.asarray(robot.spring.actuator.damping * (rate * rate).sum(axis=-1))
 
     def mjcf_joints(self, robot: Any) -> dict[str, dict[str, float]]:
         if robot.spring is None:
