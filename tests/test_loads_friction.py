@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 from prp3 import METHODS, Motion, Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.errors import TrajectoryError
-from prp3.model import Friction, JointFriction, Load, Payload
+from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from prp3.motion import paper_motion
 from prp3.results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
 from strategies import (
@@ -74,7 +74,21 @@ def effects(draw: st.DrawFn, mu: bool, smoothing: bool) -> dict[str, object]:
             force=(draw(floats(-10, 10)), draw(floats(-10, 10))), moment=draw(floats(-1, 1))
         ),
         "friction": Friction(joint("actuator"), joint("revolute"), joint("sleeve")),
+        "spring": draw(
+            st.none()
+            | st.builds(
+                SpringParameters, floats(0.0, 2e3), floats(-0.05, 0.05), floats(0.0, 20.0)
+            ).map(Spring)
+        ),
     }
+
+
+def spring_force(robot: Robot, lam10: np.ndarray, dlam10: np.ndarray) -> np.ndarray:
+    """The spring's force on each piston along e_i (spec): −k(λ10 − rest) − c·λ̇10; 0 without."""
+    if robot.spring is None:
+        return np.zeros_like(lam10)
+    s = robot.spring.actuator
+    return -s.stiffness * (lam10 - s.rest) - s.damping * dlam10
 
 
 def with_effects(robot: Robot, extra: dict[str, object]) -> Robot:
@@ -146,6 +160,28 @@ def test_methods_agree_with_exact_sign_and_mu(scenario, extra, seed) -> None:  #
     assert_methods_agree(*_scenario(*scenario, extra, seed), 1e-10)
 
 
+@settings(max_examples=8, deadline=None)
+@given(
+    scenario=scenarios(),
+    extra=effects(mu=True, smoothing=True),
+    spring=st.builds(SpringParameters, floats(1.0, 3e3), floats(-0.05, 0.05), floats(0.0, 30.0)),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_methods_agree_and_bodies_balance_with_the_actuator_spring(  # type: ignore[no-untyped-def]
+    scenario, extra, spring, seed
+) -> None:
+    # the spring element in the kernel, the paper's F_1* and Newton-Euler's piston balance,
+    # each written on its own; then the piston balances rebuilt from the columns with the
+    # spring's force of the spec
+    robot, motion = _scenario(*scenario, {**extra, "spring": Spring(spring)}, seed)
+    assert_methods_agree(robot, motion, 1e-12)
+    results = solved(robot, motion)
+    assert results is not None
+    for method, (kin, dyn) in results.items():
+        table = results_table(kin, dyn)  # type: ignore[arg-type]
+        assert np.abs(residuals(robot, motion, table)).max() < 1e-12, method
+
+
 # ------------------------------------------------------- balances and energy from the table
 def residuals(robot: Robot, motion: Motion, table: dict[str, np.ndarray]) -> np.ndarray:
     """Relative residuals of the 21 balances with the load, payload and friction columns,
@@ -169,7 +205,9 @@ def residuals(robot: Robot, motion: Motion, table: dict[str, np.ndarray]) -> np.
     dp = turn(d)
     w, e = qd[:, 2], qdd[:, 2]
     F21 = f21y[..., None] * REF_N + f21z[..., None] * REF_E
+    spring = spring_force(robot, lam10, dlam10)
     piston = f10[..., None] * REF_E + n10[..., None] * REF_N - F21 + fric10[..., None] * REF_E
+    piston = piston + spring[..., None] * REF_E
     piston = piston + m1 * g - m1 * a1
     piston_m = m10 - fric21 + cross(r1, m1 * (g - a1))
     link = F21 - n32[..., None] * dp - fric32[..., None] * d + m2 * g - m2 * a2
@@ -202,7 +240,7 @@ def residuals(robot: Robot, motion: Motion, table: dict[str, np.ndarray]) -> np.
     law32 = (
         fric32 + sl.viscous * dlam32 + (sl.coulomb + sl.mu * np.abs(n32)) * s(dlam32, sl.smoothing)
     )
-    forces = np.abs(np.concatenate([f10, f21y, f21z, n10, n32, fric10, fric32], 1)).max(1)
+    forces = np.abs(np.concatenate([f10, f21y, f21z, n10, n32, fric10, fric32, spring], 1)).max(1)
     forces = forces + (3 * (m1 + m2) + m3 + p.mass) * (np.hypot(*g) + np.abs(qdd).max() + 1.0)
     forces = forces + np.abs(ext).max() + abs(robot.load.moment) + 1.0
     lever = robot.l0 + np.abs(P - G[:, None]).max((1, 2)) + np.abs(r1).max() + np.abs(r2).max()
@@ -281,6 +319,17 @@ def test_energy_balance_with_external_power_and_dissipation(scenario, extra, see
         P_fric = -(dyn.fric10 * kin.dlambda10 + dyn.fric21 * w[:, None]  # type: ignore[attr-defined]
                    + dyn.fric32 * kin.dlambda32).sum(-1)  # type: ignore[attr-defined]  # fmt: skip
         assert (P_fric >= 0.0).all(), method
+        # the spring: d/dt ½k(λ10 − rest)² = k(λ10 − rest)·λ̇10 joins dE/dt, c·λ̇10² is dissipated
+        lam, dlam = kin.geometry.lambda10, kin.dlambda10  # type: ignore[attr-defined]
+        if robot.spring is not None:
+            k_s, rest, c_s = (
+                robot.spring.actuator.stiffness,
+                robot.spring.actuator.rest,
+                robot.spring.actuator.damping,
+            )
+            terms.append((k_s * (lam - rest) * dlam).sum(-1))
+            P_fric = P_fric + (c_s * dlam * dlam).sum(-1)
+            rate = np.sum(terms, axis=0)
         scale = np.sum(np.abs(terms), axis=0) + np.abs(dyn.p10).sum(-1) + np.abs(P_ext) + P_fric  # type: ignore[attr-defined]
         balance = dyn.p10.sum(-1) + P_ext - rate - P_fric  # type: ignore[attr-defined]
         assert np.all(np.abs(balance) <= 1e-12 * (scale + 1e-300)), method
