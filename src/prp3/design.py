@@ -75,6 +75,7 @@ from numpy.typing import NDArray
 
 from . import __version__
 from ._trace import array_function, broadcast_function, trace
+from .elements import ELEMENTS
 from .errors import (
     ParameterError,
     Prp3Error,
@@ -82,7 +83,6 @@ from .errors import (
 )
 from .geometry import LEGS, check_poses
 from .io import read_trajectory
-from .elements import ELEMENTS
 from .kernel import (
     INERTIAL_FIELDS,
     NUMPY,
