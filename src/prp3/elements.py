@@ -226,6 +226,9 @@ class Element:
     def check_forward(self, robot: Any) -> None:
         """Refuse what forward dynamics cannot integrate (raises :class:`ParameterError`)."""
 
+    def check_mujoco_plant(self, robot: Any) -> None:
+        """Refuse what MuJoCo simulates otherwise than prp3 (the ``mujoco`` plant of control)."""
+
     def identified(self, robot: Any, values: dict[str, float]) -> Any:
         """``robot`` with the regressor fields of this element set to ``values``."""
         return robot
@@ -558,6 +561,22 @@ class FrictionElement(Element):
                     f"forward dynamics needs {self.name}.smoothing > 0",
                     subject="robot",
                     key=f"{self.name}.{key}",
+                )
+
+    def check_mujoco_plant(self, robot: Any) -> None:
+        """MuJoCo has no counterpart of prp3's Coulomb law or of the ``μ`` terms: refused."""
+        if robot.friction is None:
+            return
+        joint = self._joint(robot)
+        for key, value, law in (
+            ("coulomb", joint.coulomb, "prp3's Coulomb friction law (its frictionloss is "
+             "its own dry friction)"),
+            ("mu", joint.mu, "the load-dependent friction (mu)"),
+        ):  # fmt: skip
+            if value != 0.0:
+                raise ParameterError(
+                    f"plant 'mujoco': {self.name}.{key} = {value!r}: MuJoCo has no "
+                    f"counterpart of {law}: simulate it with plant 'prp3'"
                 )
 
     def identified(self, robot: Any, values: dict[str, float]) -> Any:
