@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 from prp3 import METHODS, Motion, Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.errors import TrajectoryError
+from prp3.fast import compile_robot, paper_forces, sample_forces
 from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from prp3.motion import paper_motion
 from prp3.results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
@@ -458,3 +459,26 @@ def test_simulate_writes_the_friction_columns_and_reads_the_load(tmp_path: Path)
     header = (tmp_path / "out" / "results.csv").read_text().splitlines()[0].split(",")
     assert header == list(RESULT_COLUMNS + FRICTION_COLUMNS) + ["fx", "fy", "mz"]
     assert "dissipated by friction" in out.getvalue()
+
+
+@settings(max_examples=5, deadline=None)
+@given(
+    scenario=scenarios(),
+    spring=st.builds(SpringParameters, floats(1.0, 3e3), floats(-0.05, 0.05), floats(0.0, 30.0)),
+)
+def test_every_engine_of_the_kernel_has_the_spring(scenario, spring) -> None:  # type: ignore[no-untyped-def]
+    # the spring is in the kernel's stages, so the batch (numpy, numba) and the one-sample
+    # paths of prp3.fast carry it: against Newton-Euler, which adds it on its own
+    robot, analytic = scenario
+    robot = with_effects(robot, {"spring": Spring(spring)})
+    motion = analytic.motion(np.linspace(0.05, analytic.duration, 6))
+    reference = inverse_dynamics(robot, motion, "newton-euler")[1].f10
+    scale = np.abs(reference).max() + 1.0
+    compiled = compile_robot(robot)
+    for backend in ("numpy", "numba"):
+        got = paper_forces(compiled, motion.pose, motion.velocity, motion.acceleration,
+                           backend=backend).f10  # fmt: skip
+        assert np.abs(got - reference).max() <= 1e-12 * scale, backend
+    for k in range(len(motion.t)):
+        one = sample_forces(compiled, motion.pose[k], motion.velocity[k], motion.acceleration[k])
+        assert np.abs(np.asarray(one.f10) - reference[k]).max() <= 1e-12 * scale
