@@ -62,8 +62,9 @@ Then
   (the balance of link 2 across its sleeve, ``d⊥_j = C·n_j − D·e_j``),
   ``m32_j = −M20_j``.
 
-A new effect on a body (a payload, an external load, a friction force) enters
-:func:`body_wrenches` once and reaches every path from there.
+A new effect on a body (a payload, an external load, a friction force, a
+spring) is an element of :mod:`prp3.elements`; :func:`body_wrenches` applies
+it through the element, and every path has it from there.
 
 Examples
 --------
