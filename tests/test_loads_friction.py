@@ -415,6 +415,10 @@ def test_nothing_given_changes_nothing() -> None:
         ("[load]\ntorque = 1.0\n", "load.torque"),
         ("[friction.sleeve]\npin_radius = 0.01\n", "friction.sleeve.pin_radius"),
         ("[friction.guide]\n", "friction.guide"),
+        ("[spring.actuator]\nstiffness = -5.0\n", "spring.actuator.stiffness"),
+        ("[spring.actuator]\ndamping = inf\n", "spring.actuator.damping"),
+        ("[spring.actuator]\nspringref = 0.0\n", "spring.actuator.springref"),
+        ("[spring]\nactuator = 1.0\n", "[spring.actuator] must be a table"),
     ],
 )
 def test_bad_robot_tables_are_one_line_and_exit_2(tmp_path: Path, toml: str, message: str) -> None:
@@ -482,3 +486,31 @@ def test_every_engine_of_the_kernel_has_the_spring(scenario, spring) -> None:  #
     for k in range(len(motion.t)):
         one = sample_forces(compiled, motion.pose[k], motion.velocity[k], motion.acceleration[k])
         assert np.abs(np.asarray(one.f10) - reference[k]).max() <= 1e-12 * scale
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_simulate_with_a_spring_writes_its_force_into_f10_and_no_column(
+    tmp_path: Path, method: str
+) -> None:
+    # f10 − f10(no spring) = k(λ10 − rest) + c·λ̇10, rebuilt from the written columns; the
+    # spring has no column of its own; a [spring] of zeros changes nothing, bit for bit
+    robot = tmp_path / "robot.toml"
+    robot.write_text("[spring.actuator]\nstiffness = 400.0\nrest = 0.02\ndamping = 3.0\n")
+    zero = tmp_path / "zero.toml"
+    zero.write_text("[spring.actuator]\n")
+    tables = {}
+    for name, args in (("spring", ["--robot", str(robot)]), ("free", []),
+                       ("zero", ["--robot", str(zero)])):  # fmt: skip
+        with contextlib.redirect_stdout(io.StringIO()):
+            code = main(["simulate", *args, "--motion", "vertical", "--samples", "41",
+                         "--method", method, "--output", str(tmp_path / name)])  # fmt: skip
+        assert code == 0
+        path = tmp_path / name / "results.csv"
+        assert path.read_text().splitlines()[0].split(",") == list(RESULT_COLUMNS)
+        tables[name] = np.genfromtxt(path, delimiter=",", names=True)
+    spring, free, zero_table = tables["spring"], tables["free"], tables["zero"]
+    for leg in LEGS:
+        expected = 400.0 * (spring[f"lambda10_{leg}"] - 0.02) + 3.0 * spring[f"dlambda10_{leg}"]
+        got = spring[f"f10_{leg}"] - free[f"f10_{leg}"]
+        assert np.abs(got - expected).max() <= 1e-12 * (np.abs(expected).max() + 1.0)
+    assert all(np.array_equal(zero_table[n], free[n]) for n in free.dtype.names)
