@@ -226,6 +226,13 @@ class Element:
     def check_forward(self, robot: Any) -> None:
         """Refuse what forward dynamics cannot integrate (raises :class:`ParameterError`)."""
 
+    def changes_statics(self, robot: Any) -> bool:
+        """Whether it changes the forces that hold the robot at rest beyond its own weight.
+
+        ``prp3 workspace`` writes the statics map by default for such a robot.
+        """
+        return False
+
     def check_mujoco_plant(self, robot: Any) -> None:
         """Refuse what MuJoCo simulates otherwise than prp3 (the ``mujoco`` plant of control)."""
 
@@ -312,6 +319,9 @@ class PayloadElement(Element):
     def present(self, robot: Any) -> bool:
         return bool(robot.payload.present)
 
+    def changes_statics(self, robot: Any) -> bool:
+        return self.present(robot)
+
     def inertial(self, robot: Any) -> tuple[float, float, float, float]:
         """The platform's ``(m3, h3x, h3y, J3)`` with the payload added (about ``G``)."""
         m3, j3 = robot.platform.mass, robot.platform_inertia
@@ -349,6 +359,9 @@ class LoadElement(Element):
 
     def present(self, robot: Any) -> bool:
         return bool(robot.load.present)
+
+    def changes_statics(self, robot: Any) -> bool:
+        return self.present(robot)
 
     def parameters(self, robot: Any) -> dict[str, float]:
         load = robot.load
@@ -649,6 +662,9 @@ class SpringElement(Element):
             return {}
         s = robot.spring.actuator
         return {"spring_stiffness": s.stiffness, "spring_rest": s.rest, "spring_damping": s.damping}
+
+    def changes_statics(self, robot: Any) -> bool:
+        return robot.spring is not None and robot.spring.actuator.stiffness != 0.0
 
     def forces(self, k: Any, kin: Any) -> tuple[Value, Value, Value] | None:
         """``s_i = −k·(λ10_i − λ_rest) − c·λ̇10_i`` per leg (``None`` when ``k = c = 0``)."""
