@@ -50,6 +50,7 @@ from numpy.typing import NDArray
 from .errors import ParameterError
 
 __all__ = [
+    "APPLIED",
     "ELEMENTS",
     "FRICTIONS",
     "GRAVITY",
@@ -194,8 +195,12 @@ class Element:
         """Whether the kernel parameters ``k`` give it any field other than zero."""
         return any(not is_zero(getattr(k, name)) for name in self.fields)
 
-    def apply(self, ops: Any, k: Any, kin: Any, w: Wrenches) -> None:
-        """Subtract the forces it applies from the wrenches the bodies need (eq. 22)."""
+    def apply(self, k: Any, kin: Any, w: Wrenches) -> None:
+        """Subtract the forces it applies from the wrenches the bodies need (eq. 22).
+
+        ``k`` the kernel's parameters, ``kin`` its kinematics of the state
+        (:class:`prp3.kernel.KernelKinematics`), in the kernel's numbers.
+        """
 
     def power(self, robot: Any, state: State) -> FloatArray:
         """Power of its forces on the robot (W), shape ``(N,)``."""
@@ -684,7 +689,7 @@ class SpringElement(Element):
             out.append(force)
         return out[0], out[1], out[2]
 
-    def apply(self, ops: Any, k: Any, kin: Any, w: Wrenches) -> None:
+    def apply(self, k: Any, kin: Any, w: Wrenches) -> None:
         forces = self.forces(k, kin)
         if forces is None:
             return

@@ -609,7 +609,7 @@ def body_wrenches(
     LOAD.apply_loads(k, w, load, constant=inertia)
     if inertia:
         for element in APPLIED:  # the spring of the actuators
-            element.apply(None, k, kin, w)
+            element.apply(k, kin, w)
     if friction is not None:
         for element, forces in zip(FRICTIONS, friction, strict=True):
             element.apply_forces(w, forces)
