@@ -12,8 +12,10 @@ from __future__ import annotations
 
 import ctypes
 import math
+import re
 import shutil
 import subprocess
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +26,9 @@ from hypothesis import strategies as st
 from prp3 import Limits, Motion, Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
+from prp3.errors import ParameterError
 from prp3.fast import compile_robot, paper_forces
+from prp3.model import Friction, JointFriction, Load, Spring, SpringParameters
 from strategies import poses, robots
 
 pytest.importorskip("sympy")
@@ -201,3 +205,66 @@ def test_cli_export_c_with_a_robot_file(tmp_path: Path, capsys: pytest.CaptureFi
     assert main(["export", "c", "--robot", str(bad), "--output", str(tmp_path / "no")]) == 2
     err = capsys.readouterr().err
     assert "l0 must be a positive" in err and not (tmp_path / "no").exists()
+
+
+@settings(max_examples=4)
+@given(
+    robot=robots(),
+    stiffness=st.floats(0.0, 5e3),
+    rest=st.floats(-0.05, 0.05),
+    damping=st.floats(0.0, 50.0),
+    data=st.data(),
+)
+def test_the_actuator_spring_is_in_the_c_code(
+    tmp_path_factory: pytest.TempPathFactory,
+    robot: Robot,
+    stiffness: float,
+    rest: float,
+    damping: float,
+    data: st.DataObject,
+) -> None:
+    # the spring's element supports C: its constants appear and the numbers are the kernel's
+    # (batch path) and the independent Newton-Euler solver's, which adds the spring itself
+    spring = Spring(SpringParameters(stiffness=stiffness, rest=rest, damping=damping))
+    robot = replace(robot, spring=spring)
+    code = c_inverse_dynamics(robot)
+    for name, value in (("stiffness", stiffness), ("rest", rest), ("damping", damping)):
+        assert (f"prp3_spring_{name} = " in code.source) == (
+            value != 0.0 and (name != "rest" or stiffness != 0.0)
+        )
+    compiled = build(robot, tmp_path_factory.mktemp("spring"))
+    pose = np.stack([data.draw(poses(robot.l0)) for _ in range(10)])
+    rates = st.lists(st.floats(-5.0, 5.0), min_size=30, max_size=30)
+    velocity = np.array(data.draw(rates)).reshape(10, 3)
+    acceleration = 10.0 * np.array(data.draw(rates)).reshape(10, 3)
+    assert _compare(compiled, robot, pose, velocity, acceleration) <= 1e-12
+    motion = Motion(t=np.arange(10.0), pose=pose, velocity=velocity, acceleration=acceleration)
+    kin, reference = inverse_dynamics(robot, motion, method="newton-euler")
+    free = inverse_dynamics(replace(robot, spring=None), motion, method="newton-euler")[1]
+    lam, dlam = kin.geometry.lambda10, kin.dlambda10
+    # the spring's own force, from the outputs: f10 = f10(no spring) + k(λ10 − rest) + c·λ̇10
+    assert np.allclose(
+        reference.f10 - free.f10, stiffness * (lam - rest) + damping * dlam, rtol=0, atol=1e-9
+    )
+    for k in range(10):
+        status, got = compiled(pose[k], velocity[k], acceleration[k])
+        want = np.stack([reference.f10[k], reference.f21y[k], reference.f21z[k]])
+        assert status == 0 and np.abs(got - want).max() <= 1e-9 * (np.abs(want).max() + 1.0)
+
+
+@pytest.mark.parametrize(
+    ("robot", "element"),
+    [
+        (Robot(load=Load(force=(1.0, 0.0))), "[load]"),
+        (Robot(friction=Friction(revolute=JointFriction(viscous=0.1))), "[friction.actuator]"),
+        (
+            Robot(spring=Spring(SpringParameters(stiffness=1.0)), load=Load(moment=1.0)),
+            "[load]",
+        ),
+    ],
+)
+def test_an_element_the_c_code_does_not_support_is_refused_by_name(
+    robot: Robot, element: str
+) -> None:
+    with pytest.raises(ParameterError, match=re.escape(f"not {element}")):
+        c_inverse_dynamics(robot)

@@ -34,7 +34,7 @@ from prp3.forward import (
 from prp3.geometry import inverse_geometry
 from prp3.io import write_table_csv
 from prp3.kinematics import jacobian
-from prp3.model import Friction, JointFriction, Load, Payload
+from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from prp3.motion import PAPER_MOTIONS
 
 
@@ -335,3 +335,72 @@ def test_cli_forward_with_mu_terms_drives_the_motion_back(tmp_path: Path) -> Non
     back = np.stack([table["x"], table["y"], table["phi"]], axis=-1)
     assert np.abs(back - planned.pose).max() < 1e-7  # the force spline of 2 ms steps
     assert "drift from the planned motion" in out
+
+
+# --------------------------------------------------------- the actuator spring
+@settings(max_examples=20, deadline=None)
+@given(
+    stiffness=floats(0.0, 2e3),
+    rest=floats(-0.05, 0.05),
+    damping=floats(0.0, 20.0),
+    pose=st.tuples(floats(-0.05, 0.05), floats(-0.05, 0.05), floats(-0.3, 0.3)),
+    velocity=st.tuples(floats(-0.5, 0.5), floats(-0.5, 0.5), floats(-1.0, 1.0)),
+)
+def test_the_spring_enters_b_as_its_own_force(
+    stiffness: float,
+    rest: float,
+    damping: float,
+    pose: tuple[float, float, float],
+    velocity: tuple[float, float, float],
+) -> None:
+    # f10 = A·q̈ + b: the spring adds k·(λ10 − rest) + c·λ̇10 to b (λ10 by the closed-form
+    # inverse geometry, λ̇10 = J·q̇), and nothing to A
+    robot = Robot(spring=Spring(SpringParameters(stiffness, rest, damping)))
+    q, qd = np.array(pose), np.array(velocity)
+    with_spring, free = platform_dynamics(robot, q, qd), platform_dynamics(Robot(), q, qd)
+    geometry = inverse_geometry(robot, q)
+    expected = stiffness * (geometry.lambda10 - rest) + damping * (jacobian(geometry) @ qd)
+    scale = np.abs(free.force_bias).max() + np.abs(expected).max()
+    assert np.abs(with_spring.force_bias - free.force_bias - expected).max() <= 1e-13 * scale
+    assert (
+        np.abs(with_spring.force_matrix - free.force_matrix).max()
+        <= 1e-13 * np.abs(free.force_matrix).max()
+    )
+
+
+def test_the_spring_forces_of_newton_euler_drive_the_motion_back() -> None:
+    # forces of Newton–Euler (which adds the spring itself) integrate back to the plan;
+    # the same forces on the robot without its spring go elsewhere
+    robot = Robot(spring=Spring(SpringParameters(stiffness=800.0, rest=0.01, damping=5.0)))
+    planned = paper_motion("vertical", samples=1501)[:51]  # 0.1 s, steps of 2 ms
+    forces = ActuatorForces(
+        t=planned.t, f10=inverse_dynamics(robot, planned, "newton-euler")[1].f10
+    )
+    start = (planned.pose[0], planned.velocity[0])
+    back = forward_dynamics(robot, forces, planned.t, *start)
+    assert back.status == "completed"
+    assert np.abs(back.motion.pose - planned.pose).max() < 1e-8
+    other = forward_dynamics(Robot(), forces, planned.t, *start)
+    assert np.abs(other.motion.pose[-1] - planned.pose[other.motion.t.size - 1]).max() > 1e-6
+
+
+def test_cli_forward_with_a_spring_drives_the_motion_back(tmp_path: Path) -> None:
+    robot = tmp_path / "robot.toml"
+    robot.write_text("[spring.actuator]\nstiffness = 500.0\nrest = -0.01\ndamping = 2.0\n")
+    planned = paper_motion("vertical", samples=1501)[:51]
+    trajectory = tmp_path / "path.csv"
+    columns = {"t": planned.t}
+    for k, name in enumerate(("x", "y", "phi")):
+        columns[name] = planned.pose[:, k]
+        columns["d" + name] = planned.velocity[:, k]
+        columns["dd" + name] = planned.acceleration[:, k]
+    write_table_csv(trajectory, columns)
+    args = ["--robot", robot]
+    status, _, err = _cli("simulate", *args, "--trajectory", trajectory, "-o", tmp_path / "inv")
+    assert status == 0, err
+    results = tmp_path / "inv" / "results.csv"
+    status, _, err = _cli("forward", *args, "--forces", results, "-o", tmp_path / "fwd")
+    assert status == 0, err
+    table = np.genfromtxt(tmp_path / "fwd" / "results.csv", delimiter=",", names=True)
+    back = np.stack([table["x"], table["y"], table["phi"]], axis=-1)
+    assert np.abs(back - planned.pose).max() < 1e-7

@@ -44,7 +44,7 @@ from prp3.identification import (
     weighted_least_squares,
 )
 from prp3.kernel import INERTIAL_FIELDS, NUMPY, kernel_parameters, solve
-from prp3.model import Friction, JointFriction, Load, Payload
+from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import analytic_motions, robots, scenarios
 
 
@@ -485,6 +485,62 @@ def test_identify_with_payload_and_friction(tmp_path, capsys) -> None:  # type: 
     assert found.friction is not None
     assert found.friction.actuator.viscous == pytest.approx(2.0, rel=1e-8)
     assert found.payload.com == pytest.approx((0.02, -0.01), rel=1e-8)
+    other = exciting(true.l0, duration=2.0, samples=30, phase=0.5)
+    expected = inverse_dynamics(true, other, method="newton-euler")[1].f10
+    assert relative_error(inverse_dynamics(found, other)[1].f10, expected) <= 1e-8
+
+
+# --------------------------------------------------------- the actuator spring
+@settings(max_examples=10, deadline=None)
+@given(
+    robot=real_robots(),
+    stiffness=st.floats(0.0, 2e3),
+    rest=st.floats(-0.05, 0.05),
+    damping=st.floats(0.0, 20.0),
+    data=st.data(),
+)
+def test_the_spring_adds_its_columns_to_the_regressor(  # type: ignore[no-untyped-def]
+    robot, stiffness, rest, damping, data
+) -> None:
+    # the spring element's regressor fields are columns: Y·π is the Newton-Euler dynamics
+    # (which adds the spring on its own), and the stiffness column is λ10 − rest itself
+    robot = replace(robot, spring=Spring(SpringParameters(stiffness, rest, damping)))
+    analytic = data.draw(analytic_motions(robot.l0))
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 7))
+    assert "spring_stiffness" in PARAMETERS and "spring_damping" in PARAMETERS
+    Y = regressor(robot, motion, PARAMETERS)
+    reference = inverse_dynamics(robot, motion, method="newton-euler")[1]
+    pi = standard_parameters(robot, PARAMETERS)
+    for name in ("f10", "f21y", "f21z"):
+        assert relative_error(getattr(Y, name) @ pi, getattr(reference, name)) <= 1e-12, name
+    column = Y.f10[..., PARAMETERS.index("spring_stiffness")]
+    assert np.allclose(column, Y.lambda10 - rest, rtol=0, atol=1e-15)
+    assert np.array_equal(Y.f10[..., PARAMETERS.index("spring_damping")], Y.dlambda10)
+
+
+def test_identify_finds_the_stiffness_and_damping_of_the_spring(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    # NOMINAL declares the spring's rest length: prp3 identify estimates its stiffness and
+    # damping with the inertial parameters and writes them to robot.toml
+    true = Robot.from_mapping(
+        {"link": {"com": [0.02, 0.01]},
+         "spring": {"actuator": {"stiffness": 300.0, "rest": 0.01, "damping": 4.0}}}
+    )  # fmt: skip
+    nominal = tmp_path / "nominal.toml"
+    nominal.write_text("[spring.actuator]\nrest = 0.01\n")
+    motion = exciting(true.l0, samples=150)
+    f10 = inverse_dynamics(true, motion, method="newton-euler")[1].f10
+    measurements = write_measurements(tmp_path / "m.csv", motion, f10, derivatives=True)
+    status, out, err = cli(
+        capsys, "identify", "--robot", nominal, "--measurements", measurements,
+        "--output", tmp_path / "out",
+    )  # fmt: skip
+    assert status == 0, err
+    assert "k_sp" in out and "c_sp" in out
+    found = Robot.from_mapping(tomllib.loads((tmp_path / "out" / "robot.toml").read_text()))
+    assert found.spring is not None
+    assert found.spring.actuator.stiffness == pytest.approx(300.0, rel=1e-8)
+    assert found.spring.actuator.damping == pytest.approx(4.0, rel=1e-8)
+    assert found.spring.actuator.rest == 0.01
     other = exciting(true.l0, duration=2.0, samples=30, phase=0.5)
     expected = inverse_dynamics(true, other, method="newton-euler")[1].f10
     assert relative_error(inverse_dynamics(found, other)[1].f10, expected) <= 1e-8

@@ -22,7 +22,8 @@ from hypothesis import strategies as st
 from prp3 import METHODS, Motion, Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.errors import TrajectoryError
-from prp3.model import Friction, JointFriction, Load, Payload
+from prp3.fast import compile_robot, paper_forces, sample_forces
+from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from prp3.motion import paper_motion
 from prp3.results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
 from strategies import (
@@ -74,7 +75,21 @@ def effects(draw: st.DrawFn, mu: bool, smoothing: bool) -> dict[str, object]:
             force=(draw(floats(-10, 10)), draw(floats(-10, 10))), moment=draw(floats(-1, 1))
         ),
         "friction": Friction(joint("actuator"), joint("revolute"), joint("sleeve")),
+        "spring": draw(
+            st.none()
+            | st.builds(
+                SpringParameters, floats(0.0, 2e3), floats(-0.05, 0.05), floats(0.0, 20.0)
+            ).map(Spring)
+        ),
     }
+
+
+def spring_force(robot: Robot, lam10: np.ndarray, dlam10: np.ndarray) -> np.ndarray:
+    """The spring's force on each piston along e_i (spec): −k(λ10 − rest) − c·λ̇10; 0 without."""
+    if robot.spring is None:
+        return np.zeros_like(lam10)
+    s = robot.spring.actuator
+    return -s.stiffness * (lam10 - s.rest) - s.damping * dlam10
 
 
 def with_effects(robot: Robot, extra: dict[str, object]) -> Robot:
@@ -146,6 +161,28 @@ def test_methods_agree_with_exact_sign_and_mu(scenario, extra, seed) -> None:  #
     assert_methods_agree(*_scenario(*scenario, extra, seed), 1e-10)
 
 
+@settings(max_examples=8, deadline=None)
+@given(
+    scenario=scenarios(),
+    extra=effects(mu=True, smoothing=True),
+    spring=st.builds(SpringParameters, floats(1.0, 3e3), floats(-0.05, 0.05), floats(0.0, 30.0)),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_methods_agree_and_bodies_balance_with_the_actuator_spring(  # type: ignore[no-untyped-def]
+    scenario, extra, spring, seed
+) -> None:
+    # the spring element in the kernel, the paper's F_1* and Newton-Euler's piston balance,
+    # each written on its own; then the piston balances rebuilt from the columns with the
+    # spring's force of the spec
+    robot, motion = _scenario(*scenario, {**extra, "spring": Spring(spring)}, seed)
+    assert_methods_agree(robot, motion, 1e-12)
+    results = solved(robot, motion)
+    assert results is not None
+    for method, (kin, dyn) in results.items():
+        table = results_table(kin, dyn)  # type: ignore[arg-type]
+        assert np.abs(residuals(robot, motion, table)).max() < 1e-12, method
+
+
 # ------------------------------------------------------- balances and energy from the table
 def residuals(robot: Robot, motion: Motion, table: dict[str, np.ndarray]) -> np.ndarray:
     """Relative residuals of the 21 balances with the load, payload and friction columns,
@@ -169,7 +206,9 @@ def residuals(robot: Robot, motion: Motion, table: dict[str, np.ndarray]) -> np.
     dp = turn(d)
     w, e = qd[:, 2], qdd[:, 2]
     F21 = f21y[..., None] * REF_N + f21z[..., None] * REF_E
+    spring = spring_force(robot, lam10, dlam10)
     piston = f10[..., None] * REF_E + n10[..., None] * REF_N - F21 + fric10[..., None] * REF_E
+    piston = piston + spring[..., None] * REF_E
     piston = piston + m1 * g - m1 * a1
     piston_m = m10 - fric21 + cross(r1, m1 * (g - a1))
     link = F21 - n32[..., None] * dp - fric32[..., None] * d + m2 * g - m2 * a2
@@ -202,7 +241,7 @@ def residuals(robot: Robot, motion: Motion, table: dict[str, np.ndarray]) -> np.
     law32 = (
         fric32 + sl.viscous * dlam32 + (sl.coulomb + sl.mu * np.abs(n32)) * s(dlam32, sl.smoothing)
     )
-    forces = np.abs(np.concatenate([f10, f21y, f21z, n10, n32, fric10, fric32], 1)).max(1)
+    forces = np.abs(np.concatenate([f10, f21y, f21z, n10, n32, fric10, fric32, spring], 1)).max(1)
     forces = forces + (3 * (m1 + m2) + m3 + p.mass) * (np.hypot(*g) + np.abs(qdd).max() + 1.0)
     forces = forces + np.abs(ext).max() + abs(robot.load.moment) + 1.0
     lever = robot.l0 + np.abs(P - G[:, None]).max((1, 2)) + np.abs(r1).max() + np.abs(r2).max()
@@ -281,6 +320,17 @@ def test_energy_balance_with_external_power_and_dissipation(scenario, extra, see
         P_fric = -(dyn.fric10 * kin.dlambda10 + dyn.fric21 * w[:, None]  # type: ignore[attr-defined]
                    + dyn.fric32 * kin.dlambda32).sum(-1)  # type: ignore[attr-defined]  # fmt: skip
         assert (P_fric >= 0.0).all(), method
+        # the spring: d/dt ½k(λ10 − rest)² = k(λ10 − rest)·λ̇10 joins dE/dt, c·λ̇10² is dissipated
+        lam, dlam = kin.geometry.lambda10, kin.dlambda10  # type: ignore[attr-defined]
+        if robot.spring is not None:
+            k_s, rest, c_s = (
+                robot.spring.actuator.stiffness,
+                robot.spring.actuator.rest,
+                robot.spring.actuator.damping,
+            )
+            terms.append((k_s * (lam - rest) * dlam).sum(-1))
+            P_fric = P_fric + (c_s * dlam * dlam).sum(-1)
+            rate = np.sum(terms, axis=0)
         scale = np.sum(np.abs(terms), axis=0) + np.abs(dyn.p10).sum(-1) + np.abs(P_ext) + P_fric  # type: ignore[attr-defined]
         balance = dyn.p10.sum(-1) + P_ext - rate - P_fric  # type: ignore[attr-defined]
         assert np.all(np.abs(balance) <= 1e-12 * (scale + 1e-300)), method
@@ -365,6 +415,10 @@ def test_nothing_given_changes_nothing() -> None:
         ("[load]\ntorque = 1.0\n", "load.torque"),
         ("[friction.sleeve]\npin_radius = 0.01\n", "friction.sleeve.pin_radius"),
         ("[friction.guide]\n", "friction.guide"),
+        ("[spring.actuator]\nstiffness = -5.0\n", "spring.actuator.stiffness"),
+        ("[spring.actuator]\ndamping = inf\n", "spring.actuator.damping"),
+        ("[spring.actuator]\nspringref = 0.0\n", "spring.actuator.springref"),
+        ("[spring]\nactuator = 1.0\n", "[spring.actuator] must be a table"),
     ],
 )
 def test_bad_robot_tables_are_one_line_and_exit_2(tmp_path: Path, toml: str, message: str) -> None:
@@ -409,3 +463,54 @@ def test_simulate_writes_the_friction_columns_and_reads_the_load(tmp_path: Path)
     header = (tmp_path / "out" / "results.csv").read_text().splitlines()[0].split(",")
     assert header == list(RESULT_COLUMNS + FRICTION_COLUMNS) + ["fx", "fy", "mz"]
     assert "dissipated by friction" in out.getvalue()
+
+
+@settings(max_examples=5, deadline=None)
+@given(
+    scenario=scenarios(),
+    spring=st.builds(SpringParameters, floats(1.0, 3e3), floats(-0.05, 0.05), floats(0.0, 30.0)),
+)
+def test_every_engine_of_the_kernel_has_the_spring(scenario, spring) -> None:  # type: ignore[no-untyped-def]
+    # the spring is in the kernel's stages, so the batch (numpy, numba) and the one-sample
+    # paths of prp3.fast carry it: against Newton-Euler, which adds it on its own
+    robot, analytic = scenario
+    robot = with_effects(robot, {"spring": Spring(spring)})
+    motion = analytic.motion(np.linspace(0.05, analytic.duration, 6))
+    reference = inverse_dynamics(robot, motion, "newton-euler")[1].f10
+    scale = np.abs(reference).max() + 1.0
+    compiled = compile_robot(robot)
+    for backend in ("numpy", "numba"):
+        got = paper_forces(compiled, motion.pose, motion.velocity, motion.acceleration,
+                           backend=backend).f10  # fmt: skip
+        assert np.abs(got - reference).max() <= 1e-12 * scale, backend
+    for k in range(len(motion.t)):
+        one = sample_forces(compiled, motion.pose[k], motion.velocity[k], motion.acceleration[k])
+        assert np.abs(np.asarray(one.f10) - reference[k]).max() <= 1e-12 * scale
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_simulate_with_a_spring_writes_its_force_into_f10_and_no_column(
+    tmp_path: Path, method: str
+) -> None:
+    # f10 − f10(no spring) = k(λ10 − rest) + c·λ̇10, rebuilt from the written columns; the
+    # spring has no column of its own; a [spring] of zeros changes nothing, bit for bit
+    robot = tmp_path / "robot.toml"
+    robot.write_text("[spring.actuator]\nstiffness = 400.0\nrest = 0.02\ndamping = 3.0\n")
+    zero = tmp_path / "zero.toml"
+    zero.write_text("[spring.actuator]\n")
+    tables = {}
+    for name, args in (("spring", ["--robot", str(robot)]), ("free", []),
+                       ("zero", ["--robot", str(zero)])):  # fmt: skip
+        with contextlib.redirect_stdout(io.StringIO()):
+            code = main(["simulate", *args, "--motion", "vertical", "--samples", "41",
+                         "--method", method, "--output", str(tmp_path / name)])  # fmt: skip
+        assert code == 0
+        path = tmp_path / name / "results.csv"
+        assert path.read_text().splitlines()[0].split(",") == list(RESULT_COLUMNS)
+        tables[name] = np.genfromtxt(path, delimiter=",", names=True)
+    spring, free, zero_table = tables["spring"], tables["free"], tables["zero"]
+    for leg in LEGS:
+        expected = 400.0 * (spring[f"lambda10_{leg}"] - 0.02) + 3.0 * spring[f"dlambda10_{leg}"]
+        got = spring[f"f10_{leg}"] - free[f"f10_{leg}"]
+        assert np.abs(got - expected).max() <= 1e-12 * (np.abs(expected).max() + 1.0)
+    assert all(np.array_equal(zero_table[n], free[n]) for n in free.dtype.names)

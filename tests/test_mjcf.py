@@ -25,6 +25,7 @@ import subprocess
 import sys
 import warnings
 import xml.etree.ElementTree as ET
+from dataclasses import replace
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -46,7 +47,7 @@ from prp3.mjcf import (
     mjcf_model,
     unrepresented,
 )
-from prp3.model import Friction, JointFriction, Load, Payload
+from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from prp3.motion import PAPER_MOTIONS, law_motion, paper_motion
 from strategies import (
     REF_E,
@@ -612,7 +613,8 @@ def test_export_names_what_mujoco_cannot_represent() -> None:
         text = mjcf_model(robot)
     assert len(record) == 1
     message = str(record[0].message)
-    assert "friction.actuator.mu, friction.sleeve.mu;" in message
+    assert "the load-dependent friction friction.actuator.mu;" in message
+    assert "the load-dependent friction friction.sleeve.mu;" in message
     assert "friction.revolute" not in message
     assert "smoothing friction.sleeve.smoothing" in message
     assert "data.xfrc_applied[platform_A] = (0, -5.0, 0, 0, 0, 0)" in message
@@ -739,3 +741,53 @@ def test_simulation_with_payload_load_and_damping(mujoco: ModuleType) -> None:
     )
     (error,) = _drive(mujoco, robot, "vertical", [0.0], 1.0)
     assert error.max() < 1e-7
+
+
+@settings(max_examples=10)
+@given(
+    scenario=scenarios(),
+    stiffness=st.floats(0.0, 3e3),
+    rest=st.floats(-0.05, 0.05),
+    damping=st.floats(0.0, 30.0),
+    viscous=st.floats(0.0, 10.0),
+)
+def test_mujoco_carries_the_actuator_spring_with_its_own_joint_stiffness(
+    mujoco: ModuleType,
+    scenario: tuple[Robot, AnalyticMotion],
+    stiffness: float,
+    rest: float,
+    damping: float,
+    viscous: float,
+) -> None:
+    # the spring element writes MuJoCo's stiffness, springref and damping on the lambda10
+    # sliders (damping added to the guide's viscous friction); MuJoCo's passive forces
+    # (qfrc_smooth) then give prp3's f10 in every method
+    robot, analytic = scenario
+    robot = replace(
+        robot,
+        spring=Spring(SpringParameters(stiffness=stiffness, rest=rest, damping=damping)),
+        friction=Friction(actuator=JointFriction(viscous=viscous)),
+    )
+    model, _, order = _load(mujoco, robot)
+    sliders = order[0::3]
+    np.testing.assert_array_equal(model.jnt_stiffness[[0, 3, 6]], stiffness)
+    np.testing.assert_array_equal(model.dof_damping[sliders], damping + viscous)
+    np.testing.assert_array_equal(model.qpos_spring[sliders], rest if stiffness else 0.0)
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 7))
+    forces, worst_pos, _ = _mujoco_forces(mujoco, robot, motion)
+    assert worst_pos < 1e-13 * robot.l0
+    for method in ("fast", "paper", "newton-euler"):
+        _, dyn = inverse_dynamics(robot, motion, method=method)  # type: ignore[arg-type]
+        assert _relative_error(forces, dyn.f10, robot) < 1e-8, method
+
+
+def test_the_spring_in_the_xml_and_nothing_left_out() -> None:
+    robot = Robot(spring=Spring(SpringParameters(stiffness=250.0, rest=0.02, damping=1.5)))
+    assert unrepresented(robot) == []
+    root = ET.fromstring(mjcf_model(robot))
+    for joint in root.iter("joint"):
+        name = joint.get("name")
+        if name is None:  # the <default> joint
+            continue
+        spring = (joint.get("stiffness"), joint.get("springref"), joint.get("damping"))
+        assert spring == (("250.0", "0.02", "1.5") if name.startswith("lambda10") else (None,) * 3)

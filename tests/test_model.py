@@ -395,3 +395,46 @@ def test_a_robot_file_may_start_with_a_byte_order_mark(tmp_path: Path) -> None:
     path = tmp_path / "bom.toml"
     path.write_bytes("\ufeff[platform]\nmass = 2.0\n".encode())
     assert Robot.from_toml(path).platform.mass == 2.0
+
+
+# ------------------------------------------------------------ [spring.actuator]
+def test_the_spring_table_reads_validates_and_round_trips(tmp_path: Path) -> None:
+    from prp3.model import Spring, SpringParameters
+
+    text = "[spring.actuator]\nstiffness = 500\nrest = -0.01\ndamping = 2.5\n"
+    path = tmp_path / "robot.toml"
+    path.write_text(text)
+    robot = Robot.from_toml(path)
+    assert robot.spring == Spring(SpringParameters(stiffness=500.0, rest=-0.01, damping=2.5))
+    assert type(robot.spring.actuator.stiffness) is float
+    assert Robot.from_mapping(tomllib.loads(robot.to_toml())) == robot
+    assert Robot().spring is None and "spring" not in Robot().to_toml()
+    assert [e.name for e in robot.elements] == ["gravity", "spring.actuator"]
+    for bad, message in (
+        (
+            "stiffness = -1.0",
+            "spring.actuator.stiffness must be a non-negative finite number (N/m)",
+        ),
+        ("damping = -2.0", "spring.actuator.damping must be a non-negative finite number (N·s/m)"),
+        ("rest = nan", "spring.actuator.rest must be a finite number"),
+        ("length = 0.1", "unknown key 'spring.actuator.length'"),
+    ):
+        path.write_text(f"[spring.actuator]\n{bad}\n")
+        with pytest.raises(ParameterError, match=re.escape(message)) as caught:
+            Robot.from_toml(path)
+        assert caught.value.file == str(path) and caught.value.key.startswith("spring")
+    with pytest.raises(ParameterError, match=re.escape("unknown key 'spring.revolute'")):
+        Robot.from_mapping({"spring": {"revolute": {}}})
+
+
+def test_the_template_documents_the_spring_keys() -> None:
+    # the commented keys of prp3 robot --template, uncommented, are a valid spring table
+    lines = robot_template().split("# [spring.actuator]", 1)[1].splitlines()[:4]
+    text = "[spring.actuator]\n" + "\n".join(line.lstrip("# ").split("#")[0] for line in lines[1:])
+    robot = Robot.from_mapping(tomllib.loads(text))
+    assert robot.spring is not None and robot.spring.actuator.stiffness == 0.0
+    assert {"stiffness", "rest", "damping"} <= set(tomllib.loads(text)["spring"]["actuator"])
+    with_spring = dataclasses.replace(Robot(), spring=robot.spring)
+    template = robot_template(with_spring)
+    assert "[spring.actuator]" in template and "N/m" in template and "N s/m" in template
+    assert Robot.from_mapping(tomllib.loads(template)) == with_spring

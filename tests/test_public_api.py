@@ -104,6 +104,7 @@ EXEMPT: dict[str, str] = {
     "DesignObjective": "built by sweep_spec from a validated sweep file",
     "SweepSpec": "built by sweep_spec / read_sweep_spec",
     "Friction": "holds JointFriction values, each validated",
+    "Spring": "holds SpringParameters values, each validated",
     "InputFileError": "exception",
     "OutputFileError": "exception",
     "ParameterError": "exception",
@@ -404,6 +405,13 @@ CASES: dict[str, Case] = {
     ),
     "JointFriction": _case(
         prp3.model.JointFriction, {"viscous": R, "coulomb": R}, viscous=0.0, coulomb=0.0
+    ),
+    "SpringParameters": _case(
+        prp3.model.SpringParameters,
+        {"stiffness": R, "rest": R, "damping": R},
+        stiffness=0.0,
+        rest=0.0,
+        damping=0.0,
     ),
     "Motion": _case(
         prp3.Motion,

@@ -314,3 +314,27 @@ def test_the_statics_map_covers_nothing_and_says_what_it_plots() -> None:
     fraction = statics.unheld_fraction
     assert fraction is not None and f"{100 * fraction:.3g} %" in ax.get_title()
     assert "payload 0.5 kg" in ax.get_title()
+
+
+def test_the_spring_holds_its_share_at_rest() -> None:
+    # at rest the spring pushes piston i with −k·(λ10_i − rest) along e_i: the statics map's
+    # f10 is the robot's without the spring plus k·(λ10_i − rest), λ10 by the closed-form
+    # inverse geometry; and prp3 workspace writes the map by default for it
+    from prp3.cli.workspace import wants_statics
+    from prp3.geometry import inverse_geometry
+    from prp3.model import Spring, SpringParameters
+
+    robot = Robot(spring=Spring(SpringParameters(stiffness=600.0, rest=0.015, damping=9.0)))
+    grid = np.linspace(-0.04, 0.04, 9)
+    sprung, free = (
+        workspace_statics(robot, 0.2, grid, grid),
+        workspace_statics(Robot(), 0.2, grid, grid),
+    )
+    X, Y = np.meshgrid(grid, grid)
+    pose = np.stack([X, Y, np.full_like(X, 0.2)], axis=-1)
+    lambda10 = inverse_geometry(robot, pose.reshape(-1, 3)).lambda10.reshape(9, 9, 3)
+    expected = 600.0 * (lambda10 - 0.015)
+    np.testing.assert_allclose(sprung.f10 - free.f10, expected, rtol=0, atol=1e-12)
+    assert wants_statics(robot, None) and not wants_statics(Robot(), None)
+    damper_only = Robot(spring=Spring(SpringParameters(damping=9.0)))  # nothing at rest
+    assert not wants_statics(damper_only, None)

@@ -516,6 +516,11 @@ def test_rows_are_the_batch_kernel_of_each_design_bit_for_bit():
         ),
         ({"friction.sleeve.mu": [0.2, 0.5]}, "[friction.sleeve]\ncoulomb = 0.5\n"),
         ({"friction.actuator.viscous": [0.0, 2.0], "l0": [0.25, 0.35]}, ""),  # no [friction]
+        (  # the spring's element: its fields broadcast over the designs of one kernel call
+            {"spring.actuator.stiffness": [0.0, 800.0], "spring.actuator.rest": [-0.02, 0.02]},
+            "[spring.actuator]\ndamping = 3.0\n",
+        ),
+        ({"spring.actuator.damping": [0.0, 5.0]}, ""),  # no [spring]
     ],
 )
 def test_loads_and_friction_are_parameters_too(tmp_path, parameters, robot):
@@ -588,13 +593,15 @@ def test_designs_in_a_box_of_valid_robots_are_not_built_one_by_one(monkeypatch):
         {"platform.inertia": [0.05, 0.1], "piston.com.1": [-0.01, 0.01], "gravity.0": [-1, 1]},
         {"payload.mass": [0.0, 1.0], "payload.com.1": [0.0, 0.02], "load.force.0": [-5, 5]},
         {"friction.actuator.viscous": [0.0, 2.0], "link.inertia": [1e-4, 1e-3]},
+        {"spring.actuator.stiffness": [0.0, 800.0], "spring.actuator.damping": [0.0, 5.0]},
     ],
 )
 def test_traced_parameters_of_designs_are_kernel_parameters_of_their_robots(tmp_path, paths):
     # a nominal robot with friction and a payload, so that every table can be swept
     write(
         tmp_path / "robot.toml",
-        "[friction.actuator]\ncoulomb = 0.5\n[payload]\nmass = 0.5\n[load]\nforce = [1.0, 0.0]\n",
+        "[friction.actuator]\ncoulomb = 0.5\n[payload]\nmass = 0.5\n[load]\nforce = [1.0, 0.0]\n"
+        "[spring.actuator]\nrest = 0.01\n",
     )
     spec = sweep_spec(
         {"robot": "robot.toml", "designs": 9, "seed": 1, "parameters": paths,

@@ -38,6 +38,7 @@ import re
 from dataclasses import dataclass
 
 from . import kernel
+from .elements import ELEMENTS
 from .errors import ParameterError, Prp3Error
 from .geometry import SINGULARITY_THRESHOLD
 from .model import Robot
@@ -87,14 +88,23 @@ class CSource:
     robot: Robot
 
 
-#: Constants of the closed form: the fields of :class:`prp3.kernel.KernelParameters`.
-_SCALARS = kernel.INERTIAL_FIELDS
+def _scalars(robot: Robot) -> tuple[str, ...]:
+    """Constants of the closed form: the inertial fields of :class:`prp3.kernel.KernelParameters`
+    and the fields of the robot's elements that are not zero (a zero field adds no operation)."""
+    parameters = kernel.kernel_parameters(robot)
+    effects = tuple(
+        name
+        for element in robot.elements
+        for name in element.fields
+        if float(getattr(parameters, name)) != 0.0
+    )
+    return kernel.INERTIAL_FIELDS + effects
 
 
 def _constant_values(robot: Robot) -> dict[str, float]:
     """The robot's constants by their C names (``prp3_l0``, ``prp3_link_mass``, ...)."""
     parameters = kernel.kernel_parameters(robot)
-    return {f"prp3_{name}": float(getattr(parameters, name)) for name in _SCALARS}
+    return {f"prp3_{name}": float(getattr(parameters, name)) for name in _scalars(robot)}
 
 
 @dataclass(frozen=True)
@@ -107,14 +117,18 @@ class _Template:
     stroke_test: str  # C condition "some lambda10 outside [LOWER, UPPER]" ("" without)
 
 
-@functools.lru_cache(maxsize=2)
-def _template(with_stroke: bool) -> _Template:
-    """Evaluate prp3's closed form on sympy symbols, share subexpressions, print C99."""
+@functools.lru_cache(maxsize=4)
+def _template(with_stroke: bool, scalars: tuple[str, ...]) -> _Template:
+    """Evaluate prp3's closed form on sympy symbols, share subexpressions, print C99.
+
+    ``scalars`` are the fields of :class:`~prp3.kernel.KernelParameters` that are
+    symbols (constants of the C code); the others are the number 0.
+    """
     import sympy
     from sympy.printing.c import C99CodePrinter
 
     parameters = kernel.KernelParameters(
-        **{name: sympy.Symbol(f"prp3_{name}", real=True) for name in _SCALARS}
+        **{name: sympy.Symbol(f"prp3_{name}", real=True) for name in scalars}
     )
     inputs = tuple(sympy.Symbol(name, real=True) for name in _INPUTS)
     # the one kernel, evaluated on sympy symbols
@@ -136,7 +150,7 @@ def _template(with_stroke: bool) -> _Template:
         for expr in [*(expr for _, expr in replacements), *reduced]
         for symbol in expr.free_symbols
     }
-    names = [f"prp3_{name}" for name in _SCALARS]
+    names = [f"prp3_{name}" for name in scalars]
     lines = tuple(
         f"{name}[{leg}] = {printer.doprint(reduced[3 * k + leg])};"
         for k, name in enumerate(("f10", "f21y", "f21z"))
@@ -169,8 +183,11 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
     Parameters
     ----------
     robot : Robot
-        Its ``l0``, gravity, masses, inertias and centres of mass become
-        constants of the source; ``limits.stroke`` (when set) the stroke check.
+        Its ``l0``, gravity, masses, inertias and centres of mass, and the
+        parameters of its elements that the C code supports
+        (:attr:`prp3.elements.Element.generated_c`: the payload, the
+        actuators' spring), become constants of the source;
+        ``limits.stroke`` (when set) the stroke check.
 
     Returns
     -------
@@ -179,15 +196,17 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
     Raises
     ------
     ParameterError
-        If ``robot`` is not a :class:`~prp3.model.Robot`.
+        If ``robot`` is not a :class:`~prp3.model.Robot`, or has an element
+        the C code does not support (named: ``[load]``, ``[friction.actuator]``...).
     """
     if not isinstance(robot, Robot):
         raise ParameterError(f"robot must be a prp3.Robot, got {type(robot).__name__}")
-    if robot.friction is not None or robot.load.present:
-        what = "[friction]" if robot.friction is not None else "[load]"
+    refused = [element.name for element in robot.elements if not element.generated_c]
+    if refused:
         raise ParameterError(
-            f"robot: the generated C code covers the inertial model (a [payload] included), "
-            f"not {what}: remove it from the robot to export C"
+            "robot: the generated C code covers the inertial model and the elements "
+            + ", ".join(e.name for e in ELEMENTS if e.generated_c)
+            + f", not [{refused[0]}]: remove it from the robot to export C"
         )
     try:
         import sympy
@@ -198,7 +217,7 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
         ) from None
     del sympy, C99CodePrinter  # imported above only to fail early without sympy
     stroke = robot.limits.stroke
-    template = _template(stroke is not None)
+    template = _template(stroke is not None, _scalars(robot))
     values = _constant_values(robot)
     constants = [
         f"static const double {name} = {_c_number(values[name])};" for name in template.constants

@@ -378,8 +378,9 @@ def check_plant(robot: Robot, plant: Plant) -> None:
     """Refuse a robot the plant would not simulate as it is.
 
     * ``"mujoco"``: the exported MJCF (:func:`prp3.mjcf.mjcf_model`) carries
-      the payload (a body welded to the platform) and viscous friction (joint
-      damping), and the plant applies the constant ``[load]`` as
+      the payload (a body welded to the platform), viscous friction (joint
+      damping) and the actuators' spring (the sliders' stiffness, springref
+      and damping), and the plant applies the constant ``[load]`` as
       ``xfrc_applied``; MuJoCo has no counterpart of prp3's Coulomb law
       (its ``frictionloss`` is its own dry friction) or of the ``mu`` terms.
     * ``"prp3"``: the plant solves ``f10 = A(q)·q̈ + b(q, q̇)`` for ``q̈``; a
@@ -393,19 +394,8 @@ def check_plant(robot: Robot, plant: Plant) -> None:
     prp3.errors.ParameterError: plant 'mujoco': friction.sleeve.coulomb = 0.5: MuJoCo has no counterpart of prp3's Coulomb friction law (its frictionloss is its own dry friction): simulate it with plant 'prp3'
     """
     if plant == "mujoco":
-        friction = robot.friction
-        for kind in ("actuator", "revolute", "sleeve") if friction is not None else ():
-            joint = getattr(friction, kind)
-            for name, value, law in (
-                ("coulomb", joint.coulomb, "prp3's Coulomb friction law (its frictionloss is "
-                 "its own dry friction)"),
-                ("mu", joint.mu, "the load-dependent friction (mu)"),
-            ):  # fmt: skip
-                if value != 0.0:
-                    raise ParameterError(
-                        f"plant 'mujoco': friction.{kind}.{name} = {value!r}: MuJoCo has no "
-                        f"counterpart of {law}: simulate it with plant 'prp3'"
-                    )
+        for element in robot.elements:  # each element says what MuJoCo simulates otherwise
+            element.check_mujoco_plant(robot)
     elif compile_robot(_without_limits(robot)).parameters.has_mu:
         raise ParameterError(
             "plant 'prp3': a friction proportional to the joint reactions (mu) makes the "

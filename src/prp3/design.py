@@ -75,6 +75,7 @@ from numpy.typing import NDArray
 
 from . import __version__
 from ._trace import array_function, broadcast_function, trace
+from .elements import ELEMENTS
 from .errors import (
     ParameterError,
     Prp3Error,
@@ -83,7 +84,6 @@ from .errors import (
 from .geometry import LEGS, check_poses
 from .io import read_trajectory
 from .kernel import (
-    EFFECT_FIELDS,
     INERTIAL_FIELDS,
     NUMPY,
     STATE_SYMBOLS,
@@ -360,11 +360,10 @@ _PARAMETER_FIELDS = tuple(f.name for f in fields(KernelParameters))
 
 #: Fields of :class:`~prp3.kernel.KernelParameters` that may differ between the designs of
 #: one kernel call: the kernel performs the same operations whatever their values (it
-#: branches on the others: a zero smoothing is a sign, the mu terms are implicit).
+#: branches on the others: a zero smoothing is a sign, the mu terms are implicit), as each
+#: element says (:attr:`prp3.elements.Element.broadcast`).
 _BROADCAST_FIELDS: frozenset[str] = frozenset(INERTIAL_FIELDS) | {
-    name
-    for name in EFFECT_FIELDS
-    if name.startswith("load") or name.endswith(("viscous", "coulomb"))
+    name for element in ELEMENTS for name in element.broadcast
 }
 
 #: Outputs of the design kernel: |f10|, |p10|, f21y² + f21z², |n32| (3 legs each; the peaks

@@ -517,9 +517,11 @@ def open_loop_growth_rate(robot: Robot, pose: ArrayLike) -> float:
 
 
 def check_forward_friction(robot: Robot) -> None:
-    """Refuse the friction forward dynamics cannot integrate (module notes).
+    """Refuse the elements forward dynamics cannot integrate (module notes).
 
-    The sign of a Coulomb or ``μ`` term must be smoothed: with the exact sign
+    Each of the robot's elements checks itself
+    (:meth:`prp3.elements.Element.check_forward`); today only friction refuses
+    anything.  The sign of a Coulomb or ``μ`` term must be smoothed: with the exact sign
     the joint force jumps where the joint velocity changes sign, and the
     equations of motion have no unique acceleration there.
 
@@ -535,23 +537,8 @@ def check_forward_friction(robot: Robot) -> None:
     ...
     prp3.errors.ParameterError: robot: friction.actuator.coulomb = 1.0 N with smoothing = 0 (the exact sign): forward dynamics needs friction.actuator.smoothing > 0
     """
-    friction = robot.friction
-    if friction is None:
-        return
-    for kind in ("actuator", "revolute", "sleeve"):
-        joint = getattr(friction, kind)
-        unit = "N·m" if kind == "revolute" else "N"
-        for key, value, shown in (
-            ("coulomb", joint.coulomb, f"{joint.coulomb!r} {unit}"),
-            ("mu", joint.mu, f"{joint.mu!r}"),
-        ):
-            if value > 0.0 and joint.smoothing == 0.0:
-                raise ParameterError(
-                    f"friction.{kind}.{key} = {shown} with smoothing = 0 (the exact sign): "
-                    f"forward dynamics needs friction.{kind}.smoothing > 0",
-                    subject="robot",
-                    key=f"friction.{kind}.{key}",
-                )
+    for element in robot.elements:  # each element says what forward dynamics cannot take
+        element.check_forward(robot)
 
 
 def _check_affine(compiled: CompiledRobot) -> None:

@@ -59,11 +59,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import kernel
+from .elements import ELEMENTS, FRICTIONS, LOAD
 from .errors import ParameterError, TrajectoryError
 from .fast import DEFAULT_CHUNK
 from .geometry import inverse_geometry
 from .model import (
-    Friction,
     Limits,
     LinkParameters,
     PistonParameters,
@@ -81,6 +81,7 @@ from .validation import (
 )
 
 __all__ = [
+    "ELEMENT_PARAMETERS",
     "FORCES",
     "FRICTION_MODELS",
     "FRICTION_PARAMETERS",
@@ -126,26 +127,24 @@ STANDARD_PARAMETERS: tuple[str, ...] = (
 )
 
 #: Friction coefficients that enter the forces linearly (``docs/loads_and_friction.md``):
-#: viscous ``b`` and Coulomb ``c`` of the guides, the revolute joints and the sleeves.
-#: (The load-dependent ``μ`` terms multiply reaction magnitudes that depend on every
-#: parameter: they are not linear in anything and have no column.)
-FRICTION_PARAMETERS: tuple[str, ...] = (
-    "actuator_viscous",
-    "actuator_coulomb",
-    "revolute_viscous",
-    "revolute_coulomb",
-    "sleeve_viscous",
-    "sleeve_coulomb",
-)
+#: viscous ``b`` and Coulomb ``c`` of the guides, the revolute joints and the sleeves, the
+#: regressor fields of the friction elements.  (The load-dependent ``μ`` terms multiply
+#: reaction magnitudes that depend on every parameter: they are not linear in anything and
+#: have no column.)
+FRICTION_PARAMETERS: tuple[str, ...] = tuple(n for e in FRICTIONS for n in e.regressor)
+
+#: The regressor fields of every element (:attr:`prp3.elements.Element.regressor`):
+#: the friction coefficients, the spring's stiffness and damping.
+ELEMENT_PARAMETERS: tuple[str, ...] = tuple(n for e in ELEMENTS for n in e.regressor)
 
 #: Every parameter a regressor column can stand for.
-PARAMETERS: tuple[str, ...] = STANDARD_PARAMETERS + FRICTION_PARAMETERS
+PARAMETERS: tuple[str, ...] = STANDARD_PARAMETERS + ELEMENT_PARAMETERS
 
 #: The friction coefficients of each ``prp3 identify --friction`` choice.
 FRICTION_MODELS: dict[str, tuple[str, ...]] = {
     "none": (),
-    "viscous": ("actuator_viscous", "revolute_viscous", "sleeve_viscous"),
-    "coulomb": ("actuator_coulomb", "revolute_coulomb", "sleeve_coulomb"),
+    "viscous": tuple(e.regressor[0] for e in FRICTIONS),
+    "coulomb": tuple(e.regressor[1] for e in FRICTIONS),
     "both": FRICTION_PARAMETERS,
 }
 
@@ -162,12 +161,7 @@ PARAMETER_SYMBOLS: dict[str, str] = {
     "link_inertia": "J2",
     "piston_moment_x": "h1x",
     "piston_moment_y": "h1y",
-    "actuator_viscous": "b_a",
-    "actuator_coulomb": "c_a",
-    "revolute_viscous": "b_r",
-    "revolute_coulomb": "c_r",
-    "sleeve_viscous": "b_s",
-    "sleeve_coulomb": "c_s",
+    **{name: symbol for e in ELEMENTS for name, symbol in e.symbols},
 }
 
 #: SI units of the standard parameters.
@@ -183,12 +177,7 @@ PARAMETER_UNITS: dict[str, str] = {
     "link_inertia": "kg m^2",
     "piston_moment_x": "kg m",
     "piston_moment_y": "kg m",
-    "actuator_viscous": "N s/m",
-    "actuator_coulomb": "N",
-    "revolute_viscous": "N m s/rad",
-    "revolute_coulomb": "N m",
-    "sleeve_viscous": "N s/m",
-    "sleeve_coulomb": "N",
+    **{name: unit for e in ELEMENTS for name, unit in e.units},
 }
 
 #: Why a standard parameter cannot be identified on its own (structural reasons).
@@ -259,16 +248,19 @@ class Regressor:
 
 
 def _zero_parameters(robot: Robot, keep: Sequence[str] = ()) -> kernel.KernelParameters:
-    """``robot``'s kernel parameters with every inertial, load and friction field 0.
+    """``robot``'s kernel parameters with every inertial field and element field 0.
 
-    Kept: ``l0``, gravity, the friction smoothings (a Coulomb column is
-    ``s(v)`` with the robot's smoothing) and the fields named in ``keep``.
+    Kept: ``l0``, gravity, the fields each element keeps for the shape of its
+    columns (:attr:`prp3.elements.Element.kept`: the friction smoothings, a
+    Coulomb column is ``s(v)`` with the robot's smoothing; the spring's rest
+    length) and the fields named in ``keep``.
     """
     k = kernel.kernel_parameters(robot)
+    shape = {name for element in ELEMENTS for name in element.kept}
     cleared = [
         name
         for name in (*STANDARD_PARAMETERS, *kernel.EFFECT_FIELDS)
-        if not name.endswith("_smoothing") and name not in keep
+        if name not in shape and name not in keep
     ]
     return replace(k, **dict.fromkeys(cleared, 0.0))
 
@@ -336,10 +328,12 @@ def regressor(
     """The regressor ``Y`` of ``f10``, ``f21y``, ``f21z`` for a motion (batch or one sample).
 
     Column ``k`` is the kernel (eqs. 10, 14, 17, 19–25) evaluated with the
-    parameter ``parameters[k]`` set to 1 and every other inertial, friction
-    and load parameter 0 (``l0``, gravity and the friction smoothings from
-    ``robot``): the forces are linear and homogeneous in the inertial
-    parameters and in the viscous and Coulomb friction coefficients, so
+    parameter ``parameters[k]`` set to 1 and every other inertial and
+    element parameter 0 (``l0``, gravity and the fields the elements keep —
+    the friction smoothings, the spring's rest length — from ``robot``): the
+    forces are linear and homogeneous in the inertial parameters and in the
+    regressor fields of the elements (viscous and Coulomb friction
+    coefficients, the spring's stiffness and damping), so
     ``Y @ standard_parameters(robot, PARAMETERS)`` equals the forces of
     :func:`prp3.dynamics.inverse_dynamics` to round-off for a robot without
     load and ``μ`` terms (a load adds a known term, :func:`known_forces`).
@@ -782,7 +776,7 @@ def known_forces(robot: Robot, motion: Motion, fixed: Sequence[str]) -> FloatArr
     _refuse_mu(robot)
     names = check_names("fixed", fixed, PARAMETERS, item="parameter", empty=True)
     inverse_geometry(robot, motion.pose)
-    k = _zero_parameters(robot, keep=(*names, "load_x", "load_y", "load_moment"))
+    k = _zero_parameters(robot, keep=(*names, *LOAD.fields))
     rows = _state_rows(motion)
     load = None if motion.load is None else motion.load.reshape(-1, 3).T
     out = np.empty((rows.shape[1], 3))
@@ -923,38 +917,17 @@ def robot_from_standard(nominal: Robot, standard: dict[str, float]) -> Robot:
             f"J3 = {values['platform_inertia']!r} kg m^2: the platform inertia about G would "
             "be negative"
         )
-    return replace(
+    robot = replace(
         nominal,
         piston=PistonParameters(mass=m1, inertia=nominal.piston.inertia, com=c1),
         link=LinkParameters(mass=m2, inertia=link_inertia, com=c2),
         platform=PlatformParameters(mass=mass, inertia=inertia),
         payload=payload,
-        friction=_friction(nominal, values),
     )
-
-
-def _friction(nominal: Robot, values: dict[str, float]) -> Friction | None:
-    """The friction of ``nominal`` with the viscous and Coulomb coefficients of ``values``."""
-    coefficients = [values[name] for name in FRICTION_PARAMETERS]
-    if nominal.friction is None and not any(coefficients):
-        return None
-    for name, value in zip(FRICTION_PARAMETERS, coefficients, strict=True):
-        if not value >= 0.0:
-            raise ParameterError(
-                f"{PARAMETER_SYMBOLS[name]} = {value!r} {PARAMETER_UNITS[name]}: a friction "
-                "coefficient must not be negative"
-            )
-    old = nominal.friction if nominal.friction is not None else Friction()
-    return Friction(
-        **{
-            kind: replace(
-                getattr(old, kind),
-                viscous=values[f"{kind}_viscous"],
-                coulomb=values[f"{kind}_coulomb"],
-            )
-            for kind in ("actuator", "revolute", "sleeve")
-        }
-    )
+    for element in ELEMENTS:  # the friction coefficients, the spring's stiffness and damping
+        if element.regressor:
+            robot = element.identified(robot, values)
+    return robot
 
 
 @dataclass(frozen=True)
@@ -1076,7 +1049,7 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
         if base.members(b) != (base.independent[b],):
             continue
         floor = max(3.0 * result.std[b], 1e-12 * float(np.abs(result.measured).max()))
-        if name in FRICTION_PARAMETERS and -floor <= estimate[b] < 0.0:
+        if name in ELEMENT_PARAMETERS and -floor <= estimate[b] < 0.0:
             estimate[b] = 0.0
             clamped.append(name)
         elif (  # no payload: the centre of mass of the platform is G

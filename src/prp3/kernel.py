@@ -62,8 +62,9 @@ Then
   (the balance of link 2 across its sleeve, ``d⊥_j = C·n_j − D·e_j``),
   ``m32_j = −M20_j``.
 
-A new effect on a body (a payload, an external load, a friction force) enters
-:func:`body_wrenches` once and reaches every path from there.
+A new effect on a body (a payload, an external load, a friction force, a
+spring) is an element of :mod:`prp3.elements`; :func:`body_wrenches` applies
+it through the element, and every path has it from there.
 
 Examples
 --------
@@ -78,11 +79,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
 
+from . import elements as _elements
+from .elements import APPLIED, FRICTIONS, LOAD, PAYLOAD, Wrenches, is_zero, rate_sign
 from .model import Robot
 
 __all__ = [
@@ -219,11 +222,13 @@ class KernelParameters:
         Friction of the revolute joint at ``P_i`` (``b_r, c_r, μ_r, r_r``, smoothing).
     sleeve_viscous, sleeve_coulomb, sleeve_mu, sleeve_smoothing : Value
         Friction of the sleeve of link 2 on the platform (``b_s, c_s, μ_s``, smoothing).
+    spring_stiffness, spring_rest, spring_damping : Value
+        The spring with damper of each actuated joint (``k``, ``λ_rest``, ``c``).
 
-    Every load and friction field defaults to ``0.0``; a field that is the
-    number zero adds no operation at all (the results are bit for bit those
-    without it).  The friction forces are linear in the viscous and Coulomb
-    coefficients (identification's regressor).
+    Every field after ``platform_inertia`` belongs to one element of
+    :mod:`prp3.elements` (:data:`EFFECT_FIELDS`) and defaults to ``0.0``; a
+    field that is the number zero adds no operation at all (the results are
+    bit for bit those without it).
     """
 
     l0: Value
@@ -256,15 +261,14 @@ class KernelParameters:
     sleeve_coulomb: Value = 0.0
     sleeve_mu: Value = 0.0
     sleeve_smoothing: Value = 0.0
+    spring_stiffness: Value = 0.0
+    spring_rest: Value = 0.0
+    spring_damping: Value = 0.0
 
     @property
     def has_mu(self) -> bool:
         """Whether a load-dependent friction term acts: the inverse dynamics is implicit."""
-        return not (
-            _zero(self.actuator_mu)
-            and (_zero(self.revolute_mu) or _zero(self.revolute_pin_radius))
-            and _zero(self.sleeve_mu)
-        )
+        return any(element.has_mu(self) for element in FRICTIONS)
 
 
 #: The inertial (and geometric) fields of :class:`KernelParameters`: those of the paper's model.
@@ -274,18 +278,10 @@ INERTIAL_FIELDS: tuple[str, ...] = (
     "platform_moment_x", "platform_moment_y", "platform_inertia",
 )  # fmt: skip
 
-#: The load and friction fields of :class:`KernelParameters` (``0.0`` unless given).
-EFFECT_FIELDS: tuple[str, ...] = (
-    "load_x", "load_y", "load_moment",
-    "actuator_viscous", "actuator_coulomb", "actuator_mu", "actuator_smoothing",
-    "revolute_viscous", "revolute_coulomb", "revolute_mu", "revolute_pin_radius",
-    "revolute_smoothing", "sleeve_viscous", "sleeve_coulomb", "sleeve_mu", "sleeve_smoothing",
-)  # fmt: skip
+#: The fields of :class:`KernelParameters` that the elements own (``0.0`` unless given).
+EFFECT_FIELDS: tuple[str, ...] = _elements.effect_fields()
 
-
-def _zero(value: Value) -> bool:
-    """Whether ``value`` is the number zero (a symbol or an array is not)."""
-    return isinstance(value, int | float) and value == 0.0
+_zero = is_zero
 
 
 def kernel_parameters(robot: Robot) -> KernelParameters:
@@ -297,22 +293,10 @@ def kernel_parameters(robot: Robot) -> KernelParameters:
     m1, m2 = robot.piston.mass, robot.link.mass
     c1x, c1y = robot.piston.com
     c2x, c2y = robot.link.com
-    m3, h3x, h3y, j3 = robot.platform.mass, 0.0, 0.0, robot.platform_inertia
-    payload = robot.payload
-    if payload.present:  # a rigid body fixed to the platform: its standard parameters add
-        mp, (cpx, cpy) = payload.mass, payload.com
-        m3, h3x, h3y = m3 + mp, mp * cpx, mp * cpy
-        j3 = j3 + payload.inertia + mp * (cpx * cpx + cpy * cpy)
+    m3, h3x, h3y, j3 = PAYLOAD.inertial(robot)  # a payload adds to the platform's parameters
     effects: dict[str, float] = {}
-    load = robot.load
-    if load.present:
-        effects.update(load_x=load.force[0], load_y=load.force[1], load_moment=load.moment)
-    if robot.friction is not None:
-        for kind in ("actuator", "revolute", "sleeve"):
-            joint = getattr(robot.friction, kind)
-            for name in ("viscous", "coulomb", "mu", "smoothing"):
-                effects[f"{kind}_{name}"] = getattr(joint, name)
-        effects["revolute_pin_radius"] = robot.friction.revolute.pin_radius
+    for element in robot.elements:
+        effects.update(element.parameters(robot))
     return KernelParameters(
         l0=robot.l0,
         gravity_x=robot.gravity[0],
@@ -505,26 +489,7 @@ def kernel_kinematics(
     )
 
 
-def _s(ops: Ops, rate: Value, smoothing: Value) -> Value:
-    """``s(v)``: ``sign(v)`` (``s(0) = 0``) when ``smoothing`` is zero, else ``tanh(v/smoothing)``."""
-    if _zero(smoothing):
-        return ops.sign(rate)
-    return ops.tanh(rate / smoothing)
-
-
-def _law(
-    ops: Ops, viscous: Value, coulomb: Value, mu: Value, smoothing: Value, rate: Value,
-    normal: Value | None,
-) -> Value:  # fmt: skip
-    """``−(b·v + (c + μ·N)·s(v))`` with only the terms whose coefficients are not zero."""
-    total: Value | None = None if _zero(viscous) else viscous * rate
-    level: Value | None = None if _zero(coulomb) else coulomb
-    if normal is not None and not _zero(mu):
-        level = mu * normal if level is None else level + mu * normal
-    if level is not None:
-        term = level * _s(ops, rate, smoothing)
-        total = term if total is None else total + term
-    return 0.0 if total is None else -total
+_s = rate_sign
 
 
 def friction_forces(
@@ -543,24 +508,13 @@ def friction_forces(
     ``normals`` are the magnitudes ``(|n10|, |F21|, |n32|)`` of the legs for
     the ``μ`` terms; without them the ``μ`` terms are left out.
     """
-    names = [f.name for f in fields(KernelParameters)]
-    if all(_zero(getattr(k, name)) for name in names[names.index("actuator_viscous") :]):
+    if not any(element.acts(k) for element in FRICTIONS):
         return None
-    n10, f21, n32 = normals if normals is not None else (None, None, None)
-    radius_mu = k.revolute_mu * k.revolute_pin_radius
-    fric10, fric21, fric32 = [], [], []
-    for j in range(3):
-        fric10.append(_law(ops, k.actuator_viscous, k.actuator_coulomb, k.actuator_mu,
-                           k.actuator_smoothing, kin.dlambda10[j], None if n10 is None else n10[j]))  # fmt: skip
-        fric21.append(_law(ops, k.revolute_viscous, k.revolute_coulomb, radius_mu,
-                           k.revolute_smoothing, dphi, None if f21 is None else f21[j]))  # fmt: skip
-        fric32.append(_law(ops, k.sleeve_viscous, k.sleeve_coulomb, k.sleeve_mu,
-                           k.sleeve_smoothing, kin.dlambda32[j], None if n32 is None else n32[j]))  # fmt: skip
-    return KernelFriction(
-        (fric10[0], fric10[1], fric10[2]),
-        (fric21[0], fric21[1], fric21[2]),
-        (fric32[0], fric32[1], fric32[2]),
+    given = normals if normals is not None else (None, None, None)
+    fric10, fric21, fric32 = (
+        element.forces(ops, k, kin, dphi, given[a]) for a, element in enumerate(FRICTIONS)
     )
+    return KernelFriction(fric10, fric21, fric32)
 
 
 def body_wrenches(
@@ -586,14 +540,14 @@ def body_wrenches(
     link 2's ``h2x·d_i + h2y·d⊥_i`` and the platform's ``Rot(φ)·h3`` (they turn
     with ``φ``).  Linear in the parameters: identification's regressor.
 
-    The applied forces are subtracted: the constant load of ``k`` and the
-    time-varying ``load = (f_x, f_y, m_z)`` on the platform at ``G``, and the
-    joint ``friction``: ``fric10·e_i`` and the moment ``−fric21`` on piston i,
-    ``fric21`` and the force ``−fric32·d_i`` at ``P_i`` on link 2,
-    ``fric32·d_i`` at ``P_i`` on the platform (moment about ``G``
-    ``(P_i − G) × d_i·fric32 = (l0/2)·fric32``).  ``inertia=False`` leaves the
-    inertia wrenches, the weights and the constant load out (the wrenches of
-    the friction forces alone: linear in them).
+    The forces the elements of :mod:`prp3.elements` apply are subtracted, each
+    written in its element: the constant load of ``k`` and the time-varying
+    ``load = (f_x, f_y, m_z)`` on the platform at ``G``
+    (:meth:`~prp3.elements.LoadElement.apply_loads`), the spring of the
+    actuators (:data:`prp3.elements.APPLIED`) and the joint ``friction``
+    (:meth:`~prp3.elements.FrictionElement.apply_forces`).  ``inertia=False``
+    leaves the inertia wrenches, the weights, the constant load and the
+    spring out (the wrenches of the friction forces alone: linear in them).
     """
     gx, gy = k.gravity_x, k.gravity_y
     m1, m2 = k.piston_mass, k.link_mass
@@ -645,30 +599,21 @@ def body_wrenches(
         platform_moment = k.platform_inertia * ddphi + hx * ay - hy * ax
     else:
         platform_x = platform_y = platform_moment = 0.0
+    # the applied forces of the elements (prp3.elements), subtracted from what the bodies need
+    w = Wrenches(
+        {"piston_e": piston_e, "piston_n": piston_n, "piston_moment": piston_moment,
+         "link_e": link_e, "link_n": link_n, "link_moment": link_moment},
+        [platform_x, platform_y, platform_moment], C, D, directions, 0.5 * k.l0,
+    )  # fmt: skip
     # the environment's wrench on the platform at G: constant [load] + time-varying load
-    ext = [k.load_x, k.load_y, k.load_moment] if inertia else [0.0, 0.0, 0.0]
-    if load is not None:
-        ext = [
-            value if _zero(base) else base + value for base, value in zip(ext, load, strict=True)
-        ]
-    if not _zero(ext[0]):
-        platform_x = platform_x - ext[0]
-    if not _zero(ext[1]):
-        platform_y = platform_y - ext[1]
-    if not _zero(ext[2]):
-        platform_moment = platform_moment - ext[2]
+    LOAD.apply_loads(k, w, load, constant=inertia)
+    if inertia:
+        for element in APPLIED:  # the spring of the actuators
+            element.apply(k, kin, w)
     if friction is not None:
-        half = 0.5 * k.l0
-        for j, (dxl, dyl) in enumerate(directions):
-            f10, f21, f32 = friction.fric10[j], friction.fric21[j], friction.fric32[j]
-            piston_e[j] = piston_e[j] - f10  # the guide's friction helps the actuator
-            piston_moment[j] = piston_moment[j] + f21  # the piston receives −fric21
-            link_moment[j] = link_moment[j] - f21
-            link_e[j] = link_e[j] + f32 * C  # link 2 receives −fric32·d_i, d_i·e_i = C
-            link_n[j] = link_n[j] + f32 * D  # d_i·n_i = D
-            platform_x = platform_x - f32 * dxl
-            platform_y = platform_y - f32 * dyl
-            platform_moment = platform_moment - half * f32
+        for element, forces in zip(FRICTIONS, friction, strict=True):
+            element.apply_forces(w, forces)
+    platform_x, platform_y, platform_moment = w.platform
     return BodyWrenches(
         piston_e=(piston_e[0], piston_e[1], piston_e[2]),
         piston_n=(piston_n[0], piston_n[1], piston_n[2]),
@@ -917,9 +862,9 @@ def solve_mu(
         for row, value in enumerate(columns):
             R[:, row, q] = arr(value) if not isinstance(value, float) else value
     # C = diag(−μ·s(v)) of the 9 friction forces
-    mus = (k.actuator_mu, k.revolute_mu * k.revolute_pin_radius, k.sleeve_mu)
-    smooth = (k.actuator_smoothing, k.revolute_smoothing, k.sleeve_smoothing)
-    rates = (kin.dlambda10, (dphi, dphi, dphi), kin.dlambda32)
+    mus = tuple(element.mu(k) for element in FRICTIONS)
+    smooth = tuple(element.smoothing(k) for element in FRICTIONS)
+    rates = tuple(element.rates(kin, dphi) for element in FRICTIONS)
     coefficient = np.empty((samples, 9))
     for a in range(3):
         for j in range(3):
@@ -1015,17 +960,16 @@ def symbolic_parameters(*, effects: bool = False) -> KernelParameters:
     """The parameters of :class:`KernelParameters` as sympy symbols of their fields' names.
 
     The inertial fields (:data:`INERTIAL_FIELDS`) are symbols; with
-    ``effects=True`` also the constant load and the viscous and Coulomb
-    coefficients (the joint forces are linear in them; exact sign), the other
+    ``effects=True`` also the constant load and the regressor fields of the
+    elements (:attr:`prp3.elements.Element.regressor`: the viscous and Coulomb
+    coefficients, exact sign, the spring's stiffness and damping), the other
     fields staying ``0`` (the ``μ`` terms are implicit, no closed form).
     """
     import sympy
 
     names = INERTIAL_FIELDS
-    if effects:
-        names += tuple(
-            n for n in EFFECT_FIELDS if n.endswith(("viscous", "coulomb")) or "load" in n
-        )
+    if effects:  # the constant load and the fields the joint forces are linear in
+        names += LOAD.fields + tuple(n for e in _elements.ELEMENTS for n in e.regressor)
     return KernelParameters(**{name: sympy.Symbol(name, real=True) for name in names})
 
 

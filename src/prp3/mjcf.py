@@ -80,9 +80,10 @@ import warnings
 
 import numpy as np
 
+from .elements import number_text
 from .errors import ParameterError
 from .geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
-from .model import JointFriction, Payload, Robot
+from .model import Payload, Robot
 from .validation import check_robot
 
 __all__ = [
@@ -124,15 +125,9 @@ class MjcfWarning(UserWarning):
 
 
 #: The kinds of joint friction, in the order of the joints of a leg.
-_KINDS: tuple[str, str, str] = ("actuator", "revolute", "sleeve")
 
 
-def _num(value: float) -> str:
-    """Full-precision text of a float (``repr``: the shortest exact form)."""
-    number = float(value)
-    if number == 0.0:
-        return "0"
-    return repr(number)
+_num = number_text
 
 
 def _vec(*values: float) -> str:
@@ -157,17 +152,23 @@ def _inertial(mass: float, com: tuple[float, float], izz: float, l0: float) -> s
     )
 
 
-def _joint_friction(robot: Robot, kind: str) -> str:
-    """``damping`` and ``frictionloss`` attributes of a joint of ``kind`` (empty without)."""
-    if robot.friction is None:
-        return ""
-    joint: JointFriction = getattr(robot.friction, kind)
-    attributes = ""
-    if joint.viscous != 0.0:
-        attributes += f' damping="{_num(joint.viscous)}"'
-    if joint.coulomb != 0.0:
-        attributes += f' frictionloss="{_num(joint.coulomb)}"'
-    return attributes
+def _joint_attributes(robot: Robot) -> dict[str, str]:
+    """The attributes each of the robot's elements sets on the joints, by joint.
+
+    ``lambda10``, ``phi``, ``lambda32`` map to their attribute text (empty
+    without); the attributes of several elements on one joint add
+    (:meth:`prp3.elements.Element.mjcf_joints`: viscous friction and the
+    spring's damper both give ``damping``).
+    """
+    merged: dict[str, dict[str, float]] = {"lambda10": {}, "phi": {}, "lambda32": {}}
+    for element in robot.elements:
+        for joint, attributes in element.mjcf_joints(robot).items():
+            for name, value in attributes.items():
+                merged[joint][name] = merged[joint].get(name, 0.0) + value
+    return {
+        joint: "".join(f' {name}="{_num(value)}"' for name, value in attributes.items())
+        for joint, attributes in merged.items()
+    }
 
 
 def unrepresented(robot: Robot) -> list[str]:
@@ -189,30 +190,9 @@ def unrepresented(robot: Robot) -> list[str]:
     >>> unrepresented(Robot(friction=Friction(sleeve=JointFriction(mu=0.1))))
     ['the load-dependent friction friction.sleeve.mu']
     """
-    items: list[str] = []
-    friction = check_robot(robot).friction
-    if friction is not None:
-        mu = [f"friction.{k}.mu" for k in _KINDS if getattr(friction, k).has_mu]
-        if mu:
-            items.append("the load-dependent friction " + ", ".join(mu))
-        smooth = [
-            f"friction.{k}.smoothing"
-            for k in _KINDS
-            if getattr(friction, k).smoothing != 0.0 and getattr(friction, k).coulomb != 0.0
-        ]
-        if smooth:
-            items.append(
-                "the tanh smoothing "
-                + ", ".join(smooth)
-                + " (frictionloss is MuJoCo's own dry friction)"
-            )
-    if robot.load.present:
-        fx, fy = robot.load.force
-        items.append(
-            "the constant [load]: apply it as data.xfrc_applied[platform_A] = "
-            f"({_num(fx)}, {_num(fy)}, 0, 0, 0, {_num(robot.load.moment)}) (numeric prp3_load)"
-        )
-    return items
+    return [
+        item for element in check_robot(robot).elements for item in element.mjcf_omissions(robot)
+    ]
 
 
 def _payload_body(payload: Payload, size: float, ind: str) -> list[str]:
@@ -325,7 +305,8 @@ def mjcf_model(robot: Robot) -> str:
             f'    <geom name="base_edge_{k}" type="capsule" size="{_num(size / 2)}" '
             f'fromto="{_vec(a[0], a[1], 0.0, b[0], b[1], 0.0)}" rgba="0.5 0.5 0.5 1"/>'
         )
-    actuator, revolute, sleeve = (_joint_friction(robot, kind) for kind in _KINDS)
+    joints = _joint_attributes(robot)
+    actuator, revolute, sleeve = joints["lambda10"], joints["phi"], joints["lambda32"]
     for i, leg in enumerate(LEGS):
         alpha = float(ALPHA[i])
         origin = piston_origin[i]

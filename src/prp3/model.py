@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from .elements import ELEMENTS, Element
 from .errors import InputFileError, ParameterError
 from .files import read_text
 from .validation import check_robot, check_scalar
@@ -46,6 +47,8 @@ __all__ = [
     "PistonParameters",
     "PlatformParameters",
     "Robot",
+    "Spring",
+    "SpringParameters",
     "check_robot",
     "robot_template",
 ]
@@ -365,6 +368,66 @@ class Friction:
 
 
 @dataclass(frozen=True)
+class SpringParameters:
+    """A linear spring with damper along a joint; ``docs/loads_and_friction.md``.
+
+    The force on the joint's body is ``−stiffness·(λ − rest) − damping·λ̇``
+    (its element: :data:`prp3.elements.SPRING`).
+
+    Attributes
+    ----------
+    stiffness : float
+        ``k`` (N/m), >= 0.
+    rest : float
+        ``λ_rest``: the displacement at which the spring is relaxed (m).
+    damping : float
+        ``c`` (N·s/m), >= 0.
+
+    >>> SpringParameters(stiffness=-1.0)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: robot: spring.actuator.stiffness must be a non-negative finite number (N/m), got -1.0
+    """
+
+    stiffness: float = 0.0
+    rest: float = 0.0
+    damping: float = 0.0
+
+    def __post_init__(self) -> None:
+        where = "spring.actuator"
+        object.__setattr__(
+            self, "stiffness", _non_negative(f"{where}.stiffness", self.stiffness, "N/m")
+        )
+        object.__setattr__(self, "rest", _number(f"{where}.rest", self.rest))
+        object.__setattr__(
+            self, "damping", _non_negative(f"{where}.damping", self.damping, "N·s/m")
+        )
+
+
+@dataclass(frozen=True)
+class Spring:
+    """Springs of the joints (TOML table ``[spring]``); ``Robot.spring`` is ``None`` without.
+
+    Attributes
+    ----------
+    actuator : SpringParameters
+        Along the guide of piston i, on ``λ10_i`` (the three legs alike).
+    """
+
+    actuator: SpringParameters = field(default_factory=SpringParameters)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.actuator, SpringParameters):
+            raise ParameterError(
+                f"robot: spring.actuator must be a SpringParameters, got {self.actuator!r}"[:200]
+            )
+
+
+#: Keys of each ``[spring.KIND]`` table.
+_SPRING_KEYS: dict[str, set[str]] = {"actuator": {"stiffness", "rest", "damping"}}
+
+
+@dataclass(frozen=True)
 class Robot:
     """Parameters of a 3-PRP planar parallel robot (immutable, validated).
 
@@ -384,6 +447,8 @@ class Robot:
         A constant wrench of the environment on the platform; none by default.
     friction : Friction or None
         Joint friction; ``None`` (ideal joints, the paper's model) by default.
+    spring : Spring or None
+        Linear springs with dampers of the actuated joints; ``None`` by default.
 
     Examples
     --------
@@ -394,7 +459,7 @@ class Robot:
     >>> Robot.from_mapping({"platfrom": {}})
     Traceback (most recent call last):
     ...
-    prp3.errors.ParameterError: robot: unknown key 'platfrom' (expected one of: friction, gravity, l0, limits, link, load, payload, piston, platform)
+    prp3.errors.ParameterError: robot: unknown key 'platfrom' (expected one of: friction, gravity, l0, limits, link, load, payload, piston, platform, spring)
     """
 
     l0: float = 0.3
@@ -406,12 +471,15 @@ class Robot:
     payload: Payload = field(default_factory=Payload)
     load: Load = field(default_factory=Load)
     friction: Friction | None = None
+    spring: Spring | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "l0", _positive("l0", self.l0, "m"))
         object.__setattr__(self, "gravity", _pair("gravity", self.gravity))
         if self.friction is not None and not isinstance(self.friction, Friction):
             raise ParameterError(f"robot: friction must be a Friction, got {self.friction!r}"[:200])
+        if self.spring is not None and not isinstance(self.spring, Spring):
+            raise ParameterError(f"robot: spring must be a Spring, got {self.spring!r}"[:200])
         for name, kind in (
             ("piston", PistonParameters),
             ("link", LinkParameters),
@@ -452,6 +520,32 @@ class Robot:
                 )
 
     @property
+    def elements(self) -> tuple[Element, ...]:
+        """The effects this robot has, as elements (:mod:`prp3.elements`).
+
+        >>> [e.name for e in Robot().elements]
+        ['gravity']
+        >>> [e.name for e in Robot(spring=Spring()).elements]
+        ['gravity', 'spring.actuator']
+        """
+        return tuple(element for element in ELEMENTS if element.present(self))
+
+    def with_keys(self, keys: Mapping[str, float]) -> Robot:
+        """This robot with the ``ROBOT.toml`` keys ``keys`` (dotted paths) set, validated.
+
+        >>> Robot().with_keys({"spring.actuator.stiffness": 50.0}).spring.actuator.stiffness
+        50.0
+        """
+        data = tomllib.loads(self.to_toml())
+        for path, value in keys.items():
+            node = data
+            *tables, key = path.split(".")
+            for name in tables:
+                node = node.setdefault(name, {})
+            node[key] = value
+        return Robot.from_mapping(data)
+
+    @property
     def edge(self) -> float:
         """Edge length ``l = l0·√3`` of the base and platform triangles (m)."""
         return self.l0 * math.sqrt(3.0)
@@ -484,6 +578,7 @@ class Robot:
                 "payload",
                 "load",
                 "friction",
+                "spring",
             },
         )
         kwargs: dict[str, Any] = {}
@@ -522,6 +617,16 @@ class Robot:
                     kind: JointFriction(
                         **_table(f"friction.{kind}", tables[kind], _FRICTION_KEYS[kind]),
                         kind=kind,
+                    )
+                    for kind in tables
+                }
+            )
+        if "spring" in top:
+            tables = _table("spring", top["spring"], set(_SPRING_KEYS))
+            kwargs["spring"] = Spring(
+                **{
+                    kind: SpringParameters(
+                        **_table(f"spring.{kind}", tables[kind], _SPRING_KEYS[kind])
                     )
                     for kind in tables
                 }
@@ -704,6 +809,21 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
             "# coulomb = 0.0",
             "# mu = 0.0",
             "# smoothing = 0.0",
+        ]
+    if robot.spring is not None:
+        spring = robot.spring.actuator
+        heading = "  # linear spring with damper on each lambda10_i" if comments else ""
+        out += ["", "[spring.actuator]" + heading]
+        out.append(line("stiffness", _fmt(spring.stiffness), "N/m, k"))
+        out.append(line("rest", _fmt(spring.rest), "m, lambda10 at which the spring is relaxed"))
+        out.append(line("damping", _fmt(spring.damping), "N s/m, c"))
+    elif comments:
+        out += [
+            "",
+            "# [spring.actuator]  # optional spring with damper on each lambda10_i: force on",
+            "# stiffness = 0.0    # the piston -k*(lambda10 - rest) - c*dlambda10 along e_i, N/m",
+            "# rest = 0.0         # m",
+            "# damping = 0.0      # N s/m; docs/loads_and_friction.md",
         ]
     return "\n".join(out) + "\n"
 

@@ -216,6 +216,12 @@ def _solve(
         ],
         axis=-1,
     )
+    if robot.spring is not None:  # the spring with damper of each actuator, on piston j along e_j
+        spring = robot.spring.actuator
+        lambda10 = s - l0 / math.sqrt(3.0)  # P_j = B_j0 + s_j·e_j, P_j(λ10 = 0) at l0/√3
+        force = -spring.stiffness * (lambda10 - spring.rest) - spring.damping * sd
+        for j in range(3):
+            b[:, 3 * j : 3 * j + 2] -= force[:, j, None] * _E[j]
     friction = robot.friction
     if friction is None:
         x = np.linalg.solve(A, b[..., None])[..., 0].reshape(n, 3, 7)

@@ -389,6 +389,21 @@ def _applied(
     return F_star, M_star
 
 
+def _spring(robot: Robot, F_star: FloatArray, lambda10: FloatArray, v10: FloatArray) -> FloatArray:
+    """``F_1*`` with the spring with damper of the actuator added (``[spring.actuator]``).
+
+    The force ``(−k·(λ10 − λ_rest) − c·v10)·u3`` on body 1 along its axis
+    ``z1 = e_i`` (``T1``), through ``A1`` (no moment), like ``fric10``.
+    """
+    if robot.spring is None:
+        return F_star
+    spring = robot.spring.actuator
+    force = -spring.stiffness * (lambda10 - spring.rest) - spring.damping * v10
+    F_star = F_star.copy()
+    F_star[:, :, 0] += force[..., None] * U3
+    return F_star
+
+
 def _evaluate(
     robot: Robot,
     pose: FloatArray,
@@ -410,6 +425,7 @@ def _evaluate(
     F_star, M_star = weight_wrenches(robot.gravity, geo, mass, r_C)  # eq. (19)
     # beyond the paper: the applied forces enter F_k*, M_k* as the weight does
     F_star, M_star = _applied(robot, F_star, M_star, geo.a0, geo.position, r3G, load, friction)
+    F_star = _spring(robot, F_star, geo.lambda10, vel.v10)
     F_in, M_in = inertia_wrenches(mass, r_C, J, vel, acc)  # eq. (20)
     F0, M0 = -F_in - F_star, -M_in - M_star  # eq. (22)
     F, M = chain_wrenches(geo, F0, M0)  # eq. (21)

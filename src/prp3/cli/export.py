@@ -41,7 +41,8 @@ The model: per leg i = A, B, C a slider lambda10_i (actuated by the motor
 actuator_i, ctrl = f10_i in N), a hinge phi_i (angle = platform angle) and a
 slider lambda32_i carrying one third of the platform; the welds weld_AB and
 weld_AC close the loops. A [payload] is a body welded to the platform;
-viscous and constant Coulomb [friction] are joint damping and frictionloss.
+viscous and constant Coulomb [friction] are joint damping and frictionloss;
+a [spring.actuator] is the lambda10_i sliders' stiffness, springref and damping.
 The mu terms, tanh smoothing and a constant [load] are not in the model (a
 warning names them; apply the load as xfrc_applied). See docs/mujoco.md.
 """

@@ -22,6 +22,7 @@ import csv
 import sys
 from typing import Any
 
+from ..elements import FRICTIONS
 from ..errors import SingularPoseError, UnreachablePoseError
 from ..geometry import LEGS, inverse_geometry
 from ..identification import (
@@ -63,14 +64,20 @@ def estimated_parameters(nominal: Robot, friction: str) -> tuple[str, ...]:
     """The parameters ``prp3 identify`` estimates.
 
     The inertial ones — the platform's first moment only when NOMINAL has a
-    payload to carry it — and the friction coefficients of ``--friction``.
+    payload to carry it —, the friction coefficients of ``--friction`` and
+    the regressor fields of NOMINAL's other elements (a ``[spring.actuator]``:
+    its stiffness and damping).
     """
     inertial = tuple(
         name
         for name in STANDARD_PARAMETERS
         if nominal.payload.mass > 0.0 or not name.startswith("platform_moment")
     )
-    return inertial + FRICTION_MODELS[friction]
+    others = tuple(
+        name for element in nominal.elements if element not in FRICTIONS
+        for name in element.regressor
+    )  # fmt: skip
+    return inertial + FRICTION_MODELS[friction] + others
 
 
 EXAMPLES = """\

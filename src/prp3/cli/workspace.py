@@ -247,14 +247,18 @@ def _statics_table(statics: WorkspaceStatics) -> dict[str, np.ndarray]:
 
 def wants_statics(robot: Robot, option: bool | None) -> bool:
     """Whether ``prp3 workspace`` writes the statics map: ``--statics``/``--no-statics``, else
-    when ``robot`` has a payload, a load or ``[limits] max_force``.
+    when ``robot`` has an element that changes the forces at rest (a payload, a load, a
+    spring: :meth:`prp3.elements.Element.changes_statics`) or ``[limits] max_force``.
 
     >>> wants_statics(Robot(), None), wants_statics(Robot(), True)
     (False, True)
+    >>> wants_statics(Robot.from_mapping({"spring": {"actuator": {"stiffness": 50.0}}}), None)
+    True
     """
     if option is not None:
         return option
-    return robot.payload.present or robot.load.present or robot.limits.max_force is not None
+    statics = any(element.changes_statics(robot) for element in robot.elements)
+    return statics or robot.limits.max_force is not None
 
 
 def run(args: argparse.Namespace) -> int:
