@@ -227,7 +227,7 @@ def test_the_names_of_notation_md_exist() -> None:
     import dataclasses
 
     import prp3
-    from prp3 import geometry, kernel, kinematics, paper
+    from prp3 import geometry, kernel, kinematics, paper, paper_kinematics
 
     classes = {
         "InverseDynamics": prp3.InverseDynamics,
@@ -260,7 +260,12 @@ def test_the_names_of_notation_md_exist() -> None:
         base = name.split("(")[0]
         if re.fullmatch(r"T\d|r0\^G", base):  # a frame, the paper's symbol of `centre`
             continue
-        assert base in result or hasattr(paper, base) or base == "inverse_dynamics", name
+        assert (
+            base in result
+            or hasattr(paper, base)
+            or hasattr(paper_kinematics, base)
+            or base == "inverse_dynamics"
+        ), name
         checked += 1
     assert checked > 60
     text = (ROOT / "docs" / "notation.md").read_text(encoding="utf-8")
@@ -316,7 +321,7 @@ _ERROR_CASES: dict[str, tuple[dict[str, str], list[str]]] = {
     ),
     "pose beyond the bounds (below)": (
         {
-            "traj.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,0,0,0,0,0,0,0,0\n0.5,0,0,0,0,0,0,0,0,0\n1,0,1000000.0,0,0,0,0,0,0,0\n"
+            "traj.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,1000000.0,0,0,0,0,0,0,0\n0.5,0,1000000.0,0,0,0,0,0,0,0\n1,0,1000000.0,0,0,0,0,0,0,0\n"
         },
         ["simulate", "--trajectory", "traj.csv", "-o", "out"],
     ),
@@ -339,7 +344,7 @@ _ERROR_CASES: dict[str, tuple[dict[str, str], list[str]]] = {
     ),
     "results that overflow (absurd speeds)": (
         {
-            "big.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,0,0,0,0,1e160,0,0,0\n1,0,0,0,0,0,0,0,0,0\n"
+            "big.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,0,0,0,0,1e160,0,0,0\n1e-300,0,0,1e-140,0,0,1e160,0,0,0\n"
         },
         ["simulate", "--trajectory", "big.csv", "-o", "out"],
     ),
@@ -369,6 +374,49 @@ _ERROR_CASES: dict[str, tuple[dict[str, str], list[str]]] = {
     "`--frames` without `--animate`": (
         {},
         ["simulate", "--motion", "vertical", "--frames", "12", "-o", "out"],
+    ),
+    "a motion that crosses the singularity between two samples": (
+        {
+            "traj.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0.01,0,0,0,0,2,0,0,0\n"
+            "0.2,0.01,0,0.4,0,0,2,0,0,0\n0.4,0.01,0,0.8,0,0,2,0,0,0\n0.6,0.01,0,1.2,0,0,2,0,0,0\n"
+        },
+        ["simulate", "--trajectory", "traj.csv", "-o", "out"],
+    ),
+    "a step the given velocities do not explain": (
+        {
+            "still.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,0,0,0,0,0,0,0,0\n"
+            "0.1,0,0,0,0,0,0,0,0,0\n0.2,0.05,0,0,0,0,0,0,0,0\n"
+        },
+        ["simulate", "--trajectory", "still.csv", "-o", "out"],
+    ),
+    "`--pareto` or `--sensitivity` without `--plots`": (
+        {"spec.toml": "designs = 2\n[parameters]\nl0 = [0.25, 0.3]\n[task]\nsamples = 5\n"},
+        ["sweep", "--spec", "spec.toml", "--pareto", "l0,energy", "-o", "out"],
+    ),
+    "a misspelled option that hides a required one": (
+        {},
+        ["simulate", "--mot", "vertical", "-o", "out"],
+    ),
+    "load columns where they are not used": (
+        {
+            "load.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi,fx,fy,mz\n"
+            "0,0,0,0,0,0,0,0,0,0,0,0,0\n1,0,0,0,0,0,0,0,0,0,0,0,0\n"
+        },
+        [
+            "control",
+            "--controller",
+            "computed-torque",
+            "--plant",
+            "prp3",
+            "--trajectory",
+            "load.csv",
+            "-o",
+            "out",
+        ],
+    ),
+    "an integration that fails at once": (
+        {"f.csv": "t,f10_A,f10_B,f10_C\n0,1e300,1e300,-1e300\n1,1e300,1e300,-1e300\n"},
+        ["forward", "--forces", "f.csv", "-o", "out"],
     ),
 }
 
