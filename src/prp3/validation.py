@@ -54,10 +54,13 @@ __all__ = [
     "check_integer",
     "check_names",
     "check_per_leg",
+    "check_pose_array",
+    "check_pose_sample",
     "check_poses",
     "check_real",
     "check_robot",
     "check_same_shape",
+    "check_sample",
     "check_scalar",
     "check_times",
     "first_non_finite",
@@ -158,7 +161,9 @@ def check_finite(
     ``components`` names the last axis (legs ``A, B, C`` by default for 3
     columns); a batch ``(N, k)`` names the sample's index.
     """
-    if np.isfinite(array).all():
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = float(np.add.reduce(array, axis=None))  # finite: every value is (one pass)
+    if math.isfinite(total) or np.isfinite(array).all():
         return array
     if array.ndim == 0:
         raise error(f"{name} is not finite ({float(array)!r})", subject=subject)
@@ -247,11 +252,46 @@ def check_poses(
     array = check_real(name, pose, error)
     if array.ndim not in (1, 2) or array.shape[-1] != 3 or array.size == 0:
         raise error(f"{name} must have shape (3,) or (N, 3) with N >= 1, got {array.shape}")
+    return check_pose_array(array, robot, name, singular=singular, error=error)
+
+
+def check_pose_array(
+    array: FloatArray,
+    robot: Robot | None = None,
+    name: str = "pose",
+    *,
+    singular: bool = True,
+    error: type[Prp3Error] = TrajectoryError,
+) -> FloatArray:
+    """:func:`check_poses` of a float64 array ``(3,)`` or ``(N, 3)`` (from :func:`check_real`).
+
+    The same checks and messages, without a copy: ``array`` itself is returned.
+    The common case (every pose well inside the bounds, far from the
+    singularity) takes a few passes over the poses and no sine.
+
+    >>> check_pose_array(np.array([0.0, 0.0, math.pi / 3.0]))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.SingularPoseError: pose: singular pose (x=0.0, y=0.0, phi=1.0471975511965976): |sin(phi - pi/3)| = 0 < 0.0001 (phi = pi/3 mod pi is singular)
+    """
     check_finite(name, array, error, components=_COMPONENTS)
     flat = array.reshape(-1, 3)
     batch = array.ndim == 2
+    low, high = flat.min(axis=0).tolist(), flat.max(axis=0).tolist()
+    reach = math.inf if robot is None else POSE_BOUND * robot.l0
+    inside = max(-low[0], high[0], -low[1], high[1]) <= reach and max(-low[2], high[2]) <= (
+        MAX_ORIENTATION
+    )
+    if singular and inside:
+        # the distance of φ − π/3 to the nearest multiple of π bounds |sin(φ − π/3)| from below:
+        # only poses within twice the threshold need the sine
+        psi = flat[:, 2] - math.pi / 3.0
+        near = np.abs(psi - np.pi * np.rint(psi * (1.0 / np.pi)))
+        if float(near.min()) >= 2.0 * SINGULARITY_THRESHOLD:
+            return array
+    elif inside:
+        return array
     if robot is not None:
-        reach = POSE_BOUND * robot.l0
         far = (np.abs(flat[:, :2]) > reach).any(axis=1)
         if far.any():
             raise _pose_error(
@@ -291,6 +331,77 @@ def check_poses(
                 "(phi = pi/3 mod pi is singular)",
             )
     return array
+
+
+#: The types of a number of one sample that :func:`check_sample` converts at once.
+_NUMBERS = (float, int, np.float64)
+
+
+def check_sample(
+    name: str, value: object, components: tuple[str, str, str] = _COMPONENTS
+) -> tuple[float, float, float]:
+    """Three finite real numbers of one sample (a pose, a velocity, ...), as Python floats.
+
+    A tuple or list of three numbers (Python floats or ints, numpy scalars)
+    or a ``(3,)`` array: the same cost for each.  Refused as
+    :func:`check_real` and :func:`check_finite` refuse (booleans, text,
+    ``None``, huge integers, masked values, NaN, infinity), or a shape other
+    than ``(3,)``; ``components`` name the three values in messages.
+
+    >>> check_sample("pose", (0, np.float64(0.5), 1.0))
+    (0.0, 0.5, 1.0)
+    >>> check_sample("velocity", [0.0, float("nan"), 0.0], ("dx", "dy", "dphi"))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: dy of velocity is not finite (nan)
+    """
+    kind = type(value)
+    if kind is tuple or kind is list:
+        items: Any = value
+    elif kind is np.ndarray and value.dtype == np.float64:  # type: ignore[union-attr]
+        items = value.tolist()  # type: ignore[union-attr]
+    else:
+        items = None
+    if items is not None and len(items) == 3:
+        a, b, c = items
+        if type(a) in _NUMBERS and type(b) in _NUMBERS and type(c) in _NUMBERS:
+            try:
+                x, y, z = float(a), float(b), float(c)
+            except OverflowError:
+                pass  # an integer too large: check_real says so
+            else:
+                if math.isfinite(x) and math.isfinite(y) and math.isfinite(z):
+                    return x, y, z
+    array = check_real(name, value)  # type: ignore[arg-type]
+    if array.ndim not in (1, 2) or array.shape[-1] != 3:
+        raise TrajectoryError(f"{name} must have shape (3,) or (N, 3), got {array.shape}")
+    if array.shape != (3,):
+        raise TrajectoryError(f"{name} must be 3 numbers (shape (3,)), got shape {array.shape}")
+    check_finite(name, array, components=components)
+    x, y, z = array.tolist()
+    return x, y, z
+
+
+def check_pose_sample(
+    value: object, robot: Robot | None = None, name: str = "pose"
+) -> tuple[float, float, float]:
+    """One pose ``(x, y, φ)`` as :func:`check_sample` takes it, checked as :func:`check_poses`.
+
+    >>> from prp3.model import Robot
+    >>> check_pose_sample((0.0, 0, np.float64(0.1)), Robot())
+    (0.0, 0.0, 0.1)
+    """
+    x, y, phi = check_sample(name, value)
+    reach = math.inf if robot is None else POSE_BOUND * robot.l0
+    if (
+        -reach <= x <= reach
+        and -reach <= y <= reach
+        and -MAX_ORIENTATION <= phi <= MAX_ORIENTATION
+        and abs(math.sin(phi - math.pi / 3.0)) >= SINGULARITY_THRESHOLD
+    ):
+        return x, y, phi
+    check_pose_array(np.array([x, y, phi]), robot, name)  # the message of check_poses
+    return x, y, phi
 
 
 def _pose_error(
@@ -538,6 +649,10 @@ def require_finite(
     motion or the parameters are too large for float64: such numbers have
     lost their meaning and are refused, never returned.
     """
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = sum(float(np.add.reduce(array, axis=None)) for array in arrays.values())
+    if math.isfinite(total):  # a finite sum: every value is finite (one pass per array)
+        return
     found = first_non_finite(arrays, batch)
     if found is None:
         return
