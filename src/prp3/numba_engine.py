@@ -203,7 +203,9 @@ def _power(f10: Any, rate: Any) -> Any:
 
 # ------------------------------------------------------------------- batches
 @numba.njit(cache=True, error_model="numpy")
-def f10_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any) -> None:  # pragma: no cover
+def f10_loop(
+    a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any
+) -> None:  # pragma: no cover
     """``f10`` ``(n, 3)`` of samples ``(n, 3)``, written into ``f10``."""
     k = _parameters(a)
     for i in range(pose.shape[0]):
@@ -254,7 +256,9 @@ def reactions_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any
 
 
 @numba.njit(cache=True, error_model="numpy")
-def solve_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, load: Any, out: Any) -> None:  # pragma: no cover
+def solve_loop(
+    a: Any, pose: Any, velocity: Any, acceleration: Any, load: Any, out: Any
+) -> None:  # pragma: no cover
     """Every output of :class:`~prp3.kernel.KernelSolution` up to ``m32``: ``out`` ``(14, n, 3)``.
 
     ``load`` ``(n, 3)``: the time-varying wrench on the platform, or ``None``.
@@ -268,9 +272,7 @@ def solve_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, load: Any, o
             kin, f, fy, fz, rest = _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, None, True)
         else:
             wrench = (load[i, 0], load[i, 1], load[i, 2])
-            kin, f, fy, fz, rest = _solve(
-                k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, wrench, True
-            )
+            kin, f, fy, fz, rest = _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, wrench, True)
         geo = kin.geometry
         _store(out[0], i, geo.lambda10)
         _store(out[1], i, kin.dlambda10)
@@ -304,9 +306,7 @@ def sample_forces_loaded(a: Any, x: float, y: float, phi: float, dx: float, dy: 
                          fy: float, mz: float) -> Any:  # pragma: no cover  # fmt: skip
     """:func:`sample_forces` with a time-varying load ``(f_x, f_y, m_z)`` on the platform."""
     k = _parameters(a)
-    kin, f, f21y, f21z, _ = _solve(
-        k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, (fx, fy, mz), False
-    )
+    kin, f, f21y, f21z, _ = _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, (fx, fy, mz), False)
     return f, _power(f, kin.dlambda10), f21y, f21z
 
 
