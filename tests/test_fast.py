@@ -10,7 +10,6 @@ force plus the total weight), as in ``test_dynamics``.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from types import SimpleNamespace
 
@@ -515,7 +514,7 @@ def test_single_sample_refuses_what_the_batch_path_refuses(
 
 
 def _with_effects(robot: Robot, friction: bool, mu: float) -> Robot:
-    from prp3.model import Friction, JointFriction, Load
+    from prp3.model import Load
 
     joint = JointFriction(viscous=0.7, coulomb=0.4, mu=mu, smoothing=0.05)
     return Robot(

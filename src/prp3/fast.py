@@ -612,7 +612,7 @@ def sample_forces(
             f = numba.sample_forces_loaded(compiled.array, *state, *wrench)
         a, b, c, d = f
         if math.isfinite(a[0] + a[1] + a[2] + b[0] + b[1] + b[2] + c[0] + c[1] + c[2] + d[0] + d[1] + d[2]):  # fmt: skip
-            return _new(SampleForces, f)  # type: ignore[no-any-return]
+            return _new(SampleForces, f)
         _overflow(dict(zip(_FORCES, f, strict=True)))
     sol = _sample_floats(compiled, state, wrench)
     return SampleForces(sol.f10, sol.p10, sol.f21y, sol.f21z)

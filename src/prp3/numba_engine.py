@@ -93,7 +93,7 @@ def _install_locators() -> None:
     impl = caching.CacheImpl
     if any(issubclass(c, _KernelStamp) for c in impl._locator_classes):
         return
-    ours = [
+    ours: list[type] = [
         type(f"Kernel{base.__name__}", (_KernelStamp, base), {})
         for base in (
             caching.UserProvidedCacheLocator,
@@ -101,7 +101,7 @@ def _install_locators() -> None:
             caching.UserWideCacheLocator,
         )
     ]
-    impl._locator_classes = [*ours, *impl._locator_classes]
+    impl._locator_classes = [*ours, *impl._locator_classes]  # type: ignore[list-item]
 
 
 _install_locators()
@@ -174,7 +174,7 @@ OPS = _Ops(
 # ------------------------------------------------------------------ the stages
 @numba.njit(inline="always")
 def _parameters(array: Any) -> Any:
-    return _Parameters(*to_fixed_tuple(array, _COUNT))
+    return _Parameters(*to_fixed_tuple(array, _COUNT))  # type: ignore[call-arg]
 
 
 @numba.njit(inline="always")

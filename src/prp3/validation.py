@@ -356,10 +356,11 @@ def check_sample(
     prp3.errors.TrajectoryError: dy of velocity is not finite (nan)
     """
     kind = type(value)
+    items: Any
     if kind is tuple or kind is list:
-        items: Any = value
-    elif kind is np.ndarray and value.dtype == np.float64:  # type: ignore[union-attr]
-        items = value.tolist()  # type: ignore[union-attr]
+        items = value
+    elif isinstance(value, np.ndarray) and kind is np.ndarray and value.dtype == np.float64:
+        items = value.tolist()
     else:
         items = None
     if items is not None and len(items) == 3:
