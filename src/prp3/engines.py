@@ -85,7 +85,7 @@ _warned = False
 def default_engine() -> str:
     """``"numba"`` when numba imports, else ``"numpy"`` (with one :class:`EngineWarning`)."""
     global _warned
-    if numba_module() is not None:
+    if (_numba is not _MISSING and _numba is not None) or numba_module() is not None:
         return "numba"
     if not _warned:
         _warned = True

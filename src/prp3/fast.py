@@ -40,7 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import kernel
-from .engines import CHUNK, ENGINES, numba_module, resolve_engine, run_numpy
+from .engines import CHUNK, ENGINES, default_engine, numba_module, resolve_engine, run_numpy
 from .errors import Prp3Error, TrajectoryError
 from .geometry import check_stroke
 from .model import Robot
@@ -48,10 +48,9 @@ from .validation import (
     check_finite,
     check_integer,
     check_pose_array,
-    check_pose_sample,
     check_real,
     check_robot,
-    check_sample,
+    check_state_sample,
     require_finite,
 )
 
@@ -680,25 +679,23 @@ def _sample_inputs(
     """
     if type(compiled) is not CompiledRobot:
         _not_compiled(compiled)
-    x, y, phi = check_sample("pose", pose)
-    rates = check_sample("velocity", velocity, _COMPONENTS[1])
-    accelerations = check_sample("acceleration", acceleration, _COMPONENTS[2])
-    check_pose_sample((x, y, phi), compiled.robot)
+    state = check_state_sample(pose, velocity, acceleration, compiled.robot)
     wrench = None
     if load is not None:
         fx, fy, mz = _load(load, (3,)).tolist()
         wrench = (fx, fy, mz)
-    name = _engine(compiled, engine)
-    numba = numba_module() if name == "numba" else None
+    name = default_engine() if engine is None else resolve_engine(engine)
+    numba = numba_module() if name == "numba" and compiled.compiled_kernel else None
     stroke = compiled.stroke
     if stroke is not None:
+        x, y, phi = state[:3]
         if numba is not None:
             lam = numba.lambda10_sample(compiled.array, x, y, phi)
         else:
             lam = kernel.kernel_geometry(kernel.MATH, compiled.parameters, x, y, phi).lambda10
         if not all(stroke[0] <= value <= stroke[1] for value in lam):
             check_stroke(compiled.robot, np.array(lam), np.array([x, y, phi]))
-    return (x, y, phi, *rates, *accelerations), wrench, numba
+    return state, wrench, numba
 
 
 def _sample_floats(

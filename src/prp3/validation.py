@@ -62,6 +62,7 @@ __all__ = [
     "check_same_shape",
     "check_sample",
     "check_scalar",
+    "check_state_sample",
     "check_times",
     "first_non_finite",
     "require_finite",
@@ -381,6 +382,70 @@ def check_sample(
     check_finite(name, array, components=components)
     x, y, z = array.tolist()
     return x, y, z
+
+
+_SEQUENCES = (tuple, list, np.ndarray)
+_STATE_NAMES = ("pose", "velocity", "acceleration")
+_RATE_COMPONENTS = (("dx", "dy", "dphi"), ("ddx", "ddy", "ddphi"))
+
+
+def check_state_sample(
+    pose: object, velocity: object, acceleration: object, robot: Robot | None = None
+) -> tuple[float, float, float, float, float, float, float, float, float]:
+    """One sample's pose, velocity and acceleration as nine Python floats, validated.
+
+    Each a tuple or list of three numbers (Python floats or ints, numpy
+    scalars) or a ``(3,)`` array, all at the same cost; checked in the order
+    of the batch checks — each as :func:`check_sample` (pose, velocity,
+    acceleration), then the pose as :func:`check_poses` — with their messages.
+
+    >>> check_state_sample((0, 0, 0.1), [0.0, 0.0, 0.0], np.zeros(3))
+    (0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    """
+    if type(pose) in _SEQUENCES and type(velocity) in _SEQUENCES and type(acceleration) in _SEQUENCES:
+        if type(pose) is np.ndarray:
+            pose = pose.tolist()  # Python numbers (3,), at once
+        if type(velocity) is np.ndarray:
+            velocity = velocity.tolist()
+        if type(acceleration) is np.ndarray:
+            acceleration = acceleration.tolist()
+        three: Any = (pose, velocity, acceleration)
+        try:
+            (x, y, phi), (dx, dy, dphi), (ddx, ddy, ddphi) = three
+        except (TypeError, ValueError):
+            pass  # not three values each: the exact checks say which
+        else:
+            numbers = _NUMBERS
+            if (
+                type(x) in numbers and type(y) in numbers and type(phi) in numbers
+                and type(dx) in numbers and type(dy) in numbers and type(dphi) in numbers
+                and type(ddx) in numbers and type(ddy) in numbers and type(ddphi) in numbers
+            ):  # fmt: skip
+                try:
+                    values = (
+                        float(x), float(y), float(phi), float(dx), float(dy), float(dphi),
+                        float(ddx), float(ddy), float(ddphi),
+                    )  # fmt: skip
+                except OverflowError:
+                    pass  # an integer too large for float64
+                else:
+                    reach = math.inf if robot is None else POSE_BOUND * robot.l0
+                    fx, fy, fphi = values[0], values[1], values[2]
+                    if (
+                        0.0 * sum(values) == 0.0  # finite (a sum that overflows: exactly below)
+                        and -reach <= fx <= reach
+                        and -reach <= fy <= reach
+                        and -MAX_ORIENTATION <= fphi <= MAX_ORIENTATION
+                        and abs(math.sin(fphi - math.pi / 3.0)) >= SINGULARITY_THRESHOLD
+                    ):
+                        return values
+    state = (
+        check_sample("pose", pose),
+        check_sample("velocity", velocity, _RATE_COMPONENTS[0]),
+        check_sample("acceleration", acceleration, _RATE_COMPONENTS[1]),
+    )
+    check_pose_array(np.array(state[0]), robot)
+    return (*state[0], *state[1], *state[2])
 
 
 def check_pose_sample(
