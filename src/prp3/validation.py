@@ -149,6 +149,15 @@ def check_real(
     raise error(f"{refusal} {what} (dtype {raw.dtype})", subject=subject)
 
 
+def _all_finite(array: FloatArray) -> bool:
+    """Whether every value of ``array`` is finite: one pass (a finite sum says so) when large."""
+    if array.size > 512:
+        with np.errstate(over="ignore", invalid="ignore"):
+            if math.isfinite(float(np.add.reduce(array, axis=None))):
+                return True
+    return bool(np.isfinite(array).all())
+
+
 def check_finite(
     name: str,
     array: FloatArray,
@@ -162,9 +171,7 @@ def check_finite(
     ``components`` names the last axis (legs ``A, B, C`` by default for 3
     columns); a batch ``(N, k)`` names the sample's index.
     """
-    with np.errstate(over="ignore", invalid="ignore"):
-        total = float(np.add.reduce(array, axis=None))  # finite: every value is (one pass)
-    if math.isfinite(total) or np.isfinite(array).all():
+    if _all_finite(array):
         return array
     if array.ndim == 0:
         raise error(f"{name} is not finite ({float(array)!r})", subject=subject)
@@ -715,9 +722,7 @@ def require_finite(
     motion or the parameters are too large for float64: such numbers have
     lost their meaning and are refused, never returned.
     """
-    with np.errstate(over="ignore", invalid="ignore"):
-        total = sum(float(np.add.reduce(array, axis=None)) for array in arrays.values())
-    if math.isfinite(total):  # a finite sum: every value is finite (one pass per array)
+    if all(_all_finite(np.asarray(array)) for array in arrays.values()):
         return
     found = first_non_finite(arrays, batch)
     if found is None:
