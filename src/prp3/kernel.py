@@ -8,9 +8,16 @@ remaining joint reactions from the balance of each piston and link 2.  It uses
 only ``+ − × ÷`` and the functions of an :class:`Ops` namespace, so the very
 same source runs on
 
-* plain floats with :data:`MATH` — the single-sample path of :mod:`prp3.fast`;
-* 1-D float64 arrays with :data:`NUMPY` — the batch path of :mod:`prp3.fast`
-  (chunks of samples, memory bounded) and :func:`prp3.dynamics.inverse_dynamics`;
+* plain floats with :data:`MATH` — one sample of the numpy engine;
+* 1-D float64 arrays with :data:`NUMPY` — the numpy engine
+  (:func:`prp3.engines.run_numpy`: chunks of samples, memory bounded);
+* machine code: :mod:`prp3.numba_engine` compiles these very functions with
+  numba (the default engine), so the stages it compiles
+  (:func:`kernel_geometry`, :func:`kernel_kinematics`, :func:`body_wrenches`,
+  :func:`joint_forces`) keep to arithmetic, the :class:`Ops` functions,
+  tuples and named tuples — no lists, generators, ``isinstance`` or
+  ``getattr`` by name (a test of each engine against the kernel on arrays
+  fails otherwise);
 * sympy expressions with :func:`sympy_ops` — :func:`symbolic_solution`, from
   which the regressor and generated C code are derived.
 
