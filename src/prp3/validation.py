@@ -285,10 +285,11 @@ def check_pose_array(
     check_finite(name, array, error, components=_COMPONENTS)
     flat = array.reshape(-1, 3)
     batch = array.ndim == 2
-    low, high = flat.min(axis=0).tolist(), flat.max(axis=0).tolist()
     reach = math.inf if robot is None else POSE_BOUND * robot.l0
-    inside = max(-low[0], high[0], -low[1], high[1]) <= reach and max(-low[2], high[2]) <= (
-        MAX_ORIENTATION
+    # the common case in two contiguous passes: every coordinate within the smaller bound
+    inside = max(-float(flat.min()), float(flat.max())) <= min(reach, MAX_ORIENTATION) or (
+        float(np.abs(flat[:, :2]).max()) <= reach
+        and float(np.abs(flat[:, 2]).max()) <= MAX_ORIENTATION
     )
     if singular and inside:
         # the distance of φ − π/3 to the nearest multiple of π bounds |sin(φ − π/3)| from below:
