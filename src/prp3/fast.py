@@ -399,7 +399,7 @@ def _inputs(
     for name, array, components in zip(_INPUTS, arrays, _COMPONENTS, strict=True):
         check_finite(name, array, components=components)
     if arrays[0].size:
-        check_pose_array(arrays[0], compiled.robot)
+        check_pose_array(arrays[0], compiled.robot, finite=True)
     flat = [a.reshape(-1, 3) for a in arrays]
     if compiled.stroke is not None and flat[0].shape[0]:
         check_stroke(compiled.robot, _lambda10(compiled, flat[0]), arrays[0])

@@ -270,10 +270,12 @@ def check_pose_array(
     *,
     singular: bool = True,
     error: type[Prp3Error] = TrajectoryError,
+    finite: bool = False,
 ) -> FloatArray:
     """:func:`check_poses` of a float64 array ``(3,)`` or ``(N, 3)`` (from :func:`check_real`).
 
-    The same checks and messages, without a copy: ``array`` itself is returned.
+    The same checks and messages, without a copy: ``array`` itself is returned
+    (``finite=True``: its finiteness checked by the caller already).
     The common case (every pose well inside the bounds, far from the
     singularity) takes a few passes over the poses and no sine.
 
@@ -282,7 +284,8 @@ def check_pose_array(
     ...
     prp3.errors.SingularPoseError: pose: singular pose (x=0.0, y=0.0, phi=1.0471975511965976): |sin(phi - pi/3)| = 0 < 0.0001 (phi = pi/3 mod pi is singular)
     """
-    check_finite(name, array, error, components=_COMPONENTS)
+    if not finite:  # finite=True: the caller has checked it (check_finite)
+        check_finite(name, array, error, components=_COMPONENTS)
     flat = array.reshape(-1, 3)
     batch = array.ndim == 2
     reach = math.inf if robot is None else POSE_BOUND * robot.l0
@@ -292,9 +295,17 @@ def check_pose_array(
         and float(np.abs(flat[:, 2]).max()) <= MAX_ORIENTATION
     )
     if singular and inside:
-        # the distance of φ − π/3 to the nearest multiple of π bounds |sin(φ − π/3)| from below:
-        # only poses within twice the threshold need the sine
-        psi = flat[:, 2] - math.pi / 3.0
+        # the singular orientations nearest zero are π/3 and −2π/3: a range of φ between them
+        # (by twice the threshold) has none, else the distance of φ − π/3 to the nearest
+        # multiple of π bounds |sin(φ − π/3)| from below: only poses within twice the
+        # threshold need the sine
+        phi = flat[:, 2]
+        margin = 2.0 * SINGULARITY_THRESHOLD
+        if -2.0 * math.pi / 3.0 + margin < float(phi.min()) and float(phi.max()) < (
+            math.pi / 3.0 - margin
+        ):
+            return array
+        psi = phi - math.pi / 3.0
         near = np.abs(psi - np.pi * np.rint(psi * (1.0 / np.pi)))
         if float(near.min()) >= 2.0 * SINGULARITY_THRESHOLD:
             return array
