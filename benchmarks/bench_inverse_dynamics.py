@@ -615,7 +615,9 @@ def targets(
     ):
         checked = single.get(call)
         if checked is not None:
-            out.append(f"  single sample, {call}: {checked:.3g} µs (target ≤ 2 µs: {verdict(checked <= 2)})")
+            out.append(
+                f"  single sample, {call}: {checked:.3g} µs (target ≤ 2 µs: {verdict(checked <= 2)})"
+            )
     big = memory.get(("prp3 fast", 10**6))
     if big is not None:
         out.append(
@@ -726,8 +728,16 @@ def main(argv: list[str] | None = None) -> int:
     print(
         "\n".join(
             report(
-                sizes, all_methods, rates, agreement, single, memory, comparison, notes,
-                extra_rows, cli,
+                sizes,
+                all_methods,
+                rates,
+                agreement,
+                single,
+                memory,
+                comparison,
+                notes,
+                extra_rows,
+                cli,
             )
         )
     )

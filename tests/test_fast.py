@@ -125,7 +125,11 @@ def test_single_sample_agrees_with_newton_euler_and_newton_euler(
     for t in np.linspace(0.0, analytic.duration, 4):
         motion = analytic.motion(t)  # a single sample: arrays (3,)
         forces = sample_forces(
-            compiled, motion.pose, motion.velocity, motion.acceleration, engine=engine  # type: ignore[arg-type]
+            compiled,
+            motion.pose,
+            motion.velocity,
+            motion.acceleration,
+            engine=engine,  # type: ignore[arg-type]
         )
         unchecked = compiled.sample_function(engine)(  # type: ignore[arg-type]
             *motion.pose.tolist(), *motion.velocity.tolist(), *motion.acceleration.tolist()
@@ -155,7 +159,11 @@ def test_single_sample_path_equals_batch_path(
     compiled = compile_robot(robot)
     for k in range(motion.samples):
         one = sample_forces(
-            compiled, motion.pose[k], motion.velocity[k], motion.acceleration[k], engine=engine  # type: ignore[arg-type]
+            compiled,
+            motion.pose[k],
+            motion.velocity[k],
+            motion.acceleration[k],
+            engine=engine,  # type: ignore[arg-type]
         )
         for name in OUTPUTS:
             expected = getattr(batch, name)[k]
@@ -585,7 +593,9 @@ def test_single_sample_load_is_the_kernel_on_floats(engine: str, friction: bool)
     load = (4.0, -5.0, 0.25)
     one = sample_forces(compiled, state[:3], state[3:6], state[6:], load, engine=engine)  # type: ignore[arg-type]
     expected = kernel.solve(kernel.MATH, compiled.parameters, *state, reactions=False, load=load)
-    for got, legs in zip(one, (expected.f10, expected.p10, expected.f21y, expected.f21z), strict=True):
+    for got, legs in zip(
+        one, (expected.f10, expected.p10, expected.f21y, expected.f21z), strict=True
+    ):
         np.testing.assert_allclose(got, legs, rtol=1e-15, atol=1e-15 * (np.abs(legs).max() + 1))
 
 

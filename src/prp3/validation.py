@@ -421,7 +421,11 @@ def check_state_sample(
     >>> check_state_sample((0, 0, 0.1), [0.0, 0.0, 0.0], np.zeros(3))
     (0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     """
-    if type(pose) in _SEQUENCES and type(velocity) in _SEQUENCES and type(acceleration) in _SEQUENCES:
+    if (
+        type(pose) in _SEQUENCES
+        and type(velocity) in _SEQUENCES
+        and type(acceleration) in _SEQUENCES
+    ):
         if type(pose) is np.ndarray:
             pose = pose.tolist()  # Python numbers (3,), at once
         if type(velocity) is np.ndarray:
