@@ -375,3 +375,17 @@ def test_without_numba_the_default_is_numpy_and_says_so_once(
         again = paper_forces(Robot(), zeros, zeros, zeros)
     np.testing.assert_array_equal(first.f10, again.f10)
     assert engines.default_engine() == "numpy"
+
+
+def test_the_numba_cache_is_keyed_on_the_kernel_source_too() -> None:
+    # the engine's loops inline the kernel: their cached machine code must be stale
+    # when kernel.py changes, not only when numba_engine.py does
+    numba_engine = pytest.importorskip("prp3.numba_engine")
+    from numba.core import caching
+
+    locator = caching.CacheImpl(numba_engine.f10_loop.py_func).locator
+    assert isinstance(locator, numba_engine._KernelStamp)
+    own, of_kernel = locator.get_source_stamp()
+    stat = __import__("os").stat(kernel.__file__)
+    assert of_kernel == caching._hash_source_file(kernel.__file__, stat.st_mtime, stat.st_size)
+    assert own != of_kernel
