@@ -383,7 +383,7 @@ def test_the_numba_cache_is_keyed_on_the_kernel_source_too() -> None:
     numba_engine = pytest.importorskip("prp3.numba_engine")
     from numba.core import caching
 
-    locator = caching.CacheImpl(numba_engine.f10_loop.py_func).locator
+    locator = numba_engine.f10_loop._cache._impl.locator  # the dispatcher's own cache
     assert isinstance(locator, numba_engine._KernelStamp)
     own, of_kernel = locator.get_source_stamp()
     stat = __import__("os").stat(kernel.__file__)
