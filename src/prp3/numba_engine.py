@@ -94,7 +94,7 @@ def _install_locators() -> None:
     if any(issubclass(c, _KernelStamp) for c in impl._locator_classes):
         return
     ours: list[type] = [
-        type(f"Kernel{base.__name__}", (_KernelStamp, base), {})
+        type(f"Kernel{base.__name__}", (_KernelStamp, base), {"__module__": __name__})
         for base in (
             caching.UserProvidedCacheLocator,
             caching.InTreeCacheLocator,
