@@ -9,14 +9,15 @@ Run from the repository root (``pip install -e ".[bench]"`` for the engines)::
 Methods, all on the same samples of the paper's ``vertical`` and ``rotation``
 motions (eq. 4) resampled to N samples:
 
-* ``prp3 fast`` — :func:`prp3.fast.paper_forces`, the one kernel traced into
-  numpy ufunc calls (chunked); ``prp3 fast f10 alone`` —
-  :func:`prp3.fast.actuator_forces`; the ``numba`` rows — the same with
-  ``backend="numba"`` (when numba is installed); single sample:
-  :func:`prp3.fast.sample_forces` (tuples, ndarrays, a load).
-* ``prp3 2731610 (hand-fused)`` — ``--baseline``: that commit's fast path on
-  the same samples (``benchmarks/baseline.py`` run on ``git archive`` of its
-  ``src``; ``--no-baseline`` to skip).
+* ``prp3 fast`` — :func:`prp3.fast.paper_forces` with the default engine
+  (``numba``: the kernel's own functions compiled by numba, :mod:`prp3.engines`);
+  ``prp3 fast f10 alone`` — :func:`prp3.fast.actuator_forces`; the ``numpy``
+  rows — the same with ``engine="numpy"`` (the kernel on numpy arrays,
+  chunked); single sample: :func:`prp3.fast.sample_forces` (tuples of floats,
+  tuples of numpy scalars, ``(3,)`` ndarrays, a load) on both engines.
+* ``prp3 <commit>`` — ``--baseline``: that commit's fast path on the same
+  samples (``benchmarks/baseline.py`` run on ``git archive`` of its ``src``;
+  ``--no-baseline`` to skip); its ``prp3 simulate`` too (``--cli``).
 * ``prp3 paper`` — ``prp3.inverse_dynamics(robot, motion, "paper")``: the
   reference implementation (inverse kinematics + :func:`prp3.kernel_method`).
 * ``prp3 newton-euler`` — ``inverse_dynamics(..., "newton-euler")``: 21×21
@@ -34,13 +35,13 @@ call (median); the peak memory of one call for each N (a subprocess per
 method and N: ``tracemalloc`` peak of the call and peak RSS of the process);
 the agreement of every method with prp3 fast (max |Δf10| / max |f10| ≤ 1e-8,
 exit status 1 otherwise); the paper's method against Newton–Euler (dynamics
-step alone, and operation counts); the speed targets.
+step alone); ``prp3 simulate --motion vertical`` cold (a fresh numba cache,
+``NUMBA_CACHE_DIR``) and warm (``--cli``); the speed targets.
 """
 
 from __future__ import annotations
 
 import argparse
-import ast
 import gc
 import importlib.util
 import json
@@ -51,7 +52,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import textwrap
 import timeit
 import tracemalloc
 from collections.abc import Callable
@@ -112,7 +112,7 @@ def load_peers(robot: prp3.Robot) -> tuple[list[Any], str]:
 def methods(
     robot: prp3.Robot, peers: list[Any], args: argparse.Namespace, numba: bool | None = None
 ) -> list[Method]:
-    """The methods timed; ``numba``: with the numba backend rows (default: if it imports)."""
+    """The methods timed; ``numba``: with the numpy engine rows too (default: yes)."""
     compiled = compile_robot(robot)
 
     def fused_prepare(motion: prp3.Motion) -> tuple[np.ndarray, ...]:
@@ -121,14 +121,14 @@ def methods(
     def fused(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
         return paper_forces(compiled, *arrays).f10
 
-    def fused_numba(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
-        return paper_forces(compiled, *arrays, backend="numba").f10
+    def fused_numpy(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
+        return paper_forces(compiled, *arrays, engine="numpy").f10
 
     def alone(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
         return actuator_forces(compiled, *arrays)
 
-    def alone_numba(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
-        return actuator_forces(compiled, *arrays, backend="numba")
+    def alone_numpy(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
+        return actuator_forces(compiled, *arrays, engine="numpy")
 
     def paper(motion: prp3.Motion) -> np.ndarray:
         return prp3.inverse_dynamics(robot, motion, "paper")[1].f10
@@ -144,10 +144,10 @@ def methods(
         Method("prp3 fast f10 alone", fused_prepare, alone),
         *(
             [
-                Method("prp3 fast numba", fused_prepare, fused_numba),
-                Method("prp3 fast f10 alone numba", fused_prepare, alone_numba),
+                Method("prp3 fast numpy", fused_prepare, fused_numpy),
+                Method("prp3 fast f10 alone numpy", fused_prepare, alone_numpy),
             ]
-            if (_has_numba() if numba is None else numba)
+            if (True if numba is None else numba)
             else []
         ),
         Method("prp3 paper", identity, paper),
@@ -240,18 +240,26 @@ def run_single(robot: prp3.Robot, peers: list[Any], args: argparse.Namespace) ->
     motion = motion_of("rotation", 1)
     arrays = (motion.pose, motion.velocity, motion.acceleration)  # ndarrays (3,)
     pose, velocity, acceleration = (tuple(a.tolist()) for a in arrays)
+    scalars = tuple(tuple(a) for a in arrays)  # what tuple(array[k]) gives: numpy scalars
     flat = (*pose, *velocity, *acceleration)
     load = (1.5, -2.0, 0.25)
     calls: dict[str, Callable[[], object]] = {
         "prp3 fast sample_forces, tuples": lambda: sample_forces(
             compiled, pose, velocity, acceleration
         ),
+        "prp3 fast sample_forces, numpy scalars": lambda: sample_forces(compiled, *scalars),
         "prp3 fast sample_forces, ndarray (3,)": lambda: sample_forces(compiled, *arrays),
+        "prp3 fast sample_forces, tuples, engine=numpy": lambda: sample_forces(
+            compiled, pose, velocity, acceleration, engine="numpy"
+        ),
         "prp3 fast sample_forces, tuples, load=": lambda: sample_forces(
             compiled, pose, velocity, acceleration, load=load
         ),
         "prp3 fast sample_actuator_forces (f10 alone), tuples": lambda: sample_actuator_forces(
             compiled, pose, velocity, acceleration
+        ),
+        "prp3 fast sample_actuator_forces (f10 alone), numpy scalars": lambda: (
+            sample_actuator_forces(compiled, *scalars)
         ),
         "prp3 fast sample_actuator_forces (f10 alone), ndarray (3,)": lambda: (
             sample_actuator_forces(compiled, *arrays)
@@ -340,8 +348,7 @@ def child_memory(method_name: str, samples: int, args: argparse.Namespace) -> No
     robot = prp3.Robot()
     prp3_only = method_name.startswith("prp3 ")
     peers = [] if prp3_only else load_peers(robot)[0]
-    # numba imported only for its rows (its import alone adds about 60 MiB of RSS)
-    found = methods(robot, peers, args, numba="numba" in method_name)
+    found = methods(robot, peers, args, numba="numpy" in method_name)
     method = next(m for m in found if m.name == method_name)
     motion = batch(motion_of("rotation", samples))
     state = method.prepare(motion)
@@ -381,24 +388,6 @@ def run_memory(
 
 
 # ------------------------------------------------------- paper vs Newton–Euler
-def count_operations(source: str) -> dict[str, int]:
-    """Arithmetic operations written in a scalar function's source (one sample)."""
-    tree = ast.parse(textwrap.dedent(source))
-    counts = {"add/sub": 0, "mul": 0, "div": 0, "neg": 0, "cos/sin": 0}
-    for node in ast.walk(tree):
-        if isinstance(node, ast.BinOp):
-            key = {ast.Add: "add/sub", ast.Sub: "add/sub", ast.Mult: "mul", ast.Div: "div"}.get(
-                type(node.op)
-            )
-            if key:
-                counts[key] += 1
-        elif isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
-            counts["neg"] += 1
-        elif isinstance(node, ast.Call) and getattr(node.func, "id", None) in ("cos", "sin"):
-            counts["cos/sin"] += 1
-    return counts
-
-
 def run_paper_vs_newton_euler(args: argparse.Namespace) -> dict[str, Any]:
     """Dynamics step alone (kinematics given) of the reference paper method and Newton–Euler."""
     robot = prp3.Robot()
@@ -418,9 +407,45 @@ def run_paper_vs_newton_euler(args: argparse.Namespace) -> dict[str, Any]:
         result["seconds_per_sample"][("inverse_kinematics", samples)] = kin_seconds / samples
     n = 21
     result["newton_euler_lu_flops"] = round(2 * n**3 / 3 + 2 * n**2)
-    # the traced kernel of sample_forces_unchecked (its source is its __doc__)
-    result["fused_counts"] = count_operations(compile_robot(robot).sample_function.__doc__ or "")
     return result
+
+
+# ------------------------------------------------------------- the command line
+def _simulate_seconds(env: dict[str, str], folder: Path) -> float:
+    """Wall time of one ``prp3 simulate --motion vertical`` in a fresh process (s)."""
+    command = [sys.executable, "-m", "prp3", "simulate", "--motion", "vertical"]
+    command += ["--output", str(folder / "out")]
+    start = timeit.default_timer()
+    subprocess.run(command, check=True, env=env, capture_output=True)
+    return timeit.default_timer() - start
+
+
+def run_cli(commit: str | None, repeats: int) -> dict[str, float]:
+    """``prp3 simulate --motion vertical`` cold (a fresh numba cache) and warm (median), s.
+
+    With ``commit``: the same warm, by that commit's source (``git archive``).
+    """
+    found: dict[str, float] = {}
+    with tempfile.TemporaryDirectory(prefix="prp3-cli-") as name:
+        folder = Path(name)
+        env = {**os.environ, "PYTHONPATH": str(HERE.parent / "src")}
+        env["NUMBA_CACHE_DIR"] = str(folder / "numba-cache")  # empty: cold
+        found["prp3 simulate, cold (fresh numba cache)"] = _simulate_seconds(env, folder)
+        warm = [_simulate_seconds(env, folder) for _ in range(repeats)]
+        found["prp3 simulate, warm"] = statistics.median(warm)
+        if commit is not None:
+            archive = subprocess.run(
+                ["git", "-C", str(HERE.parent), "archive", "--format=tar", commit, "src"],
+                capture_output=True, check=True,
+            )  # fmt: skip
+            (folder / "old").mkdir()
+            subprocess.run(["tar", "-x", "-C", str(folder / "old")], input=archive.stdout,
+                           check=True)  # fmt: skip
+            old = {**env, "PYTHONPATH": str(folder / "old" / "src")}
+            _simulate_seconds(old, folder)
+            times = [_simulate_seconds(old, folder) for _ in range(repeats)]
+            found[f"prp3 {commit} simulate, warm"] = statistics.median(times)
+    return found
 
 
 # ------------------------------------------------------------------- report
@@ -460,6 +485,7 @@ def report(
     comparison: dict[str, Any],
     notes: list[str],
     extra_rows: list[str],
+    cli: dict[str, float],
 ) -> list[str]:
     out = [*notes, ""]
     out.append(
@@ -532,24 +558,17 @@ def report(
     for n in sorted({n for _, n in per}):
         ratio = per[("newton_euler", n)] / per[("kernel_method", n)]
         out.append(f"  N = {n:>7,}: dynamics step, Newton–Euler / paper method = {ratio:.2f}")
-    counts = comparison["fused_counts"]
-    total = sum(v for k, v in counts.items() if k != "cos/sin")
     out.append(
-        f"  Operations per sample, fused paper method incl. kinematics (source count of the traced kernel of sample_forces_unchecked): "
-        f"{total} ({', '.join(f'{k} {v}' for k, v in counts.items())}); the Newton–Euler solver's dense 21×21 LU "
-        f"solve alone is about {comparison['newton_euler_lu_flops']:,} flops (2n³/3 + 2n²), before assembling the system."
+        f"  The Newton–Euler solver's dense 21×21 LU solve alone is about "
+        f"{comparison['newton_euler_lu_flops']:,} flops (2n³/3 + 2n²), before assembling the system."
     )
     out.append("")
-    out.extend(targets(rates, single, memory, extra_rows))
+    if cli:
+        out.append("The command line, wall time of one process (s):")
+        out.extend(f"  {name}: {seconds:.2f} s" for name, seconds in cli.items())
+        out.append("")
+    out.extend(targets(rates, single, memory, extra_rows, cli))
     return out
-
-
-def _has_numba() -> bool:
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        return False
-    return True
 
 
 #: The validated single-sample call the targets are about.
@@ -561,64 +580,71 @@ def targets(
     single: dict[str, float],
     memory: dict[tuple[str, int], dict[str, float]],
     extra_rows: list[str],
+    cli: dict[str, float],
 ) -> list[str]:
-    out = ["Speed targets (the default install, numpy backend):"]
+    def verdict(ok: bool) -> str:
+        return "met" if ok else "NOT met"
+
+    out = ["Speed targets (the default install: the numba engine):"]
     n = 10**5
     peers = {
         name: rate
         for (name, size), rate in rates.items()
         if size == n and name in ("mujoco", "pinocchio")
     }
-    for row in ("prp3 fast", "prp3 fast f10 alone"):
-        fused = rates.get((row, n))
-        if fused is None:
-            continue
-        line = f"  batch N = 10⁵: {row} {fused:.3g} samples/s (target ≥ 1e7: {'met' if fused >= 1e7 else 'NOT met'})"
+    alone = rates.get(("prp3 fast f10 alone", n))
+    if alone is not None:
+        line = f"  batch f10 N = 10⁵: {alone:.3g} samples/s (target ≥ 2e7: {verdict(alone >= 2e7)})"
         if peers:
-            best_name = max(peers, key=lambda k: peers[k])
-            ratio = fused / peers[best_name]
-            line += f"; faster peer {best_name} {peers[best_name]:.3g}/s, ratio {ratio:.3g} (target ≥ 150: {'met' if ratio >= 150 else 'NOT met'})"
+            best = max(peers, key=lambda k: peers[k])
+            ratio = alone / peers[best]
+            line += f"; faster peer {best} {peers[best]:.3g}/s, ratio {ratio:.3g} (target ≥ 300: {verdict(ratio >= 300)})"
         out.append(line)
-    peer_single = {k: v for k, v in single.items() if k.endswith(" single")}
+    four = rates.get(("prp3 fast", n))
+    if four is not None:
+        out.append(
+            f"  batch f10, p10, f21y, f21z N = 10⁵: {four:.3g} samples/s (target ≥ 1.5e7: {verdict(four >= 1.5e7)})"
+        )
     for call in (
         CHECKED_CALL,
+        "prp3 fast sample_forces, numpy scalars",
         "prp3 fast sample_forces, ndarray (3,)",
         "prp3 fast sample_actuator_forces (f10 alone), tuples",
+        "prp3 fast sample_actuator_forces (f10 alone), numpy scalars",
         "prp3 fast sample_actuator_forces (f10 alone), ndarray (3,)",
     ):
         checked = single.get(call)
-        if checked is None:
-            continue
-        out.append(
-            f"  single sample, {call}: {checked:.3g} µs (target ≤ 3 µs: {'met' if checked <= 3 else 'NOT met'}"
-            + (
-                f"; below every peer's {', '.join(f'{v:.3g}' for v in peer_single.values())} µs: "
-                f"{'met' if all(checked < v for v in peer_single.values()) else 'NOT met'}"
-                if peer_single
-                else ""
+        if checked is not None:
+            out.append(
+                f"  single sample, {call}: {checked:.3g} µs (target ≤ 2 µs: {verdict(checked <= 2)})"
             )
-            + ")"
-        )
     big = memory.get(("prp3 fast", 10**6))
     if big is not None:
         out.append(
-            f"  memory N = 10⁶: prp3 fast peak RSS {big['rss']:.0f} MiB (target ≤ 300 MiB: {'met' if big['rss'] <= 300 else 'NOT met'})"
+            f"  memory N = 10⁶: prp3 fast peak RSS {big['rss']:.0f} MiB (target ≤ 300 MiB: {verdict(big['rss'] <= 300)})"
         )
     for row in extra_rows:  # no speed lost: the same machine, the same run, the same samples
-        old, new = rates.get((row, n)), rates.get(("prp3 fast", n))
-        if old and new:
-            out.append(
-                f"  no speed lost against {row}: batch N = 10⁵ {new:.3g} against {old:.3g} samples/s "
-                f"({new / old:.3g}×: {'met' if new >= old else 'NOT met'})"
-            )
+        for size in (10**3, n):
+            old, new = rates.get((row, size)), rates.get(("prp3 fast", size))
+            if old and new:
+                out.append(
+                    f"  against {row}: batch N = {size:,} {new:.3g} against {old:.3g} samples/s "
+                    f"({new / old:.3g}×: {verdict(new >= old)})"
+                )
         for call in ("tuples", "ndarray (3,)"):
             before = single.get(f"{row} sample_forces, {call}")
             now = single.get(f"prp3 fast sample_forces, {call}")
             if before and now:
                 out.append(
-                    f"  no speed lost against {row}: sample_forces, {call}, {now:.3g} against "
-                    f"{before:.3g} µs ({before / now:.3g}× faster: {'met' if now <= before else 'NOT met'})"
+                    f"  against {row}: sample_forces, {call}, {now:.3g} against "
+                    f"{before:.3g} µs ({before / now:.3g}× faster: {verdict(now <= before)})"
                 )
+    warm = cli.get("prp3 simulate, warm")
+    for name, seconds in cli.items():
+        if name.endswith("simulate, warm") and name != "prp3 simulate, warm" and warm:
+            out.append(
+                f"  prp3 simulate warm {warm:.2f} s against {name} {seconds:.2f} s: {verdict(warm <= seconds * 1.05)}"
+            )
     return out
 
 
@@ -650,6 +676,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-baseline", action="store_true", help="skip the baseline row")
     parser.add_argument(
         "--no-memory", action="store_true", help="skip the peak-memory subprocesses"
+    )
+    parser.add_argument(
+        "--cli", action="store_true", help="time prp3 simulate --motion vertical, cold and warm"
     )
     parser.add_argument("--child-memory", nargs=2, metavar=("METHOD", "N"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
@@ -692,10 +721,23 @@ def main(argv: list[str] | None = None) -> int:
         memory = run_memory(all_methods, sizes, args)
     print("paper method vs Newton–Euler ...", file=sys.stderr)
     comparison = run_paper_vs_newton_euler(args)
+    cli: dict[str, float] = {}
+    if args.cli:
+        print("prp3 simulate, cold and warm ...", file=sys.stderr)
+        cli = run_cli(None if args.no_baseline else args.baseline, max(3, args.repeats))
     print(
         "\n".join(
             report(
-                sizes, all_methods, rates, agreement, single, memory, comparison, notes, extra_rows
+                sizes,
+                all_methods,
+                rates,
+                agreement,
+                single,
+                memory,
+                comparison,
+                notes,
+                extra_rows,
+                cli,
             )
         )
     )

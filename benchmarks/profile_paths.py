@@ -20,6 +20,7 @@ import sys
 
 import prp3
 import prp3.dynamics
+import prp3.engines
 import prp3.fast
 import prp3.geometry
 import prp3.kinematics
@@ -73,10 +74,12 @@ def main() -> None:
         args.top,
     )
     compiled = prp3.fast.compile_robot(robot)
-    print(f"\nFused path: prp3.fast.paper_forces, N = {args.samples}")
+    print(f"\nFused path, numpy engine: prp3.fast.paper_forces, N = {args.samples}")
     profile(
-        lambda: prp3.fast.paper_forces(compiled, motion.pose, motion.velocity, motion.acceleration),
-        [prp3.fast.paper_forces, prp3.fast._compute, prp3.kernel.joint_forces],
+        lambda: prp3.fast.paper_forces(
+            compiled, motion.pose, motion.velocity, motion.acceleration, engine="numpy"
+        ),
+        [prp3.fast.paper_forces, prp3.engines.run_numpy, prp3.kernel.joint_forces],
         args.top,
     )
 

@@ -10,7 +10,6 @@ force plus the total weight), as in ``test_dynamics``.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from types import SimpleNamespace
 
@@ -31,8 +30,8 @@ from prp3 import (
     inverse_kinematics,
     newton_euler,
 )
-from prp3._trace import non_finite_reach
 from prp3.fast import (
+    ENGINES,
     CompiledRobot,
     FastForces,
     actuator_forces,
@@ -88,22 +87,24 @@ def assert_agree(
 
 
 # ------------------------------------------------------------ batch vs references
-@given(scenario=scenarios(), chunk=st.sampled_from([1, 5, 64, 4096]))
+@given(
+    scenario=scenarios(),
+    chunk=st.sampled_from([1, 5, 64, 4096]),
+    engine=st.sampled_from(ENGINES),
+)
 def test_batch_agrees_with_newton_euler_and_newton_euler(
-    scenario: tuple[Robot, AnalyticMotion], chunk: int
+    scenario: tuple[Robot, AnalyticMotion], chunk: int, engine: str
 ) -> None:
     # Random l0, masses, inertias, centres of mass of pistons and links, any gravity,
-    # smooth motions with |sin(φ − π/3)| ≥ 0.27 (strategies); chunks that split the batch.
-    # 40 samples go through the chunked numpy path, 16 or fewer without reactions through
-    # a loop over the single-sample path.
+    # smooth motions with |sin(φ − π/3)| ≥ 0.27 (strategies); chunks that split the batch
+    # (numpy engine), and a part of the batch on its own.
     robot, analytic = scenario
     motion = analytic.motion(np.linspace(0.0, analytic.duration, 40))
-    fast = paper_forces(
-        robot, motion.pose, motion.velocity, motion.acceleration, reactions=True, chunk_size=chunk
-    )
-    plain = paper_forces(robot, motion.pose, motion.velocity, motion.acceleration, chunk_size=chunk)
+    args = (motion.pose, motion.velocity, motion.acceleration)
+    fast = paper_forces(robot, *args, reactions=True, chunk_size=chunk, engine=engine)  # type: ignore[arg-type]
+    plain = paper_forces(robot, *args, chunk_size=chunk, engine=engine)  # type: ignore[arg-type]
     few = motion[3:19]
-    looped = paper_forces(robot, few.pose, few.velocity, few.acceleration)
+    looped = paper_forces(robot, few.pose, few.velocity, few.acceleration, engine=engine)  # type: ignore[arg-type]
     kin = inverse_kinematics(robot, motion)
     for reference in (newton_euler(robot, kin),):
         scale = scales(robot, motion, reference)
@@ -115,15 +116,25 @@ def test_batch_agrees_with_newton_euler_and_newton_euler(
         )
 
 
-@given(scenario=scenarios())
+@given(scenario=scenarios(), engine=st.sampled_from(ENGINES))
 def test_single_sample_agrees_with_newton_euler_and_newton_euler(
-    scenario: tuple[Robot, AnalyticMotion],
+    scenario: tuple[Robot, AnalyticMotion], engine: str
 ) -> None:
     robot, analytic = scenario
     compiled = compile_robot(robot)
     for t in np.linspace(0.0, analytic.duration, 4):
         motion = analytic.motion(t)  # a single sample: arrays (3,)
-        forces = sample_forces(compiled, motion.pose, motion.velocity, motion.acceleration)
+        forces = sample_forces(
+            compiled,
+            motion.pose,
+            motion.velocity,
+            motion.acceleration,
+            engine=engine,  # type: ignore[arg-type]
+        )
+        unchecked = compiled.sample_function(engine)(  # type: ignore[arg-type]
+            *motion.pose.tolist(), *motion.velocity.tolist(), *motion.acceleration.tolist()
+        )
+        assert forces == (unchecked[0:3], unchecked[3:6], unchecked[6:9], unchecked[9:12])
         unchecked = sample_forces_unchecked(
             compiled,
             *motion.pose.tolist(),
@@ -137,15 +148,23 @@ def test_single_sample_agrees_with_newton_euler_and_newton_euler(
             assert_agree(forces, reference, scales(robot, motion, reference), OUTPUTS)
 
 
-@given(scenario=scenarios())
-def test_single_sample_path_equals_batch_path(scenario: tuple[Robot, AnalyticMotion]) -> None:
-    # The two fast paths are the same algebra in the same order: agreement to round-off.
+@given(scenario=scenarios(), engine=st.sampled_from(ENGINES))
+def test_single_sample_path_equals_batch_path(
+    scenario: tuple[Robot, AnalyticMotion], engine: str
+) -> None:
+    # The single-sample and batch paths run the same kernel: agreement to round-off.
     robot, analytic = scenario
     motion = analytic.motion(np.linspace(0.0, analytic.duration, 8))
-    batch = paper_forces(robot, motion.pose, motion.velocity, motion.acceleration)
+    batch = paper_forces(robot, motion.pose, motion.velocity, motion.acceleration, engine="numpy")
     compiled = compile_robot(robot)
     for k in range(motion.samples):
-        one = sample_forces(compiled, motion.pose[k], motion.velocity[k], motion.acceleration[k])
+        one = sample_forces(
+            compiled,
+            motion.pose[k],
+            motion.velocity[k],
+            motion.acceleration[k],
+            engine=engine,  # type: ignore[arg-type]
+        )
         for name in OUTPUTS:
             expected = getattr(batch, name)[k]
             scale = np.abs(expected).max() + total_mass(robot) * math.hypot(*robot.gravity)
@@ -375,19 +394,13 @@ def test_non_finite_input_is_refused(name: str, bad: float, reactions: bool) -> 
 
 
 @pytest.mark.parametrize("singular", [False, True])
-@pytest.mark.parametrize("through_results", [True, False])
+@pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
 def test_non_finite_rates_are_refused_by_the_batch_path(
-    bad: float, through_results: bool, singular: bool, monkeypatch: pytest.MonkeyPatch
+    bad: float, engine: str, singular: bool
 ) -> None:
-    # the traced batch path (40 samples, chunks of 16) checks the rates with the results
-    # when a non-finite rate always shows there (through_results), else before the chunks
+    # checked before any engine runs (40 samples, chunks of 16), named before a singular pose
     compiled = compile_robot(Robot())
-    for names in (("f10",), ("f10", "p10", "f21y", "f21z")):
-        compiled.batch_function(names)  # traced: the batch path runs it from the first call
-        assert compiled.results_check_rates(names)
-    if not through_results:
-        monkeypatch.setattr(CompiledRobot, "results_check_rates", lambda self, names: False)
     motion = paper_motion("rotation", samples=40)
     for name in ("velocity", "acceleration"):
         for k, component in enumerate(("x", "y", "phi")):
@@ -398,42 +411,9 @@ def test_non_finite_rates_are_refused_by_the_batch_path(
             prefix = {"velocity": "d", "acceleration": "dd"}[name]
             message = rf"^sample 25: {prefix}{component} of {name} is not finite"
             with pytest.raises(TrajectoryError, match=message):
-                actuator_forces(compiled, **arrays, chunk_size=16)
+                actuator_forces(compiled, **arrays, chunk_size=16, engine=engine)  # type: ignore[arg-type]
             with pytest.raises(TrajectoryError, match=message):
-                paper_forces(compiled, **arrays, chunk_size=16)
-
-
-@settings(max_examples=15, deadline=None)
-@given(
-    scenarios(),
-    st.booleans(),
-    st.sampled_from([math.nan, math.inf, -math.inf]),
-    st.integers(0, 8),
-)
-def test_a_non_finite_input_reaches_the_outputs_the_trace_says(  # type: ignore[no-untyped-def]
-    scenario, coulomb, bad, k
-) -> None:
-    # the claim of non_finite_reach, checked by running the traced code on a non-finite
-    # input; Coulomb friction alone sees a rate through its sign (where an infinity ends)
-    robot, motion_of = scenario
-    if coulomb:
-        joint = JointFriction(coulomb=1.5)
-        robot = dataclasses.replace(robot, friction=Friction(joint, joint, joint))
-    compiled = compile_robot(robot)
-    pose, velocity, acceleration = motion_of.evaluate(np.linspace(0.0, motion_of.duration, 5))
-    state = [a[:, j].copy() for a in (pose, velocity, acceleration) for j in range(3)]
-    state[k][2] = bad
-    names = ("f10", "p10", "f21y", "f21z")
-    out = np.empty((13 if robot.limits.stroke is None else 16, 5))
-    with np.errstate(all="ignore"):
-        compiled.batch_function(names)(*state, list(out))
-    reach = non_finite_reach(compiled._outputs(names), 9)
-    assert len(reach) == len(out)
-    for row, inputs in zip(out, reach, strict=True):
-        if k in inputs:
-            assert not math.isfinite(row[2])
-        assert np.isfinite(row[[0, 1, 3, 4]]).all()  # the other samples untouched
-    assert compiled.results_check_rates(names)  # every rate shows in the results
+                paper_forces(compiled, **arrays, chunk_size=16, engine=engine)  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize(
@@ -456,8 +436,8 @@ def test_bad_chunk_size_is_refused(chunk: object) -> None:
     for pose in ([0, 0, 0], [[0, 0, 0]] * 20):
         with pytest.raises(Prp3Error, match=r"chunk_size must be an integer from 1 to 1e\+06"):
             paper_forces(Robot(), pose, pose, pose, chunk_size=chunk)  # type: ignore[arg-type]
-    with pytest.raises(Prp3Error, match="backend must be one of 'numpy', 'numba', got 'cuda'"):
-        actuator_forces(Robot(), [0, 0, 0], [0, 0, 0], [0, 0, 0], backend="cuda")  # type: ignore[arg-type]
+    with pytest.raises(Prp3Error, match="engine must be one of 'numba', 'numpy', got 'cuda'"):
+        actuator_forces(Robot(), [0, 0, 0], [0, 0, 0], [0, 0, 0], engine="cuda")  # type: ignore[arg-type]
 
 
 @pytest.mark.parametrize(
@@ -511,20 +491,6 @@ def test_single_sample_takes_arrays_tuples_lists_and_integers_alike() -> None:
         assert type(f10) is tuple and f10 == expected.f10
 
 
-def test_checked_traced_code_refuses_before_dividing() -> None:
-    # The checks are in the traced code: the types and pose bounds before the kernel's
-    # first operation, then |D| before 1/D.
-    source = compile_robot(Robot()).checked_function.__doc__ or ""
-    lines = source.splitlines()
-
-    def first(text: str) -> int:
-        return next(k for k, line in enumerate(lines) if text in line)
-
-    assert first("type(ddphi) is float") < first("-30.0 <= x <= 30.0") < first("sin(")
-    assert first("< 0.0001:") < first("1.0 /")
-    assert "0.0 * (" in lines[-3]  # the results are finite, before returning
-
-
 @pytest.mark.parametrize(
     ("pose", "velocity", "error"),
     [
@@ -556,7 +522,7 @@ def test_single_sample_refuses_what_the_batch_path_refuses(
 
 
 def _with_effects(robot: Robot, friction: bool, mu: float) -> Robot:
-    from prp3.model import Friction, JointFriction, Load
+    from prp3.model import Load
 
     joint = JointFriction(viscous=0.7, coulomb=0.4, mu=mu, smoothing=0.05)
     return Robot(
@@ -572,9 +538,10 @@ def test_the_unchecked_f10_alone_is_the_unchecked_call_s_f10(friction: bool, mu:
     # kernel's Newton solve: f10 alone is the first three values of sample_function
     compiled = compile_robot(_with_effects(Robot(), friction, mu))
     state = (0.01, -0.02, 0.3, 0.1, -0.2, 0.5, 1.0, -2.0, 3.0)
-    f10 = compiled.actuator_sample_function(*state)
-    assert len(f10) == 3 and f10 == compiled.sample_function(*state)[:3]
-    assert f10 == sample_forces(compiled, state[:3], state[3:6], state[6:]).f10
+    for engine in ENGINES:
+        f10 = compiled.actuator_sample_function(engine)(*state)  # type: ignore[arg-type]
+        assert len(f10) == 3 and f10 == compiled.sample_function(engine)(*state)[:3]  # type: ignore[arg-type]
+        assert f10 == sample_forces(compiled, state[:3], state[3:6], state[6:], engine=engine).f10  # type: ignore[arg-type]
 
 
 @settings(max_examples=10, deadline=None)
@@ -615,17 +582,21 @@ def test_single_sample_with_a_load_agrees_with_the_batch_path(
         )
 
 
-def test_single_sample_load_is_traced_bit_for_bit_as_the_kernel() -> None:
+@pytest.mark.parametrize("engine", ENGINES)
+@pytest.mark.parametrize("friction", [False, True])
+def test_single_sample_load_is_the_kernel_on_floats(engine: str, friction: bool) -> None:
     from prp3 import kernel
 
-    robot = _with_effects(Robot(), True, 0.0)
+    robot = _with_effects(Robot(), friction, 0.0)
     compiled = compile_robot(robot)
-    assert "fx" in (compiled.loaded_function.__doc__ or "")
     state = (0.01, -0.02, 0.3, 0.1, -0.2, 0.5, 1.0, -2.0, 3.0)
     load = (4.0, -5.0, 0.25)
-    one = compiled.loaded_function(state[:3], state[3:6], state[6:], load)
+    one = sample_forces(compiled, state[:3], state[3:6], state[6:], load, engine=engine)  # type: ignore[arg-type]
     expected = kernel.solve(kernel.MATH, compiled.parameters, *state, reactions=False, load=load)
-    assert one == (expected.f10, expected.p10, expected.f21y, expected.f21z)
+    for got, legs in zip(
+        one, (expected.f10, expected.p10, expected.f21y, expected.f21z), strict=True
+    ):
+        np.testing.assert_allclose(got, legs, rtol=1e-15, atol=1e-15 * (np.abs(legs).max() + 1))
 
 
 @pytest.mark.parametrize(

@@ -1,10 +1,11 @@
-"""The one kernel serves every path: floats, numpy arrays, traced code and sympy.
+"""The one kernel serves every engine: floats, numpy arrays, numba, sympy.
 
 The physics of the kernel is tested against Newton–Euler and the paper's
 matrices elsewhere (``test_dynamics``, ``test_fast``, ``test_balances``); here
-the paths that run the kernel are held against each other: they are one
-source, so they must agree bit for bit (same operations in the same order) or
-to the last bit of ``cos``/``sin`` (numpy's and :mod:`math`'s may differ).
+each engine is held against the reference — the kernel on numpy arrays and
+Newton–Euler — to 1e-13 of a per-sample scale on random robots and motions,
+and the traced numpy code of the design sweeps (:mod:`prp3._trace`) against
+the kernel bit for bit.
 """
 
 from __future__ import annotations
@@ -16,9 +17,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from prp3 import Prp3Error, Robot, SingularPoseError
-from prp3._trace import array_function, broadcast_function, scalar_function
+from prp3 import Motion, Prp3Error, Robot, SingularPoseError, engines, kernel, newton_euler
+from prp3._trace import array_function, broadcast_function
 from prp3.fast import (
+    ENGINES,
     actuator_forces,
     compile_robot,
     paper_forces,
@@ -63,47 +65,17 @@ def test_floats_and_arrays_are_the_same_operations(robot: Robot, seed: int) -> N
             assert np.abs(got - expected).max() <= 1e-15 * scale * 16, name
 
 
-@settings(max_examples=20, deadline=None)
-@given(robot=robots(), seed=st.integers(0, 2**32 - 1))
-def test_traced_code_is_the_kernel_bit_for_bit(robot: Robot, seed: int) -> None:
-    k = kernel_parameters(robot)
-
-    def outputs(ops, *state):  # type: ignore[no-untyped-def]
-        sol = solve(ops, k, *state)
-        return tuple(v for name in FIELDS for v in getattr(sol, name))
-
-    traced = scalar_function(outputs, STATE_SYMBOLS)
-    for row in states(robot, np.random.default_rng(seed), 4).tolist():
-        expected = outputs(MATH, *row)
-        got = traced(*row)
-        # identical floats; only the sign of a zero may differ (x·0 folded to +0)
-        assert [g == e for g, e in zip(got, expected, strict=True)] == [True] * len(got)
-
-
-def test_traced_code_has_no_terms_of_absent_offsets() -> None:
-    # The tracer folds the zero centre-of-mass offsets: the default robot's code is
-    # shorter than a robot's with offsets (the same source, fewer operations).
-    plain = compile_robot(Robot()).sample_function.__doc__ or ""
-    offset = (
-        compile_robot(
-            Robot.from_mapping({"link": {"com": [0.01, 0.02]}, "piston": {"com": [0.01, 0.0]}})
-        ).sample_function.__doc__
-        or ""
-    )
-    assert "sin(t0)" in plain and plain.count("\n") < offset.count("\n")
-
-
 @settings(max_examples=10, deadline=None)
 @given(scenario=scenarios(), seed=st.integers(0, 2**32 - 1))
 def test_single_sample_and_batch_paths_agree(scenario, seed) -> None:  # type: ignore[no-untyped-def]
     robot, _ = scenario
-    rows = states(robot, np.random.default_rng(seed), 40)  # > 16: the chunked numpy path
+    rows = states(robot, np.random.default_rng(seed), 40)
     compiled = compile_robot(robot)
-    batch = paper_forces(compiled, rows[:, :3], rows[:, 3:6], rows[:, 6:])
+    batch = paper_forces(compiled, rows[:, :3], rows[:, 3:6], rows[:, 6:], engine="numpy")
     for n, row in enumerate(rows.tolist()):
         one = sample_forces_unchecked(compiled, *row)
         # f10 alone (the control loop's model): the same operations for f10, bit for bit
-        assert compiled.actuator_sample_function(*row) == one[:3]
+        assert compiled.actuator_sample_function()(*row) == one[:3]
         for j, name in enumerate(("f10", "p10", "f21y", "f21z")):
             expected = getattr(batch, name)[n]
             scale = np.abs(expected).max() + 1.0
@@ -142,29 +114,29 @@ def test_symbolic_evaluation_equals_the_numeric_one(symbolic, robot, seed) -> No
         assert np.abs(values_of_name - want).max() <= 1e-12 * scale, name
 
 
-def test_numba_backend_runs_the_same_operations() -> None:
+def test_numba_engine_runs_the_same_operations() -> None:
     pytest.importorskip("numba")
     robot = Robot.from_mapping({"link": {"com": [0.01, 0.02]}, "limits": {"stroke": [-0.2, 0.2]}})
     compiled = compile_robot(robot)
     rows = states(robot, np.random.default_rng(7), 50)
     args = (rows[:, :3], rows[:, 3:6], rows[:, 6:])
-    fast = paper_forces(compiled, *args, reactions=True, backend="numba")
-    plain = paper_forces(compiled, *args, reactions=True)
+    fast = paper_forces(compiled, *args, reactions=True, engine="numba")
+    plain = paper_forces(compiled, *args, reactions=True, engine="numpy")
     for name in ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32"):
         expected = getattr(plain, name)
         scale = np.abs(expected).max() + 1.0
         assert np.abs(getattr(fast, name) - expected).max() <= 1e-15 * scale, name
-    # chunks that split the batch, C-contiguous inputs, f10 alone: the same numbers
-    chunked = paper_forces(compiled, *(np.ascontiguousarray(a) for a in args), backend="numba",
-                           chunk_size=7)  # fmt: skip
+    # non-contiguous inputs, f10 alone, the forces alone: the same numbers
+    chunked = paper_forces(compiled, *(np.asfortranarray(a) for a in args), engine="numba")
     np.testing.assert_array_equal(chunked.f10, fast.f10)
-    np.testing.assert_array_equal(actuator_forces(compiled, *args, backend="numba"), fast.f10)
+    np.testing.assert_array_equal(actuator_forces(compiled, *args, engine="numba"), fast.f10)
+    np.testing.assert_array_equal(paper_forces(compiled, *args, engine="numba").f21z, fast.f21z)
     singular = rows[:, :3].copy()
     singular[30, 2] = math.pi / 3 + 1e-6
     with pytest.raises(SingularPoseError, match="sample 30"):
-        paper_forces(compiled, singular, rows[:, 3:6], rows[:, 6:], backend="numba")
-    with pytest.raises(Prp3Error, match="backend must be"):
-        paper_forces(compiled, *args, backend="cuda")  # type: ignore[arg-type]
+        paper_forces(compiled, singular, rows[:, 3:6], rows[:, 6:], engine="numba")
+    with pytest.raises(Prp3Error, match="engine must be"):
+        paper_forces(compiled, *args, engine="cuda")  # type: ignore[arg-type]
 
 
 def test_solve_batch_returns_every_kernel_output_with_the_input_rank() -> None:
@@ -232,21 +204,6 @@ def test_platform_first_moment_by_its_energy(h, mass, inertia, seed) -> None:  #
     assert abs(power - rate) <= 1e-5 * (abs(power) + mass * 10 * 0.1)
 
 
-@settings(max_examples=10, deadline=None)
-@given(robot=robots(), seed=st.integers(0, 2**32 - 1))
-def test_traced_batch_code_equals_the_kernel_on_arrays(robot: Robot, seed: int) -> None:
-    # Large batches run the kernel traced into numpy ufunc calls, small ones of a new
-    # robot the kernel on arrays directly: the same operations, the same numbers.
-    rows = states(robot, np.random.default_rng(seed), 30)
-    args = (rows[:, :3], rows[:, 3:6], rows[:, 6:])
-    direct = paper_forces(compile_robot(robot), *args, reactions=True)
-    warm = compile_robot(robot)
-    warm.batch_function(("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32"))
-    traced = paper_forces(warm, *args, reactions=True)
-    for name in ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32"):
-        np.testing.assert_array_equal(getattr(traced, name), getattr(direct, name))
-
-
 def test_argument_names_of_the_generated_code_s_own_are_refused() -> None:
     # the generated code names its rows w0, w1, ..., its outputs o0, ... and constants k0, ...
     def f(ops, a, b):  # type: ignore[no-untyped-def]
@@ -266,7 +223,6 @@ def test_a_constant_is_not_taken_for_the_line_of_its_value() -> None:
         c, s = ops.cos(x), ops.sin(x)
         return (c, x + s, x + 1.0, x * 2.0 + c * 2.0)
 
-    assert scalar_function(f, ("x",))(0.0) == (1.0, 0.0, 1.0, 2.0)
     out = np.empty((4, 1))
     array_function(f, ("x",))(np.zeros(1), out)
     assert out[:, 0].tolist() == [1.0, 0.0, 1.0, 2.0]
@@ -308,3 +264,128 @@ def test_broadcast_code_is_the_kernel_on_a_block_of_robots(robot: Robot, seed: i
     alone = outputs(NUMPY, *(column[n][2:3] for n in varied), *rows)
     for j, value in enumerate(alone):
         np.testing.assert_array_equal(out[j, 2], np.broadcast_to(value, (1, 7))[0])
+
+
+# ------------------------------------------------------------- each engine, held against the reference
+#: Outputs of solve_batch compared, by kind of scale.
+_FORCE_OUTPUTS = ("f10", "f21y", "f21z", "n10", "n32")
+_MOMENT_OUTPUTS = ("m10", "m32")
+_MOTION_OUTPUTS = ("lambda10", "dlambda10", "ddlambda10", "lambda32", "dlambda32", "ddlambda32")
+
+
+def _scales(robot: Robot, values: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Per-sample scale ``(N, 1)`` of each output of the reference ``values``."""
+    weight = (
+        robot.piston.mass * 3 + robot.link.mass * 3 + robot.platform.mass + robot.payload.mass
+    ) * math.hypot(*robot.gravity)
+    force = np.max([np.abs(values[n]).max(axis=-1) for n in _FORCE_OUTPUTS], axis=0) + weight
+    force = force + 1e-100  # at rest without gravity every force is zero
+    scale = dict.fromkeys(_FORCE_OUTPUTS, force)
+    scale.update(dict.fromkeys(_MOMENT_OUTPUTS, force * robot.l0 * 10))
+    scale["p10"] = force * (np.abs(values["dlambda10"]).max(axis=-1) + 1e-100)
+    for name in _MOTION_OUTPUTS:
+        scale[name] = np.abs(values[name]).max(axis=-1) + robot.l0
+    return {name: s[:, None] for name, s in scale.items()}
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    scenario=scenarios(),
+    engine=st.sampled_from(ENGINES),
+    samples=st.sampled_from([1, 3, 40]),
+    loaded=st.booleans(),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_each_engine_is_the_kernel_on_arrays_and_newton_euler(  # type: ignore[no-untyped-def]
+    scenario, engine, samples, loaded, seed
+) -> None:
+    # Random robots (l0, masses, inertias, centres of mass, gravity) and smooth motions,
+    # with or without a time-varying load: every output of solve_batch by each engine
+    # against kernel.solve on numpy arrays and the reactions against Newton–Euler (the
+    # balances of the 7 bodies, which share nothing with the kernel), to 1e-13 of a scale.
+    robot, analytic = scenario
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, samples))
+    load = np.random.default_rng(seed).normal(size=(samples, 3)) * [20.0, 20.0, 2.0]
+    wrench = load if loaded else None
+    args = (motion.pose, motion.velocity, motion.acceleration)
+    got = solve_batch(robot, *args, load=wrench, engine=engine)
+    sol = solve(
+        NUMPY, kernel_parameters(robot), *(a[:, j] for a in args for j in range(3)),
+        load=None if wrench is None else tuple(wrench.T),
+    )  # fmt: skip
+    reference = {name: np.stack(getattr(sol, name), axis=-1) for name in FIELDS}
+    scale = _scales(robot, reference)
+    for name in FIELDS:
+        error = np.abs(got[name] - reference[name]) / scale[name]
+        assert error.max() <= 1e-13, (name, float(error.max()))
+    ne = newton_euler(robot, Motion(motion.t, *args, load=wrench))
+    for name in ("f10", "p10", "f21y", "f21z", "n10", "m10", "n32", "m32"):
+        error = np.abs(got[name] - getattr(ne, name)) / scale[name]
+        assert error.max() <= 1e-13, (name, float(error.max()))
+
+
+def test_the_numpy_engine_runs_the_kernel_itself(monkeypatch: pytest.MonkeyPatch) -> None:
+    # engine="numpy" calls kernel.body_wrenches on the arrays (a breakpoint there stops):
+    # no generated code stands between the caller and the kernel
+    calls: list[int] = []
+    original = kernel.body_wrenches
+
+    def spy(*args, **kwargs):  # type: ignore[no-untyped-def]
+        calls.append(np.size(args[2]))
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(kernel, "body_wrenches", spy)
+    zeros = np.zeros((20, 3))
+    paper_forces(Robot(), zeros, zeros, zeros, engine="numpy", chunk_size=8)
+    assert calls == [8, 8, 4]  # one call per chunk, on arrays
+    calls.clear()
+    prp3_sample = __import__("prp3.fast", fromlist=["sample_forces"]).sample_forces
+    prp3_sample(compile_robot(Robot()), (0, 0, 0), (0, 0, 0), (0, 0, 0), engine="numpy")
+    assert calls == [1]  # one sample, on floats
+
+
+@pytest.mark.parametrize("samples", [0, 1, 2, 20, 5000])
+def test_engine_numba_without_numba_is_refused_at_every_size(
+    samples: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(engines, "_numba", None)  # as if numba did not import
+    zeros = np.zeros((samples, 3))
+    compiled = compile_robot(Robot())
+    message = r'engine="numba" needs numba, which is not installed'
+    for call in (paper_forces, actuator_forces, solve_batch):
+        with pytest.raises(Prp3Error, match=message):
+            call(compiled, zeros, zeros, zeros, engine="numba")  # type: ignore[operator]
+    with pytest.raises(Prp3Error, match=message):
+        prp3_fast = __import__("prp3.fast", fromlist=["sample_forces"])
+        prp3_fast.sample_forces(compiled, (0, 0, 0), (0, 0, 0), (0, 0, 0), engine="numba")
+
+
+def test_without_numba_the_default_is_numpy_and_says_so_once(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(engines, "_numba", None)
+    monkeypatch.setattr(engines, "_warned", False)
+    zeros = np.zeros((3, 3))
+    with pytest.warns(engines.EngineWarning, match="numba is not installed"):
+        first = paper_forces(Robot(), zeros, zeros, zeros)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # said once: no second warning
+        again = paper_forces(Robot(), zeros, zeros, zeros)
+    np.testing.assert_array_equal(first.f10, again.f10)
+    assert engines.default_engine() == "numpy"
+
+
+def test_the_numba_cache_is_keyed_on_the_kernel_source_too() -> None:
+    # the engine's loops inline the kernel: their cached machine code must be stale
+    # when kernel.py changes, not only when numba_engine.py does
+    numba_engine = pytest.importorskip("prp3.numba_engine")
+    from numba.core import caching
+
+    locator = numba_engine.f10_loop._cache._impl.locator  # the dispatcher's own cache
+    assert isinstance(locator, numba_engine._KernelStamp)
+    own, of_kernel = locator.get_source_stamp()
+    stat = __import__("os").stat(kernel.__file__)
+    assert of_kernel == caching._hash_source_file(kernel.__file__, stat.st_mtime, stat.st_size)
+    assert own != of_kernel

@@ -33,6 +33,7 @@ import prp3
 import prp3.codegen
 import prp3.control
 import prp3.design
+import prp3.engines
 import prp3.fast
 import prp3.forward
 import prp3.geometry
@@ -52,6 +53,7 @@ MODULES = (
     "prp3.control",
     "prp3.design",
     "prp3.dynamics",
+    "prp3.engines",
     "prp3.fast",
     "prp3.forward",
     "prp3.geometry",
@@ -156,6 +158,13 @@ EXEMPT: dict[str, str] = {
     "check_model": "a check itself, called by track",
     "check_plant": "a check itself, called by track",
     "symbolic_parameters": "sympy",
+    # the engines: they receive validated inputs and never validate (test_no_engine_sees_...)
+    "run_numpy": "an engine: called by prp3.fast with validated samples",
+    "runs_on": "which engine runs a validated robot (internal)",
+    "resolve_engine": "a check itself (the engine argument, covered through every entry)",
+    "default_engine": "no arguments",
+    "numba_module": "no arguments",
+    "EngineWarning": "a warning category",
 }
 
 ROBOT = prp3.Robot()
@@ -336,13 +345,21 @@ BATCH_GOOD = {
     "chunk_size": 64,
 }
 #: The arguments of the single-sample paths of prp3.fast, and good values of them.
-SINGLE = {"compiled": OBJ, "pose": A, "velocity": A, "acceleration": A, "load": A + "?"}
+SINGLE = {
+    "compiled": OBJ,
+    "pose": A,
+    "velocity": A,
+    "acceleration": A,
+    "load": A + "?",
+    "engine": "choice?",
+}
 SINGLE_GOOD = {
     "compiled": _compiled,
     "pose": SMALL,
     "velocity": ZERO,
     "acceleration": ZERO,
     "load": ZERO,
+    "engine": "numba",
 }
 
 CASES: dict[str, Case] = {
@@ -473,10 +490,11 @@ CASES: dict[str, Case] = {
     ),
     "inverse_dynamics": _case(
         prp3.inverse_dynamics,
-        {"robot": OBJ, "motion": OBJ, "method": C},
+        {"robot": OBJ, "motion": OBJ, "method": C, "engine": "choice?"},
         robot=ROBOT,
         motion=_motion,
         method="fast",
+        engine="numpy",
     ),
     "inverse_geometry": _case(
         prp3.inverse_geometry, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL
@@ -511,7 +529,11 @@ CASES: dict[str, Case] = {
         prp3.jacobian_condition, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL
     ),
     "kernel_method": _case(
-        prp3.kernel_method, {"robot": OBJ, "kin": OBJ}, robot=ROBOT, kin=_kinematics
+        prp3.kernel_method,
+        {"robot": OBJ, "kin": OBJ, "engine": "choice?"},
+        robot=ROBOT,
+        kin=_kinematics,
+        engine="numba",
     ),
     "law_motion": _case(
         prp3.law_motion,
@@ -534,9 +556,9 @@ CASES: dict[str, Case] = {
     ),
     "paper_forces": _case(
         prp3.paper_forces,
-        {**BATCH, "backend": C},
+        {**BATCH, "engine": "choice?"},
         **BATCH_GOOD,
-        backend="numpy",
+        engine="numpy",
     ),
     "paper_motion": _case(
         prp3.paper_motion,
@@ -561,9 +583,9 @@ CASES: dict[str, Case] = {
     ),
     "actuator_forces": _case(
         prp3.fast.actuator_forces,
-        {**BATCH, "backend": C},
+        {**BATCH, "engine": "choice?"},
         **BATCH_GOOD,
-        backend="numpy",
+        engine="numpy",
     ),
     "sample_forces": _case(prp3.sample_forces, SINGLE, **SINGLE_GOOD),
     "sample_actuator_forces": _case(prp3.fast.sample_actuator_forces, SINGLE, **SINGLE_GOOD),
@@ -586,8 +608,10 @@ CASES: dict[str, Case] = {
     # ---------------------------------------------------------------- submodules
     "solve_batch": _case(
         prp3.fast.solve_batch,
-        BATCH,
+        {**BATCH, "load": "array?", "engine": "choice?"},
         **BATCH_GOOD,
+        load=ZERO,
+        engine="numba",
     ),
     "open_loop_growth_rate": _case(
         prp3.forward.open_loop_growth_rate, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL
@@ -635,11 +659,12 @@ CASES: dict[str, Case] = {
     "robot_template": _case(prp3.model.robot_template, {"robot": "object?"}, robot=ROBOT),
     "simulate_table": _case(
         prp3.runs.simulate_table,
-        {"robot": OBJ, "motion": OBJ, "method": C, "chunk": INT},
+        {"robot": OBJ, "motion": OBJ, "method": C, "chunk": INT, "engine": "choice?"},
         robot=ROBOT,
         motion=_motion,
         method="fast",
         chunk=4,
+        engine="numpy",
     ),
     "summarize": _case(
         prp3.runs.summarize,
@@ -821,3 +846,65 @@ def test_every_bad_argument_is_refused_naming_it(name: str, argument: str, label
     assert "\n" not in message, message
     shown = case.names.get(argument, (argument,))
     assert any(word in message for word in shown), f"{name}({argument}={label}): {message}"
+
+
+# ------------------------------------------------------------ validation before the engines
+#: What runs the kernel on samples: the numpy engine, the numba engine's loops and
+#: single-sample calls, the kernel on floats of one sample.
+_ENGINE_ENTRIES = (
+    ("prp3.fast", "run_numpy"),
+    ("prp3.fast", "_sample_floats"),
+    *(("prp3.numba_engine", name) for name in (
+        "f10_loop", "forces_loop", "reactions_loop", "solve_loop", "sample_forces",
+        "sample_forces_loaded", "sample_f10", "sample_f10_loaded", "lambda10_sample",
+    )),
+)  # fmt: skip
+
+
+@pytest.fixture
+def engine_calls(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The names of the engine entries called while the fixture is active."""
+    calls: list[str] = []
+    for module_name, name in _ENGINE_ENTRIES:
+        module = importlib.import_module(module_name)
+        original = getattr(module, name)
+
+        def spy(*args: Any, __name: str = name, __original: Any = original, **kwargs: Any) -> Any:
+            calls.append(__name)
+            return __original(*args, **kwargs)
+
+        monkeypatch.setattr(module, name, spy)
+    return calls
+
+
+def test_the_engine_spies_see_the_engines(engine_calls: list[str]) -> None:
+    # the spies are where the entries call: a good call reaches them (else the test
+    # below would pass for a function that skips validation)
+    zeros = np.zeros((4, 3))
+    prp3.paper_forces(ROBOT, zeros, zeros, zeros, engine="numba")
+    prp3.paper_forces(ROBOT, zeros, zeros, zeros, engine="numpy")
+    prp3.sample_forces(_compiled(), ZERO, ZERO, ZERO, engine="numpy")
+    prp3.sample_forces(_compiled(), ZERO, ZERO, ZERO, engine="numba")
+    assert engine_calls == ["forces_loop", "run_numpy", "_sample_floats", "sample_forces"]
+
+
+@pytest.mark.parametrize(("name", "argument", "label"), list(_spoilt()))
+def test_no_engine_sees_a_bad_argument(
+    name: str, argument: str, label: str, engine_calls: list[str]
+) -> None:
+    # A public function validates all its arguments before any engine runs on samples:
+    # a function that skipped validation (and let a result check catch the damage, or
+    # not) fails here.  Functions that run the kernel on validated samples of their own
+    # before they read a later argument would also show; none does.
+    case = CASES[name]
+    arguments = case.good()
+    good = arguments[argument]
+    base, _ = _kind(case.kinds[argument])
+    bad = dict(SPOILERS[base](np.asarray(good) if base in ("array", "times") else good))
+    if label not in bad:
+        pytest.skip(f"{label} does not apply to {argument}")
+    engine_calls.clear()  # the good arguments may have run an engine (a kinematics, ...)
+    arguments[argument] = bad[label]
+    with pytest.raises(Prp3Error):
+        case.call(**arguments)
+    assert engine_calls == [], f"{name}({argument}={label}) ran {engine_calls} before refusing"

@@ -1,4 +1,7 @@
-"""Straight-line code from the kernel (internal).
+"""Straight-line numpy code from the kernel, for the design sweeps of :mod:`prp3.design` (internal).
+
+:mod:`prp3.fast` does not use it: its engines run the kernel itself
+(:mod:`prp3.engines`).
 
 :func:`trace` runs a function of the kernel (:mod:`prp3.kernel`) once on
 tracing values instead of numbers: every arithmetic operation and function
@@ -6,11 +9,9 @@ call on them is recorded, in the order the kernel performs it, while the
 operations between plain floats (the robot's constants) are done at once.
 The record becomes
 
-* :func:`scalar_function` — a Python function of plain floats without calls,
-  tuples or loops: the single-sample fast path;
 * :func:`array_function` — a function of 1-D float64 arrays that runs the
   same operations as numpy ufuncs into a few preallocated work rows (no
-  temporary arrays): the batch fast path;
+  temporary arrays);
 * :func:`broadcast_function` — the same for inputs of several shapes that
   broadcast (a design sweep: the robots' constants as a column, the states
   as a row), each operation computed at the shape of the inputs it depends
@@ -23,9 +24,6 @@ the sign of a zero, see :class:`Traced`, and numpy's ``cos``/``sin``).
 
 >>> def f(ops, x, y):
 ...     return (x * y + 2.0 * 3.0, ops.cos(x))
->>> fn = scalar_function(f, ("x", "y"))
->>> fn(0.0, 5.0)
-(6.0, 1.0)
 >>> import numpy as np
 >>> out = np.empty((2, 2))
 >>> array_function(f, ("x", "y"))(np.zeros(2), np.full(2, 5.0), out)
@@ -37,8 +35,7 @@ from __future__ import annotations
 
 import math
 import re
-import textwrap
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -50,9 +47,6 @@ __all__ = [
     "Traced",
     "array_function",
     "broadcast_function",
-    "loop_source",
-    "non_finite_reach",
-    "scalar_function",
     "trace",
 ]
 
@@ -183,39 +177,6 @@ def trace(
 #: ``inf ± x``, ``inf × x``, ``inf/x``, ``cos(inf)``, … are ``±inf`` or NaN, and NaN
 #: stays NaN).  A division by a non-finite value can give zero, ``tanh`` and
 #: ``sign`` of an infinity are ±1: there only the numerator carries it, or nothing.
-_STRICT = {"+", "-", "*", "neg", "cos", "sin", "sqrt", "abs"}
-
-
-def non_finite_reach(function: Callable[..., Sequence[Any]], arity: int) -> list[frozenset[int]]:
-    """For each output of ``function``, the inputs whose non-finite value makes it non-finite.
-
-    Input ``k`` (``0 <= k < arity``) is in the set of an output if that output
-    is ``±inf`` or NaN at every sample where input ``k`` is, whatever the
-    other inputs: it depends on the input through operations of
-    :data:`_STRICT` and numerators alone.  A finite output then proves the
-    input finite, so a check of the outputs also checks these inputs.
-
-    >>> def f(ops, x, y):
-    ...     return (x * y, 1.0 / y, ops.tanh(x) + y)
-    >>> [sorted(s) for s in non_finite_reach(f, 2)]
-    [[0, 1], [], [1]]
-    """
-    lines, outputs = trace(function, arity)
-    reach: dict[int, frozenset[int]] = {-1 - k: frozenset((k,)) for k in range(arity)}
-
-    def of(o: int | float) -> frozenset[int]:
-        return reach[o] if isinstance(o, int) else frozenset()
-
-    for index, (operation, operands) in lines:
-        if operation in _STRICT:
-            reach[index] = frozenset().union(*(of(o) for o in operands))
-        elif operation == "/":
-            reach[index] = of(operands[0])
-        else:  # tanh, sign: an infinity gives a finite value
-            reach[index] = frozenset()
-    return [of(o) for o in outputs]
-
-
 def _operand(value: int | float, names: Callable[[int], str]) -> str:
     return names(value) if isinstance(value, int) else repr(float(value))
 
@@ -225,157 +186,6 @@ def _compile(source: str, name: str, namespace: dict[str, Any]) -> Callable[...,
     compiled: Callable[..., Any] = namespace[name]
     compiled.__doc__ = source
     return compiled
-
-
-def _scalar_code(
-    lines: list[tuple[int, Line]],
-    outputs: list[int | float],
-    arguments: Sequence[str],
-    indent: str,
-    guards: dict[int, list[str]] | None = None,
-) -> tuple[list[str], list[str]]:
-    """Statements of plain-float code for the recorded operations, and the outputs.
-
-    ``guards`` maps a line index to conditions (Python expressions on its
-    variable ``t<index>``) emitted as ``if condition: return None`` right
-    after the line.
-    """
-    uses: dict[int, int] = {}
-    for _, (_, operands) in lines:
-        for o in operands:
-            if isinstance(o, int) and o >= 0:
-                uses[o] = uses.get(o, 0) + 1
-    for o in (*outputs, *(guards or {})):
-        if isinstance(o, int) and o >= 0:
-            uses[o] = uses.get(o, 0) + 2  # outputs and guarded values are kept in variables
-    inline: dict[int, str] = {}  # values used once: written into their user, in parentheses
-
-    def names(index: int) -> str:
-        if index < 0:
-            return arguments[-1 - index]
-        return inline.pop(index) if index in inline else f"t{index}"
-
-    body = []
-    for index, (operation, operands) in lines:
-        a = [_operand(o, names) for o in operands]
-        if operation in _BINARY:
-            expression = f"{a[0]} {operation} {a[1]}"
-        elif operation == "neg":
-            expression = f"-{a[0]}"
-        elif operation == "sign":
-            expression = f"float(({a[0]} > 0.0) - ({a[0]} < 0.0))"
-        else:
-            expression = f"{operation}({a[0]})"
-        if uses.get(index) == 1:
-            inline[index] = f"({expression})"
-        else:
-            body.append(f"{indent}t{index} = {expression}")
-        for condition in (guards or {}).get(index, ()):
-            body.append(f"{indent}if {condition}:\n{indent}    return None")
-    return body, [_operand(o, names) for o in outputs]
-
-
-_MATH = {"cos": math.cos, "sin": math.sin, "sqrt": math.sqrt, "tanh": math.tanh, "abs": abs,
-         "isfinite": math.isfinite}  # fmt: skip
-
-
-def scalar_function(
-    function: Callable[..., Sequence[Any]],
-    arguments: Sequence[str],
-    name: str = "traced",
-    *,
-    entry: Sequence[str] = (),
-    checks: Mapping[int, str] | None = None,
-    final: str | None = None,
-    returns: str | None = None,
-    namespace: Mapping[str, Any] | None = None,
-    parameters: Sequence[str] | None = None,
-    prologue: Sequence[str] = (),
-) -> Callable[..., Any]:
-    """A plain-float Python function with the recorded operations of ``function``.
-
-    Without the keyword arguments it returns the tuple of the outputs.  With
-    them it is a checked function that returns ``None`` as soon as a check
-    fails:
-
-    * ``parameters`` and ``prologue``: the function's parameters (default
-      ``arguments``) and statements (one per item, without indentation) run
-      first, which must bind every name of ``arguments``;
-    * ``entry``: conditions on the arguments (by name), tested first;
-    * ``checks``: output position → condition, ``{}`` standing for that
-      output's value, tested right after the output is computed (so that a
-      later division by it is never reached);
-    * ``final``: a condition on all outputs (``{0}``, ``{1}``, …), tested
-      before returning;
-    * ``returns``: the returned expression (``{0}``, ``{1}``, … the
-      outputs; default the tuple of all outputs);
-    * ``namespace``: names the conditions and ``returns`` use (``isfinite``
-      and the ``math`` functions are there).
-
-    >>> def f(ops, x, y):
-    ...     return (x - y, 1.0 / (x - y))
-    >>> g = scalar_function(f, ("x", "y"), entry=["not isfinite(x + y)"],
-    ...                     checks={0: "{} == 0.0"}, returns="{1}")
-    >>> g(3.0, 1.0), g(2.0, 2.0), g(float("nan"), 1.0)
-    (0.5, None, None)
-    """
-    lines, outs = trace(function, len(arguments))
-    guards: dict[int, list[str]] = {}
-    first = list(entry)
-    for position, condition in (checks or {}).items():
-        output = outs[position]
-        if isinstance(output, int) and output >= 0:
-            guards.setdefault(output, []).append(condition.format(f"t{output}"))
-        else:  # an input or a constant: tested on entry
-            first.append(condition.format(_operand(output, lambda i: arguments[-1 - i])))
-    body, outputs = _scalar_code(lines, outs, arguments, "    ", guards)
-    head = [textwrap.indent(statement, "    ") for statement in prologue]
-    head += [f"    if {condition}:\n        return None" for condition in first]
-    if final is not None:
-        body.append(f"    if {final.format(*outputs)}:\n        return None")
-    value = f"({', '.join(outputs)},)" if returns is None else returns.format(*outputs)
-    source = (
-        f"def {name}({', '.join(arguments if parameters is None else parameters)}):\n"
-        + "\n".join(head + body)
-        + f"\n    return {value}\n"
-    )
-    return _compile(source, name, {**_MATH, **(namespace or {})})
-
-
-def loop_source(
-    function: Callable[..., Sequence[Any]],
-    arguments: Sequence[str],
-    name: str = "traced",
-    *,
-    parameters: Sequence[str] = ("inputs", "out"),
-    sources: Sequence[str] | None = None,
-    targets: Sequence[str] | None = None,
-) -> str:
-    """Source of ``name(inputs, out)``: the scalar code in a loop over columns.
-
-    ``inputs`` is ``(len(arguments), n)``, ``out`` ``(outputs, n)``; for a
-    compiler of loops (numba), which runs it at machine speed.  Another
-    layout: ``parameters`` of the function, ``sources`` the element each
-    argument is read from and ``targets`` the element each output is written
-    to, with ``i`` the loop's index (the loop runs over the first
-    parameter's first axis), for example ``"pose[i, 0]"``.
-    """
-    lines, outs = trace(function, len(arguments))
-    body, outputs = _scalar_code(lines, outs, arguments, "        ")
-    if sources is None:
-        sources = [f"inputs[{k}, i]" for k in range(len(arguments))]
-    if targets is None:
-        targets = [f"out[{k}, i]" for k in range(len(outputs))]
-        loop = "inputs.shape[1]"
-    else:
-        loop = f"{parameters[0]}.shape[0]"
-    unpack = [f"        {arg} = {source}" for arg, source in zip(arguments, sources, strict=True)]
-    store = [f"        {target} = {value}" for target, value in zip(targets, outputs, strict=True)]
-    return (
-        f"def {name}({', '.join(parameters)}):\n    for i in range({loop}):\n"
-        + "\n".join(unpack + body + store)
-        + "\n"
-    )
 
 
 def _own_names(arguments: Sequence[str]) -> None:

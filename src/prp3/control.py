@@ -198,7 +198,7 @@ def control_force(
     """Actuator forces ``f10`` (N) of one control step (see the module notes).
 
     Pure Python floats on prp3's single-sample inverse dynamics
-    (:attr:`prp3.fast.CompiledRobot.actuator_sample_function`, ``f10`` alone):
+    (:meth:`prp3.fast.CompiledRobot.actuator_sample_function`, ``f10`` alone):
     it does not validate, the caller guarantees finite numbers and poses away
     from the singularity.
 
@@ -230,7 +230,7 @@ def control_force(
     x, y, p, vx, vy, vp = measured
     kpx, kpy, kpp = gains.kp_axes
     kdx, kdy, kdp = gains.kd_axes
-    inverse = model.actuator_sample_function  # f10 alone, unchecked
+    inverse = model.actuator_sample_function()  # f10 alone, unchecked
     if controller == "computed-torque":
         f = inverse(
             x, y, p, vx, vy, vp,
@@ -437,7 +437,7 @@ class _Prp3Plant:
         x, y, p, vx, vy, vp = state.tolist()
         if not math.isfinite(x + y + p + vx + vy + vp) or abs(math.sin(p - math.pi / 3.0)) < 1e-4:
             return np.full(6, np.nan)  # rejects the trial step (see forward_dynamics)
-        f = self.compiled.actuator_sample_function  # f10 alone, unchecked
+        f = self.compiled.actuator_sample_function()  # f10 alone, unchecked
         b = f(x, y, p, vx, vy, vp, 0.0, 0.0, 0.0)
         columns = [
             f(x, y, p, vx, vy, vp, 1.0, 0.0, 0.0),

@@ -19,15 +19,15 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import Prp3Error
-from .fast import solve_batch
+from .engines import resolve_engine
+from .fast import Engine, solve_batch
 from .forces import FORCE_NAMES, FRICTION_NAMES, InverseDynamics, checked
 from .kinematics import Kinematics, inverse_kinematics
 from .model import Robot
 from .motion import Motion
 from .newton_euler_solver import newton_euler
 from .paper import paper_method
-from .validation import check_instance, check_path, check_robot
+from .validation import check_choice, check_instance, check_path, check_robot
 
 __all__ = [
     "METHODS",
@@ -44,10 +44,11 @@ Method = Literal["fast", "paper", "newton-euler"]
 METHODS: tuple[str, ...] = ("fast", "paper", "newton-euler")
 
 
-def kernel_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
+def kernel_method(robot: Robot, kin: Kinematics, *, engine: Engine = None) -> InverseDynamics:
     """Inverse dynamics by the kernel's closed form (eqs. 19–25), with every reaction.
 
-    The batch path of :mod:`prp3.fast` on the motion of ``kin``.
+    :func:`prp3.fast.solve_batch` on the motion of ``kin``, run by ``engine``
+    (``"numba"``, ``"numpy"`` or ``None``: :func:`prp3.engines.default_engine`).
 
     Examples
     --------
@@ -59,7 +60,9 @@ def kernel_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
     """
     check_robot(robot)
     motion = check_instance("kin", kin, Kinematics, "a prp3.Kinematics").motion
-    values = solve_batch(robot, motion.pose, motion.velocity, motion.acceleration, load=motion.load)
+    values = solve_batch(
+        robot, motion.pose, motion.velocity, motion.acceleration, load=motion.load, engine=engine
+    )
     names = FORCE_NAMES + (FRICTION_NAMES if robot.friction is not None else ())
     implicit = "iterations" in values
     result = InverseDynamics(
@@ -72,7 +75,7 @@ def kernel_method(robot: Robot, kin: Kinematics) -> InverseDynamics:
 
 
 def inverse_dynamics(
-    robot: Robot, motion: Motion, method: Method = "fast"
+    robot: Robot, motion: Motion, method: Method = "fast", *, engine: Engine = None
 ) -> tuple[Kinematics, InverseDynamics]:
     """Kinematics and complete inverse dynamics of a platform motion.
 
@@ -86,6 +89,9 @@ def inverse_dynamics(
         default), :func:`prp3.paper.paper_method` (the paper's recursive 3×3
         matrices as printed: its own kinematics too) or
         :func:`prp3.newton_euler_solver.newton_euler`.
+    engine : {"numba", "numpy"} or None
+        The engine of ``method="fast"`` (:mod:`prp3.engines`; ``None``: the
+        default, numba when installed); validated for every method.
 
     Returns
     -------
@@ -99,12 +105,12 @@ def inverse_dynamics(
     (3, 3)
     """
     check_instance("motion", motion, Motion, "a prp3.Motion")
-    if method not in METHODS:
-        raise Prp3Error(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
+    check_choice("method", method, METHODS)
+    engine = resolve_engine(engine)  # type: ignore[assignment]
     check_path(motion.t, motion.pose)  # no singular orientation between two samples
     if method == "paper":
         return paper_method(robot, motion)
     kin = inverse_kinematics(robot, motion)
     if method == "fast":
-        return kin, kernel_method(robot, kin)
+        return kin, kernel_method(robot, kin, engine=engine)
     return kin, newton_euler(robot, motion)

@@ -8,10 +8,12 @@ spring with damper of the actuators.  An element says, in one class,
 
 * which fields of :class:`prp3.kernel.KernelParameters` it owns and their
   values for a robot (:meth:`Element.parameters`);
-* its contribution to the wrench each body needs, as the kernel consumes it
-  (:meth:`Element.apply`, on the :class:`Wrenches` of
-  :func:`prp3.kernel.body_wrenches`, in the kernel's ``+ − × ÷`` so that the
-  same code runs on floats, arrays, sympy and the traced paths);
+* where its contribution to the wrench each body needs is written: in
+  :func:`prp3.kernel.body_wrenches` and its helpers (``_leg_spring``,
+  ``_leg_friction``, the load), in the kernel's ``+ − × ÷`` on tuples, so that
+  the same code runs on floats, arrays, sympy and compiled by numba (which
+  cannot call methods of these objects); the element owns its fields, and a
+  field that is zero adds no operation;
 * its power on the robot, its potential energy where it has one and the
   power it dissipates (:meth:`Element.power`, :meth:`Element.potential`,
   :meth:`Element.dissipation`, on a :class:`State` of arrays;
@@ -50,7 +52,6 @@ from numpy.typing import NDArray
 from .errors import ParameterError
 
 __all__ = [
-    "APPLIED",
     "ELEMENTS",
     "FRICTIONS",
     "GRAVITY",
@@ -66,7 +67,6 @@ __all__ = [
     "SpringElement",
     "State",
     "WrenchElement",
-    "Wrenches",
     "effect_fields",
     "is_zero",
     "number_text",
@@ -100,37 +100,6 @@ def rate_sign(ops: Any, rate: Value, smoothing: Value) -> Value:
     if is_zero(smoothing):
         return ops.sign(rate)
     return ops.tanh(rate / smoothing)
-
-
-class Wrenches:
-    """The wrenches the bodies need, per leg, while the elements subtract what they apply.
-
-    Built by :func:`prp3.kernel.body_wrenches` from the inertia wrenches (eq. 22)
-    and frozen into its :class:`~prp3.kernel.BodyWrenches` afterwards.  Per
-    leg ``j``: the piston's force along ``e_j, n_j`` and moment about ``P_j``,
-    link 2's force along ``e_j, n_j`` and moment about ``P_j``; the
-    platform's force ``(x, y)`` and moment about ``G``.  ``C, D`` are
-    ``cos, sin(φ − π/3)`` (``d_j·e_j``, ``d_j·n_j``), ``directions`` the
-    ``d_j`` in the fixed frame, ``half`` is ``l0/2`` (``(P_j − G) × d_j``).
-    """
-
-    def __init__(
-        self,
-        legs: dict[str, list[Value]],
-        platform: list[Value],
-        C: Value,
-        D: Value,
-        directions: list[tuple[Value, Value]],
-        half: Value,
-    ) -> None:
-        self.piston_e = legs["piston_e"]
-        self.piston_n = legs["piston_n"]
-        self.piston_moment = legs["piston_moment"]
-        self.link_e = legs["link_e"]
-        self.link_n = legs["link_n"]
-        self.link_moment = legs["link_moment"]
-        self.platform = platform  # [x, y, moment]
-        self.C, self.D, self.directions, self.half = C, D, directions, half
 
 
 class State(NamedTuple):
@@ -194,13 +163,6 @@ class Element:
     def acts(self, k: Any) -> bool:
         """Whether the kernel parameters ``k`` give it any field other than zero."""
         return any(not is_zero(getattr(k, name)) for name in self.fields)
-
-    def apply(self, k: Any, kin: Any, w: Wrenches) -> None:
-        """Subtract the forces it applies from the wrenches the bodies need (eq. 22).
-
-        ``k`` the kernel's parameters, ``kin`` its kinematics of the state
-        (:class:`prp3.kernel.KernelKinematics`), in the kernel's numbers.
-        """
 
     def power(self, robot: Any, state: State) -> FloatArray:
         """Power of its forces on the robot (W), shape ``(N,)``."""
@@ -280,7 +242,7 @@ class GravityElement(Element):
 
     It enters the kernel through the inertial stage: each body needs
     ``m·(a_C − g)`` (eq. 22), so the fields are those of the model
-    (``gravity_x, gravity_y``) and :meth:`apply` adds nothing.  Potential
+    (``gravity_x, gravity_y``) and adds no applied force.  Potential
     energy ``−g·Σ m·r_C``; power ``g·Σ m·v_C`` (the payload's weight is the
     payload's).
     """
@@ -353,7 +315,7 @@ class LoadElement(Element):
     """The constant wrench of the environment on the platform (``[load]``): force at ``G``, moment.
 
     Applied to the platform, with the motion's time-varying wrench
-    (:data:`WRENCH`, :meth:`apply_loads`).  Its forces are known, not estimated
+    (:data:`WRENCH`) in :func:`prp3.kernel.body_wrenches`.  Its forces are known, not estimated
     (identification subtracts them); MuJoCo has no constant external force
     (the model stores it as the numeric ``prp3_load``).  Power ``F·Ġ + M·φ̇``.
     """
@@ -373,17 +335,6 @@ class LoadElement(Element):
         if not load.present:
             return {}
         return {"load_x": load.force[0], "load_y": load.force[1], "load_moment": load.moment}
-
-    def apply_loads(
-        self, k: Any, w: Wrenches, wrench: tuple[Value, Value, Value] | None, constant: bool
-    ) -> None:
-        """Subtract the constant load (when ``constant``) plus the motion's ``wrench`` at ``G``."""
-        ext = [k.load_x, k.load_y, k.load_moment] if constant else [0.0, 0.0, 0.0]
-        if wrench is not None:
-            ext = [v if is_zero(b) else b + v for b, v in zip(ext, wrench, strict=True)]
-        for axis in range(3):
-            if not is_zero(ext[axis]):
-                w.platform[axis] = w.platform[axis] - ext[axis]
 
     def power(self, robot: Any, state: State) -> FloatArray:
         fx, fy = robot.load.force
@@ -405,7 +356,7 @@ class LoadElement(Element):
 class WrenchElement(Element):
     """The motion's time-varying wrench ``fx, fy, mz`` on the platform at ``G`` (``TRAJ.csv``).
 
-    Not a robot's parameter (no field): :meth:`LoadElement.apply_loads` adds it
+    Not a robot's parameter (no field): :func:`prp3.kernel.body_wrenches` adds it
     to the constant load.  The generated C code has no input for it.
     Power ``f·Ġ + m_z·φ̇``.
     """
@@ -503,29 +454,6 @@ class FrictionElement(Element):
             for j in range(3)
         )  # fmt: skip
         return a, b, c
-
-    def apply_forces(self, w: Wrenches, forces: tuple[Value, Value, Value]) -> None:
-        """Subtract the friction forces ``forces`` of the three legs from the needed wrenches.
-
-        ``fric10·e_i`` on piston i; the moment ``fric21`` on link 2 and
-        ``−fric21`` on the piston; ``fric32·d_i`` at ``P_i`` on the platform
-        (moment about ``G`` ``(P_i − G) × d_i·fric32 = (l0/2)·fric32``) and
-        ``−fric32·d_i`` on link 2.
-        """
-        for j in range(3):
-            f = forces[j]
-            if self.kind == "actuator":
-                w.piston_e[j] = w.piston_e[j] - f  # the guide's friction helps the actuator
-            elif self.kind == "revolute":
-                w.piston_moment[j] = w.piston_moment[j] + f  # the piston receives −fric21
-                w.link_moment[j] = w.link_moment[j] - f
-            else:
-                dxl, dyl = w.directions[j]
-                w.link_e[j] = w.link_e[j] + f * w.C  # link 2 receives −fric32·d_i, d_i·e_i = C
-                w.link_n[j] = w.link_n[j] + f * w.D  # d_i·n_i = D
-                w.platform[0] = w.platform[0] - f * dxl
-                w.platform[1] = w.platform[1] - f * dyl
-                w.platform[2] = w.platform[2] - w.half * f
 
     def power(self, robot: Any, state: State) -> FloatArray:
         if state.friction is None:
@@ -671,31 +599,6 @@ class SpringElement(Element):
     def changes_statics(self, robot: Any) -> bool:
         return robot.spring is not None and robot.spring.actuator.stiffness != 0.0
 
-    def forces(self, k: Any, kin: Any) -> tuple[Value, Value, Value] | None:
-        """``s_i = −k·(λ10_i − λ_rest) − c·λ̇10_i`` per leg (``None`` when ``k = c = 0``)."""
-        stiffness, rest, damping = k.spring_stiffness, k.spring_rest, k.spring_damping
-        if is_zero(stiffness) and is_zero(damping):
-            return None
-        out: list[Value] = []
-        for j in range(3):
-            force: Value = 0.0
-            if not is_zero(stiffness):
-                stretch = kin.geometry.lambda10[j]
-                if not is_zero(rest):
-                    stretch = stretch - rest
-                force = -(stiffness * stretch)
-            if not is_zero(damping):
-                force = force - damping * kin.dlambda10[j]
-            out.append(force)
-        return out[0], out[1], out[2]
-
-    def apply(self, k: Any, kin: Any, w: Wrenches) -> None:
-        forces = self.forces(k, kin)
-        if forces is None:
-            return
-        for j in range(3):
-            w.piston_e[j] = w.piston_e[j] - forces[j]  # the spring helps the actuator
-
     def _stretch(self, robot: Any, state: State) -> tuple[FloatArray, FloatArray]:
         s = robot.spring.actuator
         force = -s.stiffness * (state.lambda10 - s.rest) - s.damping * state.dlambda10
@@ -754,10 +657,6 @@ FRICTIONS: tuple[FrictionElement, FrictionElement, FrictionElement] = (
 )
 SPRING = SpringElement()
 ELEMENTS: tuple[Element, ...] = (GRAVITY, PAYLOAD, LOAD, WRENCH, *FRICTIONS, SPRING)
-
-#: Elements whose :meth:`Element.apply` adds applied forces in the kernel (the load and
-#: the friction have their own steps: the motion's wrench, the implicit ``μ`` terms).
-APPLIED: tuple[Element, ...] = (SPRING,)
 
 
 def effect_fields() -> tuple[str, ...]:

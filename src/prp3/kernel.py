@@ -8,9 +8,16 @@ remaining joint reactions from the balance of each piston and link 2.  It uses
 only ``+ − × ÷`` and the functions of an :class:`Ops` namespace, so the very
 same source runs on
 
-* plain floats with :data:`MATH` — the single-sample path of :mod:`prp3.fast`;
-* 1-D float64 arrays with :data:`NUMPY` — the batch path of :mod:`prp3.fast`
-  (chunks of samples, memory bounded) and :func:`prp3.dynamics.inverse_dynamics`;
+* plain floats with :data:`MATH` — one sample of the numpy engine;
+* 1-D float64 arrays with :data:`NUMPY` — the numpy engine
+  (:func:`prp3.engines.run_numpy`: chunks of samples, memory bounded);
+* machine code: :mod:`prp3.numba_engine` compiles these very functions with
+  numba (the default engine), so the stages it compiles
+  (:func:`kernel_geometry`, :func:`kernel_kinematics`, :func:`body_wrenches`,
+  :func:`joint_forces`) keep to arithmetic, the :class:`Ops` functions,
+  tuples and named tuples — no lists, generators, ``isinstance`` or
+  ``getattr`` by name (a test of each engine against the kernel on arrays
+  fails otherwise);
 * sympy expressions with :func:`sympy_ops` — :func:`symbolic_solution`, from
   which the regressor and generated C code are derived.
 
@@ -85,7 +92,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from . import elements as _elements
-from .elements import APPLIED, FRICTIONS, LOAD, PAYLOAD, Wrenches, is_zero, rate_sign
+from .elements import FRICTIONS, LOAD, PAYLOAD, is_zero, rate_sign
 from .model import Robot
 
 __all__ = [
@@ -540,56 +547,33 @@ def body_wrenches(
     link 2's ``h2x·d_i + h2y·d⊥_i`` and the platform's ``Rot(φ)·h3`` (they turn
     with ``φ``).  Linear in the parameters: identification's regressor.
 
-    The forces the elements of :mod:`prp3.elements` apply are subtracted, each
-    written in its element: the constant load of ``k`` and the time-varying
-    ``load = (f_x, f_y, m_z)`` on the platform at ``G``
-    (:meth:`~prp3.elements.LoadElement.apply_loads`), the spring of the
-    actuators (:data:`prp3.elements.APPLIED`) and the joint ``friction``
-    (:meth:`~prp3.elements.FrictionElement.apply_forces`).  ``inertia=False``
+    The forces the elements of :mod:`prp3.elements` apply are subtracted here,
+    in plain arithmetic that the numba engine compiles (tuples, no objects):
+    the constant load of ``k`` (:class:`~prp3.elements.LoadElement`) and the
+    time-varying ``load = (f_x, f_y, m_z)`` on the platform at ``G``
+    (:class:`~prp3.elements.WrenchElement`), the spring of the actuators
+    (:func:`_leg_spring`, :class:`~prp3.elements.SpringElement`) and the joint
+    ``friction`` (:func:`_leg_friction`, :class:`~prp3.elements.FrictionElement`,
+    whose laws :func:`friction_forces` evaluates).  ``inertia=False``
     leaves the inertia wrenches, the weights, the constant load and the
     spring out (the wrenches of the friction forces alone: linear in them).
     """
-    gx, gy = k.gravity_x, k.gravity_y
-    m1, m2 = k.piston_mass, k.link_mass
-    h1x, h1y, h2x, h2y = k.piston_moment_x, k.piston_moment_y, k.link_moment_x, k.link_moment_y
     geo = kin.geometry
     c, s, D, C = geo.cos_phi, geo.sin_phi, geo.D, geo.C
     w2 = dphi * dphi
+    h2x, h2y = k.link_moment_x, k.link_moment_y
     ka = h2x * D + h2y * C  # h2·n_i = −h2 × e_i
     kb = h2x * C - h2y * D  # h2·e_i
     link_e_motion = ddphi * ka + w2 * kb  # −(φ̈·J·h2 − φ̇²·h2)·e_i
     link_n_motion = ddphi * kb - w2 * ka  # (φ̈·J·h2 − φ̇²·h2)·n_i
-    piston_e: list[Value] = []
-    piston_n: list[Value] = []
-    piston_moment: list[Value] = []
-    link_e: list[Value] = []
-    link_n: list[Value] = []
-    link_moment: list[Value] = []
-    directions = []
-    for leg, gamma in zip(_LEGS, kin.ddlambda10, strict=True):
-        g_e = gx * leg.ex + gy * leg.ey  # g·e_i
-        g_n = gx * leg.nx + gy * leg.ny  # g·n_i
-        dxl = c * leg.ax - s * leg.ay  # d_i = Rot(φ)·a_i
-        dyl = s * leg.ax + c * leg.ay
-        directions.append((dxl, dyl))
-        if not inertia:
-            piston_e.append(0.0)
-            piston_n.append(0.0)
-            piston_moment.append(0.0)
-            link_e.append(0.0)
-            link_n.append(0.0)
-            link_moment.append(0.0)
-            continue
-        # piston: F10 = m1·(λ̈10·e − g), M10 = h1 × (λ̈10·e − g) about P_i
-        piston_e.append(m1 * (gamma - g_e))
-        piston_n.append(-m1 * g_n)
-        piston_moment.append(h1y * g_e - h1x * g_n - h1y * gamma)
-        # link 2: F20 = m2·(a_P − g) + φ̈·J·h2 − φ̇²·h2, M20 = J2·φ̈ + h2 × (a_P − g) about P_i
-        link_e.append(m2 * (gamma - g_e) - link_e_motion)
-        link_n.append(link_n_motion - m2 * g_n)
-        h2_cross_g = h2x * (dxl * gy - dyl * gx) - h2y * (dxl * gx + dyl * gy)
-        link_moment.append(k.link_inertia * ddphi - ka * gamma - h2_cross_g)
+    motion = (c, s, ka, link_e_motion, link_n_motion, ddphi)
+    legs = (
+        _leg_wrenches(k, _LEGS[0], kin.ddlambda10[0], motion, inertia),
+        _leg_wrenches(k, _LEGS[1], kin.ddlambda10[1], motion, inertia),
+        _leg_wrenches(k, _LEGS[2], kin.ddlambda10[2], motion, inertia),
+    )
     # platform: F3 = m3·(G̈ − g) + φ̈·J·h − φ̇²·h, M3 = J3·φ̈ + h × (G̈ − g) about G, h = Rot(φ)·h3
+    gx, gy = k.gravity_x, k.gravity_y
     hx = c * k.platform_moment_x - s * k.platform_moment_y
     hy = s * k.platform_moment_x + c * k.platform_moment_y
     ax, ay = ddx - gx, ddy - gy
@@ -599,31 +583,116 @@ def body_wrenches(
         platform_moment = k.platform_inertia * ddphi + hx * ay - hy * ax
     else:
         platform_x = platform_y = platform_moment = 0.0
-    # the applied forces of the elements (prp3.elements), subtracted from what the bodies need
-    w = Wrenches(
-        {"piston_e": piston_e, "piston_n": piston_n, "piston_moment": piston_moment,
-         "link_e": link_e, "link_n": link_n, "link_moment": link_moment},
-        [platform_x, platform_y, platform_moment], C, D, directions, 0.5 * k.l0,
-    )  # fmt: skip
     # the environment's wrench on the platform at G: constant [load] + time-varying load
-    LOAD.apply_loads(k, w, load, constant=inertia)
-    if inertia:
-        for element in APPLIED:  # the spring of the actuators
-            element.apply(k, kin, w)
+    ext_x, ext_y, ext_m = (k.load_x, k.load_y, k.load_moment) if inertia else (0.0, 0.0, 0.0)
+    if load is not None:
+        ext_x = load[0] if _zero(ext_x) else ext_x + load[0]
+        ext_y = load[1] if _zero(ext_y) else ext_y + load[1]
+        ext_m = load[2] if _zero(ext_m) else ext_m + load[2]
+    if not _zero(ext_x):
+        platform_x = platform_x - ext_x
+    if not _zero(ext_y):
+        platform_y = platform_y - ext_y
+    if not _zero(ext_m):
+        platform_moment = platform_moment - ext_m
+    if inertia and not (_zero(k.spring_stiffness) and _zero(k.spring_damping)):
+        geo_lambda10, rate = kin.geometry.lambda10, kin.dlambda10
+        legs = (
+            _leg_spring(k, legs[0], geo_lambda10[0], rate[0]),
+            _leg_spring(k, legs[1], geo_lambda10[1], rate[1]),
+            _leg_spring(k, legs[2], geo_lambda10[2], rate[2]),
+        )
     if friction is not None:
-        for element, forces in zip(FRICTIONS, friction, strict=True):
-            element.apply_forces(w, forces)
-    platform_x, platform_y, platform_moment = w.platform
+        half = 0.5 * k.l0
+        for j in range(3):
+            f32, dxl, dyl = friction.fric32[j], legs[j][6], legs[j][7]
+            platform_x = platform_x - f32 * dxl
+            platform_y = platform_y - f32 * dyl
+            platform_moment = platform_moment - half * f32
+        legs = (
+            _leg_friction(legs[0], friction, 0, C, D),
+            _leg_friction(legs[1], friction, 1, C, D),
+            _leg_friction(legs[2], friction, 2, C, D),
+        )
+    A, B, L = legs
     return BodyWrenches(
-        piston_e=(piston_e[0], piston_e[1], piston_e[2]),
-        piston_n=(piston_n[0], piston_n[1], piston_n[2]),
-        piston_moment=(piston_moment[0], piston_moment[1], piston_moment[2]),
-        link_e=(link_e[0], link_e[1], link_e[2]),
-        link_n=(link_n[0], link_n[1], link_n[2]),
-        link_moment=(link_moment[0], link_moment[1], link_moment[2]),
+        piston_e=(A[0], B[0], L[0]),
+        piston_n=(A[1], B[1], L[1]),
+        piston_moment=(A[2], B[2], L[2]),
+        link_e=(A[3], B[3], L[3]),
+        link_n=(A[4], B[4], L[4]),
+        link_moment=(A[5], B[5], L[5]),
         platform_x=platform_x,
         platform_y=platform_y,
         platform_moment=platform_moment,
+    )
+
+
+#: The wrenches of one leg's piston and link 2, and ``d_i``: :func:`_leg_wrenches`.
+_LegWrenches = tuple[Value, Value, Value, Value, Value, Value, Value, Value]
+
+
+def _leg_wrenches(
+    k: KernelParameters,
+    leg: _Leg,
+    gamma: Value,
+    motion: tuple[Value, Value, Value, Value, Value, Value],
+    inertia: bool,
+) -> _LegWrenches:
+    """Piston i's and link 2's wrench (eqs. 19, 20, 22) and ``d_i``, for :func:`body_wrenches`.
+
+    ``gamma = λ̈10_i``; ``motion = (cos φ, sin φ, h2·n_i, link 2's motion terms
+    along e_i and n_i, φ̈)``.  Returns the piston's force along ``e_i, n_i``
+    and moment about ``P_i``, link 2's force along ``e_i, n_i`` and moment
+    about ``P_i``, and ``d_i = (d_ix, d_iy)`` (zero wrenches without ``inertia``).
+    """
+    c, s, ka, link_e_motion, link_n_motion, ddphi = motion
+    gx, gy = k.gravity_x, k.gravity_y
+    m1, m2 = k.piston_mass, k.link_mass
+    h1x, h1y, h2x, h2y = k.piston_moment_x, k.piston_moment_y, k.link_moment_x, k.link_moment_y
+    g_e = gx * leg.ex + gy * leg.ey  # g·e_i
+    g_n = gx * leg.nx + gy * leg.ny  # g·n_i
+    dxl = c * leg.ax - s * leg.ay  # d_i = Rot(φ)·a_i
+    dyl = s * leg.ax + c * leg.ay
+    if not inertia:
+        return (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, dxl, dyl)
+    # piston: F10 = m1·(λ̈10·e − g), M10 = h1 × (λ̈10·e − g) about P_i
+    piston_e = m1 * (gamma - g_e)
+    piston_n = -m1 * g_n
+    piston_moment = h1y * g_e - h1x * g_n - h1y * gamma
+    # link 2: F20 = m2·(a_P − g) + φ̈·J·h2 − φ̇²·h2, M20 = J2·φ̈ + h2 × (a_P − g) about P_i
+    link_e = m2 * (gamma - g_e) - link_e_motion
+    link_n = link_n_motion - m2 * g_n
+    h2_cross_g = h2x * (dxl * gy - dyl * gx) - h2y * (dxl * gx + dyl * gy)
+    link_moment = k.link_inertia * ddphi - ka * gamma - h2_cross_g
+    return (piston_e, piston_n, piston_moment, link_e, link_n, link_moment, dxl, dyl)
+
+
+def _leg_spring(k: KernelParameters, w: _LegWrenches, lam: Value, rate: Value) -> _LegWrenches:
+    """One leg's wrenches minus the force of the actuator's spring with damper on its piston.
+
+    The element :class:`prp3.elements.SpringElement` (``[spring.actuator]``):
+    ``s_i = −k·(λ10_i − λ_rest) − c·λ̇10_i`` along ``e_i`` through ``P_i``; it helps
+    the actuator, as the guide's friction does.
+    """
+    force = -(k.spring_stiffness * (lam - k.spring_rest)) - k.spring_damping * rate
+    return (w[0] - force, w[1], w[2], w[3], w[4], w[5], w[6], w[7])
+
+
+def _leg_friction(
+    w: _LegWrenches, friction: KernelFriction, j: int, C: Value, D: Value
+) -> _LegWrenches:
+    """One leg's wrenches of :func:`_leg_wrenches` minus the friction forces on them."""
+    f10, f21, f32 = friction.fric10[j], friction.fric21[j], friction.fric32[j]
+    return (
+        w[0] - f10,  # the guide's friction helps the actuator
+        w[1],
+        w[2] + f21,  # the piston receives −fric21
+        w[3] + f32 * C,  # link 2 receives −fric32·d_i, d_i·e_i = C
+        w[4] + f32 * D,  # d_i·n_i = D
+        w[5] - f21,
+        w[6],
+        w[7],
     )
 
 
@@ -651,16 +720,16 @@ def joint_forces(
     # ν_i = −n32_i: (ν₀ + P/√3 − Q/3, ν₀ + 2Q/3, ν₀ − P/√3 − Q/3), n_A, n_B, n_C as _LEGS
     normal = (third + tilt, common + Q * (2.0 / 3.0), third - tilt)
     # eq. (25): f21z_j = F20_j·e_j + z_j; eq. (24): f21y_j = F20_j·n_j − C·ν_j
-    f21z = tuple(w.link_e[j] + D * normal[j] for j in range(3))
-    f21y = tuple(w.link_n[j] - C * normal[j] for j in range(3))
+    f21z = (w.link_e[0] + D * normal[0], w.link_e[1] + D * normal[1], w.link_e[2] + D * normal[2])
+    f21y = (w.link_n[0] - C * normal[0], w.link_n[1] - C * normal[1], w.link_n[2] - C * normal[2])
     # eq. (23)
     f10 = (w.piston_e[0] + f21z[0], w.piston_e[1] + f21z[1], w.piston_e[2] + f21z[2])
     if not reactions:
         return f10, f21y, f21z, None
     # balance of each piston (along n_i, moment about P_i) and link 2 (about P_i)
-    n10 = tuple(w.piston_n[j] + f21y[j] for j in range(3))
-    n32 = tuple(-normal[j] for j in range(3))
-    m32 = tuple(-w.link_moment[j] for j in range(3))
+    n10 = (w.piston_n[0] + f21y[0], w.piston_n[1] + f21y[1], w.piston_n[2] + f21y[2])
+    n32 = (-normal[0], -normal[1], -normal[2])
+    m32 = (-w.link_moment[0], -w.link_moment[1], -w.link_moment[2])
     return (
         f10,
         f21y,

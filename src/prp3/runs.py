@@ -17,8 +17,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .dynamics import Method, inverse_dynamics
+from .engines import resolve_engine
 from .errors import ParameterError, Prp3Error
-from .fast import CompiledRobot, compile_robot, solve_batch
+from .fast import CompiledRobot, Engine, compile_robot, solve_batch
 from .geometry import LEGS
 from .model import Robot
 from .motion import Motion
@@ -49,6 +50,7 @@ def simulate_table(
     progress: Callable[[int, int], None] | None = None,
     chunk: int = CHUNK_SAMPLES,
     near_lock: list[int] | None = None,
+    engine: Engine = None,
 ) -> dict[str, FloatArray]:
     """The columns of ``results.csv`` for a batch motion, computed ``chunk`` samples at a time.
 
@@ -60,6 +62,7 @@ def simulate_table(
     ``near_lock``: a list to which the indices of the samples near a lock of
     the joint friction are appended (robots with ``μ`` terms; the kernel's
     definition, :data:`prp3.kernel.NEAR_LOCK_MU`, whatever the ``method``).
+    ``engine``: the kernel's engine (:mod:`prp3.engines`; ``None``: the default).
 
     >>> from prp3.motion import paper_motion
     >>> table = simulate_table(Robot(), paper_motion("vertical", 7), chunk=3)
@@ -69,6 +72,7 @@ def simulate_table(
     check_robot(robot)
     samples = check_instance("motion", motion, Motion, "a prp3.Motion").samples
     chunk = check_integer("chunk", chunk, 1, 2**31)
+    engine = resolve_engine(engine)  # type: ignore[assignment]
     check_path(motion.t, motion.pose)  # the whole motion: a crossing between two chunks too
     columns = result_columns(robot.friction is not None, load=motion.load is not None)
     table = {name: np.empty(samples) for name in columns}
@@ -81,13 +85,14 @@ def simulate_table(
             flags = None
             if method == "fast":  # the kernel's outputs are the columns: no vectors needed
                 assert compiled is not None
-                part, flags = _kernel_table(compiled, piece)
+                part, flags = _kernel_table(compiled, piece, engine)
             else:
-                part = results_table(*inverse_dynamics(robot, piece, method))
+                part = results_table(*inverse_dynamics(robot, piece, method, engine=engine))
                 if near_lock is not None and compiled is not None:  # the kernel's test, too
                     flags = solve_batch(
-                        compiled, piece.pose, piece.velocity, piece.acceleration, load=piece.load
-                    ).get("near_lock")
+                        compiled, piece.pose, piece.velocity, piece.acceleration,
+                        load=piece.load, engine=engine,
+                    ).get("near_lock")  # fmt: skip
         except Prp3Error as error:
             if error.sample is None:
                 raise
@@ -105,7 +110,7 @@ def simulate_table(
 
 
 def _kernel_table(
-    compiled: CompiledRobot, motion: Motion
+    compiled: CompiledRobot, motion: Motion, engine: Engine
 ) -> tuple[dict[str, FloatArray], FloatArray | None]:
     """The columns of ``results.csv`` straight from the kernel (``method="fast"``), and the
     near-lock flags of its samples (``None`` without ``μ`` terms).
@@ -116,7 +121,7 @@ def _kernel_table(
     ``results.csv`` does not hold; the same refusals (poses, stroke, overflow).
     """
     values = solve_batch(
-        compiled, motion.pose, motion.velocity, motion.acceleration, load=motion.load
+        compiled, motion.pose, motion.velocity, motion.acceleration, load=motion.load, engine=engine
     )
     single = {"t": motion.t, "x": motion.pose[:, 0], "y": motion.pose[:, 1]}
     single["phi"] = motion.pose[:, 2]
