@@ -27,7 +27,7 @@ from .forces import InverseDynamics, checked
 from .kinematics import Kinematics
 from .model import Robot, check_robot
 from .motion import Motion
-from .validation import check_instance
+from .validation import check_instance, rest_joint_rates
 
 __all__ = ["NEWTON_EULER_CHUNK", "newton_euler"]
 
@@ -235,10 +235,10 @@ def _solve(
     # direction û) into the matrix, iterated until the signs and directions settle.
     act, rev, slv = friction.actuator, friction.revolute, friction.sleeve
     w_legs = np.broadcast_to(velocity[:, 2, None], sd.shape)
-    s10, s21, s32 = (
-        _rate_sign(sd, act.smoothing),
+    s10, s21, s32 = (  # round-off joint rates are zero for s(v) (rest_joint_rates)
+        _rate_sign(rest_joint_rates(sd, pose, velocity, l0), act.smoothing),
         _rate_sign(w_legs, rev.smoothing),
-        _rate_sign(lam32d, slv.smoothing),
+        _rate_sign(rest_joint_rates(lam32d, pose, velocity, l0), slv.smoothing),
     )
     e10 = -(act.viscous * sd + act.coulomb * s10)
     e21 = -(rev.viscous * w_legs + rev.coulomb * s21)

@@ -85,7 +85,7 @@ from .paper_wrenches import (
     virtual_work,
     weight_wrenches,
 )
-from .validation import check_robot, first_non_finite
+from .validation import check_robot, first_non_finite, rest_joint_rates
 
 __all__ = [
     "FORCE_SETS",
@@ -306,7 +306,10 @@ def _evaluate_loaded(
 
     v10, v32 = chunk["v10"], chunk["v32"]
     w = np.broadcast_to(velocity[:, 2, None], v10.shape)
-    s10, s21, s32 = s(v10, act.smoothing), s(w, rev.smoothing), s(v32, slv.smoothing)
+    # round-off joint rates are zero for s(v) (validation.rest_joint_rates)
+    still10 = rest_joint_rates(v10, pose, velocity, robot.l0)
+    still32 = rest_joint_rates(v32, pose, velocity, robot.l0)
+    s10, s21, s32 = s(still10, act.smoothing), s(w, rev.smoothing), s(still32, slv.smoothing)
     e10 = -(act.viscous * v10 + act.coulomb * s10)
     e21 = -(rev.viscous * w + rev.coulomb * s21)
     e32 = -(slv.viscous * v32 + slv.coulomb * s32)

@@ -69,6 +69,7 @@ __all__ = [
     "check_times",
     "first_non_finite",
     "require_finite",
+    "rest_joint_rates",
     "rest_rates",
     "singularity_measure",
 ]
@@ -512,6 +513,30 @@ def _check_steps(
         sample=k,
         time=float(t[index + 1]),
     )
+
+
+def rest_joint_rates(
+    rate: FloatArray, pose: FloatArray, velocity: FloatArray, l0: float
+) -> FloatArray:
+    """Joint rates ``(N, 3)`` of the legs with the round-off ones set to zero, for ``s(v)``.
+
+    A joint rate can vanish by cancellation while the platform moves (at
+    ``φ = 0`` and ``ẏ = φ̇ = 0``, leg B's ``λ̇32 = n_B·Ġ/D`` is zero), and each
+    method computes that zero with its own round-off (``sin π ≈ 1.2e-16``):
+    an exact-sign friction law would read a random sign.  So, in every method,
+    a joint rate of magnitude at most :data:`RATE_TOLERANCE` times its
+    sample's scale ``(|Ġ| + |φ̇|·(l0 + |G|)) / |sin(φ − π/3)|`` (the size of the
+    terms of eq. 14) counts as zero for the sign.
+
+    >>> rest_joint_rates(np.array([[0.5, 3e-17, -0.2]]), np.zeros((1, 3)),
+    ...                  np.array([[0.25, 0.0, 0.0]]), 0.3).tolist()
+    [[0.5, 0.0, -0.2]]
+    """
+    speed = np.hypot(velocity[:, 0], velocity[:, 1])
+    reach = l0 + np.hypot(pose[:, 0], pose[:, 1])
+    scale = (speed + np.abs(velocity[:, 2]) * reach) / np.abs(singularity_measure(pose[:, 2]))
+    floor = (RATE_TOLERANCE * scale)[:, None]
+    return np.where(np.abs(rate) <= floor, 0.0, rate)
 
 
 def rest_rates(velocity: FloatArray) -> FloatArray:
