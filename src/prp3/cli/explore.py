@@ -20,7 +20,6 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..errors import Prp3Error
 from ..model import Robot
 from ._types import add_robot_option, emit, integer_at_least, load_robot, path_name
 
@@ -83,19 +82,11 @@ def register(subparsers: Any) -> None:
     parser.set_defaults(handler=run)
 
 
-def _bokeh() -> None:
-    try:
-        import bokeh  # noqa: F401
-    except ImportError:
-        raise Prp3Error(
-            "prp3 explore needs Bokeh, which is not installed: pip install 'prp3[explore]'"
-        ) from None
-
-
 def run(args: argparse.Namespace) -> int:
     """Run ``prp3 explore`` with parsed ``args``; return the exit status."""
-    _bokeh()
-    from ..explorer.app import serve, write_run_html
+    from ..explorer.app import require_bokeh, serve, write_run_html
+
+    require_bokeh()
     from ..explorer.scene import read_run, run_motion
 
     robot = load_robot(args)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import errno
 import math
+import socket
 import webbrowser
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -59,6 +60,7 @@ __all__ = [
     "DEFAULT_PORT",
     "MAX_HTML_FRAMES",
     "explorer_document",
+    "require_bokeh",
     "run_html",
     "serve",
     "write_run_html",
@@ -101,6 +103,16 @@ if (toggle.active) {
   clearInterval(window._prp3_timer);
 }
 """
+
+
+def require_bokeh(what: str = "prp3 explore") -> None:
+    """Refuse, in one line, when Bokeh is not installed."""
+    try:
+        import bokeh  # noqa: F401
+    except ImportError:
+        raise Prp3Error(
+            f"{what} needs Bokeh, which is not installed: pip install 'prp3[explore]'"
+        ) from None
 
 
 # ---------------------------------------------------------------- figures
@@ -749,6 +761,35 @@ def write_run_html(
 
 
 # ---------------------------------------------------------------- the server
+def _listen_error(host: str, port: int, error: OSError) -> Prp3Error:
+    if error.errno == errno.EADDRINUSE:
+        return Prp3Error(
+            f"port {port} on {host} is busy (another program listens there): "
+            "choose another with --port",
+            origin=f"--port {port}",
+        )
+    return Prp3Error(
+        f"cannot listen on {host}:{port}: {error.strerror or error}", origin=f"--host {host}"
+    )
+
+
+def _check_port(host: str, port: int) -> None:
+    """Refuse a port that is taken or an address this machine cannot listen on (one line)."""
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
+    except OSError as error:
+        raise Prp3Error(
+            f"cannot listen on {host}:{port}: {error.strerror or error}", origin=f"--host {host}"
+        ) from None
+    for family, kind, protocol, _, address in infos:
+        with socket.socket(family, kind, protocol) as probe:
+            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the server does
+            try:
+                probe.bind(address)
+            except OSError as error:
+                raise _listen_error(host, port, error) from None
+
+
 def serve(
     robot: Robot,
     run: Run | None = None,
@@ -775,6 +816,7 @@ def serve(
     def make(doc: Any) -> None:
         explorer_document(doc, robot, run)
 
+    _check_port(host, port)
     origins = [f"{host}:{port}", f"localhost:{port}", f"127.0.0.1:{port}"]
     try:
         server = Server(
@@ -784,16 +826,8 @@ def serve(
             allow_websocket_origin=origins,
             num_procs=1,
         )
-    except OSError as error:
-        if error.errno == errno.EADDRINUSE:
-            raise Prp3Error(
-                f"port {port} on {host} is busy (another program listens there): "
-                "choose another with --port",
-                origin=f"--port {port}",
-            ) from None
-        raise Prp3Error(
-            f"cannot listen on {host}:{port}: {error.strerror or error}", origin=f"--host {host}"
-        ) from None
+    except OSError as error:  # taken between the check and the server's own bind
+        raise _listen_error(host, port, error) from None
     url = f"http://{host}:{port}/"
     server.start()
     announce(url)
