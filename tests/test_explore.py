@@ -22,11 +22,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from clitools import cli, one_line
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from strategies import REF_E, REF_N, ref_geometry, ref_joint, ref_rates, ref_slide, robots, turn
 
+from clitools import cli, one_line
 from prp3 import Robot
 from prp3.dynamics import inverse_dynamics
 from prp3.errors import InputFileError, ParameterError, Prp3Error, SingularPoseError
@@ -47,6 +46,7 @@ from prp3.explorer.scene import (
 )
 from prp3.model import Limits, Payload
 from prp3.motion import Motion, paper_motion
+from strategies import REF_E, REF_N, ref_geometry, ref_joint, ref_rates, ref_slide, robots
 
 pytest.importorskip("bokeh", reason="the explorer needs Bokeh (pip install 'prp3[explore]')")
 
@@ -236,7 +236,7 @@ def test_a_bad_design_value_is_refused_naming_its_key() -> None:
         design_robot(Robot(), {"payload.mass": -1.0})
     with pytest.raises(ParameterError, match=r"friction\.sleeve\.mu"):
         design_robot(Robot(), {"friction.sleeve.mu": math.nan})
-    with pytest.raises(Prp3Error, match="unknown design parameter 'platform.colour'"):
+    with pytest.raises(Prp3Error, match=r"unknown design parameter 'platform\.colour'"):
         design_robot(Robot(), {"platform.colour": 1.0})
 
 
