@@ -267,7 +267,7 @@ def test_the_scrubber_shows_the_run_s_forces(
                         _forces(page.evaluate(_READ, "arrows"), name), value, rtol=1e-9, atol=1e-9
                     )
                     for name, value in expected.items()
-                )  # fmt: skip
+                )
             )
         assert page.evaluate("() => Bokeh.documents[0].get_model_by_name('phi').value") == (
             pytest.approx(float(table["phi"][45]), abs=1e-15)
