@@ -91,6 +91,17 @@ span.location = times[k];
 slider.title = "t = " + times[k].toFixed(3) + " s";
 """
 
+#: Copies the columns of the one row of the server's bundle into the drawn sources.
+_UNBUNDLE = """
+const data = bundle.data instanceof Map ? Object.fromEntries(bundle.data) : bundle.data;
+const grouped = {};
+for (const [key, values] of Object.entries(data)) {
+  const [name, column] = key.split("|");
+  (grouped[name] = grouped[name] || {})[column] = values[0];
+}
+for (const [name, columns] of Object.entries(grouped)) targets[name].data = columns;
+"""
+
 #: Steps the scrubber while the play button is down (the browser's timer; no computation).
 _PLAY = """
 if (toggle.active) {
@@ -403,7 +414,7 @@ def explorer_document(
     shows the library's one-line message.
     """
     from bokeh.layouts import column, row
-    from bokeh.models import Checkbox, Div, Slider, Spinner
+    from bokeh.models import Checkbox, ColumnDataSource, CustomJS, Div, Slider, Spinner
 
     base_robot = robot
     current: dict[str, Any] = {"robot": robot, "load": None, "busy": False, "timer": None}
@@ -481,9 +492,27 @@ def explorer_document(
     figure_ = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
     overlay_phi: list[float | None] = [0.0 if overlay0 is not None else None]
 
+    shown: dict[str, Columns] = dict(first.sources())
+    # every drawn source of an update travels in one message: one row of the bundle holds
+    # each changed source's columns, which _UNBUNDLE copies into it in the browser (one
+    # message and one repaint instead of one per source)
+    bundle = ColumnDataSource({}, name="bundle")
+    bundle.js_on_change(
+        "data",
+        CustomJS(
+            args={"bundle": bundle, "targets": {name: sources[name] for name in shown}},
+            code=_UNBUNDLE,
+        ),
+    )
+
     def show(view: View) -> None:
+        changed: dict[str, list[Any]] = {}
         for name, columns in view.sources().items():
-            sources[name].data = columns
+            if shown.get(name) != columns:  # only what changed goes to the browser
+                changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
+                shown[name] = columns
+        if changed:
+            bundle.data = changed
 
     def refresh_overlay(phi: float, robot_now: Robot) -> None:
         if not overlay_box.active:
@@ -507,12 +536,21 @@ def explorer_document(
     def update() -> None:
         if current["busy"]:
             return
+        doc.hold("combine")  # every change of this update reaches the browser in one message
+        try:
+            _update()
+        finally:
+            doc.unhold()
+
+    def _update() -> None:
         values = {name: float(slider.value) for name, slider in sliders.items()}
         base_state = State.from_controls(values)
         state = State(
             base_state.pose, base_state.velocity, base_state.acceleration, current["load"]
         )
-        marker.data = {"phi": [state.pose[2]], "measure": [math.sin(state.pose[2] - math.pi / 3.0)]}
+        if marker.data["phi"] != [state.pose[2]]:
+            measure = float(scene.singularity(np.array(state.pose[2])))
+            marker.data = {"phi": [state.pose[2]], "measure": [measure]}
         robot_now: Robot = current["robot"]
         try:
             table = scene.table(robot_now, state)
@@ -591,6 +629,7 @@ def explorer_document(
         design,
     )
     doc.add_root(layout)
+    doc.add_root(bundle)  # drawn by nothing: a root, so that it reaches the browser
     doc.title = "prp3 explore"
     update()
 
@@ -773,6 +812,28 @@ def _listen_error(host: str, port: int, error: OSError) -> Prp3Error:
     )
 
 
+def _no_delay() -> None:
+    """Send the server's websocket messages at once (``TCP_NODELAY``), in this process.
+
+    Bokeh's websocket handler leaves Nagle's algorithm on: a small message
+    (the columns of one update) then waits for the browser's delayed
+    acknowledgement, about 40 ms on loopback, at every slider move
+    (``benchmarks/bench_explore.py`` measures the difference).
+    """
+    from bokeh.server.views.ws import WSHandler
+
+    if getattr(WSHandler, "_prp3_no_delay", False):
+        return
+    opened = WSHandler.open
+
+    def open_without_delay(self: Any) -> None:
+        self.set_nodelay(True)
+        opened(self)
+
+    WSHandler.open = open_without_delay
+    WSHandler._prp3_no_delay = True
+
+
 def _check_port(host: str, port: int) -> None:
     """Refuse a port that is taken or an address this machine cannot listen on (one line)."""
     try:
@@ -817,6 +878,7 @@ def serve(
         explorer_document(doc, robot, run)
 
     _check_port(host, port)
+    _no_delay()
     origins = [f"{host}:{port}", f"localhost:{port}", f"127.0.0.1:{port}"]
     try:
         server = Server(
