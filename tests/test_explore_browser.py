@@ -216,6 +216,14 @@ def test_moving_the_sliders_draws_the_library_s_forces(browser: Any, server: str
         row = table["quantity"].index("f10")
         library = pose_table(Robot(), state)
         assert [table[leg][row] for leg in "ABC"] == [float(library[f"f10_{x}"][0]) for x in "ABC"]
+
+        # and the table on the screen shows them (BokehJS redraws a table only when told)
+        def shown() -> list[str]:
+            cells = page.locator(".slick-cell").all_inner_texts()
+            start = cells.index("f10")
+            return cells[start + 2 : start + 5]
+
+        _until(lambda: shown() == [f"{float(library[f'f10_{x}'][0]):.4f}" for x in "ABC"])
         # the field beside the slider shows the same value (linked in the browser)
         assert page.evaluate("() => Bokeh.documents[0].get_model_by_name('x_field').value") == 0.031
     finally:
@@ -234,6 +242,8 @@ def test_a_singular_pose_shows_the_message_and_no_stale_picture(browser: Any, se
         assert shown == str(caught.value)
         assert page.evaluate(_READ, "arrows")["quantity"] == []
         assert page.evaluate(_READ, "platform")["xs"] == []
+        assert page.evaluate(_READ, "overlay")["image"] == []  # no map of another φ
+        assert len(page.evaluate(_READ, "base")["xs"]) == 1  # the fixed base stays
         page.evaluate(_SET, ["phi", 0.1])  # a regular pose again: drawn, the message gone
         _until(lambda: page.evaluate(message) == "")
         assert _matches(page, _expected(pose_table(Robot(), State((0.0, 0.0, 0.1))), 0))
@@ -320,6 +330,11 @@ def test_the_exported_html_opens_offline_and_plays(
         assert k >= 5
         for name, value in _expected(table, int(frames[k])).items():
             np.testing.assert_allclose(_forces(arrows, name), value, rtol=1e-12, atol=1e-12)
+        cells = page.locator(".slick-cell").all_inner_texts()
+        start = cells.index("f21z")
+        assert cells[start + 2 : start + 5] == [
+            f"{float(table[f'f21z_{x}'][frames[k]]):.4f}" for x in "ABC"
+        ]
         assert requested == []
     finally:
         context.close()

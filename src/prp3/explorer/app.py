@@ -87,7 +87,8 @@ for (const [name, target] of Object.entries(targets)) {
   for (const column of Object.keys(frames.data)) data[column] = frames.data[column][k];
   target.data = data;
 }
-span.location = times[k];
+table.view.change.emit();  // a DataTable redraws on a change of its view only
+for (const span of spans) span.location = times[k];
 slider.title = "t = " + times[k].toFixed(3) + " s";
 """
 
@@ -100,6 +101,9 @@ for (const [key, values] of Object.entries(data)) {
   (grouped[name] = grouped[name] || {})[column] = values[0];
 }
 for (const [name, columns] of Object.entries(grouped)) targets[name].data = columns;
+// BokehJS redraws a DataTable when its view's rows change, not when the data of the same
+// rows does: tell it
+if ("values" in grouped) table.view.change.emit();
 """
 
 #: Steps the scrubber while the play button is down (the browser's timer; no computation).
@@ -142,8 +146,8 @@ def _robot_figure(
     fig = figure(
         name="robot",
         title="3-PRP robot (to scale); arrows: joint forces at the joints P_i",
-        frame_width=500,
-        frame_height=500,
+        frame_width=470,
+        frame_height=470,
         x_range=Range1d(-half, half),
         y_range=Range1d(-half, half),
         x_axis_label="x (m)",
@@ -292,15 +296,15 @@ def _table(source: Any) -> Any:
 
     number = NumberFormatter(format="0.0000")
     columns = [
-        TableColumn(field="quantity", title="quantity", width=70),
-        TableColumn(field="unit", title="unit", width=45),
-        *(TableColumn(field=leg, title=f"leg {leg}", formatter=number, width=80) for leg in LEGS),
+        TableColumn(field="quantity", title="quantity", width=62),
+        TableColumn(field="unit", title="unit", width=40),
+        *(TableColumn(field=leg, title=f"leg {leg}", formatter=number, width=72) for leg in LEGS),
     ]
     return DataTable(
         source=source,
         columns=columns,
         name="table",
-        width=360,
+        width=330,
         height=330,
         index_position=None,
         reorderable=False,
@@ -313,8 +317,8 @@ def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[A
 
     curve = singularity_curve(phi_range)
     fig = figure(
-        title="singularity: sin(φ − π/3); refused where |·| < 1e-4 (red)",
-        width=360,
+        title="sin(φ − π/3): singular at the red lines (|·| < 1e-4 refused)",
+        width=330,
         height=170,
         x_axis_label="φ (rad)",
         tools="",
@@ -352,7 +356,7 @@ def _time_plots(table: Mapping[str, FloatArray]) -> tuple[list[Any], Any]:
     for quantity in PLOTTED:
         fig = figure(
             title=f"{quantity} (N)",
-            width=380,
+            width=330,
             height=140,
             tools="xpan,xwheel_zoom,reset",
             toolbar_location=None,
@@ -447,7 +451,7 @@ def explorer_document(
             step=control.step,
             name=control.name,
             title=f"{control.label} ({control.unit})",
-            width=230,
+            width=190,
             show_value=False,
         )
         field = Spinner(
@@ -455,7 +459,7 @@ def explorer_document(
             high=high,
             step=control.step,
             value=0.0,
-            width=95,
+            width=88,
             name=f"{control.name}_field",
             format="0.[0000]",
         )
@@ -493,6 +497,7 @@ def explorer_document(
     overlay_phi: list[float | None] = [0.0 if overlay0 is not None else None]
 
     shown: dict[str, Columns] = dict(first.sources())
+    values_table = _table(sources["values"])
     # every drawn source of an update travels in one message: one row of the bundle holds
     # each changed source's columns, which _UNBUNDLE copies into it in the browser (one
     # message and one repaint instead of one per source)
@@ -500,7 +505,11 @@ def explorer_document(
     bundle.js_on_change(
         "data",
         CustomJS(
-            args={"bundle": bundle, "targets": {name: sources[name] for name in shown}},
+            args={
+                "bundle": bundle,
+                "targets": {name: sources[name] for name in shown},
+                "table": values_table,
+            },
             code=_UNBUNDLE,
         ),
     )
@@ -508,16 +517,17 @@ def explorer_document(
     def show(view: View) -> None:
         changed: dict[str, list[Any]] = {}
         for name, columns in view.sources().items():
-            if shown.get(name) != columns:  # only what changed goes to the browser
-                changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
-                shown[name] = columns
+            if shown.get(name) == columns:  # only what changed goes to the browser
+                continue
+            shown[name] = columns
+            changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
         if changed:
             bundle.data = changed
 
     def refresh_overlay(phi: float, robot_now: Robot) -> None:
         if not overlay_box.active:
-            sources["overlay"].data = {key: [] for key in ("image", "x", "y", "dw", "dh")}
-            sources["region"].data = {"xs": [], "ys": []}
+            sources["overlay"].data = _empty_overlay()["image"]
+            sources["region"].data = _empty_overlay()["region"]
             overlay_phi[0] = None
             return
         if overlay_phi[0] == phi:
@@ -556,12 +566,20 @@ def explorer_document(
             table = scene.table(robot_now, state)
             view = scene.view(robot_now, table, 0, scale[0])
         except Prp3Error as error:
-            show(empty_view(first))
-            message.text = _escape(str(error))
+            refuse(error)
             return
         show(view)
         message.text = ""
         refresh_overlay(state.pose[2], robot_now)
+
+    def refuse(error: Prp3Error) -> None:
+        """Draw nothing that belongs to the refused pose (the base stays), and say why."""
+        blank = empty_view(first)
+        show(View({**blank.shapes, "base": shown["base"]}, blank.arrows, blank.table))
+        sources["overlay"].data = _empty_overlay()["image"]
+        sources["region"].data = _empty_overlay()["region"]
+        overlay_phi[0] = None
+        message.text = _escape(str(error))
 
     def on_slider(attr: str, old: Any, new: Any) -> None:
         update()
@@ -575,8 +593,7 @@ def explorer_document(
         try:
             robot_now = design_robot(base_robot, values)
         except Prp3Error as error:
-            show(empty_view(first))
-            message.text = _escape(str(error))
+            refuse(error)
             return
         current["robot"] = robot_now
         sources["strokes"].data = stroke_bands(robot_now)
@@ -609,7 +626,7 @@ def explorer_document(
         width=500,
         styles={"font-size": "9pt", "color": "#444"},
     )
-    controls = column(Div(text="<b>platform pose, velocity, acceleration</b>"), *fields, width=340)
+    controls = column(Div(text="<b>platform pose, velocity, acceleration</b>"), *fields, width=300)
     design = column(
         Div(text="<b>design</b> (the robot's parameters; forces update live)"),
         row(*list(design_fields.values())[:5], scale_field),
@@ -617,7 +634,7 @@ def explorer_document(
         row(*list(design_fields.values())[9:]),
         overlay_box,
     )
-    right = [_table(sources["values"]), singularity]
+    right = [values_table, singularity]
     top: list[Any] = [message]
     if run is not None and motion is not None:
         right_extra, time_widgets = _run_widgets(doc, run, motion, sliders, current, update)
@@ -764,20 +781,20 @@ def run_html(robot: Robot, table: Mapping[str, FloatArray], title: str) -> str:
     table_widget = _table(sources["values"])
     duration = float(t[-1] - t[0])
     period = max(30, int(1000 * duration / max(len(frames) - 1, 1)))
-    for span in spans:
-        slider.js_on_change(
-            "value",
-            CustomJS(
-                args={
-                    "slider": slider,
-                    "sources": frame_sources,
-                    "targets": targets,
-                    "span": span,
-                    "times": times,
-                },
-                code=_COPY_FRAME,
-            ),
-        )
+    slider.js_on_change(
+        "value",
+        CustomJS(
+            args={
+                "slider": slider,
+                "sources": frame_sources,
+                "targets": targets,
+                "table": table_widget,
+                "spans": spans,
+                "times": times,
+            },
+            code=_COPY_FRAME,
+        ),
+    )
     play.js_on_change(
         "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
     )

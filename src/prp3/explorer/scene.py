@@ -254,15 +254,16 @@ def pose_table(robot: Robot, state: State) -> dict[str, FloatArray]:
     >>> [round(float(table[f"f10_{leg}"][0]), 4) for leg in "ABC"]   # the statics at rest
     [31.8589, -8.4957, -23.3632]
     """
-    load = None if state.load is None else np.array([state.load], dtype=np.float64)
-    motion = Motion(
-        t=np.zeros(1),
-        pose=np.array([state.pose], dtype=np.float64),
-        velocity=np.array([state.velocity], dtype=np.float64),
-        acceleration=np.array([state.acceleration], dtype=np.float64),
+    load = None if state.load is None else np.array(state.load, dtype=np.float64)
+    motion = Motion(  # one sample (rank 0): the library's messages name no sample
+        t=np.zeros(()),
+        pose=np.array(state.pose, dtype=np.float64),
+        velocity=np.array(state.velocity, dtype=np.float64),
+        acceleration=np.array(state.acceleration, dtype=np.float64),
         load=load,
     )
-    return results_table(*inverse_dynamics(robot, motion))
+    table = results_table(*inverse_dynamics(robot, motion))
+    return {name: np.atleast_1d(values) for name, values in table.items()}
 
 
 def _per_leg(table: Mapping[str, FloatArray], name: str, index: int) -> FloatArray | None:
