@@ -145,7 +145,7 @@ def _robot_figure(
     half = _limits(robot)
     fig = figure(
         name="robot",
-        title="3-PRP robot (to scale); arrows: joint forces at the joints P_i",
+        title="3-PRP robot to scale; arrows: joint forces at P_i",
         frame_width=470,
         frame_height=470,
         x_range=Range1d(-half, half),
@@ -308,6 +308,7 @@ def _table(source: Any) -> Any:
         height=330,
         index_position=None,
         reorderable=False,
+        autosize_mode="none",  # no measuring of the texts at every update
     )
 
 
@@ -317,7 +318,7 @@ def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[A
 
     curve = singularity_curve(phi_range)
     fig = figure(
-        title="sin(φ − π/3): singular at the red lines (|·| < 1e-4 refused)",
+        title="sin(φ − π/3): singular at the red lines",
         width=330,
         height=170,
         x_axis_label="φ (rad)",
