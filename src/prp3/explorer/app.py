@@ -137,9 +137,25 @@ def _limits(robot: Robot) -> float:
 
 def _robot_figure(
     robot: Robot, sources: Mapping[str, Any], overlay: bool, peak: float = 1.0
-) -> Any:
-    """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map."""
-    from bokeh.models import CDSView, ColorBar, GroupFilter, HoverTool, LinearColorMapper, Range1d
+) -> tuple[Any, Any]:
+    """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map.
+
+    Returns the figure and, to put below it, its key: a legend drawn in a figure of its own
+    (painted once, not at every update of the robot's figure) and check boxes that show or
+    hide the arrows of each quantity.
+    """
+    from bokeh.layouts import column
+    from bokeh.models import (
+        CDSView,
+        CheckboxGroup,
+        ColorBar,
+        ColumnDataSource,
+        CustomJS,
+        GroupFilter,
+        HoverTool,
+        LinearColorMapper,
+        Range1d,
+    )
     from bokeh.plotting import figure
 
     half = _limits(robot)
@@ -155,6 +171,33 @@ def _robot_figure(
         tools="pan,wheel_zoom,reset,save",
         toolbar_location="above",
     )
+    key = figure(
+        name="key",
+        width=560,
+        height=125,
+        x_range=Range1d(100.0, 101.0),  # the key's glyphs lie outside: only the legend shows
+        y_range=Range1d(100.0, 101.0),
+        tools="",
+        toolbar_location=None,
+        outline_line_color=None,
+        min_border=0,
+    )
+    key.axis.visible = False
+    key.grid.visible = False
+
+    def draw(method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
+        """Draw on the robot's figure; the same glyph, one row of it, in the key."""
+        renderer = getattr(fig, method)(*fields, source=source, **style)
+        if legend:
+            data = source.data
+            rows = len(next(iter(data.values()), []))
+            first = {k: list(v[:1]) for k, v in data.items()} if rows else {k: [] for k in data}
+            style = {k: v for k, v in style.items() if k != "view"}
+            getattr(key, method)(
+                *fields, source=ColumnDataSource(first), legend_label=legend, **style
+            )
+        return renderer
+
     if overlay:
         mapper = LinearColorMapper(palette="Viridis256", low=0.0, high=peak, nan_color=(0, 0, 0, 0))
         mapper.name = "overlay_colours"
@@ -170,7 +213,8 @@ def _robot_figure(
             level="image",
         )
         image.name = "overlay_image"
-        fig.patches(
+        draw(
+            "patches",
             "xs",
             "ys",
             source=sources["region"],
@@ -178,7 +222,7 @@ def _robot_figure(
             line_color="#444444",
             line_dash="dotted",
             line_width=1.5,
-            legend_label="reachable region (strokes)",
+            legend="reachable region (strokes)",
         )
         fig.add_layout(
             ColorBar(
@@ -189,7 +233,8 @@ def _robot_figure(
             ),
             "right",
         )
-    fig.patches(
+    draw(
+        "patches",
         "xs",
         "ys",
         source=sources["base"],
@@ -197,18 +242,20 @@ def _robot_figure(
         fill_alpha=0.5,
         line_color="#555555",
         line_width=2,
-        legend_label="base (guides)",
+        legend="base (guides)",
     )
-    fig.multi_line(
+    draw(
+        "multi_line",
         "xs",
         "ys",
         source=sources["strokes"],
         line_color="colour",
         line_width=9,
         line_alpha=0.25,
-        legend_label="strokes",
+        legend="strokes",
     )
-    fig.patches(
+    draw(
+        "patches",
         "xs",
         "ys",
         source=sources["platform"],
@@ -216,27 +263,30 @@ def _robot_figure(
         fill_alpha=0.6,
         line_color="#222222",
         line_width=2,
-        legend_label="platform",
+        legend="platform",
     )
-    fig.multi_line(
+    draw(
+        "multi_line",
         "xs",
         "ys",
         source=sources["pistons"],
         line_color="colour",
         line_width=7,
-        legend_label="pistons (legs A, B, C)",
+        legend="pistons (legs A, B, C)",
     )
-    fig.multi_line(
+    draw(
+        "multi_line",
         "xs",
         "ys",
         source=sources["sleeves"],
         line_color="colour",
         line_width=4,
         line_dash="dashed",
-        legend_label="links 2 (sleeves)",
+        legend="links 2 (sleeves)",
     )
     fig.scatter("x", "y", source=sources["joints"], color="colour", size=9, line_color="black")
-    fig.scatter(
+    draw(
+        "scatter",
         "x",
         "y",
         source=sources["payload"],
@@ -244,12 +294,14 @@ def _robot_figure(
         size=16,
         fill_color="#444444",
         fill_alpha=0.8,
-        legend_label="payload",
+        legend="payload",
     )
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
+    groups: list[list[Any]] = []
     for quantity, (label, colour) in ARROWS.items():
         view = CDSView(filter=GroupFilter(column_name="quantity", group=quantity))
-        segment = fig.segment(
+        segment = draw(
+            "segment",
             "x0",
             "y0",
             "x1",
@@ -258,9 +310,10 @@ def _robot_figure(
             view=view,
             line_color=colour,
             line_width=2.5,
-            legend_label=label,
+            legend=label,
         )
-        fig.scatter(
+        head = draw(
+            "scatter",
             "x1",
             "y1",
             angle="angle",
@@ -269,8 +322,9 @@ def _robot_figure(
             source=sources["arrows"],
             view=view,
             color=colour,
-            legend_label=label,
+            legend=label,
         )
+        groups.append([segment, head])
         fig.add_tools(
             HoverTool(
                 renderers=[segment],
@@ -281,14 +335,27 @@ def _robot_figure(
                 ],
             )
         )
-    legend = fig.legend[0]
-    legend.click_policy = "hide"
+    legend = key.legend[0]
+    legend.location = "top_left"
     legend.label_text_font_size = "8pt"
     legend.ncols = 2
     legend.spacing = 0
-    legend.padding = 4
-    fig.add_layout(legend, "below")
-    return fig
+    legend.padding = 2
+    legend.border_line_color = None
+    toggles = CheckboxGroup(
+        labels=[f"{quantity} arrows" for quantity in ARROWS],
+        active=list(range(len(ARROWS))),
+        inline=True,
+        name="arrow_toggles",
+    )
+    toggles.js_on_change(
+        "active",
+        CustomJS(
+            args={"groups": groups, "box": toggles},
+            code="groups.forEach((rs, i) => rs.forEach((r) => { r.visible = box.active.includes(i); }));",
+        ),
+    )
+    return fig, column(key, toggles)
 
 
 def _table(source: Any) -> Any:
@@ -339,7 +406,10 @@ def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[A
                     line_width=2,
                 )
             )
-    marker = ColumnDataSource({"phi": [0.0], "measure": [0.0]}, name="singularity_marker")
+    marker = ColumnDataSource(
+        {"phi": [0.0], "measure": [float(scene.singularity(np.zeros(())))]},
+        name="singularity_marker",
+    )
     fig.scatter("phi", "measure", source=marker, size=10, color="#d62728")
     return fig, marker
 
@@ -494,7 +564,7 @@ def explorer_document(
     )
     singularity, marker = _singularity_figure((sliders["phi"].start, sliders["phi"].end), scene)
     peak0 = float(np.nanmax(overlay0["image"]["image"][0])) if overlay0 is not None else 1.0
-    figure_ = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
+    figure_, key = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
     overlay_phi: list[float | None] = [0.0 if overlay0 is not None else None]
 
     shown: dict[str, Columns] = dict(first.sources())
@@ -622,7 +692,7 @@ def explorer_document(
         text=(
             f"l0 = {robot.l0:g} m; strokes: "
             + (f"[{stroke[0]:g}, {stroke[1]:g}] m (bands on the guides)" if stroke else "none")
-            + "; singular at φ = π/3 mod π.  Click a legend entry to hide it."
+            + "; singular at φ = π/3 mod π.  The check boxes show or hide the arrows."
         ),
         width=500,
         styles={"font-size": "9pt", "color": "#444"},
@@ -643,7 +713,7 @@ def explorer_document(
         top.insert(0, time_widgets)
     layout = column(
         *top,
-        row(column(figure_, info), controls, column(*right)),
+        row(column(figure_, key, info), controls, column(*right)),
         design,
     )
     doc.add_root(layout)
@@ -765,7 +835,7 @@ def run_html(robot: Robot, table: Mapping[str, FloatArray], title: str) -> str:
             name=f"frames:{name}",
         )
         targets[name] = sources[name]
-    fig = _robot_figure(robot, sources, overlay=False)
+    fig, key = _robot_figure(robot, sources, overlay=False)
     plots, spans = _time_plots(table)
     times = [float(v) for v in t[frames]]
     slider = Slider(
@@ -804,7 +874,7 @@ def run_html(robot: Robot, table: Mapping[str, FloatArray], title: str) -> str:
         f"{len(frames)} frames; forces by prp3 (the kernel, eqs. 10-25)",
         width=900,
     )
-    layout = column(heading, row(slider, play), row(fig, column(table_widget, *plots)))
+    layout = column(heading, row(slider, play), row(column(fig, key), column(table_widget, *plots)))
     return str(file_html(layout, resources=INLINE, title=title))
 
 
