@@ -174,7 +174,7 @@ def _robot_figure(
     key = figure(
         name="key",
         width=560,
-        height=125,
+        height=160,
         x_range=Range1d(100.0, 101.0),  # the key's glyphs lie outside: only the legend shows
         y_range=Range1d(100.0, 101.0),
         tools="",
