@@ -29,12 +29,34 @@ from typing import Any, TextIO
 
 from .. import __version__
 from ..errors import OutputFileError, Prp3Error
-from . import control, design, excite, export, forward, identify, robot, simulate, workspace
+from . import (
+    control,
+    design,
+    excite,
+    explore,
+    export,
+    forward,
+    identify,
+    robot,
+    simulate,
+    workspace,
+)
 
 __all__ = ["main"]
 
 #: Subcommand modules, in the order ``prp3 --help`` lists them.
-COMMANDS = (simulate, robot, workspace, forward, control, excite, identify, export, design)
+COMMANDS = (
+    simulate,
+    robot,
+    workspace,
+    forward,
+    control,
+    excite,
+    identify,
+    export,
+    design,
+    explore,
+)
 
 
 #: Exit status after SIGTERM (128 + 15, as the shell reports a killed process).

@@ -5,6 +5,7 @@ The command implements the data contract of ``docs/model.md``::
     prp3 simulate [--robot ROBOT.toml] (--motion vertical|rotation | --trajectory TRAJ.csv)
                   [--samples N] [--method fast|paper|newton-euler] --output DIR
                   [--format csv|parquet] [--plots] [--animate] [--frames N]
+                  [--html FILE.html]
 
 ``--format parquet`` writes ``DIR/results.parquet`` (the same columns, float64)
 instead of ``DIR/results.csv``.  Everything is computed before anything is written; the output files are
@@ -173,6 +174,14 @@ def register(subparsers: Any) -> None:
         "the motion has fewer samples or frames would last under 30 ms (real time; a warning "
         "says so); only with --animate",
     )
+    parser.add_argument(
+        "--html",
+        metavar="FILE.html",
+        type=path_name,
+        help="also write one self-contained HTML file of the run: the robot with its force "
+        "arrows, a scrubber, a play button and linked plots; opens offline (needs Bokeh, the "
+        "extra prp3[explore]; docs/explore.md)",
+    )
     parser.set_defaults(handler=run)
 
 
@@ -266,6 +275,11 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
             "--format parquet needs pyarrow, which is not installed: "
             "pip install 'prp3[parquet]' (or pyarrow), or leave --format out for CSV"
         )
+    html: Path | None = getattr(args, "html", None)
+    if html is not None:
+        from ..explorer.app import require_bokeh
+
+        require_bokeh("--html")
     check_output_directory(output)
     check_inputs_kept(output, (results_name,), (args.trajectory, args.robot))
     robot = load_robot(args)
@@ -305,6 +319,11 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
             f"{args.program}: warning: {near_lock_note(near_lock, motion, trajectory)}", file=stderr
         )
     summary = summarize(table, motion.velocity[:, 2])
+    page = None
+    if html is not None:  # built before anything is written: a failure leaves no file
+        from ..explorer.app import run_html
+
+        page = run_html(robot, table, heading.removeprefix("prp3 simulate: "))
 
     trajectory_file = str(trajectory.path) if trajectory is not None else None
     with output_folder(args, output) as staged:
@@ -351,6 +370,12 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         # the summary goes out before the files are moved in: a failing standard
         # output then leaves the earlier results in place
         emit(summary_text(summary, heading, files_report(staged)))
+    if html is not None and page is not None:
+        from ..files import atomic_writer
+
+        with atomic_writer(html) as stream:
+            stream.write(page)
+        emit(f"html file written: {html}")
     limit = robot.limits.max_force
     if limit is not None:
         for j, leg in enumerate(LEGS):

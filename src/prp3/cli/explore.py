@@ -1,0 +1,124 @@
+"""``prp3 explore``: the robot and every joint force in the browser (a local Bokeh server).
+
+::
+
+    prp3 explore [--robot ROBOT.toml] [--results DIR] [--port 8765] [--host 127.0.0.1]
+                 [--no-browser] [--export FILE.html]
+
+Serves the explorer (``docs/explore.md``) on ``127.0.0.1`` unless ``--host``
+says otherwise, until Ctrl-C (exit 130, one line).  The robot file and the
+results folder are read, and a results folder checked against the robot,
+before the server starts; a busy port is one line naming it and exit 2.
+Nothing is written, except with ``--export FILE.html``: then one
+self-contained HTML file of the run (``--results DIR``, else the paper's
+vertical motion) is written and no server is started.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from ..model import Robot
+from ._types import add_robot_option, emit, integer_at_least, load_robot, path_name
+
+__all__ = ["register", "run"]
+
+EXAMPLES = """\
+examples:
+  prp3 explore                                   # the paper's robot, http://127.0.0.1:8765/
+  prp3 simulate --motion rotation --output rot && prp3 explore --results rot
+  prp3 explore --results rot --export rot.html   # one HTML file of the run, opens offline
+  ssh -L 8765:127.0.0.1:8765 HOST 'prp3 explore --no-browser'   # on a remote machine
+
+Exit status 2 on bad input (one line, before the server starts), 130 on Ctrl-C.
+The model and the columns of a results folder: docs/model.md; the page: docs/explore.md.
+"""
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``explore`` subcommand."""
+    parser = subparsers.add_parser(
+        "explore",
+        help="the robot and every joint force in the browser (Bokeh server; --export: HTML)",
+        description=(
+            "Serve an interactive explorer of the 3-PRP robot: the robot to scale, every joint\n"
+            "force as an arrow, sliders for the pose, velocity and acceleration of the platform,\n"
+            "editable design parameters, the workspace statics map and, with --results, a run\n"
+            "of `prp3 simulate` with a time scrubber. Forces come from prp3's kernel."
+        ),
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_robot_option(parser, "; with --results: the robot of the run")
+    parser.add_argument(
+        "--results",
+        metavar="DIR",
+        type=path_name,
+        help="a folder written by `prp3 simulate --output DIR` (results.csv or results.parquet)",
+    )
+    parser.add_argument(
+        "--port",
+        type=integer_at_least(1, 65535),
+        default=8765,
+        help="port to listen on (default 8765)",
+    )
+    parser.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="address to listen on (default 127.0.0.1, this machine only)",
+    )
+    parser.add_argument(
+        "--no-browser", action="store_true", help="do not open a browser, only print the address"
+    )
+    parser.add_argument(
+        "--export",
+        metavar="FILE.html",
+        type=path_name,
+        help="write one self-contained HTML file of the run (--results, else the paper's "
+        "vertical motion) and exit; no server",
+    )
+    parser.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``prp3 explore`` with parsed ``args``; return the exit status."""
+    from ..explorer.app import require_bokeh, serve, write_run_html
+
+    require_bokeh()
+    from ..explorer.scene import read_run, run_motion
+
+    robot = load_robot(args)
+    results = read_run(args.results) if args.results is not None else None
+    if results is not None:
+        run_motion(robot, results)  # the run must be the robot's: refused before anything starts
+    if args.export is not None:
+        export: Path = args.export
+        if results is not None:
+            table, title = results.table, f"prp3 run {results.path}"
+        else:
+            table, title = _paper_run(robot), "prp3: the paper's vertical motion"
+        write_run_html(export, robot, table, title)
+        emit(f"{args.program}: wrote {export}")
+        return 0
+
+    def announce(url: str) -> None:
+        emit(f"{args.program}: serving {url} (Ctrl-C stops)")
+
+    serve(
+        robot,
+        results,
+        host=args.host,
+        port=args.port,
+        open_browser=not args.no_browser,
+        announce=announce,
+    )
+    return 0  # pragma: no cover - the server stops by a signal
+
+
+def _paper_run(robot: Robot) -> dict[str, Any]:
+    from ..motion import paper_motion
+    from ..runs import simulate_table
+
+    return dict(simulate_table(robot, paper_motion("vertical", 301), "fast"))

@@ -1,0 +1,45 @@
+"""The explorer: the robot and every joint force in the browser (``prp3 explore``).
+
+* :mod:`prp3.explorer.scene`: what is drawn, as plain columns (no Bokeh): the
+  robot at a pose, its joint forces as arrows from prp3's own engines, a run
+  of ``prp3 simulate``, the statics map of the workspace.
+* :mod:`prp3.explorer.app`: the Bokeh document of the server (``prp3
+  explore``) and the self-contained HTML file of a run (``prp3 simulate
+  --html``, ``prp3 explore --export``); Bokeh is imported lazily, inside its
+  functions.
+
+>>> import subprocess, sys
+>>> code = "import sys, prp3.explorer; print('bokeh' in sys.modules)"
+>>> subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.split()
+['False']
+"""
+
+from __future__ import annotations
+
+from .scene import (
+    PRP3_SCENE,
+    Run,
+    Scene,
+    State,
+    View,
+    design_robot,
+    pose_table,
+    read_run,
+    run_motion,
+    scene_view,
+    workspace_overlay,
+)
+
+__all__ = [
+    "PRP3_SCENE",
+    "Run",
+    "Scene",
+    "State",
+    "View",
+    "design_robot",
+    "pose_table",
+    "read_run",
+    "run_motion",
+    "scene_view",
+    "workspace_overlay",
+]
