@@ -1,0 +1,452 @@
+"""The family's mechanics on arrays: inverse geometry, rates, body wrenches, virtual work.
+
+The default (``"fast"``) route of FAMILY.md §5–§7, vectorised over the samples
+(time on the leading axis, then the legs A, B, C, then the joints 1–3):
+
+1. :func:`inverse_geometry` — each leg's closed-form closure solutions
+   (:mod:`prp3.family.legs`), the one whose ``μ_leg`` has its home sign (§5),
+   R angles unwrapped continuously from home; the measures ``μ_leg``,
+   ``μ_par`` (§6) and the refusals (unreachable, singular, crossed);
+2. :func:`family_kinematics` — the joint rates ``q̇ = J⁻¹·t`` and
+   accelerations ``q̈ = J⁻¹·(ṫ − J̇·q̇)`` from each leg's Jacobian ``J`` at ``G``
+   (columns: the joint twists ``(perp(G − O_k), 1)`` (R), ``(u_k, 0)`` (P));
+3. :func:`fast_dynamics` — the wrench each body needs, ``(m(a_C − g), I·θ̈)``
+   taken about ``G``; virtual work for the actuator efforts
+   ``Σ_L τ_L·K_L[a, :] = w_platform + Σ_L K_Lᵀ·B_L`` (``K_L = J_L⁻¹``, ``B_L[k]``
+   the power of the links distal to joint ``k`` through its twist); the leg's
+   wrench on the platform ``w_L = K_Lᵀ·(τ_L·e_a − B_L)``; then every joint force
+   ``W_3 = w_L``, ``W_2 = N_2 + W_3``, ``W_1 = N_1 + W_2``.
+
+>>> from prp3.motion import Motion
+>>> from prp3.family.model import FamilyRobot
+>>> robot = FamilyRobot.default("3-RRR")
+>>> kin = family_kinematics(robot, Motion.at_rest([0.0, 0.0, 0.0]))
+>>> kin.q.shape, [round(float(v), 3) for v in kin.mu_leg]
+((3, 3), [0.444, 0.444, 0.444])
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from ..motion import Motion
+from ..validation import LEGS, check_instance, require_finite
+from .chain import (
+    SIGMA,
+    SINGULAR,
+    ChainFrames,
+    cross,
+    leg_chain,
+    leg_jacobian,
+    leg_measure,
+    parallel_measure,
+    perp,
+    rotate,
+    transmitted_wrench,
+)
+from .legs import LEG_GEOMETRY
+from .model import FamilyRobot
+
+__all__ = [
+    "FamilyKinematics",
+    "FamilySolution",
+    "body_wrenches",
+    "family_kinematics",
+    "fast_dynamics",
+    "inverse_geometry",
+    "joint_forces",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+def solve3(matrix: FloatArray, rhs: FloatArray) -> FloatArray:
+    """``matrix⁻¹·rhs`` for stacks of 3×3 matrices ``(..., 3, 3)`` and vectors ``(..., 3)``."""
+    return np.asarray(np.linalg.solve(matrix, rhs[..., None])[..., 0], dtype=np.float64)
+
+
+def _pose_tuple(pose: FloatArray) -> tuple[float, float, float]:
+    return (float(pose[0]), float(pose[1]), float(pose[2]))
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """The reported closure solution of every leg and the measures (batch ``N``)."""
+
+    q: FloatArray  # (N, 3 legs, 3 joints)
+    frames: ChainFrames  # (N, 3 legs, ...) in the fixed frame
+    mu_leg: FloatArray  # (N, 3)
+    mu_par: FloatArray  # (N,)
+
+
+def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geometry:
+    """Closure solutions of FAMILY.md §5 at poses ``(N, 3)`` and the refusals of §6.
+
+    Raises
+    ------
+    UnreachablePoseError
+        A leg cannot reach a pose (names the sample, time, leg and pose).
+    SingularPoseError
+        ``s_L·μ_leg,L < 1e-4`` or ``s_par·μ_par < 1e-4`` at a sample: a singular
+        pose, or a singularity crossed since home (names the measure).
+    """
+    types, placements, scale = robot.types, robot.leg.placements, robot.leg.scale
+    geometry = LEG_GEOMETRY[types](placements)
+    home_leg, home_par = robot.home_measures
+    home = np.asarray(robot.leg.home)
+    revolute = [k for k in range(3) if types[k] == "R"]
+    n = pose.shape[0]
+    q = np.empty((n, 3, 3))
+    for j in range(3):
+        local_g = rotate(-SIGMA[j], pose[:, :2])
+        phi = pose[:, 2]
+        sign = math.copysign(1.0, home_leg[j])
+        best = np.full(n, -np.inf)
+        chosen = np.full((n, 3), np.nan)
+        with np.errstate(invalid="ignore"):
+            for candidate in geometry.candidates(local_g, phi):
+                frames = leg_chain(types, placements, 0.0, candidate)
+                value = sign * leg_measure(leg_jacobian(types, frames, local_g, scale))
+                better = np.isfinite(value) & (value > best)
+                best = np.where(better, value, best)
+                chosen[better] = candidate[better]
+        lost = ~np.isfinite(chosen).all(axis=1)
+        if lost.any():
+            k = int(np.argmax(lost))
+            raise UnreachablePoseError(
+                f"leg {LEGS[j]} cannot reach the pose {_pose_tuple(pose[k])} "
+                f"(the {robot.architecture}'s closure has no real solution)",
+                sample=k,
+                time=float(t[k]),
+                leg=LEGS[j],
+                pose=_pose_tuple(pose[k]),
+            )
+        if revolute:  # R angles: continuous from home (FAMILY.md §5)
+            turns = home[revolute].sum() - (robot.home_poses[j, 2] - geometry.total)
+            offset = 2.0 * math.pi * round(turns / (2.0 * math.pi))
+            for k in revolute[:-1]:
+                series = np.unwrap(np.concatenate([[home[k]], chosen[:, k]]))
+                chosen[:, k] = series[1:]
+            last = revolute[-1]
+            others = chosen[:, revolute[:-1]].sum(axis=1) if len(revolute) > 1 else 0.0
+            chosen[:, last] = pose[:, 2] - geometry.total + offset - others
+        q[:, j, :] = chosen
+    frames = leg_chain(types, placements, SIGMA, q)
+    centre = pose[:, None, :2]
+    hat = leg_jacobian(types, frames, centre, scale)
+    mu_leg = leg_measure(hat)
+    mu_par = parallel_measure(transmitted_wrench(hat, robot.actuated))
+    checks: list[tuple[str, FloatArray, float, str | None]]
+    checks = [(f"mu_leg of leg {LEGS[j]}", mu_leg[:, j], home_leg[j], LEGS[j]) for j in range(3)]
+    checks.append(("mu_par", mu_par, home_par, None))
+    for name, value, at_home, leg in checks:
+        bad = ~(math.copysign(1.0, at_home) * value >= SINGULAR)
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise SingularPoseError(
+                f"{name} = {float(value[k]):.6g} at the pose {_pose_tuple(pose[k])}: a singular "
+                f"pose, or a singularity crossed since home (its sign at home is "
+                f"{'+' if at_home > 0 else '-'}; refused below {SINGULAR:g})",
+                sample=k,
+                time=float(t[k]),
+                leg=leg,
+                pose=_pose_tuple(pose[k]),
+            )
+    return Geometry(q=q, frames=frames, mu_leg=mu_leg, mu_par=mu_par)
+
+
+@dataclass(frozen=True)
+class FamilyKinematics:
+    """Joint values, rates and accelerations of every leg, the frames and the measures.
+
+    Arrays have the batch shape of the motion (``(N,)`` or ``()``) in front;
+    per-leg arrays then have the legs A, B, C, per-joint arrays then the joints 1–3.
+
+    Attributes
+    ----------
+    robot : FamilyRobot
+    motion : prp3.Motion
+    q, dq, ddq : ndarray, shape ``(..., 3, 3)``
+        ``q{k}`` of each leg (m or rad) and its derivatives.
+    mu_leg : ndarray, shape ``(..., 3)``
+    mu_par : ndarray, shape ``(...)``
+    frames : ChainFrames
+        The chain frames of every leg, fixed-frame components, shapes ``(..., 3, ...)``.
+    jacobian : ndarray, shape ``(..., 3, 3, 3)``
+        Each leg's ``J`` at ``G`` (ℓ = 1): ``(ẋ, ẏ, φ̇) = J·q̇``.
+    """
+
+    robot: FamilyRobot
+    motion: Motion
+    q: FloatArray
+    dq: FloatArray
+    ddq: FloatArray
+    mu_leg: FloatArray
+    mu_par: FloatArray
+    frames: ChainFrames
+    jacobian: FloatArray
+
+
+def _batch(motion: Motion) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    t = np.atleast_1d(motion.t)
+    return (
+        t,
+        motion.pose.reshape(-1, 3),
+        motion.velocity.reshape(-1, 3),
+        motion.acceleration.reshape(-1, 3),
+    )
+
+
+def check_inputs(robot: object, motion: object) -> tuple[FamilyRobot, Motion]:
+    """The public entry's checks: a FamilyRobot, a Motion without a time-varying load."""
+    robot = check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
+    motion = check_instance("motion", motion, Motion, "a prp3.Motion")
+    if motion.load is not None:
+        raise TrajectoryError(
+            "a time-varying load (trajectory columns fx, fy, mz) belongs to MODEL.md form only; "
+            "use the robot's [load] table",
+            subject="motion",
+        )
+    return robot, motion
+
+
+def family_kinematics(robot: FamilyRobot, motion: Motion) -> FamilyKinematics:
+    """Inverse geometry and kinematics of every leg along ``motion`` (FAMILY.md §5, §6).
+
+    ``q̇ = J⁻¹·(ẋ, ẏ, φ̇)``, ``q̈ = J⁻¹·((ẍ, ÿ, φ̈) − J̇·q̇)`` with ``J̇``'s columns
+    ``(perp(Ġ − Ȯ_k), 0)`` (R) and ``(ω_{J_k}·perp(u_k), 0)`` (P).
+    """
+    robot, motion = check_inputs(robot, motion)
+    t, pose, velocity, acceleration = _batch(motion)
+    geo = inverse_geometry(robot, pose, t)
+    frames = geo.frames
+    jac = leg_jacobian(robot.types, frames, pose[:, None, :2])
+    twist = np.broadcast_to(velocity[:, None, :], (t.size, 3, 3))
+    dq = solve3(jac, np.ascontiguousarray(twist))
+    bias = _jacobian_rate(robot.types, frames, jac, dq, velocity)
+    rhs = acceleration[:, None, :] - np.einsum("nlij,nlj->nli", bias, dq)
+    ddq = solve3(jac, rhs)
+    require_finite({"dq": dq, "ddq": ddq}, (t.size,), "motion", t)
+    shape = motion.t.shape
+    return FamilyKinematics(
+        robot=robot,
+        motion=motion,
+        q=geo.q.reshape(*shape, 3, 3),
+        dq=dq.reshape(*shape, 3, 3),
+        ddq=ddq.reshape(*shape, 3, 3),
+        mu_leg=geo.mu_leg.reshape(*shape, 3),
+        mu_par=geo.mu_par.reshape(shape),
+        frames=frames,
+        jacobian=jac,
+    )
+
+
+def _omega(types: str, dq: FloatArray, upto: int) -> FloatArray:
+    """``Σ_{i < upto, R} q̇_i``: the angular rate of the body before joint ``upto``."""
+    out = np.zeros(dq.shape[:-1])
+    for i in range(upto):
+        if types[i] == "R":
+            out = out + dq[..., i]
+    return out
+
+
+def _point_velocity(
+    types: str, frames: ChainFrames, dq: FloatArray, body: int, point: FloatArray
+) -> FloatArray:
+    """Velocity of the point ``point`` fixed in body ``body`` (1..3: link 1, link 2, platform)."""
+    v = np.zeros(point.shape)
+    for i in range(body):
+        if types[i] == "R":
+            v = v + dq[..., i, None] * perp(point - frames.origin[..., i, :])
+        else:
+            v = v + dq[..., i, None] * frames.axis[..., i, :]
+    return v
+
+
+def _jacobian_rate(
+    types: str, frames: ChainFrames, jac: FloatArray, dq: FloatArray, velocity: FloatArray
+) -> FloatArray:
+    """``J̇`` of every leg, shape ``(N, 3, 3, 3)``."""
+    out = np.zeros_like(jac)
+    vg = velocity[:, None, :2]
+    for k in range(3):
+        if types[k] == "R":
+            o_dot = _point_velocity(types, frames, dq, k + 1, frames.origin[..., k, :])
+            out[..., :2, k] = perp(vg - o_dot)
+        else:
+            out[..., :2, k] = _omega(types, dq, k)[..., None] * perp(frames.axis[..., k, :])
+    return out
+
+
+def _point_acceleration(
+    types: str,
+    frames: ChainFrames,
+    dq: FloatArray,
+    ddq: FloatArray,
+    body: int,
+    point: FloatArray,
+) -> FloatArray:
+    """Acceleration of a point fixed in body ``body``: ``Σ_i q̈_i·s_i + q̇_i·ṡ_i``."""
+    v = _point_velocity(types, frames, dq, body, point)
+    a = np.zeros(point.shape)
+    for i in range(body):
+        if types[i] == "R":
+            o_dot = _point_velocity(types, frames, dq, i + 1, frames.origin[..., i, :])
+            a = a + ddq[..., i, None] * perp(point - frames.origin[..., i, :])
+            a = a + dq[..., i, None] * perp(v - o_dot)
+        else:
+            u = frames.axis[..., i, :]
+            a = a + ddq[..., i, None] * u + (dq[..., i] * _omega(types, dq, i))[..., None] * perp(u)
+    return a
+
+
+def body_wrenches(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:
+    """The wrench each body needs, ``(m(a_C − g), I·θ̈)`` about ``G``.
+
+    Returns
+    -------
+    links : ndarray, shape ``(N, 3 legs, 2 links, 3)``
+        ``(f_x, f_y, m_G)`` of link 1 and link 2 of each leg.
+    platform : ndarray, shape ``(N, 3)``
+        The wrench the legs must give the platform: its need (with the payload)
+        minus the load (FAMILY.md §4).
+    """
+    robot = kin.robot
+    types, frames = robot.types, kin.frames
+    _, pose, velocity, acceleration = _batch(kin.motion)
+    dq, ddq = kin.dq.reshape(-1, 3, 3), kin.ddq.reshape(-1, 3, 3)
+    g = np.asarray(robot.gravity)
+    centre = pose[:, None, :2]
+    links = np.empty((pose.shape[0], 3, 2, 3))
+    for body in (1, 2):
+        params = robot.link1 if body == 1 else robot.link2
+        c = frames.origin[..., body - 1, :] + rotate(frames.angle[..., body - 1], params.com)
+        a = _point_acceleration(types, frames, dq, ddq, body, c)
+        alpha = _omega(types, ddq, body)
+        force = params.mass * (a - g)
+        links[..., body - 1, :2] = force
+        links[..., body - 1, 2] = params.inertia * alpha + cross(c - centre, force)
+    platform = np.empty((pose.shape[0], 3))
+    omega, alpha = velocity[:, 2], acceleration[:, 2]
+    force = robot.platform.mass * (acceleration[:, :2] - g)
+    moment = robot.platform.inertia * alpha
+    payload = robot.payload
+    r = rotate(pose[:, 2], payload.com)
+    a_pl = acceleration[:, :2] + alpha[:, None] * perp(r) - (omega * omega)[:, None] * r
+    f_pl = payload.mass * (a_pl - g)
+    platform[:, :2] = force + f_pl - np.asarray(robot.load.force)
+    platform[:, 2] = moment + payload.inertia * alpha + cross(r, f_pl) - robot.load.moment
+    return links, platform
+
+
+@dataclass(frozen=True)
+class FamilySolution:
+    """The complete inverse dynamics of a family robot (FAMILY.md §7), one type for every route.
+
+    Batch shape ``(N,)`` or ``()`` in front; legs A, B, C; joints 1–3.
+
+    Attributes
+    ----------
+    kinematics : FamilyKinematics
+    q, dq, ddq : ndarray, shape ``(..., 3, 3)``
+        As computed by the route (the paper route recomputes ``q̇``, ``q̈``).
+    tau, power : ndarray, shape ``(..., 3)``
+        ``tau_L`` (N or N·m) and ``p_L = tau_L·dq{a}_L`` (W).
+    force : ndarray, shape ``(..., 3, 3, 2)``
+        ``(fx{k}, fy{k})``: the total force of the proximal on the distal body (N).
+    moment : ndarray, shape ``(..., 3, 3)``
+        ``m{k}``: its moment about ``z0`` taken about ``O_k`` (N·m).
+    method : str
+    """
+
+    kinematics: FamilyKinematics
+    q: FloatArray
+    dq: FloatArray
+    ddq: FloatArray
+    tau: FloatArray
+    power: FloatArray
+    force: FloatArray
+    moment: FloatArray
+    method: str
+
+
+def joint_forces(
+    kin: FamilyKinematics, tau: FloatArray, links: FloatArray, platform: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Every joint's wrench from the actuator efforts: ``(force (N,3,3,2), moment (N,3,3))``.
+
+    ``w_L = K_Lᵀ·(τ_L·e_a − B_L)``, ``W_3 = w_L``, ``W_2 = N_2 + W_3``,
+    ``W_1 = N_1 + W_2`` (about ``G``), then the moment about ``O_k``.
+    """
+    jac = kin.jacobian
+    a = kin.robot.actuated - 1
+    b = _link_powers(jac, links)
+    e = np.zeros_like(b)
+    e[..., a] = tau
+    w = solve3(np.swapaxes(jac, -1, -2), e - b)
+    wrench = np.stack([links[:, :, 0] + links[:, :, 1] + w, links[:, :, 1] + w, w], axis=2)
+    centre = kin.motion.pose.reshape(-1, 3)[:, None, None, :2]
+    force = wrench[..., :2]
+    moment = wrench[..., 2] + cross(centre - kin.frames.origin, force)
+    del platform
+    return force, moment
+
+
+def _link_powers(jac: FloatArray, links: FloatArray) -> FloatArray:
+    """``B_L[k] = J[:, k]·Σ_{links i ≥ k} N_i`` (the link wrenches about G), shape ``(N, 3, 3)``."""
+    distal = np.stack(
+        [links[:, :, 0] + links[:, :, 1], links[:, :, 1], np.zeros_like(links[:, :, 0])], axis=2
+    )
+    return np.asarray(np.einsum("nlik,nlki->nlk", jac, distal))
+
+
+def fast_dynamics(kin: FamilyKinematics) -> FamilySolution:
+    """The default route: actuator efforts by virtual work, then every joint force.
+
+    ``Σ_L τ_L·K_L[a, :] = w_platform + Σ_L K_Lᵀ·B_L`` with ``K_L = J_L⁻¹``:
+    the power of the actuators equals the power the bodies need for every
+    platform twist.
+    """
+    links, platform = body_wrenches(kin)
+    jac = kin.jacobian
+    a = kin.robot.actuated - 1
+    inverse = np.linalg.inv(jac)  # K_L, (N, 3, 3, 3)
+    b = _link_powers(jac, links)
+    rhs = platform + np.einsum("nlki,nlk->ni", inverse, b)
+    matrix = np.swapaxes(inverse[:, :, a, :], -1, -2)  # columns K_L[a, :]
+    tau = solve3(matrix, rhs)
+    force, moment = joint_forces(kin, tau, links, platform)
+    return _solution(kin, kin.dq, kin.ddq, tau, force, moment, "fast")
+
+
+def _solution(
+    kin: FamilyKinematics,
+    dq: FloatArray,
+    ddq: FloatArray,
+    tau: FloatArray,
+    force: FloatArray,
+    moment: FloatArray,
+    method: str,
+) -> FamilySolution:
+    shape = kin.motion.t.shape
+    t = np.atleast_1d(kin.motion.t)
+    a = kin.robot.actuated - 1
+    tau = tau.reshape(-1, 3)
+    power = tau * dq.reshape(-1, 3, 3)[..., a]
+    require_finite({"tau": tau, "force": force, "moment": moment}, (t.size,), "motion", t)
+    return FamilySolution(
+        kinematics=kin,
+        q=kin.q,
+        dq=dq.reshape(*shape, 3, 3),
+        ddq=ddq.reshape(*shape, 3, 3),
+        tau=tau.reshape(*shape, 3),
+        power=power.reshape(*shape, 3),
+        force=force.reshape(*shape, 3, 3, 2),
+        moment=moment.reshape(*shape, 3, 3),
+        method=method,
+    )
