@@ -1,4 +1,4 @@
-"""The leg chain of FAMILY.md §2: planar frames, placements, joint motions, measures.
+"""The leg chain of docs/family.md §2: planar frames, placements, joint motions, measures.
 
 A planar frame is an origin ``p`` (shape ``(..., 2)``) and an angle ``θ``
 (shape ``(...)``).  Leg ``j`` starts in ``S_j = (O, σ_j)``, ``σ_j = 2πj/3``;
@@ -47,7 +47,7 @@ FloatArray = NDArray[np.float64]
 #: ``σ_j = 2πj/3`` of legs A, B, C (rad).
 SIGMA: FloatArray = np.asarray(2.0 * math.pi * np.arange(3) / 3.0, dtype=np.float64)
 
-#: Threshold of the signed singularity measures (FAMILY.md §6).
+#: Threshold of the signed singularity measures (docs/family.md §6).
 SINGULAR: float = 1e-4
 
 
@@ -86,7 +86,7 @@ def wrap(angle: ArrayLike) -> FloatArray:
 
 @dataclass(frozen=True)
 class ChainFrames:
-    """The frames of a leg chain for joint values ``q`` (FAMILY.md §2).
+    """The frames of a leg chain for joint values ``q`` (docs/family.md §2).
 
     Attributes
     ----------
@@ -158,7 +158,7 @@ def leg_jacobian(types: str, frames: ChainFrames, g: ArrayLike, scale: float = 1
     """The leg's joint twists at the platform centre ``G`` as columns, shape ``(..., 3, 3)``.
 
     Column ``k`` is ``(perp(G − O_k)/ℓ, 1)`` for an R joint and ``(u_k, 0)``
-    for a P joint (FAMILY.md §6); with ``scale = ℓ = 1`` it maps the joint
+    for a P joint (docs/family.md §6); with ``scale = ℓ = 1`` it maps the joint
     rates to the platform twist ``(ẋ, ẏ, φ̇) = J·q̇``.
     """
     centre = np.asarray(g, dtype=np.float64)
@@ -175,7 +175,7 @@ def leg_jacobian(types: str, frames: ChainFrames, g: ArrayLike, scale: float = 1
 
 
 def leg_measure(jacobian_hat: FloatArray) -> FloatArray:
-    """``μ_leg = det Ĵ`` (signed, dimensionless), FAMILY.md §6."""
+    """``μ_leg = det Ĵ`` (signed, dimensionless), docs/family.md §6."""
     return np.asarray(np.linalg.det(jacobian_hat))
 
 

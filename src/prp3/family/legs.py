@@ -6,7 +6,7 @@ the pose of the platform in the leg's own frame (the fixed frame turned by
 the closure solutions ``q`` in closed form — one for the three patterns with a
 single R joint (its angle is ``φ − Γ``, the two slides then solve a 2×2 linear
 system), two for the patterns with a quadratic (the two-branch RRR, PRR, RPR,
-RRP).  The choice among them (FAMILY.md §5) is made by
+RRP).  The choice among them (docs/family.md §5) is made by
 :func:`prp3.family.mechanics.inverse_geometry` from the sign of ``μ_leg``.
 
 Notation (leg frame): ``c_k = (a_k, b_k)``, ``γ_k`` of ``joint{k}``; ``c_P``,
@@ -37,7 +37,7 @@ FloatArray = NDArray[np.float64]
 
 
 class LegGeometry(ABC):
-    """Closed-form closure solutions of one leg pattern (FAMILY.md §2, §5).
+    """Closed-form closure solutions of one leg pattern (docs/family.md §2, §5).
 
     Parameters
     ----------

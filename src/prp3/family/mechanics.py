@@ -1,6 +1,6 @@
 """The family's mechanics on arrays: inverse geometry, rates, body wrenches, virtual work.
 
-The default (``"fast"``) route of FAMILY.md §5–§7, vectorised over the samples
+The default (``"fast"``) route of docs/family.md §5–§7, vectorised over the samples
 (time on the leading axis, then the legs A, B, C, then the joints 1–3):
 
 1. :func:`inverse_geometry` — each leg's closed-form closure solutions
@@ -85,7 +85,7 @@ class Geometry:
 
 
 def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geometry:
-    """Closure solutions of FAMILY.md §5 at poses ``(N, 3)`` and the refusals of §6.
+    """Closure solutions of docs/family.md §5 at poses ``(N, 3)`` and the refusals of §6.
 
     Raises
     ------
@@ -126,7 +126,7 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
                 leg=LEGS[j],
                 pose=_pose_tuple(pose[k]),
             )
-        if revolute:  # R angles: continuous from home (FAMILY.md §5)
+        if revolute:  # R angles: continuous from home (docs/family.md §5)
             turns = home[revolute].sum() - (robot.home_poses[j, 2] - geometry.total)
             offset = 2.0 * math.pi * round(turns / (2.0 * math.pi))
             for k in revolute[:-1]:
@@ -216,7 +216,7 @@ def check_inputs(robot: object, motion: object) -> tuple[FamilyRobot, Motion]:
 
 
 def family_kinematics(robot: FamilyRobot, motion: Motion) -> FamilyKinematics:
-    """Inverse geometry and kinematics of every leg along ``motion`` (FAMILY.md §5, §6).
+    """Inverse geometry and kinematics of every leg along ``motion`` (docs/family.md §5, §6).
 
     ``q̇ = J⁻¹·(ẋ, ẏ, φ̇)``, ``q̈ = J⁻¹·((ẍ, ÿ, φ̈) − J̇·q̇)`` with ``J̇``'s columns
     ``(perp(Ġ − Ȯ_k), 0)`` (R) and ``(ω_{J_k}·perp(u_k), 0)`` (P).
@@ -314,7 +314,7 @@ def body_wrenches(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:
         ``(f_x, f_y, m_G)`` of link 1 and link 2 of each leg.
     platform : ndarray, shape ``(N, 3)``
         The wrench the legs must give the platform: its need (with the payload)
-        minus the load (FAMILY.md §4).
+        minus the load (docs/family.md §4).
     """
     robot = kin.robot
     types, frames = robot.types, kin.frames
@@ -346,7 +346,7 @@ def body_wrenches(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:
 
 @dataclass(frozen=True)
 class FamilySolution:
-    """The complete inverse dynamics of a family robot (FAMILY.md §7), one type for every route.
+    """The complete inverse dynamics of a family robot (docs/family.md §7), one type for every route.
 
     Batch shape ``(N,)`` or ``()`` in front; legs A, B, C; joints 1–3.
 

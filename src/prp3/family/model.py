@@ -1,4 +1,4 @@
-"""The family robot: an immutable, validated model of a planar 3-leg robot (FAMILY.md §3, §9).
+"""The family robot: an immutable, validated model of a planar 3-leg robot (docs/family.md §3, §9).
 
 A :class:`FamilyRobot` is one of the seven architectures (``3-PRP``, ``3-RPR``,
 ``3-RRR``, ``3-PRR``, ``3-PPR``, ``3-RPP``, ``3-RRP``), its actuated joint, leg
@@ -57,14 +57,14 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 Triple = tuple[float, float, float]
 
-#: The seven architectures of FAMILY.md, in its order.
+#: The seven architectures of docs/family.md, in its order.
 ARCHITECTURES: tuple[str, ...] = ("3-PRP", "3-RPR", "3-RRR", "3-PRR", "3-PPR", "3-RPP", "3-RRP")
 
 _S2 = math.sqrt(2.0)
 _S3 = math.sqrt(3.0)
 _PI = math.pi
 
-#: FAMILY.md §3: actuated joint, joint1, joint2, joint3, attachment, home of leg A.
+#: docs/family.md §3: actuated joint, joint1, joint2, joint3, attachment, home of leg A.
 _DESIGNS: dict[str, tuple[int, Triple, Triple, Triple, Triple, Triple]] = {
     "3-PRP": (1, (_S3 / 20, -0.15, _PI / 3), (0.0, 0.0, -_PI / 3), (0.0, 0.0, 0.0),
               (-_S3 / 20, 0.15, 0.0), (0.0, 0.0, 0.0)),
@@ -82,7 +82,7 @@ _DESIGNS: dict[str, tuple[int, Triple, Triple, Triple, Triple, Triple]] = {
               (-0.2, 0.1, 0.0), (0.0, 0.0, 0.0)),
 }  # fmt: skip
 
-#: FAMILY.md §3: link 1 (com, inertia) and link 2 (com, inertia); masses 1.0 and 0.75 kg.
+#: docs/family.md §3: link 1 (com, inertia) and link 2 (com, inertia); masses 1.0 and 0.75 kg.
 _INERTIA: dict[str, tuple[tuple[float, float], float, tuple[float, float], float]] = {
     "3-PRP": ((0.0, 0.0), 0.0, (0.0, 0.0), 6.25e-4),
     "3-RPR": ((0.1, 0.0), 3e-3, (-0.1, 0.0), 2e-3),
@@ -93,7 +93,7 @@ _INERTIA: dict[str, tuple[tuple[float, float], float, tuple[float, float], float
     "3-RRP": ((0.1 * _S2, 0.0), 6.5e-3, (0.0, 0.0), 6.25e-4),
 }
 
-#: Keys of MODEL.md form that family form refuses (FAMILY.md §1).
+#: Keys of MODEL.md form that family form refuses (docs/family.md §1).
 MODEL_ONLY_KEYS: tuple[str, ...] = ("l0", "piston", "link", "friction")
 
 #: Top-level keys of a family-form file.
@@ -133,7 +133,7 @@ def _non_negative(where: str, value: Any, unit: str) -> float:
 
 @dataclass(frozen=True)
 class LegDesign:
-    """Leg A's chain (FAMILY.md §2): placements ``[a, b, γ]`` (m, m, rad), home, scale.
+    """Leg A's chain (docs/family.md §2): placements ``[a, b, γ]`` (m, m, rad), home, scale.
 
     Attributes
     ----------
@@ -201,7 +201,7 @@ class PlatformBody:
 
 @dataclass(frozen=True)
 class FamilyRobot:
-    """A planar 3-leg parallel robot of FAMILY.md (immutable, validated).
+    """A planar 3-leg parallel robot of docs/family.md (immutable, validated).
 
     Construction refuses an actuation that leaves two passive P joints and a
     home configuration with a singularity measure below ``1e-4`` in magnitude.
@@ -274,13 +274,13 @@ class FamilyRobot:
 
     @property
     def home_poses(self) -> FloatArray:
-        """Each leg's home pose ``(x, y, φ)`` at ``q = home`` (FAMILY.md §5), shape ``(3, 3)``."""
+        """Each leg's home pose ``(x, y, φ)`` at ``q = home`` (docs/family.md §5), shape ``(3, 3)``."""
         frames = leg_chain(self.types, self.leg.placements, SIGMA, np.tile(self.leg.home, (3, 1)))
         return np.concatenate([frames.end_origin, wrap(frames.end_angle - SIGMA)[:, None]], axis=-1)
 
     @property
     def home_measures(self) -> tuple[list[float], float]:
-        """``μ_leg`` of legs A, B, C and ``μ_par`` in the home configuration (FAMILY.md §6)."""
+        """``μ_leg`` of legs A, B, C and ``μ_par`` in the home configuration (docs/family.md §6)."""
         frames = leg_chain(self.types, self.leg.placements, SIGMA, np.tile(self.leg.home, (3, 1)))
         hat = leg_jacobian(self.types, frames, frames.end_origin, self.leg.scale)
         mu_leg = leg_measure(hat)
@@ -294,7 +294,7 @@ class FamilyRobot:
             if not abs(value) >= SINGULAR:
                 raise ParameterError(
                     f"the home configuration q = {list(self.leg.home)} is singular: "
-                    f"mu_leg of leg {leg} = {value:.3g} (|mu| < {SINGULAR:g}, FAMILY.md §6)",
+                    f"mu_leg of leg {leg} = {value:.3g} (|mu| < {SINGULAR:g}, docs/family.md §6)",
                     subject="robot",
                     key="leg.home",
                 )
@@ -310,7 +310,7 @@ class FamilyRobot:
     # ---------------------------------------------------------------- builders
     @classmethod
     def default(cls, architecture: str = "3-RRR", actuated: int | None = None) -> FamilyRobot:
-        """The default design of ``architecture`` (FAMILY.md §3), optionally another actuation.
+        """The default design of ``architecture`` (docs/family.md §3), optionally another actuation.
 
         >>> FamilyRobot.default("3-PRP").leg.attachment[1]
         0.15
@@ -328,7 +328,7 @@ class FamilyRobot:
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any]) -> FamilyRobot:
-        """A robot from a family-form ``ROBOT.toml`` mapping (FAMILY.md §9).
+        """A robot from a family-form ``ROBOT.toml`` mapping (docs/family.md §9).
 
         Missing keys take the architecture's defaults; the MODEL.md-only keys
         and unknown keys are refused naming the key.
@@ -386,6 +386,7 @@ class FamilyRobot:
     def to_toml(self) -> str:
         """The robot as family-form ``ROBOT.toml`` text (round-trips through :meth:`from_mapping`).
 
+        >>> import tomllib
         >>> robot = FamilyRobot.default("3-RPP")
         >>> FamilyRobot.from_mapping(tomllib.loads(robot.to_toml())) == robot
         True
@@ -422,7 +423,7 @@ def _table(name: str, value: Any, allowed: tuple[str, ...]) -> dict[str, Any]:
 
 
 def robot_file_form(data: Mapping[str, Any]) -> Literal["model", "family"]:
-    """Which form a ``ROBOT.toml`` mapping is in (FAMILY.md §1).
+    """Which form a ``ROBOT.toml`` mapping is in (docs/family.md §1).
 
     >>> robot_file_form({"l0": 0.3}), robot_file_form({"architecture": "3-RRR"})
     ('model', 'family')
@@ -477,6 +478,7 @@ def family_template(robot: FamilyRobot | str | None = None, *, comments: bool = 
     With ``comments=True`` every key carries its meaning and unit; this is
     what ``prp3 robot --template --architecture NAME`` prints.
 
+    >>> import tomllib
     >>> text = family_template("3-RRR")
     >>> FamilyRobot.from_mapping(tomllib.loads(text)) == FamilyRobot.default("3-RRR")
     True
