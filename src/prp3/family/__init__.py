@@ -34,7 +34,7 @@ Stable API (other modules build on these names only)
 >>> solution = family_inverse_dynamics(robot, paper_motion("vertical", 3))
 >>> table = family_results_table(solution)
 >>> len(table), round(float(table["tau_A"][0]), 6)
-(64, 0.813519)
+(64, 7.130481)
 """
 
 from __future__ import annotations
