@@ -139,7 +139,7 @@ def test_simulate_refuses_animate_and_load_columns(
     status, _, err = cli(
         capsys, "simulate", "--robot", path, "--trajectory", traj, "--output", tmp_path / "o"
     )
-    assert status == 2 and "MODEL.md form only" in one_line(err)
+    assert status == 2 and "model-form robot files" in one_line(err)
 
 
 def test_model_form_unchanged(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:

@@ -427,7 +427,7 @@ def test_prr_actuated_2_rotation_crosses_a_parallel_singularity() -> None:
 
 
 def test_prp_refuses_the_far_side_of_phi_pi_3() -> None:
-    """docs/family.md §8: the family takes only the home side of φ = π/3 (MODEL.md takes both)."""
+    """docs/family.md §8: the family takes only the home side of φ = π/3 (docs/model.md takes both)."""
     t = np.linspace(0.0, 1.0, 11)
     pose = np.stack([0 * t, 0 * t, 1.3 * t], -1)
     motion = Motion(t=t, pose=pose, velocity=np.gradient(pose, t, axis=0), acceleration=0 * pose)
@@ -435,7 +435,7 @@ def test_prp_refuses_the_far_side_of_phi_pi_3() -> None:
         family_inverse_dynamics(FamilyRobot.default("3-PRP"), motion)
     inverse_dynamics(
         Robot(), motion
-    )  # MODEL.md accepts it (|sin(φ − π/3)| >= 1e-4 at every sample)
+    )  # docs/model.md accepts it (|sin(φ − π/3)| >= 1e-4 at every sample)
 
 
 def test_unreachable_pose_is_named() -> None:
@@ -464,7 +464,7 @@ def test_time_varying_load_refused() -> None:
         acceleration=np.zeros((2, 3)),
         load=np.zeros((2, 3)),
     )
-    with pytest.raises(Prp3Error, match=r"MODEL\.md form only"):
+    with pytest.raises(Prp3Error, match="model-form robot files"):
         family_inverse_dynamics(FamilyRobot.default("3-RRR"), motion)
 
 
@@ -479,7 +479,7 @@ def test_single_sample_rank() -> None:
     )
 
 
-# ---------------------------------------------------------------- §8: the 3-PRP equals MODEL.md
+# ---------------------------------------------------------------- §8: the 3-PRP equals docs/model.md
 ALPHA = np.array([math.pi / 3, math.pi, -math.pi / 3])
 
 

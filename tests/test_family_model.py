@@ -93,10 +93,10 @@ def test_forms() -> None:
 @pytest.mark.parametrize(
     ("data", "key", "words"),
     [
-        ({"architecture": "3-RRR", "l0": 0.3}, "l0", "MODEL.md form"),
-        ({"architecture": "3-RRR", "piston": {}}, "piston", "MODEL.md form"),
-        ({"architecture": "3-RRR", "link": {}}, "link", "MODEL.md form"),
-        ({"actuated": 1, "friction": {}}, "friction", "MODEL.md form"),
+        ({"architecture": "3-RRR", "l0": 0.3}, "l0", "model form"),
+        ({"architecture": "3-RRR", "piston": {}}, "piston", "model form"),
+        ({"architecture": "3-RRR", "link": {}}, "link", "model form"),
+        ({"actuated": 1, "friction": {}}, "friction", "model form"),
         ({"architecture": "3-RRR", "colour": 1}, "colour", "unknown key"),
         ({"architecture": "3-RRR", "leg": {"joint4": [0, 0, 0]}}, "leg.joint4", "unknown key"),
         ({"architecture": "3-XYZ"}, "architecture", "3-XYZ"),

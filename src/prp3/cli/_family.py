@@ -77,7 +77,7 @@ def run_family(
     """Compute, write and summarise a family run; ``located`` places an error at its source."""
     if args.animate:
         raise Prp3Error(
-            f"--animate draws the 3-PRP of MODEL.md form only; not yet the {robot.architecture} "
+            f"--animate draws the 3-PRP of a model-form robot file (docs/model.md) only; not yet the {robot.architecture} "
             "of a family-form robot file: leave --animate out"
         )
     try:

@@ -208,7 +208,7 @@ def check_inputs(robot: object, motion: object) -> tuple[FamilyRobot, Motion]:
     motion = check_instance("motion", motion, Motion, "a prp3.Motion")
     if motion.load is not None:
         raise TrajectoryError(
-            "a time-varying load (trajectory columns fx, fy, mz) belongs to MODEL.md form only; "
+            "a time-varying load (trajectory columns fx, fy, mz) belongs to model-form robot files (docs/model.md) only; "
             "use the robot's [load] table",
             subject="motion",
         )

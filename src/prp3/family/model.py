@@ -93,7 +93,7 @@ _INERTIA: dict[str, tuple[tuple[float, float], float, tuple[float, float], float
     "3-RRP": ((0.1 * _S2, 0.0), 6.5e-3, (0.0, 0.0), 6.25e-4),
 }
 
-#: Keys of MODEL.md form that family form refuses (docs/family.md §1).
+#: Keys of model form (docs/model.md) that family form refuses (docs/family.md §1).
 MODEL_ONLY_KEYS: tuple[str, ...] = ("l0", "piston", "link", "friction")
 
 #: Top-level keys of a family-form file.
@@ -330,13 +330,13 @@ class FamilyRobot:
     def from_mapping(cls, data: Mapping[str, Any]) -> FamilyRobot:
         """A robot from a family-form ``ROBOT.toml`` mapping (docs/family.md §9).
 
-        Missing keys take the architecture's defaults; the MODEL.md-only keys
+        Missing keys take the architecture's defaults; the keys of the 3-PRP file of docs/model.md only
         and unknown keys are refused naming the key.
 
         >>> FamilyRobot.from_mapping({"architecture": "3-RRR", "l0": 0.3})
         Traceback (most recent call last):
         ...
-        prp3.errors.ParameterError: robot: key 'l0' belongs to MODEL.md form; a family-form robot file (architecture, actuated, [leg], [link1], [link2]) does not accept it
+        prp3.errors.ParameterError: robot: key 'l0' belongs to model form (the 3-PRP file of docs/model.md); a family-form robot file (architecture, actuated, [leg], [link1], [link2]) does not accept it
         """
         top = _table("", data, FAMILY_KEYS)
         architecture = top.get("architecture", "3-PRP")
@@ -408,7 +408,7 @@ def _table(name: str, value: Any, allowed: tuple[str, ...]) -> dict[str, Any]:
         if not name and key in MODEL_ONLY_KEYS:
             shown = f"[{key}]" if key != "l0" else "'l0'"
             raise ParameterError(
-                f"key {shown} belongs to MODEL.md form; a family-form robot file (architecture, "
+                f"key {shown} belongs to model form (the 3-PRP file of docs/model.md); a family-form robot file (architecture, "
                 "actuated, [leg], [link1], [link2]) does not accept it",
                 subject="robot",
                 key=dotted,
@@ -440,7 +440,7 @@ def robot_file_form(data: Mapping[str, Any]) -> Literal["model", "family"]:
 def read_robot_file(path: str | Path) -> Robot | FamilyRobot:
     """Read ``ROBOT.toml`` in either form: a :class:`prp3.Robot` or a :class:`FamilyRobot`.
 
-    A MODEL.md-form file is read exactly as :meth:`prp3.Robot.from_toml` reads
+    A model-form file (docs/model.md) is read exactly as :meth:`prp3.Robot.from_toml` reads
     it (``architecture = "3-PRP"`` is then dropped); a family-form file by
     :meth:`FamilyRobot.from_toml`.
     """
@@ -462,7 +462,7 @@ def _fmt(value: float) -> str:
 
 
 _ARCH_NOTE = {
-    "3-PRP": "MODEL.md's robot at l0 = 0.3 m: guide, sleeve pivot, platform slide",
+    "3-PRP": "the robot of docs/model.md at l0 = 0.3 m: guide, sleeve pivot, platform slide",
     "3-RPR": "base pivot, telescopic leg (q2 = its length), platform pivot",
     "3-RRR": "base pivot, elbow, platform pivot; link 1 along x0, link 2 along y0 at home",
     "3-PRR": "vertical base guide, link 2 from the slider pivot to the platform pivot",
