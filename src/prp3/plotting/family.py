@@ -20,9 +20,12 @@ from ..validation import LEGS
 from .figures import LEG_MARKERS, LEG_STYLES, leg_figure, motion_description
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["family_figure_names", "family_figures", "joint_forces_figure"]
+    from ..family import FamilyRobot
+
+__all__ = ["designs_figure", "family_figure_names", "family_figures", "joint_forces_figure"]
 
 FloatArray = NDArray[np.float64]
 
@@ -150,3 +153,122 @@ def family_figures(
             actuated=actuated,
         ),
     }
+
+
+def _draw_design(ax: Axes, robot: FamilyRobot) -> None:
+    """One design at home: ground, guides, sliders, pivots, links, platform, ``G``."""
+    from matplotlib.patches import Polygon, Rectangle
+
+    from ..family import leg_chain
+    from ..family.chain import SIGMA
+
+    types = robot.types
+    q = np.tile(np.asarray(robot.leg.home), (3, 1))
+    frames = leg_chain(types, robot.leg.placements, SIGMA, q)
+    act = robot.actuated - 1
+    distal = frames.origin[:, 2, :]
+    ax.add_patch(Polygon(distal, closed=True, facecolor="0.85", edgecolor="0.3", zorder=1))
+    for j, leg in enumerate(LEGS):
+        color = LEG_STYLES[leg][0]
+        o, jo, u = frames.origin[j], frames.joint_origin[j], frames.axis[j]
+        # links: from joint k's origin to joint k+1's frame origin (on the proximal body)
+        for k in (0, 1):
+            ax.plot(*np.stack([o[k], jo[k + 1]]).T, color=color, linewidth=3.0, zorder=2)
+        ax.plot(
+            *np.stack([o[2], frames.end_origin[j]]).T,
+            color="0.4",
+            linewidth=1.0,
+            linestyle=":",
+            zorder=2,
+        )
+        for k in range(3):
+            driven = k == act
+            edge = "black" if driven else color
+            if types[k] == "R":
+                ax.plot(
+                    *o[k],
+                    marker="o",
+                    markersize=9,
+                    markerfacecolor="white",
+                    markeredgecolor=edge,
+                    markeredgewidth=2.5 if driven else 1.5,
+                    zorder=4,
+                )
+            else:
+                stroke = float((o[k] - jo[k]) @ u[k])
+                low, high = min(stroke, 0.0) - 0.07, max(stroke, 0.0) + 0.07
+                guide = np.stack([jo[k] + low * u[k], jo[k] + high * u[k]])
+                ax.plot(
+                    *guide.T,
+                    color="0.2" if k == 0 else color,
+                    linewidth=1.2,
+                    linestyle="-" if k == 0 else "--",
+                    zorder=2,
+                )
+                if k > 0:  # the proximal link runs along its guide to the slider
+                    ax.plot(*np.stack([jo[k], o[k]]).T, color=color, linewidth=3.0, zorder=2)
+                angle = float(np.degrees(np.arctan2(u[k][1], u[k][0])))
+                w, h = 0.05, 0.025
+                corner = o[k] - (w / 2) * u[k] - (h / 2) * np.array([-u[k][1], u[k][0]])
+                ax.add_patch(
+                    Rectangle(
+                        tuple(corner),
+                        w,
+                        h,
+                        angle=angle,
+                        facecolor="white",
+                        edgecolor=edge,
+                        linewidth=2.5 if driven else 1.5,
+                        zorder=3,
+                    )
+                )
+        if types[0] == "R":  # a ground mark under the base pivot
+            base = o[0]
+            ax.add_patch(
+                Polygon(
+                    base + np.array([[0, 0], [-0.02, -0.03], [0.02, -0.03]]),
+                    closed=True,
+                    facecolor="0.3",
+                    zorder=3,
+                )
+            )
+    ax.plot(0.0, 0.0, marker="+", color="black", markersize=10, zorder=5)
+    ax.set_aspect("equal")
+    ax.set_xlim(-0.45, 0.45)
+    ax.set_ylim(-0.45, 0.45)
+    ax.set_xticks([-0.4, 0.0, 0.4])
+    ax.set_yticks([-0.4, 0.0, 0.4])
+    ax.grid(True, color="0.92")
+    ax.set_title(f"{robot.architecture} (joint {robot.actuated} driven)", fontsize=11)
+
+
+def designs_figure(robots: list[FamilyRobot]) -> Figure:
+    """The default designs at home (docs/family.md §3): one axes each, metres.
+
+    Pivots are circles, sliders rectangles on their guides (dashed when the
+    guide is on a moving link), the driven joint outlined in black, the platform
+    the grey triangle through the three platform-side joints, ``G`` the cross.
+    """
+    from matplotlib.figure import Figure
+
+    columns = 4
+    rows = -(-len(robots) // columns)
+    figure = Figure(figsize=(3.3 * columns, 3.5 * rows), dpi=110, layout="constrained")
+    axes = figure.subplots(rows, columns, squeeze=False)
+    for index, ax in enumerate(axes.flat):
+        if index < len(robots):
+            _draw_design(ax, robots[index])
+        else:
+            ax.axis("off")
+            lines = [
+                "legs A, B, C: blue, orange, green",
+                "o  revolute joint",
+                "[ ]  slider on its guide",
+                "     (dashed: guide on a link)",
+                "black outline: driven joint",
+                "grey: platform; +: G at home",
+                "axes in metres",
+            ]
+            ax.text(0.02, 0.95, "\n".join(lines), va="top", fontsize=10, transform=ax.transAxes)
+    figure.suptitle("The default designs of the family at home (x = y = phi = 0)", fontsize=13)
+    return figure
