@@ -442,11 +442,41 @@ def test_unreachable_pose_is_named() -> None:
     motion = Motion.at_rest([[0.0, 0.0, 0.0], [0.6, 0.0, 0.0]], t=[0.0, 1.0])
     with pytest.raises(UnreachablePoseError, match="cannot reach") as info:
         family_inverse_dynamics(FamilyRobot.default("3-RRR"), motion)
-    assert (
-        info.value.sample == 1
-        and info.value.leg in tuple(LEGS)
-        and info.value.pose == (0.6, 0.0, 0.0)
-    )
+    error = info.value
+    assert error.sample == 1 and error.leg in tuple(LEGS) and error.time == 1.0
+    assert "on the way to sample 1" in str(error) and error.pose is not None
+    assert 0.0 < error.pose[0] < 0.6  # the straight path leaves the workspace before the sample
+    single = Motion.at_rest([0.6, 0.0, 0.0])
+    with pytest.raises(UnreachablePoseError, match="cannot reach"):
+        family_inverse_dynamics(FamilyRobot.default("3-RRR"), single)
+
+
+def test_a_crossing_between_samples_is_refused() -> None:
+    """Two samples on either side of the 3-PRR's parallel singularity at φ = atan(1/2)."""
+    motion = Motion.at_rest([[0.0, 0.0, 0.0], [0.0, 0.0, 0.3], [0.0, 0.0, 0.7]], t=[0.0, 1.0, 2.0])
+    with pytest.raises(SingularPoseError, match="on the way to sample 2") as info:
+        family_inverse_dynamics(FamilyRobot.default("3-PRR", 2), motion)
+    assert info.value.sample == 2 and "mu_par" in str(info.value)
+    assert info.value.pose is not None and 0.3 < info.value.pose[2] < 0.7
+
+
+def test_a_coarse_rotation_keeps_the_branch() -> None:
+    """One sample far from home: the path is followed in sub-steps, R angles stay continuous."""
+    robot = FamilyRobot.default("3-RPR")
+    coarse = family_inverse_dynamics(robot, Motion.at_rest([0.0, 0.0, 0.25]))
+    t = np.linspace(0.0, 1.0, 101)
+    pose = np.stack([0 * t, 0 * t, 0.25 * t], -1)
+    fine = family_inverse_dynamics(robot, Motion.at_rest(pose, t=t))
+    np.testing.assert_allclose(coarse.q, fine.q[-1], atol=1e-12)
+
+
+def test_poses_out_of_range_are_refused() -> None:
+    for pose in ([1e300, 0.0, 0.0], [0.0, 0.0, 1e10]):
+        with pytest.raises(Prp3Error, match="robot lengths") as info:
+            family_inverse_dynamics(
+                FamilyRobot.default("3-RRR"), Motion.at_rest([[0, 0, 0], pose], t=[0, 1])
+            )
+        assert info.value.sample == 1
 
 
 @pytest.mark.parametrize(("arch", "act"), [("3-PRP", 2), ("3-PPR", 3), ("3-RPP", 1), ("3-RRP", 2)])

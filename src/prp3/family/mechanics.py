@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 
 from ..errors import SingularPoseError, TrajectoryError, UnreachablePoseError
 from ..motion import Motion
-from ..validation import LEGS, check_instance, require_finite
+from ..validation import LEGS, MAX_ORIENTATION, POSE_BOUND, check_instance, require_finite
 from .chain import (
     SIGMA,
     SINGULAR,
@@ -84,31 +84,108 @@ class Geometry:
     mu_par: FloatArray  # (N,)
 
 
+#: Largest change of ``φ`` (rad) between two points of the followed path (§5).
+MAX_TURN: float = 0.25
+
+#: Largest move of ``G`` between two points of the followed path, in robot lengths.
+MAX_MOVE: float = 0.1
+
+
+def robot_length(robot: FamilyRobot) -> float:
+    """A length of the robot (m): the placements' lengths and P home values summed, or ``ℓ``."""
+    placements = robot.leg.placements
+    reach = float(np.hypot(placements[:, 0], placements[:, 1]).sum())
+    reach += sum(abs(robot.leg.home[k]) for k in range(3) if robot.types[k] == "P")
+    return max(reach, robot.leg.scale)
+
+
+def follow(points: FloatArray, length: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The straight segments between ``points (n, 3)`` in sub-steps (§5).
+
+    Each segment is cut in as many equal steps as needed for ``|Δφ| ≤``
+    :data:`MAX_TURN` and ``|ΔG| ≤`` :data:`MAX_MOVE` robot lengths.
+
+    Returns
+    -------
+    path : ndarray, shape (m, 3)
+        ``points[0]``, then every step; the points themselves are on it.
+    owner : ndarray of int, shape (m,)
+        For each point of the path, the index of the point its segment ends at.
+    at : ndarray of int, shape (n,)
+        Where each of ``points`` lies on the path.
+
+    >>> path, owner, at = follow(np.array([[0, 0, 0], [0, 0, 0.6], [0, 0, 0.61]]), 1.0)
+    >>> path[:, 2].round(2).tolist(), owner.tolist(), at.tolist()
+    ([0.0, 0.2, 0.4, 0.6, 0.61], [0, 1, 1, 1, 2], [0, 3, 4])
+    """
+    delta = np.diff(points, axis=0)
+    move = np.hypot(delta[:, 0], delta[:, 1]) / (MAX_MOVE * length)
+    steps = np.maximum(1, np.ceil(np.maximum(np.abs(delta[:, 2]) / MAX_TURN, move))).astype(int)
+    segment = np.repeat(np.arange(delta.shape[0]), steps)
+    first = np.repeat(np.cumsum(steps) - steps, steps)
+    fraction = (np.arange(segment.size) - first + 1) / steps[segment]
+    path = np.concatenate([points[:1], points[segment] + fraction[:, None] * delta[segment]])
+    path[np.cumsum(steps)] = points[1:]  # the points exactly
+    owner = np.concatenate([[0], segment + 1])
+    at = np.concatenate([[0], np.cumsum(steps)])
+    return path, owner, at
+
+
+def check_poses(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> None:
+    """Refuse poses beyond ``POSE_BOUND`` robot lengths or ``MAX_ORIENTATION`` rad (named)."""
+    bound = POSE_BOUND * robot_length(robot)
+    bad = (np.abs(pose[:, :2]) > bound).any(axis=1) | (np.abs(pose[:, 2]) > MAX_ORIENTATION)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise TrajectoryError(
+            f"the pose {_pose_tuple(pose[k])} lies beyond {POSE_BOUND:g} robot lengths "
+            f"({bound:.6g} m) of the centre, or |phi| > {MAX_ORIENTATION:g} rad",
+            subject="motion",
+            sample=k,
+            time=float(t[k]),
+            pose=_pose_tuple(pose[k]),
+        )
+
+
 def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geometry:
     """Closure solutions of docs/family.md §5 at poses ``(N, 3)`` and the refusals of §6.
+
+    Each leg follows the path from its home pose through the samples in
+    sub-steps (:func:`follow`): the branch keeps the sign of ``μ_leg`` it has at
+    home, the R angles are unwrapped along the path, and the measures are
+    checked at every sub-step too, so a singularity crossed between two
+    samples is refused (naming the sample after it).
 
     Raises
     ------
     UnreachablePoseError
         A leg cannot reach a pose (names the sample, time, leg and pose).
     SingularPoseError
-        ``s_L·μ_leg,L < 1e-4`` or ``s_par·μ_par < 1e-4`` at a sample: a singular
-        pose, or a singularity crossed since home (names the measure).
+        ``s_L·μ_leg,L < 1e-4`` or ``s_par·μ_par < 1e-4`` at a sample or on the way
+        to it: a singular pose, or a singularity crossed since home (names the measure).
     """
+    check_poses(robot, pose, t)
     types, placements, scale = robot.types, robot.leg.placements, robot.leg.scale
     geometry = LEG_GEOMETRY[types](placements)
     home_leg, home_par = robot.home_measures
     home = np.asarray(robot.leg.home)
     revolute = [k for k in range(3) if types[k] == "R"]
+    length = robot_length(robot)
     n = pose.shape[0]
     q = np.empty((n, 3, 3))
+    failures: list[tuple[int, str, float, FloatArray, str | None, float]] = []
+    shared_wrench: list[FloatArray] = []
+    shared_owner = np.zeros(0, dtype=int)
+    shared_path = np.zeros((0, 3))
     for j in range(3):
-        local_g = rotate(-SIGMA[j], pose[:, :2])
-        phi = pose[:, 2]
+        path, owner, at = follow(np.concatenate([robot.home_poses[j : j + 1], pose]), length)
+        sample_of = np.maximum(owner - 1, 0)
+        local_g = rotate(-SIGMA[j], path[:, :2])
+        phi = path[:, 2]
         sign = math.copysign(1.0, home_leg[j])
-        best = np.full(n, -np.inf)
-        chosen = np.full((n, 3), np.nan)
-        with np.errstate(invalid="ignore"):
+        best = np.full(path.shape[0], -np.inf)
+        chosen = np.full((path.shape[0], 3), np.nan)
+        with np.errstate(invalid="ignore", over="ignore"):
             for candidate in geometry.candidates(local_g, phi):
                 frames = leg_chain(types, placements, 0.0, candidate)
                 value = sign * leg_measure(leg_jacobian(types, frames, local_g, scale))
@@ -117,46 +194,62 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
                 chosen[better] = candidate[better]
         lost = ~np.isfinite(chosen).all(axis=1)
         if lost.any():
-            k = int(np.argmax(lost))
+            i = int(np.argmax(lost))
+            k = int(sample_of[i])
+            note = "" if i in at else f" on the way to sample {k}"
             raise UnreachablePoseError(
-                f"leg {LEGS[j]} cannot reach the pose {_pose_tuple(pose[k])} "
+                f"leg {LEGS[j]} cannot reach the pose {_pose_tuple(path[i])}{note} "
                 f"(the {robot.architecture}'s closure has no real solution)",
                 sample=k,
                 time=float(t[k]),
                 leg=LEGS[j],
-                pose=_pose_tuple(pose[k]),
+                pose=_pose_tuple(path[i]),
             )
-        if revolute:  # R angles: continuous from home (docs/family.md §5)
+        if revolute:  # R angles: continuous from home along the path (docs/family.md §5)
             turns = home[revolute].sum() - (robot.home_poses[j, 2] - geometry.total)
             offset = 2.0 * math.pi * round(turns / (2.0 * math.pi))
             for k in revolute[:-1]:
-                series = np.unwrap(np.concatenate([[home[k]], chosen[:, k]]))
-                chosen[:, k] = series[1:]
+                chosen[:, k] = np.unwrap(np.concatenate([[home[k]], chosen[:, k]]))[1:]
             last = revolute[-1]
             others = chosen[:, revolute[:-1]].sum(axis=1) if len(revolute) > 1 else 0.0
-            chosen[:, last] = pose[:, 2] - geometry.total + offset - others
-        q[:, j, :] = chosen
+            chosen[:, last] = phi - geometry.total + offset - others
+        q[:, j, :] = chosen[at[1:]]
+        frames = leg_chain(types, placements, SIGMA[j], chosen)
+        hat = leg_jacobian(types, frames, path[:, :2], scale)
+        mu = leg_measure(hat)
+        bad = ~(sign * mu >= SINGULAR)
+        if bad.any():
+            i = int(np.argmax(bad))
+            failures.append(
+                (int(sample_of[i]), f"mu_leg of leg {LEGS[j]}", float(mu[i]), path[i], LEGS[j],
+                 home_leg[j])
+            )  # fmt: skip
+        start = int(at[1])  # the path from sample 0 on is the same for the three legs
+        shared_wrench.append(transmitted_wrench(hat[start:], robot.actuated))
+        shared_owner, shared_path = sample_of[start:], path[start:]
+    mu_path = parallel_measure(np.stack(shared_wrench, axis=-2))
+    bad = ~(math.copysign(1.0, home_par) * mu_path >= SINGULAR)
+    if bad.any():
+        i = int(np.argmax(bad))
+        failures.append(
+            (int(shared_owner[i]), "mu_par", float(mu_path[i]), shared_path[i], None, home_par)
+        )
+    if failures:
+        k, name, measure, where, leg, at_home = min(failures, key=lambda item: item[0])
+        between = "" if np.array_equal(where, pose[k]) else f" on the way to sample {k}"
+        raise SingularPoseError(
+            f"{name} = {measure:.6g} at the pose {_pose_tuple(where)}{between}: a singular "
+            f"pose, or a singularity crossed since home (its sign at home is "
+            f"{'+' if at_home > 0 else '-'}; refused below {SINGULAR:g})",
+            sample=k,
+            time=float(t[k]),
+            leg=leg,
+            pose=_pose_tuple(where),
+        )
     frames = leg_chain(types, placements, SIGMA, q)
-    centre = pose[:, None, :2]
-    hat = leg_jacobian(types, frames, centre, scale)
+    hat = leg_jacobian(types, frames, pose[:, None, :2], scale)
     mu_leg = leg_measure(hat)
     mu_par = parallel_measure(transmitted_wrench(hat, robot.actuated))
-    checks: list[tuple[str, FloatArray, float, str | None]]
-    checks = [(f"mu_leg of leg {LEGS[j]}", mu_leg[:, j], home_leg[j], LEGS[j]) for j in range(3)]
-    checks.append(("mu_par", mu_par, home_par, None))
-    for name, value, at_home, leg in checks:
-        bad = ~(math.copysign(1.0, at_home) * value >= SINGULAR)
-        if bad.any():
-            k = int(np.argmax(bad))
-            raise SingularPoseError(
-                f"{name} = {float(value[k]):.6g} at the pose {_pose_tuple(pose[k])}: a singular "
-                f"pose, or a singularity crossed since home (its sign at home is "
-                f"{'+' if at_home > 0 else '-'}; refused below {SINGULAR:g})",
-                sample=k,
-                time=float(t[k]),
-                leg=leg,
-                pose=_pose_tuple(pose[k]),
-            )
     return Geometry(q=q, frames=frames, mu_leg=mu_leg, mu_par=mu_par)
 
 

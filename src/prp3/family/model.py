@@ -290,6 +290,20 @@ class FamilyRobot:
     def _check_home(self) -> None:
         with np.errstate(all="ignore"):
             mu_leg, mu_par = self.home_measures
+            frames = leg_chain(
+                self.types, self.leg.placements, SIGMA, np.tile(self.leg.home, (3, 1))
+            )
+            scaled = leg_jacobian(self.types, frames, frames.end_origin, self.leg.scale)
+            wrench = transmitted_wrench(scaled, self.actuated)
+        if not (
+            np.isfinite(scaled).all() and np.isfinite(wrench).all() and np.isfinite(mu_leg).all()
+        ):
+            raise ParameterError(
+                f"leg.scale = {self.leg.scale!r} m with the placements and home of [leg] makes the "
+                "singularity measures overflow float64 (lengths out of range)",
+                subject="robot",
+                key="leg.scale",
+            )
         for leg, value in zip("ABC", mu_leg, strict=True):
             if not abs(value) >= SINGULAR:
                 raise ParameterError(
