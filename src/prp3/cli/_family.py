@@ -35,7 +35,7 @@ def family_summary_text(
     >>> robot = FamilyRobot.default("3-RRR")
     >>> table = family_results_table(family_inverse_dynamics(robot, paper_motion("vertical", 31)))
     >>> print(family_summary_text(table, robot, "run", []).splitlines()[2])
-      peak |tau| (N m)        7.55762       7.55762       7.55762
+      peak |tau| (N m)         7.55834       3.77351       4.15043
     """
     t = np.asarray(table["t"], dtype=np.float64)
     unit = "N" if robot.types[robot.actuated - 1] == "P" else "N m"
