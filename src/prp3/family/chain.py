@@ -31,6 +31,8 @@ __all__ = [
     "SINGULAR",
     "ChainFrames",
     "cross",
+    "det3",
+    "inv3",
     "leg_chain",
     "leg_jacobian",
     "leg_measure",
@@ -174,9 +176,38 @@ def leg_jacobian(types: str, frames: ChainFrames, g: ArrayLike, scale: float = 1
     return np.stack(columns, axis=-1)
 
 
+def det3(m: FloatArray) -> FloatArray:
+    """Determinants of stacked 3×3 matrices ``(..., 3, 3)`` in closed form (cofactors of row 0)."""
+    return np.asarray(
+        m[..., 0, 0] * (m[..., 1, 1] * m[..., 2, 2] - m[..., 1, 2] * m[..., 2, 1])
+        - m[..., 0, 1] * (m[..., 1, 0] * m[..., 2, 2] - m[..., 1, 2] * m[..., 2, 0])
+        + m[..., 0, 2] * (m[..., 1, 0] * m[..., 2, 1] - m[..., 1, 1] * m[..., 2, 0])
+    )
+
+
+def inv3(m: FloatArray) -> FloatArray:
+    """Inverses of stacked 3×3 matrices ``(..., 3, 3)``: the adjugate over the determinant.
+
+    >>> a = np.array([[2.0, 1.0, 0.0], [0.0, 1.0, 3.0], [1.0, 0.0, 1.0]])
+    >>> bool(np.allclose(inv3(a) @ a, np.eye(3)))
+    True
+    """
+    a, b, c = m[..., 0, 0], m[..., 0, 1], m[..., 0, 2]
+    d, e, f = m[..., 1, 0], m[..., 1, 1], m[..., 1, 2]
+    g, h, i = m[..., 2, 0], m[..., 2, 1], m[..., 2, 2]
+    co = [e * i - f * h, f * g - d * i, d * h - e * g]
+    det = a * co[0] + b * co[1] + c * co[2]
+    adj = np.empty(m.shape)
+    adj[..., 0, 0], adj[..., 1, 0], adj[..., 2, 0] = co
+    adj[..., 0, 1], adj[..., 1, 1], adj[..., 2, 1] = c * h - b * i, a * i - c * g, b * g - a * h
+    adj[..., 0, 2], adj[..., 1, 2], adj[..., 2, 2] = b * f - c * e, c * d - a * f, a * e - b * d
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.asarray(adj / det[..., None, None])
+
+
 def leg_measure(jacobian_hat: FloatArray) -> FloatArray:
     """``μ_leg = det Ĵ`` (signed, dimensionless), docs/family.md §6."""
-    return np.asarray(np.linalg.det(jacobian_hat))
+    return det3(jacobian_hat)
 
 
 def transmitted_wrench(jacobian_hat: FloatArray, actuated: int) -> FloatArray:
@@ -196,4 +227,4 @@ def parallel_measure(wrenches: FloatArray) -> FloatArray:
     norm = np.linalg.norm(wrenches, axis=-1, keepdims=True)
     with np.errstate(invalid="ignore", divide="ignore"):
         rows = np.where(norm > 0.0, wrenches / np.where(norm > 0.0, norm, 1.0), 0.0)
-    return np.asarray(np.linalg.det(rows))
+    return det3(rows)

@@ -41,6 +41,7 @@ from .chain import (
     SINGULAR,
     ChainFrames,
     cross,
+    inv3,
     leg_chain,
     leg_jacobian,
     leg_measure,
@@ -66,8 +67,12 @@ FloatArray = NDArray[np.float64]
 
 
 def solve3(matrix: FloatArray, rhs: FloatArray) -> FloatArray:
-    """``matrix⁻¹·rhs`` for stacks of 3×3 matrices ``(..., 3, 3)`` and vectors ``(..., 3)``."""
-    return np.asarray(np.linalg.solve(matrix, rhs[..., None])[..., 0], dtype=np.float64)
+    """``matrix⁻¹·rhs`` for stacks of 3×3 matrices ``(..., 3, 3)`` and vectors ``(..., 3)``.
+
+    In closed form (:func:`~prp3.family.chain.inv3`); the matrices are far from
+    singular here (the measures of §6 are refused below 1e-4).
+    """
+    return np.asarray(np.einsum("...ij,...j->...i", inv3(matrix), rhs))
 
 
 def _pose_tuple(pose: FloatArray) -> tuple[float, float, float]:
@@ -272,6 +277,8 @@ class FamilyKinematics:
         The chain frames of every leg, fixed-frame components, shapes ``(..., 3, ...)``.
     jacobian : ndarray, shape ``(..., 3, 3, 3)``
         Each leg's ``J`` at ``G`` (ℓ = 1): ``(ẋ, ẏ, φ̇) = J·q̇``.
+    jacobian_inverse : ndarray, shape ``(..., 3, 3, 3)``
+        ``K = J⁻¹`` (closed form).
     """
 
     robot: FamilyRobot
@@ -283,6 +290,7 @@ class FamilyKinematics:
     mu_par: FloatArray
     frames: ChainFrames
     jacobian: FloatArray
+    jacobian_inverse: FloatArray
 
 
 def _batch(motion: Motion) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
@@ -320,10 +328,11 @@ def family_kinematics(robot: FamilyRobot, motion: Motion) -> FamilyKinematics:
     frames = geo.frames
     jac = leg_jacobian(robot.types, frames, pose[:, None, :2])
     twist = np.broadcast_to(velocity[:, None, :], (t.size, 3, 3))
-    dq = solve3(jac, np.ascontiguousarray(twist))
+    inverse = inv3(jac)
+    dq = np.einsum("nlij,nlj->nli", inverse, twist)
     bias = _jacobian_rate(robot.types, frames, jac, dq, velocity)
     rhs = acceleration[:, None, :] - np.einsum("nlij,nlj->nli", bias, dq)
-    ddq = solve3(jac, rhs)
+    ddq = np.einsum("nlij,nlj->nli", inverse, rhs)
     require_finite({"dq": dq, "ddq": ddq}, (t.size,), "motion", t)
     shape = motion.t.shape
     return FamilyKinematics(
@@ -336,6 +345,7 @@ def family_kinematics(robot: FamilyRobot, motion: Motion) -> FamilyKinematics:
         mu_par=geo.mu_par.reshape(shape),
         frames=frames,
         jacobian=jac,
+        jacobian_inverse=inverse,
     )
 
 
@@ -481,7 +491,7 @@ def joint_forces(
     b = _link_powers(jac, links)
     e = np.zeros_like(b)
     e[..., a] = tau
-    w = solve3(np.swapaxes(jac, -1, -2), e - b)
+    w = np.einsum("nlji,nlj->nli", kin.jacobian_inverse, e - b)
     wrench = np.stack([links[:, :, 0] + links[:, :, 1] + w, links[:, :, 1] + w, w], axis=2)
     centre = kin.motion.pose.reshape(-1, 3)[:, None, None, :2]
     force = wrench[..., :2]
@@ -508,7 +518,7 @@ def fast_dynamics(kin: FamilyKinematics) -> FamilySolution:
     links, platform = body_wrenches(kin)
     jac = kin.jacobian
     a = kin.robot.actuated - 1
-    inverse = np.linalg.inv(jac)  # K_L, (N, 3, 3, 3)
+    inverse = kin.jacobian_inverse  # K_L, (N, 3, 3, 3)
     b = _link_powers(jac, links)
     rhs = platform + np.einsum("nlki,nlk->ni", inverse, b)
     matrix = np.swapaxes(inverse[:, :, a, :], -1, -2)  # columns K_L[a, :]

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Literal
 
@@ -272,13 +273,17 @@ class FamilyRobot:
         """The joint types of a leg, base to platform (``"RRR"`` ...)."""
         return self.architecture[2:]
 
-    @property
+    @cached_property
     def home_poses(self) -> FloatArray:
         """Each leg's home pose ``(x, y, φ)`` at ``q = home`` (docs/family.md §5), shape ``(3, 3)``."""
         frames = leg_chain(self.types, self.leg.placements, SIGMA, np.tile(self.leg.home, (3, 1)))
-        return np.concatenate([frames.end_origin, wrap(frames.end_angle - SIGMA)[:, None]], axis=-1)
+        poses = np.concatenate(
+            [frames.end_origin, wrap(frames.end_angle - SIGMA)[:, None]], axis=-1
+        )
+        poses.flags.writeable = False
+        return poses
 
-    @property
+    @cached_property
     def home_measures(self) -> tuple[list[float], float]:
         """``μ_leg`` of legs A, B, C and ``μ_par`` in the home configuration (docs/family.md §6)."""
         frames = leg_chain(self.types, self.leg.placements, SIGMA, np.tile(self.leg.home, (3, 1)))
