@@ -482,7 +482,7 @@ class FamilySolution:
 
 
 def joint_forces(
-    kin: FamilyKinematics, tau: FloatArray, links: FloatArray, platform: FloatArray
+    kin: FamilyKinematics, tau: FloatArray, links: FloatArray
 ) -> tuple[FloatArray, FloatArray]:
     """Every joint's wrench from the actuator efforts: ``(force (N,3,3,2), moment (N,3,3))``.
 
@@ -499,7 +499,6 @@ def joint_forces(
     centre = kin.motion.pose.reshape(-1, 3)[:, None, None, :2]
     force = wrench[..., :2]
     moment = wrench[..., 2] + cross(centre - kin.frames.origin, force)
-    del platform
     return force, moment
 
 
@@ -526,7 +525,7 @@ def fast_dynamics(kin: FamilyKinematics) -> FamilySolution:
     rhs = platform + np.einsum("nlki,nlk->ni", inverse, b)
     matrix = np.swapaxes(inverse[:, :, a, :], -1, -2)  # columns K_L[a, :]
     tau = solve3(matrix, rhs)
-    force, moment = joint_forces(kin, tau, links, platform)
+    force, moment = joint_forces(kin, tau, links)
     return _solution(kin, kin.dq, kin.ddq, tau, force, moment, "fast")
 
 
