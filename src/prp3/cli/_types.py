@@ -18,7 +18,7 @@ import sys
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
-from ..errors import OutputFileError
+from ..errors import OutputFileError, ParameterError
 from ..files import MANIFEST_NAME, StagedOutput, staged_output
 from ..model import Robot
 
@@ -110,8 +110,29 @@ def add_robot_option(parser: argparse.ArgumentParser, note: str = "") -> None:
 
 
 def load_robot(args: argparse.Namespace) -> Robot:
-    """The robot of ``--robot``, or the paper's robot."""
-    return Robot.from_toml(args.robot) if args.robot is not None else Robot()
+    """The robot of ``--robot``, or the paper's robot.
+
+    A family-form robot file (docs/family.md) is refused by capability, naming
+    its architecture: only ``prp3 simulate`` and ``prp3 robot`` take it so far.
+    """
+    if args.robot is None:
+        return Robot()
+    from ..family import FamilyRobot, read_robot_file
+
+    robot = read_robot_file(args.robot)
+    if isinstance(robot, FamilyRobot):
+        command = " ".join(
+            str(part)
+            for part in (getattr(args, "command", None), getattr(args, "format", None))
+            if isinstance(part, str) and part not in ("csv", "parquet")
+        )
+        raise ParameterError(
+            f"prp3 {command or 'this command'} computes the 3-PRP of docs/model.md only, not yet "
+            f"the {robot.architecture} of a family-form robot file (docs/family.md: prp3 simulate "
+            "and prp3 robot take it)",
+            file=args.robot,
+        )
+    return robot
 
 
 def add_output_directory(parser: argparse.ArgumentParser) -> None:

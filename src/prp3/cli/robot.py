@@ -11,7 +11,9 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..model import Robot, robot_template
+from ..errors import Prp3Error
+from ..family import ARCHITECTURES, FamilyRobot, family_template, read_robot_file
+from ..model import robot_template
 from ._types import emit, path_name
 
 __all__ = ["register", "run"]
@@ -21,6 +23,7 @@ examples:
   prp3 robot --template > robot.toml      then edit robot.toml
   prp3 robot --check robot.toml           validate it, print the parameters it gives
   prp3 simulate --robot robot.toml --motion vertical --output out
+  prp3 robot --template --architecture 3-RRR > rrr.toml   a family-form file (docs/family.md)
 """
 
 
@@ -48,15 +51,30 @@ def register(subparsers: Any) -> None:
         type=path_name,
         help="validate ROBOT.toml and print the parameters it gives (defaults filled in)",
     )
+    parser.add_argument(
+        "--architecture",
+        choices=ARCHITECTURES,
+        help="with --template: a family-form ROBOT.toml of this architecture and its "
+        "default design (docs/family.md)",
+    )
     parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run ``prp3 robot`` with parsed ``args``; return the exit status."""
+    architecture = getattr(args, "architecture", None)
     if args.template:
-        emit(robot_template(), end="")
+        emit(robot_template() if architecture is None else family_template(architecture), end="")
         return 0
-    robot = Robot.from_toml(args.check)
+    if architecture is not None:
+        raise Prp3Error(
+            f"--architecture {architecture} applies to --template only (a checked file "
+            "names its own architecture)"
+        )
+    robot = read_robot_file(args.check)
     emit(f"# {args.check}: valid; the parameters it gives, defaults filled in:")
-    emit(robot_template(robot), end="")
+    if isinstance(robot, FamilyRobot):
+        emit(family_template(robot), end="")
+    else:
+        emit(robot_template(robot), end="")
     return 0

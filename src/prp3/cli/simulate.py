@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from ..dynamics import METHODS
 from ..errors import Prp3Error
+from ..family import FamilyRobot, read_robot_file
 from ..geometry import LEGS
 from ..io import (
     Trajectory,
@@ -112,7 +113,10 @@ def register(subparsers: Any) -> None:
             "platform motion and write DIR/results.csv: columns t,x,y,phi, then for each leg\n"
             "A, B, C: lambda10, dlambda10, ddlambda10, lambda32, dlambda32, ddlambda32, f10,\n"
             "p10, f21y, f21z, n10, m10, n32, m32 (SI units, full precision). The meaning and\n"
-            "sign of every column: docs/model.md; every option: docs/cli.md."
+            "sign of every column: docs/model.md; every option: docs/cli.md.\n"
+            "A family-form ROBOT.toml (3-RPR, 3-RRR, ...: docs/family.md) writes its 64\n"
+            "columns instead: t,x,y,phi, then per leg q1..q3 with rates, tau, p and every\n"
+            "joint force fx{k},fy{k},m{k}."
         ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -282,7 +286,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         require_bokeh("--html")
     check_output_directory(output)
     check_inputs_kept(output, (results_name,), (args.trajectory, args.robot))
-    robot = load_robot(args)
+    loaded = read_robot_file(args.robot) if args.robot is not None else load_robot(args)
     trajectory: Trajectory | None = None
     if args.trajectory is not None:
         if args.samples is not None:
@@ -304,6 +308,23 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
     )
 
     source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
+    if isinstance(loaded, FamilyRobot):  # a family-form robot file: docs/family.md
+        from ._family import run_family
+
+        def note() -> None:
+            if trajectory is not None and trajectory.note is not None:
+                print(f"{args.program}: warning: {trajectory.note}", file=stderr)
+
+        return run_family(
+            args,
+            loaded,
+            motion,
+            heading,
+            located=lambda error: _located(error, motion, source, trajectory),
+            progress=progress,
+            note=note,
+        )
+    robot = loaded
     near_lock: list[int] = []
     try:
         table = simulate_table(

@@ -1,0 +1,110 @@
+"""The 64 result columns of a family robot (docs/family.md §7) and the three routes by name.
+
+>>> len(FAMILY_COLUMNS), FAMILY_COLUMNS[:5], FAMILY_COLUMNS[-1]
+(64, ('t', 'x', 'y', 'phi', 'q1_A'), 'm3_C')
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import Prp3Error
+from ..motion import Motion
+from ..validation import LEGS
+from .mechanics import FamilySolution, family_kinematics, fast_dynamics
+from .model import FamilyRobot
+from .newton_euler import newton_euler_dynamics
+from .paper import paper_dynamics
+
+__all__ = [
+    "FAMILY_COLUMNS",
+    "FAMILY_METHODS",
+    "LEG_COLUMNS",
+    "family_inverse_dynamics",
+    "family_results_table",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: The per-leg columns, in order (``_A``, ``_B``, ``_C`` appended).
+LEG_COLUMNS: tuple[str, ...] = (
+    *(f"{name}{k}" for k in (1, 2, 3) for name in ("q", "dq", "ddq")),
+    "tau",
+    "p",
+    *(f"{name}{k}" for k in (1, 2, 3) for name in ("fx", "fy", "m")),
+)
+
+#: The columns of ``results.csv`` in family form: ``t, x, y, phi``, then leg A's, B's, C's.
+FAMILY_COLUMNS: tuple[str, ...] = (
+    "t",
+    "x",
+    "y",
+    "phi",
+    *(f"{name}_{leg}" for leg in LEGS for name in LEG_COLUMNS),
+)
+
+#: The routes of :func:`family_inverse_dynamics`.
+FAMILY_METHODS: tuple[str, ...] = ("fast", "paper", "newton-euler")
+
+Method = Literal["fast", "paper", "newton-euler"]
+
+
+def family_inverse_dynamics(
+    robot: FamilyRobot, motion: Motion, method: Method = "fast"
+) -> FamilySolution:
+    """Complete inverse dynamics of a family robot by one of the three routes.
+
+    Parameters
+    ----------
+    robot : FamilyRobot
+    motion : prp3.Motion
+        ``N`` samples or one (results then lose the leading axis).
+    method : {"fast", "paper", "newton-euler"}
+
+    Examples
+    --------
+    >>> from prp3.motion import paper_motion
+    >>> solution = family_inverse_dynamics(FamilyRobot.default("3-RRR"), paper_motion("vertical", 5))
+    >>> solution.tau.shape, solution.force.shape
+    ((5, 3), (5, 3, 3, 2))
+    """
+    if method not in FAMILY_METHODS:
+        raise Prp3Error(
+            f"method must be one of {', '.join(map(repr, FAMILY_METHODS))}, got {method!r}"
+        )
+    if method == "paper":
+        return paper_dynamics(robot, motion)
+    if method == "newton-euler":
+        return newton_euler_dynamics(robot, motion)
+    return fast_dynamics(family_kinematics(robot, motion))
+
+
+def family_results_table(solution: FamilySolution) -> dict[str, FloatArray]:
+    """The 64 columns of ``results.csv`` (float64 arrays of shape ``(N,)``), in order."""
+    motion = solution.kinematics.motion
+    pose = motion.pose.reshape(-1, 3)
+    n = pose.shape[0]
+    table: dict[str, FloatArray] = {
+        "t": np.atleast_1d(motion.t).astype(np.float64),
+        "x": pose[:, 0],
+        "y": pose[:, 1],
+        "phi": pose[:, 2],
+    }
+    q, dq, ddq = (a.reshape(n, 3, 3) for a in (solution.q, solution.dq, solution.ddq))
+    tau, power = solution.tau.reshape(n, 3), solution.power.reshape(n, 3)
+    force, moment = solution.force.reshape(n, 3, 3, 2), solution.moment.reshape(n, 3, 3)
+    for j, leg in enumerate(LEGS):
+        for k in range(3):
+            table[f"q{k + 1}_{leg}"] = q[:, j, k]
+            table[f"dq{k + 1}_{leg}"] = dq[:, j, k]
+            table[f"ddq{k + 1}_{leg}"] = ddq[:, j, k]
+        table[f"tau_{leg}"] = tau[:, j]
+        table[f"p_{leg}"] = power[:, j]
+        for k in range(3):
+            table[f"fx{k + 1}_{leg}"] = force[:, j, k, 0]
+            table[f"fy{k + 1}_{leg}"] = force[:, j, k, 1]
+            table[f"m{k + 1}_{leg}"] = moment[:, j, k]
+    return {name: np.ascontiguousarray(table[name]) for name in FAMILY_COLUMNS}
