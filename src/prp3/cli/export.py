@@ -17,8 +17,11 @@ from pathlib import Path
 from typing import Any
 
 from ..codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
+from ..errors import ParameterError
+from ..family import FamilyRobot, read_robot_file
 from ..io import atomic_writer, check_inputs_kept, check_output_directory, staged_output
 from ..mjcf import mjcf_model
+from ..model import Robot
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -112,9 +115,32 @@ def register(subparsers: Any) -> None:
     code.set_defaults(handler=_export_c)
 
 
+def _load_either(args: argparse.Namespace) -> Robot | FamilyRobot:
+    """The robot of ``--robot`` in either form (docs/family.md §1), or the paper's robot."""
+    if args.robot is None:
+        return load_robot(args)
+    try:
+        return read_robot_file(args.robot)
+    except ParameterError as error:
+        raise error.located(file=args.robot) from None
+
+
 def _export_mjcf(args: argparse.Namespace) -> int:
-    robot = load_robot(args)
-    text = mjcf_model(robot)
+    robot = _load_either(args)
+    if isinstance(robot, FamilyRobot):
+        from ..family.mjcf import family_mjcf_model
+
+        try:
+            text = family_mjcf_model(robot)
+        except ParameterError as error:
+            raise error.located(file=args.robot) from None
+        what = (
+            f"the {robot.architecture} (actuated joint {robot.actuated}) as 3 chains, loops closed "
+            f"by 2 welds, motors actuator_A/B/C on q{robot.actuated}_A/B/C"
+        )
+    else:
+        text = mjcf_model(robot)
+        what = "3 legs as chains, loops closed by 2 welds, motors actuator_A/B/C on the sliders"
     output: Path | None = args.output
     if output is None:
         emit(text, end="")
@@ -124,8 +150,7 @@ def _export_mjcf(args: argparse.Namespace) -> int:
         stream.write(text)
         # said before the file is moved in: a failing standard output keeps an older file
         emit(
-            f"{args.program}: MuJoCo MJCF model of {source} (3 legs as chains, loops closed by "
-            f"2 welds, motors actuator_A/B/C on the sliders), {len(text.encode())} bytes\n"
+            f"{args.program}: MuJoCo MJCF model of {source} ({what}), {len(text.encode())} bytes\n"
             f"files written:\n  {output}"
         )
     return 0
