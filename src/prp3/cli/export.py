@@ -8,6 +8,10 @@ does.  MuJoCo is not needed to export.
 ``prp3 export c --output DIR [--robot ROBOT.toml]`` writes the inverse
 dynamics as C99 code, ``DIR/prp3_inverse_dynamics.h`` and ``.c``
 (:func:`prp3.codegen.c_inverse_dynamics`), together or not at all.
+
+A family-form robot file (docs/family.md: 3-RPR, 3-RRR, ...) goes to the
+family's exporters, :func:`prp3.family.mjcf.family_mjcf_model` and
+:func:`prp3.family.codegen.family_c_inverse_dynamics` (docs/family_export.md).
 """
 
 from __future__ import annotations
@@ -16,9 +20,11 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
+from ..codegen import HEADER_NAME, SOURCE_NAME, CSource, c_inverse_dynamics
 from ..errors import ParameterError
 from ..family import FamilyRobot, read_robot_file
+from ..family.codegen import FamilyCSource, family_c_inverse_dynamics
+from ..family.mjcf import family_mjcf_model
 from ..io import atomic_writer, check_inputs_kept, check_output_directory, staged_output
 from ..mjcf import mjcf_model
 from ..model import Robot
@@ -46,6 +52,9 @@ weld_AC close the loops. A [payload] is a body welded to the platform;
 viscous and constant Coulomb [friction] are joint damping and frictionloss.
 The mu terms, tanh smoothing and a constant [load] are not in the model (a
 warning names them; apply the load as xfrc_applied). See docs/mujoco.md.
+A family-form ROBOT.toml (3-RPR, 3-RRR, ...: docs/family.md) gives per leg
+the joints q1_i, q2_i, q3_i (qpos = the family's q), motors on the actuated
+joint, welds weld_AB, weld_AC; see docs/family_export.md.
 """
 
 
@@ -60,6 +69,10 @@ int prp3_inverse_dynamics(const double pose[3], const double velocity[3],
                           double f10[3], double f21y[3], double f21z[3]);
 returns 0; 1 for a non-finite input, 2 for a singular pose, 3 outside the
 stroke (outputs NaN). See docs/control.md.
+A family-form ROBOT.toml (docs/family.md) writes
+int prp3_inverse_dynamics(pose, velocity, acceleration, double tau[3],
+                          double joint[27]);
+with 4 for a pose out of reach; see docs/family_export.md.
 """
 
 
@@ -128,8 +141,6 @@ def _load_either(args: argparse.Namespace) -> Robot | FamilyRobot:
 def _export_mjcf(args: argparse.Namespace) -> int:
     robot = _load_either(args)
     if isinstance(robot, FamilyRobot):
-        from ..family.mjcf import family_mjcf_model
-
         try:
             text = family_mjcf_model(robot)
         except ParameterError as error:
@@ -160,14 +171,27 @@ def _export_c(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, (HEADER_NAME, SOURCE_NAME), (args.robot,))
-    code = c_inverse_dynamics(load_robot(args))
+    robot = _load_either(args)
+    code: CSource | FamilyCSource
+    if isinstance(robot, FamilyRobot):
+        code = family_c_inverse_dynamics(robot)
+        what = (
+            f"the {robot.architecture}, actuated joint {robot.actuated} (prp3_inverse_dynamics: "
+            "pose, velocity, acceleration -> tau[3], joint[27]; returns 0, 1 non-finite, "
+            "2 singular, 4 out of reach)"
+        )
+    else:
+        code = c_inverse_dynamics(robot)
+        what = (
+            "(prp3_inverse_dynamics: pose, velocity, acceleration -> f10, f21y, f21z; returns 0, "
+            "1 non-finite, 2 singular, 3 outside the stroke)"
+        )
     source = f"the robot of {args.robot}" if args.robot is not None else "the paper's robot"
     with staged_output(output) as staged:
         staged.path(HEADER_NAME).write_text(code.header, encoding="utf-8")
         staged.path(SOURCE_NAME).write_text(code.source, encoding="utf-8")
         emit(
-            f"{args.program}: C99 inverse dynamics of {source} (prp3_inverse_dynamics: pose, "
-            "velocity, acceleration -> f10, f21y, f21z; returns 0, 1 non-finite, 2 singular, "
-            "3 outside the stroke)\n" + "\n".join(files_report(staged))
+            f"{args.program}: C99 inverse dynamics of {source} {what}\n"
+            + "\n".join(files_report(staged))
         )
     return 0
