@@ -14,6 +14,9 @@ accelerations from prp3, prepared untimed for MuJoCo):
   fast route, validation and kinematics included, every joint force) at
   ``N = 10⁵`` — samples/s, the best of 3;
 * ``prp3 single``: the same with a one-sample motion (validated), median µs;
+* ``numba batch`` / ``single``: :func:`prp3.family.compiled.compiled_inverse_dynamics`
+  (validated; tau, joint wrenches, measures), the same samples, compiled
+  before timing (``numba compile``: its first call, s);
 * ``mujoco batch`` / ``single``: the model of ``prp3 export mjcf``
   (:func:`prp3.family.mjcf.family_mjcf_model`), per sample in a Python loop:
   ``mj_kinematics``, ``mj_comPos``, ``mj_comVel``, ``mj_rne`` (``M·q̈ + c``),
@@ -45,6 +48,7 @@ from prp3 import Motion, paper_motion
 from prp3.codegen import HEADER_NAME, SOURCE_NAME
 from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
 from prp3.family.codegen import family_c_inverse_dynamics
+from prp3.family.compiled import compiled_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model, joint_names
 
 HARNESS = r"""
@@ -184,6 +188,16 @@ def c_ns(robot: FamilyRobot, motion: Motion, batches: int) -> float | None:
         return statistics.median(runs)
 
 
+def numba_cells(robot: FamilyRobot, motion: Motion, single: Motion) -> list[str]:
+    """The compiled engine's batch samples/s, single call µs and compile time (s)."""
+    start = timeit.default_timer()
+    compiled_inverse_dynamics(robot, single)
+    compile_s = timeit.default_timer() - start
+    rate = best_rate(lambda: compiled_inverse_dynamics(robot, motion), motion.samples)
+    one = median_us(lambda: compiled_inverse_dynamics(robot, single), number=200)
+    return [f"{rate:>15.3g}", f"{one:>9.1f}", f"{compile_s:>9.1f}"]
+
+
 def mujoco_row(robot: FamilyRobot, motion: Motion) -> tuple[float, float, float]:
     """MuJoCo's batch samples/s, single call µs and largest relative error against prp3."""
     peer = MujocoFamily(robot)
@@ -231,17 +245,18 @@ def main() -> int:
         robot = FamilyRobot.default(arch)
         batch = best_rate(lambda robot=robot: family_inverse_dynamics(robot, motion), n)
         one = median_us(lambda robot=robot: family_inverse_dynamics(robot, single))
-        cells = [f"{batch:>16.3g}", f"{one:>13.1f}"]
+        cells = [f"{batch:>14.3g}", f"{one:>9.1f}"]
+        cells += numba_cells(robot, motion, single)
         if have_mujoco:
             mj_rate, mj_one, error = mujoco_row(robot, small)
             if not error <= 1e-8:
                 status = 1
-            cells += [f"{mj_rate:>16.3g}", f"{mj_one:>15.1f}"]
+            cells += [f"{mj_rate:>16.3g}", f"{mj_one:>9.1f}"]
         else:
             error = float("nan")
-            cells += [f"{'-':>16}", f"{'-':>15}"]
+            cells += [f"{'-':>16}", f"{'-':>9}"]
         ns = c_ns(robot, c_motion, batches)
-        cells += [f"{ns:>10.0f}" if ns is not None else f"{'-':>10}", f"{error:>12.1e}"]
+        cells += [f"{ns:>9.0f}" if ns is not None else f"{'-':>9}", f"{error:>12.1e}"]
         print(f"{arch:<14}" + "".join(cells), flush=True)
     print("targets: batch >= 1e6 samples/s, single <= 20 µs, C <= 500 ns/call")
     return status
