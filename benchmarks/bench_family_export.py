@@ -233,12 +233,14 @@ def main() -> int:
     except ImportError:
         have_mujoco = False
     header = (
-        f"{'architecture':<14}{f'prp3 N={n:.0e}':>16}{'prp3 single':>13}"
-        f"{f'mujoco N={n_mj:.0e}':>16}{'mujoco single':>15}{'C':>10}{'mujoco err':>12}"
+        f"{'architecture':<14}{f'prp3 N={n:.0e}':>14}{'single':>9}"
+        f"{f'numba N={n:.0e}':>15}{'single':>9}{'compile':>9}"
+        f"{f'mujoco N={n_mj:.0e}':>16}{'single':>9}{'C':>9}{'mujoco err':>12}"
     )
     print(header)
     print(
-        f"{'':<14}{'samples/s':>16}{'µs':>13}{'samples/s':>16}{'µs':>15}{'ns/call':>10}{'rel.':>12}"
+        f"{'':<14}{'samples/s':>14}{'µs':>9}{'samples/s':>15}{'µs':>9}{'s':>9}"
+        f"{'samples/s':>16}{'µs':>9}{'ns/call':>9}{'rel.':>12}"
     )
     status = 0
     for arch in ARCHITECTURES:
