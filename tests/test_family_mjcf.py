@@ -147,8 +147,9 @@ def test_structure(arch: str, act: int) -> None:
         ("platform_A", "platform_C"),
     ]
     key = root.find("keyframe/key")
-    assert key is not None
-    assert [float(v) for v in key.get("qpos", "").split()] == list(robot.leg.home) * 3
+    assert key is not None and key.get("name") == "closed"
+    qpos = [float(v) for v in key.get("qpos", "").split()]
+    np.testing.assert_allclose(qpos, list(robot.leg.home) * 3, rtol=0, atol=1e-14)
 
 
 def test_masses_too_small_are_refused() -> None:
@@ -266,6 +267,20 @@ def test_mujoco_matches_random_designs(mujoco: ModuleType, data: st.DataObject) 
         raise
     assert out["pos"] < 1e-13 and out["vel"] < 1e-12 and out["acc"] < 1e-11
     assert relative(out, robot) < 1e-10
+
+
+def test_the_keyframe_closes_the_loops_of_a_moved_home(mujoco: ModuleType) -> None:
+    """A partial [leg] moves the legs' home poses apart: the keyframe is a closed pose."""
+    base = FamilyRobot.default("3-RRR")
+    robot = replace(base, leg=replace(base.leg, attachment=(-0.19, 0.12, 0.05)))
+    assert np.ptp(robot.home_poses, axis=0).max() > 0.01  # the legs' home poses differ
+    model = mujoco.MjModel.from_xml_string(family_mjcf_model(robot))
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("closed").id)
+    mujoco.mj_forward(model, data)
+    assert np.abs(data.efc_pos).max() < 1e-14
+    centre = robot.home_poses.mean(axis=0)
+    assert np.abs(data.xipos[model.body("platform_A").id, :2] - centre[:2]).max() < 1e-14
 
 
 # ------------------------------------------------------------ the command line

@@ -34,8 +34,11 @@ As for the 3-PRP (:mod:`prp3.mjcf`): an ``I_zz`` below ``INERTIA_FLOOR·m·ℓ²
 ``MUJOCO_MIN_VALUE`` are refused; ``I_xx = I_yy = I_zz``; the ``[payload]`` is a
 body without joint inside ``platform_A``; the constant ``[load]`` is the
 custom numeric ``prp3_load`` to be applied as ``data.xfrc_applied[platform_A]``
-(a :class:`~prp3.mjcf.MjcfWarning` says so).  The keyframe ``home`` holds
-``qpos = home`` of every leg, where the loops close; MuJoCo's reference
+(a :class:`~prp3.mjcf.MjcfWarning` says so).  The keyframe ``closed`` holds
+a configuration where the loops close: the family's joint values at rest at
+the pose ``P̄``, the mean of the legs' home poses (docs/family.md §5; with the
+default designs ``P̄ = 0`` and ``qpos = home``); it is left out when ``P̄`` is
+out of reach or singular.  MuJoCo's reference
 configuration ``qpos = 0`` need not close them (the welds' ``relpose`` is
 explicit).  The inertial frame of ``platform_A`` is the platform frame
 ``(G, φ)``: the sensors ``platform_position`` and ``platform_orientation`` read
@@ -57,7 +60,7 @@ import warnings
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError
+from ..errors import ParameterError, Prp3Error
 from ..mjcf import (
     INERTIA_FLOOR,
     MUJOCO_MIN_VALUE,
@@ -70,11 +73,12 @@ from ..mjcf import (
     _quat_z,
     _vec,
 )
+from ..motion import Motion
 from ..validation import LEGS, check_instance
 from .chain import SIGMA
 from .model import FamilyRobot
 
-__all__ = ["family_mjcf_model", "joint_names", "weld_relpose"]
+__all__ = ["closed_configuration", "family_mjcf_model", "joint_names", "weld_relpose"]
 
 FloatArray = NDArray[np.float64]
 
@@ -88,6 +92,24 @@ def joint_names(robot: FamilyRobot) -> list[str]:
     """
     check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
     return [f"q{k}_{leg}" for leg in LEGS for k in (1, 2, 3)]
+
+
+def closed_configuration(robot: FamilyRobot) -> list[float] | None:
+    """``q`` of every leg at rest at the mean of the legs' home poses, or None (refused pose).
+
+    >>> from prp3.family.model import FamilyRobot
+    >>> robot = FamilyRobot.default("3-RPR")
+    >>> q = closed_configuration(robot)
+    >>> max(abs(a - b) for a, b in zip(q, robot.leg.home * 3)) < 1e-15
+    True
+    """
+    from .mechanics import family_kinematics
+
+    try:
+        kin = family_kinematics(robot, Motion.at_rest(robot.home_poses.mean(axis=0)))
+    except Prp3Error:
+        return None
+    return [float(v) for v in kin.q.reshape(9)]
 
 
 def _homogeneous(a: float, b: float, angle: float) -> FloatArray:
@@ -171,8 +193,7 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
     str
         MJCF text: 9 joints ``q{k}_{leg}`` in tree order (qpos = the family's
         ``q{k}`` of docs/family.md §2), 3 motors ``actuator_{leg}`` on
-        ``q{a}_{leg}``, 2 welds, the keyframe ``home`` (``qpos = home`` of every
-        leg, where the loops close).
+        ``q{a}_{leg}``, 2 welds, the keyframe ``closed`` (module notes).
 
     Warns
     -----
@@ -287,11 +308,14 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
             f'    <numeric name="prp3_load" data="{_vec(fx, fy, robot.load.moment)}"/>',
             "  </custom>",
         ]
-    home = _vec(*(robot.leg.home * 3))
+    closed = closed_configuration(robot)
+    if closed is not None:
+        lines += [
+            "  <keyframe>",
+            f'    <key name="closed" qpos="{_vec(*closed)}"/>',
+            "  </keyframe>",
+        ]
     lines += [
-        "  <keyframe>",
-        f'    <key name="home" qpos="{home}"/>',
-        "  </keyframe>",
         "  <sensor>",
         '    <framepos name="platform_position" objtype="body" objname="platform_A"/>',
         '    <framequat name="platform_orientation" objtype="body" objname="platform_A"/>',
