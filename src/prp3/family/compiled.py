@@ -21,7 +21,7 @@ gives them).
 >>> from prp3.family.model import FamilyRobot
 >>> source = engine_source(FamilyRobot.default("3-RRR"))
 >>> source.splitlines()[0], "atan2" in source
-('def family_loop(inputs, out, codes):', False)
+('def family_loop(pose, velocity, acceleration, bound, limit, tau, joint, measures, info):', False)
 
 Timings (``benchmarks/bench_family_export.py``): the batch and single-call
 targets of the fast route are met by this engine once compiled; compiling
@@ -56,9 +56,6 @@ __all__ = ["CompiledSolution", "compiled_inverse_dynamics", "engine_source"]
 
 FloatArray = NDArray[np.float64]
 
-#: Columns of the engine's output row: tau (3), joint (27), μ_leg (3), μ_par, refused leg.
-_WIDTH = 35
-
 
 def _renamed(lines: list[str], prefix: str) -> list[str]:
     return [re.sub(r"\bt(\d+)\b", rf"{prefix}\1", line) for line in lines]
@@ -73,22 +70,36 @@ def _stage(
 
 
 def engine_source(robot: FamilyRobot) -> str:
-    """Python source of ``family_loop(inputs (N, 9), out (N, 35), codes (N,))`` for numba.
+    """Python source of the loop numba compiles (one robot's constants folded in).
 
-    ``codes[i]``: 0 computed, 1 an output is not finite (overflow), 2 singular (``out[i, 34]`` = the leg, or −1 for
-    ``μ_par``), 4 out of reach (``out[i, 34]`` = the leg).
+    ``family_loop(pose, velocity, acceleration, bound, limit, tau, joint, measures, info)``:
+    inputs ``(N, 3)`` each, the pose bounds (m, rad); outputs ``tau (N, 3)``,
+    ``joint (N, 3, 3, 3)`` (``fx, fy, m`` of each leg and joint), ``measures (N, 4)``
+    (``μ_leg`` of A, B, C, ``μ_par``).  It stops at the first refused sample and
+    returns 1 with ``info = (sample, code, leg)``: code 1 an output not finite,
+    2 singular (leg −1: ``μ_par``), 4 out of reach, 5 beyond the pose bounds;
+    else 0.
     """
     design, inertia = _Design.of(robot), _Inertia.of(robot)
     home_leg, home_par = robot.home_measures
     ind = "        "
+
+    def refuse(code: int, leg: int) -> list[str]:
+        return [
+            f"{ind}    info[0] = i",
+            f"{ind}    info[1] = {code}",
+            f"{ind}    info[2] = {leg}",
+            f"{ind}    return 1",
+        ]
+
     src = [
-        "def family_loop(inputs, out, codes):",
-        "    for i in range(inputs.shape[0]):",
-        *(f"{ind}{name} = inputs[i, {k}]" for k, name in enumerate(_INPUTS)),
+        "def family_loop(pose, velocity, acceleration, bound, limit, tau, joint, measures, info):",
+        "    for i in range(pose.shape[0]):",
+        *(f"{ind}{name} = {_ARRAYS[k // 3]}[i, {k % 3}]" for k, name in enumerate(_INPUTS)),
+        f"{ind}if abs(x) > bound or abs(y) > bound or abs(phi) > limit:",
+        *refuse(5, -2),
         f"{ind}cos_phi = cos(phi)",
         f"{ind}sin_phi = sin(phi)",
-        f"{ind}codes[i] = 0",
-        f"{ind}out[i, 34] = -2.0",
     ]
     for j, leg in enumerate(LEGS):
         cs, ss = math.cos(float(SIGMA[j])), math.sin(float(SIGMA[j]))
@@ -117,17 +128,9 @@ def engine_source(robot: FamilyRobot) -> str:
                 f"{ind}    best = {sign} * {outs[13 * n + 12]}",
                 f"{ind}    chosen = {n}",
             ]
-        src += [
-            f"{ind}if chosen < 0:",
-            f"{ind}    codes[i] = 4",
-            f"{ind}    out[i, 34] = {j}.0",
-            f"{ind}    continue",
-            f"{ind}if not best >= {SINGULAR!r}:",
-            f"{ind}    codes[i] = 2",
-            f"{ind}    out[i, 34] = {j}.0",
-            f"{ind}    continue",
-            f"{ind}out[i, {30 + j}] = {sign} * best",
-        ]
+        src += [f"{ind}if chosen < 0:", *refuse(4, j)]
+        src += [f"{ind}if not best >= {SINGULAR!r}:", *refuse(2, j)]
+        src += [f"{ind}measures[i, {j}] = {sign} * best"]
         for n in range(count):
             head = "if chosen == 0:" if n == 0 else "else:"
             if count > 1:
@@ -151,19 +154,20 @@ def engine_source(robot: FamilyRobot) -> str:
     body, outs = _stage(dynamics, (*state, *legs), "d_", ind)
     src += body
     src += [
-        f"{ind}out[i, 33] = {outs[0]}",
+        f"{ind}measures[i, 3] = {outs[0]}",
         f"{ind}if not {math.copysign(1.0, home_par)!r} * {outs[0]} >= {SINGULAR!r}:",
-        f"{ind}    codes[i] = 2",
-        f"{ind}    out[i, 34] = -1.0",
-        f"{ind}    continue",
-        *(f"{ind}out[i, {k}] = {outs[1 + k]}" for k in range(30)),
-        f"{ind}if not isfinite({' + '.join(f'out[i, {k}]' for k in range(30))}):",
-        f"{ind}    codes[i] = 1",
+        *refuse(2, -1),
+        *(f"{ind}tau[i, {k}] = {outs[1 + k]}" for k in range(3)),
+        *(f"{ind}joint[i, {k // 9}, {k // 3 % 3}, {k % 3}] = {outs[4 + k]}" for k in range(27)),
+        f"{ind}if not isfinite({' + '.join(outs[1:])}):",
+        *refuse(1, -2),
     ]
+    src.append("    return 0")
     return "\n".join(src) + "\n"
 
 
 _INPUTS = ("x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
+_ARRAYS = ("pose", "velocity", "acceleration")
 
 
 #: The engines built in this process, by robot (equal robots share one).
@@ -220,22 +224,21 @@ class CompiledSolution:
     mu_par: FloatArray
 
 
-def _refuse(
-    robot: FamilyRobot, codes: NDArray[np.int64], out: FloatArray, pose: FloatArray, t: FloatArray
-) -> None:
-    """Raise the error of the first refused sample."""
-    k = int(np.flatnonzero(codes)[0])
+def _refuse(robot: FamilyRobot, info: NDArray[np.int64], pose: FloatArray, t: FloatArray) -> None:
+    """Raise the error of the refused sample ``info = (sample, code, leg)``."""
+    k, code, index = (int(v) for v in info)
     where = (float(pose[k, 0]), float(pose[k, 1]), float(pose[k, 2]))
-    if codes[k] == 1:
+    if code == 5:
+        check_poses(robot, pose[k : k + 1], t[k : k + 1])  # raises, naming the bound
+    if code == 1:
         raise TrajectoryError(
             "the joint forces overflow float64 (rates or accelerations out of range)",
             subject="motion",
             sample=k,
             time=float(t[k]),
         )
-    index = int(out[k, 34])
     leg = LEGS[index] if index >= 0 else None
-    if codes[k] == 4:
+    if code == 4:
         raise UnreachablePoseError(
             f"leg {leg} cannot reach the pose {where} (the {robot.architecture}'s closure "
             "has no real solution)",
@@ -274,28 +277,22 @@ def compiled_inverse_dynamics(robot: FamilyRobot, motion: Motion) -> CompiledSol
     robot, motion = check_inputs(robot, motion)
     engine, bound = _engine(robot)
     t = np.atleast_1d(motion.t)
-    pose = motion.pose.reshape(-1, 3)
-    if (
-        float(np.abs(pose[:, :2]).max()) > bound
-        or float(np.abs(pose[:, 2]).max()) > MAX_ORIENTATION
-    ):
-        check_poses(robot, pose, t)  # raises, naming the first pose out of bounds
+    pose, velocity, acceleration = (
+        np.ascontiguousarray(v.reshape(-1, 3))
+        for v in (motion.pose, motion.velocity, motion.acceleration)
+    )
     n = t.size
-    inputs = np.empty((n, 9))
-    inputs[:, :3] = pose
-    inputs[:, 3:6] = motion.velocity.reshape(-1, 3)
-    inputs[:, 6:] = motion.acceleration.reshape(-1, 3)
-    out = np.empty((n, _WIDTH))
-    codes = np.empty(n, dtype=np.int64)
-    engine(inputs, out, codes)
-    if codes.any():
-        _refuse(robot, codes, out, pose, t)
+    tau = np.empty((n, 3))
+    joint = np.empty((n, 3, 3, 3))
+    measures = np.empty((n, 4))
+    info = np.zeros(3, dtype=np.int64)
+    if engine(pose, velocity, acceleration, bound, MAX_ORIENTATION, tau, joint, measures, info):
+        _refuse(robot, info, pose, t)
     shape = motion.t.shape
-    joint = out[:, 3:30].reshape(-1, 3, 3, 3)
     return CompiledSolution(
-        tau=out[:, :3].reshape(*shape, 3),
-        force=np.ascontiguousarray(joint[..., :2]).reshape(*shape, 3, 3, 2),
-        moment=np.ascontiguousarray(joint[..., 2]).reshape(*shape, 3, 3),
-        mu_leg=out[:, 30:33].reshape(*shape, 3),
-        mu_par=out[:, 33].reshape(shape),
+        tau=tau.reshape(*shape, 3),
+        force=joint[..., :2].reshape(*shape, 3, 3, 2),
+        moment=joint[..., 2].reshape(*shape, 3, 3),
+        mu_leg=measures[:, :3].reshape(*shape, 3),
+        mu_par=measures[:, 3].reshape(shape),
     )
