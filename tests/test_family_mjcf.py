@@ -308,3 +308,17 @@ def test_cli_refuses_in_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[s
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "link1.mass" in err and str(path) in err
     assert not output.exists()
+
+
+def test_cli_warns_of_the_load_in_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "robot.toml"
+    path.write_text('architecture = "3-RPP"\n[load]\nforce = [1.0, 2.0]\n')
+    with warnings.catch_warnings():  # as outside pytest (whose filter makes warnings errors)
+        warnings.simplefilter("always")
+        assert main(["export", "mjcf", "--robot", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.startswith("prp3 export mjcf: warning: the MuJoCo model leaves out")
+    assert "xfrc_applied[platform_A] = (1.0, 2.0, 0, 0, 0, 0)" in captured.err
+    assert captured.err.count("\n") == 1 and 'name="prp3_load"' in captured.out
