@@ -77,6 +77,7 @@ __all__ = [
     "FamilyCSource",
     "family_c_inverse_dynamics",
     "leg_candidates",
+    "python_sample",
     "sample_dynamics",
 ]
 
