@@ -156,7 +156,6 @@ def test_model_form_unchanged(capsys: pytest.CaptureFixture[str], tmp_path: Path
 @pytest.mark.parametrize(
     ("argv", "command"),
     [
-        (["export", "mjcf", "--output", "x.xml"], "prp3 export mjcf"),
         (["workspace", "--output", "ws"], "prp3 workspace"),
     ],
 )

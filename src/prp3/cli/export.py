@@ -8,6 +8,10 @@ does.  MuJoCo is not needed to export.
 ``prp3 export c --output DIR [--robot ROBOT.toml]`` writes the inverse
 dynamics as C99 code, ``DIR/prp3_inverse_dynamics.h`` and ``.c``
 (:func:`prp3.codegen.c_inverse_dynamics`), together or not at all.
+
+A family-form robot file (docs/family.md: 3-RPR, 3-RRR, ...) goes to the
+family's exporters, :func:`prp3.family.mjcf.family_mjcf_model` and
+:func:`prp3.family.codegen.family_c_inverse_dynamics` (docs/family_export.md).
 """
 
 from __future__ import annotations
@@ -16,9 +20,14 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
+from ..codegen import HEADER_NAME, SOURCE_NAME, CSource, c_inverse_dynamics
+from ..errors import ParameterError
+from ..family import FamilyRobot, read_robot_file
+from ..family.codegen import FamilyCSource, family_c_inverse_dynamics
+from ..family.mjcf import family_mjcf_model
 from ..io import atomic_writer, check_inputs_kept, check_output_directory
 from ..mjcf import mjcf_model
+from ..model import Robot
 from ._types import (
     add_output_directory,
     add_robot_option,
@@ -45,6 +54,9 @@ viscous and constant Coulomb [friction] are joint damping and frictionloss;
 a [spring.actuator] is the lambda10_i sliders' stiffness, springref and damping.
 The mu terms, tanh smoothing and a constant [load] are not in the model (a
 warning names them; apply the load as xfrc_applied). See docs/mujoco.md.
+A family-form ROBOT.toml (3-RPR, 3-RRR, ...: docs/family.md) gives per leg
+the joints q1_i, q2_i, q3_i (qpos = the family's q), motors on the actuated
+joint, welds weld_AB, weld_AC; see docs/family_export.md.
 """
 
 
@@ -59,6 +71,10 @@ int prp3_inverse_dynamics(const double pose[3], const double velocity[3],
                           double f10[3], double f21y[3], double f21z[3]);
 returns 0; 1 for a non-finite input, 2 for a singular pose, 3 outside the
 stroke (outputs NaN). See docs/control.md.
+A family-form ROBOT.toml (docs/family.md) writes
+int prp3_inverse_dynamics(pose, velocity, acceleration, double tau[3],
+                          double joint[27]);
+with 4 for a pose out of reach; see docs/family_export.md.
 """
 
 
@@ -114,9 +130,30 @@ def register(subparsers: Any) -> None:
     code.set_defaults(handler=_export_c)
 
 
+def _load_either(args: argparse.Namespace) -> Robot | FamilyRobot:
+    """The robot of ``--robot`` in either form (docs/family.md §1), or the paper's robot."""
+    if args.robot is None:
+        return load_robot(args)
+    try:
+        return read_robot_file(args.robot)
+    except ParameterError as error:
+        raise error.located(file=args.robot) from None
+
+
 def _export_mjcf(args: argparse.Namespace) -> int:
-    robot = load_robot(args)
-    text = mjcf_model(robot)
+    robot = _load_either(args)
+    if isinstance(robot, FamilyRobot):
+        try:
+            text = family_mjcf_model(robot)
+        except ParameterError as error:
+            raise error.located(file=args.robot) from None
+        what = (
+            f"the {robot.architecture} (actuated joint {robot.actuated}) as 3 chains, loops closed "
+            f"by 2 welds, motors actuator_A/B/C on q{robot.actuated}_A/B/C"
+        )
+    else:
+        text = mjcf_model(robot)
+        what = "3 legs as chains, loops closed by 2 welds, motors actuator_A/B/C on the sliders"
     output: Path | None = args.output
     if output is None:
         emit(text, end="")
@@ -126,8 +163,7 @@ def _export_mjcf(args: argparse.Namespace) -> int:
         stream.write(text)
         # said before the file is moved in: a failing standard output keeps an older file
         emit(
-            f"{args.program}: MuJoCo MJCF model of {source} (3 legs as chains, loops closed by "
-            f"2 welds, motors actuator_A/B/C on the sliders), {len(text.encode())} bytes\n"
+            f"{args.program}: MuJoCo MJCF model of {source} ({what}), {len(text.encode())} bytes\n"
             f"files written:\n  {output}"
         )
     return 0
@@ -137,14 +173,27 @@ def _export_c(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, (HEADER_NAME, SOURCE_NAME), (args.robot,))
-    code = c_inverse_dynamics(load_robot(args))
+    robot = _load_either(args)
+    code: CSource | FamilyCSource
+    if isinstance(robot, FamilyRobot):
+        code = family_c_inverse_dynamics(robot)
+        what = (
+            f"the {robot.architecture}, actuated joint {robot.actuated} (prp3_inverse_dynamics: "
+            "pose, velocity, acceleration -> tau[3], joint[27]; returns 0, 1 non-finite, "
+            "2 singular, 4 out of reach)"
+        )
+    else:
+        code = c_inverse_dynamics(robot)
+        what = (
+            "(prp3_inverse_dynamics: pose, velocity, acceleration -> f10, f21y, f21z; returns 0, "
+            "1 non-finite, 2 singular, 3 outside the stroke)"
+        )
     source = f"the robot of {args.robot}" if args.robot is not None else "the paper's robot"
     with output_folder(args, output) as staged:
         staged.path(HEADER_NAME).write_text(code.header, encoding="utf-8")
         staged.path(SOURCE_NAME).write_text(code.source, encoding="utf-8")
         emit(
-            f"{args.program}: C99 inverse dynamics of {source} (prp3_inverse_dynamics: pose, "
-            "velocity, acceleration -> f10, f21y, f21z; returns 0, 1 non-finite, 2 singular, "
-            "3 outside the stroke)\n" + "\n".join(files_report(staged))
+            f"{args.program}: C99 inverse dynamics of {source} {what}\n"
+            + "\n".join(files_report(staged))
         )
     return 0

@@ -1,0 +1,308 @@
+"""The family's generated C (``prp3.family.codegen``, ``prp3 export c``): strict C99, the numbers, the codes.
+
+The code of each robot is compiled with the system's C compiler (``-std=c99
+-pedantic-errors -Wall -Wextra -Werror``; skipped without one), loaded with
+ctypes and compared with prp3's family route (``family_inverse_dynamics``,
+the numpy fast route: angles, ``atan2`` and batched 3×3 inverses, another
+path than the C's rotation pairs) to 1e-12 relative to the largest output of
+the sample: ``tau`` and every joint wrench, for every architecture and
+allowed actuation along the paper's motions, and on hypothesis-random
+designs, inertias, payloads, loads and motions.  The return codes: 1 for a
+non-finite input, 2 at a leg or parallel singularity, 4 out of reach; NaN
+outputs then.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import shutil
+import subprocess
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+from prp3.cli import main
+from prp3.codegen import HEADER_NAME, SOURCE_NAME
+from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
+from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody, family_inverse_dynamics
+from prp3.family.codegen import C_UNREACHABLE, family_c_inverse_dynamics, python_sample
+from prp3.model import Load, Payload
+from prp3.motion import Motion, paper_motion
+
+COMPILER = shutil.which("gcc") or shutil.which("cc") or shutil.which("clang")
+pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
+FLAGS = ["-std=c99", "-pedantic-errors", "-Wall", "-Wextra", "-Werror", "-O2"]
+
+#: The actuations docs/family.md allows (two passive P joints refused; 3-RRP 2 singular at home).
+ALLOWED = [
+    (arch, act)
+    for arch in ARCHITECTURES
+    for act in (1, 2, 3)
+    if [arch[2 + k] for k in range(3) if k != act - 1] != ["P", "P"] and (arch, act) != ("3-RRP", 2)
+]
+CROSSING = {("3-PRR", 2, "rotation")}
+
+_Vector3 = np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(3,), flags="C_CONTIGUOUS")
+_Vector27 = np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(27,), flags="C_CONTIGUOUS")
+
+
+class Compiled:
+    """``prp3_inverse_dynamics`` of a shared library, called with numpy vectors."""
+
+    def __init__(self, library: Path) -> None:
+        self.library = ctypes.CDLL(str(library))
+        self.function = self.library.prp3_inverse_dynamics
+        self.function.argtypes = [_Vector3] * 4 + [_Vector27]
+        self.function.restype = ctypes.c_int
+
+    def __call__(self, pose, velocity, acceleration) -> tuple[int, np.ndarray]:
+        inputs = [np.ascontiguousarray(v, dtype=np.float64) for v in (pose, velocity, acceleration)]
+        tau, joint = np.zeros(3), np.zeros(27)
+        code = self.function(*inputs, tau, joint)
+        return int(code), np.concatenate([tau, joint])
+
+
+def build(robot: FamilyRobot, folder: Path) -> Compiled:
+    code = family_c_inverse_dynamics(robot)
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / HEADER_NAME).write_text(code.header)
+    (folder / SOURCE_NAME).write_text(code.source)
+    return build_from(folder)
+
+
+def build_from(folder: Path) -> Compiled:
+    library = folder / "libprp3family.so"
+    assert COMPILER is not None
+    done = subprocess.run(
+        [
+            COMPILER,
+            *FLAGS,
+            "-shared",
+            "-fPIC",
+            "-o",
+            str(library),
+            str(folder / SOURCE_NAME),
+            "-lm",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    return Compiled(library)
+
+
+def expected(robot: FamilyRobot, motion: Motion) -> np.ndarray:
+    """``[tau (3), joint (27)]`` per sample from the family route, shape ``(N, 30)``."""
+    solution = family_inverse_dynamics(robot, motion)
+    joint = np.concatenate([solution.force, solution.moment[..., None]], axis=-1)
+    return np.concatenate([solution.tau, joint.reshape(-1, 27)], axis=1)
+
+
+def worst_error(compiled: Compiled, robot: FamilyRobot, motion: Motion) -> float:
+    want = expected(robot, motion)
+    worst = 0.0
+    for k in range(motion.samples):
+        code, got = compiled(motion.pose[k], motion.velocity[k], motion.acceleration[k])
+        assert code == 0
+        scale = max(float(np.abs(want[k]).max()), 1e-9)
+        worst = max(worst, float(np.abs(got - want[k]).max()) / scale)
+    return worst
+
+
+def loaded(arch: str, act: int) -> FamilyRobot:
+    return replace(
+        FamilyRobot.default(arch, act),
+        payload=Payload(0.5, (0.02, -0.01), 1e-3),
+        load=Load((3.0, -2.0), 0.4),
+    )
+
+
+@pytest.mark.parametrize(("arch", "act"), ALLOWED)
+def test_every_actuation_matches_the_family_route(
+    tmp_path_factory: pytest.TempPathFactory, arch: str, act: int
+) -> None:
+    robot = loaded(arch, act)
+    compiled = build(robot, tmp_path_factory.mktemp(f"{arch}-{act}"))
+    for name in ("vertical", "rotation"):
+        if (arch, act, name) in CROSSING:
+            continue
+        assert worst_error(compiled, robot, paper_motion(name, 41)) <= 1e-12, name
+
+
+def test_python_steps_match_the_family_route() -> None:
+    """The generated steps on Python floats (no compiler), the same check."""
+    for arch, act in ALLOWED:
+        robot = loaded(arch, act)
+        motion = paper_motion("vertical", 9)
+        want = expected(robot, motion)
+        for k in range(motion.samples):
+            code, got = python_sample(
+                robot, motion.pose[k], motion.velocity[k], motion.acceleration[k]
+            )
+            assert code == 0
+            assert np.abs(np.array(got) - want[k]).max() <= 1e-12 * np.abs(want[k]).max()
+
+
+def _f(low: float, high: float) -> st.SearchStrategy[float]:
+    return st.floats(low, high, allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def designs(draw: st.DrawFn) -> FamilyRobot:
+    """A design near a default (placements jittered), random inertias (zero allowed), payload, load."""
+    arch, act = draw(st.sampled_from(ALLOWED))
+    base = FamilyRobot.default(arch, act)
+
+    def jitter(p: tuple[float, float, float], size: float) -> tuple[float, float, float]:
+        return (
+            p[0] + draw(_f(-size, size)),
+            p[1] + draw(_f(-size, size)),
+            p[2] + draw(_f(-3 * size, 3 * size)),
+        )
+
+    size = draw(st.sampled_from([0.0, 0.01, 0.03]))
+    leg = replace(
+        base.leg,
+        joint1=jitter(base.leg.joint1, size),
+        joint2=jitter(base.leg.joint2, size),
+        joint3=jitter(base.leg.joint3, size),
+        attachment=jitter(base.leg.attachment, size),
+        scale=draw(_f(0.1, 1.0)),
+    )
+
+    def body(name: str) -> Body:
+        com = (draw(_f(-0.2, 0.2)), draw(_f(-0.2, 0.2)))
+        return Body(draw(_f(0.0, 3.0)), com, draw(_f(0.0, 0.01)), name=name)
+
+    try:
+        return FamilyRobot(
+            architecture=arch,
+            actuated=act,
+            leg=leg,
+            link1=body("link1"),
+            link2=body("link2"),
+            platform=PlatformBody(draw(_f(0.0, 5.0)), draw(_f(0.0, 0.1))),
+            payload=Payload(
+                draw(_f(0.0, 2.0)), (draw(_f(-0.1, 0.1)), draw(_f(-0.1, 0.1))), draw(_f(0.0, 0.01))
+            ),
+            load=Load((draw(_f(-20, 20)), draw(_f(-20, 20))), draw(_f(-2, 2))),
+            gravity=(draw(_f(-10, 10)), draw(_f(-10, 10))),
+        )
+    except ParameterError:
+        assume(False)
+        raise
+
+
+@st.composite
+def motions(draw: st.DrawFn, centre: np.ndarray, samples: int = 9) -> Motion:
+    """``pose(t) = centre + A·sin(ωt + c)`` with its exact derivatives, ``t`` in [0, 1] s."""
+    amp = np.array([draw(_f(0.0, 0.02)), draw(_f(0.0, 0.02)), draw(_f(0.0, 0.1))])
+    w = np.array([draw(_f(0.5, 4.0)) for _ in range(3)])
+    c = np.array([draw(_f(-3.0, 3.0)) for _ in range(3)])
+    t = np.linspace(0.0, 1.0, samples)[:, None]
+    return Motion(
+        t=t[:, 0],
+        pose=centre + amp * np.sin(w * t + c),
+        velocity=amp * w * np.cos(w * t + c),
+        acceleration=-amp * w * w * np.sin(w * t + c),
+    )
+
+
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_random_designs_match_the_family_route(
+    tmp_path_factory: pytest.TempPathFactory, data: st.DataObject
+) -> None:
+    robot = data.draw(designs())
+    motion = data.draw(motions(robot.home_poses.mean(axis=0)))
+    try:
+        expected(robot, motion)
+    except (SingularPoseError, UnreachablePoseError):
+        assume(False)
+    compiled = build(robot, tmp_path_factory.mktemp("random"))
+    assert worst_error(compiled, robot, motion) <= 1e-12
+
+
+@pytest.fixture(scope="module")
+def rrr(tmp_path_factory: pytest.TempPathFactory) -> Compiled:
+    """The default 3-RRR through the command line ``prp3 export c``."""
+    folder = tmp_path_factory.mktemp("rrr")
+    robot = folder / "robot.toml"
+    robot.write_text('architecture = "3-RRR"\n')
+    assert main(["export", "c", "--robot", str(robot), "--output", str(folder / "c")]) == 0
+    return build_from(folder / "c")
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+@pytest.mark.parametrize("where", range(9))
+def test_non_finite_input_returns_1_and_nan(rrr: Compiled, where: int, bad: float) -> None:
+    values = np.zeros(9)
+    values[where] = bad
+    code, outputs = rrr(values[:3], values[3:6], values[6:])
+    assert code == 1 and np.isnan(outputs).all()
+
+
+def test_out_of_reach_returns_4_and_nan(rrr: Compiled) -> None:
+    # leg A's wrist O_3 = G − (−0.2, 0.1) is 0.4 m from its base pivot at most (two 0.2 m links)
+    code, outputs = rrr([0.5, 0.0, 0.0], np.zeros(3), np.zeros(3))
+    assert code == C_UNREACHABLE == 4 and np.isnan(outputs).all()
+    with pytest.raises(UnreachablePoseError):
+        family_inverse_dynamics(FamilyRobot.default("3-RRR"), Motion.at_rest([0.5, 0.0, 0.0]))
+
+
+def test_a_leg_singularity_returns_2(tmp_path: Path) -> None:
+    # the 3-PRP's leg measure is sin(φ − π/3) up to sign (docs/family.md §6)
+    compiled = build(FamilyRobot.default("3-PRP"), tmp_path)
+    for phi in (math.pi / 3.0, math.pi / 3.0 - 5e-5, 2.0):
+        code, outputs = compiled([0.0, 0.0, phi], np.zeros(3), np.zeros(3))
+        assert code == 2 and np.isnan(outputs).all(), phi
+    code, _ = compiled([0.0, 0.0, math.pi / 3.0 - 2e-4], np.zeros(3), np.zeros(3))
+    assert code == 0  # before the threshold: computed
+
+
+def test_a_parallel_singularity_returns_2(tmp_path: Path) -> None:
+    # the 3-PRR actuated at joint 2 meets a parallel singularity at φ = atan(1/2) (docs/family.md §3)
+    robot = FamilyRobot.default("3-PRR", 2)
+    compiled = build(robot, tmp_path)
+    code, outputs = compiled([0.0, 0.0, math.atan(0.5)], np.zeros(3), np.zeros(3))
+    assert code == 2 and np.isnan(outputs).all()
+    code, _ = compiled([0.0, 0.0, 0.2], np.zeros(3), np.zeros(3))
+    assert code == 0
+
+
+def test_source_is_strict_c99_with_only_math_h() -> None:
+    code = family_c_inverse_dynamics(FamilyRobot.default("3-RPR"))
+    includes = [line for line in code.source.splitlines() if line.startswith("#include")]
+    assert includes == ["#include <math.h>", f'#include "{HEADER_NAME}"']
+    assert "#include" not in code.header and "M_PI" not in code.source
+    assert "#define PRP3_UNREACHABLE 4" in code.header and "#define PRP3_SINGULAR 2" in code.header
+    assert (
+        "int prp3_inverse_dynamics(const double pose[3], const double velocity[3],\n"
+        "                          const double acceleration[3],\n"
+        "                          double tau[3], double joint[27]);"
+    ) in code.header
+
+
+def test_cli_export_c(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    robot_file = tmp_path / "robot.toml"
+    robot_file.write_text('architecture = "3-PPR"\nactuated = 2\n[platform]\nmass = 5.0\n')
+    out = tmp_path / "c"
+    assert main(["export", "c", "--robot", str(robot_file), "--output", str(out)]) == 0
+    said = capsys.readouterr().out
+    assert "3-PPR" in said and "tau" in said
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [".prp3-manifest.json", HEADER_NAME, SOURCE_NAME]
+    )
+    assert "3-PPR, actuated = 2" in (out / SOURCE_NAME).read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text('architecture = "3-PPR"\nactuated = 3\n')
+    assert main(["export", "c", "--robot", str(bad), "--output", str(tmp_path / "no")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "actuated" in err and str(bad) in err
+    assert not (tmp_path / "no").exists()
