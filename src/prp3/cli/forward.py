@@ -182,6 +182,14 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 forward`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
+    if args.robot is not None:  # a family-form robot file: docs/family.md
+        from ..family import FamilyRobot, read_robot_file
+
+        loaded = read_robot_file(args.robot)
+        if isinstance(loaded, FamilyRobot):
+            from ._family_analysis import run_family_forward
+
+            return run_family_forward(args, loaded)
     check_inputs_kept(output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
     robot = load_robot(args)
     try:

@@ -258,6 +258,14 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 workspace`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
+    if args.robot is not None:  # a family-form robot file: docs/family.md
+        from ..family import FamilyRobot, read_robot_file
+
+        loaded = read_robot_file(args.robot)
+        if isinstance(loaded, FamilyRobot):
+            from ._family_analysis import run_family_workspace
+
+            return run_family_workspace(args, loaded)
     robot = load_robot(args)
     if args.extent is not None:
         xmin, xmax, ymin, ymax = args.extent
