@@ -157,7 +157,22 @@ def test_model_form_unchanged(capsys: pytest.CaptureFixture[str], tmp_path: Path
     ("argv", "command"),
     [
         (["export", "mjcf", "--output", "x.xml"], "prp3 export mjcf"),
-        (["workspace", "--output", "ws"], "prp3 workspace"),
+        (["identify", "--measurements", "m.csv", "--output", "id"], "prp3 identify"),
+        (["excite", "--output", "ex"], "prp3 excite"),
+        (
+            [
+                "control",
+                "--motion",
+                "vertical",
+                "--plant",
+                "prp3",
+                "--controller",
+                "computed-torque",
+                "--output",
+                "ctl",
+            ],
+            "prp3 control",
+        ),  # fmt: skip
     ],
 )
 def test_other_commands_refuse_by_capability(

@@ -129,7 +129,11 @@ def _read_efforts(path: Path) -> tuple[dict[str, FloatArray], bool]:
     """The efforts table: ``t,tau_A,tau_B,tau_C`` or a family ``results.csv`` (64 columns)."""
     from ..family import FAMILY_COLUMNS
 
-    header = path.open(encoding="utf-8", errors="replace").readline().strip().split(",")
+    try:
+        with path.open(encoding="utf-8", errors="replace") as handle:
+            header = handle.readline(100_000).strip().split(",")
+    except OSError:
+        header = []  # read_table_csv names the file and the reason
     if len(header) == len(FAMILY_COLUMNS) and set(header) == set(FAMILY_COLUMNS):
         return read_table_csv(path, FAMILY_COLUMNS, what="results"), True
     return read_table_csv(path, ("t", "tau_A", "tau_B", "tau_C"), what="efforts"), False
@@ -156,10 +160,7 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
     from ..family.forward import family_forward_dynamics
 
     check_inputs_kept(args.output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
-    try:
-        columns, results = _read_efforts(Path(args.forces))
-    except OSError as error:
-        raise Prp3Error(f"{args.forces}: cannot read ({error.strerror})") from None
+    columns, results = _read_efforts(Path(args.forces))
     t = columns["t"]
     tau = np.stack([columns[f"tau_{leg}"] for leg in LEGS], axis=-1)
     if args.initial_pose is not None:
