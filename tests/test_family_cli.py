@@ -172,7 +172,7 @@ def test_model_form_unchanged(capsys: pytest.CaptureFixture[str], tmp_path: Path
                 "ctl",
             ],
             "prp3 control",
-        ),  # fmt: skip
+        ),
     ],
 )
 def test_other_commands_refuse_by_capability(

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError, Prp3Error
+from ..errors import ParameterError
 from ..family import FamilyRobot, family_results_table
 from ..io import (
     check_inputs_kept,
