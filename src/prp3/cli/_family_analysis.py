@@ -20,6 +20,7 @@ import argparse
 import math
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,6 +29,7 @@ from ..errors import ParameterError
 from ..family import FamilyRobot, family_results_table
 from ..io import (
     check_inputs_kept,
+    check_output_directory,
     read_table_csv,
     staged_output,
     trajectory_table,
@@ -38,7 +40,16 @@ from ..runs import check_memory
 from ..validation import LEGS
 from ._types import emit, files_report
 
-__all__ = ["run_family_forward", "run_family_workspace"]
+__all__ = [
+    "family_spec_of",
+    "run_family_forward",
+    "run_family_optimize",
+    "run_family_sweep",
+    "run_family_workspace",
+]
+
+if TYPE_CHECKING:
+    from ..family.design import FamilySweepSpec
 
 FloatArray = NDArray[np.float64]
 
@@ -205,3 +216,115 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
         print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return 1
     return 0
+
+
+def family_spec_of(path: Path) -> FamilySweepSpec | None:
+    """The family sweep spec of ``SWEEP.toml`` at ``path``, or ``None`` for a model-form spec."""
+    from ..family.design import family_sweep_spec, is_family_spec
+    from ..model import read_toml
+
+    data = read_toml(path, "sweep")
+    if not is_family_spec(data):
+        return None
+    return family_sweep_spec(data, base=path.parent, source=str(path))
+
+
+def _best_lines(columns: dict[str, Any], spec: FamilySweepSpec, objective: str) -> list[str]:
+    """Per architecture: designs that carry the task and the best of them by ``objective``."""
+    lines = []
+    architecture = np.asarray(columns["architecture"]).astype(str)
+    status = np.asarray(columns["status"]).astype(str)
+    value = np.asarray(columns[objective], dtype=np.float64)
+    for index, study in enumerate(spec.studies):
+        mine = architecture == study.architecture
+        ok = mine & (status == "ok") & np.isfinite(value)
+        head = (
+            f"  {study.architecture}: {int(ok.sum())} of {int(mine.sum())} designs carry the task"
+        )
+        if not ok.any():
+            lines.append(head)
+            continue
+        best = int(np.flatnonzero(ok)[np.argmin(value[ok])])
+        params = ", ".join(f"{p} = {float(columns[p][best]):.6g}" for p in study.paths)
+        lines.append(
+            f"{head}; least {objective} {value[best]:.6g}" + (f" at {params}" if params else "")
+        )
+        del index
+    return lines
+
+
+def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
+    """``prp3 sweep`` of a family spec (``[[study]]``); return the exit status."""
+    import pyarrow.parquet as pq
+
+    from ..family.design import run_family_sweep as sweep
+    from ._design_client import client_of
+
+    if args.pareto is not None:
+        raise ParameterError(
+            "--pareto applies to model-form sweeps (docs/design.md); a family sweep "
+            "([[study]]) writes family_designs.png with --plots"
+        )
+    output: Path = args.output
+    check_output_directory(output)
+    check_inputs_kept(output, ("designs.parquet",), (args.spec,))
+    result = sweep(spec, output, lambda: client_of(args))
+    columns = {name: pq.read_table(result.path).column(name).to_numpy(zero_copy_only=False)
+               for name in spec.evaluator.columns}  # fmt: skip
+    written = [result.path]
+    if args.plots:
+        from ..plotting.family_design import family_designs_figure
+        from ..plotting.figures import save_figure
+
+        written.append(save_figure(family_designs_figure(columns), output / "family_designs.png"))
+    statuses = ", ".join(f"{count} {name}" for name, count in sorted(result.status.items()))
+    lines = [
+        f"prp3 sweep: {result.rows} designs of {len(spec.studies)} architectures "
+        f"({spec.sampling}) on {', '.join(spec.motions)}: {statuses}; {result.chunks} chunks",
+        *_best_lines(columns, spec, "peak_joint_force"),
+        "files written:",
+        *(f"  {path}" for path in written),
+    ]
+    emit("\n".join(lines))
+    return 0
+
+
+def run_family_optimize(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
+    """``prp3 optimize`` of a family spec; return the exit status (1 when nothing is feasible)."""
+    from ..family.design import family_design_robot, optimize_family
+    from ._design_client import client_of
+
+    output: Path = args.output
+    check_output_directory(output)
+    check_inputs_kept(output, ("ROBOT.toml", "history.csv"), (args.spec,))
+    with client_of(args) as client:
+        optima, history = optimize_family(spec, client)
+    settings = spec.optimize
+    lines = [
+        f"prp3 optimize: minimise {settings.objective} within {len(optima)} architectures "
+        f"({sum(o.evaluations for o in optima)} designs)"
+    ]
+    for optimum in optima:
+        study = spec.studies[optimum.study]
+        where = ", ".join(
+            f"{p} = {v!r}" for p, v in zip(study.paths, optimum.x.tolist(), strict=True)
+        )
+        value = optimum.row.get(settings.objective, math.nan)
+        state = "feasible" if optimum.feasible else f"infeasible ({optimum.row['status']})"
+        lines.append(
+            f"  {optimum.architecture}: {settings.objective} = {value:.9g}, {state}"
+            + (f" at {where}" if where else "")
+        )
+    feasible = [o for o in optima if o.feasible]
+    best = min(feasible or optima, key=lambda o: o.objective)
+    robot = family_design_robot(spec.studies[best.study], best.x.tolist())
+    lines.append(
+        f"  best: {best.architecture}"
+        if feasible
+        else "  no design is feasible; the least violating:" + f" {best.architecture}"
+    )
+    with staged_output(output) as staged:
+        staged.path("ROBOT.toml").write_text(robot.to_toml(), encoding="utf-8")
+        write_table_csv(staged.path("history.csv"), history)
+        emit("\n".join(lines + files_report(staged)))
+    return 0 if feasible else 1

@@ -33,6 +33,8 @@ from .simulate import Progress
 if TYPE_CHECKING:
     from dask.distributed import Client
 
+    from ..family.design import FamilySweepSpec
+
 __all__ = ["register", "run_optimize", "run_sweep"]
 
 SWEEP_EXAMPLES = """\
@@ -178,11 +180,23 @@ def _read_spec(args: argparse.Namespace) -> SweepSpec:
     return spec
 
 
+def _family_spec(args: argparse.Namespace) -> FamilySweepSpec | None:
+    """The spec of ``--spec`` when it is in family form (``[[study]]``), else ``None``."""
+    from ._family_analysis import family_spec_of
+
+    return family_spec_of(Path(args.spec))
+
+
 def run_sweep(args: argparse.Namespace) -> int:
     """Run ``prp3 sweep``; return the exit status."""
     from .. import sweep
 
     _require_design_extra()
+    family = _family_spec(args)
+    if family is not None:  # [[study]]: architectures of docs/family.md
+        from ._family_analysis import run_family_sweep
+
+        return run_family_sweep(args, family)
     spec = _read_spec(args)
     output: Path = args.output
     check_output_directory(output)
@@ -245,6 +259,11 @@ def run_optimize(args: argparse.Namespace) -> int:
     from .. import sweep
 
     _require_design_extra()
+    family = _family_spec(args)
+    if family is not None:  # [[study]]: architectures of docs/family.md
+        from ._family_analysis import run_family_optimize
+
+        return run_family_optimize(args, family)
     spec = _read_spec(args)
     output: Path = args.output
     check_output_directory(output)
