@@ -354,12 +354,10 @@ def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, An
             raise ParameterError(f"{key}: {error}") from None
         for end in (parameter.low, parameter.high):
             try:
-                design_mapping(nominal, [path], [end])
                 FamilyRobot.from_mapping(design_mapping(nominal, [path], [end]))
             except ParameterError as error:
-                message = str(error)
-                if "home" not in message:  # a singular home at an end is a row, not an error
-                    raise ParameterError(f"{key} = {end!r}: {message}") from None
+                if "home configuration" not in str(error):  # a singular home is a row
+                    raise ParameterError(f"{key} = {end!r}: {error}") from None
         parameters.append(parameter)
     return Study(architecture=str(architecture), nominal=nominal, parameters=tuple(parameters))
 
@@ -422,6 +420,13 @@ def family_sweep_spec(
     optimize_table = _table(source, "optimize", data.get("optimize", {}))
     optimize_table.setdefault("objective", "peak_joint_force")
     optimize = _optimize(source, optimize_table, evaluator.columns)
+    known = [c for c in evaluator.columns if c not in ("architecture", "status")]
+    for name in (optimize.objective, *(c for c, _, _ in optimize.constraints)):
+        if name not in known:  # the 3-PRP's aggregates (peak_f10, ...) are not columns here
+            raise ParameterError(
+                f"{source}: optimize: unknown quantity {name!r} (expected one of: "
+                f"{', '.join(sorted(known))})"
+            )
     return FamilySweepSpec(
         source=source,
         designs=designs,
