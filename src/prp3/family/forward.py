@@ -24,7 +24,7 @@ bodies (with the payload), for the energy balance
 >>> robot = FamilyRobot.default("3-RRR")
 >>> a, b = platform_dynamics(robot, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
 >>> a.shape, [round(float(v), 6) for v in b]
-((3, 3), [7.130481, 7.130481, 7.130481])
+((3, 3), [7.11225, -3.556125, -3.556125])
 """
 
 from __future__ import annotations
