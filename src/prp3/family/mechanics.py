@@ -190,13 +190,16 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
         sign = math.copysign(1.0, home_leg[j])
         best = np.full(path.shape[0], -np.inf)
         chosen = np.full((path.shape[0], 3), np.nan)
+        hat = np.full((path.shape[0], 3, 3), np.nan)  # Ĵ of the chosen solution, leg frame
         with np.errstate(invalid="ignore", over="ignore"):
             for candidate in geometry.candidates(local_g, phi):
                 frames = leg_chain(types, placements, 0.0, candidate)
-                value = sign * leg_measure(leg_jacobian(types, frames, local_g, scale))
+                scaled = leg_jacobian(types, frames, local_g, scale)
+                value = sign * leg_measure(scaled)
                 better = np.isfinite(value) & (value > best)
                 best = np.where(better, value, best)
                 chosen[better] = candidate[better]
+                hat[better] = scaled[better]
         lost = ~np.isfinite(chosen).all(axis=1)
         if lost.any():
             i = int(np.argmax(lost))
@@ -219,9 +222,7 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
             others = chosen[:, revolute[:-1]].sum(axis=1) if len(revolute) > 1 else 0.0
             chosen[:, last] = phi - geometry.total + offset - others
         q[:, j, :] = chosen[at[1:]]
-        frames = leg_chain(types, placements, SIGMA[j], chosen)
-        hat = leg_jacobian(types, frames, path[:, :2], scale)
-        mu = leg_measure(hat)
+        mu = leg_measure(hat)  # det Ĵ does not change when the leg is turned by σ_j
         bad = ~(sign * mu >= SINGULAR)
         if bad.any():
             i = int(np.argmax(bad))
@@ -230,7 +231,9 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
                  home_leg[j])
             )  # fmt: skip
         start = int(at[1])  # the path from sample 0 on is the same for the three legs
-        shared_wrench.append(transmitted_wrench(hat[start:], robot.actuated))
+        wrench = transmitted_wrench(hat[start:], robot.actuated)  # leg frame: turn by σ_j
+        turned = rotate(SIGMA[j], wrench[:, :2])
+        shared_wrench.append(np.concatenate([turned, wrench[:, 2:]], axis=-1))
         shared_owner, shared_path = sample_of[start:], path[start:]
     mu_path = parallel_measure(np.stack(shared_wrench, axis=-2))
     bad = ~(math.copysign(1.0, home_par) * mu_path >= SINGULAR)
@@ -479,7 +482,7 @@ class FamilySolution:
 
 
 def joint_forces(
-    kin: FamilyKinematics, tau: FloatArray, links: FloatArray, platform: FloatArray
+    kin: FamilyKinematics, tau: FloatArray, links: FloatArray
 ) -> tuple[FloatArray, FloatArray]:
     """Every joint's wrench from the actuator efforts: ``(force (N,3,3,2), moment (N,3,3))``.
 
@@ -496,7 +499,6 @@ def joint_forces(
     centre = kin.motion.pose.reshape(-1, 3)[:, None, None, :2]
     force = wrench[..., :2]
     moment = wrench[..., 2] + cross(centre - kin.frames.origin, force)
-    del platform
     return force, moment
 
 
@@ -523,7 +525,7 @@ def fast_dynamics(kin: FamilyKinematics) -> FamilySolution:
     rhs = platform + np.einsum("nlki,nlk->ni", inverse, b)
     matrix = np.swapaxes(inverse[:, :, a, :], -1, -2)  # columns K_L[a, :]
     tau = solve3(matrix, rhs)
-    force, moment = joint_forces(kin, tau, links, platform)
+    force, moment = joint_forces(kin, tau, links)
     return _solution(kin, kin.dq, kin.ddq, tau, force, moment, "fast")
 
 

@@ -38,14 +38,13 @@ FloatArray = NDArray[np.float64]
 def link_accelerations(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Mass centres ``(N, 3, 2, 2)``, their accelerations, and the links' ``θ̈`` ``(N, 3, 2)``."""
     robot, frames = kin.robot, kin.frames
-    types, placements = robot.types, robot.leg.placements
+    types = robot.types
     n = frames.origin.shape[0]
     q, dq, ddq = (x.reshape(n, 3, 3) for x in (kin.q, kin.dq, kin.ddq))
     p_acc = np.zeros((n, 3, 2))
     omega = np.zeros((n, 3))
     alpha = np.zeros((n, 3))
     origin_prev = frames.origin[..., 0, :] * 0.0
-    angle_prev = np.broadcast_to(frames.joint_angle[..., 0] - placements[0, 2], (n, 3))
     centres, accs, alphas = [], [], []
     for k in range(3):
         r = frames.joint_origin[..., k, :] - origin_prev
@@ -68,7 +67,6 @@ def link_accelerations(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray, F
             centres.append(origin_prev + rc)
             accs.append(p_acc + alpha[..., None] * perp(rc) - (omega**2)[..., None] * rc)
             alphas.append(alpha)
-    del angle_prev
     return np.stack(centres, 2), np.stack(accs, 2), np.stack(alphas, 2)
 
 

@@ -185,6 +185,12 @@ class PaperSteps:
     tau : ndarray, shape ``(N, 3)``
     joint_force, joint_moment : ndarray, shapes ``(N, 3, 3, 3)``, ``(N, 3, 3)``
         Each joint's force (in the distal frame ``F_k``) and moment about ``O_k``.
+    link_force, link_moment : ndarray, shapes ``(N, 3, 2 links, 3)``, ``(N, 3, 2)``
+        What link 1 and link 2 need, ``m(γ_C − g)`` in their own frames and the
+        moment about their frame origin (``I·ε + c × m(γ_C − g)``).
+    platform_force, platform_moment : ndarray, shapes ``(N, 3)``, ``(N,)``
+        What the legs must give the platform (payload included, load taken
+        off), fixed frame, moment about ``G``.
     """
 
     rotation: list[FloatArray]
@@ -202,6 +208,10 @@ class PaperSteps:
     tau: FloatArray
     joint_force: FloatArray
     joint_moment: FloatArray
+    link_force: FloatArray
+    link_moment: FloatArray
+    platform_force: FloatArray
+    platform_moment: FloatArray
 
 
 def paper_steps(
@@ -322,6 +332,10 @@ def paper_steps(
         tau=tau,
         joint_force=np.stack(forces, 2),
         joint_moment=np.stack(moments, 2),
+        link_force=np.stack(need_f, 2),
+        link_moment=np.stack(need_m, 2),
+        platform_force=plat_f,
+        platform_moment=plat_m,
     )
 
 
