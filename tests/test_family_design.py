@@ -6,7 +6,14 @@ solver) and the margins of docs/family.md §3; the model-form sweep is unchanged
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
+import re
+import runpy
+import shlex
+import sys
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -188,3 +195,68 @@ def test_model_form_specs_are_unchanged() -> None:
 
     example = Path(__file__).parent.parent / "docs" / "examples" / "synthesis.toml"
     assert family_spec_of(example) is None
+
+
+# ---------------------------------------------------------------- docs/family_comparison.md
+ROOT = Path(__file__).resolve().parents[1]
+COMPARISON = ROOT / "docs" / "family_comparison.md"
+MARKER = re.compile(r"^<!-- output of: (.+?) -->\n", re.M)
+
+
+def _run_script(argv: list[str]) -> str:
+    out = io.StringIO()
+    saved = sys.argv
+    sys.argv = [str(ROOT / argv[0]), *argv[1:]]
+    try:
+        with contextlib.redirect_stdout(out):
+            runpy.run_path(str(ROOT / argv[0]), run_name="__main__")
+    finally:
+        sys.argv = saved
+    return out.getvalue()
+
+
+def _quoted() -> list[tuple[str, str]]:
+    text = COMPARISON.read_text(encoding="utf-8")
+    found = []
+    for match in MARKER.finditer(text):
+        body = text[match.end() :].split("\n\n", 1)[0] + "\n"
+        found.append((match[1], body))
+    return found
+
+
+def test_the_comparison_page_quotes_its_script() -> None:
+    quoted = _quoted()
+    assert len(quoted) == 2
+    for command, body in quoted:
+        argv = shlex.split(command)
+        assert argv[0] == "python" and argv[1] == "docs/examples/family_comparison.py"
+        assert _run_script(argv[1:]) == body, command
+
+
+def test_what_the_comparison_page_says_of_its_tables() -> None:
+    (_, forces), (_, areas) = _quoted()
+    rows = [line.split("|")[1:-1] for line in forces.splitlines()[2:]]
+    assert len(rows) == 14  # seven architectures, two motions
+    for row in rows:
+        f1, f2, f3 = (float(row[k]) for k in (4, 5, 6))
+        assert f1 > f2 > f3  # joint 1 carries the most, joint 3 the least
+    by_name = {line.split("|")[1].strip(): line.split("|")[2:-1] for line in areas.splitlines()[2:]}
+    reachable, regular = (float(v) for v in by_name["3-RPR"][:2])
+    assert regular < 0.5 * reachable  # a parallel singularity runs through the window
+    # the margins are those of docs/family.md §3 (3-RRR rotation 0.234 / 0.998)
+    rrr = [row for row in rows if row[0].strip() == "3-RRR (1)" and row[1].strip() == "rotation"]
+    assert [row[7].strip() for row in rrr] == ["0.234"] and [row[8].strip() for row in rrr] == [
+        "0.998"
+    ]
+
+
+def test_the_spec_of_the_page_is_valid() -> None:
+    text = COMPARISON.read_text(encoding="utf-8")
+    block = text.split("```toml\n", 1)[1].split("```", 1)[0]
+    spec = family_sweep_spec(tomllib.loads(block))
+    assert [s.architecture for s in spec.studies] == ["3-RRR", "3-RPR", "3-PPR"]
+    assert spec.studies[1].nominal["actuated"] == 2
+    assert spec.optimize.constraints == (
+        ("min_mu_par", 0.3, math.inf),
+        ("regular_area", 0.05, math.inf),
+    )

@@ -1,7 +1,7 @@
 """Design studies across architectures: which architecture and dimensions carry a task best.
 
 A *family sweep spec* (``SWEEP.toml`` with one or more ``[[study]]`` tables; see
-``docs/design.md``) lists architectures, each with its nominal design (the
+``docs/family_comparison.md``) lists architectures, each with its nominal design (the
 default of docs/family.md §3, or a family-form robot file) and the ranges of
 some of its ``ROBOT.toml`` values, named by key path as for the 3-PRP
 (``"leg.joint2.0"``: the first number of ``[leg] joint2``; ``"link1.mass"``).
