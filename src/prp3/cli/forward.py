@@ -99,6 +99,12 @@ examples:
 
 The forces (and the load) between samples follow the not-a-knot cubic spline
 through them.
+
+A family-form ROBOT.toml (3-RPR, 3-RRR, ...: docs/family.md) takes the efforts
+t,tau_A,tau_B,tau_C (N or N*m) or the results.csv of its prp3 simulate, and
+writes its 64 columns; it starts at its home pose at rest (or the first row of
+a results.csv) and stops when a singularity measure falls to 1e-3
+(docs/family.md).
 Exit status 0 when the motion reached the last time; 1 when it stopped early at a
 singularity (|sin(phi - pi/3)| = 2e-4) or at a stroke limit, or the integrator gave
 up (the files hold the motion up to the stop; the reason is on stderr); 2 on bad
