@@ -138,6 +138,15 @@ def test_bad_inputs_are_named() -> None:
         family_forward_dynamics(
             robot, [0.0, 1.0], np.zeros((2, 3)), [0.0, 2.0], [0, 0, 0], [0, 0, 0]
         )
+    massless = replace(
+        robot, link1=replace(robot.link1, mass=0.0, inertia=0.0),
+        link2=replace(robot.link2, mass=0.0, inertia=0.0),
+        platform=replace(robot.platform, mass=0.0, inertia=0.0),
+    )  # fmt: skip
+    with pytest.raises(Prp3Error, match="equations of motion of this 3-RRR are singular"):
+        family_forward_dynamics(
+            massless, [0.0, 1.0], np.zeros((2, 3)), [0.0, 1.0], [0, 0, 0], [0, 0, 0]
+        )
     with pytest.raises(Prp3Error, match="cannot reach"):
         family_forward_dynamics(
             robot, [0.0, 1.0], np.zeros((2, 3)), [0.0, 1.0], [0.5, 0.5, 0.0], [0, 0, 0]
@@ -205,3 +214,59 @@ def test_cli_forward_bad_efforts_file(capsys: pytest.CaptureFixture[str], tmp_pa
     )
     line = one_line(err)
     assert status == 2 and out == "" and str(efforts) in line and "tau_A" in line
+
+
+# ---------------------------------------------------------------- every actuation, random designs
+from test_family_dynamics import ALLOWED, designs  # noqa: E402
+
+
+@pytest.mark.parametrize(("arch", "act"), ALLOWED)
+def test_every_allowed_actuation_reproduces_its_motion(arch: str, act: int) -> None:
+    robot = FamilyRobot.default(arch, act)
+
+    def efforts(t: float) -> np.ndarray:
+        return np.asarray(family_inverse_dynamics(robot, _law(t, AMPLITUDE)).tau[0])
+
+    times = np.linspace(0.0, 0.25, 3)
+    planned = law_at(AMPLITUDE, times)
+    result = family_forward_dynamics(
+        robot, None, efforts, times, planned.pose[0], planned.velocity[0], rtol=1e-10, atol=1e-12
+    )
+    assert result.status == "completed"
+    np.testing.assert_allclose(result.motion.pose, planned.pose, atol=1e-9)
+
+
+@settings(max_examples=6, deadline=None)
+@given(data=st.data())
+def test_random_designs_reproduce_their_motion(data: st.DataObject) -> None:
+    """Random placements, inertias, payload, load and gravity (tests/test_family_dynamics.py)."""
+    robot = data.draw(designs())
+    from hypothesis import assume
+
+    assume(robot.platform.mass >= 0.5 and robot.platform.inertia >= 1e-3)
+    centre = robot.home_poses[0]
+    star = np.array([data.draw(st.floats(-0.01, 0.01)) for _ in range(2)] +
+                    [data.draw(st.floats(-0.05, 0.05))])  # fmt: skip
+
+    def motion_at(t: float) -> Motion:
+        m = law_at(star, [t])
+        return Motion(t=m.t, pose=m.pose + centre, velocity=m.velocity,
+                      acceleration=m.acceleration)  # fmt: skip
+
+    try:
+        motion_at(0.3)  # the path from home stays regular
+        family_inverse_dynamics(robot, motion_at(0.3))
+    except Prp3Error:
+        assume(False)
+
+    def efforts(t: float) -> np.ndarray:
+        return np.asarray(family_inverse_dynamics(robot, motion_at(t)).tau[0])
+
+    times = np.array([0.0, 0.15, 0.3])
+    planned = [motion_at(t) for t in times.tolist()]
+    pose = np.array([m.pose[0] for m in planned])
+    result = family_forward_dynamics(
+        robot, None, efforts, times, pose[0], planned[0].velocity[0], rtol=1e-11, atol=1e-13
+    )
+    assert result.status == "completed"
+    np.testing.assert_allclose(result.motion.pose, pose, atol=1e-8)

@@ -291,16 +291,24 @@ def family_forward_dynamics(
         if not (isinstance(value, int | float) and math.isfinite(value) and value > 0.0):
             raise ParameterError(f"{name} must be a positive number, got {value!r}")
     x0, v0 = _vector("initial_pose", initial_pose), _vector("initial_velocity", initial_velocity)
-    _dynamics(robot, x0, v0)  # refuses a singular or unreachable initial pose
+    a0, _ = _dynamics(robot, x0, v0)  # refuses a singular or unreachable initial pose
+    if not np.linalg.cond(a0) < 1e12:
+        raise ParameterError(
+            f"the equations of motion of this {robot.architecture} are singular at the initial "
+            "pose (condition number of A >= 1e12): its masses and inertias leave a motion "
+            "without inertia (a massless platform?)",
+            subject="robot",
+        )
     count = [0]
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
         count[0] += 1
         try:
             a, b = _dynamics(robot, state[:3], state[3:])
-        except Prp3Error:  # a trial state beyond the stop: NaN rejects the step
-            return np.full(6, np.nan)
-        return np.concatenate([state[3:], np.linalg.solve(a, effort(time) - b)])
+            acceleration = np.linalg.solve(a, effort(time) - b)
+        except (Prp3Error, np.linalg.LinAlgError):  # a trial state beyond the stop: NaN
+            return np.full(6, np.nan)  # rejects the step
+        return np.concatenate([state[3:], acceleration])
 
     def singular(_time: float, state: FloatArray) -> float:
         return _margin(robot, state[:3]) - SINGULARITY_STOP
