@@ -180,3 +180,31 @@ def test_cli_workspace_statics_refused_by_capability(
     line = one_line(err)
     assert status == 2 and out == "" and "3-RPP" in line and "--statics" in line
     assert not (tmp_path / "ws" / "workspace.csv").exists()
+
+
+# ---------------------------------------------------------------- random designs
+from test_family_dynamics import designs  # noqa: E402
+
+
+@settings(max_examples=15, deadline=None)
+@given(data=st.data())
+def test_random_designs_agree_with_the_kinematics(data: st.DataObject) -> None:
+    """Near a random design's home pose, the slice's measures are the kinematics' ones."""
+    from hypothesis import assume
+
+    robot = data.draw(designs())
+    centre = robot.home_poses[0]
+    offset = np.array([data.draw(st.floats(-0.01, 0.01)) for _ in range(2)])
+    phi = float(centre[2]) + data.draw(st.floats(-0.05, 0.05))
+    point = centre[:2] + offset
+    try:
+        kin = family_kinematics(robot, Motion.at_rest([point[0], point[1], phi]))
+    except Prp3Error:
+        assume(False)
+        raise
+    ws = family_workspace_slice(
+        robot, phi, [point[0], point[0] + 1e-3], [point[1], point[1] + 1e-3]
+    )
+    assert ws.reachable[0, 0] and ws.regular[0, 0]
+    np.testing.assert_allclose(ws.mu_leg[0, 0], kin.mu_leg, atol=1e-12)
+    np.testing.assert_allclose(ws.mu_par[0, 0], kin.mu_par, atol=1e-12)
