@@ -270,3 +270,20 @@ def test_random_designs_reproduce_their_motion(data: st.DataObject) -> None:
     )
     assert result.status == "completed"
     np.testing.assert_allclose(result.motion.pose, pose, atol=1e-8)
+
+
+def test_cli_forward_unreachable_initial_pose_is_located(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    robot_file = tmp_path / "robot.toml"
+    robot_file.write_text('architecture = "3-RRR"\n')
+    efforts = tmp_path / "efforts.csv"
+    efforts.write_text("t,tau_A,tau_B,tau_C\n0,1,2,3\n1,1,2,3\n")
+    status, out, err = cli(
+        capsys, "forward", "--robot", robot_file, "--forces", efforts, "--initial-pose",
+        "0.5", "0.5", "0", "--output", tmp_path / "fw",
+    )  # fmt: skip
+    line = one_line(err)
+    assert status == 2 and out == ""
+    assert "--initial-pose 0.5 0.5 0.0" in line and "cannot reach" in line
+    assert not (tmp_path / "fw").exists()

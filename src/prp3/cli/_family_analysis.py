@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError
+from ..errors import ParameterError, Prp3Error
 from ..family import FamilyRobot, family_results_table
 from ..io import (
     check_inputs_kept,
@@ -195,9 +195,18 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
     samples = args.samples if args.samples is not None else t.size
     check_memory(f"{samples} output samples", 200 * 1024**2 + 8 * 200 * samples)
     times = np.linspace(float(t[0]), float(t[-1]), samples) if args.samples else t
-    result = family_forward_dynamics(
-        robot, t, tau, times, pose, velocity, rtol=args.rtol, atol=args.atol
-    )
+    try:
+        result = family_forward_dynamics(
+            robot, t, tau, times, pose, velocity, rtol=args.rtol, atol=args.atol
+        )
+    except Prp3Error as error:
+        if error.subject == "initial pose":  # say where the initial pose came from
+            if args.initial_pose is not None:
+                origin = "--initial-pose " + " ".join(repr(v) for v in args.initial_pose)
+                raise error.located(origin=origin) from None
+            where = "the first row of the results" if results else "the home pose"
+            raise error.located(file=args.forces, subject=f"initial pose ({where})") from None
+        raise
     table = family_results_table(result.solution) if result.solution is not None else None
     with staged_output(args.output) as staged:
         if table is not None:

@@ -291,7 +291,10 @@ def family_forward_dynamics(
         if not (isinstance(value, int | float) and math.isfinite(value) and value > 0.0):
             raise ParameterError(f"{name} must be a positive number, got {value!r}")
     x0, v0 = _vector("initial_pose", initial_pose), _vector("initial_velocity", initial_velocity)
-    a0, _ = _dynamics(robot, x0, v0)  # refuses a singular or unreachable initial pose
+    try:  # refuses a singular or unreachable initial pose
+        a0, _ = _dynamics(robot, x0, v0)
+    except Prp3Error as error:
+        raise error.located(subject="initial pose") from None
     if not np.linalg.cond(a0) < 1e12:
         raise ParameterError(
             f"the equations of motion of this {robot.architecture} are singular at the initial "
