@@ -86,28 +86,23 @@ def home_branch(
     n = points.shape[0]
     types, placements, scale = robot.types, robot.leg.placements, robot.leg.scale
     geometry = LEG_GEOMETRY[types](placements)
-    home_leg, _ = robot.home_measures
-    q = np.full((n, 3, 3), np.nan)
-    mu_leg = np.full((n, 3), np.nan)
-    wrenches = np.full((n, 3, 3), np.nan)
-    for j in range(3):
-        local = rotate(-SIGMA[j], points)
-        sign = math.copysign(1.0, home_leg[j])
-        best = np.full(n, -np.inf)
-        chosen = np.full((n, 3), np.nan)
-        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-            for candidate in geometry.candidates(local, phi):
-                frames = leg_chain(types, placements, 0.0, candidate)
-                value = sign * leg_measure(leg_jacobian(types, frames, local, scale))
-                better = np.isfinite(value) & (value > best)
-                best = np.where(better, value, best)
-                chosen[better] = candidate[better]
-            frames = leg_chain(types, placements, SIGMA[j], chosen)
-            hat = leg_jacobian(types, frames, points, scale)
-            mu_leg[:, j] = leg_measure(hat)
-            wrenches[:, j, :] = transmitted_wrench(hat, robot.actuated)
-        q[:, j, :] = chosen
-    return q, mu_leg, wrenches
+    signs = np.sign(np.asarray(robot.home_measures[0]))  # (3,)
+    local = rotate(-SIGMA, points[:, None, :])  # (n, 3 legs, 2): each leg's own frame
+    phis = np.broadcast_to(np.asarray(phi, dtype=np.float64)[:, None], (n, 3))
+    best = np.full((n, 3), -np.inf)
+    chosen = np.full((n, 3, 3), np.nan)
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        for candidate in geometry.candidates(local, phis):
+            frames = leg_chain(types, placements, 0.0, candidate)
+            value = signs * leg_measure(leg_jacobian(types, frames, local, scale))
+            better = np.isfinite(value) & (value > best)
+            best = np.where(better, value, best)
+            chosen[better] = candidate[better]
+        frames = leg_chain(types, placements, SIGMA, chosen)
+        hat = leg_jacobian(types, frames, points[:, None, :], scale)
+        mu_leg = leg_measure(hat)
+        wrenches = transmitted_wrench(hat, robot.actuated)
+    return chosen, np.asarray(mu_leg), np.asarray(wrenches)
 
 
 def family_measures_at(
