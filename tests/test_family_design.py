@@ -181,13 +181,15 @@ def test_cli_sweep_across_architectures(
     assert f"best: {best_robot.architecture}" in out
 
 
-def test_cli_family_sweep_refuses_pareto(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
+@pytest.mark.parametrize("option", [["--pareto", "a,b"], ["--sensitivity", "energy"]])
+def test_cli_family_sweep_refuses_model_form_options(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, option: list[str]
 ) -> None:
     spec = tmp_path / "study.toml"
     spec.write_text(SPEC)
-    status, _, err = cli(capsys, "sweep", "--spec", spec, "-o", tmp_path / "s", "--pareto", "a,b")
-    assert status == 2 and "--pareto" in one_line(err)
+    status, _, err = cli(capsys, "sweep", "--spec", spec, "-o", tmp_path / "s", *option)
+    assert status == 2 and option[0] in one_line(err)
+    assert not (tmp_path / "s" / "designs.parquet").exists()
 
 
 def test_model_form_specs_are_unchanged() -> None:

@@ -269,11 +269,13 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
     from ..family.design import run_family_sweep as sweep
     from ._design_client import client_of
 
-    if args.pareto is not None:
-        raise ParameterError(
-            "--pareto applies to model-form sweeps (docs/design.md); a family sweep "
-            "([[study]]) writes family_designs.png with --plots"
-        )
+    for option, given in (("--pareto", args.pareto is not None),
+                          ("--sensitivity", args.sensitivity != "peak_f10")):  # fmt: skip
+        if given:
+            raise ParameterError(
+                f"{option} applies to model-form sweeps (docs/design.md); a family sweep "
+                "([[study]]) writes family_designs.png with --plots"
+            )
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, ("designs.parquet",), (args.spec,))
