@@ -52,6 +52,11 @@ examples:
   prp3 sweep --spec sweep.toml --output study --plots --pareto workspace_area,peak_f21
 
 Run again after an interruption: only the missing chunks are computed.
+A SWEEP.toml with [[study]] tables (one per architecture of docs/family.md, each
+with its [study.parameters]) compares architectures: designs.parquet then has the
+columns architecture, actuated, the parameters, status, peak_tau_L, peak_power_L,
+peak_f1_L .. peak_f3_L, peak_joint_force, energy, min_mu_leg, min_mu_par,
+regular_area, and --plots writes family_designs.png (docs/family_comparison.md).
 Exit status 0 on success, 2 on bad input (one line on stderr).
 """
 
@@ -65,6 +70,9 @@ examples:
                    workspace_area = { min = 0.004 }
                    peak_f21 = { max = 60.0 }
       best/ROBOT.toml is the best design, best/history.csv every evaluation
+  prp3 optimize --spec study.toml --output best
+      study.toml with [[study]] tables: the best design of each architecture
+      (objective peak_joint_force by default); best/ROBOT.toml is the best of all
 """
 
 
