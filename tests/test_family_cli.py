@@ -122,15 +122,8 @@ def test_simulate_refuses_a_crossed_singularity(
     assert not (tmp_path / "o" / "results.csv").exists()
 
 
-def test_simulate_refuses_animate_and_load_columns(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path
-) -> None:
+def test_simulate_refuses_load_columns(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     path = _robot_file(tmp_path, 'architecture = "3-RRR"\n')
-    status, _, err = cli(
-        capsys, "simulate", "--robot", path, "--motion", "vertical", "--animate",
-        "--output", tmp_path / "o",
-    )  # fmt: skip
-    assert status == 2 and "3-RRR" in one_line(err)
     traj = tmp_path / "traj.csv"
     traj.write_text(
         "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi,fx,fy,mz\n"
@@ -156,7 +149,22 @@ def test_model_form_unchanged(capsys: pytest.CaptureFixture[str], tmp_path: Path
 @pytest.mark.parametrize(
     ("argv", "command"),
     [
-        (["workspace", "--output", "ws"], "prp3 workspace"),
+        (["identify", "--measurements", "m.csv", "--output", "id"], "prp3 identify"),
+        (["excite", "--output", "ex"], "prp3 excite"),
+        (
+            [
+                "control",
+                "--motion",
+                "vertical",
+                "--plant",
+                "prp3",
+                "--controller",
+                "computed-torque",
+                "--output",
+                "ctl",
+            ],
+            "prp3 control",
+        ),
     ],
 )
 def test_other_commands_refuse_by_capability(

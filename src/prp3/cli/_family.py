@@ -75,11 +75,6 @@ def run_family(
     note: Callable[[], None],
 ) -> int:
     """Compute, write and summarise a family run; ``located`` places an error at its source."""
-    if args.animate:
-        raise Prp3Error(
-            f"--animate draws the 3-PRP of a model-form robot file (docs/model.md) only; not yet the {robot.architecture} "
-            "of a family-form robot file: leave --animate out"
-        )
     try:
         solution = family_inverse_dynamics(robot, motion, args.method)
     except Prp3Error as error:
@@ -105,6 +100,17 @@ def run_family(
             )
             for name, figure in figures.items():
                 save_figure(figure, staged.path(name))
+        if args.animate:  # the robot's own legs (prp3.plotting.family_animation)
+            from ..plotting.animation import MAX_FRAMES
+            from ..plotting.family_animation import save_family_animation
+
+            save_family_animation(
+                robot,
+                solution.kinematics,
+                staged.path("mechanism.gif"),
+                max_frames=args.frames if args.frames is not None else MAX_FRAMES,
+                progress=progress.stage("animation"),
+            )
         progress.close()
         heading = heading.replace("prp3 simulate:", f"prp3 simulate: {robot.architecture}", 1)
         emit(family_summary_text(table, robot, heading, files_report(staged)))

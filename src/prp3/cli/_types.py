@@ -113,7 +113,8 @@ def load_robot(args: argparse.Namespace) -> Robot:
     """The robot of ``--robot``, or the paper's robot.
 
     A family-form robot file (docs/family.md) is refused by capability, naming
-    its architecture: only ``prp3 simulate`` and ``prp3 robot`` take it so far.
+    its architecture: ``prp3 simulate``, ``workspace``, ``forward`` and ``robot``
+    take it (and the family form of ``SWEEP.toml``), before calling this.
     """
     if args.robot is None:
         return Robot()
@@ -128,8 +129,8 @@ def load_robot(args: argparse.Namespace) -> Robot:
         )
         raise ParameterError(
             f"prp3 {command or 'this command'} computes the 3-PRP of docs/model.md only, not yet "
-            f"the {robot.architecture} of a family-form robot file (docs/family.md: prp3 simulate "
-            "and prp3 robot take it)",
+            f"the {robot.architecture} of a family-form robot file (docs/family.md: prp3 simulate, "
+            "workspace, forward and robot take it)",
             file=args.robot,
         )
     return robot

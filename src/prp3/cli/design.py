@@ -35,6 +35,8 @@ from ._types import emit, files_report, integer_at_least, output_folder, path_na
 if TYPE_CHECKING:
     from dask.distributed import Client
 
+    from ..family.design import FamilySweepSpec
+
 __all__ = ["register", "run_optimize", "run_sweep"]
 
 SWEEP_EXAMPLES = """\
@@ -52,6 +54,11 @@ examples:
   prp3 sweep --spec sweep.toml --output study --plots --pareto workspace_area,peak_f21
 
 Run again after an interruption: only the missing chunks are computed.
+A SWEEP.toml with [[study]] tables (one per architecture of docs/family.md, each
+with its [study.parameters]) compares architectures: designs.parquet then has the
+columns architecture, actuated, the parameters, status, peak_tau_L, peak_power_L,
+peak_f1_L .. peak_f3_L, peak_joint_force, energy, min_mu_leg, min_mu_par,
+regular_area, and --plots writes family_designs.png (docs/family_comparison.md).
 Exit status 0 on success, 2 on bad input (one line on stderr).
 """
 
@@ -65,6 +72,9 @@ examples:
                    workspace_area = { min = 0.004 }
                    peak_f21 = { max = 60.0 }
       best/ROBOT.toml is the best design, best/history.csv every evaluation
+  prp3 optimize --spec study.toml --output best
+      study.toml with [[study]] tables: the best design of each architecture
+      (objective peak_joint_force by default); best/ROBOT.toml is the best of all
 """
 
 
@@ -186,6 +196,13 @@ def _read_spec(args: argparse.Namespace) -> SweepSpec:
     return spec
 
 
+def _family_spec(args: argparse.Namespace) -> FamilySweepSpec | None:
+    """The spec of ``--spec`` when it is in family form (``[[study]]``), else ``None``."""
+    from ._family_analysis import family_spec_of
+
+    return family_spec_of(Path(args.spec))
+
+
 def run_sweep(args: argparse.Namespace) -> int:
     """Run ``prp3 sweep``; return the exit status."""
     from .. import sweep
@@ -196,6 +213,11 @@ def run_sweep(args: argparse.Namespace) -> int:
             raise Prp3Error(
                 f"{option} {value} applies to the figures only: add --plots, or leave {option} out"
             )
+    family = _family_spec(args)
+    if family is not None:  # [[study]]: architectures of docs/family.md
+        from ._family_analysis import run_family_sweep
+
+        return run_family_sweep(args, family)
     args.sensitivity = args.sensitivity or "peak_f10"
     spec = _read_spec(args)
     output: Path = args.output
@@ -289,6 +311,11 @@ def run_optimize(args: argparse.Namespace) -> int:
     from .. import sweep
 
     _require_design_extra()
+    family = _family_spec(args)
+    if family is not None:  # [[study]]: architectures of docs/family.md
+        from ._family_analysis import run_family_optimize
+
+        return run_family_optimize(args, family)
     spec = _read_spec(args)
     output: Path = args.output
     check_output_directory(output)

@@ -100,6 +100,12 @@ examples:
 
 The forces (and the load) between samples follow the not-a-knot cubic spline
 through them.
+
+A family-form ROBOT.toml (3-RPR, 3-RRR, ...: docs/family.md) takes the efforts
+t,tau_A,tau_B,tau_C (N or N*m) or the results.csv of its prp3 simulate, and
+writes its 64 columns; it starts at its home pose at rest (or the first row of
+a results.csv) and stops when a singularity measure falls to 1e-3
+(docs/family.md).
 Exit status 0 when the motion reached the last time; 1 when it stopped early at a
 singularity (|sin(phi - pi/3)| = 2e-4) or at a stroke limit, or the integrator gave
 up (the files hold the motion up to the stop; the reason is on stderr); 2 on bad
@@ -183,6 +189,14 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 forward`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
+    if args.robot is not None:  # a family-form robot file: docs/family.md
+        from ..family import FamilyRobot, read_robot_file
+
+        loaded = read_robot_file(args.robot)
+        if isinstance(loaded, FamilyRobot):
+            from ._family_analysis import run_family_forward
+
+            return run_family_forward(args, loaded)
     check_inputs_kept(output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
     robot = load_robot(args)
     try:

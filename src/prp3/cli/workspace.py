@@ -113,6 +113,13 @@ The only singular configurations of this robot are the orientations phi = pi/3 m
 at every (x, y): a slice at a regular phi has no singular point; --phi at a singular
 orientation is refused.
 
+A family-form ROBOT.toml (3-RPR, 3-RRR, ...: docs/family.md) writes workspace.csv
+with the columns x, y, reachable, regular (every singularity measure on its home
+side, |mu| >= 1e-4), mu_leg_A, mu_leg_B, mu_leg_C, mu_par (the signed measures of
+the home branch), orientations.csv with phi, area, regular_area, min_mu_par (over
++-pi/2), and workspace.png (both measures as maps, their zero loci drawn); the
+default window is +-2 [leg] scale; --statics is for model-form files only.
+
 Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
 """
 
@@ -265,6 +272,14 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 workspace`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
+    if args.robot is not None:  # a family-form robot file: docs/family.md
+        from ..family import FamilyRobot, read_robot_file
+
+        loaded = read_robot_file(args.robot)
+        if isinstance(loaded, FamilyRobot):
+            from ._family_analysis import run_family_workspace
+
+            return run_family_workspace(args, loaded)
     robot = load_robot(args)
     try:
         orientation_range(robot)  # refuses a stroke beyond the bounds of the poses

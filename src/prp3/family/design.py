@@ -1,0 +1,645 @@
+"""Design studies across architectures: which architecture and dimensions carry a task best.
+
+A *family sweep spec* (``SWEEP.toml`` with one or more ``[[study]]`` tables; see
+``docs/family_comparison.md``) lists architectures, each with its nominal design (the
+default of docs/family.md §3, or a family-form robot file) and the ranges of
+some of its ``ROBOT.toml`` values, named by key path as for the 3-PRP
+(``"leg.joint2.0"``: the first number of ``[leg] joint2``; ``"link1.mass"``).
+A top-level ``[payload]`` (and ``[load]``, ``gravity``) is given to every
+study's robot: the same payload along the same task for every architecture.
+
+Each design is run through the family inverse dynamics (the fast route,
+:func:`prp3.family.family_inverse_dynamics`) along every motion of the task
+and reduced to one row (:data:`FAMILY_DESIGN_COLUMNS`, the varied parameters
+before them):
+
+* ``architecture``, ``actuated``, then every parameter of every study (NaN
+  where the design's study does not vary it), then ``status``: ``ok``;
+  ``singular`` (a singularity measure below 1e-4, or crossed, on the task);
+  ``unreachable`` (a leg cannot reach a pose); ``invalid`` (not a valid robot:
+  its home configuration is singular, or a value out of its bounds);
+* ``peak_tau_L``, ``peak_power_L``: ``max |tau_L|``, ``max |p_L|`` over every
+  sample of the task (N or N·m; W);
+* ``peak_f1_L``, ``peak_f2_L``, ``peak_f3_L``: ``max |(fx_k, fy_k)|`` (N), the
+  force in joint ``k`` of leg ``L``;
+* ``peak_joint_force``: the largest of the nine, the figure of merit;
+* ``energy``: ``Σ_motions ∫ Σ_L p_L dt`` (trapezoid, J);
+* ``min_mu_leg``, ``min_mu_par``: the smallest ``s·μ`` of §6 over the task
+  (the singularity margins);
+* ``regular_area``: the regular area of the slice ``φ = 0`` (m², grid
+  :data:`AREA_POINTS` × :data:`AREA_POINTS` over ``±2ℓ``,
+  :func:`prp3.family.workspace.family_workspace_slice`).
+
+>>> spec = family_sweep_spec({"designs": 3, "sampling": "grid",
+...     "task": {"motions": ["vertical"], "samples": 21},
+...     "study": [{"architecture": "3-RRR", "parameters": {"link1.mass": [0.5, 1.5]}},
+...               {"architecture": "3-RPR"}]})
+>>> columns = evaluate_family_designs(spec.evaluator, family_design_rows(spec))
+>>> [str(a) for a in columns["architecture"]], [str(s) for s in columns["status"]]
+(['3-RRR', '3-RRR', '3-RRR', '3-RPR'], ['ok', 'ok', 'ok', 'ok'])
+>>> round(float(columns["peak_tau_A"][1]), 6)    # the default 3-RRR
+7.558337
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..design import (
+    SAMPLINGS,
+    OptimizeSpec,
+    Parameter,
+    design_mapping,
+    penalized_objective,
+)
+from ..errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
+from ..io import read_trajectory
+from ..model import read_toml
+from ..motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
+from ..validation import LEGS
+from .model import ARCHITECTURES, FamilyRobot
+from .outputs import family_inverse_dynamics
+
+__all__ = [
+    "AREA_POINTS",
+    "FAMILY_DESIGN_COLUMNS",
+    "FAMILY_STATUSES",
+    "FamilyEvaluator",
+    "FamilyObjective",
+    "FamilyOptimum",
+    "FamilySweepRun",
+    "FamilySweepSpec",
+    "Study",
+    "evaluate_family_designs",
+    "family_design_robot",
+    "family_design_rows",
+    "family_sweep_spec",
+    "is_family_spec",
+    "optimize_family",
+    "read_family_sweep_spec",
+    "run_family_sweep",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Values of the ``status`` column.
+FAMILY_STATUSES: tuple[str, ...] = ("ok", "singular", "unreachable", "invalid")
+
+#: Grid points per axis of the ``regular_area`` slice.
+AREA_POINTS: int = 41
+
+#: The result columns after the parameters and ``status``.
+FAMILY_DESIGN_COLUMNS: tuple[str, ...] = (
+    *(f"peak_tau_{leg}" for leg in LEGS),
+    *(f"peak_power_{leg}" for leg in LEGS),
+    *(f"peak_f{k}_{leg}" for k in (1, 2, 3) for leg in LEGS),
+    "peak_joint_force",
+    "energy",
+    "min_mu_leg",
+    "min_mu_par",
+    "regular_area",
+)
+
+_TOP_KEYS = {
+    "designs", "sampling", "seed", "chunk", "task", "study", "payload", "load", "gravity",
+    "optimize",
+}  # fmt: skip
+_STUDY_KEYS = {"architecture", "actuated", "robot", "parameters"}
+_SHARED = ("payload", "load", "gravity")
+
+
+def is_family_spec(data: Mapping[str, Any]) -> bool:
+    """Whether a parsed ``SWEEP.toml`` is in family form (it has ``[[study]]``)."""
+    return "study" in data
+
+
+@dataclass(frozen=True)
+class Study:
+    """One architecture of a family sweep: its nominal mapping and varied parameters."""
+
+    architecture: str
+    nominal: dict[str, Any]
+    parameters: tuple[Parameter, ...]
+
+    @property
+    def paths(self) -> tuple[str, ...]:
+        """Key paths of the parameters."""
+        return tuple(p.path for p in self.parameters)
+
+
+def family_design_robot(study: Study, values: Sequence[float]) -> FamilyRobot:
+    """The robot of a design of ``study`` (:func:`prp3.design.design_mapping`)."""
+    return FamilyRobot.from_mapping(design_mapping(study.nominal, study.paths, list(values)))
+
+
+@dataclass(frozen=True, eq=False)
+class FamilyEvaluator:
+    """What a worker needs: the studies, every parameter path (column order) and the task."""
+
+    studies: tuple[Study, ...]
+    paths: tuple[str, ...]
+    motions: tuple[Motion, ...]
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """Column names of ``designs.parquet``."""
+        return ("architecture", "actuated", *self.paths, "status", *FAMILY_DESIGN_COLUMNS)
+
+
+def _row(evaluator: FamilyEvaluator, robot: FamilyRobot) -> tuple[str, list[float]]:
+    """Status and result values of one design."""
+    from .workspace import family_workspace_slice
+
+    tau, power, force, energy = [], [], [], 0.0
+    margin_leg, margin_par = math.inf, math.inf
+    home_leg, home_par = robot.home_measures
+    try:
+        for motion in evaluator.motions:
+            solution = family_inverse_dynamics(robot, motion)
+            tau.append(np.abs(solution.tau).max(axis=0))
+            power.append(np.abs(solution.power).max(axis=0))
+            force.append(np.hypot(solution.force[..., 0], solution.force[..., 1]).max(axis=0))
+            total = solution.power.sum(axis=-1)
+            energy += float(np.sum(0.5 * (total[1:] + total[:-1]) * np.diff(motion.t)))
+            kin = solution.kinematics
+            margin_leg = min(margin_leg, float((np.sign(home_leg) * kin.mu_leg).min()))
+            margin_par = min(margin_par, float((math.copysign(1.0, home_par) * kin.mu_par).min()))
+    except SingularPoseError:
+        return "singular", [math.nan] * len(FAMILY_DESIGN_COLUMNS)
+    except UnreachablePoseError:
+        return "unreachable", [math.nan] * len(FAMILY_DESIGN_COLUMNS)
+    peak_tau = np.max(tau, axis=0)
+    peak_power = np.max(power, axis=0)
+    peak_force = np.max(force, axis=0)  # (3 legs, 3 joints)
+    half = 2.0 * robot.leg.scale
+    grid = np.linspace(-half, half, AREA_POINTS)
+    area = family_workspace_slice(robot, 0.0, grid, grid).regular_area
+    values = [
+        *peak_tau.tolist(),
+        *peak_power.tolist(),
+        *(float(peak_force[j, k]) for k in range(3) for j in range(3)),
+        float(peak_force.max()),
+        energy,
+        margin_leg,
+        margin_par,
+        area,
+    ]
+    return "ok", values
+
+
+def evaluate_family_designs(
+    evaluator: FamilyEvaluator, rows: Sequence[tuple[int, Sequence[float]]]
+) -> dict[str, Any]:
+    """Evaluate designs ``rows`` — ``(study index, parameter values)`` — into columns.
+
+    Pure: the same rows give the same numbers on every worker.
+    """
+    count = len(rows)
+    columns: dict[str, Any] = {
+        "architecture": np.array([evaluator.studies[s].architecture for s, _ in rows], dtype=str),
+        "actuated": np.full(count, np.nan),
+        **{path: np.full(count, np.nan) for path in evaluator.paths},
+    }
+    status: list[str] = []
+    results = np.full((count, len(FAMILY_DESIGN_COLUMNS)), np.nan)
+    for i, (index, values) in enumerate(rows):
+        study = evaluator.studies[index]
+        for path, value in zip(study.paths, values, strict=True):
+            columns[path][i] = value
+        try:
+            robot = family_design_robot(study, values)
+        except ParameterError:
+            status.append("invalid")
+            continue
+        columns["actuated"][i] = float(robot.actuated)
+        state, numbers = _row(evaluator, robot)
+        status.append(state)
+        results[i] = numbers
+    columns["status"] = np.array(status, dtype=str)
+    for j, name in enumerate(FAMILY_DESIGN_COLUMNS):
+        columns[name] = results[:, j].copy()
+    return columns
+
+
+@dataclass(frozen=True, eq=False)
+class FamilyObjective:
+    """The penalised objective of one study's designs, for differential evolution (picklable)."""
+
+    evaluator: FamilyEvaluator
+    study: int
+    optimize: OptimizeSpec
+
+    def __call__(self, x: FloatArray) -> float:
+        """The objective of the design with parameter values ``x``."""
+        return float(self.many(np.asarray(x, dtype=np.float64)[None, :])[0])
+
+    def many(self, xs: FloatArray) -> FloatArray:
+        """The objectives of designs ``xs`` ``(k, p)``."""
+        rows = [(self.study, list(x)) for x in np.asarray(xs, dtype=np.float64).tolist()]
+        return penalized_objective(self.optimize, evaluate_family_designs(self.evaluator, rows))
+
+
+@dataclass(frozen=True, eq=False)
+class FamilySweepSpec:
+    """A validated family ``SWEEP.toml``.
+
+    Attributes
+    ----------
+    source : str
+    designs : int
+        Designs per study (``lhs``, ``random``) or points per parameter (``grid``).
+    sampling : str
+    seed, chunk : int
+    motions : tuple of str
+    evaluator : FamilyEvaluator
+    optimize : OptimizeSpec
+    """
+
+    source: str
+    designs: int
+    sampling: str
+    seed: int
+    chunk: int
+    motions: tuple[str, ...]
+    evaluator: FamilyEvaluator
+    optimize: OptimizeSpec
+
+    @property
+    def studies(self) -> tuple[Study, ...]:
+        """The architectures of the study."""
+        return self.evaluator.studies
+
+
+def _integer(source: str, key: str, value: Any, low: int, high: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise ParameterError(
+            f"{source}: {key} must be an integer from {low} to {high}, got {value!r}"
+        )
+    return value
+
+
+def _table(source: str, name: str, value: Any) -> dict[str, Any]:
+    if not isinstance(value, Mapping):
+        raise ParameterError(f"{source}: [{name}] must be a table, got {value!r}"[:300])
+    return dict(value)
+
+
+def _unknown(source: str, where: str, table: Mapping[str, Any], allowed: set[str]) -> None:
+    for key in table:
+        if key not in allowed:
+            raise ParameterError(
+                f"{source}: unknown key {where}{key!r} (expected one of: {', '.join(sorted(allowed))})"
+            )
+
+
+def _flatten(table: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
+    items: list[tuple[str, Any]] = []
+    for key, value in table.items():
+        if isinstance(value, Mapping):
+            items += _flatten(value, f"{prefix}{key}.")
+        else:
+            items.append((f"{prefix}{key}", value))
+    return items
+
+
+def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, Any]) -> Study:
+    where = f"study[{index}]"
+    table = _table(source, where, table)
+    _unknown(source, f"{where}.", table, _STUDY_KEYS)
+    if "robot" in table:
+        file = Path(str(table["robot"]))
+        file = file if file.is_absolute() else base / file
+        try:
+            nominal_robot = FamilyRobot.from_toml(file)
+        except Prp3Error as error:
+            raise type(error)(f"{source}: {where}.robot {str(table['robot'])!r}: {error}") from None
+        architecture = table.get("architecture", nominal_robot.architecture)
+        if architecture != nominal_robot.architecture:
+            raise ParameterError(
+                f"{source}: {where}: architecture {architecture!r} but the robot file is a "
+                f"{nominal_robot.architecture}"
+            )
+    else:
+        architecture = table.get("architecture")
+        if architecture not in ARCHITECTURES:
+            raise ParameterError(
+                f"{source}: {where}.architecture must be one of {', '.join(ARCHITECTURES)}, got "
+                f"{architecture!r}"[:300]
+            )
+        nominal_robot = FamilyRobot.default(str(architecture))
+    nominal: dict[str, Any] = tomllib.loads(nominal_robot.to_toml())
+    if "actuated" in table:
+        nominal["actuated"] = table["actuated"]
+    nominal.update(shared)
+    try:
+        FamilyRobot.from_mapping(nominal)
+    except ParameterError as error:
+        raise ParameterError(f"{source}: {where}: {error}") from None
+    parameters: list[Parameter] = []
+    for path, value in _flatten(_table(source, f"{where}.parameters", table.get("parameters", {}))):
+        key = f"{source}: {where}.parameters {path!r}"
+        if not (isinstance(value, list) and len(value) == 2):
+            raise ParameterError(f"{key}: the range must be [low, high], got {value!r}"[:300])
+        try:
+            parameter = Parameter(path, value[0], value[1])
+        except ParameterError as error:
+            raise ParameterError(f"{key}: {error}") from None
+        for end in (parameter.low, parameter.high):
+            try:
+                FamilyRobot.from_mapping(design_mapping(nominal, [path], [end]))
+            except ParameterError as error:
+                if "home configuration" not in str(error):  # a singular home is a row
+                    raise ParameterError(f"{key} = {end!r}: {error}") from None
+        parameters.append(parameter)
+    return Study(architecture=str(architecture), nominal=nominal, parameters=tuple(parameters))
+
+
+def _motions(
+    source: str, base: Path, task: Mapping[str, Any]
+) -> tuple[tuple[str, ...], tuple[Motion, ...]]:
+    _unknown(source, "task.", task, {"motions", "samples"})
+    names = task.get("motions", ["vertical", "rotation"])
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
+        raise ParameterError(
+            f"{source}: task.motions must be a non-empty list of paper motions "
+            f"({', '.join(PAPER_MOTIONS)}) or TRAJ.csv paths, got {names!r}"[:300]
+        )
+    samples = _integer(source, "task.samples", task.get("samples", 301), 2, MAX_SAMPLES)
+    motions = []
+    for name in names:
+        if name in PAPER_MOTIONS:
+            motions.append(paper_motion(name, samples))
+        else:
+            file = Path(name) if Path(name).is_absolute() else base / name
+            try:
+                motions.append(read_trajectory(file).motion)
+            except Prp3Error as error:
+                raise type(error)(f"{source}: task.motions {name!r}: {error}") from None
+    return tuple(names), tuple(motions)
+
+
+def family_sweep_spec(
+    data: Mapping[str, Any], *, base: str | Path = ".", source: str = "SWEEP.toml"
+) -> FamilySweepSpec:
+    """Validate a family ``SWEEP.toml`` mapping; paths in it are relative to ``base``.
+
+    Raises
+    ------
+    ParameterError, InputFileError, TrajectoryError
+        One line naming ``source`` and the key.
+    """
+    from ..design import _optimize
+
+    base = Path(base)
+    _unknown(source, "", data, _TOP_KEYS)
+    shared = {key: data[key] for key in _SHARED if key in data}
+    studies_table = data["study"]
+    if not isinstance(studies_table, list) or not studies_table:
+        raise ParameterError(f"{source}: [[study]] must be a non-empty array of tables")
+    studies = tuple(_study(source, base, i, t, shared) for i, t in enumerate(studies_table))
+    sampling = data.get("sampling", "lhs")
+    if sampling not in SAMPLINGS:
+        raise ParameterError(
+            f"{source}: unknown sampling {sampling!r} (expected one of: {', '.join(SAMPLINGS)})"
+        )
+    designs = _integer(source, "designs", data.get("designs", 20), 2 if sampling == "grid" else 1,
+                       100_000)  # fmt: skip
+    paths: list[str] = []
+    for study in studies:
+        paths += [p for p in study.paths if p not in paths]
+    names, motions = _motions(source, base, _table(source, "task", data.get("task", {})))
+    evaluator = FamilyEvaluator(studies=studies, paths=tuple(paths), motions=motions)
+    optimize_table = _table(source, "optimize", data.get("optimize", {}))
+    optimize_table.setdefault("objective", "peak_joint_force")
+    optimize = _optimize(source, optimize_table, evaluator.columns)
+    known = [c for c in evaluator.columns if c not in ("architecture", "status")]
+    for name in (optimize.objective, *(c for c, _, _ in optimize.constraints)):
+        if name not in known:  # the 3-PRP's aggregates (peak_f10, ...) are not columns here
+            raise ParameterError(
+                f"{source}: optimize: unknown quantity {name!r} (expected one of: "
+                f"{', '.join(sorted(known))})"
+            )
+    return FamilySweepSpec(
+        source=source,
+        designs=designs,
+        sampling=str(sampling),
+        seed=_integer(source, "seed", data.get("seed", 0), 0, 2**63 - 1),
+        chunk=_integer(source, "chunk", data.get("chunk", 20), 1, 100_000),
+        motions=names,
+        evaluator=evaluator,
+        optimize=optimize,
+    )
+
+
+def read_family_sweep_spec(path: str | Path) -> FamilySweepSpec:
+    """Read and validate a family ``SWEEP.toml`` (errors name the file)."""
+    path = Path(path)
+    return family_sweep_spec(read_toml(path, "sweep"), base=path.parent, source=str(path))
+
+
+def family_design_rows(spec: FamilySweepSpec) -> list[tuple[int, list[float]]]:
+    """Every design of the sweep as ``(study index, values)``, study by study.
+
+    A study without parameters is its nominal design, one row.  ``grid``:
+    ``designs`` points per parameter, ends included, the first varying slowest;
+    ``lhs``: a Latin hypercube (seed ``seed + study index``); ``random``: uniform.
+    """
+    rows: list[tuple[int, list[float]]] = []
+    for index, study in enumerate(spec.studies):
+        dims = len(study.parameters)
+        if dims == 0:
+            rows.append((index, []))
+            continue
+        low = np.array([p.low for p in study.parameters])
+        high = np.array([p.high for p in study.parameters])
+        if spec.sampling == "grid":
+            axes = [np.linspace(p.low, p.high, spec.designs) for p in study.parameters]
+            mesh = np.meshgrid(*axes, indexing="ij")
+            values = np.stack([m.reshape(-1) for m in mesh], axis=-1)
+        elif spec.sampling == "lhs":
+            from scipy.stats import qmc
+
+            rng = np.random.default_rng(spec.seed + index)
+            values = low + qmc.LatinHypercube(d=dims, rng=rng).random(spec.designs) * (high - low)
+        else:
+            unit = np.random.default_rng(spec.seed + index).random((spec.designs, dims))
+            values = low + unit * (high - low)
+        rows += [(index, v) for v in values.tolist()]
+    return rows
+
+
+# ------------------------------------------------------------------ on Dask
+@dataclass(frozen=True)
+class FamilySweepRun:
+    """What :func:`run_family_sweep` did: the file, its rows, chunks and statuses."""
+
+    path: Path
+    rows: int
+    chunks: int
+    status: dict[str, int]
+
+
+def _arrow(columns: Mapping[str, Any], names: Sequence[str]) -> Any:
+    import pyarrow as pa
+
+    return pa.table(
+        {
+            n: pa.array(np.asarray(columns[n]).tolist(), type=pa.string())
+            if n in ("architecture", "status")
+            else pa.array(np.asarray(columns[n], dtype=np.float64), type=pa.float64())
+            for n in names
+        }
+    )
+
+
+def run_family_sweep(
+    spec: FamilySweepSpec,
+    output: str | Path,
+    client: Any,
+    *,
+    progress: Any = None,
+) -> FamilySweepRun:
+    """Evaluate every design of ``spec`` on Dask and write ``output/designs.parquet``.
+
+    One task per chunk of ``spec.chunk`` designs; the rows keep the order of
+    :func:`family_design_rows` whatever the workers; the file is written
+    atomically (whole or not at all).  ``client`` makes the Dask client as a
+    context manager (:func:`prp3.sweep.dask_client`).
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from ..errors import OutputFileError
+    from ..io import atomic_path, check_output_directory
+
+    output = Path(output)
+    check_output_directory(output)
+    try:
+        output.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise OutputFileError(f"{output}: cannot create ({error.strerror})") from None
+    rows = family_design_rows(spec)
+    starts = list(range(0, len(rows), spec.chunk))
+    names = spec.evaluator.columns
+    parts: list[Any] = [None] * len(starts)
+    with client() as dask:
+        from dask.distributed import as_completed
+
+        shared = dask.scatter(spec.evaluator, broadcast=True, hash=False)
+        index_of: dict[Any, int] = {}
+        futures = []
+        for i, start in enumerate(starts):
+            future = dask.submit(
+                evaluate_family_designs, shared, rows[start : start + spec.chunk], pure=False
+            )
+            index_of[future.key] = i
+            futures.append(future)
+        queue = as_completed(futures, loop=dask.loop)  # type: ignore[no-untyped-call]
+        for done, future in enumerate(queue, start=1):
+            parts[index_of[future.key]] = _arrow(future.result(), names)
+            if progress is not None:
+                progress(done, len(starts))
+    table = pa.concat_tables(parts)
+    target = output / "designs.parquet"
+    with atomic_path(target) as temporary:
+        pq.write_table(table, temporary)
+    statuses, counts = np.unique(np.asarray(table.column("status").to_pylist()), return_counts=True)
+    return FamilySweepRun(
+        path=target,
+        rows=table.num_rows,
+        chunks=len(starts),
+        status={str(s): int(c) for s, c in zip(statuses, counts, strict=True)},
+    )
+
+
+@dataclass(frozen=True)
+class FamilyOptimum:
+    """The best design of one study (:func:`optimize_family`).
+
+    Attributes
+    ----------
+    study : int
+    architecture : str
+    x : ndarray (p,)
+        Its parameter values (empty for a study without parameters).
+    objective : float
+        Its penalised objective (``>= INFEASIBLE`` when infeasible).
+    feasible : bool
+    row : dict
+        Its row of the design table.
+    evaluations : int
+    """
+
+    study: int
+    architecture: str
+    x: FloatArray
+    objective: float
+    feasible: bool
+    row: dict[str, Any]
+    evaluations: int
+
+
+def optimize_family(
+    spec: FamilySweepSpec, client: Any
+) -> tuple[list[FamilyOptimum], dict[str, FloatArray]]:
+    """Minimise the objective of ``spec.optimize`` within every study, on Dask.
+
+    Each study with parameters runs :func:`scipy.optimize.differential_evolution`
+    (as :func:`prp3.sweep.optimize_design`: Latin-hypercube start, ``rng = seed``,
+    deferred updating, each generation on the workers); a study without
+    parameters is its nominal design.  Returns the best design of each study
+    (compare them for the best architecture) and the history of every
+    evaluation (columns ``study``, ``generation``, the parameters, ``objective``).
+    """
+    from scipy.optimize import differential_evolution
+
+    from ..design import INFEASIBLE
+    from ..sweep import DaskMap
+
+    settings = spec.optimize
+    optima: list[FamilyOptimum] = []
+    history: dict[str, list[float]] = {"study": [], "generation": [], "objective": []}
+    for path in spec.evaluator.paths:
+        history[path] = []
+    for index, study in enumerate(spec.studies):
+        objective = FamilyObjective(spec.evaluator, index, settings)
+        if study.parameters:
+            mapper = DaskMap(client, batch=objective)  # type: ignore[arg-type]
+            result = differential_evolution(
+                objective, [(p.low, p.high) for p in study.parameters],
+                maxiter=settings.maxiter, popsize=settings.popsize, tol=settings.tol,
+                rng=spec.seed + index, polish=False, init="latinhypercube",
+                updating="deferred", workers=mapper,
+            )  # fmt: skip
+            x = np.asarray(result.x, dtype=np.float64)
+            evaluations = int(result.nfev)
+            records = mapper.history
+        else:
+            x = np.zeros(0)
+            evaluations = 1
+            records = [(0, x, float(objective.many(x[None, :])[0]))]
+        columns = evaluate_family_designs(spec.evaluator, [(index, x.tolist())])
+        row = {
+            k: (str(v[0]) if k in ("architecture", "status") else float(v[0]))
+            for k, v in columns.items()
+        }
+        value = float(penalized_objective(settings, columns)[0])
+        optima.append(
+            FamilyOptimum(index, study.architecture, x, value, value < INFEASIBLE, row, evaluations)
+        )
+        for generation, member, result_value in records:
+            history["study"].append(float(index))
+            history["generation"].append(float(generation))
+            history["objective"].append(result_value if result_value < INFEASIBLE else math.nan)
+            given = dict(zip(study.paths, np.asarray(member).tolist(), strict=True))
+            for path in spec.evaluator.paths:
+                history[path].append(given.get(path, math.nan))
+    return optima, {k: np.asarray(v, dtype=np.float64) for k, v in history.items()}

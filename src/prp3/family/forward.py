@@ -1,0 +1,365 @@
+"""Forward dynamics of a family robot: the platform motion driven by given actuator efforts.
+
+The equations of motion in platform coordinates ``x = (x, y, φ)`` come from the
+same mechanics as the inverse dynamics (:mod:`prp3.family.mechanics`, docs/family.md
+§7): the actuator efforts are affine in the platform acceleration,
+
+    ``τ = A(x)·ẍ + b(x, ẋ)``,
+
+so ``b`` is the inverse dynamics at ``ẍ = 0`` and column ``i`` of ``A`` is the
+inverse dynamics at ``ẍ = e_i`` minus ``b`` ("M by unit accelerations":
+``A = Kᵀ``-weighted mass matrix, ``A = J_aᵀ⁻¹·M`` with ``J_a`` the actuated
+rows).  The state ``(x, ẋ)`` then obeys ``ẍ = A⁻¹·(τ(t) − b)``, integrated by
+``scipy.integrate.solve_ivp`` (``DOP853``) as :func:`prp3.forward.forward_dynamics`
+does for the 3-PRP.  ``τ(t)`` is the not-a-knot cubic spline through the
+given samples.  A terminal event stops the motion when a singularity
+measure on the working mode's side (§6) falls to :data:`SINGULARITY_STOP`;
+the result then holds the motion up to the stop.
+
+:func:`family_energy` gives the kinetic and potential energy of the seven
+bodies (with the payload), for the energy balance
+``Σ_L p_L + P_ext = d/dt(T + V)`` (§10).
+
+>>> from prp3.family.model import FamilyRobot
+>>> robot = FamilyRobot.default("3-RRR")
+>>> a, b = platform_dynamics(robot, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+>>> a.shape, [round(float(v), 6) for v in b]
+((3, 3), [7.11225, -3.556125, -3.556125])
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import ParameterError, Prp3Error, TrajectoryError
+from ..motion import Motion
+from ..validation import check_instance, check_real, check_times
+from .chain import SIGMA, SINGULAR, inv3, leg_chain, leg_jacobian, parallel_measure, rotate
+from .mechanics import (
+    FamilyKinematics,
+    FamilySolution,
+    _jacobian_rate,
+    _omega,
+    _point_velocity,
+    family_kinematics,
+    fast_dynamics,
+)
+from .model import FamilyRobot
+
+__all__ = [
+    "SINGULARITY_STOP",
+    "FamilyForward",
+    "family_energy",
+    "family_forward_dynamics",
+    "platform_dynamics",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: The integration stops when ``s·μ`` of a measure falls to this (above §6's 1e-4).
+SINGULARITY_STOP: float = 1e-3
+
+
+def _vector(name: str, value: ArrayLike) -> FloatArray:
+    v = check_real(name, value, TrajectoryError)
+    if v.shape != (3,):
+        raise TrajectoryError(f"{name} must have 3 components, got shape {v.shape}")
+    return v
+
+
+def platform_dynamics(
+    robot: FamilyRobot, pose: ArrayLike, velocity: ArrayLike
+) -> tuple[FloatArray, FloatArray]:
+    """``A(x)`` ``(3, 3)`` and ``b(x, ẋ)`` ``(3,)`` of ``τ = A·ẍ + b`` (legs A, B, C).
+
+    Four inverse-dynamics samples at the same state: ``ẍ = 0`` gives ``b``,
+    ``ẍ = e_i`` gives ``A[:, i] + b``.
+
+    Raises
+    ------
+    SingularPoseError, UnreachablePoseError
+        The pose is singular or out of reach (§6).
+    """
+    robot = check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
+    x, v = _vector("pose", pose), _vector("velocity", velocity)
+    return _dynamics(robot, x, v)
+
+
+def _state_kinematics(robot: FamilyRobot, x: FloatArray, v: FloatArray) -> FamilyKinematics:
+    """The kinematics of four samples at the state ``(x, ẋ)``, ``ẍ = 0, e_1, e_2, e_3``.
+
+    The home-branch closure solution at the pose (§5: the solution whose
+    ``μ_leg`` has its home sign; the integration stops before a measure
+    changes sign), then ``q̇ = J⁻¹·ẋ``, ``q̈ = J⁻¹·(ẍ − J̇·q̇)`` as
+    :func:`prp3.family.mechanics.family_kinematics` computes them.
+    """
+    from ..errors import SingularPoseError, UnreachablePoseError
+    from .workspace import home_branch
+
+    q, mu_leg, wrenches = home_branch(robot, x[None, :2], x[2:3])
+    if not np.isfinite(q).all():
+        raise UnreachablePoseError(f"a leg cannot reach the pose {tuple(x.tolist())}")
+    mu_par = parallel_measure(wrenches)
+    home_leg, home_par = robot.home_measures
+    signs = np.sign(np.asarray(home_leg))
+    if not (
+        (signs * mu_leg >= SINGULAR).all() and math.copysign(1.0, home_par) * mu_par[0] >= SINGULAR
+    ):
+        raise SingularPoseError(f"the pose {tuple(x.tolist())} is singular (docs/family.md §6)")
+    acceleration = np.vstack([np.zeros(3), np.eye(3)])
+    motion = Motion(
+        t=np.arange(4.0), pose=np.tile(x, (4, 1)), velocity=np.tile(v, (4, 1)),
+        acceleration=acceleration,
+    )  # fmt: skip
+    q4 = np.broadcast_to(q, (4, 3, 3))
+    frames = leg_chain(robot.types, robot.leg.placements, SIGMA, q4)
+    jac = leg_jacobian(robot.types, frames, motion.pose[:, None, :2])
+    inverse = inv3(jac)
+    twist = np.broadcast_to(motion.velocity[:, None, :], (4, 3, 3))
+    dq = np.einsum("nlij,nlj->nli", inverse, twist)
+    bias = _jacobian_rate(robot.types, frames, jac, dq, motion.velocity)
+    rhs = motion.acceleration[:, None, :] - np.einsum("nlij,nlj->nli", bias, dq)
+    ddq = np.einsum("nlij,nlj->nli", inverse, rhs)
+    return FamilyKinematics(
+        robot=robot, motion=motion, q=np.array(q4), dq=dq, ddq=ddq,
+        mu_leg=np.tile(mu_leg, (4, 1)), mu_par=np.repeat(mu_par, 4), frames=frames,
+        jacobian=jac, jacobian_inverse=inverse,
+    )  # fmt: skip
+
+
+def _dynamics(robot: FamilyRobot, x: FloatArray, v: FloatArray) -> tuple[FloatArray, FloatArray]:
+    tau = fast_dynamics(_state_kinematics(robot, x, v)).tau
+    b = tau[0]
+    return np.asarray((tau[1:] - b).T), np.asarray(b)
+
+
+def _margin(robot: FamilyRobot, x: FloatArray) -> float:
+    """``min(s_L·μ_leg,L, s_par·μ_par)`` at the pose (home branch); −1 out of reach."""
+    from .workspace import family_measures_at
+
+    mu_leg, mu_par, reach = family_measures_at(robot, x[None, :2], float(x[2]))
+    if not reach[0]:
+        return -1.0
+    home_leg, home_par = robot.home_measures
+    values = [math.copysign(1.0, h) * float(m) for h, m in zip(home_leg, mu_leg[0], strict=True)]
+    values.append(math.copysign(1.0, home_par) * float(mu_par[0]))
+    return min(values)
+
+
+def family_energy(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:
+    """Kinetic and potential energy ``(T, V)`` of the seven bodies and the payload, shapes ``(N,)``.
+
+    ``T = Σ ½ m |v_C|² + ½ I ω²`` with ``v_C`` the velocity of each mass centre
+    from the joint rates (``Σ_i q̇_i·s_i(C)``, ``s_i`` the twist of joint ``i``),
+    ``V = −Σ m g·C``.
+    """
+    robot = kin.robot
+    types, frames = robot.types, kin.frames
+    pose = kin.motion.pose.reshape(-1, 3)
+    velocity = kin.motion.velocity.reshape(-1, 3)
+    dq = kin.dq.reshape(-1, 3, 3)
+    g = np.asarray(robot.gravity)
+    kinetic = np.zeros(pose.shape[0])
+    potential = np.zeros(pose.shape[0])
+    for body in (1, 2):
+        params = robot.link1 if body == 1 else robot.link2
+        c = frames.origin[..., body - 1, :] + rotate(frames.angle[..., body - 1], params.com)
+        v = _point_velocity(types, frames, dq, body, c)
+        w = _omega(types, dq, body)
+        kinetic += (0.5 * params.mass * (v * v).sum(-1) + 0.5 * params.inertia * w * w).sum(-1)
+        potential -= params.mass * (c @ g).sum(-1)
+    omega = velocity[:, 2]
+    vg = velocity[:, :2]
+    kinetic += 0.5 * robot.platform.mass * (vg * vg).sum(-1)
+    kinetic += 0.5 * (robot.platform.inertia + robot.payload.inertia) * omega * omega
+    potential -= robot.platform.mass * (pose[:, :2] @ g)
+    payload = robot.payload
+    r = rotate(pose[:, 2], payload.com)
+    vp = vg + omega[:, None] * np.stack([-r[:, 1], r[:, 0]], axis=-1)
+    kinetic += 0.5 * payload.mass * (vp * vp).sum(-1)
+    potential -= payload.mass * ((pose[:, :2] + r) @ g)
+    return kinetic, potential
+
+
+@dataclass(frozen=True)
+class FamilyForward:
+    """Result of :func:`family_forward_dynamics`.
+
+    Attributes
+    ----------
+    motion : Motion
+        The integrated motion at the output times up to the stop: pose,
+        velocity and the acceleration of the equations of motion.
+    solution : FamilySolution or None
+        The inverse dynamics of that motion (every joint force; its ``tau``
+        reproduces the given efforts); ``None`` when fewer than one sample.
+    status : str
+        ``"completed"``, ``"singular"`` (stopped at a singularity measure) or ``"failed"``.
+    message : str
+    evaluations : int
+        Evaluations of the equations of motion.
+    """
+
+    motion: Motion
+    solution: FamilySolution | None
+    status: str
+    message: str
+    evaluations: int
+
+
+def _effort_function(t: FloatArray, tau: FloatArray) -> Callable[[float], FloatArray]:
+    from scipy.interpolate import CubicSpline
+
+    if t.size == 2:
+        slope = (tau[1] - tau[0]) / (t[1] - t[0])
+        return lambda time: np.asarray(tau[0] + slope * (time - t[0]))
+    spline = CubicSpline(t, tau, axis=0, bc_type="not-a-knot")
+    return lambda time: np.asarray(spline(time))
+
+
+def _checked(function: Callable[[float], ArrayLike]) -> Callable[[float], FloatArray]:
+    def effort(time: float) -> FloatArray:
+        value = np.asarray(function(time), dtype=np.float64)
+        if value.shape != (3,) or not np.isfinite(value).all():
+            raise ParameterError(
+                f"the efforts function must return 3 finite numbers, got {value!r}"
+            )
+        return value
+
+    return effort
+
+
+def family_forward_dynamics(
+    robot: FamilyRobot,
+    t_efforts: ArrayLike | None,
+    efforts: ArrayLike | Callable[[float], ArrayLike],
+    t: ArrayLike,
+    initial_pose: ArrayLike,
+    initial_velocity: ArrayLike,
+    *,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+) -> FamilyForward:
+    """Integrate the platform motion driven by the actuator efforts ``τ_L(t)``.
+
+    Parameters
+    ----------
+    robot : FamilyRobot
+    t_efforts : array_like, shape (M,), or None
+        Times of the effort samples (s), strictly increasing, ``M >= 2``
+        (ignored when ``efforts`` is a function).
+    efforts : array_like, shape (M, 3), or callable
+        ``tau_A, tau_B, tau_C`` (N for a P actuator, N·m for an R one) at
+        ``t_efforts`` (cubic spline between them), or a function ``τ(t) -> (3,)``.
+    t : array_like, shape (N,)
+        Output times (s), strictly increasing, within ``t_efforts``.
+    initial_pose, initial_velocity : array_like, shape (3,)
+        ``(x, y, φ)`` and ``(ẋ, ẏ, φ̇)`` at ``t[0]``.
+    rtol, atol : float
+        Tolerances of ``solve_ivp``.
+
+    Raises
+    ------
+    TrajectoryError, ParameterError
+        Bad times, efforts or initial state (named).
+    SingularPoseError, UnreachablePoseError
+        The initial pose is singular or out of reach.
+    """
+    robot = check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
+    times = check_times("t", t, minimum=2)
+    if callable(efforts):
+        effort = _checked(efforts)
+    else:
+        if t_efforts is None:
+            raise ParameterError("t_efforts: the times of the effort samples are missing")
+        te = check_times("t_efforts", t_efforts, minimum=2)
+        tau = check_real("efforts", efforts, ParameterError)
+        if tau.shape != (te.size, 3):
+            raise ParameterError(f"efforts must have shape ({te.size}, 3), got {tau.shape}")
+        if times[0] < te[0] or times[-1] > te[-1]:
+            raise ParameterError(
+                f"the output times {times[0]!r} .. {times[-1]!r} s lie outside the efforts' "
+                f"{te[0]!r} .. {te[-1]!r} s"
+            )
+        effort = _effort_function(te, tau)
+    for name, value in (("rtol", rtol), ("atol", atol)):
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0.0):
+            raise ParameterError(f"{name} must be a positive number, got {value!r}")
+    x0, v0 = _vector("initial_pose", initial_pose), _vector("initial_velocity", initial_velocity)
+    try:  # refuses a singular or unreachable initial pose
+        a0, _ = _dynamics(robot, x0, v0)
+    except Prp3Error as error:
+        raise error.located(subject="initial pose") from None
+    if not np.linalg.cond(a0) < 1e12:
+        raise ParameterError(
+            f"the equations of motion of this {robot.architecture} are singular at the initial "
+            "pose (condition number of A >= 1e12): its masses and inertias leave a motion "
+            "without inertia (a massless platform?)",
+            subject="robot",
+        )
+    count = [0]
+
+    def rhs(time: float, state: FloatArray) -> FloatArray:
+        count[0] += 1
+        try:
+            a, b = _dynamics(robot, state[:3], state[3:])
+            acceleration = np.linalg.solve(a, effort(time) - b)
+        except (Prp3Error, np.linalg.LinAlgError):  # a trial state beyond the stop: NaN
+            return np.full(6, np.nan)  # rejects the step
+        return np.concatenate([state[3:], acceleration])
+
+    def singular(_time: float, state: FloatArray) -> float:
+        return _margin(robot, state[:3]) - SINGULARITY_STOP
+
+    singular.terminal = True  # type: ignore[attr-defined]
+    singular.direction = -1.0  # type: ignore[attr-defined]
+    from scipy.integrate import solve_ivp
+
+    with np.errstate(all="ignore"):
+        solution = solve_ivp(
+            rhs,
+            (float(times[0]), float(times[-1])),
+            np.concatenate([x0, v0]),
+            method="DOP853",
+            t_eval=times,
+            events=[singular],
+            rtol=rtol,
+            atol=atol,
+        )
+    states = np.asarray(solution.y, dtype=np.float64).T
+    reached = np.asarray(solution.t, dtype=np.float64)
+    if solution.status == 1:
+        status, message = (
+            "singular",
+            (
+                f"stopped at t = {float(solution.t_events[0][0]):.9g} s: a singularity measure fell to "
+                f"{SINGULARITY_STOP:g} (docs/family.md §6)"
+            ),
+        )
+    elif solution.status == 0:
+        status, message = "completed", "completed"
+    else:
+        status, message = "failed", f"the integration failed: {solution.message}"
+    finite = np.isfinite(states).all(axis=1)
+    states, reached = states[finite], reached[finite]
+    accelerations = np.array([rhs(float(s), y)[3:] for s, y in zip(reached, states, strict=True)])
+    accelerations = accelerations.reshape(-1, 3)
+    if reached.size == 0:
+        reached, states = times[:1], np.concatenate([x0, v0])[None, :]
+        accelerations = rhs(float(times[0]), states[0])[None, 3:]
+    motion = Motion(
+        t=reached, pose=states[:, :3], velocity=states[:, 3:], acceleration=accelerations
+    )
+    inverse = fast_dynamics(family_kinematics(robot, motion))
+    return FamilyForward(
+        motion=motion,
+        solution=inverse,
+        status=status,
+        message=message,
+        evaluations=count[0],
+    )
