@@ -43,16 +43,16 @@ from ..dynamics import inverse_dynamics
 from ..errors import InputFileError, Prp3Error
 from ..forward import forward_acceleration, forward_velocity
 from ..geometry import LEG_AXIS, LEGS, base_vertices, inverse_geometry, perp, platform_vertices
-from ..io import (
+from ..io import read_table_csv
+from ..model import Friction, JointFriction, Robot
+from ..motion import Motion
+from ..results import (
     FRICTION_COLUMNS,
     LOAD_RESULT_COLUMNS,
     OUTPUT_QUANTITIES,
     RESULT_COLUMNS,
-    read_table_csv,
     results_table,
 )
-from ..model import Friction, JointFriction, Robot
-from ..motion import Motion
 from ..validation import SINGULARITY_THRESHOLD, singularity_measure
 from ..workspace import workspace_statics
 
