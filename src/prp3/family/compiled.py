@@ -55,6 +55,7 @@ from .mechanics import (
 )
 from .model import FamilyRobot
 
+numba: Any
 try:
     import numba
 except ImportError:  # pragma: no cover - the numba extra is not installed
@@ -288,8 +289,16 @@ def _inv3(m: FloatArray, out: FloatArray) -> None:
     c2 = d * h - e * g
     det = a * c0 + b * c1 + c * c2
     out[0, 0], out[1, 0], out[2, 0] = c0 / det, c1 / det, c2 / det
-    out[0, 1], out[1, 1], out[2, 1] = (c * h - b * i) / det, (a * i - c * g) / det, (b * g - a * h) / det
-    out[0, 2], out[1, 2], out[2, 2] = (b * f - c * e) / det, (c * d - a * f) / det, (a * e - b * d) / det
+    out[0, 1], out[1, 1], out[2, 1] = (
+        (c * h - b * i) / det,
+        (a * i - c * g) / det,
+        (b * g - a * h) / det,
+    )
+    out[0, 2], out[1, 2], out[2, 2] = (
+        (b * f - c * e) / det,
+        (c * d - a * f) / det,
+        (a * e - b * d) / det,
+    )
 
 
 @_compile
@@ -506,7 +515,7 @@ def _steps(x0: float, y0: float, p0: float, x1: float, y1: float, p1: float,
            length: float, turn: float, move: float) -> int:  # fmt: skip
     """Sub-steps of a segment: ``max(1, ceil(max(|Δφ|/MAX_TURN, |ΔG|/(MAX_MOVE·length))))``."""
     dist = math.hypot(x1 - x0, y1 - y0) / (move * length)
-    return max(1, int(math.ceil(max(abs(p1 - p0) / turn, dist))))
+    return max(1, math.ceil(max(abs(p1 - p0) / turn, dist)))
 
 
 @_compile
