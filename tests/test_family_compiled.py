@@ -16,7 +16,6 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from numpy.typing import NDArray
-from test_family_dynamics import ALLOWED, check_sample, designs, motions
 
 from prp3 import Motion, paper_motion
 from prp3.errors import Prp3Error
@@ -28,6 +27,7 @@ from prp3.family import (
     family_results_table,
 )
 from prp3.family.outputs import DEFAULT_ENGINE
+from test_family_dynamics import ALLOWED, check_sample, designs, motions
 
 FloatArray = NDArray[np.float64]
 RTOL = 1e-12
