@@ -7,6 +7,7 @@
 from __future__ import annotations
 
 import importlib.util
+from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
@@ -101,10 +102,21 @@ def family_inverse_dynamics(
     if method == "newton-euler":
         return newton_euler_dynamics(robot, motion)
     if engine == "numba":
-        from .compiled import compiled_dynamics  # numba is imported on first use only
-
-        return compiled_dynamics(*check_inputs(robot, motion))
+        return _compiled()(*check_inputs(robot, motion))
     return fast_dynamics(family_kinematics(robot, motion))
+
+
+def _compiled() -> Callable[[FamilyRobot, Motion], FamilySolution]:
+    """:func:`prp3.family.compiled.compiled_dynamics`, imported (with numba) on first use only."""
+    function = _ENGINE_CACHE.get("numba")
+    if function is None:
+        from .compiled import compiled_dynamics
+
+        function = _ENGINE_CACHE["numba"] = compiled_dynamics
+    return function
+
+
+_ENGINE_CACHE: dict[str, Callable[[FamilyRobot, Motion], FamilySolution]] = {}
 
 
 def family_results_table(solution: FamilySolution) -> dict[str, FloatArray]:
