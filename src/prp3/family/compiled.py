@@ -502,11 +502,11 @@ def _mod_2pi(x: float) -> float:
 def _unwrap_step(previous: float, value: float) -> float:
     """The correction ``numpy.unwrap`` adds for the step ``previous → value`` (multiple of 2π)."""
     dd = value - previous
+    if abs(dd) < math.pi:
+        return 0.0
     ddmod = _mod_2pi(dd + math.pi) - math.pi
     if ddmod == -math.pi and dd > 0.0:
         ddmod = math.pi
-    if abs(dd) < math.pi:
-        return 0.0
     return ddmod - dd
 
 
@@ -651,14 +651,16 @@ def _kernel(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatAr
     bad_par_mu = 0.0
     nrev = ints[5]
     for sample in range(-1, n):  # -1: each leg's home pose itself
-        for j in range(3):
-            if sample == 0:
+        if sample == 0:  # each leg from its home pose
+            for j in range(3):
                 steps_of[j] = _steps(homes[j, 0], homes[j, 1], homes[j, 2], pose[0, 0],
                                      pose[0, 1], pose[0, 2], length, turn, move)  # fmt: skip
-            elif sample > 0:
-                steps_of[j] = _steps(pose[sample - 1, 0], pose[sample - 1, 1],
-                                     pose[sample - 1, 2], pose[sample, 0], pose[sample, 1],
-                                     pose[sample, 2], length, turn, move)  # fmt: skip
+        elif sample > 0:  # the same segment for the three legs
+            steps_of[0] = _steps(pose[sample - 1, 0], pose[sample - 1, 1], pose[sample - 1, 2],
+                                 pose[sample, 0], pose[sample, 1], pose[sample, 2], length,
+                                 turn, move)  # fmt: skip
+            steps_of[1] = steps_of[0]
+            steps_of[2] = steps_of[0]
         most = max(steps_of[0], max(steps_of[1], steps_of[2]))
         for step in range(1, most + 1):
             for j in range(3):
