@@ -570,7 +570,9 @@ def _acceleration(ints: IntArray, fr: FloatArray, dq: FloatArray, ddq: FloatArra
 #: The doubles of every output of one sample, in the order of the kernel's buffer.
 _SIZES = (9, 9, 9, 3, 1, 18, 9, 18, 9, 18, 9, 27, 27, 3, 3, 18, 9)
 _WIDTH = sum(_SIZES)
-_OFFSETS = np.concatenate([[0], np.cumsum(_SIZES)[:-1]]).tolist()
+_BYTES = [8 * int(at) for at in np.concatenate([[0], np.cumsum(_SIZES)[:-1]])]
+_F8 = np.dtype(np.float64)
+_array = np.ndarray  # views of the buffer: np.ndarray(shape, dtype, buffer, offset)
 
 
 @_compile
@@ -917,32 +919,34 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     status, info = _kernel(
         ints, par, pose, motion.velocity.reshape(-1, 3), motion.acceleration.reshape(-1, 3), buffer
     )
-    o = [at * n for at in _OFFSETS]  # the outputs' places in the buffer, array by array
-    q, dq, ddq = buffer[: o[1]], buffer[o[1] : o[2]], buffer[o[2] : o[3]]
-    tau, force, moment = buffer[o[13] : o[14]], buffer[o[15] : o[16]], buffer[o[16] :]
+    o = [at * n for at in _BYTES]  # the outputs' places in the buffer, array by array
     if status[0] != _OK:
-        _refuse(robot, status, info, pose, t, dq.reshape(n, 3, 3), ddq.reshape(n, 3, 3),
-                tau.reshape(n, 3), force.reshape(n, 3, 3, 2), moment.reshape(n, 3, 3))  # fmt: skip
-    end = buffer[o[10] : o[11]].reshape(n, 3, 3)
+        _refuse(robot, status, info, pose, t, _array((n, 3, 3), _F8, buffer, o[1]),
+                _array((n, 3, 3), _F8, buffer, o[2]), _array((n, 3), _F8, buffer, o[13]),
+                _array((n, 3, 3, 2), _F8, buffer, o[15]),
+                _array((n, 3, 3), _F8, buffer, o[16]))  # fmt: skip
+    end = _array((n, 3, 3), _F8, buffer, o[10])
     frames = ChainFrames(
-        buffer[o[5] : o[6]].reshape(n, 3, 3, 2),
-        buffer[o[6] : o[7]].reshape(n, 3, 3),
-        buffer[o[7] : o[8]].reshape(n, 3, 3, 2),
-        buffer[o[8] : o[9]].reshape(n, 3, 3),
-        buffer[o[9] : o[10]].reshape(n, 3, 3, 2),
+        _array((n, 3, 3, 2), _F8, buffer, o[5]),
+        _array((n, 3, 3), _F8, buffer, o[6]),
+        _array((n, 3, 3, 2), _F8, buffer, o[7]),
+        _array((n, 3, 3), _F8, buffer, o[8]),
+        _array((n, 3, 3, 2), _F8, buffer, o[9]),
         end[..., :2],
         end[..., 2],
     )
-    rank = (*shape, 3, 3)
-    q, dq, ddq = q.reshape(rank), dq.reshape(rank), ddq.reshape(rank)
+    rank, legs, joints = (*shape, 3, 3), (*shape, 3), (*shape, 3, 3, 2)
+    q = _array(rank, _F8, buffer, 0)
+    dq = _array(rank, _F8, buffer, o[1])
+    ddq = _array(rank, _F8, buffer, o[2])
     kin = FamilyKinematics(
-        robot, motion, q, dq, ddq, buffer[o[3] : o[4]].reshape(*shape, 3),
-        buffer[o[4] : o[5]].reshape(shape), frames, buffer[o[11] : o[12]].reshape(n, 3, 3, 3),
-        buffer[o[12] : o[13]].reshape(n, 3, 3, 3),
+        robot, motion, q, dq, ddq, _array(legs, _F8, buffer, o[3]),
+        _array(shape, _F8, buffer, o[4]), frames, _array((n, 3, 3, 3), _F8, buffer, o[11]),
+        _array((n, 3, 3, 3), _F8, buffer, o[12]),
     )  # fmt: skip
     return FamilySolution(
-        kin, q, dq, ddq, tau.reshape(*shape, 3), buffer[o[14] : o[15]].reshape(*shape, 3),
-        force.reshape(*shape, 3, 3, 2), moment.reshape(rank), "fast",
+        kin, q, dq, ddq, _array(legs, _F8, buffer, o[13]), _array(legs, _F8, buffer, o[14]),
+        _array(joints, _F8, buffer, o[15]), _array(rank, _F8, buffer, o[16]), "fast",
     )  # fmt: skip
 
 
