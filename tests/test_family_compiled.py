@@ -192,3 +192,21 @@ def test_engine_is_refused_by_name() -> None:
             Motion.at_rest([0.0, 0.0, 0.0]),
             engine="fortran",  # type: ignore[arg-type]
         )
+
+
+def test_any_memory_layout_of_the_motion() -> None:
+    """Fortran-ordered or strided motion arrays give the same results (one compiled signature)."""
+    from prp3.family.compiled import _kernel
+
+    base = paper_motion("vertical", 12)
+    strided = Motion(
+        t=base.t,
+        pose=np.asfortranarray(base.pose),
+        velocity=np.repeat(base.velocity, 2, axis=0)[::2],
+        acceleration=np.asfortranarray(base.acceleration),
+    )
+    robot = FamilyRobot.default("3-RPR")
+    family_inverse_dynamics(robot, base)
+    signatures = len(_kernel.signatures)
+    same_solution(family_inverse_dynamics(robot, strided), family_inverse_dynamics(robot, base))
+    assert len(_kernel.signatures) == signatures

@@ -917,8 +917,9 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     n = t.size
     buffer = np.empty(_WIDTH * n)  # allocated by numpy: huge pages for a large N
     status, info = _kernel(
-        ints, par, pose, motion.velocity.reshape(-1, 3), motion.acceleration.reshape(-1, 3), buffer
-    )
+        ints, par, _c(pose), _c(motion.velocity.reshape(-1, 3)),
+        _c(motion.acceleration.reshape(-1, 3)), buffer,
+    )  # fmt: skip
     o = [at * n for at in _BYTES]  # the outputs' places in the buffer, array by array
     if status[0] != _OK:
         _refuse(robot, status, info, pose, t, _array((n, 3, 3), _F8, buffer, o[1]),
@@ -948,6 +949,17 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
         kin, q, dq, ddq, _array(legs, _F8, buffer, o[13]), _array(legs, _F8, buffer, o[14]),
         _array(joints, _F8, buffer, o[15]), _array(rank, _F8, buffer, o[16]), "fast",
     )  # fmt: skip
+
+
+def _c(values: FloatArray) -> FloatArray:
+    """``values`` as the kernel's one compiled signature takes it: C-contiguous, read-only."""
+    if values.flags.c_contiguous and not values.flags.writeable:
+        return values
+    out = np.ascontiguousarray(values, dtype=np.float64)
+    if out is values:
+        out = out.copy()
+    out.flags.writeable = False
+    return out
 
 
 def _refuse(
