@@ -19,9 +19,12 @@ Stable API (other modules build on these names only)
     Joint values, rates, accelerations ``(..., 3 legs, 3 joints)``, ``mu_leg``,
     ``mu_par``, the chain frames and the leg Jacobians; refuses unreachable and
     singular poses (the errors name sample, time, leg, pose and measure).
-``family_inverse_dynamics(robot, motion, method="fast") -> FamilySolution``
+``family_inverse_dynamics(robot, motion, method="fast", engine=DEFAULT_ENGINE) -> FamilySolution``
     ``method`` in ``FAMILY_METHODS`` (``"fast"``, ``"paper"``, ``"newton-euler"``);
-    ``tau``, ``power`` ``(..., 3)``, ``force`` ``(..., 3, 3, 2)``, ``moment`` ``(..., 3, 3)``.
+    ``tau``, ``power`` ``(..., 3)``, ``force`` ``(..., 3, 3, 2)``, ``moment`` ``(..., 3, 3)``;
+    the fast route's ``engine`` in ``FAMILY_ENGINES``: ``"numba"`` (one compiled loop,
+    :mod:`prp3.family.compiled`; the default when numba is installed) or ``"numpy"``
+    (:mod:`prp3.family.mechanics`), the same results to round-off and the same errors.
 ``family_results_table(solution)``, ``FAMILY_COLUMNS``
     The 64 columns of ``results.csv``.
 ``leg_chain``, ``leg_jacobian``, ``leg_measure``, ``transmitted_wrench``, ``parallel_measure``
@@ -52,7 +55,9 @@ from .model import (
     robot_file_form,
 )
 from .outputs import (
+    DEFAULT_ENGINE,
     FAMILY_COLUMNS,
+    FAMILY_ENGINES,
     FAMILY_METHODS,
     family_inverse_dynamics,
     family_results_table,
@@ -61,7 +66,9 @@ from .paper import paper_steps
 
 __all__ = [
     "ARCHITECTURES",
+    "DEFAULT_ENGINE",
     "FAMILY_COLUMNS",
+    "FAMILY_ENGINES",
     "FAMILY_METHODS",
     "Body",
     "FamilyKinematics",

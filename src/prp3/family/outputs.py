@@ -6,6 +6,8 @@
 
 from __future__ import annotations
 
+import importlib.util
+from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
@@ -14,13 +16,15 @@ from numpy.typing import NDArray
 from ..errors import Prp3Error
 from ..motion import Motion
 from ..validation import LEGS
-from .mechanics import FamilySolution, family_kinematics, fast_dynamics
+from .mechanics import FamilySolution, check_inputs, family_kinematics, fast_dynamics
 from .model import FamilyRobot
 from .newton_euler import newton_euler_dynamics
 from .paper import paper_dynamics
 
 __all__ = [
+    "DEFAULT_ENGINE",
     "FAMILY_COLUMNS",
+    "FAMILY_ENGINES",
     "FAMILY_METHODS",
     "LEG_COLUMNS",
     "family_inverse_dynamics",
@@ -51,9 +55,18 @@ FAMILY_METHODS: tuple[str, ...] = ("fast", "paper", "newton-euler")
 
 Method = Literal["fast", "paper", "newton-euler"]
 
+#: The engines of the ``"fast"`` route: compiled by numba (:mod:`prp3.family.compiled`),
+#: or on numpy arrays (:mod:`prp3.family.mechanics`).  The same results and refusals.
+FAMILY_ENGINES: tuple[str, ...] = ("numba", "numpy")
+
+Engine = Literal["numba", "numpy"]
+
+#: ``"numba"`` when numba is installed (the ``numba`` extra), else ``"numpy"``.
+DEFAULT_ENGINE: Engine = "numba" if importlib.util.find_spec("numba") is not None else "numpy"
+
 
 def family_inverse_dynamics(
-    robot: FamilyRobot, motion: Motion, method: Method = "fast"
+    robot: FamilyRobot, motion: Motion, method: Method = "fast", engine: Engine = DEFAULT_ENGINE
 ) -> FamilySolution:
     """Complete inverse dynamics of a family robot by one of the three routes.
 
@@ -63,6 +76,11 @@ def family_inverse_dynamics(
     motion : prp3.Motion
         ``N`` samples or one (results then lose the leading axis).
     method : {"fast", "paper", "newton-euler"}
+    engine : {"numba", "numpy"}
+        The engine of the ``"fast"`` route (the other routes have one):
+        ``"numba"`` (:data:`DEFAULT_ENGINE` when numba is installed), one
+        compiled loop over the samples, or ``"numpy"``, the same mechanics on
+        arrays.  Both give the same results to round-off and the same errors.
 
     Examples
     --------
@@ -75,11 +93,30 @@ def family_inverse_dynamics(
         raise Prp3Error(
             f"method must be one of {', '.join(map(repr, FAMILY_METHODS))}, got {method!r}"
         )
+    if engine not in FAMILY_ENGINES:
+        raise Prp3Error(
+            f"engine must be one of {', '.join(map(repr, FAMILY_ENGINES))}, got {engine!r}"
+        )
     if method == "paper":
         return paper_dynamics(robot, motion)
     if method == "newton-euler":
         return newton_euler_dynamics(robot, motion)
+    if engine == "numba":
+        return _compiled()(*check_inputs(robot, motion))
     return fast_dynamics(family_kinematics(robot, motion))
+
+
+def _compiled() -> Callable[[FamilyRobot, Motion], FamilySolution]:
+    """:func:`prp3.family.compiled.compiled_dynamics`, imported (with numba) on first use only."""
+    function = _ENGINE_CACHE.get("numba")
+    if function is None:
+        from .compiled import compiled_dynamics
+
+        function = _ENGINE_CACHE["numba"] = compiled_dynamics
+    return function
+
+
+_ENGINE_CACHE: dict[str, Callable[[FamilyRobot, Motion], FamilySolution]] = {}
 
 
 def family_results_table(solution: FamilySolution) -> dict[str, FloatArray]:
