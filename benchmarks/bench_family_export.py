@@ -14,7 +14,7 @@ accelerations from prp3, prepared untimed for MuJoCo):
   fast route, validation and kinematics included, every joint force) at
   ``N = 10⁵`` — samples/s, the best of 3;
 * ``prp3 single``: the same with a one-sample motion (validated), median µs;
-* ``numba batch`` / ``single``: :func:`prp3.family.compiled.compiled_inverse_dynamics`
+* ``numba batch`` / ``single``: :func:`prp3.family.family_inverse_dynamics` with ``engine="numba"``
   (validated; tau, joint wrenches, measures), the same samples, compiled
   before timing (``numba compile``: its first call, s);
 * ``mujoco batch`` / ``single``: the model of ``prp3 export mjcf``
@@ -48,7 +48,6 @@ from prp3 import Motion, paper_motion
 from prp3.codegen import HEADER_NAME, SOURCE_NAME
 from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
 from prp3.family.codegen import family_c_inverse_dynamics
-from prp3.family.compiled import compiled_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model, joint_names
 
 HARNESS = r"""
@@ -191,10 +190,10 @@ def c_ns(robot: FamilyRobot, motion: Motion, batches: int) -> float | None:
 def numba_cells(robot: FamilyRobot, motion: Motion, single: Motion) -> list[str]:
     """The compiled engine's batch samples/s, single call µs and compile time (s)."""
     start = timeit.default_timer()
-    compiled_inverse_dynamics(robot, single)
+    family_inverse_dynamics(robot, single, engine="numba")
     compile_s = timeit.default_timer() - start
-    rate = best_rate(lambda: compiled_inverse_dynamics(robot, motion), motion.samples)
-    one = median_us(lambda: compiled_inverse_dynamics(robot, single), number=200)
+    rate = best_rate(lambda: family_inverse_dynamics(robot, motion, engine="numba"), motion.samples)
+    one = median_us(lambda: family_inverse_dynamics(robot, single, engine="numba"), number=200)
     return [f"{rate:>15.3g}", f"{one:>9.1f}", f"{compile_s:>9.1f}"]
 
 
