@@ -1,0 +1,376 @@
+"""What the explorer draws for a family robot (docs/family.md), as plain columns.
+
+The same page structure as the 3-PRP's (:mod:`prp3.explorer.scene`): a
+:class:`~prp3.explorer.scene.View` of plain columns, no Bokeh.  The numbers
+come only from :mod:`prp3.family`:
+
+* one instant is solved by :func:`prp3.family.family_inverse_dynamics` and
+  turned into the 64 columns of ``results.csv`` by
+  :func:`prp3.family.family_results_table` (:func:`family_pose_table`); a
+  refused pose (unreachable, singular, crossed) raises the library's error;
+* :func:`family_view` places those columns in the plane: the chain frames of
+  every leg from :func:`prp3.family.leg_chain` at the table's joint values
+  (docs/family.md §2), R joints as circles at ``O_k``, P joints as slides
+  along ``u_k`` on their guides (the geometry of
+  :func:`prp3.plotting.family_animation.family_frame`), and every joint force
+  ``(fx{k}, fy{k})`` (§7) as an arrow with its tail at ``O_k``; for an actuated
+  P joint the actuator's share ``tau·u_a`` is drawn as well (an actuated R
+  joint's ``tau`` is a couple: in the table);
+* the singularity measures of §6 at the pose, ``μ_leg`` of each leg and
+  ``μ_par``, from the same chain (:func:`prp3.family.leg_jacobian` at ``G``
+  with ``ℓ = [leg] scale``, :func:`prp3.family.leg_measure`,
+  :func:`prp3.family.transmitted_wrench`, :func:`prp3.family.parallel_measure`),
+  with their home signs and the threshold ``1e-4``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import Prp3Error
+from ..family import (
+    FamilyRobot,
+    family_inverse_dynamics,
+    family_results_table,
+    leg_chain,
+    leg_jacobian,
+    leg_measure,
+    parallel_measure,
+    transmitted_wrench,
+)
+from ..family.chain import SIGMA, SINGULAR
+from ..family.outputs import LEG_COLUMNS
+from ..motion import Motion
+from ..validation import LEGS
+from .scene import LEG_COLOURS, Columns, State, View
+
+__all__ = [
+    "FAMILY_ARROWS",
+    "FAMILY_DESIGN_PARAMETERS",
+    "FamilyScene",
+    "family_arrow_scale",
+    "family_design_robot",
+    "family_design_values",
+    "family_extent",
+    "family_measures",
+    "family_pose_table",
+    "family_view",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: The force arrows of a family robot: quantity → (legend label, colour).
+FAMILY_ARROWS: dict[str, tuple[str, str]] = {
+    "F1": ("F1 = (fx1, fy1): base/link 0 on link 1 at O_1", "#d62728"),
+    "F2": ("F2 = (fx2, fy2): link 1 on link 2 at O_2", "#9467bd"),
+    "F3": ("F3 = (fx3, fy3): link 2 on the platform at O_3", "#e377c2"),
+    "tau": ("tau·u_a: the actuator's share of an actuated P joint", "#000000"),
+}
+
+#: Editable design parameters of a family robot: dotted key → (label, unit).
+FAMILY_DESIGN_PARAMETERS: dict[str, tuple[str, str]] = {
+    "link1.mass": ("link 1 mass", "kg"),
+    "link2.mass": ("link 2 mass", "kg"),
+    "platform.mass": ("platform mass", "kg"),
+    "payload.mass": ("payload mass", "kg"),
+}
+
+#: Half length of a slide bar and the extra length of a guide (m): those of the animation.
+SLIDER: float = 0.025
+GUIDE: float = 0.07
+
+
+def family_pose_table(robot: FamilyRobot, state: State) -> dict[str, FloatArray]:
+    """The 64 columns of ``results.csv`` for one instant (each of shape ``(1,)``).
+
+    Solved by :func:`prp3.family.family_inverse_dynamics` (the default route);
+    a refused pose raises the library's :class:`~prp3.errors.Prp3Error`.
+
+    >>> table = family_pose_table(FamilyRobot.default("3-RRR"), State())
+    >>> len(table), [round(float(table[f"tau_{leg}"][0]), 4) for leg in "ABC"]
+    (64, [7.1123, -3.5561, -3.5561])
+    """
+    if state.load is not None:
+        raise Prp3Error("a family robot's load is its [load] table, not a load per sample")
+    motion = Motion(
+        t=np.zeros(()),
+        pose=np.array(state.pose, dtype=np.float64),
+        velocity=np.array(state.velocity, dtype=np.float64),
+        acceleration=np.array(state.acceleration, dtype=np.float64),
+    )
+    table = family_results_table(family_inverse_dynamics(robot, motion))
+    return {name: np.atleast_1d(values) for name, values in table.items()}
+
+
+def _joint_values(table: Mapping[str, FloatArray], index: int) -> FloatArray:
+    return np.array(
+        [[float(table[f"q{k}_{leg}"][index]) for k in (1, 2, 3)] for leg in LEGS]
+    )  # (3 legs, 3 joints)
+
+
+def family_measures(
+    robot: FamilyRobot, q: FloatArray, pose: FloatArray
+) -> tuple[FloatArray, float]:
+    """``μ_leg`` of legs A, B, C and ``μ_par`` (docs/family.md §6) at joint values ``q (3, 3)``.
+
+    ``Ĵ_L`` from :func:`prp3.family.leg_jacobian` at ``G = (x, y)`` with
+    ``ℓ = [leg] scale``; ``μ_leg = det Ĵ_L``; ``μ_par`` from the legs'
+    transmitted wrenches.
+
+    >>> robot = FamilyRobot.default("3-RRR")
+    >>> table = family_pose_table(robot, State())
+    >>> mu_leg, mu_par = family_measures(robot, _joint_values(table, 0), np.zeros(3))
+    >>> [round(float(v), 4) for v in mu_leg], round(mu_par, 4)
+    ([0.4444, 0.4444, 0.4444], 0.9977)
+    """
+    frames = leg_chain(robot.types, robot.leg.placements, SIGMA, q)
+    centre = np.broadcast_to(np.asarray(pose[:2], dtype=np.float64), (3, 2))
+    hat = leg_jacobian(robot.types, frames, centre, robot.leg.scale)
+    mu_leg = np.asarray(leg_measure(hat), dtype=np.float64)
+    mu_par = float(parallel_measure(transmitted_wrench(hat, robot.actuated)))
+    return mu_leg, mu_par
+
+
+def _unit(types: str, actuated: int, name: str, k: int | None) -> str:
+    if name == "tau":
+        return "N" if types[actuated - 1] == "P" else "N·m"
+    if name == "p":
+        return "W"
+    if name.startswith(("fx", "fy")):
+        return "N"
+    if name.startswith("m"):
+        return "N·m"
+    assert k is not None
+    base = "m" if types[k - 1] == "P" else "rad"
+    return {"q": base, "dq": f"{base}/s", "ddq": f"{base}/s²"}[name.rstrip("123")]
+
+
+def family_view(
+    robot: FamilyRobot, table: Mapping[str, FloatArray], index: int, scale: float
+) -> View:
+    """The drawing, the force arrows, the values and the measures of sample ``index``.
+
+    Parameters
+    ----------
+    robot : FamilyRobot
+        The robot of the table.
+    table : mapping of str to ndarray (N,)
+        The 64 columns of ``results.csv`` in family form (:func:`family_pose_table`).
+    index : int
+        The sample drawn.
+    scale : float
+        Arrow length per newton (m/N).
+
+    Returns
+    -------
+    View
+        ``shapes``: ``base`` (the triangle of the three joint-1 frames), ``platform``
+        (the triangle of the three ``O_3``), ``links`` (two segments per leg),
+        ``revolute`` (``x, y, colour, outline, leg, joint``), ``sliders`` and
+        ``guides`` (segments), ``centre``, ``payload`` and ``measures``
+        (``measure, value, home, margin``); ``arrows`` as the 3-PRP's (quantity
+        ``F1, F2, F3, tau``, tail at ``O_k``); ``table``: the 20 per-leg
+        quantities of the 64 columns and ``mu_leg``, one row each.
+
+    Examples
+    --------
+    >>> robot = FamilyRobot.default("3-RRR")
+    >>> view = family_view(robot, family_pose_table(robot, State()), 0, 0.001)
+    >>> row = view.arrows["quantity"].index("F1")
+    >>> view.arrows["leg"][row], round(view.arrows["fx"][row], 4), round(view.arrows["fy"][row], 4)
+    ('A', 0.0, 40.4663)
+    """
+    types, act = robot.types, robot.actuated
+    q = _joint_values(table, index)
+    pose = np.array([float(table[name][index]) for name in ("x", "y", "phi")])
+    frames = leg_chain(types, robot.leg.placements, SIGMA, q)
+    origin, joint_origin, axis = frames.origin, frames.joint_origin, frames.axis
+    colours = [LEG_COLOURS[leg] for leg in LEGS]
+    links: Columns = {"xs": [], "ys": [], "colour": [], "leg": []}
+    revolute: Columns = {"x": [], "y": [], "colour": [], "outline": [], "leg": [], "joint": []}
+    sliders: Columns = {"xs": [], "ys": [], "colour": [], "leg": [], "joint": []}
+    guides: Columns = {"xs": [], "ys": []}
+    for j, leg in enumerate(LEGS):
+        o, jo, u = origin[j], joint_origin[j], axis[j]
+        for start, end in ((o[0], jo[1]), (o[1], jo[2])):
+            links["xs"].append([float(start[0]), float(end[0])])
+            links["ys"].append([float(start[1]), float(end[1])])
+            links["colour"].append(colours[j])
+            links["leg"].append(leg)
+        for k in range(3):
+            driven = k == act - 1
+            if types[k] == "R":
+                revolute["x"].append(float(o[k, 0]))
+                revolute["y"].append(float(o[k, 1]))
+                revolute["colour"].append(colours[j])
+                revolute["outline"].append("#000000" if driven else colours[j])
+                revolute["leg"].append(leg)
+                revolute["joint"].append(k + 1)
+            else:
+                ends = np.stack([o[k] - SLIDER * u[k], o[k] + SLIDER * u[k]])
+                sliders["xs"].append(ends[:, 0].tolist())
+                sliders["ys"].append(ends[:, 1].tolist())
+                sliders["colour"].append("#000000" if driven else colours[j])
+                sliders["leg"].append(leg)
+                sliders["joint"].append(k + 1)
+                travel = float((o[k] - jo[k]) @ u[k])
+                low, high = min(travel, 0.0) - GUIDE, max(travel, 0.0) + GUIDE
+                guide = np.stack([jo[k] + low * u[k], jo[k] + high * u[k]])
+                guides["xs"].append(guide[:, 0].tolist())
+                guides["ys"].append(guide[:, 1].tolist())
+    base = joint_origin[:, 0, :]
+    plate = origin[:, 2, :]
+    centre = pose[:2]
+    payload = robot.payload
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    com = centre + np.array(
+        [c * payload.com[0] - s * payload.com[1], s * payload.com[0] + c * payload.com[1]]
+    )
+    mu_leg, mu_par = family_measures(robot, q, pose)
+    home_leg, home_par = robot.home_measures
+    signs = [*(math.copysign(1.0, v) for v in home_leg), math.copysign(1.0, home_par)]
+    values = [*(float(v) for v in mu_leg), mu_par]
+    shapes: dict[str, Columns] = {
+        "base": {"xs": [base[:, 0].tolist()], "ys": [base[:, 1].tolist()]},
+        "platform": {"xs": [plate[:, 0].tolist()], "ys": [plate[:, 1].tolist()]},
+        "links": links,
+        "revolute": revolute,
+        "sliders": sliders,
+        "guides": guides,
+        "centre": {"x": [float(centre[0])], "y": [float(centre[1])]},
+        "payload": (
+            {"x": [float(com[0])], "y": [float(com[1])], "radius": [0.01]}
+            if payload.mass > 0.0
+            else {"x": [], "y": [], "radius": []}
+        ),
+        "measures": {
+            "measure": ["μ_leg A", "μ_leg B", "μ_leg C", "μ_par"],
+            "value": values,
+            "home": signs,
+            "margin": [sign * value for sign, value in zip(signs, values, strict=True)],
+        },
+    }
+    arrows: Columns = {
+        key: [] for key in ("quantity", "leg", "x0", "y0", "x1", "y1", "fx", "fy", "value", "angle")
+    }
+
+    def arrow(quantity: str, leg: str, tail: FloatArray, fx: float, fy: float) -> None:
+        x0, y0 = float(tail[0]), float(tail[1])
+        arrows["quantity"].append(quantity)
+        arrows["leg"].append(leg)
+        arrows["x0"].append(x0)
+        arrows["y0"].append(y0)
+        arrows["x1"].append(x0 + scale * fx)
+        arrows["y1"].append(y0 + scale * fy)
+        arrows["fx"].append(fx)
+        arrows["fy"].append(fy)
+        arrows["value"].append(math.hypot(fx, fy))
+        arrows["angle"].append(math.atan2(fy, fx) - math.pi / 2.0)  # a triangle points up
+
+    for k in (1, 2, 3):
+        for j, leg in enumerate(LEGS):
+            fx, fy = float(table[f"fx{k}_{leg}"][index]), float(table[f"fy{k}_{leg}"][index])
+            arrow(f"F{k}", leg, origin[j, k - 1], fx, fy)
+    if types[act - 1] == "P":
+        for j, leg in enumerate(LEGS):
+            tau = float(table[f"tau_{leg}"][index])
+            u = axis[j, act - 1]
+            arrow("tau", leg, origin[j, act - 1], tau * float(u[0]), tau * float(u[1]))
+    rows: Columns = {"quantity": [], "unit": [], "A": [], "B": [], "C": []}
+    for name in LEG_COLUMNS:
+        rows["quantity"].append(name)
+        rows["unit"].append(_unit(types, act, name, int(name[-1]) if name[-1].isdigit() else None))
+        for leg in LEGS:
+            rows[leg].append(float(table[f"{name}_{leg}"][index]))
+    rows["quantity"].append("mu_leg")
+    rows["unit"].append("-")
+    for j, leg in enumerate(LEGS):
+        rows[leg].append(float(mu_leg[j]))
+    return View(shapes=shapes, arrows=arrows, table=rows)
+
+
+def family_extent(robot: FamilyRobot) -> float:
+    """Half width of the drawing window (m): 1.25 × the farthest point drawn at the central pose.
+
+    >>> round(family_extent(FamilyRobot.default("3-RRR")), 4)
+    0.4498
+    """
+    view = family_view(robot, family_pose_table(robot, State()), 0, 0.0)
+    points = [
+        *(v for xs in view.shapes["guides"]["xs"] for v in xs),
+        *(v for ys in view.shapes["guides"]["ys"] for v in ys),
+        *(v for xs in view.shapes["links"]["xs"] for v in xs),
+        *(v for ys in view.shapes["links"]["ys"] for v in ys),
+    ]
+    return 1.25 * max(abs(float(v)) for v in points)
+
+
+def family_arrow_scale(robot: FamilyRobot, fraction: float = 0.35) -> float:
+    """Arrow length per newton (m/N): the largest joint force at rest at the centre drawn
+    ``fraction × [leg] scale`` long (1 N when every force vanishes).
+
+    >>> round(family_arrow_scale(FamilyRobot.default("3-RRR")), 8)   # 0.35·0.3 m / 40.4663 N
+    0.00259475
+    """
+    view = family_view(robot, family_pose_table(robot, State()), 0, 0.0)
+    peak = max(view.arrows["value"], default=0.0)
+    return fraction * robot.leg.scale / (peak if peak > 0.0 else 1.0)
+
+
+def _get(robot: FamilyRobot, key: str) -> float:
+    part, name = key.split(".")
+    return float(getattr(getattr(robot, part), name))
+
+
+def family_design_values(robot: FamilyRobot) -> dict[str, float]:
+    """The current value of each of :data:`FAMILY_DESIGN_PARAMETERS`.
+
+    >>> family_design_values(FamilyRobot.default("3-RRR"))["platform.mass"]
+    3.0
+    """
+    return {key: _get(robot, key) for key in FAMILY_DESIGN_PARAMETERS}
+
+
+def family_design_robot(robot: FamilyRobot, values: Mapping[str, float]) -> FamilyRobot:
+    """``robot`` with the masses ``values`` (keys of :data:`FAMILY_DESIGN_PARAMETERS`).
+
+    Validated by the model's own classes: a bad value raises the library's
+    :class:`~prp3.errors.ParameterError` naming the key.
+
+    >>> robot = family_design_robot(FamilyRobot.default("3-RRR"), {"payload.mass": 2.0})
+    >>> robot.payload.mass
+    2.0
+    """
+    unknown = sorted(set(values) - set(FAMILY_DESIGN_PARAMETERS))
+    if unknown:
+        raise Prp3Error(f"unknown design parameter {unknown[0]!r}", key=unknown[0])
+    parts: dict[str, Any] = {}
+    for key, value in values.items():
+        part, name = key.split(".")
+        parts[part] = replace(parts.get(part, getattr(robot, part)), **{name: float(value)})
+    return replace(robot, **parts)
+
+
+@dataclass(frozen=True)
+class FamilyScene:
+    """A family robot as a scene of the explorer: :func:`family_pose_table`, :func:`family_view`.
+
+    >>> FamilyScene().threshold
+    0.0001
+    """
+
+    threshold: float = SINGULAR
+
+    def table(self, robot: FamilyRobot, state: State) -> dict[str, FloatArray]:
+        return family_pose_table(robot, state)
+
+    def view(
+        self, robot: FamilyRobot, table: Mapping[str, FloatArray], index: int, scale: float
+    ) -> View:
+        return family_view(robot, table, index, scale)
