@@ -82,6 +82,13 @@ def run_family(
     note()
     table = family_results_table(solution)
     results_name = f"results.{args.format}"
+    html = getattr(args, "html", None)
+    page = None
+    if html is not None:  # built before anything is written: a failure leaves no file
+        from ..explorer.app import run_html
+
+        title = heading.removeprefix("prp3 simulate: ")
+        page = run_html(robot, table, f"{robot.architecture}: {title}")
     with staged_output(args.output) as staged:
         if args.format == "parquet":
             write_table_parquet(staged.path(results_name), table)
@@ -114,4 +121,10 @@ def run_family(
         progress.close()
         heading = heading.replace("prp3 simulate:", f"prp3 simulate: {robot.architecture}", 1)
         emit(family_summary_text(table, robot, heading, files_report(staged)))
+    if html is not None and page is not None:
+        from ..files import atomic_writer
+
+        with atomic_writer(html) as stream:
+            stream.write(page)
+        emit(f"html file written: {html}")
     return 0

@@ -20,6 +20,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from ..family import FamilyRobot
 from ..model import Robot
 from ._types import add_robot_option, emit, integer_at_least, load_robot, path_name
 
@@ -30,6 +31,7 @@ examples:
   prp3 explore                                   # the paper's robot, http://127.0.0.1:8765/
   prp3 simulate --motion rotation --output rot && prp3 explore --results rot
   prp3 explore --results rot --export rot.html   # one HTML file of the run, opens offline
+  prp3 explore --robot rrr.toml                  # a family-form robot file (docs/family.md)
   ssh -L 8765:127.0.0.1:8765 HOST 'prp3 explore --no-browser'   # on a remote machine
 
 Exit status 2 on bad input (one line, before the server starts), 130 on Ctrl-C.
@@ -88,8 +90,11 @@ def run(args: argparse.Namespace) -> int:
 
     require_bokeh()
     from ..explorer.scene import read_run, run_motion
+    from ..family import read_robot_file
 
-    robot = load_robot(args)
+    robot = read_robot_file(args.robot) if args.robot is not None else load_robot(args)
+    if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
+        return _run_family(args, robot)
     results = read_run(args.results) if args.results is not None else None
     if results is not None:
         run_motion(robot, results)  # the run must be the robot's: refused before anything starts
@@ -114,6 +119,38 @@ def run(args: argparse.Namespace) -> int:
         open_browser=not args.no_browser,
         announce=announce,
     )
+    return 0  # pragma: no cover - the server stops by a signal
+
+
+def _run_family(args: argparse.Namespace, robot: FamilyRobot) -> int:
+    """``prp3 explore`` of a family robot: the page of its poses, or --export of the paper's
+    vertical motion (``--results`` is refused: not yet for the family's columns)."""
+    from ..errors import Prp3Error
+    from ..explorer.app import serve, write_run_html
+
+    if args.results is not None:
+        raise Prp3Error(
+            f"--results {args.results}: the explorer shows runs of the 3-PRP of docs/model.md "
+            f"only, not yet of the {robot.architecture} of {args.robot} (prp3 simulate --robot "
+            f"{args.robot} --html FILE.html writes one)",
+            file=args.robot,
+        )
+    if args.export is not None:
+        from ..family import family_inverse_dynamics, family_results_table
+        from ..motion import paper_motion
+
+        export: Path = args.export
+        solution = family_inverse_dynamics(robot, paper_motion("vertical", 301))
+        title = f"prp3: the paper's vertical motion of the {robot.architecture}"
+        write_run_html(export, robot, family_results_table(solution), title)
+        emit(f"{args.program}: wrote {export}")
+        return 0
+
+    def announce(url: str) -> None:
+        emit(f"{args.program}: serving {url} (Ctrl-C stops)")
+
+    serve(robot, None, host=args.host, port=args.port, open_browser=not args.no_browser,
+          announce=announce)  # fmt: skip
     return 0  # pragma: no cover - the server stops by a signal
 
 

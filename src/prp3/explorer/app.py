@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import Prp3Error
+from ..family import FamilyRobot
 from ..files import atomic_writer
 from ..geometry import LEGS
 from ..model import Robot
@@ -796,15 +797,17 @@ def _escape(text: str) -> str:
 
 
 # ---------------------------------------------------------------- the HTML file of a run
-def run_html(robot: Robot, table: Mapping[str, FloatArray], title: str) -> str:
+def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
     """One self-contained HTML page of a run: the robot with its force arrows, and linked plots.
 
     Parameters
     ----------
-    robot : Robot
-        The robot of the run.
+    robot : Robot or FamilyRobot
+        The robot of the run; a family robot's page is
+        :func:`prp3.explorer.family_app.family_run_html`.
     table : mapping of str to ndarray (N,)
-        The run's columns of ``results.csv`` (``prp3 simulate``'s table).
+        The run's columns of ``results.csv`` (``prp3 simulate``'s table; the
+        64 of the family form for a family robot).
     title : str
         The page's title.
 
@@ -821,6 +824,10 @@ def run_html(robot: Robot, table: Mapping[str, FloatArray], title: str) -> str:
     from bokeh.models import ColumnDataSource, CustomJS, Div, Slider, Toggle
     from bokeh.resources import INLINE
 
+    if isinstance(robot, FamilyRobot):
+        from .family_app import family_run_html
+
+        return family_run_html(robot, table, title)
     t = np.asarray(table["t"], dtype=np.float64)
     frames = frame_indices(int(t.size), MAX_HTML_FRAMES)
     scale = arrow_scale(robot)
@@ -879,7 +886,7 @@ def run_html(robot: Robot, table: Mapping[str, FloatArray], title: str) -> str:
 
 
 def write_run_html(
-    path: str | Path, robot: Robot, table: Mapping[str, FloatArray], title: str
+    path: str | Path, robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title: str
 ) -> None:
     """Write :func:`run_html` to ``path`` atomically (whole or not at all)."""
     page = run_html(robot, table, title)
@@ -940,7 +947,7 @@ def _check_port(host: str, port: int) -> None:
 
 
 def serve(
-    robot: Robot,
+    robot: Robot | FamilyRobot,
     run: Run | None = None,
     *,
     host: str = DEFAULT_HOST,
@@ -950,20 +957,41 @@ def serve(
 ) -> None:
     """Serve the explorer at ``http://host:port/`` until interrupted.
 
+    A :class:`~prp3.family.FamilyRobot` is served by
+    :func:`prp3.explorer.family_app.family_document` (no ``run``: the page of
+    a pose).
+
     Raises
     ------
     Prp3Error
-        The port is busy, or the address cannot be listened on (one line naming it).
+        The port is busy, or the address cannot be listened on (one line naming it);
+        a run given with a family robot.
     """
     from bokeh.application import Application
     from bokeh.application.handlers.function import FunctionHandler
     from bokeh.server.server import Server
 
-    if run is not None:
-        run_motion(robot, run)  # refused before the server starts
+    if isinstance(robot, FamilyRobot):
+        if run is not None:
+            raise Prp3Error(
+                f"--results with the {robot.architecture} of a family-form robot file is not "
+                "supported yet (its page explores poses; prp3 simulate --html writes its runs)",
+                key="--results",
+            )
+        family_robot = robot
 
-    def make(doc: Any) -> None:
-        explorer_document(doc, robot, run)
+        def make(doc: Any) -> None:
+            from .family_app import family_document
+
+            family_document(doc, family_robot)
+
+    else:
+        plain_robot = robot
+        if run is not None:
+            run_motion(plain_robot, run)  # refused before the server starts
+
+        def make(doc: Any) -> None:
+            explorer_document(doc, plain_robot, run)
 
     _check_port(host, port)
     _no_delay()
