@@ -29,6 +29,7 @@ import pytest
 from prp3 import Robot
 from prp3.errors import Prp3Error
 from prp3.explorer.scene import State, pose_table, read_run
+from prp3.motion import Motion
 from prp3.plotting.animation import frame_indices
 
 pytest.importorskip("bokeh", reason="the explorer needs Bokeh (pip install 'prp3[explore]')")
@@ -356,3 +357,67 @@ def test_the_exported_html_opens_offline_and_plays(
         assert requested == []
     finally:
         context.close()
+
+
+# ---------------------------------------------------------------- a family robot (3-RRR)
+@pytest.fixture(scope="module")
+def rrr_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    from prp3.family import FamilyRobot
+
+    path = tmp_path_factory.mktemp("family") / "rrr.toml"
+    path.write_text(FamilyRobot.default("3-RRR").to_toml(), encoding="utf-8")
+    yield from _serve("--robot", str(path))
+
+
+def test_a_3rrr_page_draws_the_library_s_joint_forces_after_a_slider_move(
+    browser: Any, rrr_server: str
+) -> None:
+    from prp3.family import FamilyRobot, family_inverse_dynamics, family_kinematics
+
+    robot = FamilyRobot.default("3-RRR")
+
+    def library(state: State) -> tuple[np.ndarray, Any]:
+        motion = Motion(t=np.zeros(()), pose=np.array(state.pose),
+                        velocity=np.array(state.velocity),
+                        acceleration=np.array(state.acceleration))  # fmt: skip
+        # the Newton-Euler route: not the one the page solves with
+        return family_inverse_dynamics(robot, motion, method="newton-euler").force, (
+            family_kinematics(robot, motion)
+        )
+
+    def drawn(page: Any) -> np.ndarray | None:
+        arrows = page.evaluate(_READ, "arrows")
+        if not arrows["quantity"]:
+            return None
+        return np.stack([_forces(arrows, f"F{k}") for k in (1, 2, 3)], axis=1)  # (legs, k, 2)
+
+    page = _open(browser, rrr_server)
+    try:
+        force, _ = library(State())
+        first = drawn(page)
+        assert first is not None and np.allclose(first, force, rtol=1e-9, atol=1e-9)
+        revolute = page.evaluate(_READ, "revolute")
+        assert len(revolute["x"]) == 9 and page.evaluate(_READ, "sliders")["xs"] == []
+        settings = {"x": 0.02, "y": -0.015, "phi": 0.1, "dphi": 0.5, "ddx": 2.0}
+        for name, value in settings.items():
+            page.evaluate(_SET, [name, value])
+        state = State.from_controls(settings)
+        force, kin = library(state)
+
+        def moved() -> bool:
+            now = drawn(page)
+            return now is not None and bool(np.allclose(now, force, rtol=1e-9, atol=1e-9))
+
+        _until(moved)
+        measures = page.evaluate(_READ, "measures")
+        np.testing.assert_allclose(measures["value"], [*kin.mu_leg, kin.mu_par], atol=1e-12)
+        # an unreachable pose: the library's line, and nothing drawn but the base
+        page.evaluate(_SET, ["x", 0.18])
+        message = "() => Bokeh.documents[0].get_model_by_name('message').text"
+        _until(lambda: page.evaluate(message) != "")
+        assert "cannot reach the pose" in page.evaluate(message)
+        assert page.evaluate(_READ, "arrows")["quantity"] == []
+        assert page.evaluate(_READ, "revolute")["x"] == []
+        assert page.errors == []
+    finally:
+        page.close()

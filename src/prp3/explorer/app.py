@@ -17,8 +17,10 @@ sources ``arrows``, ``values`` (the table), ``platform``, ``joints``,
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import math
+import signal
 import socket
 import webbrowser
 from collections.abc import Callable, Mapping
@@ -1011,7 +1013,44 @@ def serve(
     announce(url)
     if open_browser:
         server.io_loop.add_callback(lambda: webbrowser.open(url))
+    received = _stop_on_signals(server.io_loop.asyncio_loop)
     try:
         server.io_loop.start()
     finally:
         server.stop()
+        _raise_received(server.io_loop.asyncio_loop, received)
+
+
+#: The signals that stop the server (the command line turns them into 130 and 143).
+_STOP_SIGNALS: tuple[signal.Signals, ...] = (signal.SIGINT, signal.SIGTERM)
+
+
+def _stop_on_signals(loop: Any) -> list[int]:
+    """Stop ``loop`` at SIGINT or SIGTERM, between two callbacks; return the signals received.
+
+    A Python signal handler that raises would raise inside whichever callback
+    of the server runs at that moment, and asyncio logs and drops the
+    exception of a callback: the server would go on.  The loop's own handlers
+    run between callbacks; :func:`_raise_received` then hands the signal to
+    the previous handler (the command line's), once the loop has stopped.
+    """
+    received: list[int] = []
+
+    def stop(number: int) -> None:
+        received.append(number)
+        loop.stop()
+
+    for number in _STOP_SIGNALS:
+        try:
+            loop.add_signal_handler(number, stop, int(number))
+        except (NotImplementedError, RuntimeError, ValueError):  # not the main thread
+            break
+    return received
+
+
+def _raise_received(loop: Any, received: list[int]) -> None:
+    for number in _STOP_SIGNALS:
+        with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
+            loop.remove_signal_handler(number)
+    if received:
+        signal.raise_signal(received[0])
