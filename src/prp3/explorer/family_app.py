@@ -62,8 +62,8 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
     driven = robot.types[robot.actuated - 1]
     fig = figure(
         name="robot",
-        title=f"{robot.architecture} to scale (joint {robot.actuated}, {driven}, driven, in black);"
-        " arrows: joint forces at O_k",
+        title=f"{robot.architecture} to scale, joint {robot.actuated} ({driven}) driven (black); "
+        "arrows: forces at O_k",
         frame_width=470,
         frame_height=470,
         x_range=Range1d(-half, half),
@@ -92,10 +92,16 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
         from bokeh.models import ColumnDataSource
 
         renderer = getattr(fig, method)(*fields, source=source, **style)
-        if legend:
-            data = source.data
-            rows = len(next(iter(data.values()), []))
-            first = {k: list(v[:1]) for k, v in data.items()} if rows else {k: [] for k in data}
+        data = source.data
+        rows = len(next(iter(data.values()), []))
+        if "view" in style:
+            group = style["view"].filter.group
+            rows = sum(1 for q in data["quantity"] if q == group)
+        if legend and rows:  # a legend for what this robot has (a 3-RRR has no slides)
+            first = {k: list(v[:1]) for k, v in data.items()}
+            if "view" in style:
+                k = list(data["quantity"]).index(style["view"].filter.group)
+                first = {c: list(v[k : k + 1]) for c, v in data.items()}
             style = {k: v for k, v in style.items() if k != "view"}
             getattr(key, method)(
                 *fields, source=ColumnDataSource(first), legend_label=legend, **style
@@ -107,11 +113,11 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
         "xs",
         "ys",
         source=sources["base"],
-        fill_color="#dddddd",
-        fill_alpha=0.5,
-        line_color="#555555",
-        line_width=1,
-        legend="base (joint-1 frames)",
+        fill_alpha=0.0,
+        line_color="#777777",
+        line_dash="dotted",
+        line_width=1.5,
+        legend="base (the joint-1 frames)",
     )
     draw(
         "multi_line",
@@ -177,7 +183,9 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
     )
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
     groups: list[list[Any]] = []
-    for quantity, (label, colour) in FAMILY_ARROWS.items():
+    present = [q for q in FAMILY_ARROWS if q in sources["arrows"].data["quantity"]]
+    for quantity in present:
+        label, colour = FAMILY_ARROWS[quantity]
         view = CDSView(filter=GroupFilter(column_name="quantity", group=quantity))
         segment = draw(
             "segment",
@@ -222,8 +230,8 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
     legend.padding = 2
     legend.border_line_color = None
     toggles = CheckboxGroup(
-        labels=[f"{quantity} arrows" for quantity in FAMILY_ARROWS],
-        active=list(range(len(FAMILY_ARROWS))),
+        labels=[f"{quantity} arrows" for quantity in present],
+        active=list(range(len(present))),
         inline=True,
         name="arrow_toggles",
     )
@@ -533,8 +541,8 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
         "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
     )
     heading = Div(
-        text=f"<b>{_escape(title)}</b>: {robot.architecture}, {t.size} samples over "
-        f"t = {t[0]:g} .. {t[-1]:g} s, {len(frames)} frames; forces by prp3.family",
+        text=f"<b>{_escape(title)}</b>; {len(frames)} frames of {t.size} samples; "
+        "forces by prp3.family",
         width=900,
     )
     layout = column(
