@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from clitools import cli, one_line
-from prp3.errors import ParameterError, Prp3Error
+from prp3.errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
 from prp3.explorer.family_scene import (
     FAMILY_DESIGN_PARAMETERS,
     family_arrow_scale,
@@ -162,16 +162,26 @@ def test_the_legs_are_drawn_with_their_own_joints(architecture: str) -> None:
         assert colours == ["#000000"] * 3
 
 
-def test_a_refused_pose_is_the_library_s_error_and_draws_nothing() -> None:
-    robot = FamilyRobot.default("3-RRR")
-    state = State((2.0, 0.0, 0.0))
-    with pytest.raises(Prp3Error) as library:
+@pytest.mark.parametrize(
+    "architecture, pose, kind, words",
+    [
+        ("3-RRR", (2.0, 0.0, 0.0), UnreachablePoseError, "cannot reach"),
+        ("3-PRR", (0.0, 0.0, -1.1), SingularPoseError, "mu_par"),  # μ_par changed sign
+    ],
+)
+def test_a_refused_pose_is_the_library_s_error_and_draws_nothing(
+    architecture: str, pose: tuple[float, float, float], kind: type[Prp3Error], words: str
+) -> None:
+    robot = FamilyRobot.default(architecture)
+    state = State(pose)
+    with pytest.raises(kind) as library:
         family_inverse_dynamics(robot, _motion(state))
-    with pytest.raises(Prp3Error) as caught:
+    with pytest.raises(kind) as caught:
         family_pose_table(robot, state)
-    assert str(caught.value) == str(library.value) and "cannot reach" in str(caught.value)
+    assert str(caught.value) == str(library.value) and words in str(caught.value)
     blank = empty_view(family_view(robot, family_pose_table(robot, State()), 0, 0.001))
     assert blank.arrows["quantity"] == [] and blank.shapes["platform"]["xs"] == []
+    assert blank.shapes["measures"]["value"] == [] and blank.table["quantity"] == []
 
 
 def test_the_arrow_scale_draws_the_largest_force_at_rest_a_third_of_the_scale() -> None:

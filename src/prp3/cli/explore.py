@@ -48,7 +48,9 @@ def register(subparsers: Any) -> None:
             "Serve an interactive explorer of the 3-PRP robot: the robot to scale, every joint\n"
             "force as an arrow, sliders for the pose, velocity and acceleration of the platform,\n"
             "editable design parameters, the workspace statics map and, with --results, a run\n"
-            "of `prp3 simulate` with a time scrubber. Forces come from prp3's kernel."
+            "of `prp3 simulate` with a time scrubber. Forces come from prp3's kernel.\n"
+            "A family-form --robot file (3-RRR, 3-PRR, ...: docs/family.md) gets its own\n"
+            "legs, joint forces and singularity measures (prp3.family)."
         ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,

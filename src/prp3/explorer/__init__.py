@@ -7,6 +7,10 @@
   explore``) and the self-contained HTML file of a run (``prp3 simulate
   --html``, ``prp3 explore --export``); Bokeh is imported lazily, inside its
   functions.
+* :mod:`prp3.explorer.family_scene` and :mod:`prp3.explorer.family_app`: the
+  same for a family robot (docs/family.md): its own legs (R joints as circles,
+  P joints as slides), the joint forces of :mod:`prp3.family` at the joint
+  origins, and its singularity measures ``μ_leg``, ``μ_par``.
 
 >>> import subprocess, sys
 >>> code = "import sys, prp3.explorer; print('bokeh' in sys.modules)"
