@@ -19,7 +19,7 @@ def test_the_drawing_is_the_one_the_script_draws(tmp_path: Path) -> None:
     import matplotlib.image
 
     spec = importlib.util.spec_from_file_location(
-        "family_drawings", ROOT / "docs" / "family_drawings.py"
+        "family_drawings", ROOT / "docs" / "examples" / "family_drawings.py"
     )
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)

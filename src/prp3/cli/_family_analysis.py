@@ -270,7 +270,7 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
     from ._design_client import client_of
 
     for option, given in (("--pareto", args.pareto is not None),
-                          ("--sensitivity", args.sensitivity != "peak_f10")):  # fmt: skip
+                          ("--sensitivity", args.sensitivity is not None)):  # fmt: skip
         if given:
             raise ParameterError(
                 f"{option} applies to model-form sweeps (docs/design.md); a family sweep "

@@ -1,6 +1,6 @@
 """Draw the seven default designs of docs/family.md at home: ``docs/figures/family_designs.png``.
 
-Run ``python docs/family_drawings.py``; ``tests/test_family_docs.py`` runs it and
+Run ``python docs/examples/family_drawings.py``; ``tests/test_family_docs.py`` runs it and
 checks that the committed figure is the one it draws.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-FIGURE = Path(__file__).resolve().parent / "figures" / "family_designs.png"
+FIGURE = Path(__file__).resolve().parents[1] / "figures" / "family_designs.png"
 
 
 def draw(path: Path = FIGURE) -> Path:
