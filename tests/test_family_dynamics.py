@@ -33,7 +33,7 @@ from prp3.family import (
     family_inverse_dynamics,
     family_results_table,
 )
-from prp3.io import results_table
+from prp3.results import results_table
 from prp3.model import Load, Payload
 
 FloatArray = NDArray[np.float64]
