@@ -74,6 +74,17 @@ def _non_negative(where: str, value: Any, unit: str) -> float:
     return check_scalar(where, value, subject="robot", non_negative=True, unit=unit)
 
 
+def _check_parts(robot: object, parts: tuple[tuple[str, type], ...]) -> None:
+    """Refuse a robot whose attribute ``name`` is not a ``kind`` for a ``(name, kind)`` of ``parts``."""
+    for name, kind in parts:
+        if not isinstance(getattr(robot, name), kind):
+            raise ParameterError(
+                f"{name} must be a {kind.__name__}, got {getattr(robot, name)!r}"[:200],
+                subject="robot",
+                key=name,
+            )
+
+
 def _pair(where: str, value: Any) -> tuple[float, float]:
     if not isinstance(value, list | tuple | np.ndarray) or len(value) != 2:
         raise ParameterError(
@@ -480,20 +491,17 @@ class Robot:
             raise ParameterError(f"robot: friction must be a Friction, got {self.friction!r}"[:200])
         if self.spring is not None and not isinstance(self.spring, Spring):
             raise ParameterError(f"robot: spring must be a Spring, got {self.spring!r}"[:200])
-        for name, kind in (
-            ("piston", PistonParameters),
-            ("link", LinkParameters),
-            ("platform", PlatformParameters),
-            ("limits", Limits),
-            ("payload", Payload),
-            ("load", Load),
-        ):
-            if not isinstance(getattr(self, name), kind):
-                raise ParameterError(
-                    f"{name} must be a {kind.__name__}, got {getattr(self, name)!r}"[:200],
-                    subject="robot",
-                    key=name,
-                )
+        _check_parts(
+            self,
+            (
+                ("piston", PistonParameters),
+                ("link", LinkParameters),
+                ("platform", PlatformParameters),
+                ("limits", Limits),
+                ("payload", Payload),
+                ("load", Load),
+            ),
+        )
         self._check_scale()
 
     def _check_scale(self) -> None:

@@ -35,6 +35,7 @@ from ..model import (
     Load,
     Payload,
     Robot,
+    _check_parts,
     _fmt,
     _pair,
     _payload_load_toml,
@@ -243,20 +244,17 @@ class FamilyRobot:
     def __post_init__(self) -> None:
         check_choice("architecture", self.architecture, ARCHITECTURES)
         check_integer("actuated", self.actuated, 1, 3, subject="robot")
-        for name, kind in (
-            ("leg", LegDesign),
-            ("link1", Body),
-            ("link2", Body),
-            ("platform", PlatformBody),
-            ("payload", Payload),
-            ("load", Load),
-        ):
-            if not isinstance(getattr(self, name), kind):
-                raise ParameterError(
-                    f"{name} must be a {kind.__name__}, got {getattr(self, name)!r}"[:200],
-                    subject="robot",
-                    key=name,
-                )
+        _check_parts(
+            self,
+            (
+                ("leg", LegDesign),
+                ("link1", Body),
+                ("link2", Body),
+                ("platform", PlatformBody),
+                ("payload", Payload),
+                ("load", Load),
+            ),
+        )
         object.__setattr__(self, "gravity", _pair("gravity", self.gravity))
         passive = [self.types[k] for k in range(3) if k != self.actuated - 1]
         if passive == ["P", "P"]:
