@@ -429,13 +429,17 @@ def test_prr_actuated_2_rotation_crosses_a_parallel_singularity() -> None:
 def test_prp_refuses_the_far_side_of_phi_pi_3() -> None:
     """docs/family.md §8: the family takes only the home side of φ = π/3 (docs/model.md takes both)."""
     t = np.linspace(0.0, 1.0, 11)
-    pose = np.stack([0 * t, 0 * t, 1.3 * t], -1)
+    pose = np.stack([0 * t, 0 * t, 1.2 + 0.1 * t], -1)  # wholly beyond φ = π/3
     motion = Motion(t=t, pose=pose, velocity=np.gradient(pose, t, axis=0), acceleration=0 * pose)
     with pytest.raises(SingularPoseError, match="mu_leg of leg A"):
-        family_inverse_dynamics(FamilyRobot.default("3-PRP"), motion)
-    inverse_dynamics(
-        Robot(), motion
-    )  # docs/model.md accepts it (|sin(φ − π/3)| >= 1e-4 at every sample)
+        family_inverse_dynamics(FamilyRobot.default("3-PRP"), motion)  # crossed since home
+    # docs/model.md accepts it: |sin(φ − π/3)| >= 1e-4 at every sample and no crossing
+    # between two samples (a motion that crosses is refused in model form too)
+    inverse_dynamics(Robot(), motion)
+    crossing = Motion(t=t, pose=np.stack([0 * t, 0 * t, 1.3 * t], -1),
+                      velocity=np.stack([0 * t, 0 * t, 1.3 + 0 * t], -1), acceleration=0 * pose)  # fmt: skip
+    with pytest.raises(SingularPoseError, match="crosses the singular orientation"):
+        inverse_dynamics(Robot(), crossing)
 
 
 def test_unreachable_pose_is_named() -> None:

@@ -1041,7 +1041,7 @@ def _number(source: str, key: str, value: Any) -> float:
 
 def _table(source: str, name: str, value: Any) -> dict[str, Any]:
     if not isinstance(value, Mapping):
-        raise ParameterError(f"{source}: [{name}] must be a table, got {value!r}")
+        raise ParameterError(f"{source}: [{name}] must be a table, got {value!r}"[:300])
     return dict(value)
 
 
@@ -1051,6 +1051,16 @@ def _unknown(source: str, where: str, table: Mapping[str, Any], allowed: set[str
             raise ParameterError(
                 f"{source}: unknown key {where}{key!r} (expected one of: {', '.join(sorted(allowed))})"
             )
+
+
+def _sampling(source: str, data: Mapping[str, Any]) -> str:
+    """The ``sampling`` of a sweep file (default ``"lhs"``), one of :data:`SAMPLINGS`."""
+    sampling = data.get("sampling", "lhs")
+    if sampling not in SAMPLINGS:
+        raise ParameterError(
+            f"{source}: unknown sampling {sampling!r} (expected one of: {', '.join(SAMPLINGS)})"
+        )
+    return str(sampling)
 
 
 def _flatten(table: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
@@ -1115,7 +1125,7 @@ def _motions(
     if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
         raise ParameterError(
             f"{source}: task.motions must be a non-empty list of paper motions "
-            f"({', '.join(PAPER_MOTIONS)}) or TRAJ.csv paths, got {names!r}"
+            f"({', '.join(PAPER_MOTIONS)}) or TRAJ.csv paths, got {names!r}"[:300]
         )
     samples = _integer(source, "task.samples", task.get("samples", 301), 2, MAX_SAMPLES)
     motions: list[Motion] = []
@@ -1210,11 +1220,7 @@ def sweep_spec(
             raise ParameterError(
                 f"{source}: [limits]: {re.sub(r'^robot: ', '', str(error))}"
             ) from None
-    sampling = data.get("sampling", "lhs")
-    if sampling not in SAMPLINGS:
-        raise ParameterError(
-            f"{source}: unknown sampling {sampling!r} (expected one of: {', '.join(SAMPLINGS)})"
-        )
+    sampling = _sampling(source, data)
     designs = _integer(
         source, "designs", data.get("designs", 100), 2 if sampling == "grid" else 1, MAX_DESIGNS
     )

@@ -83,7 +83,7 @@ import numpy as np
 from .elements import number_text
 from .errors import ParameterError
 from .geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
-from .model import Payload, Robot
+from .model import Load, Payload, Robot
 from .validation import check_robot
 
 __all__ = [
@@ -145,11 +145,77 @@ def _inertia(mass: float, izz: float, l0: float) -> tuple[float, float, float]:
     return (izz, izz, izz)
 
 
-def _inertial(mass: float, com: tuple[float, float], izz: float, l0: float) -> str:
+def _inertial(
+    mass: float, com: tuple[float, float], izz: float, l0: float, angle: float = 0.0
+) -> str:
+    """The ``<inertial>`` of a body: its mass centre ``com`` in the body frame, its
+    principal axes turned by ``angle`` (rad) about ``z`` when it is not 0."""
+    turn = f' quat="{_quat_z(angle)}"' if angle != 0.0 else ""
     return (
-        f'<inertial pos="{_vec(com[0], com[1], 0.0)}" mass="{_num(mass)}" '
+        f'<inertial pos="{_vec(com[0], com[1], 0.0)}"{turn} mass="{_num(mass)}" '
         f'diaginertia="{_vec(*_inertia(mass, izz, l0))}"/>'
     )
+
+
+def _preamble(comment: list[str], gravity: tuple[float, float]) -> list[str]:
+    """The model's opening, from ``<mujoco>`` (with the ``comment`` lines) to the light of
+    the ``<worldbody>``: compiler, RK4 at :data:`TIMESTEP`, no contact, no joint defaults."""
+    return [
+        '<mujoco model="prp3">',
+        *comment,
+        '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>',
+        f'  <option timestep="{_num(TIMESTEP)}" integrator="RK4" '
+        f'gravity="{_vec(gravity[0], gravity[1], 0.0)}">',
+        '    <flag contact="disable"/>',
+        "  </option>",
+        "  <default>",
+        '    <geom contype="0" conaffinity="0" group="1"/>',
+        '    <joint damping="0" armature="0" frictionloss="0"/>',
+        "  </default>",
+        "  <worldbody>",
+        '    <light pos="0 0 3" dir="0 0 -1"/>',
+    ]
+
+
+def _welds_motors_load(
+    welds: list[tuple[str, str]], motor_joints: list[str], load: Load
+) -> list[str]:
+    """After the bodies: the welds of ``platform_A`` to ``platform_{leg}`` (``(leg, relpose)``
+    each), a motor on each leg's joint of ``motor_joints`` (legs A, B, C) and the
+    constant ``[load]`` as a custom numeric (MuJoCo does not apply it)."""
+    solref, solimp = _vec(*WELD_SOLREF), _vec(*WELD_SOLIMP)
+    lines = ["  </worldbody>", "  <equality>"]
+    for leg, relpose in welds:
+        lines.append(
+            f'    <weld name="weld_A{leg}" body1="platform_A" body2="platform_{leg}" '
+            f'relpose="{relpose}" solref="{solref}" solimp="{solimp}"/>'
+        )
+    lines += ["  </equality>", "  <actuator>"]
+    for leg, joint in zip(LEGS, motor_joints, strict=True):
+        lines.append(
+            f'    <motor name="actuator_{leg}" joint="{joint}" gear="1" ctrllimited="false"/>'
+        )
+    lines.append("  </actuator>")
+    if load.present:
+        fx, fy = load.force
+        lines += [
+            "  <custom>",
+            "    <!-- the constant [load] (N, N, N m): not applied by MuJoCo; set",
+            "         data.xfrc_applied[platform_A] = (F_x, F_y, 0, 0, 0, M_z) -->",
+            f'    <numeric name="prp3_load" data="{_vec(fx, fy, load.moment)}"/>',
+            "  </custom>",
+        ]
+    return lines
+
+
+#: The model's end: the platform's pose as sensors.
+_SENSORS: tuple[str, ...] = (
+    "  <sensor>",
+    '    <framepos name="platform_position" objtype="body" objname="platform_A"/>',
+    '    <framequat name="platform_orientation" objtype="body" objname="platform_A"/>',
+    "  </sensor>",
+    "</mujoco>",
+)
 
 
 def _joint_attributes(robot: Robot) -> dict[str, str]:
@@ -281,24 +347,16 @@ def mjcf_model(robot: Robot) -> str:
     corners = platform_vertices(robot, [0.0, 0.0, 0.0])  # in the platform frame at G
 
     size = l0 / 30.0  # drawing thickness
-    lines: list[str] = [
-        '<mujoco model="prp3">',
-        "  <!-- 3-PRP planar parallel robot (Staicu & Chablat), written by prp3.",
-        "       Plane x-y, z out of the plane. Joints (qpos): lambda10_i (m), phi_i = platform",
-        "       angle (rad), lambda32_i (m). Motors actuator_i: ctrl = f10_i (N) along e_i.",
-        "       The platform is three welded thirds platform_A/B/C (each m3/3 at G, I3/3).",
-        "       Geoms are drawings only: no mass, no contact. -->",
-        '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>',
-        f'  <option timestep="{_num(TIMESTEP)}" integrator="RK4" gravity="{_vec(gx, gy, 0.0)}">',
-        '    <flag contact="disable"/>',
-        "  </option>",
-        "  <default>",
-        '    <geom contype="0" conaffinity="0" group="1"/>',
-        '    <joint damping="0" armature="0" frictionloss="0"/>',
-        "  </default>",
-        "  <worldbody>",
-        '    <light pos="0 0 3" dir="0 0 -1"/>',
-    ]
+    lines = _preamble(
+        [
+            "  <!-- 3-PRP planar parallel robot (Staicu & Chablat), written by prp3.",
+            "       Plane x-y, z out of the plane. Joints (qpos): lambda10_i (m), phi_i = platform",
+            "       angle (rad), lambda32_i (m). Motors actuator_i: ctrl = f10_i (N) along e_i.",
+            "       The platform is three welded thirds platform_A/B/C (each m3/3 at G, I3/3).",
+            "       Geoms are drawings only: no mass, no contact. -->",
+        ],
+        (gx, gy),
+    )
     for k in range(3):  # the base triangle
         a, b = base[k], base[(k + 1) % 3]
         lines.append(
@@ -337,34 +395,7 @@ def mjcf_model(robot: Robot) -> str:
             f"{ind}  </body>",
             f"{ind}</body>",
         ]
-    solref = _vec(*WELD_SOLREF)
-    solimp = _vec(*WELD_SOLIMP)
-    lines += ["  </worldbody>", "  <equality>"]
-    for other in ("B", "C"):
-        lines.append(
-            f'    <weld name="weld_A{other}" body1="platform_A" body2="platform_{other}" '
-            f'relpose="0 0 0 1 0 0 0" solref="{solref}" solimp="{solimp}"/>'
-        )
-    lines += ["  </equality>", "  <actuator>"]
-    for leg in LEGS:
-        lines.append(
-            f'    <motor name="actuator_{leg}" joint="lambda10_{leg}" gear="1" ctrllimited="false"/>'
-        )
-    lines.append("  </actuator>")
-    if robot.load.present:
-        fx, fy = robot.load.force
-        lines += [
-            "  <custom>",
-            "    <!-- the constant [load] (N, N, N m): not applied by MuJoCo; set",
-            "         data.xfrc_applied[platform_A] = (F_x, F_y, 0, 0, 0, M_z) -->",
-            f'    <numeric name="prp3_load" data="{_vec(fx, fy, robot.load.moment)}"/>',
-            "  </custom>",
-        ]
-    lines += [
-        "  <sensor>",
-        '    <framepos name="platform_position" objtype="body" objname="platform_A"/>',
-        '    <framequat name="platform_orientation" objtype="body" objname="platform_A"/>',
-        "  </sensor>",
-        "</mujoco>",
-    ]
+    welds = [(other, "0 0 0 1 0 0 0") for other in ("B", "C")]
+    lines += _welds_motors_load(welds, [f"lambda10_{leg}" for leg in LEGS], robot.load)
+    lines += _SENSORS
     return "\n".join(lines) + "\n"

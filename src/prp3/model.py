@@ -25,10 +25,10 @@ from __future__ import annotations
 import math
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Collection, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -72,6 +72,17 @@ def _positive(where: str, value: Any, unit: str) -> float:
 
 def _non_negative(where: str, value: Any, unit: str) -> float:
     return check_scalar(where, value, subject="robot", non_negative=True, unit=unit)
+
+
+def _check_parts(robot: object, parts: tuple[tuple[str, type], ...]) -> None:
+    """Refuse a robot whose attribute ``name`` is not a ``kind`` for a ``(name, kind)`` of ``parts``."""
+    for name, kind in parts:
+        if not isinstance(getattr(robot, name), kind):
+            raise ParameterError(
+                f"{name} must be a {kind.__name__}, got {getattr(robot, name)!r}"[:200],
+                subject="robot",
+                key=name,
+            )
 
 
 def _pair(where: str, value: Any) -> tuple[float, float]:
@@ -480,20 +491,17 @@ class Robot:
             raise ParameterError(f"robot: friction must be a Friction, got {self.friction!r}"[:200])
         if self.spring is not None and not isinstance(self.spring, Spring):
             raise ParameterError(f"robot: spring must be a Spring, got {self.spring!r}"[:200])
-        for name, kind in (
-            ("piston", PistonParameters),
-            ("link", LinkParameters),
-            ("platform", PlatformParameters),
-            ("limits", Limits),
-            ("payload", Payload),
-            ("load", Load),
-        ):
-            if not isinstance(getattr(self, name), kind):
-                raise ParameterError(
-                    f"{name} must be a {kind.__name__}, got {getattr(self, name)!r}"[:200],
-                    subject="robot",
-                    key=name,
-                )
+        _check_parts(
+            self,
+            (
+                ("piston", PistonParameters),
+                ("link", LinkParameters),
+                ("platform", PlatformParameters),
+                ("limits", Limits),
+                ("payload", Payload),
+                ("load", Load),
+            ),
+        )
         self._check_scale()
 
     def _check_scale(self) -> None:
@@ -645,11 +653,7 @@ class Robot:
             If a key is unknown or a value invalid (names file and key).
         """
         path = Path(path)
-        data = read_toml(path, "robot")
-        try:
-            return cls.from_mapping(data)
-        except ParameterError as error:
-            raise error.located(file=path) from None
+        return parse_located(path, cls.from_mapping, read_toml(path, "robot"))
 
     def to_toml(self) -> str:
         """Return the robot as ``ROBOT.toml`` text (round-trips through :meth:`from_toml`).
@@ -668,6 +672,19 @@ def read_toml(path: Path, what: str) -> dict[str, Any]:
     (and the line and column where TOML gives them).
     """
     return _parse_toml(path, read_text(path, what, MAX_ROBOT_FILE_BYTES))
+
+
+_Parsed = TypeVar("_Parsed")
+
+
+def parse_located(
+    path: Path, parse: Callable[[dict[str, Any]], _Parsed], data: dict[str, Any]
+) -> _Parsed:
+    """``parse(data)`` for the mapping ``data`` read from ``path``: a ParameterError names the file."""
+    try:
+        return parse(data)
+    except ParameterError as error:
+        raise error.located(file=path) from None
 
 
 def _parse_toml(path: Path, text: str) -> dict[str, Any]:
@@ -700,15 +717,27 @@ def _parse_toml(path: Path, text: str) -> dict[str, Any]:
         raise InputFileError(f"invalid TOML: {error}", file=path) from None
 
 
-def _table(name: str, value: Any, allowed: set[str]) -> dict[str, Any]:
+def _table(
+    name: str,
+    value: Any,
+    allowed: Collection[str],
+    refuse: Callable[[str, str], None] | None = None,
+) -> dict[str, Any]:
+    """``value`` as the table ``[name]`` of a robot file, whose keys are ``allowed``.
+
+    ``refuse(key, dotted)``, when given, is called on each key first (it raises for a
+    key it refuses with a message of its own).
+    """
     if not isinstance(value, Mapping):
         what = f"[{name}]" if name else "the robot description"
         raise ParameterError(
             f"{what} must be a table of keys, got {value!r}"[:200], subject="robot", key=name
         )
     for key in value:
+        dotted = f"{name}.{key}" if name else str(key)
+        if refuse is not None:
+            refuse(key, dotted)
         if key not in allowed:
-            dotted = f"{name}.{key}" if name else key
             raise ParameterError(
                 f"unknown key {dotted[:60]!r} (expected one of: {', '.join(sorted(allowed))})",
                 subject="robot",
@@ -719,6 +748,38 @@ def _table(name: str, value: Any, allowed: set[str]) -> dict[str, Any]:
 
 def _fmt(value: float) -> str:
     return repr(float(value))
+
+
+def _toml_line(key: str, value: str, comment: str, comments: bool) -> str:
+    """``key = value`` of a robot file, with ``# comment`` when ``comments``."""
+    return f"{key} = {value}" + (f"  # {comment}" if comments else "")
+
+
+def _toml_list(values: tuple[float, ...]) -> str:
+    """A TOML array of floats that read back exactly."""
+    return "[" + ", ".join(_fmt(v) for v in values) + "]"
+
+
+def _payload_load_toml(payload: Payload, load: Load, comments: bool) -> list[str]:
+    """The ``[payload]`` and ``[load]`` tables of a robot file (each left out when it is the
+    default and ``comments`` is false)."""
+    out: list[str] = []
+    if payload != Payload() or comments:
+        out += ["", "[payload]" + ("  # a rigid body fixed to the platform" if comments else "")]
+        out.append(_toml_line("mass", _fmt(payload.mass), "kg", comments))
+        where = "m, its mass centre from G, platform frame"
+        out.append(_toml_line("com", _toml_list(payload.com), where, comments))
+        out.append(
+            _toml_line(
+                "inertia", _fmt(payload.inertia), "kg m^2, I_zz about its mass centre", comments
+            )
+        )
+    if load != Load() or comments:
+        heading = "  # constant wrench of the environment on the platform" if comments else ""
+        out += ["", "[load]" + heading]
+        out.append(_toml_line("force", _toml_list(load.force), "N, at G, fixed frame", comments))
+        out.append(_toml_line("moment", _fmt(load.moment), "N m, about z0", comments))
+    return out
 
 
 def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
@@ -733,10 +794,9 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
     robot = Robot() if robot is None else check_robot(robot)
 
     def line(key: str, value: str, comment: str) -> str:
-        return f"{key} = {value}" + (f"  # {comment}" if comments else "")
+        return _toml_line(key, value, comment, comments)
 
-    def pair(values: tuple[float, float]) -> str:
-        return f"[{_fmt(values[0])}, {_fmt(values[1])}]"
+    pair = _toml_list
 
     out: list[str] = []
     if comments:
@@ -778,17 +838,7 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
             out.append(line("max_force", _fmt(robot.limits.max_force), "N, largest |f10|"))
         elif comments:
             out.append("# max_force = 500.0  # N, largest admissible |f10|")
-    payload, load = robot.payload, robot.load
-    if payload != Payload() or comments:
-        out += ["", "[payload]" + ("  # a rigid body fixed to the platform" if comments else "")]
-        out.append(line("mass", _fmt(payload.mass), "kg"))
-        out.append(line("com", pair(payload.com), "m, its mass centre from G, platform frame"))
-        out.append(line("inertia", _fmt(payload.inertia), "kg m^2, I_zz about its mass centre"))
-    if load != Load() or comments:
-        heading = "  # constant wrench of the environment on the platform" if comments else ""
-        out += ["", "[load]" + heading]
-        out.append(line("force", pair(load.force), "N, at G, fixed frame"))
-        out.append(line("moment", _fmt(load.moment), "N m, about z0"))
+    out += _payload_load_toml(robot.payload, robot.load, comments)
     friction = robot.friction
     if friction is not None:
         for kind in ("actuator", "revolute", "sleeve"):

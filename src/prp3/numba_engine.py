@@ -201,6 +201,35 @@ def _power(f10: Any, rate: Any) -> Any:
     return (f10[0] * rate[0], f10[1] * rate[1], f10[2] * rate[2])  # p10 = f10·λ̇10
 
 
+@numba.njit(inline="always")
+def _solve_row(k: Any, pose: Any, velocity: Any, acceleration: Any, i: int, load: Any,
+               reactions: bool) -> Any:  # fmt: skip
+    """:func:`_solve` of the sample ``i`` of the arrays ``(n, 3)``."""
+    return _solve(
+        k, pose[i, 0], pose[i, 1], pose[i, 2], velocity[i, 0], velocity[i, 1], velocity[i, 2],
+        acceleration[i, 0], acceleration[i, 1], acceleration[i, 2], load, reactions,
+    )  # fmt: skip
+
+
+@numba.njit(inline="always")
+def _store_forces(f10: Any, p10: Any, f21y: Any, f21z: Any, i: int, kin: Any, f: Any, fy: Any,
+                  fz: Any) -> None:  # fmt: skip
+    """Row ``i`` of ``f10``, ``p10 = f10·λ̇10``, ``f21y``, ``f21z``."""
+    _store(f10, i, f)
+    _store(p10, i, _power(f, kin.dlambda10))
+    _store(f21y, i, fy)
+    _store(f21z, i, fz)
+
+
+@numba.njit(inline="always")
+def _store_reactions(n10: Any, m10: Any, n32: Any, m32: Any, i: int, rest: Any) -> None:
+    """Row ``i`` of the reactions ``n10, m10, n32, m32``."""
+    _store(n10, i, rest[0])
+    _store(m10, i, rest[1])
+    _store(n32, i, rest[2])
+    _store(m32, i, rest[3])
+
+
 # ------------------------------------------------------------------- batches
 @numba.njit(cache=True, error_model="numpy")
 def f10_loop(
@@ -209,11 +238,7 @@ def f10_loop(
     """``f10`` ``(n, 3)`` of samples ``(n, 3)``, written into ``f10``."""
     k = _parameters(a)
     for i in range(pose.shape[0]):
-        _, f, _, _, _ = _solve(
-            k, pose[i, 0], pose[i, 1], pose[i, 2], velocity[i, 0], velocity[i, 1],
-            velocity[i, 2], acceleration[i, 0], acceleration[i, 1], acceleration[i, 2],
-            None, False,
-        )  # fmt: skip
+        _, f, _, _, _ = _solve_row(k, pose, velocity, acceleration, i, None, False)
         _store(f10, i, f)
 
 
@@ -223,15 +248,8 @@ def forces_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any, p
     """``f10, p10, f21y, f21z`` ``(n, 3)`` of samples ``(n, 3)``, written into them."""
     k = _parameters(a)
     for i in range(pose.shape[0]):
-        kin, f, fy, fz, _ = _solve(
-            k, pose[i, 0], pose[i, 1], pose[i, 2], velocity[i, 0], velocity[i, 1],
-            velocity[i, 2], acceleration[i, 0], acceleration[i, 1], acceleration[i, 2],
-            None, False,
-        )  # fmt: skip
-        _store(f10, i, f)
-        _store(p10, i, _power(f, kin.dlambda10))
-        _store(f21y, i, fy)
-        _store(f21z, i, fz)
+        kin, f, fy, fz, _ = _solve_row(k, pose, velocity, acceleration, i, None, False)
+        _store_forces(f10, p10, f21y, f21z, i, kin, f, fy, fz)
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -240,19 +258,9 @@ def reactions_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any
     """:func:`forces_loop` and the reactions ``n10, m10, n32, m32``."""
     k = _parameters(a)
     for i in range(pose.shape[0]):
-        kin, f, fy, fz, rest = _solve(
-            k, pose[i, 0], pose[i, 1], pose[i, 2], velocity[i, 0], velocity[i, 1],
-            velocity[i, 2], acceleration[i, 0], acceleration[i, 1], acceleration[i, 2],
-            None, True,
-        )  # fmt: skip
-        _store(f10, i, f)
-        _store(p10, i, _power(f, kin.dlambda10))
-        _store(f21y, i, fy)
-        _store(f21z, i, fz)
-        _store(n10, i, rest[0])
-        _store(m10, i, rest[1])
-        _store(n32, i, rest[2])
-        _store(m32, i, rest[3])
+        kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, None, True)
+        _store_forces(f10, p10, f21y, f21z, i, kin, f, fy, fz)
+        _store_reactions(n10, m10, n32, m32, i, rest)
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -265,14 +273,11 @@ def solve_loop(
     """
     k = _parameters(a)
     for i in range(pose.shape[0]):
-        x, y, phi = pose[i, 0], pose[i, 1], pose[i, 2]
-        dx, dy, dphi = velocity[i, 0], velocity[i, 1], velocity[i, 2]
-        ddx, ddy, ddphi = acceleration[i, 0], acceleration[i, 1], acceleration[i, 2]
         if load is None:
-            kin, f, fy, fz, rest = _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, None, True)
+            kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, None, True)
         else:
             wrench = (load[i, 0], load[i, 1], load[i, 2])
-            kin, f, fy, fz, rest = _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, wrench, True)
+            kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, wrench, True)
         geo = kin.geometry
         _store(out[0], i, geo.lambda10)
         _store(out[1], i, kin.dlambda10)
@@ -280,14 +285,8 @@ def solve_loop(
         _store(out[3], i, geo.lambda32)
         _store(out[4], i, kin.dlambda32)
         _store(out[5], i, kin.ddlambda32)
-        _store(out[6], i, f)
-        _store(out[7], i, _power(f, kin.dlambda10))
-        _store(out[8], i, fy)
-        _store(out[9], i, fz)
-        _store(out[10], i, rest[0])
-        _store(out[11], i, rest[1])
-        _store(out[12], i, rest[2])
-        _store(out[13], i, rest[3])
+        _store_forces(out[6], out[7], out[8], out[9], i, kin, f, fy, fz)
+        _store_reactions(out[10], out[11], out[12], out[13], i, rest)
 
 
 # ------------------------------------------------------------- single samples

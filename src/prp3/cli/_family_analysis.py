@@ -38,7 +38,7 @@ from ..io import (
 from ..motion import Motion
 from ..runs import check_memory
 from ..validation import LEGS
-from ._types import emit, files_report
+from ._types import check_extent, emit, files_report
 
 __all__ = [
     "family_spec_of",
@@ -75,12 +75,7 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
             file=args.robot,
         )
     if args.extent is not None:
-        xmin, xmax, ymin, ymax = args.extent
-        if not (xmin < xmax and ymin < ymax):
-            raise ParameterError(
-                f"--extent must be XMIN XMAX YMIN YMAX with XMIN < XMAX and YMIN < YMAX, got "
-                f"{' '.join(repr(v) for v in args.extent)}"
-            )
+        xmin, xmax, ymin, ymax = check_extent(args.extent)
     else:
         half = 2.0 * robot.leg.scale
         xmin, xmax, ymin, ymax = -half, half, -half, half

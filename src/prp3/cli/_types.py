@@ -250,3 +250,15 @@ def emit(text: str, end: str = "\n") -> None:
     except (OSError, ValueError) as error:  # ValueError: a closed file object
         reason = getattr(error, "strerror", None) or str(error)
         raise OutputFileError(reason, origin="standard output") from None
+
+
+def check_extent(extent: Sequence[float]) -> tuple[float, float, float, float]:
+    """``--extent XMIN XMAX YMIN YMAX`` as four floats, refused unless ``XMIN < XMAX`` and
+    ``YMIN < YMAX``."""
+    xmin, xmax, ymin, ymax = extent
+    if not (xmin < xmax and ymin < ymax):
+        raise ParameterError(
+            f"--extent must be XMIN XMAX YMIN YMAX with XMIN < XMAX and YMIN < YMAX, got "
+            f"{' '.join(repr(v) for v in extent)}"
+        )
+    return xmin, xmax, ymin, ymax

@@ -43,6 +43,7 @@ from ._progress import progress_bar
 from ._types import (
     add_output_directory,
     add_robot_option,
+    check_extent,
     emit,
     files_report,
     finite_float,
@@ -288,12 +289,7 @@ def run(args: argparse.Namespace) -> int:
             raise
         raise error.located(file=args.robot) from None
     if args.extent is not None:
-        xmin, xmax, ymin, ymax = args.extent
-        if not (xmin < xmax and ymin < ymax):
-            raise ParameterError(
-                f"--extent must be XMIN XMAX YMIN YMAX with XMIN < XMAX and YMIN < YMAX, got "
-                f"{' '.join(repr(v) for v in args.extent)}"
-            )
+        xmin, xmax, ymin, ymax = check_extent(args.extent)
         reach = POSE_BOUND * robot.l0
         if max(abs(v) for v in args.extent) > reach:
             raise ParameterError(

@@ -41,7 +41,7 @@ from typing import Any, TypeVar, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error, SingularPoseError, TrajectoryError, UnreachablePoseError
+from ..errors import Prp3Error
 from ..motion import Motion
 from ..validation import LEGS, MAX_ORIENTATION, POSE_BOUND, require_finite
 from .chain import SIGMA, SINGULAR, ChainFrames
@@ -51,7 +51,10 @@ from .mechanics import (
     MAX_TURN,
     FamilyKinematics,
     FamilySolution,
+    pose_bound_error,
     robot_length,
+    singular_error,
+    unreachable_error,
 )
 from .model import FamilyRobot
 
@@ -892,10 +895,6 @@ def _kernel(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatAr
 
 
 # ------------------------------------------------------------------ the engine
-def _pose_tuple(values: FloatArray) -> tuple[float, float, float]:
-    return (float(values[0]), float(values[1]), float(values[2]))
-
-
 def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     """The fast route by the compiled kernel: the same :class:`FamilySolution` as the numpy engine.
 
@@ -977,41 +976,19 @@ def _refuse(
     """Raise the numpy engine's error for the kernel's status (docs/family.md §5, §6)."""
     code, k, leg = int(status[0]), int(status[1]), int(status[2])
     if code == _OUT_OF_RANGE:
-        bound = POSE_BOUND * robot_length(robot)
-        raise TrajectoryError(
-            f"the pose {_pose_tuple(pose[k])} lies beyond {POSE_BOUND:g} robot lengths "
-            f"({bound:.6g} m) of the centre, or |phi| > {MAX_ORIENTATION:g} rad",
-            subject="motion",
-            sample=k,
-            time=float(t[k]),
-            pose=_pose_tuple(pose[k]),
-        )
-    where = _pose_tuple(info)
+        raise pose_bound_error(robot, pose, t, k)
     if code == _UNREACHABLE:
         note = "" if status[3] else f" on the way to sample {k}"
-        raise UnreachablePoseError(
-            f"leg {LEGS[leg]} cannot reach the pose {where}{note} "
-            f"(the {robot.architecture}'s closure has no real solution)",
-            sample=k,
-            time=float(t[k]),
-            leg=LEGS[leg],
-            pose=where,
-        )
+        raise unreachable_error(robot, leg, info, note, k, t)
     if code in (_SINGULAR_LEG, _SINGULAR_PAR):
         home_leg, home_par = robot.home_measures
         name, at_home = (
             (f"mu_leg of leg {LEGS[leg]}", home_leg[leg]) if code == _SINGULAR_LEG
             else ("mu_par", home_par)
         )  # fmt: skip
-        between = "" if np.array_equal(info[:3], pose[k]) else f" on the way to sample {k}"
-        raise SingularPoseError(
-            f"{name} = {float(info[3]):.6g} at the pose {where}{between}: a singular "
-            f"pose, or a singularity crossed since home (its sign at home is "
-            f"{'+' if at_home > 0 else '-'}; refused below {SINGULAR:g})",
-            sample=k,
-            time=float(t[k]),
-            leg=LEGS[leg] if code == _SINGULAR_LEG else None,
-            pose=where,
-        )
+        raise singular_error(
+            name, float(info[3]), info, pose, t, k,
+            LEGS[leg] if code == _SINGULAR_LEG else None, at_home,
+        )  # fmt: skip
     require_finite({"dq": dq, "ddq": ddq}, (t.size,), "motion", t)
     require_finite({"tau": tau, "force": force, "moment": moment}, (t.size,), "motion", t)

@@ -54,16 +54,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..design import (
-    SAMPLINGS,
     OptimizeSpec,
     Parameter,
+    _flatten,
+    _integer,
+    _motions,
+    _sampling,
+    _table,
+    _unknown,
     design_mapping,
     penalized_objective,
 )
 from ..errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
-from ..io import read_trajectory
 from ..model import read_toml
-from ..motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
+from ..motion import Motion
 from ..validation import LEGS
 from .model import ARCHITECTURES, FamilyRobot
 from .outputs import family_inverse_dynamics
@@ -278,38 +282,6 @@ class FamilySweepSpec:
         return self.evaluator.studies
 
 
-def _integer(source: str, key: str, value: Any, low: int, high: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise ParameterError(
-            f"{source}: {key} must be an integer from {low} to {high}, got {value!r}"
-        )
-    return value
-
-
-def _table(source: str, name: str, value: Any) -> dict[str, Any]:
-    if not isinstance(value, Mapping):
-        raise ParameterError(f"{source}: [{name}] must be a table, got {value!r}"[:300])
-    return dict(value)
-
-
-def _unknown(source: str, where: str, table: Mapping[str, Any], allowed: set[str]) -> None:
-    for key in table:
-        if key not in allowed:
-            raise ParameterError(
-                f"{source}: unknown key {where}{key!r} (expected one of: {', '.join(sorted(allowed))})"
-            )
-
-
-def _flatten(table: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
-    items: list[tuple[str, Any]] = []
-    for key, value in table.items():
-        if isinstance(value, Mapping):
-            items += _flatten(value, f"{prefix}{key}.")
-        else:
-            items.append((f"{prefix}{key}", value))
-    return items
-
-
 def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, Any]) -> Study:
     where = f"study[{index}]"
     table = _table(source, where, table)
@@ -362,30 +334,6 @@ def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, An
     return Study(architecture=str(architecture), nominal=nominal, parameters=tuple(parameters))
 
 
-def _motions(
-    source: str, base: Path, task: Mapping[str, Any]
-) -> tuple[tuple[str, ...], tuple[Motion, ...]]:
-    _unknown(source, "task.", task, {"motions", "samples"})
-    names = task.get("motions", ["vertical", "rotation"])
-    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
-        raise ParameterError(
-            f"{source}: task.motions must be a non-empty list of paper motions "
-            f"({', '.join(PAPER_MOTIONS)}) or TRAJ.csv paths, got {names!r}"[:300]
-        )
-    samples = _integer(source, "task.samples", task.get("samples", 301), 2, MAX_SAMPLES)
-    motions = []
-    for name in names:
-        if name in PAPER_MOTIONS:
-            motions.append(paper_motion(name, samples))
-        else:
-            file = Path(name) if Path(name).is_absolute() else base / name
-            try:
-                motions.append(read_trajectory(file).motion)
-            except Prp3Error as error:
-                raise type(error)(f"{source}: task.motions {name!r}: {error}") from None
-    return tuple(names), tuple(motions)
-
-
 def family_sweep_spec(
     data: Mapping[str, Any], *, base: str | Path = ".", source: str = "SWEEP.toml"
 ) -> FamilySweepSpec:
@@ -405,17 +353,13 @@ def family_sweep_spec(
     if not isinstance(studies_table, list) or not studies_table:
         raise ParameterError(f"{source}: [[study]] must be a non-empty array of tables")
     studies = tuple(_study(source, base, i, t, shared) for i, t in enumerate(studies_table))
-    sampling = data.get("sampling", "lhs")
-    if sampling not in SAMPLINGS:
-        raise ParameterError(
-            f"{source}: unknown sampling {sampling!r} (expected one of: {', '.join(SAMPLINGS)})"
-        )
+    sampling = _sampling(source, data)
     designs = _integer(source, "designs", data.get("designs", 20), 2 if sampling == "grid" else 1,
                        100_000)  # fmt: skip
     paths: list[str] = []
     for study in studies:
         paths += [p for p in study.paths if p not in paths]
-    names, motions = _motions(source, base, _table(source, "task", data.get("task", {})))
+    names, _, motions, _ = _motions(source, base, _table(source, "task", data.get("task", {})))
     evaluator = FamilyEvaluator(studies=studies, paths=tuple(paths), motions=motions)
     optimize_table = _table(source, "optimize", data.get("optimize", {}))
     optimize_table.setdefault("objective", "peak_joint_force")

@@ -79,6 +79,60 @@ def _pose_tuple(pose: FloatArray) -> tuple[float, float, float]:
     return (float(pose[0]), float(pose[1]), float(pose[2]))
 
 
+def pose_bound_error(
+    robot: FamilyRobot, pose: FloatArray, t: FloatArray, k: int
+) -> TrajectoryError:
+    """The error of sample ``k`` beyond ``POSE_BOUND`` robot lengths or ``MAX_ORIENTATION``."""
+    bound = POSE_BOUND * robot_length(robot)
+    return TrajectoryError(
+        f"the pose {_pose_tuple(pose[k])} lies beyond {POSE_BOUND:g} robot lengths "
+        f"({bound:.6g} m) of the centre, or |phi| > {MAX_ORIENTATION:g} rad",
+        subject="motion",
+        sample=k,
+        time=float(t[k]),
+        pose=_pose_tuple(pose[k]),
+    )
+
+
+def unreachable_error(
+    robot: FamilyRobot, leg: int, where: FloatArray, note: str, k: int, t: FloatArray
+) -> UnreachablePoseError:
+    """The error of leg ``leg`` whose closure has no solution at the pose ``where``
+    (sample ``k``, or ``note`` says on the way to it)."""
+    return UnreachablePoseError(
+        f"leg {LEGS[leg]} cannot reach the pose {_pose_tuple(where)}{note} "
+        f"(the {robot.architecture}'s closure has no real solution)",
+        sample=k,
+        time=float(t[k]),
+        leg=LEGS[leg],
+        pose=_pose_tuple(where),
+    )
+
+
+def singular_error(
+    name: str,
+    measure: float,
+    where: FloatArray,
+    pose: FloatArray,
+    t: FloatArray,
+    k: int,
+    leg: str | None,
+    at_home: float,
+) -> SingularPoseError:
+    """The error of the measure ``name`` (``measure``, sign ``at_home`` at home) below
+    :data:`SINGULAR` at the pose ``where``: sample ``k`` of ``pose`` or on the way to it."""
+    between = "" if np.array_equal(where[:3], pose[k]) else f" on the way to sample {k}"
+    return SingularPoseError(
+        f"{name} = {measure:.6g} at the pose {_pose_tuple(where)}{between}: a singular "
+        f"pose, or a singularity crossed since home (its sign at home is "
+        f"{'+' if at_home > 0 else '-'}; refused below {SINGULAR:g})",
+        sample=k,
+        time=float(t[k]),
+        leg=leg,
+        pose=_pose_tuple(where),
+    )
+
+
 @dataclass(frozen=True)
 class Geometry:
     """The reported closure solution of every leg and the measures (batch ``N``)."""
@@ -141,15 +195,7 @@ def check_poses(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> None:
     bound = POSE_BOUND * robot_length(robot)
     bad = (np.abs(pose[:, :2]) > bound).any(axis=1) | (np.abs(pose[:, 2]) > MAX_ORIENTATION)
     if bad.any():
-        k = int(np.argmax(bad))
-        raise TrajectoryError(
-            f"the pose {_pose_tuple(pose[k])} lies beyond {POSE_BOUND:g} robot lengths "
-            f"({bound:.6g} m) of the centre, or |phi| > {MAX_ORIENTATION:g} rad",
-            subject="motion",
-            sample=k,
-            time=float(t[k]),
-            pose=_pose_tuple(pose[k]),
-        )
+        raise pose_bound_error(robot, pose, t, int(np.argmax(bad)))
 
 
 def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geometry:
@@ -205,14 +251,7 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
             i = int(np.argmax(lost))
             k = int(sample_of[i])
             note = "" if i in at else f" on the way to sample {k}"
-            raise UnreachablePoseError(
-                f"leg {LEGS[j]} cannot reach the pose {_pose_tuple(path[i])}{note} "
-                f"(the {robot.architecture}'s closure has no real solution)",
-                sample=k,
-                time=float(t[k]),
-                leg=LEGS[j],
-                pose=_pose_tuple(path[i]),
-            )
+            raise unreachable_error(robot, j, path[i], note, k, t)
         if revolute:  # R angles: continuous from home along the path (docs/family.md §5)
             turns = home[revolute].sum() - (robot.home_poses[j, 2] - geometry.total)
             offset = 2.0 * math.pi * round(turns / (2.0 * math.pi))
@@ -244,16 +283,7 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
         )
     if failures:
         k, name, measure, where, leg, at_home = min(failures, key=lambda item: item[0])
-        between = "" if np.array_equal(where, pose[k]) else f" on the way to sample {k}"
-        raise SingularPoseError(
-            f"{name} = {measure:.6g} at the pose {_pose_tuple(where)}{between}: a singular "
-            f"pose, or a singularity crossed since home (its sign at home is "
-            f"{'+' if at_home > 0 else '-'}; refused below {SINGULAR:g})",
-            sample=k,
-            time=float(t[k]),
-            leg=leg,
-            pose=_pose_tuple(where),
-        )
+        raise singular_error(name, measure, where, pose, t, k, leg, at_home)
     frames = leg_chain(types, placements, SIGMA, q)
     hat = leg_jacobian(types, frames, pose[:, None, :2], scale)
     mu_leg = leg_measure(hat)

@@ -62,16 +62,16 @@ from numpy.typing import NDArray
 
 from ..errors import ParameterError, Prp3Error
 from ..mjcf import (
-    INERTIA_FLOOR,
+    _SENSORS,
     MUJOCO_MIN_VALUE,
-    TIMESTEP,
-    WELD_SOLIMP,
-    WELD_SOLREF,
     MjcfWarning,
+    _inertial,
     _num,
     _payload_body,
+    _preamble,
     _quat_z,
     _vec,
+    _welds_motors_load,
 )
 from ..motion import Motion
 from ..validation import LEGS, check_instance
@@ -133,18 +133,6 @@ def weld_relpose(robot: FamilyRobot, leg: int) -> tuple[float, float, float]:
         float(relative[0, 2]),
         float(relative[1, 2]),
         float(SIGMA[leg]),  # the rotation part of T_P·Rot(σ)·T_P⁻¹ is Rot(σ)
-    )
-
-
-def _inertial(
-    mass: float, com: tuple[float, float], izz: float, scale: float, angle: float = 0.0
-) -> str:
-    izz = max(izz, INERTIA_FLOOR * mass * scale * scale, MUJOCO_MIN_VALUE)
-    moments = _vec(izz, izz, izz)
-    turn = f' quat="{_quat_z(angle)}"' if angle != 0.0 else ""
-    return (
-        f'<inertial pos="{_vec(com[0], com[1], 0.0)}"{turn} mass="{_num(mass)}" '
-        f'diaginertia="{moments}"/>'
     )
 
 
@@ -232,24 +220,16 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
     size = scale / 60.0
     gx, gy = robot.gravity
     a_p, b_p, gamma_p = robot.leg.attachment
-    lines: list[str] = [
-        '<mujoco model="prp3">',
-        f"  <!-- {robot.architecture} planar parallel robot (actuated joint {robot.actuated}),",
-        "       written by prp3 (docs/family.md). Plane x-y, z out of the plane. Joints (qpos):",
-        "       q1_i, q2_i, q3_i of leg i = the family's q1, q2, q3 (rad for R, m for P).",
-        f"       Motors actuator_i: ctrl = tau_i on q{robot.actuated}_i. The platform is three",
-        "       welded thirds platform_A/B/C (each m/3, I/3 at G). Geoms are drawings only. -->",
-        '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>',
-        f'  <option timestep="{_num(TIMESTEP)}" integrator="RK4" gravity="{_vec(gx, gy, 0.0)}">',
-        '    <flag contact="disable"/>',
-        "  </option>",
-        "  <default>",
-        '    <geom contype="0" conaffinity="0" group="1"/>',
-        '    <joint damping="0" armature="0" frictionloss="0"/>',
-        "  </default>",
-        "  <worldbody>",
-        '    <light pos="0 0 3" dir="0 0 -1"/>',
-    ]
+    lines = _preamble(
+        [
+            f"  <!-- {robot.architecture} planar parallel robot (actuated joint {robot.actuated}),",
+            "       written by prp3 (docs/family.md). Plane x-y, z out of the plane. Joints (qpos):",
+            "       q1_i, q2_i, q3_i of leg i = the family's q1, q2, q3 (rad for R, m for P).",
+            f"       Motors actuator_i: ctrl = tau_i on q{robot.actuated}_i. The platform is three",
+            "       welded thirds platform_A/B/C (each m/3, I/3 at G). Geoms are drawings only. -->",
+        ],
+        (gx, gy),
+    )
     bodies = (
         ("link1", robot.link1.mass, robot.link1.com, robot.link1.inertia, "0.2 0.4 0.8 1"),
         ("link2", robot.link2.mass, robot.link2.com, robot.link2.inertia, "0.9 0.6 0.1 1"),
@@ -283,31 +263,12 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
             body[0] = f'{inner}<body name="payload" pos="{_vec(at[0], at[1], 0.0)}">'
             lines += body
         lines += opened[::-1]
-    lines += ["  </worldbody>", "  <equality>"]
-    solref, solimp = _vec(*WELD_SOLREF), _vec(*WELD_SOLIMP)
+    welds = []
     for j in (1, 2):
         x, y, angle = weld_relpose(robot, j)
-        quat = _quat_z(angle)
-        lines.append(
-            f'    <weld name="weld_A{LEGS[j]}" body1="platform_A" body2="platform_{LEGS[j]}" '
-            f'relpose="{_vec(x, y, 0.0)} {quat}" solref="{solref}" solimp="{solimp}"/>'
-        )
-    lines += ["  </equality>", "  <actuator>"]
-    for leg in LEGS:
-        lines.append(
-            f'    <motor name="actuator_{leg}" joint="q{robot.actuated}_{leg}" gear="1" '
-            'ctrllimited="false"/>'
-        )
-    lines.append("  </actuator>")
-    if robot.load.present:
-        fx, fy = robot.load.force
-        lines += [
-            "  <custom>",
-            "    <!-- the constant [load] (N, N, N m): not applied by MuJoCo; set",
-            "         data.xfrc_applied[platform_A] = (F_x, F_y, 0, 0, 0, M_z) -->",
-            f'    <numeric name="prp3_load" data="{_vec(fx, fy, robot.load.moment)}"/>',
-            "  </custom>",
-        ]
+        welds.append((LEGS[j], f"{_vec(x, y, 0.0)} {_quat_z(angle)}"))
+    motors = [f"q{robot.actuated}_{leg}" for leg in LEGS]
+    lines += _welds_motors_load(welds, motors, robot.load)
     closed = closed_configuration(robot)
     if closed is not None:
         lines += [
@@ -315,11 +276,5 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
             f'    <key name="closed" qpos="{_vec(*closed)}"/>',
             "  </keyframe>",
         ]
-    lines += [
-        "  <sensor>",
-        '    <framepos name="platform_position" objtype="body" objname="platform_A"/>',
-        '    <framequat name="platform_orientation" objtype="body" objname="platform_A"/>',
-        "  </sensor>",
-        "</mujoco>",
-    ]
+    lines += _SENSORS
     return "\n".join(lines) + "\n"

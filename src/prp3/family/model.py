@@ -31,7 +31,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import ParameterError
-from ..model import Load, Payload, Robot, read_toml
+from ..model import (
+    Load,
+    Payload,
+    Robot,
+    _check_parts,
+    _fmt,
+    _pair,
+    _payload_load_toml,
+    _table,
+    _toml_line,
+    _toml_list,
+    parse_located,
+    read_toml,
+)
 from ..validation import check_choice, check_integer, check_scalar
 from .chain import (
     SIGMA,
@@ -115,17 +128,6 @@ def _triple(where: str, value: Any) -> Triple:
         )
     a, b, c = (check_scalar(f"{where}[{i}]", value[i], subject="robot") for i in range(3))
     return (a, b, c)
-
-
-def _pair(where: str, value: Any) -> tuple[float, float]:
-    if not isinstance(value, list | tuple | np.ndarray) or len(value) != 2:
-        raise ParameterError(
-            f"{where} must be a pair of numbers [a, b], got {value!r}"[:200],
-            subject="robot",
-            key=where,
-        )
-    a, b = (check_scalar(f"{where}[{i}]", value[i], subject="robot") for i in range(2))
-    return (a, b)
 
 
 def _non_negative(where: str, value: Any, unit: str) -> float:
@@ -242,20 +244,17 @@ class FamilyRobot:
     def __post_init__(self) -> None:
         check_choice("architecture", self.architecture, ARCHITECTURES)
         check_integer("actuated", self.actuated, 1, 3, subject="robot")
-        for name, kind in (
-            ("leg", LegDesign),
-            ("link1", Body),
-            ("link2", Body),
-            ("platform", PlatformBody),
-            ("payload", Payload),
-            ("load", Load),
-        ):
-            if not isinstance(getattr(self, name), kind):
-                raise ParameterError(
-                    f"{name} must be a {kind.__name__}, got {getattr(self, name)!r}"[:200],
-                    subject="robot",
-                    key=name,
-                )
+        _check_parts(
+            self,
+            (
+                ("leg", LegDesign),
+                ("link1", Body),
+                ("link2", Body),
+                ("platform", PlatformBody),
+                ("payload", Payload),
+                ("load", Load),
+            ),
+        )
         object.__setattr__(self, "gravity", _pair("gravity", self.gravity))
         passive = [self.types[k] for k in range(3) if k != self.actuated - 1]
         if passive == ["P", "P"]:
@@ -357,7 +356,7 @@ class FamilyRobot:
         ...
         prp3.errors.ParameterError: robot: key 'l0' belongs to model form (the 3-PRP file of docs/model.md); a family-form robot file (architecture, actuated, [leg], [link1], [link2]) does not accept it
         """
-        top = _table("", data, FAMILY_KEYS)
+        top = _table("", data, FAMILY_KEYS, _model_only)
         architecture = top.get("architecture", "3-PRP")
         if not isinstance(architecture, str) or architecture not in ARCHITECTURES:
             raise ParameterError(
@@ -396,11 +395,7 @@ class FamilyRobot:
     def from_toml(cls, path: str | Path) -> FamilyRobot:
         """Read a family-form ``ROBOT.toml`` (errors name the file and the key)."""
         path = Path(path)
-        data = read_toml(path, "robot")
-        try:
-            return cls.from_mapping(data)
-        except ParameterError as error:
-            raise error.located(file=path) from None
+        return parse_located(path, cls.from_mapping, read_toml(path, "robot"))
 
     def to_toml(self) -> str:
         """The robot as family-form ``ROBOT.toml`` text (round-trips through :meth:`from_mapping`).
@@ -416,29 +411,16 @@ class FamilyRobot:
 _LEG_KEYS: tuple[str, ...] = ("joint1", "joint2", "joint3", "attachment", "home", "scale")
 
 
-def _table(name: str, value: Any, allowed: tuple[str, ...]) -> dict[str, Any]:
-    if not isinstance(value, Mapping):
-        what = f"[{name}]" if name else "the robot description"
+def _model_only(key: str, dotted: str) -> None:
+    """Refuse a key of model form (the 3-PRP file) at the top of a family-form file."""
+    if key in MODEL_ONLY_KEYS:
+        shown = f"[{key}]" if key != "l0" else "'l0'"
         raise ParameterError(
-            f"{what} must be a table of keys, got {value!r}"[:200], subject="robot", key=name
+            f"key {shown} belongs to model form (the 3-PRP file of docs/model.md); a family-form robot file (architecture, "
+            "actuated, [leg], [link1], [link2]) does not accept it",
+            subject="robot",
+            key=dotted,
         )
-    for key in value:
-        dotted = f"{name}.{key}" if name else str(key)
-        if not name and key in MODEL_ONLY_KEYS:
-            shown = f"[{key}]" if key != "l0" else "'l0'"
-            raise ParameterError(
-                f"key {shown} belongs to model form (the 3-PRP file of docs/model.md); a family-form robot file (architecture, "
-                "actuated, [leg], [link1], [link2]) does not accept it",
-                subject="robot",
-                key=dotted,
-            )
-        if key not in allowed:
-            raise ParameterError(
-                f"unknown key {dotted[:60]!r} (expected one of: {', '.join(sorted(allowed))})",
-                subject="robot",
-                key=dotted,
-            )
-    return dict(value)
 
 
 def robot_file_form(data: Mapping[str, Any]) -> Literal["model", "family"]:
@@ -466,18 +448,9 @@ def read_robot_file(path: str | Path) -> Robot | FamilyRobot:
     path = Path(path)
     data = read_toml(path, "robot")
     if robot_file_form(data) == "family":
-        try:
-            return FamilyRobot.from_mapping(data)
-        except ParameterError as error:
-            raise error.located(file=path) from None
-    try:
-        return Robot.from_mapping({k: v for k, v in data.items() if k != "architecture"})
-    except ParameterError as error:
-        raise error.located(file=path) from None
-
-
-def _fmt(value: float) -> str:
-    return repr(float(value))
+        return parse_located(path, FamilyRobot.from_mapping, data)
+    model_form = {k: v for k, v in data.items() if k != "architecture"}
+    return parse_located(path, Robot.from_mapping, model_form)
 
 
 _ARCH_NOTE = {
@@ -508,10 +481,9 @@ def family_template(robot: FamilyRobot | str | None = None, *, comments: bool = 
         raise ParameterError(f"robot must be a FamilyRobot, got {robot!r}"[:200], key="robot")
 
     def line(key: str, value: str, comment: str) -> str:
-        return f"{key} = {value}" + (f"  # {comment}" if comments else "")
+        return _toml_line(key, value, comment, comments)
 
-    def values(items: tuple[float, ...]) -> str:
-        return "[" + ", ".join(_fmt(v) for v in items) + "]"
+    values = _toml_list
 
     leg = robot.leg
     units = ["m" if kind == "P" else "rad" for kind in robot.types]
@@ -553,15 +525,5 @@ def family_template(robot: FamilyRobot | str | None = None, *, comments: bool = 
         line("mass", _fmt(robot.platform.mass), "kg"),
         line("inertia", _fmt(robot.platform.inertia), "kg m^2, I_zz about G"),
     ]
-    payload, load = robot.payload, robot.load
-    if payload != Payload() or comments:
-        out += ["", "[payload]" + ("  # a rigid body fixed to the platform" if comments else "")]
-        out.append(line("mass", _fmt(payload.mass), "kg"))
-        out.append(line("com", values(payload.com), "m, its mass centre from G, platform frame"))
-        out.append(line("inertia", _fmt(payload.inertia), "kg m^2, I_zz about its mass centre"))
-    if load != Load() or comments:
-        heading = "  # constant wrench of the environment on the platform" if comments else ""
-        out += ["", "[load]" + heading]
-        out.append(line("force", values(load.force), "N, at G, fixed frame"))
-        out.append(line("moment", _fmt(load.moment), "N m, about z0"))
+    out += _payload_load_toml(robot.payload, robot.load, comments)
     return "\n".join(out) + "\n"

@@ -30,6 +30,16 @@ if TYPE_CHECKING:
 __all__ = ["family_workspace_figure", "save_family_workspace_map"]
 
 
+def _map_axes(ax: Axes, ws: FamilyWorkspace) -> None:
+    """A map panel's frame: the centre marked ``+``, equal axes over the grid, in metres."""
+    ax.plot(0.0, 0.0, marker="+", color="black", markersize=9)
+    ax.set_aspect("equal")
+    ax.set_xlim(ws.x[0], ws.x[-1])
+    ax.set_ylim(ws.y[0], ws.y[-1])
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+
+
 def _measure_panel(
     figure: Figure,
     ax: Axes,
@@ -47,12 +57,7 @@ def _measure_panel(
     if np.isfinite(values).any() and np.nanmin(signed) < 0.0 < np.nanmax(signed):
         ax.contour(ws.x, ws.y, np.ma.filled(signed, np.nan), levels=[0.0], colors="black",
                    linewidths=1.2)  # fmt: skip
-    ax.plot(0.0, 0.0, marker="+", color="black", markersize=9)
-    ax.set_aspect("equal")
-    ax.set_xlim(ws.x[0], ws.x[-1])
-    ax.set_ylim(ws.y[0], ws.y[-1])
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    _map_axes(ax, ws)
     ax.set_title(title, fontsize=9)
     figure.colorbar(mesh, ax=ax, shrink=0.85, label="measure × its home sign")
 
@@ -90,12 +95,7 @@ def family_workspace_figure(
     shade = np.where(ws.regular, 2.0, np.where(ws.reachable, 1.0, 0.0))
     colours = ListedColormap([cm_grey(), (0.95, 0.75, 0.6, 1.0), (0.55, 0.75, 0.9, 1.0)])
     ax.pcolormesh(ws.x, ws.y, shade, cmap=colours, vmin=-0.5, vmax=2.5, shading="nearest")
-    ax.plot(0.0, 0.0, marker="+", color="black", markersize=9)
-    ax.set_aspect("equal")
-    ax.set_xlim(ws.x[0], ws.x[-1])
-    ax.set_ylim(ws.y[0], ws.y[-1])
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    _map_axes(ax, ws)
     ax.set_title(
         f"regular region: {ws.regular_area:.4g} m² (reachable {ws.area:.4g} m², grid counts)",
         fontsize=9,
