@@ -37,6 +37,7 @@ from ..geometry import LEGS
 from ..model import Robot
 from ..motion import Motion
 from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+from .page import _COPY_FRAME, _PLAY, _UNBUNDLE, MAX_CURVE_POINTS, MAX_HTML_FRAMES, _escape, _table
 from .scene import (
     ARROWS,
     DESIGN_PARAMETERS,
@@ -74,53 +75,8 @@ FloatArray = NDArray[np.float64]
 DEFAULT_HOST: str = "127.0.0.1"
 DEFAULT_PORT: int = 8765
 
-#: Largest number of frames of the robot in an HTML file of a run.
-MAX_HTML_FRAMES: int = 200
-#: Largest number of points of each curve of the linked plots.
-MAX_CURVE_POINTS: int = 2000
 #: The per-leg quantities of the linked plots against time.
 PLOTTED: tuple[str, ...] = ("f10", "f21y", "f21z", "n32")
-
-#: Copies frame ``k`` of every frame source into its drawn source (the only JavaScript).
-_COPY_FRAME = """
-const k = Math.round(slider.value);
-for (const [name, target] of Object.entries(targets)) {
-  const frames = sources[name];
-  const data = {};
-  for (const column of Object.keys(frames.data)) data[column] = frames.data[column][k];
-  target.data = data;
-}
-table.view.change.emit();  // a DataTable redraws on a change of its view only
-for (const span of spans) span.location = times[k];
-slider.title = "t = " + times[k].toFixed(3) + " s";
-"""
-
-#: Copies the columns of the one row of the server's bundle into the drawn sources.
-_UNBUNDLE = """
-const data = bundle.data instanceof Map ? Object.fromEntries(bundle.data) : bundle.data;
-const grouped = {};
-for (const [key, values] of Object.entries(data)) {
-  const [name, column] = key.split("|");
-  (grouped[name] = grouped[name] || {})[column] = values[0];
-}
-for (const [name, columns] of Object.entries(grouped)) targets[name].data = columns;
-// BokehJS redraws a DataTable when its view's rows change, not when the data of the same
-// rows does: tell it
-if ("values" in grouped) table.view.change.emit();
-"""
-
-#: Steps the scrubber while the play button is down (the browser's timer; no computation).
-_PLAY = """
-if (toggle.active) {
-  toggle.label = "❚❚ pause";
-  window._prp3_timer = setInterval(() => {
-    slider.value = slider.value >= slider.end ? slider.start : slider.value + 1;
-  }, period);
-} else {
-  toggle.label = "▶ play";
-  clearInterval(window._prp3_timer);
-}
-"""
 
 
 def require_bokeh(what: str = "prp3 explore") -> None:
@@ -359,27 +315,6 @@ def _robot_figure(
         ),
     )
     return fig, column(key, toggles)
-
-
-def _table(source: Any) -> Any:
-    from bokeh.models import DataTable, NumberFormatter, TableColumn
-
-    number = NumberFormatter(format="0.0000")
-    columns = [
-        TableColumn(field="quantity", title="quantity", width=62),
-        TableColumn(field="unit", title="unit", width=40),
-        *(TableColumn(field=leg, title=f"leg {leg}", formatter=number, width=72) for leg in LEGS),
-    ]
-    return DataTable(
-        source=source,
-        columns=columns,
-        name="table",
-        width=330,
-        height=330,
-        index_position=None,
-        reorderable=False,
-        autosize_mode="none",  # no measuring of the texts at every update
-    )
 
 
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:
@@ -790,12 +725,6 @@ def _run_widgets(
     play.on_change("active", on_play)
     doc.add_next_tick_callback(lambda: to_sample(0))
     return [column(*plots)], row(scrubber, play)
-
-
-def _escape(text: str) -> str:
-    import html
-
-    return html.escape(text)
 
 
 # ---------------------------------------------------------------- the HTML file of a run

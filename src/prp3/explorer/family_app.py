@@ -30,7 +30,6 @@ from ..errors import Prp3Error
 from ..family import FamilyRobot
 from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 from ..validation import LEGS
-from .app import _COPY_FRAME, _PLAY, _UNBUNDLE, MAX_CURVE_POINTS, MAX_HTML_FRAMES, _escape, _table
 from .family_scene import (
     FAMILY_ARROWS,
     FAMILY_DESIGN_PARAMETERS,
@@ -40,6 +39,7 @@ from .family_scene import (
     family_design_values,
     family_extent,
 )
+from .page import _COPY_FRAME, _PLAY, _UNBUNDLE, MAX_CURVE_POINTS, MAX_HTML_FRAMES, _escape, _table
 from .scene import LEG_COLOURS, MOTION_CONTROLS, Columns, State, View, empty_view
 
 __all__ = ["family_document", "family_run_html"]
@@ -482,7 +482,7 @@ def _time_plots(table: Mapping[str, FloatArray]) -> tuple[list[Any], list[Any]]:
 def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
     """One self-contained HTML page of a family run (the 64 columns of ``results.csv``).
 
-    At most :data:`~prp3.explorer.app.MAX_HTML_FRAMES` frames of
+    At most :data:`~prp3.explorer.page.MAX_HTML_FRAMES` frames of
     :func:`~prp3.explorer.family_scene.family_view`, precomputed; the scrubber
     and the play button only pick a frame.  Bokeh's JavaScript is inline: it
     opens offline.
