@@ -93,7 +93,7 @@ def open_loop() -> None:
         for pose in prp3.paper_motion(name, samples=31).pose
     ]
     print(f"growth rate held at rest: {central:.1f} 1/s at the central pose, "
-          f"{min(rates):.1f} to {max(rates):.1f} 1/s along the paper's motions")  # fmt: skip
+          f"{min(rates):.1f} to {max(rates):.1f} 1/s at the poses of the paper's motions")  # fmt: skip
     reference = law_at(PAPER_MOTIONS["rotation"], control_times(0.0, PAPER_DURATION, 1000.0))
     run = track(PAPER, reference, controller="feedforward", plant="prp3")
     print("feed-forward, exact forces, 1 kHz hold, rotation motion, no stroke:")
