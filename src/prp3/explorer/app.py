@@ -37,7 +37,16 @@ from ..geometry import LEGS
 from ..model import Robot
 from ..motion import Motion
 from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
-from .page import _COPY_FRAME, _PLAY, _UNBUNDLE, MAX_CURVE_POINTS, MAX_HTML_FRAMES, _escape, _table
+from .page import (
+    _COPY_FRAME,
+    _PLAY,
+    _UNBUNDLE,
+    MAX_CURVE_POINTS,
+    MAX_HTML_FRAMES,
+    _escape,
+    _table,
+    arrow_layers,
+)
 from .scene import (
     ARROWS,
     DESIGN_PARAMETERS,
@@ -103,15 +112,9 @@ def _robot_figure(
     (painted once, not at every update of the robot's figure) and check boxes that show or
     hide the arrows of each quantity.
     """
-    from bokeh.layouts import column
     from bokeh.models import (
-        CDSView,
-        CheckboxGroup,
         ColorBar,
         ColumnDataSource,
-        CustomJS,
-        GroupFilter,
-        HoverTool,
         LinearColorMapper,
         Range1d,
     )
@@ -256,65 +259,7 @@ def _robot_figure(
         legend="payload",
     )
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
-    groups: list[list[Any]] = []
-    for quantity, (label, colour) in ARROWS.items():
-        view = CDSView(filter=GroupFilter(column_name="quantity", group=quantity))
-        segment = draw(
-            "segment",
-            "x0",
-            "y0",
-            "x1",
-            "y1",
-            source=sources["arrows"],
-            view=view,
-            line_color=colour,
-            line_width=2.5,
-            legend=label,
-        )
-        head = draw(
-            "scatter",
-            "x1",
-            "y1",
-            angle="angle",
-            marker="triangle",
-            size=10,
-            source=sources["arrows"],
-            view=view,
-            color=colour,
-            legend=label,
-        )
-        groups.append([segment, head])
-        fig.add_tools(
-            HoverTool(
-                renderers=[segment],
-                tooltips=[
-                    ("", "@quantity leg @leg"),
-                    ("|F|", "@value{0.000} N"),
-                    ("Fx, Fy", "@fx{0.000}, @fy{0.000} N"),
-                ],
-            )
-        )
-    legend = key.legend[0]
-    legend.location = "top_left"
-    legend.label_text_font_size = "8pt"
-    legend.ncols = 2
-    legend.spacing = 0
-    legend.padding = 2
-    legend.border_line_color = None
-    toggles = CheckboxGroup(
-        labels=[f"{quantity} arrows" for quantity in ARROWS],
-        active=list(range(len(ARROWS))),
-        inline=True,
-        name="arrow_toggles",
-    )
-    toggles.js_on_change(
-        "active",
-        CustomJS(
-            args={"groups": groups, "box": toggles},
-            code="groups.forEach((rs, i) => rs.forEach((r) => { r.visible = box.active.includes(i); }));",
-        ),
-    )
-    return fig, column(key, toggles)
+    return fig, arrow_layers(fig, key, draw, sources["arrows"], ARROWS)
 
 
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:

@@ -39,7 +39,16 @@ from .family_scene import (
     family_design_values,
     family_extent,
 )
-from .page import _COPY_FRAME, _PLAY, _UNBUNDLE, MAX_CURVE_POINTS, MAX_HTML_FRAMES, _escape, _table
+from .page import (
+    _COPY_FRAME,
+    _PLAY,
+    _UNBUNDLE,
+    MAX_CURVE_POINTS,
+    MAX_HTML_FRAMES,
+    _escape,
+    _table,
+    arrow_layers,
+)
 from .scene import LEG_COLOURS, MOTION_CONTROLS, Columns, State, View, empty_view
 
 __all__ = ["family_document", "family_run_html"]
@@ -54,8 +63,7 @@ SCENE = FamilyScene()
 
 def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
     """The robot to scale with its force arrows, and its key (a legend and check boxes)."""
-    from bokeh.layouts import column
-    from bokeh.models import CDSView, CheckboxGroup, CustomJS, GroupFilter, HoverTool, Range1d
+    from bokeh.models import Range1d
     from bokeh.plotting import figure
 
     half = family_extent(robot)
@@ -182,67 +190,9 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
         legend="payload",
     )
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
-    groups: list[list[Any]] = []
     present = [q for q in FAMILY_ARROWS if q in sources["arrows"].data["quantity"]]
-    for quantity in present:
-        label, colour = FAMILY_ARROWS[quantity]
-        view = CDSView(filter=GroupFilter(column_name="quantity", group=quantity))
-        segment = draw(
-            "segment",
-            "x0",
-            "y0",
-            "x1",
-            "y1",
-            source=sources["arrows"],
-            view=view,
-            line_color=colour,
-            line_width=2.5,
-            legend=label,
-        )
-        head = draw(
-            "scatter",
-            "x1",
-            "y1",
-            angle="angle",
-            marker="triangle",
-            size=10,
-            source=sources["arrows"],
-            view=view,
-            color=colour,
-            legend=label,
-        )
-        groups.append([segment, head])
-        fig.add_tools(
-            HoverTool(
-                renderers=[segment],
-                tooltips=[
-                    ("", "@quantity leg @leg"),
-                    ("|F|", "@value{0.000} N"),
-                    ("Fx, Fy", "@fx{0.000}, @fy{0.000} N"),
-                ],
-            )
-        )
-    legend = key.legend[0]
-    legend.location = "top_left"
-    legend.label_text_font_size = "8pt"
-    legend.ncols = 2
-    legend.spacing = 0
-    legend.padding = 2
-    legend.border_line_color = None
-    toggles = CheckboxGroup(
-        labels=[f"{quantity} arrows" for quantity in present],
-        active=list(range(len(present))),
-        inline=True,
-        name="arrow_toggles",
-    )
-    toggles.js_on_change(
-        "active",
-        CustomJS(
-            args={"groups": groups, "box": toggles},
-            code="groups.forEach((rs, i) => rs.forEach((r) => { r.visible = box.active.includes(i); }));",
-        ),
-    )
-    return fig, column(key, toggles)
+    arrows = {quantity: FAMILY_ARROWS[quantity] for quantity in present}
+    return fig, arrow_layers(fig, key, draw, sources["arrows"], arrows)
 
 
 def _measures_table(source: Any) -> Any:

@@ -8,6 +8,7 @@ functions only.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from ..geometry import LEGS
@@ -85,3 +86,77 @@ def _escape(text: str) -> str:
     import html
 
     return html.escape(text)
+
+
+def arrow_layers(
+    fig: Any, key: Any, draw: Any, source: Any, arrows: Mapping[str, tuple[str, str]]
+) -> Any:
+    """The arrows of every joint force on ``fig``, a group per quantity, and their toggles.
+
+    ``arrows`` maps a quantity of ``source`` (a column ``quantity``) to its
+    legend label and colour; ``draw`` adds a glyph to ``fig`` with its legend
+    entry in ``key``.  Returns the legend figure ``key`` with the check boxes
+    that show or hide each group (a browser-side toggle, no computation).
+    """
+    from bokeh.layouts import column
+    from bokeh.models import CDSView, CheckboxGroup, CustomJS, GroupFilter, HoverTool
+
+    groups: list[list[Any]] = []
+    for quantity, (label, colour) in arrows.items():
+        view = CDSView(filter=GroupFilter(column_name="quantity", group=quantity))
+        segment = draw(
+            "segment",
+            "x0",
+            "y0",
+            "x1",
+            "y1",
+            source=source,
+            view=view,
+            line_color=colour,
+            line_width=2.5,
+            legend=label,
+        )
+        head = draw(
+            "scatter",
+            "x1",
+            "y1",
+            angle="angle",
+            marker="triangle",
+            size=10,
+            source=source,
+            view=view,
+            color=colour,
+            legend=label,
+        )
+        groups.append([segment, head])
+        fig.add_tools(
+            HoverTool(
+                renderers=[segment],
+                tooltips=[
+                    ("", "@quantity leg @leg"),
+                    ("|F|", "@value{0.000} N"),
+                    ("Fx, Fy", "@fx{0.000}, @fy{0.000} N"),
+                ],
+            )
+        )
+    legend = key.legend[0]
+    legend.location = "top_left"
+    legend.label_text_font_size = "8pt"
+    legend.ncols = 2
+    legend.spacing = 0
+    legend.padding = 2
+    legend.border_line_color = None
+    toggles = CheckboxGroup(
+        labels=[f"{quantity} arrows" for quantity in arrows],
+        active=list(range(len(arrows))),
+        inline=True,
+        name="arrow_toggles",
+    )
+    toggles.js_on_change(
+        "active",
+        CustomJS(
+            args={"groups": groups, "box": toggles},
+            code="groups.forEach((rs, i) => rs.forEach((r) => { r.visible = box.active.includes(i); }));",
+        ),
+    )
+    return column(key, toggles)
