@@ -33,7 +33,6 @@ from numpy.typing import NDArray
 from ..errors import Prp3Error
 from ..family import FamilyRobot
 from ..files import atomic_writer
-from ..geometry import LEGS
 from ..model import Robot
 from ..motion import Motion
 from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
@@ -41,16 +40,15 @@ from .page import (
     _COPY_FRAME,
     _PLAY,
     _UNBUNDLE,
-    MAX_CURVE_POINTS,
     MAX_HTML_FRAMES,
     _escape,
     _table,
     arrow_layers,
+    time_plots,
 )
 from .scene import (
     ARROWS,
     DESIGN_PARAMETERS,
-    LEG_COLOURS,
     MOTION_CONTROLS,
     PRP3_SCENE,
     Columns,
@@ -295,47 +293,6 @@ def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[A
     )
     fig.scatter("phi", "measure", source=marker, size=10, color="#d62728")
     return fig, marker
-
-
-def _time_plots(table: Mapping[str, FloatArray]) -> tuple[list[Any], Any]:
-    """f10, f21y, f21z, n32 of the three legs against time, one shared time line (a Span)."""
-    from bokeh.models import Span
-    from bokeh.plotting import figure
-
-    t = np.asarray(table["t"])
-    kept = frame_indices(t.size, MAX_CURVE_POINTS)
-    spans: list[Any] = []
-    figures: list[Any] = []
-    x_range = None
-    for quantity in PLOTTED:
-        fig = figure(
-            title=f"{quantity} (N)",
-            width=330,
-            height=140,
-            tools="xpan,xwheel_zoom,reset",
-            toolbar_location=None,
-            **({"x_range": x_range} if x_range is not None else {}),
-        )
-        fig.title.text_font_size = "9pt"
-        x_range = fig.x_range
-        for leg in LEGS:
-            fig.line(
-                t[kept],
-                np.asarray(table[f"{quantity}_{leg}"])[kept],
-                color=LEG_COLOURS[leg],
-                legend_label=leg,
-            )
-        legend = fig.legend[0]
-        legend.label_text_font_size = "8pt"
-        legend.padding = 2
-        legend.spacing = 0
-        fig.add_layout(legend, "right")
-        span = Span(location=float(t[0]), dimension="height", line_color="black", line_width=1)
-        fig.add_layout(span)
-        spans.append(span)
-        figures.append(fig)
-    figures[-1].xaxis.axis_label = "t (s)"
-    return figures, spans
 
 
 def _empty_overlay() -> dict[str, Columns]:
@@ -630,7 +587,7 @@ def _run_widgets(
         show_value=False,
     )
     play = Toggle(label="▶ play", name="play", width=90)
-    plots, spans = _time_plots(run.table)
+    plots, spans = time_plots(run.table, {q: f"{q} (N)" for q in PLOTTED})
     period = max(40, int(1000 * float(t[-1] - t[0]) / max(samples - 1, 1)))
     stride = max(1, round(40 / (1000 * float(t[-1] - t[0]) / max(samples - 1, 1))))
 
@@ -719,7 +676,7 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
         )
         targets[name] = sources[name]
     fig, key = _robot_figure(robot, sources, overlay=False)
-    plots, spans = _time_plots(table)
+    plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
     times = [float(v) for v in t[frames]]
     slider = Slider(
         start=0,

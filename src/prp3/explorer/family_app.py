@@ -29,7 +29,6 @@ from numpy.typing import NDArray
 from ..errors import Prp3Error
 from ..family import FamilyRobot
 from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
-from ..validation import LEGS
 from .family_scene import (
     FAMILY_ARROWS,
     FAMILY_DESIGN_PARAMETERS,
@@ -43,13 +42,13 @@ from .page import (
     _COPY_FRAME,
     _PLAY,
     _UNBUNDLE,
-    MAX_CURVE_POINTS,
     MAX_HTML_FRAMES,
     _escape,
     _table,
     arrow_layers,
+    time_plots,
 )
-from .scene import LEG_COLOURS, MOTION_CONTROLS, Columns, State, View, empty_view
+from .scene import MOTION_CONTROLS, Columns, State, View, empty_view
 
 __all__ = ["family_document", "family_run_html"]
 
@@ -389,46 +388,6 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
     update()
 
 
-def _time_plots(table: Mapping[str, FloatArray]) -> tuple[list[Any], list[Any]]:
-    from bokeh.models import Span
-    from bokeh.plotting import figure
-
-    t = np.asarray(table["t"])
-    kept = frame_indices(t.size, MAX_CURVE_POINTS)
-    spans: list[Any] = []
-    figures: list[Any] = []
-    x_range = None
-    for quantity in FAMILY_PLOTTED:
-        fig = figure(
-            title=quantity,
-            width=330,
-            height=140,
-            tools="xpan,xwheel_zoom,reset",
-            toolbar_location=None,
-            **({"x_range": x_range} if x_range is not None else {}),
-        )
-        fig.title.text_font_size = "9pt"
-        x_range = fig.x_range
-        for leg in LEGS:
-            fig.line(
-                t[kept],
-                np.asarray(table[f"{quantity}_{leg}"])[kept],
-                color=LEG_COLOURS[leg],
-                legend_label=leg,
-            )
-        legend = fig.legend[0]
-        legend.label_text_font_size = "8pt"
-        legend.padding = 2
-        legend.spacing = 0
-        fig.add_layout(legend, "right")
-        span = Span(location=float(t[0]), dimension="height", line_color="black", line_width=1)
-        fig.add_layout(span)
-        spans.append(span)
-        figures.append(fig)
-    figures[-1].xaxis.axis_label = "t (s)"
-    return figures, spans
-
-
 def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
     """One self-contained HTML page of a family run (the 64 columns of ``results.csv``).
 
@@ -455,7 +414,7 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
         for name in views[0].sources()
     }
     fig, key = _figure(robot, sources)
-    plots, spans = _time_plots(table)
+    plots, spans = time_plots(table, {q: q for q in FAMILY_PLOTTED})
     times = [float(v) for v in t[frames]]
     slider = Slider(
         start=0,

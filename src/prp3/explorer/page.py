@@ -11,7 +11,11 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+import numpy as np
+
 from ..geometry import LEGS
+from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+from .scene import LEG_COLOURS
 
 __all__ = ["MAX_CURVE_POINTS", "MAX_HTML_FRAMES"]
 
@@ -160,3 +164,46 @@ def arrow_layers(
         ),
     )
     return column(key, toggles)
+
+
+def time_plots(table: Mapping[str, Any], titles: Mapping[str, str]) -> tuple[list[Any], list[Any]]:
+    """The quantities ``titles`` names (``quantity_L`` columns of ``table``) of the three legs
+    against time, one figure each with its title, and one shared time line (a Span) each.
+    """
+    from bokeh.models import Span
+    from bokeh.plotting import figure
+
+    t = np.asarray(table["t"])
+    kept = frame_indices(t.size, MAX_CURVE_POINTS)
+    spans: list[Any] = []
+    figures: list[Any] = []
+    x_range = None
+    for quantity, title in titles.items():
+        fig = figure(
+            title=title,
+            width=330,
+            height=140,
+            tools="xpan,xwheel_zoom,reset",
+            toolbar_location=None,
+            **({"x_range": x_range} if x_range is not None else {}),
+        )
+        fig.title.text_font_size = "9pt"
+        x_range = fig.x_range
+        for leg in LEGS:
+            fig.line(
+                t[kept],
+                np.asarray(table[f"{quantity}_{leg}"])[kept],
+                color=LEG_COLOURS[leg],
+                legend_label=leg,
+            )
+        legend = fig.legend[0]
+        legend.label_text_font_size = "8pt"
+        legend.padding = 2
+        legend.spacing = 0
+        fig.add_layout(legend, "right")
+        span = Span(location=float(t[0]), dimension="height", line_color="black", line_width=1)
+        fig.add_layout(span)
+        spans.append(span)
+        figures.append(fig)
+    figures[-1].xaxis.axis_label = "t (s)"
+    return figures, spans
