@@ -44,6 +44,7 @@ from .page import (
     _escape,
     _table,
     arrow_layers,
+    slider_with_field,
     time_plots,
 )
 from .scene import (
@@ -329,7 +330,7 @@ def explorer_document(
     shows the library's one-line message.
     """
     from bokeh.layouts import column, row
-    from bokeh.models import Checkbox, ColumnDataSource, CustomJS, Div, Slider, Spinner
+    from bokeh.models import Checkbox, ColumnDataSource, CustomJS, Div, Spinner
 
     base_robot = robot
     current: dict[str, Any] = {"robot": robot, "load": None, "busy": False, "timer": None}
@@ -355,29 +356,9 @@ def explorer_document(
             values = np.concatenate([motion.pose, motion.velocity, motion.acceleration], axis=-1)
             k = [c.name for c in MOTION_CONTROLS].index(control.name)
             low, high = min(low, float(values[:, k].min())), max(high, float(values[:, k].max()))
-        slider = Slider(
-            start=low,
-            end=high,
-            value=0.0,
-            step=control.step,
-            name=control.name,
-            title=f"{control.label} ({control.unit})",
-            width=190,
-            show_value=False,
-        )
-        field = Spinner(
-            low=low,
-            high=high,
-            step=control.step,
-            value=0.0,
-            width=88,
-            name=f"{control.name}_field",
-            format="0.[0000]",
-        )
-        slider.js_link("value", field, "value")
-        field.js_link("value", slider, "value")
+        slider, pair = slider_with_field(control, low, high)
         sliders[control.name] = slider
-        fields.append(row(slider, field))
+        fields.append(pair)
     design_fields: dict[str, Any] = {}
     for key, (label, unit) in DESIGN_PARAMETERS.items():
         design_fields[key] = Spinner(

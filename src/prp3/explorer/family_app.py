@@ -46,6 +46,7 @@ from .page import (
     _escape,
     _table,
     arrow_layers,
+    slider_with_field,
     time_plots,
 )
 from .scene import MOTION_CONTROLS, Columns, State, View, empty_view
@@ -231,7 +232,7 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
     library's one-line message.
     """
     from bokeh.layouts import column, row
-    from bokeh.models import ColumnDataSource, CustomJS, Div, Slider, Spinner
+    from bokeh.models import ColumnDataSource, CustomJS, Div, Spinner
 
     base_robot = robot
     current: dict[str, Any] = {"robot": robot}
@@ -248,29 +249,9 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
         low, high = control.low, control.high
         if control.length:
             low, high = -reach, reach
-        slider = Slider(
-            start=low,
-            end=high,
-            value=0.0,
-            step=control.step,
-            name=control.name,
-            title=f"{control.label} ({control.unit})",
-            width=190,
-            show_value=False,
-        )
-        field = Spinner(
-            low=low,
-            high=high,
-            step=control.step,
-            value=0.0,
-            width=88,
-            name=f"{control.name}_field",
-            format="0.[0000]",
-        )
-        slider.js_link("value", field, "value")
-        field.js_link("value", slider, "value")
+        slider, pair = slider_with_field(control, low, high)
         sliders[control.name] = slider
-        fields.append(row(slider, field))
+        fields.append(pair)
     design_fields = {
         key: Spinner(
             title=f"{label} ({unit})",

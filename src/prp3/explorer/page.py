@@ -207,3 +207,36 @@ def time_plots(table: Mapping[str, Any], titles: Mapping[str, str]) -> tuple[lis
         figures.append(fig)
     figures[-1].xaxis.axis_label = "t (s)"
     return figures, spans
+
+
+def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
+    """A slider of one motion ``control`` over ``[low, high]`` and its numeric field, linked.
+
+    Returns the slider (named ``control.name``) and the row of both; the two are
+    linked in the browser (``js_link``), so either sets the other.
+    """
+    from bokeh.layouts import row
+    from bokeh.models import Slider, Spinner
+
+    slider = Slider(
+        start=low,
+        end=high,
+        value=0.0,
+        step=control.step,
+        name=control.name,
+        title=f"{control.label} ({control.unit})",
+        width=190,
+        show_value=False,
+    )
+    field = Spinner(
+        low=low,
+        high=high,
+        step=control.step,
+        value=0.0,
+        width=88,
+        name=f"{control.name}_field",
+        format="0.[0000]",
+    )
+    slider.js_link("value", field, "value")
+    field.js_link("value", slider, "value")
+    return slider, row(slider, field)
