@@ -1,4 +1,4 @@
-"""Closed-loop control: ``prp3.control`` and ``prp3 control``.
+"""Closed-loop control: ``prp3.apps.control`` and ``prp3 control``.
 
 Independent checks:
 
@@ -33,8 +33,7 @@ from prp3 import (
     inverse_dynamics,
     platform_dynamics,
 )
-from prp3.cli import main
-from prp3.control import (
+from prp3.apps.control import (
     DEFAULT_KD,
     DEFAULT_KP,
     Gains,
@@ -45,10 +44,11 @@ from prp3.control import (
     hermite_reference,
     track,
 )
+from prp3.cli import main
+from prp3.engines.entries import compile_robot
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError
-from prp3.fast import compile_robot
-from prp3.model import Friction, JointFriction, Load, Payload
-from prp3.motion import PAPER_MOTIONS, law_at
+from prp3.model.motion import PAPER_MOTIONS, law_at
+from prp3.model.robot import Friction, JointFriction, Load, Payload
 from strategies import poses, robots
 
 COLUMNS = "t,x,y,phi,x_ref,y_ref,phi_ref,f10_A,f10_B,f10_C"

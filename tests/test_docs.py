@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 
 from prp3.cli import main
-from prp3.model import robot_template
+from prp3.model.robot import robot_template
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -227,7 +227,8 @@ def test_the_names_of_notation_md_exist() -> None:
     import dataclasses
 
     import prp3
-    from prp3 import geometry, kernel, kinematics, paper, paper_kinematics
+    from prp3.mechanics import geometry, kernel, kinematics
+    from prp3.references import paper, paper_kinematics
 
     classes = {
         "InverseDynamics": prp3.InverseDynamics,

@@ -27,9 +27,8 @@ from hypothesis import strategies as st
 
 from clitools import cli
 from prp3 import LinkParameters, Motion, PistonParameters, PlatformParameters, Robot
-from prp3.dynamics import inverse_dynamics
-from prp3.errors import ParameterError, TrajectoryError
-from prp3.identification import (
+from prp3.analysis.inverse_dynamics import inverse_dynamics
+from prp3.apps.identification import (
     FRICTION_PARAMETERS,
     PARAMETERS,
     STANDARD_PARAMETERS,
@@ -43,8 +42,9 @@ from prp3.identification import (
     standard_parameters,
     weighted_least_squares,
 )
-from prp3.kernel import INERTIAL_FIELDS, NUMPY, kernel_parameters, solve
-from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
+from prp3.errors import ParameterError, TrajectoryError
+from prp3.mechanics.kernel import INERTIAL_FIELDS, NUMPY, kernel_parameters, solve
+from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import analytic_motions, robots, scenarios
 
 

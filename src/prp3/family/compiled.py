@@ -22,7 +22,7 @@ a status, and :func:`compiled_dynamics` raises from it exactly the error the
 numpy engine raises (same class, message and fields).  The inputs are
 checked once, at the public entry :func:`prp3.family.family_inverse_dynamics`.
 
->>> from prp3.motion import paper_motion
+>>> from prp3.model.motion import paper_motion
 >>> from prp3.family.model import FamilyRobot
 >>> from prp3.family.mechanics import family_kinematics, fast_dynamics
 >>> robot, motion = FamilyRobot.default("3-RRR"), paper_motion("vertical", 5)
@@ -41,12 +41,10 @@ from typing import Any, TypeVar, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error
-from ..motion import Motion
-from ..validation import LEGS, MAX_ORIENTATION, POSE_BOUND, require_finite
-from .chain import SIGMA, SINGULAR, ChainFrames
-from .legs import LEG_GEOMETRY
-from .mechanics import (
+from prp3.errors import Prp3Error
+from prp3.family.chain import SIGMA, SINGULAR, ChainFrames
+from prp3.family.legs import LEG_GEOMETRY
+from prp3.family.mechanics import (
     MAX_MOVE,
     MAX_TURN,
     FamilyKinematics,
@@ -56,7 +54,9 @@ from .mechanics import (
     singular_error,
     unreachable_error,
 )
-from .model import FamilyRobot
+from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
+from prp3.validation import LEGS, MAX_ORIENTATION, POSE_BOUND, require_finite
 
 numba: Any
 try:

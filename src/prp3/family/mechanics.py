@@ -17,7 +17,7 @@ The default (``"fast"``) route of docs/family.md §5–§7, vectorised over the 
    wrench on the platform ``w_L = K_Lᵀ·(τ_L·e_a − B_L)``; then every joint force
    ``W_3 = w_L``, ``W_2 = N_2 + W_3``, ``W_1 = N_1 + W_2``.
 
->>> from prp3.motion import Motion
+>>> from prp3.model.motion import Motion
 >>> from prp3.family.model import FamilyRobot
 >>> robot = FamilyRobot.default("3-RRR")
 >>> kin = family_kinematics(robot, Motion.at_rest([0.0, 0.0, 0.0]))
@@ -33,10 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import SingularPoseError, TrajectoryError, UnreachablePoseError
-from ..motion import Motion
-from ..validation import LEGS, MAX_ORIENTATION, POSE_BOUND, check_instance, require_finite
-from .chain import (
+from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from prp3.family.chain import (
     SIGMA,
     SINGULAR,
     ChainFrames,
@@ -50,8 +48,10 @@ from .chain import (
     rotate,
     transmitted_wrench,
 )
-from .legs import LEG_GEOMETRY
-from .model import FamilyRobot
+from prp3.family.legs import LEG_GEOMETRY
+from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
+from prp3.validation import LEGS, MAX_ORIENTATION, POSE_BOUND, check_instance, require_finite
 
 __all__ = [
     "FamilyKinematics",
