@@ -1045,10 +1045,11 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
     clamped = []
     without_payload = not nominal.payload.mass > 0.0
     moment_floor = 1e-9 * nominal.platform.mass * nominal.l0  # kg m: round-off of h3
+    roundoff = 1e-12 * float(np.abs(result.measured).max())  # of the forces: N (N s/m at 1 m/s)
     for b, name in enumerate(base.names):  # a friction coefficient of 0 estimated below 0
         if base.members(b) != (base.independent[b],):
             continue
-        floor = max(3.0 * result.std[b], 1e-12 * float(np.abs(result.measured).max()))
+        floor = max(3.0 * result.std[b], roundoff)
         if name in ELEMENT_PARAMETERS and -floor <= estimate[b] < 0.0:
             estimate[b] = 0.0
             clamped.append(name)
@@ -1075,6 +1076,9 @@ def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
         ):
             continue
         values = _solve_choice(nominal, base, estimate, list(choice))
+        for name in ELEMENT_PARAMETERS:  # a zero coefficient solved to round-off below zero
+            if name in values and -roundoff <= values[name] < 0.0:
+                values[name] = 0.0
         try:
             robot = robot_from_standard(nominal, values)
         except ParameterError as error:
