@@ -169,7 +169,9 @@ def _same(quoted: str, printed: str, factor: float | None = None) -> bool:
         return all(
             a == b
             or (
-                float(a) * float(b) > 0.0
+                "e" in a
+                and "e" in b
+                and float(a) * float(b) > 0.0
                 and max(float(a) / float(b), float(b) / float(a)) <= factor
             )
             for a, b in zip(quoted_numbers, printed_numbers, strict=True)
