@@ -23,7 +23,8 @@ from prp3.analysis.forward import forward_dynamics
 from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.analysis.workspace import orientation_scan
 from prp3.apps.control import control_times, law_at, track
-from prp3.apps.identification import exciting_trajectory, identify
+from prp3.apps.excitation import exciting_trajectory
+from prp3.apps.identification import identify
 from prp3.cli import main
 from prp3.cli._progress import Progress
 from prp3.model.motion import PAPER_MOTIONS, law_motion

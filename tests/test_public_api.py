@@ -32,11 +32,14 @@ import pytest
 import prp3
 import prp3.analysis.forward
 import prp3.analysis.workspace
+import prp3.apps.base_parameters
 import prp3.apps.codegen
 import prp3.apps.control
 import prp3.apps.design
+import prp3.apps.excitation
 import prp3.apps.identification
 import prp3.apps.mjcf
+import prp3.apps.regressor
 import prp3.apps.runs
 import prp3.engines.entries
 import prp3.engines.select
@@ -58,6 +61,9 @@ MODULES = (
     "prp3.analysis.forward",
     "prp3.mechanics.geometry",
     "prp3.apps.identification",
+    "prp3.apps.regressor",
+    "prp3.apps.base_parameters",
+    "prp3.apps.excitation",
     "prp3.mechanics.kinematics",
     "prp3.apps.mjcf",
     "prp3.apps.codegen",
@@ -708,26 +714,26 @@ CASES: dict[str, Case] = {
         gains=lambda: prp3.apps.control.Gains(),
     ),
     "standard_parameters": _case(
-        prp3.apps.identification.standard_parameters,
+        prp3.apps.regressor.standard_parameters,
         {"robot": OBJ, "parameters": N},
         robot=ROBOT,
         parameters=("platform_mass",),
     ),
     "regressor": _case(
-        prp3.apps.identification.regressor,
+        prp3.apps.regressor.regressor,
         {"robot": OBJ, "motion": OBJ, "parameters": N},
         robot=ROBOT,
         motion=_motion,
         parameters=("platform_mass",),
     ),
     "base_parameters": _case(
-        prp3.apps.identification.base_parameters,
+        prp3.apps.base_parameters.base_parameters,
         {"robot": OBJ, "parameters": N},
         robot=ROBOT,
         parameters=("platform_mass", "piston_mass"),
     ),
     "known_forces": _case(
-        prp3.apps.identification.known_forces,
+        prp3.apps.regressor.known_forces,
         {"robot": OBJ, "motion": OBJ, "fixed": "names0"},
         robot=ROBOT,
         motion=_motion,
@@ -742,7 +748,7 @@ CASES: dict[str, Case] = {
         parameters=("platform_mass",),
     ),
     "exciting_trajectory": _case(
-        prp3.apps.identification.exciting_trajectory,
+        prp3.apps.excitation.exciting_trajectory,
         {"robot": OBJ, "period": R, "harmonics": INT, "reach": R, "samples": INT, "seed": INT},
         robot=ROBOT,
         period=5.0,
