@@ -55,9 +55,7 @@ def test_a_robot_lists_the_elements_it_has() -> None:
 
 def test_consumers_follow_the_elements(monkeypatch: pytest.MonkeyPatch) -> None:
     # identification's parameters and design's broadcast fields are the elements'
-    assert prp3.apps.regressor.ELEMENT_PARAMETERS == tuple(
-        n for e in ELEMENTS for n in e.regressor
-    )
+    assert prp3.apps.regressor.ELEMENT_PARAMETERS == tuple(n for e in ELEMENTS for n in e.regressor)
     assert {n for e in ELEMENTS for n in e.broadcast} <= prp3.apps.design._BROADCAST_FIELDS
     # the C code supports the spring because its element says so: declared otherwise, the
     # robot is refused by the element's name
