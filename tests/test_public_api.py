@@ -35,6 +35,7 @@ import prp3.analysis.workspace
 import prp3.apps.base_parameters
 import prp3.apps.codegen
 import prp3.apps.control
+import prp3.apps.control_law
 import prp3.apps.design
 import prp3.apps.excitation
 import prp3.apps.identification
@@ -54,6 +55,8 @@ from prp3.errors import Prp3Error
 #: Modules whose ``__all__`` is walked besides ``prp3``'s own.
 MODULES = (
     "prp3.apps.control",
+    "prp3.apps.control_law",
+    "prp3.apps.plants",
     "prp3.apps.design",
     "prp3.analysis.inverse_dynamics",
     "prp3.engines.select",
@@ -682,7 +685,7 @@ CASES: dict[str, Case] = {
         {"table": OBJ},
         table=lambda: prp3.apps.runs.simulate_table(ROBOT, _motion()),
     ),
-    "Gains": _case(prp3.apps.control.Gains, {"kp": R, "kd": R}, kp=400.0, kd=40.0),
+    "Gains": _case(prp3.apps.control_law.Gains, {"kp": R, "kd": R}, kp=400.0, kd=40.0),
     "control_times": _case(
         prp3.apps.control.control_times,
         {"start": R, "stop": R, "rate": R},
@@ -711,7 +714,7 @@ CASES: dict[str, Case] = {
         controller="pd",
         plant="prp3",
         model=ROBOT,
-        gains=lambda: prp3.apps.control.Gains(),
+        gains=lambda: prp3.apps.control_law.Gains(),
     ),
     "standard_parameters": _case(
         prp3.apps.regressor.standard_parameters,
