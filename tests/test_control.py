@@ -1,4 +1,4 @@
-"""Closed-loop control: ``prp3.apps.control`` and ``prp3 control``.
+"""Closed-loop control: ``prp3.apps.control`` (``control_law``, ``plants``) and ``prp3 control``.
 
 Independent checks:
 
@@ -33,17 +33,9 @@ from prp3 import (
     inverse_dynamics,
     platform_dynamics,
 )
-from prp3.apps.control import (
-    DEFAULT_KD,
-    DEFAULT_KP,
-    Gains,
-    _Prp3Plant,
-    check_model,
-    control_force,
-    control_times,
-    hermite_reference,
-    track,
-)
+from prp3.apps.control import check_model, control_times, hermite_reference, track
+from prp3.apps.control_law import DEFAULT_KD, DEFAULT_KP, Gains, control_force
+from prp3.apps.plants import _Prp3Plant
 from prp3.cli import main
 from prp3.engines.entries import compile_robot
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError

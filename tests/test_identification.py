@@ -28,19 +28,16 @@ from hypothesis import strategies as st
 from clitools import cli
 from prp3 import LinkParameters, Motion, PistonParameters, PlatformParameters, Robot
 from prp3.analysis.inverse_dynamics import inverse_dynamics
-from prp3.apps.identification import (
+from prp3.apps.base_parameters import base_parameters
+from prp3.apps.excitation import FourierSeries, exciting_trajectory
+from prp3.apps.identification import identified_robot, identify, weighted_least_squares
+from prp3.apps.regressor import (
     FRICTION_PARAMETERS,
     PARAMETERS,
     STANDARD_PARAMETERS,
-    FourierSeries,
-    base_parameters,
-    exciting_trajectory,
-    identified_robot,
-    identify,
     known_forces,
     regressor,
     standard_parameters,
-    weighted_least_squares,
 )
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.mechanics.kernel import INERTIAL_FIELDS, NUMPY, kernel_parameters, solve

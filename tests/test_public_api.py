@@ -32,11 +32,15 @@ import pytest
 import prp3
 import prp3.analysis.forward
 import prp3.analysis.workspace
+import prp3.apps.base_parameters
 import prp3.apps.codegen
 import prp3.apps.control
+import prp3.apps.control_law
 import prp3.apps.design
+import prp3.apps.excitation
 import prp3.apps.identification
 import prp3.apps.mjcf
+import prp3.apps.regressor
 import prp3.apps.runs
 import prp3.engines.entries
 import prp3.engines.select
@@ -51,6 +55,8 @@ from prp3.errors import Prp3Error
 #: Modules whose ``__all__`` is walked besides ``prp3``'s own.
 MODULES = (
     "prp3.apps.control",
+    "prp3.apps.control_law",
+    "prp3.apps.plants",
     "prp3.apps.design",
     "prp3.analysis.inverse_dynamics",
     "prp3.engines.select",
@@ -58,6 +64,9 @@ MODULES = (
     "prp3.analysis.forward",
     "prp3.mechanics.geometry",
     "prp3.apps.identification",
+    "prp3.apps.regressor",
+    "prp3.apps.base_parameters",
+    "prp3.apps.excitation",
     "prp3.mechanics.kinematics",
     "prp3.apps.mjcf",
     "prp3.apps.codegen",
@@ -676,7 +685,7 @@ CASES: dict[str, Case] = {
         {"table": OBJ},
         table=lambda: prp3.apps.runs.simulate_table(ROBOT, _motion()),
     ),
-    "Gains": _case(prp3.apps.control.Gains, {"kp": R, "kd": R}, kp=400.0, kd=40.0),
+    "Gains": _case(prp3.apps.control_law.Gains, {"kp": R, "kd": R}, kp=400.0, kd=40.0),
     "control_times": _case(
         prp3.apps.control.control_times,
         {"start": R, "stop": R, "rate": R},
@@ -705,29 +714,29 @@ CASES: dict[str, Case] = {
         controller="pd",
         plant="prp3",
         model=ROBOT,
-        gains=lambda: prp3.apps.control.Gains(),
+        gains=lambda: prp3.apps.control_law.Gains(),
     ),
     "standard_parameters": _case(
-        prp3.apps.identification.standard_parameters,
+        prp3.apps.regressor.standard_parameters,
         {"robot": OBJ, "parameters": N},
         robot=ROBOT,
         parameters=("platform_mass",),
     ),
     "regressor": _case(
-        prp3.apps.identification.regressor,
+        prp3.apps.regressor.regressor,
         {"robot": OBJ, "motion": OBJ, "parameters": N},
         robot=ROBOT,
         motion=_motion,
         parameters=("platform_mass",),
     ),
     "base_parameters": _case(
-        prp3.apps.identification.base_parameters,
+        prp3.apps.base_parameters.base_parameters,
         {"robot": OBJ, "parameters": N},
         robot=ROBOT,
         parameters=("platform_mass", "piston_mass"),
     ),
     "known_forces": _case(
-        prp3.apps.identification.known_forces,
+        prp3.apps.regressor.known_forces,
         {"robot": OBJ, "motion": OBJ, "fixed": "names0"},
         robot=ROBOT,
         motion=_motion,
@@ -742,7 +751,7 @@ CASES: dict[str, Case] = {
         parameters=("platform_mass",),
     ),
     "exciting_trajectory": _case(
-        prp3.apps.identification.exciting_trajectory,
+        prp3.apps.excitation.exciting_trajectory,
         {"robot": OBJ, "period": R, "harmonics": INT, "reach": R, "samples": INT, "seed": INT},
         robot=ROBOT,
         period=5.0,

@@ -40,8 +40,8 @@ import numpy as np
 import prp3
 from prp3 import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
 from prp3.analysis.forward import open_loop_growth_rate
-from prp3.apps.control import Tracking, control_times, law_at, track
-from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS
+from prp3.apps.control import Tracking, control_times, track
+from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
 
 PAPER = Robot()
 #: Actuator strokes of every plant (m): twice what the motions need; a run that

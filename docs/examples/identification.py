@@ -26,7 +26,8 @@ from pathlib import Path
 import numpy as np
 
 import prp3
-from prp3.apps.identification import base_parameters, standard_parameters
+from prp3.apps.base_parameters import base_parameters
+from prp3.apps.regressor import standard_parameters
 from prp3.cli import main as prp3_main
 from prp3.io.formats import read_trajectory, write_table_csv
 

@@ -31,7 +31,12 @@ soft weld constraints), which is an independent simulation of the same robot.
 The plant's robot may differ from the controller's model (a wrong mass, a
 payload, unmodelled loads); their geometry ``l0`` must agree.
 
+The control laws are :mod:`prp3.apps.control_law`, the plants
+:mod:`prp3.apps.plants`; this module holds the reference (:func:`control_times`,
+:func:`hermite_reference`) and the closed loop (:func:`track`).
+
 >>> import prp3
+>>> from prp3.model.motion import law_at
 >>> reference = law_at([0.0, 0.0, 0.1], control_times(0.0, 0.05, 1000.0))
 >>> run = track(prp3.Robot(), reference, controller="computed-torque")
 >>> run.status, run.t.shape, bool(run.max_error.max() < 1e-6)
@@ -40,218 +45,50 @@ payload, unmodelled loads); their geometry ``l0`` must agree.
 
 from __future__ import annotations
 
-import importlib
 import math
 import time
-import warnings
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, replace
-from types import ModuleType
-from typing import Any, Literal, Protocol
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.analysis.forward import SINGULARITY_STOP
-from prp3.engines.entries import CompiledRobot, compile_robot, paper_forces
-from prp3.errors import (
-    ParameterError,
-    Prp3Error,
-    SingularPoseError,
-    TrajectoryError,
-    UnreachablePoseError,
+from prp3.apps.control_law import CONTROLLERS, Controller, Gains, control_force
+from prp3.apps.plants import (
+    _THIRD_PI,
+    PLANTS,
+    Plant,
+    Status,
+    _MujocoPlant,
+    _Plant,
+    _Prp3Plant,
+    _without_limits,
+    check_plant,
 )
+from prp3.engines.entries import compile_robot, paper_forces
+from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.mechanics.geometry import SINGULARITY_THRESHOLD, inverse_geometry
-from prp3.mechanics.kinematics import inverse_kinematics
-from prp3.model.motion import Motion, law_at
-from prp3.model.robot import Limits, Robot
+from prp3.model.motion import Motion
+from prp3.model.robot import Robot
 from prp3.validation import check_instance, check_path, check_robot, check_scalar, check_times
 
 __all__ = [
-    "CONTROLLERS",
-    "DEFAULT_KD",
-    "DEFAULT_KP",
     "DEFAULT_RATE",
     "LOAD_REFUSAL",
     "MAX_STEPS",
-    "PLANTS",
-    "PLANT_ATOL",
-    "PLANT_RTOL",
-    "AxisGains",
-    "Controller",
-    "Gains",
-    "Plant",
     "Tracking",
     "check_model",
-    "check_plant",
-    "control_force",
     "control_times",
     "hermite_reference",
-    "law_at",
     "track",
 ]
 
 FloatArray = NDArray[np.float64]
-Controller = Literal["computed-torque", "pd", "feedforward"]
-Plant = Literal["prp3", "mujoco"]
-Status = Literal["completed", "singular", "stroke", "failed"]
 
-#: The control laws of :func:`control_force`.
-CONTROLLERS: tuple[Controller, ...] = ("computed-torque", "pd", "feedforward")
-#: The simulated robots :func:`track` can drive.
-PLANTS: tuple[Plant, ...] = ("prp3", "mujoco")
 #: Default control rate (Hz).
 DEFAULT_RATE: float = 1000.0
-#: Default position gain ``KP`` (1/s²) and velocity gain ``KD`` (1/s): critically damped.
-DEFAULT_KP: float = 400.0
-DEFAULT_KD: float = 40.0
 #: Most control instants of one run (bounds time and memory).
 MAX_STEPS: int = 1_000_000
-#: Tolerances of the prp3 plant's integration over each control step.
-PLANT_RTOL: float = 1e-10
-PLANT_ATOL: float = 1e-12
-#: Runge-Kutta method of the prp3 plant (``scipy.integrate.solve_ivp``).
-PLANT_METHOD: str = "RK45"
-
-_THIRD_PI = math.pi / 3.0
-
-
-def _gain(name: str, value: Any, unit: str) -> float:
-    try:
-        return check_scalar(name, value, non_negative=True)
-    except ParameterError:
-        shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:37] + "..."
-        raise ParameterError(
-            f"{name} must be a non-negative finite number ({unit}), got {shown}",
-            subject="gains",
-            key=name,
-        ) from None
-
-
-AxisGains = float | tuple[float, float, float]
-
-
-def _gains(name: str, value: Any, unit: str) -> AxisGains:
-    """One gain for every axis (a number) or one per axis ``(x, y, φ)`` (3 numbers)."""
-    if (
-        isinstance(value, (str, bytes))
-        or not isinstance(value, (Sequence, np.ndarray))
-        or (isinstance(value, np.ndarray) and value.ndim != 1)
-    ):
-        return _gain(name, value, unit)
-    if len(value) != 3:
-        shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:37] + "..."
-        raise ParameterError(
-            f"{name} must be a number or 3 numbers (x, y, phi), got {len(value)} numbers: {shown}",
-            subject="gains",
-            key=name,
-        )
-    x, y, phi = (_gain(f"{name}[{k}]", v, unit) for k, v in enumerate(value))
-    return (x, y, phi)
-
-
-def _per_axis(value: AxisGains) -> tuple[float, float, float]:
-    return value if isinstance(value, tuple) else (value, value, value)
-
-
-@dataclass(frozen=True)
-class Gains:
-    """Gains of the control laws: the same for ``x``, ``y`` and ``φ``, or one per axis.
-
-    Attributes
-    ----------
-    kp : float or tuple of 3 floats
-        ``KP`` (1/s²), >= 0: one for every axis, or ``(KP_x, KP_y, KP_φ)``.
-    kd : float or tuple of 3 floats
-        ``KD`` (1/s), >= 0: one for every axis, or ``(KD_x, KD_y, KD_φ)``.
-    kp_axes, kd_axes : tuple of 3 floats
-        The gains of ``x``, ``y``, ``φ`` (derived).
-
-    >>> Gains(kd=-1.0)
-    Traceback (most recent call last):
-    ...
-    prp3.errors.ParameterError: gains: kd must be a non-negative finite number (1/s), got -1.0
-    >>> Gains(kp=(400.0, 400.0, 900.0)).kp_axes, Gains(kd=60).kd_axes
-    ((400.0, 400.0, 900.0), (60.0, 60.0, 60.0))
-    """
-
-    kp: AxisGains = DEFAULT_KP
-    kd: AxisGains = DEFAULT_KD
-    kp_axes: tuple[float, float, float] = field(init=False, repr=False, compare=False)
-    kd_axes: tuple[float, float, float] = field(init=False, repr=False, compare=False)
-
-    def __post_init__(self) -> None:
-        kp, kd = _gains("kp", self.kp, "1/s²"), _gains("kd", self.kd, "1/s")
-        object.__setattr__(self, "kp", kp)
-        object.__setattr__(self, "kd", kd)
-        object.__setattr__(self, "kp_axes", _per_axis(kp))
-        object.__setattr__(self, "kd_axes", _per_axis(kd))
-
-
-def control_force(
-    controller: Controller,
-    model: CompiledRobot,
-    gains: Gains,
-    reference: Sequence[float],
-    measured: Sequence[float],
-) -> tuple[float, float, float]:
-    """Actuator forces ``f10`` (N) of one control step (see the module notes).
-
-    Pure Python floats on prp3's single-sample inverse dynamics
-    (:meth:`prp3.engines.entries.CompiledRobot.actuator_sample_function`, ``f10`` alone):
-    it does not validate, the caller guarantees finite numbers and poses away
-    from the singularity.
-
-    Parameters
-    ----------
-    controller : {"computed-torque", "pd", "feedforward"}
-    model : CompiledRobot
-        The controller's model of the robot (:func:`prp3.engines.entries.compile_robot`).
-    gains : Gains
-    reference : sequence of 9 floats
-        ``(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈)`` of the reference at this instant.
-    measured : sequence of 6 floats
-        Measured ``(x, y, φ, ẋ, ẏ, φ̇)``.
-
-    Returns
-    -------
-    tuple of 3 floats
-        ``f10`` of legs A, B, C (N), held until the next instant.
-
-    Examples
-    --------
-    >>> from prp3 import Robot
-    >>> still = (0.0,) * 9
-    >>> f = control_force("pd", compile_robot(Robot()), Gains(), still, (0.0,) * 6)
-    >>> [round(v, 4) for v in f]          # gravity compensation at the centre
-    [31.8589, -8.4957, -23.3632]
-    """
-    rx, ry, rp, rvx, rvy, rvp, rax, ray, rap = reference
-    x, y, p, vx, vy, vp = measured
-    kpx, kpy, kpp = gains.kp_axes
-    kdx, kdy, kdp = gains.kd_axes
-    inverse = model.actuator_sample_function()  # f10 alone, unchecked
-    if controller == "computed-torque":
-        f = inverse(
-            x, y, p, vx, vy, vp,
-            rax + kdx * (rvx - vx) + kpx * (rx - x),
-            ray + kdy * (rvy - vy) + kpy * (ry - y),
-            rap + kdp * (rvp - vp) + kpp * (rp - p),
-        )  # fmt: skip
-    elif controller == "pd":
-        f = inverse(
-            x, y, p, 0.0, 0.0, 0.0,
-            kdx * (rvx - vx) + kpx * (rx - x),
-            kdy * (rvy - vy) + kpy * (ry - y),
-            kdp * (rvp - vp) + kpp * (rp - p),
-        )  # fmt: skip
-    elif controller == "feedforward":
-        f = inverse(rx, ry, rp, rvx, rvy, rvp, rax, ray, rap)
-    else:
-        raise ParameterError(
-            f"controller must be one of {', '.join(CONTROLLERS)}, got {controller!r}"
-        )
-    return (f[0], f[1], f[2])
 
 
 # ------------------------------------------------------------------ reference
@@ -325,6 +162,7 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     SingularPoseError
         A motion that crosses the singularity (:func:`prp3.validation.check_path`).
 
+    >>> from prp3.model.motion import law_at
     >>> m = law_at([0.01, 0.0, 0.0], np.linspace(0.0, 3.0, 31))
     >>> r = hermite_reference(m, [0.05, 1.55])
     >>> bool(np.abs(r.pose - law_at([0.01, 0.0, 0.0], [0.05, 1.55]).pose).max() < 1e-9)
@@ -371,177 +209,6 @@ def check_model(robot: Robot, model: Robot) -> None:
             f"model: l0 = {model.l0!r} m differs from the plant robot's l0 = {robot.l0!r} m "
             "(the controller's kinematics must match the robot's)"
         )
-
-
-# ------------------------------------------------------------------ plants
-def check_plant(robot: Robot, plant: Plant) -> None:
-    """Refuse a robot the plant would not simulate as it is.
-
-    * ``"mujoco"``: the exported MJCF (:func:`prp3.apps.mjcf.mjcf_model`) carries
-      the payload (a body welded to the platform), viscous friction (joint
-      damping) and the actuators' spring (the sliders' stiffness, springref
-      and damping), and the plant applies the constant ``[load]`` as
-      ``xfrc_applied``; MuJoCo has no counterpart of prp3's Coulomb law
-      (its ``frictionloss`` is its own dry friction) or of the ``mu`` terms.
-    * ``"prp3"``: the plant solves ``f10 = A(q)·q̈ + b(q, q̇)`` for ``q̈``; a
-      friction proportional to the joint reactions (``mu``) makes ``f10``
-      non-affine in ``q̈``.
-
-    >>> from prp3.model.robot import Friction, JointFriction
-    >>> check_plant(Robot(friction=Friction(sleeve=JointFriction(coulomb=0.5))), "mujoco")
-    Traceback (most recent call last):
-    ...
-    prp3.errors.ParameterError: plant 'mujoco': friction.sleeve.coulomb = 0.5: MuJoCo has no counterpart of prp3's Coulomb friction law (its frictionloss is its own dry friction): simulate it with plant 'prp3'
-    """
-    if plant == "mujoco":
-        for element in robot.elements:  # each element says what MuJoCo simulates otherwise
-            element.check_mujoco_plant(robot)
-    elif compile_robot(_without_limits(robot)).parameters.has_mu:
-        raise ParameterError(
-            "plant 'prp3': a friction proportional to the joint reactions (mu) makes the "
-            "forces non-affine in the acceleration, which the plant's equations of motion "
-            "assume; set the friction's mu to 0"
-        )
-
-
-class _Plant(Protocol):
-    def measure(self) -> list[float]: ...
-    def advance(
-        self, start: float, stop: float, f10: tuple[float, float, float]
-    ) -> tuple[Status, str] | None: ...
-
-
-def _without_limits(robot: Robot) -> Robot:
-    return robot if robot.limits == Limits() else replace(robot, limits=Limits())
-
-
-class _Prp3Plant:
-    """prp3's equations of motion ``q̈ = A⁻¹·(f10 − b)``, integrated step by step.
-
-    ``A`` and ``b`` from four single-sample inverse dynamics (``f10`` is
-    affine in ``q̈``, as in :func:`prp3.analysis.forward.platform_dynamics`).
-    """
-
-    def __init__(self, robot: Robot, reference: Motion) -> None:
-        from scipy.integrate import solve_ivp
-
-        self._solve_ivp = solve_ivp
-        self.compiled = compile_robot(_without_limits(robot))
-        self.state = np.concatenate([reference.pose[0], reference.velocity[0]])
-
-    def measure(self) -> list[float]:
-        values: list[float] = self.state.tolist()
-        return values
-
-    def _rhs(self, force: FloatArray, state: FloatArray) -> FloatArray:
-        x, y, p, vx, vy, vp = state.tolist()
-        if not math.isfinite(x + y + p + vx + vy + vp) or abs(math.sin(p - math.pi / 3.0)) < 1e-4:
-            return np.full(6, np.nan)  # rejects the trial step (see forward_dynamics)
-        f = self.compiled.actuator_sample_function()  # f10 alone, unchecked
-        b = f(x, y, p, vx, vy, vp, 0.0, 0.0, 0.0)
-        columns = [
-            f(x, y, p, vx, vy, vp, 1.0, 0.0, 0.0),
-            f(x, y, p, vx, vy, vp, 0.0, 1.0, 0.0),
-            f(x, y, p, vx, vy, vp, 0.0, 0.0, 1.0),
-        ]
-        bias = np.array(b)
-        A = np.array(columns).T - bias[:, None]
-        try:
-            acceleration = np.linalg.solve(A, force - bias)
-        except np.linalg.LinAlgError:  # a state the step wandered to: reject the trial step
-            return np.full(6, np.nan)
-        return np.array([vx, vy, vp, *acceleration.tolist()])
-
-    def advance(
-        self, start: float, stop: float, f10: tuple[float, float, float]
-    ) -> tuple[Status, str] | None:
-        force = np.array(f10)
-        with np.errstate(all="ignore"):
-            solution = self._solve_ivp(
-                lambda _t, state: self._rhs(force, state),
-                (start, stop),
-                self.state,
-                method=PLANT_METHOD,
-                rtol=PLANT_RTOL,
-                atol=PLANT_ATOL,
-                first_step=stop - start,
-            )
-        last = np.asarray(solution.y[:, -1], dtype=np.float64)
-        if solution.status == 0 and np.isfinite(last).all():
-            self.state = last
-            return None
-        if np.isfinite(last).all() and abs(math.sin(last[2] - _THIRD_PI)) < SINGULARITY_STOP:
-            x, y, phi = last[:3].tolist()
-            return "singular", (
-                f"stopped at t = {float(solution.t[-1]):.9g} s: the plant reached the singularity "
-                f"(x = {x:.6g} m, y = {y:.6g} m, phi = {phi:.9g} rad, "
-                f"|sin(phi - pi/3)| < {SINGULARITY_STOP:g})"
-            )
-        return "failed", (
-            f"stopped: the prp3 plant's integration failed after t = {start!r} s: "
-            f"{solution.message}"
-        )
-
-
-def _import_mujoco() -> ModuleType:
-    try:
-        return importlib.import_module("mujoco")
-    except ImportError:
-        raise Prp3Error(
-            "plant 'mujoco' needs MuJoCo, which is not installed: pip install \"prp3[mujoco]\""
-        ) from None
-
-
-class _MujocoPlant:
-    """MuJoCo running :func:`prp3.apps.mjcf.mjcf_model` of the robot, ``ctrl = f10`` held.
-
-    Measured: ``G`` = the position of body ``platform_A`` (origin ``G``),
-    ``φ`` = the hinge ``phi_A`` (its angle is the platform's), ``Ġ`` by
-    ``mj_objectVelocity`` and ``φ̇`` the hinge's velocity.
-    """
-
-    def __init__(self, robot: Robot, reference: Motion) -> None:
-        from prp3.apps.mjcf import TIMESTEP, MjcfWarning, mjcf_model
-
-        mujoco = _import_mujoco()
-        self.mujoco = mujoco
-        with warnings.catch_warnings():  # the constant [load]: applied below
-            warnings.simplefilter("ignore", MjcfWarning)
-            self.model = mujoco.MjModel.from_xml_string(mjcf_model(robot))
-        self.data = mujoco.MjData(self.model)
-        self.timestep = TIMESTEP
-        kin = inverse_kinematics(_without_limits(robot), reference[0])
-        geo = kin.geometry
-        self.data.qpos[:] = np.stack([geo.lambda10, geo.phi21, geo.lambda32], axis=-1).ravel()
-        self.data.qvel[:] = np.stack([kin.dlambda10, kin.dphi21, kin.dlambda32], axis=-1).ravel()
-        self.body = int(self.model.body("platform_A").id)
-        fx, fy = robot.load.force  # at G, the centre of mass of platform_A
-        self.data.xfrc_applied[self.body] = (fx, fy, 0.0, 0.0, 0.0, robot.load.moment)
-        self.velocity = np.zeros(6)
-        mujoco.mj_forward(self.model, self.data)
-
-    def measure(self) -> list[float]:
-        mujoco, data = self.mujoco, self.data
-        mujoco.mj_objectVelocity(
-            self.model, data, mujoco.mjtObj.mjOBJ_BODY, self.body, self.velocity, 0
-        )
-        x, y = data.xpos[self.body, :2].tolist()
-        vx, vy = self.velocity[3:5].tolist()
-        return [x, y, float(data.qpos[1]), vx, vy, float(data.qvel[1])]
-
-    def advance(
-        self, start: float, stop: float, f10: tuple[float, float, float]
-    ) -> tuple[Status, str] | None:
-        mujoco, model, data = self.mujoco, self.model, self.data
-        substeps = max(1, math.ceil((stop - start) / self.timestep - 1e-9))
-        model.opt.timestep = (stop - start) / substeps
-        data.ctrl[:] = f10
-        for _ in range(substeps):
-            mujoco.mj_step(model, data)
-        mujoco.mj_forward(model, data)
-        if not (np.isfinite(data.qpos).all() and np.isfinite(data.qvel).all()):
-            return "failed", f"stopped: the MuJoCo plant diverged after t = {start!r} s"
-        return None
 
 
 # ------------------------------------------------------------------ closed loop
@@ -649,7 +316,7 @@ def track(
         The plant's robot (the "real" one); its ``limits.stroke`` stops the run.
     reference : Motion
         ``N >= 2`` samples at the control instants (:func:`control_times`
-        with :func:`law_at` or :func:`hermite_reference`).
+        with :func:`prp3.model.motion.law_at` or :func:`hermite_reference`).
     controller : {"computed-torque", "pd", "feedforward"}
     plant : {"prp3", "mujoco"}
     model : Robot, optional
@@ -677,7 +344,9 @@ def track(
     check_model(robot, model)
     gains = Gains() if gains is None else gains
     if not isinstance(gains, Gains):
-        raise ParameterError(f"gains must be prp3.apps.control.Gains, got {type(gains).__name__}")
+        raise ParameterError(
+            f"gains must be prp3.apps.control_law.Gains, got {type(gains).__name__}"
+        )
     if controller not in CONTROLLERS:
         raise ParameterError(
             f"controller must be one of {', '.join(CONTROLLERS)}, got {controller!r}"

@@ -25,20 +25,16 @@ from typing import Any
 import numpy as np
 
 from prp3.apps.control import (
-    CONTROLLERS,
-    DEFAULT_KD,
-    DEFAULT_KP,
     DEFAULT_RATE,
     LOAD_REFUSAL,
-    PLANTS,
-    Gains,
     Tracking,
     check_model,
     control_times,
     hermite_reference,
-    law_at,
     track,
 )
+from prp3.apps.control_law import CONTROLLERS, DEFAULT_KD, DEFAULT_KP, Gains
+from prp3.apps.plants import PLANTS
 from prp3.cli._progress import progress_bar
 from prp3.cli._types import (
     add_output_directory,
@@ -59,7 +55,7 @@ from prp3.io.formats import (
     write_table_csv,
 )
 from prp3.mechanics.geometry import LEGS, inverse_geometry
-from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS
+from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
 from prp3.model.robot import Robot
 from prp3.plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
 

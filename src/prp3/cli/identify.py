@@ -22,17 +22,19 @@ import csv
 import sys
 from typing import Any
 
+from prp3.apps.base_parameters import base_parameters
 from prp3.apps.identification import (
     FRICTION_MODELS,
+    Identification,
+    IdentifiedRobot,
+    identified_robot,
+    identify,
+)
+from prp3.apps.regressor import (
     FRICTION_PARAMETERS,
     PARAMETER_SYMBOLS,
     PARAMETER_UNITS,
     STANDARD_PARAMETERS,
-    Identification,
-    IdentifiedRobot,
-    base_parameters,
-    identified_robot,
-    identify,
     standard_parameters,
 )
 from prp3.cli._progress import progress_bar
