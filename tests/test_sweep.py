@@ -24,16 +24,14 @@ pa = pytest.importorskip("pyarrow")
 pq = pytest.importorskip("pyarrow.parquet")
 
 import prp3  # noqa: E402
+import prp3.apps.design_evaluation  # noqa: E402
+import prp3.apps.design_objective  # noqa: E402
 import prp3.apps.sweep  # noqa: E402
 from clitools import cli  # noqa: E402
-from prp3.apps.design import (  # noqa: E402
-    design_robot,
-    design_values,
-    evaluate_designs,
-    pareto_front,
-    read_sweep_spec,
-    sweep_spec,
-)
+from prp3.apps.design import design_robot  # noqa: E402
+from prp3.apps.design_evaluation import evaluate_designs  # noqa: E402
+from prp3.apps.design_objective import pareto_front  # noqa: E402
+from prp3.apps.sweep_spec import design_values, read_sweep_spec, sweep_spec  # noqa: E402
 from prp3.mechanics.kernel import kernel_parameters  # noqa: E402
 
 LEGS = "ABC"
@@ -566,13 +564,18 @@ def test_designs_in_a_box_of_valid_robots_are_not_built_one_by_one(monkeypatch):
     values = design_values(spec)
     expected = evaluate_designs(spec.evaluator, values)  # traces what it needs
     built, solved = [], []
-    real_from_mapping, real_solve = prp3.Robot.from_mapping.__func__, prp3.apps.design.solve
+    real_from_mapping, real_solve = (
+        prp3.Robot.from_mapping.__func__,
+        prp3.apps.design_evaluation.solve,
+    )
     monkeypatch.setattr(
         prp3.Robot, "from_mapping", classmethod(lambda cls, m: built.append(m) or
                                                real_from_mapping(cls, m))
     )  # fmt: skip
     monkeypatch.setattr(
-        prp3.apps.design, "solve", lambda *a, **k: solved.append(1) or real_solve(*a, **k)
+        prp3.apps.design_evaluation,
+        "solve",
+        lambda *a, **k: solved.append(1) or real_solve(*a, **k),
     )
     columns = evaluate_designs(spec.evaluator, values)
     assert (built, solved) == ([], [])
@@ -609,11 +612,13 @@ def test_traced_parameters_of_designs_are_kernel_parameters_of_their_robots(tmp_
         base=tmp_path,
     )  # fmt: skip
     evaluator, values = spec.evaluator, design_values(spec)
-    fixed, columns, lower, upper = prp3.apps.design._design_parameters(evaluator, values, None)
+    fixed, columns, lower, upper = prp3.apps.design_evaluation._design_parameters(
+        evaluator, values, None
+    )
     assert set(columns) and np.isneginf(lower).all() and np.isposinf(upper).all()
     for k, row in enumerate(values.tolist()):
         expected = kernel_parameters(design_robot(evaluator.nominal, spec.paths, row))
-        for name in prp3.apps.design._PARAMETER_FIELDS:
+        for name in prp3.apps.design_evaluation._PARAMETER_FIELDS:
             got = fixed[name] if name in fixed else columns[name][k]
             assert got == getattr(expected, name), (name, k)
 
@@ -644,7 +649,9 @@ def test_optimize_sends_its_objective_to_the_workers_once(scheduler, monkeypatch
         monkeypatch.setattr(client, "scatter", scatter)
         monkeypatch.setattr(client, "submit", submit)
         outcome = prp3.apps.sweep.optimize_design(spec, client)
-    assert len(scattered) == 1 and isinstance(scattered[0], prp3.apps.design.DesignObjective)
+    assert len(scattered) == 1 and isinstance(
+        scattered[0], prp3.apps.design_objective.DesignObjective
+    )
     assert outcome.generations >= 2 and len(submitted) > outcome.generations
     assert all(isinstance(args[0], Future) for args in submitted)
     assert len({args[0].key for args in submitted}) == 1  # every generation: the same copy

@@ -1,14 +1,14 @@
 """Sweeps and optimizations of designs on Dask, with the results in Parquet.
 
-:func:`run_sweep` evaluates the designs of a :class:`~prp3.apps.design.SweepSpec`
-in chunks of ``chunk`` designs (:data:`~prp3.apps.design.CHUNK_DESIGNS` by default), one
-``dask.distributed`` task per chunk (:func:`prp3.apps.design.evaluate_designs`),
+:func:`run_sweep` evaluates the designs of a :class:`~prp3.apps.sweep_spec.SweepSpec`
+in chunks of ``chunk`` designs (:data:`~prp3.apps.sweep_spec.CHUNK_DESIGNS` by default), one
+``dask.distributed`` task per chunk (:func:`prp3.apps.design_evaluation.evaluate_designs`),
 and writes ``designs.parquet``: one row per design, in the order the designs
 are generated, whatever the number of workers.
 
 Resuming: every finished chunk is written at once, whole or not at all, to a
 staging folder ``DIR/.prp3-sweep-<digest>`` named by the SHA-256 of
-everything the rows depend on (:meth:`~prp3.apps.design.SweepSpec.digest`: the
+everything the rows depend on (:meth:`~prp3.apps.sweep_spec.SweepSpec.digest`: the
 nominal robot, the parameters, the sampling, the task's samples).  A sweep
 that was interrupted and is run again with the same spec computes only the
 chunks the folder lacks; then the chunks are joined in order into one
@@ -23,7 +23,7 @@ key-value metadata holds the digest, the spec and the row of the nominal
 design (``prp3.*`` keys; :func:`read_designs`).
 
 :func:`optimize_design` minimises an objective under constraints
-(:func:`prp3.apps.design.penalized_objective`) with
+(:func:`prp3.apps.design_objective.penalized_objective`) with
 :func:`scipy.optimize.differential_evolution`, the population of every
 generation evaluated on the Dask workers through its ``workers`` map
 (:class:`DaskMap`).
@@ -50,15 +50,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.design import (
-    INFEASIBLE,
-    DesignEvaluator,
-    DesignObjective,
-    SweepSpec,
-    design_values,
-    evaluate_designs,
-    nominal_value,
-)
+from prp3.apps.design import DesignEvaluator, nominal_value
+from prp3.apps.design_evaluation import evaluate_designs
+from prp3.apps.design_objective import INFEASIBLE, DesignObjective
+from prp3.apps.sweep_spec import SweepSpec, design_values
 from prp3.errors import InputFileError, OutputFileError, ParameterError, Prp3Error
 from prp3.io.formats import atomic_path, check_output_directory
 
@@ -758,7 +753,7 @@ def optimize_design(
     initial population, ``rng = seed``, no polishing, deferred updating) with
     the population of each generation evaluated on the Dask workers.
     Infeasible designs (a failed task or a violated constraint) get the
-    objective ``INFEASIBLE + violation`` (:func:`prp3.apps.design.penalized_objective`).
+    objective ``INFEASIBLE + violation`` (:func:`prp3.apps.design_objective.penalized_objective`).
     """
     from scipy.optimize import differential_evolution
 

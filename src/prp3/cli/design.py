@@ -26,7 +26,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from prp3.apps.design import AGGREGATES, SweepSpec, design_robot, quantity, read_sweep_spec
+from prp3.apps.design import AGGREGATES, design_robot
+from prp3.apps.design_objective import quantity
+from prp3.apps.sweep_spec import SweepSpec, read_sweep_spec
 from prp3.cli._progress import Progress
 from prp3.cli._types import emit, files_report, integer_at_least, output_folder, path_name
 from prp3.errors import Prp3Error

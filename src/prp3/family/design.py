@@ -53,8 +53,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.design import (
-    OptimizeSpec,
+from prp3.apps.design import design_mapping
+from prp3.apps.design_objective import OptimizeSpec, penalized_objective
+from prp3.apps.sweep_spec import (
     Parameter,
     _flatten,
     _integer,
@@ -62,8 +63,6 @@ from prp3.apps.design import (
     _sampling,
     _table,
     _unknown,
-    design_mapping,
-    penalized_objective,
 )
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
 from prp3.family.model import ARCHITECTURES, FamilyRobot
@@ -344,7 +343,7 @@ def family_sweep_spec(
     ParameterError, InputFileError, TrajectoryError
         One line naming ``source`` and the key.
     """
-    from prp3.apps.design import _optimize
+    from prp3.apps.sweep_spec import _optimize
 
     base = Path(base)
     _unknown(source, "", data, _TOP_KEYS)
@@ -545,7 +544,7 @@ def optimize_family(
     """
     from scipy.optimize import differential_evolution
 
-    from prp3.apps.design import INFEASIBLE
+    from prp3.apps.design_objective import INFEASIBLE
     from prp3.apps.sweep import DaskMap
 
     settings = spec.optimize
