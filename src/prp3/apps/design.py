@@ -175,7 +175,7 @@ class DesignEvaluator:
         is a valid robot, so is every design inside it (the robot's checks
         bound each value, and the products of masses and sizes that could
         overflow): designs inside are then not built one by one
-        (:func:`evaluate_designs`).
+        (:func:`~prp3.apps.design_evaluation.evaluate_designs`).
     """
 
     nominal: dict[str, Any]

@@ -446,7 +446,7 @@ def _block_results(
 
 
 def _robots(evaluator: DesignEvaluator, values: FloatArray) -> list[Robot]:
-    """The robot of every design, built and checked (:func:`design_robot`)."""
+    """The robot of every design, built and checked (:func:`~prp3.apps.design.design_robot`)."""
     robots = []
     for row in values.tolist():
         try:
@@ -464,7 +464,7 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
     design that fails the task is a row with its ``status`` and NaN forces.
     The robots of the designs are built and checked one by one only where
     it is needed: designs outside a box of valid robots
-    (:class:`DesignEvaluator`), the workspace columns, loads and friction
+    (:class:`~prp3.apps.design.DesignEvaluator`), the workspace columns, loads and friction
     that make the kernel branch; the kernel's parameters of the designs come
     from :func:`prp3.mechanics.kernel.kernel_parameters` traced over their values.
 
