@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 
 import prp3
+import prp3.apps.cluster
 import prp3.apps.sweep
 from prp3.apps.design_evaluation import evaluate_designs
 from prp3.apps.sweep_spec import design_values, sweep_spec
@@ -171,7 +172,7 @@ def main() -> int:
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=None,
-                scheduler_kwargs=prp3.apps.sweep.QUIET_SCHEDULER,
+                scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
             ) as cluster,
             Client(cluster) as client,
         ):

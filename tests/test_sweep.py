@@ -24,8 +24,10 @@ pa = pytest.importorskip("pyarrow")
 pq = pytest.importorskip("pyarrow.parquet")
 
 import prp3  # noqa: E402
+import prp3.apps.cluster  # noqa: E402
 import prp3.apps.design_evaluation  # noqa: E402
 import prp3.apps.design_objective  # noqa: E402
+import prp3.apps.optimization  # noqa: E402
 import prp3.apps.sweep  # noqa: E402
 from clitools import cli  # noqa: E402
 from prp3.apps.design import design_robot  # noqa: E402
@@ -71,7 +73,7 @@ def scheduler():
         threads_per_worker=1,
         processes=False,
         dashboard_address=None,
-        scheduler_kwargs=prp3.apps.sweep.QUIET_SCHEDULER,
+        scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
     ) as cluster:
         yield cluster.scheduler_address
 
@@ -314,8 +316,8 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, text, fragment):
 
 
 def test_an_unreachable_scheduler_is_reported_within_10_s(tmp_path, capsys, monkeypatch):
-    assert prp3.apps.sweep.CONNECT_TIMEOUT <= 5.0  # the default leaves time to start and report
-    monkeypatch.setattr(prp3.apps.sweep, "CONNECT_TIMEOUT", 1.0)  # the same path, sooner
+    assert prp3.apps.cluster.CONNECT_TIMEOUT <= 5.0  # the default leaves time to start and report
+    monkeypatch.setattr(prp3.apps.cluster, "CONNECT_TIMEOUT", 1.0)  # the same path, sooner
     spec = write(tmp_path / "sweep.toml", GRID)
     start = time.monotonic()
     status, _out, err = cli(
@@ -648,7 +650,7 @@ def test_optimize_sends_its_objective_to_the_workers_once(scheduler, monkeypatch
 
         monkeypatch.setattr(client, "scatter", scatter)
         monkeypatch.setattr(client, "submit", submit)
-        outcome = prp3.apps.sweep.optimize_design(spec, client)
+        outcome = prp3.apps.optimization.optimize_design(spec, client)
     assert len(scattered) == 1 and isinstance(
         scattered[0], prp3.apps.design_objective.DesignObjective
     )
@@ -772,9 +774,9 @@ def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
             files.append(run.path.read_bytes())
         assert client.status == "running"  # a client given is left open
         outcomes = []
-        for given_ in (client, lambda: prp3.apps.sweep.dask_client(scheduler=scheduler)):
+        for given_ in (client, lambda: prp3.apps.cluster.dask_client(scheduler=scheduler)):
             reports: list[tuple[int, int]] = []
-            outcome = prp3.apps.sweep.optimize_design(
+            outcome = prp3.apps.optimization.optimize_design(
                 spec, given_, progress=lambda done, total, seen=reports: seen.append((done, total))
             )
             outcomes.append(outcome)
@@ -786,7 +788,7 @@ def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
     assert outcomes[0].x.tolist() == outcomes[1].x.tolist()
     for bad in (42, lambda: 42):
         with pytest.raises(prp3.errors.ParameterError, match="client"):
-            prp3.apps.sweep.optimize_design(spec, bad)
+            prp3.apps.optimization.optimize_design(spec, bad)
 
 
 def test_sweep_and_optimize_draw_a_bar_on_a_terminal(tmp_path, monkeypatch, scheduler):
