@@ -17,7 +17,7 @@ designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
 * ``paper_forces per new robot`` — :func:`~prp3.engines.entries.compile_robot` + one
   call for a robot it has not seen (what a sweep would pay per design through
   ``paper_forces``: the batch path prepares its code per robot);
-* ``evaluate_designs`` — :func:`prp3.apps.design.evaluate_designs` on one chunk in
+* ``evaluate_designs`` — :func:`prp3.apps.design_evaluation.evaluate_designs` on one chunk in
   this process: the kernel traced for blocks of designs × samples (the
   designs' parameters traced from their values), peaks and energy, no Dask;
 * ``sweep, 1 worker`` / ``2 workers`` — :func:`prp3.apps.sweep.run_sweep` on a
@@ -53,8 +53,10 @@ from typing import Any
 import numpy as np
 
 import prp3
+import prp3.apps.cluster
 import prp3.apps.sweep
-from prp3.apps.design import design_values, evaluate_designs, sweep_spec
+from prp3.apps.design_evaluation import evaluate_designs
+from prp3.apps.sweep_spec import design_values, sweep_spec
 from prp3.engines.entries import compile_robot, paper_forces
 
 
@@ -170,7 +172,7 @@ def main() -> int:
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=None,
-                scheduler_kwargs=prp3.apps.sweep.QUIET_SCHEDULER,
+                scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
             ) as cluster,
             Client(cluster) as client,
         ):

@@ -17,7 +17,7 @@ import dataclasses
 
 import pytest
 
-import prp3.apps.design
+import prp3.apps.design_evaluation
 import prp3.apps.regressor
 import prp3.model.robot
 from prp3.apps.codegen import c_inverse_dynamics
@@ -56,7 +56,9 @@ def test_a_robot_lists_the_elements_it_has() -> None:
 def test_consumers_follow_the_elements(monkeypatch: pytest.MonkeyPatch) -> None:
     # identification's parameters and design's broadcast fields are the elements'
     assert prp3.apps.regressor.ELEMENT_PARAMETERS == tuple(n for e in ELEMENTS for n in e.regressor)
-    assert {n for e in ELEMENTS for n in e.broadcast} <= prp3.apps.design._BROADCAST_FIELDS
+    assert {
+        n for e in ELEMENTS for n in e.broadcast
+    } <= prp3.apps.design_evaluation._BROADCAST_FIELDS
     # the C code supports the spring because its element says so: declared otherwise, the
     # robot is refused by the element's name
     robot = Robot(spring=Spring(SpringParameters(stiffness=10.0)))

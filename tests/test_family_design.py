@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import prp3.apps.sweep
+import prp3.apps.cluster
 from clitools import cli, one_line
 from prp3.errors import Prp3Error
 from prp3.family import FamilyRobot, family_inverse_dynamics
@@ -42,7 +42,7 @@ def scheduler():  # type: ignore[no-untyped-def]
         threads_per_worker=1,
         processes=False,
         dashboard_address=None,
-        scheduler_kwargs=prp3.apps.sweep.QUIET_SCHEDULER,
+        scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
     ) as cluster:
         yield cluster.scheduler_address
 

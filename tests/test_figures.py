@@ -280,7 +280,8 @@ def _inside_the_figure(figure, renderer) -> None:
 # ---------------------------------------------------------------- design figures
 @pytest.fixture(scope="module")
 def one_parameter_designs():
-    from prp3.apps.design import design_values, evaluate_designs, sweep_spec
+    from prp3.apps.design_evaluation import evaluate_designs
+    from prp3.apps.sweep_spec import design_values, sweep_spec
 
     spec = sweep_spec({"designs": 9, "sampling": "grid",
                        "parameters": {"platform.mass": [2.0, 4.0]},

@@ -37,11 +37,13 @@ import prp3.apps.codegen
 import prp3.apps.control
 import prp3.apps.control_law
 import prp3.apps.design
+import prp3.apps.design_objective
 import prp3.apps.excitation
 import prp3.apps.identification
 import prp3.apps.mjcf
 import prp3.apps.regressor
 import prp3.apps.runs
+import prp3.apps.sweep_spec
 import prp3.engines.entries
 import prp3.engines.select
 import prp3.mechanics.geometry
@@ -58,6 +60,9 @@ MODULES = (
     "prp3.apps.control_law",
     "prp3.apps.plants",
     "prp3.apps.design",
+    "prp3.apps.design_evaluation",
+    "prp3.apps.design_objective",
+    "prp3.apps.sweep_spec",
     "prp3.analysis.inverse_dynamics",
     "prp3.engines.select",
     "prp3.engines.entries",
@@ -770,21 +775,21 @@ CASES: dict[str, Case] = {
         values=np.array([0.25]),
     ),
     "sweep_spec": _case(
-        prp3.apps.design.sweep_spec,
+        prp3.apps.sweep_spec.sweep_spec,
         {"data": OBJ},
         data=lambda: {"parameters": {"l0": [0.2, 0.4]}, "designs": 2},
     ),
     "pareto_front": _case(
-        prp3.apps.design.pareto_front,
+        prp3.apps.design_objective.pareto_front,
         {"x": "array~", "y": "array~"},
         x=np.array([1.0, 2.0]),
         y=np.array([2.0, 1.0]),
     ),
     "Parameter": _case(
-        prp3.apps.design.Parameter, {"low": R, "high": R}, path="l0", low=0.2, high=0.4
+        prp3.apps.sweep_spec.Parameter, {"low": R, "high": R}, path="l0", low=0.2, high=0.4
     ),
     "OptimizeSpec": _case(
-        prp3.apps.design.OptimizeSpec,
+        prp3.apps.design_objective.OptimizeSpec,
         {"maxiter": INT, "popsize": INT, "tol": R},
         maxiter=30,
         popsize=10,

@@ -24,16 +24,16 @@ pa = pytest.importorskip("pyarrow")
 pq = pytest.importorskip("pyarrow.parquet")
 
 import prp3  # noqa: E402
+import prp3.apps.cluster  # noqa: E402
+import prp3.apps.design_evaluation  # noqa: E402
+import prp3.apps.design_objective  # noqa: E402
+import prp3.apps.optimization  # noqa: E402
 import prp3.apps.sweep  # noqa: E402
 from clitools import cli  # noqa: E402
-from prp3.apps.design import (  # noqa: E402
-    design_robot,
-    design_values,
-    evaluate_designs,
-    pareto_front,
-    read_sweep_spec,
-    sweep_spec,
-)
+from prp3.apps.design import design_robot  # noqa: E402
+from prp3.apps.design_evaluation import evaluate_designs  # noqa: E402
+from prp3.apps.design_objective import pareto_front  # noqa: E402
+from prp3.apps.sweep_spec import design_values, read_sweep_spec, sweep_spec  # noqa: E402
 from prp3.mechanics.kernel import kernel_parameters  # noqa: E402
 
 LEGS = "ABC"
@@ -73,7 +73,7 @@ def scheduler():
         threads_per_worker=1,
         processes=False,
         dashboard_address=None,
-        scheduler_kwargs=prp3.apps.sweep.QUIET_SCHEDULER,
+        scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
     ) as cluster:
         yield cluster.scheduler_address
 
@@ -316,8 +316,8 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, text, fragment):
 
 
 def test_an_unreachable_scheduler_is_reported_within_10_s(tmp_path, capsys, monkeypatch):
-    assert prp3.apps.sweep.CONNECT_TIMEOUT <= 5.0  # the default leaves time to start and report
-    monkeypatch.setattr(prp3.apps.sweep, "CONNECT_TIMEOUT", 1.0)  # the same path, sooner
+    assert prp3.apps.cluster.CONNECT_TIMEOUT <= 5.0  # the default leaves time to start and report
+    monkeypatch.setattr(prp3.apps.cluster, "CONNECT_TIMEOUT", 1.0)  # the same path, sooner
     spec = write(tmp_path / "sweep.toml", GRID)
     start = time.monotonic()
     status, _out, err = cli(
@@ -566,13 +566,18 @@ def test_designs_in_a_box_of_valid_robots_are_not_built_one_by_one(monkeypatch):
     values = design_values(spec)
     expected = evaluate_designs(spec.evaluator, values)  # traces what it needs
     built, solved = [], []
-    real_from_mapping, real_solve = prp3.Robot.from_mapping.__func__, prp3.apps.design.solve
+    real_from_mapping, real_solve = (
+        prp3.Robot.from_mapping.__func__,
+        prp3.apps.design_evaluation.solve,
+    )
     monkeypatch.setattr(
         prp3.Robot, "from_mapping", classmethod(lambda cls, m: built.append(m) or
                                                real_from_mapping(cls, m))
     )  # fmt: skip
     monkeypatch.setattr(
-        prp3.apps.design, "solve", lambda *a, **k: solved.append(1) or real_solve(*a, **k)
+        prp3.apps.design_evaluation,
+        "solve",
+        lambda *a, **k: solved.append(1) or real_solve(*a, **k),
     )
     columns = evaluate_designs(spec.evaluator, values)
     assert (built, solved) == ([], [])
@@ -609,11 +614,13 @@ def test_traced_parameters_of_designs_are_kernel_parameters_of_their_robots(tmp_
         base=tmp_path,
     )  # fmt: skip
     evaluator, values = spec.evaluator, design_values(spec)
-    fixed, columns, lower, upper = prp3.apps.design._design_parameters(evaluator, values, None)
+    fixed, columns, lower, upper = prp3.apps.design_evaluation._design_parameters(
+        evaluator, values, None
+    )
     assert set(columns) and np.isneginf(lower).all() and np.isposinf(upper).all()
     for k, row in enumerate(values.tolist()):
         expected = kernel_parameters(design_robot(evaluator.nominal, spec.paths, row))
-        for name in prp3.apps.design._PARAMETER_FIELDS:
+        for name in prp3.apps.design_evaluation._PARAMETER_FIELDS:
             got = fixed[name] if name in fixed else columns[name][k]
             assert got == getattr(expected, name), (name, k)
 
@@ -643,8 +650,10 @@ def test_optimize_sends_its_objective_to_the_workers_once(scheduler, monkeypatch
 
         monkeypatch.setattr(client, "scatter", scatter)
         monkeypatch.setattr(client, "submit", submit)
-        outcome = prp3.apps.sweep.optimize_design(spec, client)
-    assert len(scattered) == 1 and isinstance(scattered[0], prp3.apps.design.DesignObjective)
+        outcome = prp3.apps.optimization.optimize_design(spec, client)
+    assert len(scattered) == 1 and isinstance(
+        scattered[0], prp3.apps.design_objective.DesignObjective
+    )
     assert outcome.generations >= 2 and len(submitted) > outcome.generations
     assert all(isinstance(args[0], Future) for args in submitted)
     assert len({args[0].key for args in submitted}) == 1  # every generation: the same copy
@@ -765,9 +774,9 @@ def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
             files.append(run.path.read_bytes())
         assert client.status == "running"  # a client given is left open
         outcomes = []
-        for given_ in (client, lambda: prp3.apps.sweep.dask_client(scheduler=scheduler)):
+        for given_ in (client, lambda: prp3.apps.cluster.dask_client(scheduler=scheduler)):
             reports: list[tuple[int, int]] = []
-            outcome = prp3.apps.sweep.optimize_design(
+            outcome = prp3.apps.optimization.optimize_design(
                 spec, given_, progress=lambda done, total, seen=reports: seen.append((done, total))
             )
             outcomes.append(outcome)
@@ -779,7 +788,7 @@ def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
     assert outcomes[0].x.tolist() == outcomes[1].x.tolist()
     for bad in (42, lambda: 42):
         with pytest.raises(prp3.errors.ParameterError, match="client"):
-            prp3.apps.sweep.optimize_design(spec, bad)
+            prp3.apps.optimization.optimize_design(spec, bad)
 
 
 def test_sweep_and_optimize_draw_a_bar_on_a_terminal(tmp_path, monkeypatch, scheduler):

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 import prp3
-from prp3.apps.design import quantity
+from prp3.apps.design_objective import quantity
 from prp3.apps.sweep import read_designs
 from prp3.cli import main as prp3_main
 from prp3.plotting.design import pareto_figure

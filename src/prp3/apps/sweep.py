@@ -1,14 +1,14 @@
-"""Sweeps and optimizations of designs on Dask, with the results in Parquet.
+"""Sweeps of designs on Dask, with the results in Parquet.
 
-:func:`run_sweep` evaluates the designs of a :class:`~prp3.apps.design.SweepSpec`
-in chunks of ``chunk`` designs (:data:`~prp3.apps.design.CHUNK_DESIGNS` by default), one
-``dask.distributed`` task per chunk (:func:`prp3.apps.design.evaluate_designs`),
+:func:`run_sweep` evaluates the designs of a :class:`~prp3.apps.sweep_spec.SweepSpec`
+in chunks of ``chunk`` designs (:data:`~prp3.apps.sweep_spec.CHUNK_DESIGNS` by default), one
+``dask.distributed`` task per chunk (:func:`prp3.apps.design_evaluation.evaluate_designs`),
 and writes ``designs.parquet``: one row per design, in the order the designs
 are generated, whatever the number of workers.
 
 Resuming: every finished chunk is written at once, whole or not at all, to a
 staging folder ``DIR/.prp3-sweep-<digest>`` named by the SHA-256 of
-everything the rows depend on (:meth:`~prp3.apps.design.SweepSpec.digest`: the
+everything the rows depend on (:meth:`~prp3.apps.sweep_spec.SweepSpec.digest`: the
 nominal robot, the parameters, the sampling, the task's samples).  A sweep
 that was interrupted and is run again with the same spec computes only the
 chunks the folder lacks; then the chunks are joined in order into one
@@ -22,27 +22,19 @@ before).  Its
 key-value metadata holds the digest, the spec and the row of the nominal
 design (``prp3.*`` keys; :func:`read_designs`).
 
-:func:`optimize_design` minimises an objective under constraints
-(:func:`prp3.apps.design.penalized_objective`) with
-:func:`scipy.optimize.differential_evolution`, the population of every
-generation evaluated on the Dask workers through its ``workers`` map
-(:class:`DaskMap`).
-
 dask and pyarrow are imported inside the functions (the ``design`` extra).
 """
 
 from __future__ import annotations
 
-import asyncio
 import contextlib
 import itertools
 import json
-import logging
 import math
 import os
 import re
 import shutil
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -50,32 +42,21 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.design import (
-    INFEASIBLE,
-    DesignEvaluator,
-    DesignObjective,
-    SweepSpec,
-    design_values,
-    evaluate_designs,
-    nominal_value,
-)
-from prp3.errors import InputFileError, OutputFileError, ParameterError, Prp3Error
+from prp3.apps.cluster import ClientOrFactory, Progress, _using, _worker_count
+from prp3.apps.design import DesignEvaluator, nominal_value
+from prp3.apps.design_evaluation import evaluate_designs
+from prp3.apps.sweep_spec import SweepSpec, design_values
+from prp3.errors import InputFileError, OutputFileError
 from prp3.io.formats import atomic_path, check_output_directory
 
 if TYPE_CHECKING:
     from dask.distributed import Client
 
 __all__ = [
-    "CONNECT_TIMEOUT",
     "DESIGNS_FILE",
-    "ClientOrFactory",
-    "DaskMap",
     "DesignTable",
-    "OptimizeOutcome",
     "SweepRun",
     "check_sweep_folder",
-    "dask_client",
-    "optimize_design",
     "read_designs",
     "run_sweep",
     "staging_folder",
@@ -84,21 +65,9 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
-Progress = Callable[[int, int], None]
-
-#: What :func:`run_sweep` and :func:`optimize_design` take as ``client``: a Dask client, or
-#: a callable of no argument that makes one (or a context manager giving one, e.g.
-#: ``lambda: dask_client(2)``).
-ClientOrFactory = Any
 
 #: Name of the sweep's output file in its directory.
 DESIGNS_FILE: str = "designs.parquet"
-
-#: Seconds to wait for an existing scheduler (an unreachable one is reported within 10 s).
-CONNECT_TIMEOUT: float = 5.0
-
-#: No dashboard, and the scheduler's HTTP server (metrics) on a free port, not 8787.
-QUIET_SCHEDULER: dict[str, Any] = {"dashboard": False, "dashboard_address": ":0"}
 
 #: Rows per Parquet row group of ``designs.parquet``.
 ROW_GROUP: int = 65_536
@@ -110,123 +79,7 @@ _STAGING = re.compile(r"^\.prp3-sweep-[0-9a-f]{20}$")
 _MANIFEST = "sweep.json"
 
 
-# ------------------------------------------------------------------ cluster
-@contextlib.contextmanager
-def dask_client(workers: int | None = None, scheduler: str | None = None) -> Iterator[Client]:
-    """A ``dask.distributed`` client: of an existing scheduler, or of a new LocalCluster.
-
-    Parameters
-    ----------
-    workers : int, optional
-        Worker processes of the LocalCluster (one thread each); default: the
-        machine's cores.  Ignored with ``scheduler``.
-    scheduler : str, optional
-        Address ``tcp://HOST:PORT`` of a running scheduler.
-
-    Raises
-    ------
-    Prp3Error
-        The scheduler cannot be reached within :data:`CONNECT_TIMEOUT` seconds
-        or its address is malformed (names the address).
-    """
-    from dask.distributed import Client, LocalCluster
-
-    if scheduler is not None:
-        try:
-            if not scheduler.startswith("inproc://"):  # in-process: nothing to probe
-                asyncio.run(asyncio.wait_for(_probe(scheduler), CONNECT_TIMEOUT))
-            client = Client(scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
-        except (Exception, MemoryError) as error:  # whatever the other end does
-            reason = re.sub(r"\s+", " ", str(error)).strip() or type(error).__name__
-            raise Prp3Error(
-                f"--scheduler {scheduler}: cannot reach the Dask scheduler within "
-                f"{CONNECT_TIMEOUT:g} s ({reason[:200]})"
-            ) from None
-        with client:
-            yield client
-        return
-    with (
-        LocalCluster(
-            n_workers=workers or os.cpu_count() or 1,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            scheduler_kwargs=QUIET_SCHEDULER,
-            silence_logs=logging.ERROR,
-        ) as cluster,
-        Client(cluster, set_as_default=False) as client,
-    ):
-        yield client
-
-
-async def _probe(address: str) -> None:
-    """Ask ``address`` who it is; raise unless a Dask scheduler answers.
-
-    A client that connects to something else (a web server, a closed port
-    behind a firewall) could wait, or allocate what a garbled reply asks for,
-    before it fails; this fails first.
-    """
-    from distributed.comm.core import connect
-
-    comm = await connect(address, timeout=CONNECT_TIMEOUT)
-    try:
-        await comm.write({"op": "identity", "reply": True})
-        reply = await comm.read()
-    finally:
-        comm.abort()
-    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
-        raise ValueError(f"it answered as {str(reply)[:80]!r}, not as a Dask scheduler")
-
-
-def _worker_count(client: Client) -> int:
-    return max(1, len(client.scheduler_info().get("workers", {})))
-
-
 # ------------------------------------------------------------------ Parquet
-@contextlib.contextmanager
-def _using(client: ClientOrFactory, name: str) -> Iterator[Client]:
-    """The Dask client of ``client``: a client itself (left open), or made by a factory.
-
-    A factory is called with no argument; what it returns is a client (closed
-    at the end) or a context manager giving one (entered, then left).
-
-    Raises
-    ------
-    ParameterError
-        ``client`` is neither (names the argument and the value).
-    """
-    from dask.distributed import Client
-
-    if isinstance(client, Client):
-        yield client
-        return
-    if not callable(client):
-        raise ParameterError(
-            f"{name} must be a dask.distributed.Client or a callable of no argument that makes "
-            f"one (e.g. lambda: dask_client(2)), got {type(client).__name__}",
-            key=name,
-        )
-    made = client()
-    if isinstance(made, Client):
-        with made:
-            yield made
-        return
-    if isinstance(made, contextlib.AbstractContextManager):
-        with made as entered:
-            if not isinstance(entered, Client):
-                raise ParameterError(
-                    f"{name}() must give a dask.distributed.Client, got {type(entered).__name__}",
-                    key=name,
-                )
-            yield entered
-        return
-    raise ParameterError(
-        f"{name}() must make a dask.distributed.Client or a context manager giving one, "
-        f"got {type(made).__name__}",
-        key=name,
-    )
-
-
 def _arrow_table(columns: dict[str, Any], names: Sequence[str]) -> Any:
     import pyarrow as pa
 
@@ -638,168 +491,4 @@ def _summary(
         computed=computed,
         status={str(s): int(c) for s, c in zip(statuses, counts, strict=True)},
         removed=removed,
-    )
-
-
-# ------------------------------------------------------------------ optimization
-class DaskMap:
-    """A ``map(func, iterable)`` for ``differential_evolution(workers=...)`` on Dask.
-
-    The members of a generation are split into one part per worker, each
-    evaluated by a Dask task; every evaluation is recorded in :attr:`history`
-    as ``(generation, x, value)``.  The function goes to the workers once
-    (scattered to every worker on its first use, ``broadcast=True``), and
-    every task refers to that copy: a generation sends only its members.
-    With ``batch``, a part is evaluated by one call ``batch.many(members)``
-    (``(k, p)`` -> ``(k,)``, the same values as ``func`` one by one) instead
-    of ``func`` member by member.
-    """
-
-    def __init__(
-        self,
-        client: Client,
-        batch: DesignObjective | None = None,
-        progress: Callable[[int], None] | None = None,
-    ) -> None:
-        self.client = client
-        self.batch = batch
-        self.progress = progress
-        self.generation = 0
-        self.history: list[tuple[int, FloatArray, float]] = []
-        self._scattered: tuple[object, Any] | None = None  # (function, its future)
-
-    def _shared(self, func: object) -> Any:
-        """The future of ``func`` on the workers, scattered the first time it is seen."""
-        if self._scattered is None or self._scattered[0] is not func:
-            future = self.client.scatter(func, broadcast=True, hash=False)
-            self._scattered = (func, future)
-        return self._scattered[1]
-
-    def __call__(self, func: Callable[[Any], float], iterable: Iterable[Any]) -> list[float]:
-        """Evaluate ``func`` on every member of ``iterable`` on the workers, in order."""
-        members = [np.asarray(x, dtype=np.float64) for x in iterable]
-        parts = max(1, min(len(members), _worker_count(self.client)))
-        split = [list(part) for part in np.array_split(np.arange(len(members)), parts)]
-        if self.batch is not None:
-            shared = self._shared(self.batch)
-            futures = [
-                self.client.submit(_apply_many, shared, np.stack([members[k] for k in part]),
-                                   pure=False)
-                for part in split
-                if part
-            ]  # fmt: skip
-        else:
-            shared = self._shared(func)
-            futures = [
-                self.client.submit(_apply, shared, [members[k] for k in part], pure=False)
-                for part in split
-                if part
-            ]
-        values = [float(v) for part in self.client.gather(futures) for v in part]
-        for x, value in zip(members, values, strict=True):
-            self.history.append((self.generation, x, value))
-        self.generation += 1
-        if self.progress is not None:
-            self.progress(self.generation)
-        return values
-
-
-def _apply(func: Callable[[Any], float], members: list[FloatArray]) -> list[float]:
-    return [float(func(x)) for x in members]
-
-
-def _apply_many(objective: DesignObjective, members: FloatArray) -> list[float]:
-    return [float(v) for v in objective.many(members)]
-
-
-@dataclass(frozen=True)
-class OptimizeOutcome:
-    """Result of :func:`optimize_design`.
-
-    Attributes
-    ----------
-    x : ndarray (p,)
-        Parameter values of the best design.
-    objective : float
-        Its objective (``>= INFEASIBLE`` when no feasible design was found).
-    feasible : bool
-    row : dict
-        Its row of the design table (every column).
-    generations, evaluations : int
-    message : str
-        scipy's message.
-    history : dict
-        Columns ``generation``, the parameters, ``objective`` (NaN when
-        infeasible), ``violation`` (0 when feasible) of every evaluation.
-    """
-
-    x: FloatArray
-    objective: float
-    feasible: bool
-    row: dict[str, Any]
-    generations: int
-    evaluations: int
-    message: str
-    history: dict[str, FloatArray]
-
-
-def optimize_design(
-    spec: SweepSpec, client: ClientOrFactory, *, progress: Progress | None = None
-) -> OptimizeOutcome:
-    """Minimise ``spec.optimize.objective`` subject to its constraints over the parameter ranges.
-
-    ``client`` is a Dask client (used, left open) or a callable of no
-    argument that makes one or a context manager giving one (as
-    :func:`run_sweep` takes it).  ``progress(generations_done, maxiter + 1)``
-    is called after every generation (the initial population counts as one;
-    the run may stop before the last one when it converges).
-
-    :func:`scipy.optimize.differential_evolution` (``best1bin``, Latin-hypercube
-    initial population, ``rng = seed``, no polishing, deferred updating) with
-    the population of each generation evaluated on the Dask workers.
-    Infeasible designs (a failed task or a violated constraint) get the
-    objective ``INFEASIBLE + violation`` (:func:`prp3.apps.design.penalized_objective`).
-    """
-    from scipy.optimize import differential_evolution
-
-    settings = spec.optimize
-    objective = DesignObjective(spec.evaluator, settings)
-    total = settings.maxiter + 1
-    report = None if progress is None else (lambda done: progress(min(done, total), total))
-    with _using(client, "client") as dask:
-        mapper = DaskMap(dask, batch=objective, progress=report)
-        result = differential_evolution(
-            objective,
-            spec.bounds,
-            maxiter=settings.maxiter,
-            popsize=settings.popsize,
-            tol=settings.tol,
-            rng=spec.seed,
-            polish=False,
-            init="latinhypercube",
-            updating="deferred",
-            workers=mapper,
-        )
-    if progress is not None:
-        progress(total, total)
-    x = np.asarray(result.x, dtype=np.float64)
-    columns = evaluate_designs(spec.evaluator, x[None, :])
-    row = {name: (str(v[0]) if name == "status" else float(v[0])) for name, v in columns.items()}
-    generation = np.array([g for g, _, _ in mapper.history], dtype=np.float64)
-    xs = np.array([x for _, x, _ in mapper.history]).reshape(-1, len(spec.paths))
-    value = np.array([v for _, _, v in mapper.history])
-    feasible = value < INFEASIBLE
-    history: dict[str, FloatArray] = {"generation": generation}
-    history |= {path: xs[:, j] for j, path in enumerate(spec.paths)}
-    history["objective"] = np.where(feasible, value, np.nan)
-    history["violation"] = np.where(feasible, 0.0, value - INFEASIBLE)
-    return OptimizeOutcome(
-        x=x,
-        objective=float(result.fun),
-        feasible=bool(result.fun < INFEASIBLE),
-        row=row,
-        generations=int(result.nit),
-        evaluations=int(result.nfev),
-        message=str(result.message),
-        history=history,
     )

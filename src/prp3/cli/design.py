@@ -26,7 +26,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from prp3.apps.design import AGGREGATES, SweepSpec, design_robot, quantity, read_sweep_spec
+from prp3.apps.design import AGGREGATES, design_robot
+from prp3.apps.design_objective import quantity
+from prp3.apps.sweep_spec import SweepSpec, read_sweep_spec
 from prp3.cli._progress import Progress
 from prp3.cli._types import emit, files_report, integer_at_least, output_folder, path_name
 from prp3.errors import Prp3Error
@@ -158,7 +160,7 @@ def _require_design_extra() -> None:
 
 @contextlib.contextmanager
 def _client(args: argparse.Namespace) -> Iterator[Client]:
-    from prp3.apps.sweep import dask_client
+    from prp3.apps.cluster import dask_client
 
     with dask_client(args.workers, args.scheduler) as client:
         yield client
@@ -308,7 +310,7 @@ def _write_history(path: Path, history: Mapping[str, Any]) -> None:
 
 def run_optimize(args: argparse.Namespace) -> int:
     """Run ``prp3 optimize``; return the exit status."""
-    from prp3.apps import sweep
+    from prp3.apps import optimization
 
     _require_design_extra()
     family = _family_spec(args)
@@ -323,7 +325,7 @@ def run_optimize(args: argparse.Namespace) -> int:
     start = time.monotonic()
     progress = Progress(sys.stderr)
     try:
-        outcome = sweep.optimize_design(
+        outcome = optimization.optimize_design(
             spec, lambda: _client(args), progress=progress.stage("generations")
         )
     finally:

@@ -1,4 +1,4 @@
-"""Straight-line numpy code from the kernel, for the design sweeps of :mod:`prp3.apps.design` (internal).
+"""Straight-line numpy code from the kernel, for the design sweeps of :mod:`prp3.apps.design_evaluation` (internal).
 
 :mod:`prp3.engines.entries` does not use it: its engines run the kernel itself
 (:mod:`prp3.engines.select`).

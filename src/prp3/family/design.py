@@ -53,8 +53,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.design import (
-    OptimizeSpec,
+from prp3.apps.design import design_mapping
+from prp3.apps.design_objective import OptimizeSpec, penalized_objective
+from prp3.apps.sweep_spec import (
     Parameter,
     _flatten,
     _integer,
@@ -62,8 +63,6 @@ from prp3.apps.design import (
     _sampling,
     _table,
     _unknown,
-    design_mapping,
-    penalized_objective,
 )
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
 from prp3.family.model import ARCHITECTURES, FamilyRobot
@@ -344,7 +343,7 @@ def family_sweep_spec(
     ParameterError, InputFileError, TrajectoryError
         One line naming ``source`` and the key.
     """
-    from prp3.apps.design import _optimize
+    from prp3.apps.sweep_spec import _optimize
 
     base = Path(base)
     _unknown(source, "", data, _TOP_KEYS)
@@ -456,7 +455,7 @@ def run_family_sweep(
     One task per chunk of ``spec.chunk`` designs; the rows keep the order of
     :func:`family_design_rows` whatever the workers; the file is written
     atomically (whole or not at all).  ``client`` makes the Dask client as a
-    context manager (:func:`prp3.apps.sweep.dask_client`).
+    context manager (:func:`prp3.apps.cluster.dask_client`).
     """
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -537,7 +536,7 @@ def optimize_family(
     """Minimise the objective of ``spec.optimize`` within every study, on Dask.
 
     Each study with parameters runs :func:`scipy.optimize.differential_evolution`
-    (as :func:`prp3.apps.sweep.optimize_design`: Latin-hypercube start, ``rng = seed``,
+    (as :func:`prp3.apps.optimization.optimize_design`: Latin-hypercube start, ``rng = seed``,
     deferred updating, each generation on the workers); a study without
     parameters is its nominal design.  Returns the best design of each study
     (compare them for the best architecture) and the history of every
@@ -545,8 +544,8 @@ def optimize_family(
     """
     from scipy.optimize import differential_evolution
 
-    from prp3.apps.design import INFEASIBLE
-    from prp3.apps.sweep import DaskMap
+    from prp3.apps.design_objective import INFEASIBLE
+    from prp3.apps.optimization import DaskMap
 
     settings = spec.optimize
     optima: list[FamilyOptimum] = []

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from prp3.apps.design import pareto_front, quantity
+from prp3.apps.design_objective import pareto_front, quantity
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -73,7 +73,7 @@ def pareto_figure(
     columns : mapping
         Columns of the design table.
     x, y : str
-        Columns or aggregates (:func:`prp3.apps.design.quantity`).
+        Columns or aggregates (:func:`prp3.apps.design_objective.quantity`).
     maximize_x, maximize_y : bool
         Whether larger is better on that axis (default: smaller is better).
     nominal : mapping, optional
