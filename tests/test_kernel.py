@@ -18,6 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import Motion, Prp3Error, Robot, SingularPoseError, newton_euler
+from prp3.engines import select as engines
 from prp3.engines.entries import (
     ENGINES,
     actuator_forces,
@@ -26,7 +27,6 @@ from prp3.engines.entries import (
     sample_forces_unchecked,
     solve_batch,
 )
-from prp3.engines import select as engines
 from prp3.engines.trace import array_function, broadcast_function
 from prp3.mechanics import kernel
 from prp3.mechanics.kernel import (
