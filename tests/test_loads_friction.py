@@ -16,10 +16,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
-from prp3 import METHODS, Motion, Robot, inverse_dynamics
+from prp3 import (
+    METHODS,
+    LinkParameters,
+    Motion,
+    PistonParameters,
+    PlatformParameters,
+    Robot,
+    inverse_dynamics,
+)
 from prp3.cli import main
 from prp3.engines.entries import compile_robot, paper_forces, sample_forces
 from prp3.errors import TrajectoryError
@@ -29,6 +37,7 @@ from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, Spr
 from strategies import (
     REF_E,
     REF_N,
+    AnalyticMotion,
     body_states,
     cross,
     dot,
@@ -153,9 +162,45 @@ def test_methods_agree_with_smoothed_friction(scenario, extra, seed) -> None:  #
     assert_methods_agree(*_scenario(*scenario, extra, seed), 1e-12)
 
 
+_ZERO_FRICTION = dict(viscous=0.0, coulomb=0.0, mu=0.0, smoothing=0.0, pin_radius=0.0)
+
+
 @settings(max_examples=6, deadline=None)
 @given(
     scenario=scenarios(), extra=effects(mu=True, smoothing=False), seed=st.integers(0, 2**32 - 1)
+)
+# y spans 7.6e-135 m: the joint rates it gives are round-off, whose random sign an exact-sign
+# Coulomb law of the sleeves read as motion in the kernel but not in Newton-Euler (f10 off by
+# 1.29 N); every method now takes them as zero (prp3.validation.rest_joint_rates)
+@example(
+    scenario=(
+        Robot(
+            gravity=(0.0, 0.0),
+            piston=PistonParameters(mass=1.0, inertia=0.0),
+            link=LinkParameters(mass=1.0, inertia=0.0),
+            platform=PlatformParameters(mass=1.0),
+        ),
+        AnalyticMotion(
+            centre=np.zeros(3),
+            span=np.array([0.25, 7.6145383e-135, 0.0]),
+            sine_weight=np.zeros((3, 2)),
+            frequency=np.ones((3, 2)),
+            phase=np.zeros((3, 2)),
+            poly_weight=np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]),
+            duration=1.0,
+        ),
+    ),
+    extra={
+        "payload": Payload(),
+        "load": Load(),
+        "spring": None,
+        "friction": Friction(
+            actuator=JointFriction(**_ZERO_FRICTION),
+            revolute=JointFriction(**_ZERO_FRICTION),
+            sleeve=JointFriction(**{**_ZERO_FRICTION, "coulomb": 1.0}),
+        ),
+    },
+    seed=0,
 )
 def test_methods_agree_with_exact_sign_and_mu(scenario, extra, seed) -> None:  # type: ignore[no-untyped-def]
     assert_methods_agree(*_scenario(*scenario, extra, seed), 1e-10)

@@ -68,6 +68,7 @@ __all__ = [
     "check_state_sample",
     "check_times",
     "first_non_finite",
+    "joint_rate_floor",
     "require_finite",
     "rest_joint_rates",
     "rest_rates",
@@ -534,9 +535,20 @@ def rest_joint_rates(
     """
     speed = np.hypot(velocity[:, 0], velocity[:, 1])
     reach = l0 + np.hypot(pose[:, 0], pose[:, 1])
-    scale = (speed + np.abs(velocity[:, 2]) * reach) / np.abs(singularity_measure(pose[:, 2]))
-    floor = (RATE_TOLERANCE * scale)[:, None]
-    return np.where(np.abs(rate) <= floor, 0.0, rate)
+    floor = joint_rate_floor(speed, velocity[:, 2], reach, singularity_measure(pose[:, 2]))
+    return np.where(np.abs(rate) <= floor[:, None], 0.0, rate)
+
+
+def joint_rate_floor(speed: Any, turn_rate: Any, reach: Any, measure: Any) -> Any:
+    """``RATE_TOLERANCE·(|Ġ| + |φ̇|·(l0 + |G|)) / |sin(φ − π/3)|``: a joint rate at most this is zero.
+
+    The floor of :func:`rest_joint_rates` (floats or arrays: ``speed = |Ġ|``,
+    ``reach = l0 + |G|``, ``measure = sin(φ − π/3)``), also read by the kernel.
+
+    >>> float(joint_rate_floor(0.25, 0.0, 0.3, 0.5))
+    5e-13
+    """
+    return RATE_TOLERANCE * (speed + np.abs(turn_rate) * reach) / np.abs(measure)
 
 
 def rest_rates(velocity: FloatArray) -> FloatArray:

@@ -196,7 +196,10 @@ def _forces(
 ) -> tuple[kernel.Legs, kernel.Legs, kernel.Legs]:
     """``f10, f21y, f21z`` of the kernel for ``k`` (no ``μ`` terms), wrenches to virtual work."""
     ddx, ddy, dphi, ddphi = rows[6], rows[7], rows[5], rows[8]
-    friction = kernel.friction_forces(kernel.NUMPY, k, kin, dphi)
+    floor = kernel.rate_floor(
+        kernel.NUMPY, k, kin.geometry, rows[0], rows[1], rows[3], rows[4], dphi
+    )
+    friction = kernel.friction_forces(kernel.NUMPY, k, kernel.rest_kinematics(kin, floor), dphi)
     loads = None if load is None else (load[0], load[1], load[2])
     wrenches = kernel.body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=loads, friction=friction)
     f10, f21y, f21z, _ = kernel.joint_forces(k, kin, wrenches, reactions=False)

@@ -201,9 +201,12 @@ class ClosedForm3PRP:
         self, motion: Motion, kinematics: kernel.KernelKinematics
     ) -> kernel.BodyWrenches:
         """Eqs. (19), (20), (22): :func:`prp3.mechanics.kernel.body_wrenches` (explicit friction)."""
-        _, velocity, acceleration = _states(motion)
+        pose, velocity, acceleration = _states(motion)
         k, dphi = self.parameters, velocity[:, 2]
-        friction = kernel.friction_forces(kernel.NUMPY, k, kinematics, dphi)
+        floor = _floor(k, kinematics, pose, velocity)
+        friction = kernel.friction_forces(
+            kernel.NUMPY, k, kernel.rest_kinematics(kinematics, floor), dphi
+        )
         ddx, ddy, ddphi = acceleration.T
         return kernel.body_wrenches(k, kinematics, ddx, ddy, dphi, ddphi, friction=friction)
 
@@ -211,18 +214,31 @@ class ClosedForm3PRP:
         self, motion: Motion, kinematics: kernel.KernelKinematics, wrenches: kernel.BodyWrenches
     ) -> JointSolution:
         """Eqs. (15), (16), (21), (23)–(25): :func:`prp3.mechanics.kernel.joint_forces`."""
-        _, velocity, acceleration = _states(motion)
+        pose, velocity, acceleration = _states(motion)
         k = self.parameters
         if k.has_mu:  # the μ terms are implicit: stages 3 and 4 together, solved by Newton
             ddx, ddy, ddphi = acceleration.T
+            floor = _floor(k, kinematics, pose, velocity)
             f10, f21y, f21z, rest, *_ = kernel.dynamics(
-                kernel.NUMPY, k, kinematics, ddx, ddy, velocity[:, 2], ddphi
+                kernel.NUMPY, k, kinematics, ddx, ddy, velocity[:, 2], ddphi, floor=floor
             )
         else:
             f10, f21y, f21z, rest = kernel.joint_forces(k, kinematics, wrenches)
         assert rest is not None
         n10, m10, n32, m32 = (np.stack(np.broadcast_arrays(*v), axis=-1) for v in rest)
         return _family_form(kinematics, velocity, acceleration, f10, f21y, f21z, n10, m10, n32, m32)
+
+
+def _floor(
+    k: kernel.KernelParameters,
+    kin: kernel.KernelKinematics,
+    pose: FloatArray,
+    velocity: FloatArray,
+) -> FloatArray:
+    """:func:`prp3.mechanics.kernel.rate_floor` of the states (round-off joint rates)."""
+    x, y, _ = pose.T
+    dx, dy, dphi = velocity.T
+    return np.asarray(kernel.rate_floor(kernel.NUMPY, k, kin.geometry, x, y, dx, dy, dphi))
 
 
 def _family_form(

@@ -94,6 +94,7 @@ import numpy as np
 from prp3.model import elements as _elements
 from prp3.model.elements import FRICTIONS, LOAD, PAYLOAD, is_zero, rate_sign
 from prp3.model.robot import Robot
+from prp3.validation import joint_rate_floor
 
 __all__ = [
     "EFFECT_FIELDS",
@@ -118,6 +119,8 @@ __all__ = [
     "kernel_geometry",
     "kernel_kinematics",
     "kernel_parameters",
+    "rate_floor",
+    "rest_kinematics",
     "solve",
     "solve_mu",
     "symbolic_parameters",
@@ -276,6 +279,11 @@ class KernelParameters:
     def has_mu(self) -> bool:
         """Whether a load-dependent friction term acts: the inverse dynamics is implicit."""
         return any(element.has_mu(self) for element in FRICTIONS)
+
+    @property
+    def has_friction(self) -> bool:
+        """Whether a friction element acts (its forces read the joint rates' signs)."""
+        return any(element.acts(self) for element in FRICTIONS)
 
 
 #: The inertial (and geometric) fields of :class:`KernelParameters`: those of the paper's model.
@@ -790,8 +798,10 @@ def solve(
     """
     geo = kernel_geometry(ops, k, x, y, phi)
     kin = kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
+    numeric = ops.name in ("math", "numpy")  # sympy: no friction in the generated code
+    floor = rate_floor(ops, k, geo, x, y, dx, dy, dphi) if numeric and k.has_friction else None
     f10, f21y, f21z, rest, friction, iterations, near_lock = dynamics(
-        ops, k, kin, ddx, ddy, dphi, ddphi, reactions=reactions, load=load
+        ops, k, kin, ddx, ddy, dphi, ddphi, reactions=reactions, load=load, floor=floor
     )
     v = kin.dlambda10
     p10 = (f10[0] * v[0], f10[1] * v[1], f10[2] * v[2])  # input power f10·λ̇10
@@ -828,6 +838,7 @@ def dynamics(
     *,
     reactions: bool = True,
     load: tuple[Value, Value, Value] | None = None,
+    floor: Value | None = None,
 ) -> tuple[
     Legs, Legs, Legs, tuple[Legs, Legs, Legs, Legs] | None, KernelFriction | None, Value, Value
 ]:
@@ -837,9 +848,12 @@ def dynamics(
     iterations, near_lock)``: body wrenches (:func:`body_wrenches`, with the
     load and the explicit friction), virtual work (:func:`joint_forces`) and,
     with ``μ`` terms, the implicit friction by :func:`solve_mu`
-    (``iterations`` and ``near_lock`` ``None`` without).
+    (``iterations`` and ``near_lock`` ``None`` without).  ``floor``
+    (:func:`rate_floor`): the joint rates friction reads are those of
+    :func:`rest_kinematics` (round-off rates are zero for ``s(v)``).
     """
-    friction = friction_forces(ops, k, kin, dphi)
+    rates = kin if floor is None else rest_kinematics(kin, floor)
+    friction = friction_forces(ops, k, rates, dphi)
     wrenches = body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=load, friction=friction)
     implicit = k.has_mu
     f10, f21y, f21z, rest = joint_forces(k, kin, wrenches, reactions or implicit)
@@ -850,11 +864,42 @@ def dynamics(
             raise ValueError("the μ terms of friction are implicit: no closed form for sympy")
         assert rest is not None and friction is not None
         friction, iterations, near_lock = solve_mu(
-            ops, k, kin, friction, (rest[0], f21y, f21z, rest[2]), dphi
+            ops, k, rates, friction, (rest[0], f21y, f21z, rest[2]), dphi
         )
         wrenches = body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=load, friction=friction)
         f10, f21y, f21z, rest = joint_forces(k, kin, wrenches, reactions)
     return f10, f21y, f21z, rest, friction, iterations, near_lock
+
+
+def rate_floor(
+    ops: Ops,
+    k: KernelParameters,
+    geo: KernelGeometry,
+    x: Value,
+    y: Value,
+    dx: Value,
+    dy: Value,
+    dphi: Value,
+) -> Value:
+    """The size below which a joint rate is round-off (:func:`prp3.validation.joint_rate_floor`)."""
+    speed = ops.sqrt(dx * dx + dy * dy)
+    return joint_rate_floor(speed, dphi, k.l0 + ops.sqrt(x * x + y * y), geo.D)
+
+
+def rest_kinematics(kin: KernelKinematics, floor: Value) -> KernelKinematics:
+    """``kin`` with the joint rates ``λ̇10, λ̇32`` of at most ``floor`` zero (for friction's ``s(v)``).
+
+    A joint rate can vanish by cancellation while the platform moves (leg B's
+    ``λ̇32`` at ``φ = 0``, ``ẏ = φ̇ = 0``); each method computes that zero with
+    its own round-off, and an exact-sign law would read its random sign
+    (:func:`prp3.validation.rest_joint_rates`, which the paper and Newton–Euler apply).
+    """
+
+    def rest(rates: Legs) -> Legs:
+        a, b, c = (v * (abs(v) > floor) for v in rates)
+        return (a, b, c)
+
+    return kin._replace(dlambda10=rest(kin.dlambda10), dlambda32=rest(kin.dlambda32))
 
 
 #: Steps of the continuation in ``μ`` of :func:`solve_mu` (fractions of the full ``μ``).
