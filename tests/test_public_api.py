@@ -72,6 +72,7 @@ MODULES = (
     "prp3.references.paper_kinematics",
     "prp3.references.paper_wrenches",
     "prp3.apps.runs",
+    "prp3.analysis.reachability",
     "prp3.analysis.workspace",
 )
 

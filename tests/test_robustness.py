@@ -36,7 +36,8 @@ from prp3.analysis.force_histories import ActuatorForces
 from prp3.analysis.forward import MIN_RTOL, forward_dynamics
 from prp3.analysis.forward_kinematics import forward_velocity
 from prp3.analysis.inverse_dynamics import inverse_dynamics
-from prp3.analysis.workspace import jacobian_condition, orientation_scan, reachable, workspace_slice
+from prp3.analysis.reachability import jacobian_condition, reachable
+from prp3.analysis.workspace import orientation_scan, workspace_slice
 from prp3.apps.mjcf import mjcf_model
 from prp3.cli import build_parser
 from prp3.engines.entries import compile_robot, paper_forces

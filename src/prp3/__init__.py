@@ -35,15 +35,13 @@ from prp3.analysis.inverse_dynamics import (
     kernel_method,
     newton_euler,
 )
-from prp3.analysis.workspace import (
+from prp3.analysis.reachability import (
     jacobian_condition,
     orientation_range,
-    orientation_scan,
     reachable,
     reachable_region,
-    workspace_slice,
-    workspace_statics,
 )
+from prp3.analysis.workspace import orientation_scan, workspace_slice, workspace_statics
 from prp3.engines.entries import (
     CompiledRobot,
     FastForces,

@@ -74,7 +74,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3 import __version__
-from prp3.analysis.workspace import jacobian_condition, workspace_slice
+from prp3.analysis.reachability import jacobian_condition
+from prp3.analysis.workspace import workspace_slice
 from prp3.engines.trace import array_function, broadcast_function, trace
 from prp3.errors import (
     ParameterError,
