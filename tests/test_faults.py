@@ -29,7 +29,7 @@ import prp3.cli.simulate as simulate_cli
 import prp3.files as prp3_files
 from clitools import cli, listing, one_line
 from prp3 import Motion, Robot, paper_motion
-from prp3.analysis.forward import ActuatorForces
+from prp3.analysis.force_histories import ActuatorForces
 from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.apps.control import track
 from prp3.apps.runs import check_memory

@@ -33,21 +33,24 @@ from prp3 import (
     inverse_kinematics,
     paper_motion,
 )
-from prp3.analysis.forward import (
-    DEGENERATE_ASSEMBLY,
-    SINGULARITY_STOP,
-    ActuatorForces,
+from prp3.analysis.equations_of_motion import platform_dynamics
+from prp3.analysis.force_histories import ActuatorForces
+from prp3.analysis.forward import SINGULARITY_STOP, forward_dynamics
+from prp3.analysis.forward_kinematics import (
     forward_acceleration,
-    forward_dynamics,
-    forward_geometry,
     forward_kinematics,
     forward_velocity,
-    orientation_from_sum,
-    platform_dynamics,
-    sum_from_orientation,
 )
 from prp3.engines.entries import compile_robot, sample_actuator_forces
-from prp3.mechanics.geometry import LEG_AXIS, base_vertices, platform_vertices
+from prp3.mechanics.geometry import (
+    DEGENERATE_ASSEMBLY,
+    LEG_AXIS,
+    base_vertices,
+    forward_geometry,
+    orientation_from_sum,
+    platform_vertices,
+    sum_from_orientation,
+)
 from prp3.model.motion import PAPER_MOTIONS
 
 ROBOT = Robot()

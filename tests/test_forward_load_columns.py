@@ -19,7 +19,9 @@ import numpy as np
 import pytest
 
 from prp3 import Motion, Robot, inverse_dynamics, paper_motion
-from prp3.analysis.forward import ActuatorForces, forward_dynamics, platform_dynamics
+from prp3.analysis.equations_of_motion import platform_dynamics
+from prp3.analysis.force_histories import ActuatorForces
+from prp3.analysis.forward import forward_dynamics
 from prp3.cli import main
 from prp3.engines.entries import compile_robot, solve_batch
 from prp3.errors import ParameterError

@@ -22,12 +22,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import Motion, Robot, inverse_dynamics, paper_motion
-from prp3.analysis.forward import (
-    ActuatorForces,
-    forward_dynamics,
-    open_loop_growth_rate,
-    platform_dynamics,
-)
+from prp3.analysis.equations_of_motion import open_loop_growth_rate, platform_dynamics
+from prp3.analysis.force_histories import ActuatorForces
+from prp3.analysis.forward import forward_dynamics
 from prp3.cli import main
 from prp3.engines.entries import compile_robot, sample_actuator_forces
 from prp3.errors import ParameterError

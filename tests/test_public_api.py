@@ -30,6 +30,7 @@ import numpy as np
 import pytest
 
 import prp3
+import prp3.analysis.equations_of_motion
 import prp3.analysis.forward
 import prp3.analysis.workspace
 import prp3.apps.base_parameters
@@ -68,6 +69,9 @@ MODULES = (
     "prp3.engines.select",
     "prp3.engines.entries",
     "prp3.analysis.forward",
+    "prp3.analysis.forward_kinematics",
+    "prp3.analysis.equations_of_motion",
+    "prp3.analysis.force_histories",
     "prp3.mechanics.geometry",
     "prp3.apps.identification",
     "prp3.apps.regressor",
@@ -84,6 +88,7 @@ MODULES = (
     "prp3.references.paper_kinematics",
     "prp3.references.paper_wrenches",
     "prp3.apps.runs",
+    "prp3.analysis.reachability",
     "prp3.analysis.workspace",
 )
 
@@ -641,7 +646,10 @@ CASES: dict[str, Case] = {
         engine="numba",
     ),
     "open_loop_growth_rate": _case(
-        prp3.analysis.forward.open_loop_growth_rate, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL
+        prp3.analysis.equations_of_motion.open_loop_growth_rate,
+        {"robot": OBJ, **POSE},
+        robot=ROBOT,
+        pose=SMALL,
     ),
     "base_vertices": _case(prp3.mechanics.geometry.base_vertices, {"robot": OBJ}, robot=ROBOT),
     "orientation_from_sum": _case(

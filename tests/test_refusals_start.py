@@ -16,7 +16,8 @@ import pytest
 from clitools import cli, one_line
 from prp3 import Robot
 from prp3.analysis.forward import forward_dynamics
-from prp3.analysis.workspace import orientation_range, reachable_region, workspace_slice
+from prp3.analysis.reachability import orientation_range, reachable_region
+from prp3.analysis.workspace import workspace_slice
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.model.robot import Limits
 

@@ -31,16 +31,13 @@ import prp3.files as prp3_files
 import prp3.io.formats as prp3_io
 from clitools import cli, listing
 from prp3 import Motion, Robot
-from prp3.analysis.forward import (
-    MIN_RTOL,
-    ActuatorForces,
-    forward_dynamics,
-    forward_geometry,
-    forward_velocity,
-    platform_dynamics,
-)
+from prp3.analysis.equations_of_motion import platform_dynamics
+from prp3.analysis.force_histories import ActuatorForces
+from prp3.analysis.forward import MIN_RTOL, forward_dynamics
+from prp3.analysis.forward_kinematics import forward_velocity
 from prp3.analysis.inverse_dynamics import inverse_dynamics
-from prp3.analysis.workspace import jacobian_condition, orientation_scan, reachable, workspace_slice
+from prp3.analysis.reachability import jacobian_condition, reachable
+from prp3.analysis.workspace import orientation_scan, workspace_slice
 from prp3.apps.mjcf import mjcf_model
 from prp3.cli import build_parser
 from prp3.engines.entries import compile_robot, paper_forces
@@ -52,7 +49,7 @@ from prp3.errors import (
     TrajectoryError,
 )
 from prp3.io.formats import atomic_writer, check_output_directory, read_trajectory, staged_output
-from prp3.mechanics.geometry import inverse_geometry
+from prp3.mechanics.geometry import forward_geometry, inverse_geometry
 from prp3.model.motion import law_motion, paper_motion
 
 ROBOT = Robot()

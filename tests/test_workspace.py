@@ -1,4 +1,4 @@
-"""Workspace, conditioning and singular loci (``prp3.analysis.workspace``).
+"""Workspace, conditioning and singular loci (``prp3.analysis.reachability``, ``prp3.analysis.workspace``).
 
 Expected values come from the core's inverse geometry (with its stroke check),
 from half-plane intersections computed here, and from hand derivations
@@ -24,15 +24,14 @@ from prp3 import (
     UnreachablePoseError,
     inverse_geometry,
 )
-from prp3.analysis.workspace import (
+from prp3.analysis.reachability import (
     SINGULAR_ORIENTATIONS,
     jacobian_condition,
     orientation_range,
-    orientation_scan,
     reachable,
     reachable_region,
-    workspace_slice,
 )
+from prp3.analysis.workspace import orientation_scan, workspace_slice
 from prp3.mechanics.kinematics import jacobian
 
 STROKE = (-0.04, 0.06)

@@ -17,7 +17,8 @@ from collections.abc import Callable
 import numpy as np
 
 import prp3
-from prp3.analysis.forward import ActuatorForces, forward_dynamics
+from prp3.analysis.force_histories import ActuatorForces
+from prp3.analysis.forward import forward_dynamics
 from prp3.engines.entries import compile_robot, sample_actuator_forces
 from prp3.model.motion import PAPER_MOTIONS, law_at
 

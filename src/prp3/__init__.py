@@ -15,19 +15,18 @@ from __future__ import annotations
 
 from importlib.metadata import PackageNotFoundError, version
 
-from prp3.analysis.forward import (
-    ActuatorForces,
-    ForwardDynamics,
-    ForwardGeometry,
+from prp3.analysis.equations_of_motion import (
     bias_forces,
-    forward_acceleration,
-    forward_dynamics,
-    forward_geometry,
-    forward_kinematics,
-    forward_velocity,
     gravity_forces,
     mass_matrix,
     platform_dynamics,
+)
+from prp3.analysis.force_histories import ActuatorForces
+from prp3.analysis.forward import ForwardDynamics, forward_dynamics
+from prp3.analysis.forward_kinematics import (
+    forward_acceleration,
+    forward_kinematics,
+    forward_velocity,
 )
 from prp3.analysis.inverse_dynamics import (
     METHODS,
@@ -36,15 +35,13 @@ from prp3.analysis.inverse_dynamics import (
     kernel_method,
     newton_euler,
 )
-from prp3.analysis.workspace import (
+from prp3.analysis.reachability import (
     jacobian_condition,
     orientation_range,
-    orientation_scan,
     reachable,
     reachable_region,
-    workspace_slice,
-    workspace_statics,
 )
+from prp3.analysis.workspace import orientation_scan, workspace_slice, workspace_statics
 from prp3.engines.entries import (
     CompiledRobot,
     FastForces,
@@ -61,7 +58,14 @@ from prp3.errors import (
     TrajectoryError,
     UnreachablePoseError,
 )
-from prp3.mechanics.geometry import LEGS, InverseGeometry, inverse_geometry, platform_vertices
+from prp3.mechanics.geometry import (
+    LEGS,
+    ForwardGeometry,
+    InverseGeometry,
+    forward_geometry,
+    inverse_geometry,
+    platform_vertices,
+)
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics, jacobian
 from prp3.model.motion import Motion, law_motion, paper_motion
 from prp3.model.robot import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot

@@ -58,7 +58,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.analysis.workspace import jacobian_condition, workspace_slice
+from prp3.analysis.reachability import jacobian_condition
+from prp3.analysis.workspace import workspace_slice
 from prp3.apps.design import AGGREGATES, DesignEvaluator, _components, design_columns, design_robot
 from prp3.engines.trace import array_function, broadcast_function, trace
 from prp3.errors import (

@@ -3,7 +3,7 @@
 The plant holds each force of the controller until the next control instant
 (zero order hold).  It is either prp3's own equations of motion
 (``plant="prp3"``: ``q̈ = A(q)⁻¹·(f10 − b(q, q̇))`` of
-:func:`prp3.analysis.forward.platform_dynamics`, integrated over each step by
+:func:`prp3.analysis.equations_of_motion.platform_dynamics`, integrated over each step by
 ``scipy.integrate.solve_ivp`` (:data:`PLANT_RTOL`, :data:`PLANT_ATOL`),
 or MuJoCo running the exported MJCF (``plant="mujoco"``,
 :func:`prp3.apps.mjcf.mjcf_model`: its own RK4 integrator at ``1e-4 s`` and its
@@ -99,7 +99,7 @@ class _Prp3Plant:
     """prp3's equations of motion ``q̈ = A⁻¹·(f10 − b)``, integrated step by step.
 
     ``A`` and ``b`` from four single-sample inverse dynamics (``f10`` is
-    affine in ``q̈``, as in :func:`prp3.analysis.forward.platform_dynamics`).
+    affine in ``q̈``, as in :func:`prp3.analysis.equations_of_motion.platform_dynamics`).
     """
 
     def __init__(self, robot: Robot, reference: Motion) -> None:

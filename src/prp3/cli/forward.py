@@ -29,14 +29,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.analysis.forward import (
-    MIN_RTOL,
-    ForwardDynamics,
-    check_forward_friction,
-    forward_dynamics,
-    forward_velocity,
-    open_loop_growth_rate,
-)
+from prp3.analysis.equations_of_motion import check_forward_friction, open_loop_growth_rate
+from prp3.analysis.forward import MIN_RTOL, ForwardDynamics, forward_dynamics
+from prp3.analysis.forward_kinematics import forward_velocity
 from prp3.apps.runs import check_memory
 from prp3.cli._progress import progress_bar
 from prp3.cli._types import (
@@ -285,7 +280,7 @@ def plan_drift(given: ForceInput, result: ForwardDynamics) -> PlanDrift | None:
     """The drift of ``result`` from the planned poses of a ``results.csv`` (``None`` without).
 
     >>> import numpy as np
-    >>> from prp3.analysis.forward import ActuatorForces
+    >>> from prp3.analysis.force_histories import ActuatorForces
     >>> from prp3.model.motion import Motion
     >>> t = np.array([0.0, 1.0, 2.0])
     >>> given = ForceInput(Path("r.csv"), ActuatorForces(t=t, f10=np.zeros((3, 3))),

@@ -23,13 +23,12 @@ from typing import Any
 
 import numpy as np
 
+from prp3.analysis.reachability import orientation_range, reachable_region
 from prp3.analysis.workspace import (
     OrientationScan,
     WorkspaceSlice,
     WorkspaceStatics,
-    orientation_range,
     orientation_scan,
-    reachable_region,
     workspace_slice,
     workspace_statics,
 )
@@ -129,7 +128,7 @@ def default_extent(robot: Robot, samples: int = 721) -> tuple[float, float, floa
     """The grid window: the bounding box of every reachable ``(x, y)``, with a margin.
 
     With ``[limits] stroke`` the box covers the exact regions of
-    ``samples`` orientations spread over :func:`~prp3.analysis.workspace.orientation_range`,
+    ``samples`` orientations spread over :func:`~prp3.analysis.reachability.orientation_range`,
     enlarged by :data:`EXTENT_MARGIN` of its size; without a stroke the
     workspace is unbounded and the window is ``±l0`` in both directions.
 

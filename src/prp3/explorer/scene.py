@@ -39,7 +39,7 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.analysis.forward import forward_acceleration, forward_velocity
+from prp3.analysis.forward_kinematics import forward_acceleration, forward_velocity
 from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.analysis.workspace import workspace_statics
 from prp3.errors import InputFileError, Prp3Error
@@ -663,8 +663,8 @@ def run_motion(robot: Robot, run: Run) -> Motion:
     """The platform motion of a run: poses from its columns, rates by the forward kinematics.
 
     ``(ẋ, ẏ, φ̇) = J⁻¹·λ̇10`` and ``q̈ = J⁻¹·(λ̈10 − J̇·q̇)`` (eqs. 14, 17 solved for
-    the platform, :func:`prp3.analysis.forward.forward_velocity` and
-    :func:`prp3.analysis.forward.forward_acceleration`), with the run's load columns.
+    the platform, :func:`prp3.analysis.forward_kinematics.forward_velocity` and
+    :func:`prp3.analysis.forward_kinematics.forward_acceleration`), with the run's load columns.
     ``robot`` must be the run's: its inverse geometry must give the run's
     ``lambda10`` (to ``1e-9·l0``), else an :class:`~prp3.errors.InputFileError`
     names the sample.

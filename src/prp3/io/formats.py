@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.analysis.forward import ActuatorForces
+from prp3.analysis.force_histories import ActuatorForces
 from prp3.errors import (
     InputFileError,
     OutputFileError,

@@ -1,7 +1,7 @@
 """The workspace map: reachable region, Jacobian conditioning and singular loci (PNG).
 
 Left: the slice at one orientation ``φ`` — the condition number of the
-normalised Jacobian (:func:`prp3.analysis.workspace.jacobian_condition`, log colour
+normalised Jacobian (:func:`prp3.analysis.reachability.jacobian_condition`, log colour
 scale) over the reachable grid points, unreachable points in grey, the exact
 boundary of the region, the base triangle and the platform at ``(0, 0, φ)``
 for scale.  The singular set of the slice is empty unless ``φ`` is singular
@@ -28,12 +28,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from prp3.analysis.workspace import (
-    SINGULAR_ORIENTATIONS,
-    OrientationScan,
-    WorkspaceSlice,
-    WorkspaceStatics,
-)
+from prp3.analysis.reachability import SINGULAR_ORIENTATIONS
+from prp3.analysis.workspace import OrientationScan, WorkspaceSlice, WorkspaceStatics
 from prp3.io.formats import atomic_path
 from prp3.mechanics.geometry import base_vertices, platform_vertices
 from prp3.model.robot import Robot
