@@ -199,24 +199,27 @@ def test_the_page_loads_with_the_robot_and_its_forces(browser: Any, server: str)
             platform["xs"][0], [0.0, -0.3 * math.sqrt(3) / 2, 0.3 * math.sqrt(3) / 2]
         )
         assert page.evaluate("() => Bokeh.documents[0].get_model_by_name('message').text") == ""
-        # the check box of f10 hides its arrows (segments and heads), the others stay
-        visible = """() => {
-          const doc = Bokeh.documents[0];
-          const found = {};
-          for (const m of doc._all_models.values()) {
+        # the check box of f10 hides its arrows (shafts and heads), the others stay
+        drawn = """() => {
+          const found = [];
+          for (const m of Bokeh.documents[0]._all_models.values()) {
             if (m.type === "GlyphRenderer" && m.data_source.name === "arrows") {
-              const group = m.view.filter.group;
-              found[group] = (found[group] || []).concat([m.visible]);
+              const data = m.data_source.data;
+              const quantity = data instanceof Map ? data.get("quantity") : data.quantity;
+              found.push([...m.view.indices].map((k) => quantity[k]).sort());
             }
           }
           return found;
         }"""
+        every = sorted(arrows["quantity"])
+        assert page.evaluate(drawn) == [every, every]  # the shafts and the heads
         page.evaluate(
             "() => { Bokeh.documents[0].get_model_by_name('arrow_toggles').active = [1, 2, 3, 4, 5] }"
         )
-        shown = page.evaluate(visible)
-        assert shown["f10"] == [False, False]
-        assert all(flags == [True, True] for group, flags in shown.items() if group != "f10")
+        rest = sorted(q for q in arrows["quantity"] if q != "f10")
+        _until(lambda: page.evaluate(drawn) == [rest, rest])
+        page.evaluate("() => { Bokeh.documents[0].get_model_by_name('arrow_toggles').active = [] }")
+        _until(lambda: page.evaluate(drawn) == [[], []])
         assert page.errors == []
     finally:
         page.close()

@@ -41,6 +41,7 @@ from .page import (
     _PLAY,
     _UNBUNDLE,
     MAX_HTML_FRAMES,
+    Key,
     _escape,
     _table,
     arrow_layers,
@@ -107,13 +108,11 @@ def _robot_figure(
 ) -> tuple[Any, Any]:
     """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map.
 
-    Returns the figure and, to put below it, its key: a legend drawn in a figure of its own
-    (painted once, not at every update of the robot's figure) and check boxes that show or
-    hide the arrows of each quantity.
+    Returns the figure and, to put below it, its key (:class:`~prp3.explorer.page.Key`, HTML)
+    and the check boxes that show or hide the arrows of each quantity.
     """
     from bokeh.models import (
         ColorBar,
-        ColumnDataSource,
         LinearColorMapper,
         Range1d,
     )
@@ -132,32 +131,8 @@ def _robot_figure(
         tools="pan,wheel_zoom,reset,save",
         toolbar_location="above",
     )
-    key = figure(
-        name="key",
-        width=560,
-        height=160,
-        x_range=Range1d(100.0, 101.0),  # the key's glyphs lie outside: only the legend shows
-        y_range=Range1d(100.0, 101.0),
-        tools="",
-        toolbar_location=None,
-        outline_line_color=None,
-        min_border=0,
-    )
-    key.axis.visible = False
-    key.grid.visible = False
-
-    def draw(method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
-        """Draw on the robot's figure; the same glyph, one row of it, in the key."""
-        renderer = getattr(fig, method)(*fields, source=source, **style)
-        if legend:
-            data = source.data
-            rows = len(next(iter(data.values()), []))
-            first = {k: list(v[:1]) for k, v in data.items()} if rows else {k: [] for k in data}
-            style = {k: v for k, v in style.items() if k != "view"}
-            getattr(key, method)(
-                *fields, source=ColumnDataSource(first), legend_label=legend, **style
-            )
-        return renderer
+    key = Key(fig)
+    draw = key.draw
 
     if overlay:
         mapper = LinearColorMapper(palette="Viridis256", low=0.0, high=peak, nan_color=(0, 0, 0, 0))
@@ -258,7 +233,7 @@ def _robot_figure(
         legend="payload",
     )
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
-    return fig, arrow_layers(fig, key, draw, sources["arrows"], ARROWS)
+    return fig, arrow_layers(fig, key, sources["arrows"], ARROWS)
 
 
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:

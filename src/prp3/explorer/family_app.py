@@ -43,6 +43,7 @@ from .page import (
     _PLAY,
     _UNBUNDLE,
     MAX_HTML_FRAMES,
+    Key,
     _escape,
     _table,
     arrow_layers,
@@ -82,39 +83,11 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
         toolbar_location="above",
     )
     fig.title.text_font_size = "9pt"
-    key = figure(
-        name="key",
-        width=560,
-        height=120,
-        x_range=Range1d(100.0, 101.0),
-        y_range=Range1d(100.0, 101.0),
-        tools="",
-        toolbar_location=None,
-        outline_line_color=None,
-        min_border=0,
-    )
-    key.axis.visible = False
-    key.grid.visible = False
+    key = Key(fig)
 
     def draw(method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
-        from bokeh.models import ColumnDataSource
-
-        renderer = getattr(fig, method)(*fields, source=source, **style)
-        data = source.data
-        rows = len(next(iter(data.values()), []))
-        if "view" in style:
-            group = style["view"].filter.group
-            rows = sum(1 for q in data["quantity"] if q == group)
-        if legend and rows:  # a legend for what this robot has (a 3-RRR has no slides)
-            first = {k: list(v[:1]) for k, v in data.items()}
-            if "view" in style:
-                k = list(data["quantity"]).index(style["view"].filter.group)
-                first = {c: list(v[k : k + 1]) for c, v in data.items()}
-            style = {k: v for k, v in style.items() if k != "view"}
-            getattr(key, method)(
-                *fields, source=ColumnDataSource(first), legend_label=legend, **style
-            )
-        return renderer
+        rows = len(next(iter(source.data.values()), []))  # a key of what this robot has
+        return key.draw(method, *fields, source=source, legend=legend if rows else "", **style)
 
     draw(
         "patches",
@@ -192,7 +165,7 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
     present = [q for q in FAMILY_ARROWS if q in sources["arrows"].data["quantity"]]
     arrows = {quantity: FAMILY_ARROWS[quantity] for quantity in present}
-    return fig, arrow_layers(fig, key, draw, sources["arrows"], arrows)
+    return fig, arrow_layers(fig, key, sources["arrows"], arrows)
 
 
 def _measures_table(source: Any) -> Any:
