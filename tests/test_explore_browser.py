@@ -424,3 +424,75 @@ def test_a_3rrr_page_draws_the_library_s_joint_forces_after_a_slider_move(
         assert page.errors == []
     finally:
         page.close()
+
+
+@pytest.fixture(scope="module")
+def rrr_run_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
+    from prp3.family import FamilyRobot
+
+    folder = tmp_path_factory.mktemp("family_run")
+    path = folder / "rrr.toml"
+    path.write_text(FamilyRobot.default("3-RRR").to_toml(), encoding="utf-8")
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    subprocess.run(
+        [sys.executable, "-m", "prp3", "simulate", "--robot", str(path), "--motion", "rotation",
+         "--samples", "41", "--output", str(folder / "run")],
+        env=env, check=True, capture_output=True,
+    )  # fmt: skip
+    for url in _serve("--robot", str(path), "--results", str(folder / "run")):
+        yield url, folder / "run"
+
+
+def test_the_scrubber_of_a_3rrr_run_draws_the_run_s_forces_and_plays(
+    browser: Any, rrr_run_server: tuple[str, Path]
+) -> None:
+    from prp3.explorer.run_folder import read_family_run
+
+    url, folder = rrr_run_server
+    table = read_family_run(folder).table
+
+    def run_forces(k: int) -> np.ndarray:  # (legs, joints k, 2), the run's own columns
+        return np.array(
+            [
+                [[float(table[f"f{c}{j}_{leg}"][k]) for c in "xy"] for j in (1, 2, 3)]
+                for leg in "ABC"
+            ]
+        )
+
+    def drawn(page: Any) -> np.ndarray | None:
+        arrows = page.evaluate(_READ, "arrows")
+        if not arrows["quantity"]:
+            return None
+        return np.stack([_forces(arrows, f"F{j}") for j in (1, 2, 3)], axis=1)
+
+    def shows(page: Any, k: int) -> bool:
+        now = drawn(page)
+        return now is not None and bool(np.allclose(now, run_forces(k), rtol=1e-9, atol=1e-9))
+
+    page = _open(browser, url)
+    try:
+        _until(lambda: shows(page, 0))
+        for k in (13, 32):
+            page.evaluate(_SET, ["time", k])
+            _until(lambda k=k: shows(page, k))  # type: ignore[misc]
+            assert page.evaluate(
+                "() => Bokeh.documents[0].get_model_by_name('phi').value"
+            ) == pytest.approx(float(table["phi"][k]), abs=1e-15)
+        # the linked plots' time lines follow the scrubber
+        spans = """() => [...Bokeh.documents[0]._all_models.values()]
+          .filter((m) => m.type === "Span").map((m) => m.location)"""
+        assert page.evaluate(spans) == [pytest.approx(float(table["t"][32]), abs=1e-15)] * 4
+        page.locator("button", has_text="play").click()
+        page.wait_for_function(
+            "() => Bokeh.documents[0].get_model_by_name('time').value != 32", timeout=20_000
+        )
+        page.evaluate("() => { Bokeh.documents[0].get_model_by_name('play').active = false }")
+        page.wait_for_function(
+            "() => Bokeh.documents[0].get_model_by_name('play').label.includes('play')"
+        )
+        time.sleep(0.5)  # a step the server had begun is drawn
+        k = int(page.evaluate("() => Bokeh.documents[0].get_model_by_name('time').value"))
+        _until(lambda: shows(page, k))
+        assert page.errors == []
+    finally:
+        page.close()

@@ -15,7 +15,8 @@ dx, dy, dphi, ddx, ddy, ddphi`` (and ``<name>_field``), the design fields
 :data:`~prp3.explorer.family_scene.FAMILY_DESIGN_PARAMETERS`), the sources
 ``arrows``, ``values``, ``measures``, ``platform``, ``links``, ``revolute``,
 ``sliders``, ``guides``, ``base``, ``payload``, ``centre``, the message
-``message``; in the HTML file of a run the scrubber ``time`` and ``play``.
+``message``; with a run (the server's page or its HTML file) the scrubber
+``time`` and the button ``play``.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from numpy.typing import NDArray
 from ..errors import Prp3Error
 from ..family import FamilyRobot
 from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+from .app import set_state, widened
 from .family_scene import (
     FAMILY_ARROWS,
     FAMILY_DESIGN_PARAMETERS,
@@ -39,17 +41,19 @@ from .family_scene import (
     family_extent,
 )
 from .page import (
-    _COPY_FRAME,
-    _PLAY,
     _UNBUNDLE,
     MAX_HTML_FRAMES,
     Key,
     _escape,
     _table,
     arrow_layers,
+    browser_scrubber,
+    frame_sources,
+    server_scrubber,
     slider_with_field,
     time_plots,
 )
+from .run_folder import Run, family_run_motion
 from .scene import MOTION_CONTROLS, Columns, State, View, empty_view
 
 __all__ = ["family_document", "family_run_html"]
@@ -195,20 +199,24 @@ def _sources(view: View) -> dict[str, Any]:
     return {name: ColumnDataSource(columns, name=name) for name, columns in view.sources().items()}
 
 
-def family_document(doc: Any, robot: FamilyRobot) -> None:
-    """Fill a Bokeh ``Document`` with the live explorer of a family robot.
+def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> None:
+    """Fill a Bokeh ``Document`` with the live explorer of a family robot (and of a ``run``).
 
     Every slider or design change solves the pose with
     :func:`prp3.family.family_inverse_dynamics` in Python
     (:func:`~prp3.explorer.family_scene.family_pose_table`) and replaces the drawn
     columns; a refused pose empties them (the base stays) and shows the
-    library's one-line message.
+    library's one-line message.  With a ``run`` (:func:`~prp3.explorer.run_folder.read_family_run`)
+    the scrubber sets the sliders to the run's state at a sample
+    (:func:`~prp3.explorer.run_folder.family_run_motion`) and the page recomputes
+    it, beside the run's force plots against time.
     """
     from bokeh.layouts import column, row
     from bokeh.models import ColumnDataSource, CustomJS, Div, Spinner
 
     base_robot = robot
-    current: dict[str, Any] = {"robot": robot}
+    current: dict[str, Any] = {"robot": robot, "busy": False, "served": False}
+    motion = family_run_motion(robot, run) if run is not None else None
     scale = [family_arrow_scale(robot)]
     first = SCENE.view(robot, SCENE.table(robot, State()), 0, scale[0])
     sources = _sources(first)
@@ -222,6 +230,8 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
         low, high = control.low, control.high
         if control.length:
             low, high = -reach, reach
+        if motion is not None:
+            low, high = widened(low, high, motion, control.name)
         slider, pair = slider_with_field(control, low, high)
         sliders[control.name] = slider
         fields.append(pair)
@@ -270,11 +280,16 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
             if shown.get(name) == columns:
                 continue
             shown[name] = columns
+            if not current["served"]:  # the browser has not the document yet: its sources
+                sources[name].data = columns
+                continue
             changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
         if changed:
             bundle.data = changed
 
     def update() -> None:
+        if current["busy"]:
+            return
         doc.hold("combine")
         try:
             state = State.from_controls({name: float(s.value) for name, s in sliders.items()})
@@ -331,15 +346,24 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
         Div(text="<b>design</b> (masses; forces update live)"),
         row(*design_fields.values(), scale_field),
     )
-    layout = column(
-        message,
-        row(column(figure_, key, info), controls, column(values_table, measures_table)),
-        design,
-    )
+    right = [values_table, measures_table]
+    top: list[Any] = [message]
+    if run is not None and motion is not None:
+        plots, spans = time_plots(run.table, {q: q for q in FAMILY_PLOTTED})
+        right.extend(plots)
+        run_states = motion  # narrowed for the closure
+
+        def to_sample(k: int) -> None:
+            set_state(sliders, current, run_states, k)
+            update()
+
+        top.insert(0, server_scrubber(doc, [float(v) for v in motion.t], to_sample, spans))
+    layout = column(*top, row(column(figure_, key, info), controls, column(*right)), design)
     doc.add_root(layout)
     doc.add_root(bundle)
     doc.title = f"prp3 explore: {robot.architecture}"
     update()
+    current["served"] = True  # from now on, every change reaches the browser in the bundle
 
 
 def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
@@ -352,7 +376,7 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     """
     from bokeh.embed import file_html
     from bokeh.layouts import column, row
-    from bokeh.models import ColumnDataSource, CustomJS, Div, Slider, Toggle
+    from bokeh.models import Div
     from bokeh.resources import INLINE
 
     t = np.asarray(table["t"], dtype=np.float64)
@@ -360,48 +384,17 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     scale = family_arrow_scale(robot)
     views = [SCENE.view(robot, table, int(k), scale) for k in frames]
     sources = _sources(views[0])
-    frame_sources = {
-        name: ColumnDataSource(
-            {c: [view.sources()[name][c] for view in views] for c in views[0].sources()[name]},
-            name=f"frames:{name}",
-        )
-        for name in views[0].sources()
-    }
     fig, key = _figure(robot, sources)
     plots, spans = time_plots(table, {q: q for q in FAMILY_PLOTTED})
-    times = [float(v) for v in t[frames]]
-    slider = Slider(
-        start=0,
-        end=max(len(frames) - 1, 1),
-        value=0,
-        step=1,
-        name="time",
-        title=f"t = {times[0]:.3f} s",
-        width=400,
-        show_value=False,
-    )
-    play = Toggle(label="▶ play", name="play", width=90)
     table_widget = _table(sources["values"])
     table_widget.height = 420
     measures = _measures_table(sources["measures"])
-    period = max(30, int(1000 * float(t[-1] - t[0]) / max(len(frames) - 1, 1)))
-    slider.js_on_change(
-        "value",
-        CustomJS(
-            args={
-                "slider": slider,
-                "sources": frame_sources,
-                "targets": sources,
-                "table": table_widget,
-                "measures": measures,
-                "spans": spans,
-                "times": times,
-            },
-            code=_COPY_FRAME + "\nmeasures.view.change.emit();",
-        ),
-    )
-    play.js_on_change(
-        "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
+    scrubber = browser_scrubber(
+        [float(v) for v in t[frames]],
+        frame_sources(views),
+        sources,
+        [table_widget, measures],
+        spans,
     )
     heading = Div(
         text=f"<b>{_escape(title)}</b>; {len(frames)} frames of {t.size} samples; "
@@ -410,7 +403,7 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     )
     layout = column(
         heading,
-        row(slider, play),
+        scrubber,
         row(column(fig, key), column(table_widget, measures), column(*plots)),
     )
     return str(file_html(layout, resources=INLINE, title=title))

@@ -8,7 +8,7 @@ functions only.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -17,7 +17,16 @@ from ..geometry import LEGS
 from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 from .scene import LEG_COLOURS
 
-__all__ = ["MAX_CURVE_POINTS", "MAX_HTML_FRAMES"]
+__all__ = [
+    "MAX_CURVE_POINTS",
+    "MAX_HTML_FRAMES",
+    "Key",
+    "arrow_layers",
+    "browser_scrubber",
+    "server_scrubber",
+    "slider_with_field",
+    "time_plots",
+]
 
 #: Largest number of frames of the robot in an HTML file of a run.
 MAX_HTML_FRAMES: int = 200
@@ -32,7 +41,7 @@ for (const [name, target] of Object.entries(targets)) {
   for (const column of Object.keys(frames.data)) data[column] = frames.data[column][k];
   target.data = data;
 }
-table.view.change.emit();  // a DataTable redraws on a change of its view only
+for (const table of tables) table.view.change.emit();  // a DataTable redraws on a change of its view only
 for (const span of spans) span.location = times[k];
 slider.title = "t = " + times[k].toFixed(3) + " s";
 """
@@ -115,12 +124,12 @@ def _symbol(method: str, style: Mapping[str, Any]) -> str:
             return "".join(f'<span style="color:{c}">○</span>' for c in colours)
         return f'<span style="color:{fill};opacity:{float(style.get("fill_alpha", 1.0)):g}">{mark}</span>'
     if method == "patches":
-        fill = style.get("fill_color")
-        alpha = float(style.get("fill_alpha", 1.0)) if fill is not None else 0.0
+        area = style.get("fill_color")
+        alpha = float(style.get("fill_alpha", 1.0)) if area is not None else 0.0
         return (
             f'<span style="display:inline-block;width:14px;height:8px;vertical-align:middle;'
             f"border:{max(round(width), 1)}px {dash} {line};"
-            f'background:{fill or "none"};background-clip:padding-box;opacity:{max(alpha, 0.6):g}">'
+            f'background:{area or "none"};background-clip:padding-box;opacity:{max(alpha, 0.6):g}">'
             "</span>"
         )
     alpha = float(style.get("line_alpha", 1.0))
@@ -310,3 +319,137 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     slider.js_link("value", field, "value")
     field.js_link("value", slider, "value")
     return slider, row(slider, field)
+
+
+# ---------------------------------------------------------------- the scrubber of a run
+def frame_sources(views: Sequence[Any]) -> dict[str, Any]:
+    """A source per drawn source of ``views`` (:class:`~prp3.explorer.scene.View`), a row per view.
+
+    Row ``k`` of source ``name`` holds the columns of ``views[k].sources()[name]``
+    (named ``frames:<name>``), which :func:`browser_scrubber` copies at frame ``k``.
+    """
+    from bokeh.models import ColumnDataSource
+
+    first = views[0].sources()
+    every = [view.sources() for view in views]
+    return {
+        name: ColumnDataSource(
+            {c: [drawn[name][c] for drawn in every] for c in first[name]}, name=f"frames:{name}"
+        )
+        for name in first
+    }
+
+
+def _scrubber_widgets(times: Sequence[float], width: int) -> tuple[Any, Any]:
+    from bokeh.models import Toggle
+
+    slider = _plain_slider(
+        start=0,
+        end=max(len(times) - 1, 1),
+        value=0,
+        step=1,
+        name="time",
+        title=f"t = {times[0]:.3f} s",
+        width=width,
+        show_value=False,
+    )
+    return slider, Toggle(label="▶ play", name="play", width=90)
+
+
+def _period(times: Sequence[float]) -> float:
+    """Milliseconds of the run between two of ``times`` (its real pace)."""
+    return 1000.0 * float(times[-1] - times[0]) / max(len(times) - 1, 1)
+
+
+def browser_scrubber(
+    times: Sequence[float],
+    frames: Mapping[str, Any],
+    targets: Mapping[str, Any],
+    tables: Sequence[Any],
+    spans: Sequence[Any],
+    width: int = 400,
+) -> Any:
+    """The scrubber ``time`` and the button ``play`` of an HTML file of a run (no server).
+
+    ``frames`` maps a drawn source's name to a source of its columns at every
+    frame (a row per frame); moving the scrubber to frame ``k`` copies row ``k``
+    into each of ``targets``, redraws the ``tables`` (DataTables), moves the
+    time lines ``spans`` to ``times[k]``.  The play button steps the scrubber on
+    the browser's timer, at the run's pace (at most 33 frames a second).
+    Returns the row of the two.
+    """
+    from bokeh.layouts import row
+    from bokeh.models import CustomJS
+
+    slider, play = _scrubber_widgets(times, width)
+    slider.js_on_change(
+        "value",
+        CustomJS(
+            args={
+                "slider": slider,
+                "sources": dict(frames),
+                "targets": dict(targets),
+                "tables": list(tables),
+                "spans": list(spans),
+                "times": [float(v) for v in times],
+            },
+            code=_COPY_FRAME,
+        ),
+    )
+    period = max(30, int(_period(times)))
+    play.js_on_change(
+        "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
+    )
+    return row(slider, play)
+
+
+def server_scrubber(
+    doc: Any,
+    times: Sequence[float],
+    show: Callable[[int], None],
+    spans: Sequence[Any],
+    width: int = 500,
+) -> Any:
+    """The scrubber ``time`` and the button ``play`` of a run on the server's page.
+
+    Moving the scrubber to sample ``k`` moves the time lines ``spans`` and calls
+    ``show(k)`` (in Python: the page sets its sliders to the run's state at
+    ``k`` and recomputes it).  The play button steps the scrubber on the
+    server's timer at the run's pace, by as many samples as keep a step at
+    least 40 ms apart.  ``show(0)`` runs at once: the page starts at the run's
+    first sample.  Returns the row of the two.
+    """
+    from bokeh.layouts import row
+
+    slider, play = _scrubber_widgets(times, width)
+    samples = len(times)
+    pace = _period(times)
+    period = max(40, int(pace))
+    stride = max(1, round(40 / pace)) if pace > 0 else 1
+    timer: list[Any] = [None]
+
+    def to_sample(k: int) -> None:
+        k = min(max(int(k), 0), samples - 1)
+        for span in spans:
+            span.location = float(times[k])
+        slider.title = f"t = {float(times[k]):.3f} s"
+        show(k)
+
+    def step() -> None:
+        following = int(slider.value) + stride
+        slider.value = following if following < samples else 0
+
+    def on_play(attr: str, old: Any, new: Any) -> None:
+        if new:
+            play.label = "❚❚ pause"
+            timer[0] = doc.add_periodic_callback(step, period)
+        else:
+            play.label = "▶ play"
+            if timer[0] is not None:
+                doc.remove_periodic_callback(timer[0])
+                timer[0] = None
+
+    slider.on_change("value", lambda attr, old, new: to_sample(int(new)))
+    play.on_change("active", on_play)
+    to_sample(0)  # the page starts at the run's first sample
+    return row(slider, play)
