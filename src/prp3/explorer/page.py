@@ -157,15 +157,17 @@ class Key:
         return renderer
 
     def div(self, width: int) -> Any:
-        """The key: its entries in two columns, in the order drawn."""
+        """The key: its entries in two columns, in the order drawn (down, then across)."""
         from bokeh.models import Div
 
         items = "".join(
             f'<div style="white-space:nowrap">{symbol} {_escape(label)}</div>'
             for symbol, label in self.entries
         )
+        rows = (len(self.entries) + 1) // 2  # down the first column, then the second
         return Div(
             text='<div style="display:grid;grid-template-columns:1fr 1fr;column-gap:8px;'
+            f"grid-template-rows:repeat({rows},auto);grid-auto-flow:column;"
             f'font-size:8pt;line-height:1.5">{items}</div>',
             width=width,
             name="key",
