@@ -493,6 +493,9 @@ def explorer_document(
     doc.add_root(bundle)  # drawn by nothing: a root, so that it reaches the browser
     doc.title = "prp3 explore"
     update()
+    for pair in fields:  # a slider set before the page is served: its field shows its value
+        slider_now, field_now = pair.children
+        field_now.value = slider_now.value
     current["served"] = True  # from now on, every change reaches the browser in the bundle
 
 

@@ -363,6 +363,9 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
     doc.add_root(bundle)
     doc.title = f"prp3 explore: {robot.architecture}"
     update()
+    for pair in fields:  # a slider set before the page is served: its field shows its value
+        slider_now, field_now = pair.children
+        field_now.value = slider_now.value
     current["served"] = True  # from now on, every change reaches the browser in the bundle
 
 
