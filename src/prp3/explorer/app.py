@@ -84,14 +84,12 @@ def _robot_figure(
 ) -> tuple[Any, Any]:
     """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map.
 
-    Returns the figure and, to put below it, its key (:class:`~prp3.explorer.page.Key`, HTML)
-    and the check boxes that show or hide the arrows of each quantity.
+    Returns the figure (with the map, in a row with its colour bar) and, to put below it, its
+    key (:class:`~prp3.explorer.page.Key`, HTML) and the check boxes that show or hide the
+    arrows of each quantity.
     """
-    from bokeh.models import (
-        ColorBar,
-        LinearColorMapper,
-        Range1d,
-    )
+    from bokeh.layouts import row
+    from bokeh.models import ColorBar, LinearColorMapper, Range1d
     from bokeh.plotting import figure
 
     half = _limits(robot)
@@ -110,6 +108,7 @@ def _robot_figure(
     key = Key(fig)
     draw = key.draw
 
+    bar: Any = None
     if overlay:
         mapper = LinearColorMapper(palette="Viridis256", low=0.0, high=peak, nan_color=(0, 0, 0, 0))
         mapper.name = "overlay_colours"
@@ -136,7 +135,26 @@ def _robot_figure(
             line_width=1.5,
             legend="reachable region (strokes)",
         )
-        fig.add_layout(
+        # the colour bar in a figure of its own, beside: painted when the map changes, not at
+        # every move of the robot (a colour bar is an axis, ticks and labels to measure)
+        bar = figure(
+            name="colour_bar",
+            width=75,
+            height=545,
+            frame_width=1,
+            min_border_top=31,
+            min_border_bottom=44,
+            min_border_left=0,
+            x_range=Range1d(0.0, 1.0),
+            y_range=Range1d(0.0, 1.0),
+            tools="",
+            toolbar_location=None,
+            outline_line_color=None,
+        )
+        bar.axis.visible = False
+        bar.grid.visible = False
+        bar.scatter([], [])  # a renderer, drawing nothing (a figure without one is a warning)
+        bar.add_layout(
             ColorBar(
                 color_mapper=mapper,
                 title="statics: max |f10| at rest (N)",
@@ -209,7 +227,8 @@ def _robot_figure(
         legend="payload",
     )
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
-    return fig, arrow_layers(fig, key, sources["arrows"], ARROWS)
+    key_and_toggles = arrow_layers(fig, key, sources["arrows"], ARROWS)
+    return (fig if bar is None else row(fig, bar)), key_and_toggles
 
 
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:

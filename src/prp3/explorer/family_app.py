@@ -190,6 +190,8 @@ def _measures_table(source: Any) -> Any:
         index_position=None,
         reorderable=False,
         autosize_mode="none",
+        sortable=False,
+        selectable=False,
     )
 
 

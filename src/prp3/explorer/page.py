@@ -93,6 +93,8 @@ def _table(source: Any) -> Any:
         index_position=None,
         reorderable=False,
         autosize_mode="none",  # no measuring of the texts at every update
+        sortable=False,  # no sort, no selection to restore at every update
+        selectable=False,
     )
 
 
