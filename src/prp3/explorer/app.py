@@ -11,7 +11,9 @@ tests and scripts: the sliders ``x, y, phi, dx, dy, dphi, ddx, ddy, ddphi``
 (and a spinner ``<name>_field`` each), the design fields ``design:<key>``, the
 sources ``arrows``, ``values`` (the table), ``platform``, ``joints``,
 ``pistons``, ``sleeves``, ``base``, ``payload``, ``overlay``, the message
-``message``, and with a run the scrubber ``time`` and the button ``play``.
+``message``, the key ``key`` (a ``Div``), the check boxes ``arrow_toggles`` and
+the filter of the arrows' rows ``arrow_filter``, and with a run the scrubber
+``time`` and the button ``play``.
 """
 
 from __future__ import annotations
