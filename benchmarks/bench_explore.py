@@ -21,7 +21,7 @@ for all), as peers of the page's latency: the smallest Bokeh server app of
 the same kind (:data:`PEER`: one slider whose Python callback replaces a
 12-row source of segments), the floor of a Bokeh server round trip on the
 machine at that moment, with ``TCP_NODELAY`` on its websocket as the
-explorer sets it (``prp3.explorer.app._no_delay``) and as Bokeh ships it;
+explorer sets it (``prp3.explorer.server._no_delay``) and as Bokeh ships it;
 and the Python work of one update alone (``pose_table`` and ``scene_view``,
 and for ``phi`` ``workspace_overlay``), timed in this process.  The ratios
 are what travel between machines.  Exit status 1 if the median latency at the defaults
@@ -87,7 +87,7 @@ async ([name, values]) => {
 PEER = """
 import sys
 from bokeh.server.views.ws import WSHandler
-if "--no-delay" in sys.argv:  # as prp3.explorer.app._no_delay does
+if "--no-delay" in sys.argv:  # as prp3.explorer.server._no_delay does
     opened = WSHandler.open
     def open_without_delay(self):
         self.set_nodelay(True)

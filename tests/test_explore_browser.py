@@ -28,7 +28,8 @@ import pytest
 
 from prp3 import Robot
 from prp3.errors import Prp3Error
-from prp3.explorer.scene import State, pose_table, read_run
+from prp3.explorer.run_folder import read_run
+from prp3.explorer.scene import State, pose_table
 from prp3.model.motion import Motion
 from prp3.plotting.animation import frame_indices
 
@@ -199,24 +200,27 @@ def test_the_page_loads_with_the_robot_and_its_forces(browser: Any, server: str)
             platform["xs"][0], [0.0, -0.3 * math.sqrt(3) / 2, 0.3 * math.sqrt(3) / 2]
         )
         assert page.evaluate("() => Bokeh.documents[0].get_model_by_name('message').text") == ""
-        # the check box of f10 hides its arrows (segments and heads), the others stay
-        visible = """() => {
-          const doc = Bokeh.documents[0];
-          const found = {};
-          for (const m of doc._all_models.values()) {
+        # the check box of f10 hides its arrows (shafts and heads), the others stay
+        drawn = """() => {
+          const found = [];
+          for (const m of Bokeh.documents[0]._all_models.values()) {
             if (m.type === "GlyphRenderer" && m.data_source.name === "arrows") {
-              const group = m.view.filter.group;
-              found[group] = (found[group] || []).concat([m.visible]);
+              const data = m.data_source.data;
+              const quantity = data instanceof Map ? data.get("quantity") : data.quantity;
+              found.push([...m.view.indices].map((k) => quantity[k]).sort());
             }
           }
           return found;
         }"""
+        every = sorted(arrows["quantity"])
+        assert page.evaluate(drawn) == [every, every]  # the shafts and the heads
         page.evaluate(
             "() => { Bokeh.documents[0].get_model_by_name('arrow_toggles').active = [1, 2, 3, 4, 5] }"
         )
-        shown = page.evaluate(visible)
-        assert shown["f10"] == [False, False]
-        assert all(flags == [True, True] for group, flags in shown.items() if group != "f10")
+        rest = sorted(q for q in arrows["quantity"] if q != "f10")
+        _until(lambda: page.evaluate(drawn) == [rest, rest])
+        page.evaluate("() => { Bokeh.documents[0].get_model_by_name('arrow_toggles').active = [] }")
+        _until(lambda: page.evaluate(drawn) == [[], []])
         assert page.errors == []
     finally:
         page.close()
@@ -418,6 +422,78 @@ def test_a_3rrr_page_draws_the_library_s_joint_forces_after_a_slider_move(
         assert "cannot reach the pose" in page.evaluate(message)
         assert page.evaluate(_READ, "arrows")["quantity"] == []
         assert page.evaluate(_READ, "revolute")["x"] == []
+        assert page.errors == []
+    finally:
+        page.close()
+
+
+@pytest.fixture(scope="module")
+def rrr_run_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, Path]]:
+    from prp3.family import FamilyRobot
+
+    folder = tmp_path_factory.mktemp("family_run")
+    path = folder / "rrr.toml"
+    path.write_text(FamilyRobot.default("3-RRR").to_toml(), encoding="utf-8")
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    subprocess.run(
+        [sys.executable, "-m", "prp3", "simulate", "--robot", str(path), "--motion", "rotation",
+         "--samples", "41", "--output", str(folder / "run")],
+        env=env, check=True, capture_output=True,
+    )  # fmt: skip
+    for url in _serve("--robot", str(path), "--results", str(folder / "run")):
+        yield url, folder / "run"
+
+
+def test_the_scrubber_of_a_3rrr_run_draws_the_run_s_forces_and_plays(
+    browser: Any, rrr_run_server: tuple[str, Path]
+) -> None:
+    from prp3.explorer.run_folder import read_family_run
+
+    url, folder = rrr_run_server
+    table = read_family_run(folder).table
+
+    def run_forces(k: int) -> np.ndarray:  # (legs, joints k, 2), the run's own columns
+        return np.array(
+            [
+                [[float(table[f"f{c}{j}_{leg}"][k]) for c in "xy"] for j in (1, 2, 3)]
+                for leg in "ABC"
+            ]
+        )
+
+    def drawn(page: Any) -> np.ndarray | None:
+        arrows = page.evaluate(_READ, "arrows")
+        if not arrows["quantity"]:
+            return None
+        return np.stack([_forces(arrows, f"F{j}") for j in (1, 2, 3)], axis=1)
+
+    def shows(page: Any, k: int) -> bool:
+        now = drawn(page)
+        return now is not None and bool(np.allclose(now, run_forces(k), rtol=1e-9, atol=1e-9))
+
+    page = _open(browser, url)
+    try:
+        _until(lambda: shows(page, 0))
+        for k in (13, 32):
+            page.evaluate(_SET, ["time", k])
+            _until(lambda k=k: shows(page, k))  # type: ignore[misc]
+            assert page.evaluate(
+                "() => Bokeh.documents[0].get_model_by_name('phi').value"
+            ) == pytest.approx(float(table["phi"][k]), abs=1e-15)
+        # the linked plots' time lines follow the scrubber
+        spans = """() => [...Bokeh.documents[0]._all_models.values()]
+          .filter((m) => m.type === "Span").map((m) => m.location)"""
+        assert page.evaluate(spans) == [pytest.approx(float(table["t"][32]), abs=1e-15)] * 4
+        page.locator("button", has_text="play").click()
+        page.wait_for_function(
+            "() => Bokeh.documents[0].get_model_by_name('time').value != 32", timeout=20_000
+        )
+        page.evaluate("() => { Bokeh.documents[0].get_model_by_name('play').active = false }")
+        page.wait_for_function(
+            "() => Bokeh.documents[0].get_model_by_name('play').label.includes('play')"
+        )
+        time.sleep(0.5)  # a step the server had begun is drawn
+        k = int(page.evaluate("() => Bokeh.documents[0].get_model_by_name('time').value"))
+        _until(lambda: shows(page, k))
         assert page.errors == []
     finally:
         page.close()

@@ -240,13 +240,71 @@ def test_explore_export_of_a_family_robot(
     assert "3-RRR" in page.read_text(encoding="utf-8")
 
 
-def test_a_family_robot_with_results_is_one_line(
-    tmp_path: Path, rrr_file: Path, capsys: pytest.CaptureFixture[str]
+@pytest.fixture(scope="module")
+def rrr_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
+    """A 3-RRR robot file and its run of the paper's rotation (``prp3 simulate --robot``)."""
+    from prp3.cli import main
+
+    folder = tmp_path_factory.mktemp("rrr_run")
+    robot_file = folder / "rrr.toml"
+    robot_file.write_text(FamilyRobot.default("3-RRR").to_toml(), encoding="utf-8")
+    status = main(["simulate", "--robot", str(robot_file), "--motion", "rotation",
+                   "--samples", "41", "--output", str(folder / "run")])  # fmt: skip
+    assert status == 0
+    return robot_file, folder / "run"
+
+
+def test_the_motion_of_a_family_run_is_the_simulated_one(rrr_run: tuple[Path, Path]) -> None:
+    from prp3.explorer.run_folder import family_run_motion, read_family_run
+    from prp3.model.motion import paper_motion
+
+    run = read_family_run(rrr_run[1])
+    motion = family_run_motion(FamilyRobot.default("3-RRR"), run)
+    simulated = paper_motion("rotation", 41)  # what prp3 simulate --motion rotation solved
+    np.testing.assert_array_equal(motion.pose, simulated.pose)
+    np.testing.assert_allclose(motion.velocity, simulated.velocity, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(motion.acceleration, simulated.acceleration, rtol=0, atol=1e-11)
+
+
+def test_a_family_run_of_another_robot_is_one_line(
+    tmp_path: Path, rrr_run: tuple[Path, Path], capsys: pytest.CaptureFixture[str]
 ) -> None:
-    status, out, err = cli(capsys, "explore", "--robot", rrr_file, "--results", tmp_path)
+    other = tmp_path / "other.toml"
+    text = rrr_run[0].read_text(encoding="utf-8")
+    longer = text.replace("joint2 = [0.2, 0.0,", "joint2 = [0.21, 0.0,")  # link 1 1 cm longer
+    assert longer != text
+    other.write_text(longer, encoding="utf-8")
+    status, out, err = cli(capsys, "explore", "--robot", other, "--results", rrr_run[1],
+                           "--no-browser", "--port", 1)  # fmt: skip
     assert status == 2 and out == ""
     line = one_line(err)
-    assert line.startswith("prp3 explore: error: ") and "3-RRR" in line and "--results" in line
+    assert line.startswith("prp3 explore: error: ") and "give the --robot of the run" in line
+
+
+def test_a_3prp_run_with_a_family_robot_is_one_line(
+    tmp_path: Path, rrr_file: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from prp3.cli import main
+
+    assert main(["simulate", "--motion", "rotation", "--samples", "11",
+                 "--output", str(tmp_path / "prp")]) == 0  # fmt: skip
+    capsys.readouterr()
+    status, out, err = cli(capsys, "explore", "--robot", rrr_file, "--results", tmp_path / "prp")
+    assert status == 2 and out == ""
+    line = one_line(err)
+    assert line.startswith("prp3 explore: error: ") and "results.csv" in line
+
+
+def test_a_family_run_exports_its_html(
+    tmp_path: Path, rrr_run: tuple[Path, Path], capsys: pytest.CaptureFixture[str]
+) -> None:
+    page = tmp_path / "run.html"
+    status, out, err = cli(capsys, "explore", "--robot", rrr_run[0], "--results", rrr_run[1],
+                           "--export", page)  # fmt: skip
+    assert (status, err) == (0, "")
+    assert out.strip() == f"prp3 explore: wrote {page}"
+    text = page.read_text(encoding="utf-8")
+    assert "3-RRR" in text and "frames:revolute" in text
 
 
 def test_a_family_robot_file_that_does_not_parse_is_one_line(

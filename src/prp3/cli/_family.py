@@ -85,7 +85,7 @@ def run_family(
     html = getattr(args, "html", None)
     page = None
     if html is not None:  # built before anything is written: a failure leaves no file
-        from prp3.explorer.app import run_html
+        from prp3.explorer.html_file import run_html
 
         title = heading.removeprefix("prp3 simulate: ")
         page = run_html(robot, table, f"{robot.architecture}: {title}")

@@ -32,6 +32,7 @@ examples:
   prp3 simulate --motion rotation --output rot && prp3 explore --results rot
   prp3 explore --results rot --export rot.html   # one HTML file of the run, opens offline
   prp3 explore --robot rrr.toml                  # a family-form robot file (docs/family.md)
+  prp3 simulate --robot rrr.toml --output r && prp3 explore --robot rrr.toml --results r
   ssh -L 8765:127.0.0.1:8765 HOST 'prp3 explore --no-browser'   # on a remote machine
 
 Exit status 2 on bad input (one line, before the server starts), 130 on Ctrl-C.
@@ -50,7 +51,8 @@ def register(subparsers: Any) -> None:
             "editable design parameters, the workspace statics map and, with --results, a run\n"
             "of `prp3 simulate` with a time scrubber. Forces come from prp3's kernel.\n"
             "A family-form --robot file (3-RRR, 3-PRR, ...: docs/family.md) gets its own\n"
-            "legs, joint forces and singularity measures (prp3.family)."
+            "legs, joint forces and singularity measures (prp3.family), and --results of\n"
+            "its runs (`prp3 simulate --robot FILE --output DIR`)."
         ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -88,10 +90,12 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``prp3 explore`` with parsed ``args``; return the exit status."""
-    from prp3.explorer.app import require_bokeh, serve, write_run_html
+    from prp3.explorer.app import require_bokeh
+    from prp3.explorer.html_file import write_run_html
+    from prp3.explorer.server import serve
 
     require_bokeh()
-    from prp3.explorer.scene import read_run, run_motion
+    from prp3.explorer.run_folder import read_run, run_motion
     from prp3.family import read_robot_file
 
     robot = read_robot_file(args.robot) if args.robot is not None else load_robot(args)
@@ -125,33 +129,34 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run_family(args: argparse.Namespace, robot: FamilyRobot) -> int:
-    """``prp3 explore`` of a family robot: the page of its poses, or --export of the paper's
-    vertical motion (``--results`` is refused: not yet for the family's columns)."""
-    from prp3.errors import Prp3Error
-    from prp3.explorer.app import serve, write_run_html
+    """``prp3 explore`` of a family robot: its page (with ``--results``, of a run of
+    ``prp3 simulate --robot``), or ``--export`` of that run or of the paper's vertical motion."""
+    from prp3.explorer.html_file import write_run_html
+    from prp3.explorer.run_folder import family_run_motion, read_family_run
+    from prp3.explorer.server import serve
 
-    if args.results is not None:
-        raise Prp3Error(
-            f"--results {args.results}: the explorer shows runs of the 3-PRP of docs/model.md "
-            f"only, not yet of the {robot.architecture} of {args.robot} (prp3 simulate --robot "
-            f"{args.robot} --html FILE.html writes one)",
-            file=args.robot,
-        )
+    results = read_family_run(args.results) if args.results is not None else None
+    if results is not None:
+        family_run_motion(robot, results)  # the run must be the robot's: refused before anything
     if args.export is not None:
-        from prp3.family import family_inverse_dynamics, family_results_table
-        from prp3.model.motion import paper_motion
-
         export: Path = args.export
-        solution = family_inverse_dynamics(robot, paper_motion("vertical", 301))
-        title = f"prp3: the paper's vertical motion of the {robot.architecture}"
-        write_run_html(export, robot, family_results_table(solution), title)
+        if results is not None:
+            table, title = results.table, f"prp3 run {results.path} of the {robot.architecture}"
+        else:
+            from prp3.family import family_inverse_dynamics, family_results_table
+            from prp3.model.motion import paper_motion
+
+            solution = family_inverse_dynamics(robot, paper_motion("vertical", 301))
+            table = family_results_table(solution)
+            title = f"prp3: the paper's vertical motion of the {robot.architecture}"
+        write_run_html(export, robot, table, title)
         emit(f"{args.program}: wrote {export}")
         return 0
 
     def announce(url: str) -> None:
         emit(f"{args.program}: serving {url} (Ctrl-C stops)")
 
-    serve(robot, None, host=args.host, port=args.port, open_browser=not args.no_browser,
+    serve(robot, results, host=args.host, port=args.port, open_browser=not args.no_browser,
           announce=announce)  # fmt: skip
     return 0  # pragma: no cover - the server stops by a signal
 

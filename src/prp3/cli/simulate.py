@@ -349,7 +349,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
     summary = summarize(table, motion.velocity[:, 2])
     page = None
     if html is not None:  # built before anything is written: a failure leaves no file
-        from prp3.explorer.app import run_html
+        from prp3.explorer.html_file import run_html
 
         page = run_html(robot, table, heading.removeprefix("prp3 simulate: "))
 

@@ -3,10 +3,14 @@
 * :mod:`prp3.explorer.scene`: what is drawn, as plain columns (no Bokeh): the
   robot at a pose, its joint forces as arrows from prp3's own engines, a run
   of ``prp3 simulate``, the statics map of the workspace.
-* :mod:`prp3.explorer.app`: the Bokeh document of the server (``prp3
-  explore``) and the self-contained HTML file of a run (``prp3 simulate
-  --html``, ``prp3 explore --export``); Bokeh is imported lazily, inside its
-  functions.
+* :mod:`prp3.explorer.run_folder`: a folder of ``prp3 simulate`` results read
+  and checked against the robot, and the run's platform motion.
+* :mod:`prp3.explorer.app`: the Bokeh document of the server's 3-PRP page;
+  :mod:`prp3.explorer.page`, what both pages share (the key, the arrows, the
+  sliders, the time plots, the run's scrubber); :mod:`prp3.explorer.server`,
+  the server of ``prp3 explore``; :mod:`prp3.explorer.html_file`, the
+  self-contained HTML file of a run (``prp3 simulate --html``, ``prp3 explore
+  --export``).  Bokeh is imported lazily, inside their functions.
 * :mod:`prp3.explorer.family_scene` and :mod:`prp3.explorer.family_app`: the
   same for a family robot (docs/family.md): its own legs (R joints as circles,
   P joints as slides), the joint forces of :mod:`prp3.family` at the joint
@@ -20,16 +24,14 @@
 
 from __future__ import annotations
 
+from prp3.explorer.run_folder import Run, read_run, run_motion
 from prp3.explorer.scene import (
     PRP3_SCENE,
-    Run,
     Scene,
     State,
     View,
     design_robot,
     pose_table,
-    read_run,
-    run_motion,
     scene_view,
     workspace_overlay,
 )

@@ -1,30 +1,25 @@
-"""The explorer's Bokeh documents: the live app of ``prp3 explore`` and the HTML file of a run.
+"""The 3-PRP page of the explorer: its figures and the live Bokeh document of ``prp3 explore``.
 
 Bokeh is imported inside the functions only.  Every number drawn comes from
 :mod:`prp3.explorer.scene` (prp3's own engines): the server recomputes a
-pose in Python at every slider move; the standalone HTML file holds the
-frames of a run precomputed, and its few lines of ``CustomJS`` only copy
-frame ``k``'s columns into the drawn sources (no force is computed in the
-browser).
+pose in Python at every slider move, and sends every drawn source that
+changed in one message.  The server itself is :mod:`prp3.explorer.server`,
+the HTML file of a run :mod:`prp3.explorer.html_file`.
 
 Names of the page's models (``Bokeh.documents[0].get_model_by_name``), for
 tests and scripts: the sliders ``x, y, phi, dx, dy, dphi, ddx, ddy, ddphi``
 (and a spinner ``<name>_field`` each), the design fields ``design:<key>``, the
 sources ``arrows``, ``values`` (the table), ``platform``, ``joints``,
 ``pistons``, ``sleeves``, ``base``, ``payload``, ``overlay``, the message
-``message``, and with a run the scrubber ``time`` and the button ``play``.
+``message``, the key ``key`` (a ``Div``), the check boxes ``arrow_toggles`` and
+the filter of the arrows' rows ``arrow_filter``, and with a run the scrubber
+``time`` and the button ``play``.
 """
 
 from __future__ import annotations
 
-import contextlib
-import errno
 import math
-import signal
-import socket
-import webbrowser
 from collections.abc import Callable, Mapping
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -32,23 +27,22 @@ from numpy.typing import NDArray
 
 from prp3.errors import Prp3Error
 from prp3.explorer.page import (
-    _COPY_FRAME,
-    _PLAY,
     _UNBUNDLE,
-    MAX_HTML_FRAMES,
+    Key,
     _escape,
     _table,
     arrow_layers,
+    server_scrubber,
     slider_with_field,
     time_plots,
 )
+from prp3.explorer.run_folder import Run, run_motion
 from prp3.explorer.scene import (
     ARROWS,
     DESIGN_PARAMETERS,
     MOTION_CONTROLS,
     PRP3_SCENE,
     Columns,
-    Run,
     Scene,
     State,
     View,
@@ -56,32 +50,16 @@ from prp3.explorer.scene import (
     design_robot,
     design_values,
     empty_view,
-    run_motion,
     singularity_curve,
     stroke_bands,
     workspace_overlay,
 )
-from prp3.family import FamilyRobot
-from prp3.files import atomic_writer
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
-__all__ = [
-    "DEFAULT_HOST",
-    "DEFAULT_PORT",
-    "MAX_HTML_FRAMES",
-    "explorer_document",
-    "require_bokeh",
-    "run_html",
-    "serve",
-    "write_run_html",
-]
+__all__ = ["PLOTTED", "explorer_document", "require_bokeh", "set_state", "widened"]
 
 FloatArray = NDArray[np.float64]
-
-DEFAULT_HOST: str = "127.0.0.1"
-DEFAULT_PORT: int = 8765
 
 #: The per-leg quantities of the linked plots against time.
 PLOTTED: tuple[str, ...] = ("f10", "f21y", "f21z", "n32")
@@ -107,16 +85,12 @@ def _robot_figure(
 ) -> tuple[Any, Any]:
     """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map.
 
-    Returns the figure and, to put below it, its key: a legend drawn in a figure of its own
-    (painted once, not at every update of the robot's figure) and check boxes that show or
-    hide the arrows of each quantity.
+    Returns the figure (with the map, in a row with its colour bar) and, to put below it, its
+    key (:class:`~prp3.explorer.page.Key`, HTML) and the check boxes that show or hide the
+    arrows of each quantity.
     """
-    from bokeh.models import (
-        ColorBar,
-        ColumnDataSource,
-        LinearColorMapper,
-        Range1d,
-    )
+    from bokeh.layouts import row
+    from bokeh.models import ColorBar, LinearColorMapper, Range1d
     from bokeh.plotting import figure
 
     half = _limits(robot)
@@ -132,33 +106,10 @@ def _robot_figure(
         tools="pan,wheel_zoom,reset,save",
         toolbar_location="above",
     )
-    key = figure(
-        name="key",
-        width=560,
-        height=160,
-        x_range=Range1d(100.0, 101.0),  # the key's glyphs lie outside: only the legend shows
-        y_range=Range1d(100.0, 101.0),
-        tools="",
-        toolbar_location=None,
-        outline_line_color=None,
-        min_border=0,
-    )
-    key.axis.visible = False
-    key.grid.visible = False
+    key = Key(fig)
+    draw = key.draw
 
-    def draw(method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
-        """Draw on the robot's figure; the same glyph, one row of it, in the key."""
-        renderer = getattr(fig, method)(*fields, source=source, **style)
-        if legend:
-            data = source.data
-            rows = len(next(iter(data.values()), []))
-            first = {k: list(v[:1]) for k, v in data.items()} if rows else {k: [] for k in data}
-            style = {k: v for k, v in style.items() if k != "view"}
-            getattr(key, method)(
-                *fields, source=ColumnDataSource(first), legend_label=legend, **style
-            )
-        return renderer
-
+    bar: Any = None
     if overlay:
         mapper = LinearColorMapper(palette="Viridis256", low=0.0, high=peak, nan_color=(0, 0, 0, 0))
         mapper.name = "overlay_colours"
@@ -185,7 +136,26 @@ def _robot_figure(
             line_width=1.5,
             legend="reachable region (strokes)",
         )
-        fig.add_layout(
+        # the colour bar in a figure of its own, beside: painted when the map changes, not at
+        # every move of the robot (a colour bar is an axis, ticks and labels to measure)
+        bar = figure(
+            name="colour_bar",
+            width=75,
+            height=545,
+            frame_width=1,
+            min_border_top=31,
+            min_border_bottom=44,
+            min_border_left=0,
+            x_range=Range1d(0.0, 1.0),
+            y_range=Range1d(0.0, 1.0),
+            tools="",
+            toolbar_location=None,
+            outline_line_color=None,
+        )
+        bar.axis.visible = False
+        bar.grid.visible = False
+        bar.scatter([], [])  # a renderer, drawing nothing (a figure without one is a warning)
+        bar.add_layout(
             ColorBar(
                 color_mapper=mapper,
                 title="statics: max |f10| at rest (N)",
@@ -258,7 +228,8 @@ def _robot_figure(
         legend="payload",
     )
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
-    return fig, arrow_layers(fig, key, draw, sources["arrows"], ARROWS)
+    key_and_toggles = arrow_layers(fig, key, sources["arrows"], ARROWS)
+    return (fig if bar is None else row(fig, bar)), key_and_toggles
 
 
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:
@@ -333,7 +304,7 @@ def explorer_document(
     from bokeh.models import Checkbox, ColumnDataSource, CustomJS, Div, Spinner
 
     base_robot = robot
-    current: dict[str, Any] = {"robot": robot, "load": None, "busy": False, "timer": None}
+    current: dict[str, Any] = {"robot": robot, "load": None, "busy": False, "served": False}
     motion = run_motion(robot, run) if run is not None else None
     scale = [arrow_scale(robot)]
     first = scene.view(robot, scene.table(robot, State()), 0, scale[0])
@@ -353,9 +324,7 @@ def explorer_document(
         if control.length:
             low, high = low * robot.l0, high * robot.l0
         if motion is not None:
-            values = np.concatenate([motion.pose, motion.velocity, motion.acceleration], axis=-1)
-            k = [c.name for c in MOTION_CONTROLS].index(control.name)
-            low, high = min(low, float(values[:, k].min())), max(high, float(values[:, k].max()))
+            low, high = widened(low, high, motion, control.name)
         slider, pair = slider_with_field(control, low, high)
         sliders[control.name] = slider
         fields.append(pair)
@@ -412,6 +381,9 @@ def explorer_document(
             if shown.get(name) == columns:  # only what changed goes to the browser
                 continue
             shown[name] = columns
+            if not current["served"]:  # the browser has not the document yet: its sources
+                sources[name].data = columns
+                continue
             changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
         if changed:
             bundle.data = changed
@@ -529,7 +501,7 @@ def explorer_document(
     right = [values_table, singularity]
     top: list[Any] = [message]
     if run is not None and motion is not None:
-        right_extra, time_widgets = _run_widgets(doc, run, motion, sliders, current, update)
+        right_extra, time_widgets = _run_widgets(doc, motion, sliders, current, update, run.table)
         right.extend(right_extra)
         top.insert(0, time_widgets)
     layout = column(
@@ -541,328 +513,47 @@ def explorer_document(
     doc.add_root(bundle)  # drawn by nothing: a root, so that it reaches the browser
     doc.title = "prp3 explore"
     update()
+    for pair in fields:  # a slider set before the page is served: its field shows its value
+        slider_now, field_now = pair.children
+        field_now.value = slider_now.value
+    current["served"] = True  # from now on, every change reaches the browser in the bundle
 
 
 def _run_widgets(
     doc: Any,
-    run: Run,
     motion: Motion,
     sliders: Mapping[str, Any],
     current: dict[str, Any],
     update: Callable[[], None],
+    table: Mapping[str, Any],
 ) -> tuple[list[Any], Any]:
     """The scrubber, the play button and the linked plots of a run (server side)."""
-    from bokeh.layouts import column, row
-    from bokeh.models import Slider, Toggle
+    from bokeh.layouts import column
 
-    t = motion.t
-    samples = int(t.size)
-    scrubber = Slider(
-        start=0,
-        end=max(samples - 1, 1),
-        value=0,
-        step=1,
-        name="time",
-        title=f"t = {float(t[0]):.3f} s",
-        width=500,
-        show_value=False,
-    )
-    play = Toggle(label="▶ play", name="play", width=90)
-    plots, spans = time_plots(run.table, {q: f"{q} (N)" for q in PLOTTED})
-    period = max(40, int(1000 * float(t[-1] - t[0]) / max(samples - 1, 1)))
-    stride = max(1, round(40 / (1000 * float(t[-1] - t[0]) / max(samples - 1, 1))))
+    plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
 
-    def to_sample(k: int) -> None:
-        k = min(max(int(k), 0), samples - 1)
-        state_values = np.concatenate([motion.pose[k], motion.velocity[k], motion.acceleration[k]])
-        current["busy"] = True
-        try:
-            for control_name, value in zip(sliders, state_values, strict=True):
-                sliders[control_name].value = float(value)
-        finally:
-            current["busy"] = False
+    def show(k: int) -> None:
         current["load"] = None if motion.load is None else tuple(float(v) for v in motion.load[k])
-        for span in spans:
-            span.location = float(t[k])
-        scrubber.title = f"t = {float(t[k]):.3f} s"
+        set_state(sliders, current, motion, k)
         update()
 
-    def on_scrub(attr: str, old: Any, new: Any) -> None:
-        to_sample(int(new))
-
-    def step() -> None:
-        following = int(scrubber.value) + stride
-        scrubber.value = following if following < samples else 0
-
-    def on_play(attr: str, old: Any, new: Any) -> None:
-        if new:
-            play.label = "❚❚ pause"
-            current["timer"] = doc.add_periodic_callback(step, period)
-        else:
-            play.label = "▶ play"
-            if current["timer"] is not None:
-                doc.remove_periodic_callback(current["timer"])
-                current["timer"] = None
-
-    scrubber.on_change("value", on_scrub)
-    play.on_change("active", on_play)
-    doc.add_next_tick_callback(lambda: to_sample(0))
-    return [column(*plots)], row(scrubber, play)
+    scrubber = server_scrubber(doc, [float(v) for v in motion.t], show, spans)
+    return [column(*plots)], scrubber
 
 
-# ---------------------------------------------------------------- the HTML file of a run
-def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
-    """One self-contained HTML page of a run: the robot with its force arrows, and linked plots.
-
-    Parameters
-    ----------
-    robot : Robot or FamilyRobot
-        The robot of the run; a family robot's page is
-        :func:`prp3.explorer.family_app.family_run_html`.
-    table : mapping of str to ndarray (N,)
-        The run's columns of ``results.csv`` (``prp3 simulate``'s table; the
-        64 of the family form for a family robot).
-    title : str
-        The page's title.
-
-    Returns
-    -------
-    str
-        The page, with Bokeh's JavaScript inline (``bokeh.resources.INLINE``): it
-        opens offline.  At most :data:`MAX_HTML_FRAMES` frames, precomputed by
-        :func:`prp3.explorer.scene.scene_view`; the scrubber and the play button
-        only pick a frame.
-    """
-    from bokeh.embed import file_html
-    from bokeh.layouts import column, row
-    from bokeh.models import ColumnDataSource, CustomJS, Div, Slider, Toggle
-    from bokeh.resources import INLINE
-
-    if isinstance(robot, FamilyRobot):
-        from prp3.explorer.family_app import family_run_html
-
-        return family_run_html(robot, table, title)
-    t = np.asarray(table["t"], dtype=np.float64)
-    frames = frame_indices(int(t.size), MAX_HTML_FRAMES)
-    scale = arrow_scale(robot)
-    views = [PRP3_SCENE.view(robot, table, int(k), scale) for k in frames]
-    sources = _sources(views[0], None, stroke_bands(robot))
-    frame_sources: dict[str, Any] = {}
-    targets: dict[str, Any] = {}
-    for name in views[0].sources():
-        columns = list(views[0].sources()[name])
-        frame_sources[name] = ColumnDataSource(
-            {c: [view.sources()[name][c] for view in views] for c in columns},
-            name=f"frames:{name}",
-        )
-        targets[name] = sources[name]
-    fig, key = _robot_figure(robot, sources, overlay=False)
-    plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
-    times = [float(v) for v in t[frames]]
-    slider = Slider(
-        start=0,
-        end=max(len(frames) - 1, 1),
-        value=0,
-        step=1,
-        name="time",
-        title=f"t = {times[0]:.3f} s",
-        width=400,
-        show_value=False,
-    )
-    play = Toggle(label="▶ play", name="play", width=90)
-    table_widget = _table(sources["values"])
-    duration = float(t[-1] - t[0])
-    period = max(30, int(1000 * duration / max(len(frames) - 1, 1)))
-    slider.js_on_change(
-        "value",
-        CustomJS(
-            args={
-                "slider": slider,
-                "sources": frame_sources,
-                "targets": targets,
-                "table": table_widget,
-                "spans": spans,
-                "times": times,
-            },
-            code=_COPY_FRAME,
-        ),
-    )
-    play.js_on_change(
-        "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
-    )
-    heading = Div(
-        text=f"<b>{_escape(title)}</b>: {t.size} samples over t = {t[0]:g} .. {t[-1]:g} s, "
-        f"{len(frames)} frames; forces by prp3 (the kernel, eqs. 10-25)",
-        width=900,
-    )
-    layout = column(heading, row(slider, play), row(column(fig, key), column(table_widget, *plots)))
-    return str(file_html(layout, resources=INLINE, title=title))
+def widened(low: float, high: float, motion: Motion, name: str) -> tuple[float, float]:
+    """A motion slider's range ``[low, high]`` widened to the run's values of its control."""
+    values = np.concatenate([motion.pose, motion.velocity, motion.acceleration], axis=-1)
+    k = [c.name for c in MOTION_CONTROLS].index(name)
+    return min(low, float(values[:, k].min())), max(high, float(values[:, k].max()))
 
 
-def write_run_html(
-    path: str | Path, robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title: str
-) -> None:
-    """Write :func:`run_html` to ``path`` atomically (whole or not at all)."""
-    page = run_html(robot, table, title)
-    with atomic_writer(path) as stream:
-        stream.write(page)
-
-
-# ---------------------------------------------------------------- the server
-def _listen_error(host: str, port: int, error: OSError) -> Prp3Error:
-    if error.errno == errno.EADDRINUSE:
-        return Prp3Error(
-            f"port {port} on {host} is busy (another program listens there): "
-            "choose another with --port",
-            origin=f"--port {port}",
-        )
-    return Prp3Error(
-        f"cannot listen on {host}:{port}: {error.strerror or error}", origin=f"--host {host}"
-    )
-
-
-def _no_delay() -> None:
-    """Send the server's websocket messages at once (``TCP_NODELAY``), in this process.
-
-    Bokeh's websocket handler leaves Nagle's algorithm on: a small message
-    (the columns of one update) then waits for the browser's delayed
-    acknowledgement, about 40 ms on loopback, at every slider move
-    (``benchmarks/bench_explore.py`` measures the difference).
-    """
-    from bokeh.server.views.ws import WSHandler
-
-    if getattr(WSHandler, "_prp3_no_delay", False):
-        return
-    opened = WSHandler.open
-
-    def open_without_delay(self: Any) -> None:
-        self.set_nodelay(True)
-        opened(self)
-
-    WSHandler.open = open_without_delay
-    WSHandler._prp3_no_delay = True
-
-
-def _check_port(host: str, port: int) -> None:
-    """Refuse a port that is taken or an address this machine cannot listen on (one line)."""
+def set_state(sliders: Mapping[str, Any], current: dict[str, Any], motion: Motion, k: int) -> None:
+    """Set the nine motion sliders to sample ``k`` of ``motion``, without an update per slider."""
+    values = np.concatenate([motion.pose[k], motion.velocity[k], motion.acceleration[k]])
+    current["busy"] = True
     try:
-        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
-    except OSError as error:
-        raise Prp3Error(
-            f"cannot listen on {host}:{port}: {error.strerror or error}", origin=f"--host {host}"
-        ) from None
-    for family, kind, protocol, _, address in infos:
-        with socket.socket(family, kind, protocol) as probe:
-            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the server does
-            try:
-                probe.bind(address)
-            except OSError as error:
-                raise _listen_error(host, port, error) from None
-
-
-def serve(
-    robot: Robot | FamilyRobot,
-    run: Run | None = None,
-    *,
-    host: str = DEFAULT_HOST,
-    port: int = DEFAULT_PORT,
-    open_browser: bool = True,
-    announce: Callable[[str], None] = print,
-) -> None:
-    """Serve the explorer at ``http://host:port/`` until interrupted.
-
-    A :class:`~prp3.family.FamilyRobot` is served by
-    :func:`prp3.explorer.family_app.family_document` (no ``run``: the page of
-    a pose).
-
-    Raises
-    ------
-    Prp3Error
-        The port is busy, or the address cannot be listened on (one line naming it);
-        a run given with a family robot.
-    """
-    from bokeh.application import Application
-    from bokeh.application.handlers.function import FunctionHandler
-    from bokeh.server.server import Server
-
-    if isinstance(robot, FamilyRobot):
-        if run is not None:
-            raise Prp3Error(
-                f"--results with the {robot.architecture} of a family-form robot file is not "
-                "supported yet (its page explores poses; prp3 simulate --html writes its runs)",
-                key="--results",
-            )
-        family_robot = robot
-
-        def make(doc: Any) -> None:
-            from prp3.explorer.family_app import family_document
-
-            family_document(doc, family_robot)
-
-    else:
-        plain_robot = robot
-        if run is not None:
-            run_motion(plain_robot, run)  # refused before the server starts
-
-        def make(doc: Any) -> None:
-            explorer_document(doc, plain_robot, run)
-
-    _check_port(host, port)
-    _no_delay()
-    origins = [f"{host}:{port}", f"localhost:{port}", f"127.0.0.1:{port}"]
-    try:
-        server = Server(
-            {"/": Application(FunctionHandler(make))},
-            address=host,
-            port=port,
-            allow_websocket_origin=origins,
-            num_procs=1,
-        )
-    except OSError as error:  # taken between the check and the server's own bind
-        raise _listen_error(host, port, error) from None
-    url = f"http://{host}:{port}/"
-    server.start()
-    announce(url)
-    if open_browser:
-        server.io_loop.add_callback(lambda: webbrowser.open(url))
-    received = _stop_on_signals(server.io_loop.asyncio_loop)
-    try:
-        server.io_loop.start()
+        for name, value in zip(sliders, values, strict=True):
+            sliders[name].value = float(value)
     finally:
-        server.stop()
-        _raise_received(server.io_loop.asyncio_loop, received)
-
-
-#: The signals that stop the server (the command line turns them into 130 and 143).
-_STOP_SIGNALS: tuple[signal.Signals, ...] = (signal.SIGINT, signal.SIGTERM)
-
-
-def _stop_on_signals(loop: Any) -> list[int]:
-    """Stop ``loop`` at SIGINT or SIGTERM, between two callbacks; return the signals received.
-
-    A Python signal handler that raises would raise inside whichever callback
-    of the server runs at that moment, and asyncio logs and drops the
-    exception of a callback: the server would go on.  The loop's own handlers
-    run between callbacks; :func:`_raise_received` then hands the signal to
-    the previous handler (the command line's), once the loop has stopped.
-    """
-    received: list[int] = []
-
-    def stop(number: int) -> None:
-        received.append(number)
-        loop.stop()
-
-    for number in _STOP_SIGNALS:
-        try:
-            loop.add_signal_handler(number, stop, int(number))
-        except (NotImplementedError, RuntimeError, ValueError):  # not the main thread
-            break
-    return received
-
-
-def _raise_received(loop: Any, received: list[int]) -> None:
-    for number in _STOP_SIGNALS:
-        with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
-            loop.remove_signal_handler(number)
-    if received:
-        signal.raise_signal(received[0])
+        current["busy"] = False

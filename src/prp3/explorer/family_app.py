@@ -15,7 +15,8 @@ dx, dy, dphi, ddx, ddy, ddphi`` (and ``<name>_field``), the design fields
 :data:`~prp3.explorer.family_scene.FAMILY_DESIGN_PARAMETERS`), the sources
 ``arrows``, ``values``, ``measures``, ``platform``, ``links``, ``revolute``,
 ``sliders``, ``guides``, ``base``, ``payload``, ``centre``, the message
-``message``; in the HTML file of a run the scrubber ``time`` and ``play``.
+``message``; with a run (the server's page or its HTML file) the scrubber
+``time`` and the button ``play``.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.errors import Prp3Error
+from prp3.explorer.app import set_state, widened
 from prp3.explorer.family_scene import (
     FAMILY_ARROWS,
     FAMILY_DESIGN_PARAMETERS,
@@ -37,16 +39,19 @@ from prp3.explorer.family_scene import (
     family_extent,
 )
 from prp3.explorer.page import (
-    _COPY_FRAME,
-    _PLAY,
     _UNBUNDLE,
     MAX_HTML_FRAMES,
+    Key,
     _escape,
     _table,
     arrow_layers,
+    browser_scrubber,
+    frame_sources,
+    server_scrubber,
     slider_with_field,
     time_plots,
 )
+from prp3.explorer.run_folder import Run, family_run_motion
 from prp3.explorer.scene import MOTION_CONTROLS, Columns, State, View, empty_view
 from prp3.family import FamilyRobot
 from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
@@ -82,39 +87,11 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
         toolbar_location="above",
     )
     fig.title.text_font_size = "9pt"
-    key = figure(
-        name="key",
-        width=560,
-        height=120,
-        x_range=Range1d(100.0, 101.0),
-        y_range=Range1d(100.0, 101.0),
-        tools="",
-        toolbar_location=None,
-        outline_line_color=None,
-        min_border=0,
-    )
-    key.axis.visible = False
-    key.grid.visible = False
+    key = Key(fig)
 
     def draw(method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
-        from bokeh.models import ColumnDataSource
-
-        renderer = getattr(fig, method)(*fields, source=source, **style)
-        data = source.data
-        rows = len(next(iter(data.values()), []))
-        if "view" in style:
-            group = style["view"].filter.group
-            rows = sum(1 for q in data["quantity"] if q == group)
-        if legend and rows:  # a legend for what this robot has (a 3-RRR has no slides)
-            first = {k: list(v[:1]) for k, v in data.items()}
-            if "view" in style:
-                k = list(data["quantity"]).index(style["view"].filter.group)
-                first = {c: list(v[k : k + 1]) for c, v in data.items()}
-            style = {k: v for k, v in style.items() if k != "view"}
-            getattr(key, method)(
-                *fields, source=ColumnDataSource(first), legend_label=legend, **style
-            )
-        return renderer
+        rows = len(next(iter(source.data.values()), []))  # a key of what this robot has
+        return key.draw(method, *fields, source=source, legend=legend if rows else "", **style)
 
     draw(
         "patches",
@@ -192,7 +169,7 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
     present = [q for q in FAMILY_ARROWS if q in sources["arrows"].data["quantity"]]
     arrows = {quantity: FAMILY_ARROWS[quantity] for quantity in present}
-    return fig, arrow_layers(fig, key, draw, sources["arrows"], arrows)
+    return fig, arrow_layers(fig, key, sources["arrows"], arrows)
 
 
 def _measures_table(source: Any) -> Any:
@@ -213,6 +190,8 @@ def _measures_table(source: Any) -> Any:
         index_position=None,
         reorderable=False,
         autosize_mode="none",
+        sortable=False,
+        selectable=False,
     )
 
 
@@ -222,20 +201,24 @@ def _sources(view: View) -> dict[str, Any]:
     return {name: ColumnDataSource(columns, name=name) for name, columns in view.sources().items()}
 
 
-def family_document(doc: Any, robot: FamilyRobot) -> None:
-    """Fill a Bokeh ``Document`` with the live explorer of a family robot.
+def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> None:
+    """Fill a Bokeh ``Document`` with the live explorer of a family robot (and of a ``run``).
 
     Every slider or design change solves the pose with
     :func:`prp3.family.family_inverse_dynamics` in Python
     (:func:`~prp3.explorer.family_scene.family_pose_table`) and replaces the drawn
     columns; a refused pose empties them (the base stays) and shows the
-    library's one-line message.
+    library's one-line message.  With a ``run`` (:func:`~prp3.explorer.run_folder.read_family_run`)
+    the scrubber sets the sliders to the run's state at a sample
+    (:func:`~prp3.explorer.run_folder.family_run_motion`) and the page recomputes
+    it, beside the run's force plots against time.
     """
     from bokeh.layouts import column, row
     from bokeh.models import ColumnDataSource, CustomJS, Div, Spinner
 
     base_robot = robot
-    current: dict[str, Any] = {"robot": robot}
+    current: dict[str, Any] = {"robot": robot, "busy": False, "served": False}
+    motion = family_run_motion(robot, run) if run is not None else None
     scale = [family_arrow_scale(robot)]
     first = SCENE.view(robot, SCENE.table(robot, State()), 0, scale[0])
     sources = _sources(first)
@@ -249,6 +232,8 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
         low, high = control.low, control.high
         if control.length:
             low, high = -reach, reach
+        if motion is not None:
+            low, high = widened(low, high, motion, control.name)
         slider, pair = slider_with_field(control, low, high)
         sliders[control.name] = slider
         fields.append(pair)
@@ -297,11 +282,16 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
             if shown.get(name) == columns:
                 continue
             shown[name] = columns
+            if not current["served"]:  # the browser has not the document yet: its sources
+                sources[name].data = columns
+                continue
             changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
         if changed:
             bundle.data = changed
 
     def update() -> None:
+        if current["busy"]:
+            return
         doc.hold("combine")
         try:
             state = State.from_controls({name: float(s.value) for name, s in sliders.items()})
@@ -358,15 +348,27 @@ def family_document(doc: Any, robot: FamilyRobot) -> None:
         Div(text="<b>design</b> (masses; forces update live)"),
         row(*design_fields.values(), scale_field),
     )
-    layout = column(
-        message,
-        row(column(figure_, key, info), controls, column(values_table, measures_table)),
-        design,
-    )
+    right = [values_table, measures_table]
+    top: list[Any] = [message]
+    if run is not None and motion is not None:
+        plots, spans = time_plots(run.table, {q: q for q in FAMILY_PLOTTED})
+        right.extend(plots)
+        run_states = motion  # narrowed for the closure
+
+        def to_sample(k: int) -> None:
+            set_state(sliders, current, run_states, k)
+            update()
+
+        top.insert(0, server_scrubber(doc, [float(v) for v in motion.t], to_sample, spans))
+    layout = column(*top, row(column(figure_, key, info), controls, column(*right)), design)
     doc.add_root(layout)
     doc.add_root(bundle)
     doc.title = f"prp3 explore: {robot.architecture}"
     update()
+    for pair in fields:  # a slider set before the page is served: its field shows its value
+        slider_now, field_now = pair.children
+        field_now.value = slider_now.value
+    current["served"] = True  # from now on, every change reaches the browser in the bundle
 
 
 def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
@@ -379,7 +381,7 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     """
     from bokeh.embed import file_html
     from bokeh.layouts import column, row
-    from bokeh.models import ColumnDataSource, CustomJS, Div, Slider, Toggle
+    from bokeh.models import Div
     from bokeh.resources import INLINE
 
     t = np.asarray(table["t"], dtype=np.float64)
@@ -387,48 +389,17 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     scale = family_arrow_scale(robot)
     views = [SCENE.view(robot, table, int(k), scale) for k in frames]
     sources = _sources(views[0])
-    frame_sources = {
-        name: ColumnDataSource(
-            {c: [view.sources()[name][c] for view in views] for c in views[0].sources()[name]},
-            name=f"frames:{name}",
-        )
-        for name in views[0].sources()
-    }
     fig, key = _figure(robot, sources)
     plots, spans = time_plots(table, {q: q for q in FAMILY_PLOTTED})
-    times = [float(v) for v in t[frames]]
-    slider = Slider(
-        start=0,
-        end=max(len(frames) - 1, 1),
-        value=0,
-        step=1,
-        name="time",
-        title=f"t = {times[0]:.3f} s",
-        width=400,
-        show_value=False,
-    )
-    play = Toggle(label="▶ play", name="play", width=90)
     table_widget = _table(sources["values"])
     table_widget.height = 420
     measures = _measures_table(sources["measures"])
-    period = max(30, int(1000 * float(t[-1] - t[0]) / max(len(frames) - 1, 1)))
-    slider.js_on_change(
-        "value",
-        CustomJS(
-            args={
-                "slider": slider,
-                "sources": frame_sources,
-                "targets": sources,
-                "table": table_widget,
-                "measures": measures,
-                "spans": spans,
-                "times": times,
-            },
-            code=_COPY_FRAME + "\nmeasures.view.change.emit();",
-        ),
-    )
-    play.js_on_change(
-        "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
+    scrubber = browser_scrubber(
+        [float(v) for v in t[frames]],
+        frame_sources(views),
+        sources,
+        [table_widget, measures],
+        spans,
     )
     heading = Div(
         text=f"<b>{_escape(title)}</b>; {len(frames)} frames of {t.size} samples; "
@@ -437,7 +408,7 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     )
     layout = column(
         heading,
-        row(slider, play),
+        scrubber,
         row(column(fig, key), column(table_widget, measures), column(*plots)),
     )
     return str(file_html(layout, resources=INLINE, title=title))

@@ -8,7 +8,7 @@ functions only.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -17,7 +17,16 @@ from prp3.explorer.scene import LEG_COLOURS
 from prp3.mechanics.geometry import LEGS
 from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
-__all__ = ["MAX_CURVE_POINTS", "MAX_HTML_FRAMES"]
+__all__ = [
+    "MAX_CURVE_POINTS",
+    "MAX_HTML_FRAMES",
+    "Key",
+    "arrow_layers",
+    "browser_scrubber",
+    "server_scrubber",
+    "slider_with_field",
+    "time_plots",
+]
 
 #: Largest number of frames of the robot in an HTML file of a run.
 MAX_HTML_FRAMES: int = 200
@@ -32,7 +41,7 @@ for (const [name, target] of Object.entries(targets)) {
   for (const column of Object.keys(frames.data)) data[column] = frames.data[column][k];
   target.data = data;
 }
-table.view.change.emit();  // a DataTable redraws on a change of its view only
+for (const table of tables) table.view.change.emit();  // a DataTable redraws on a change of its view only
 for (const span of spans) span.location = times[k];
 slider.title = "t = " + times[k].toFixed(3) + " s";
 """
@@ -45,7 +54,8 @@ for (const [key, values] of Object.entries(data)) {
   const [name, column] = key.split("|");
   (grouped[name] = grouped[name] || {})[column] = values[0];
 }
-for (const [name, columns] of Object.entries(grouped)) targets[name].data = columns;
+// not synced back: the server sent these columns (an echo would cost a patch each way)
+for (const [name, columns] of Object.entries(grouped)) targets[name].setv({data: columns}, {sync: false});
 // BokehJS redraws a DataTable when its view's rows change, not when the data of the same
 // rows does: tell it
 if ("values" in grouped) table.view.change.emit();
@@ -83,6 +93,8 @@ def _table(source: Any) -> Any:
         index_position=None,
         reorderable=False,
         autosize_mode="none",  # no measuring of the texts at every update
+        sortable=False,  # no sort, no selection to restore at every update
+        selectable=False,
     )
 
 
@@ -92,78 +104,132 @@ def _escape(text: str) -> str:
     return html.escape(text)
 
 
-def arrow_layers(
-    fig: Any, key: Any, draw: Any, source: Any, arrows: Mapping[str, tuple[str, str]]
-) -> Any:
-    """The arrows of every joint force on ``fig``, a group per quantity, and their toggles.
+def _line(
+    colour: str, width: float, dash: str = "solid", alpha: float = 1.0, size: int = 18
+) -> str:
+    return (
+        f'<span style="display:inline-block;width:{size}px;vertical-align:middle;'
+        f'border-top:{max(round(width), 1)}px {dash} {colour};opacity:{alpha:g}"></span>'
+    )
+
+
+def _symbol(method: str, style: Mapping[str, Any]) -> str:
+    """The HTML sample of a glyph in the key: a line, a box or a marker in its colours."""
+    line = str(style.get("line_color", style.get("color", "#000000")))
+    colours = list(LEG_COLOURS.values()) if line in ("colour", "outline") else [line]
+    width = float(style.get("line_width", 1.0))
+    dash = {"dotted": "dotted", "dashed": "dashed"}.get(str(style.get("line_dash", "")), "solid")
+    if method == "scatter":
+        fill = str(style.get("fill_color", style.get("color", line)))
+        mark = {"triangle": "▲", "cross": "+"}.get(str(style.get("marker", "circle")), "●")
+        if fill == "white":
+            return "".join(f'<span style="color:{c}">○</span>' for c in colours)
+        return f'<span style="color:{fill};opacity:{float(style.get("fill_alpha", 1.0)):g}">{mark}</span>'
+    if method == "patches":
+        area = style.get("fill_color")
+        alpha = float(style.get("fill_alpha", 1.0)) if area is not None else 0.0
+        return (
+            f'<span style="display:inline-block;width:14px;height:8px;vertical-align:middle;'
+            f"border:{max(round(width), 1)}px {dash} {line};"
+            f'background:{area or "none"};background-clip:padding-box;opacity:{max(alpha, 0.6):g}">'
+            "</span>"
+        )
+    alpha = float(style.get("line_alpha", 1.0))
+    return "".join(_line(c, min(width, 8.0), dash, alpha, 18 // len(colours)) for c in colours)
+
+
+class Key:
+    """The key of a robot figure: an HTML legend (a ``Div``) beside it, with no canvas.
+
+    A Bokeh legend draws each entry's glyph in a canvas of its own, and the
+    browser composites every canvas of the page at every frame of a move; a
+    ``Div`` of text and coloured marks is laid out once.  :meth:`draw` draws a
+    glyph on ``fig`` and, with a ``legend``, lists it.
+    """
+
+    def __init__(self, fig: Any) -> None:
+        self.fig = fig
+        self.entries: list[tuple[str, str]] = []
+
+    def draw(self, method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
+        """``fig.<method>(*fields, source=source, **style)``; listed in the key under ``legend``."""
+        renderer = getattr(self.fig, method)(*fields, source=source, **style)
+        if legend:
+            self.entries.append((_symbol(method, style), legend))
+        return renderer
+
+    def div(self, width: int) -> Any:
+        """The key: its entries in two columns, in the order drawn (down, then across)."""
+        from bokeh.models import Div
+
+        items = "".join(
+            f'<div style="white-space:nowrap">{symbol} {_escape(label)}</div>'
+            for symbol, label in self.entries
+        )
+        rows = (len(self.entries) + 1) // 2  # down the first column, then the second
+        return Div(
+            text='<div style="display:grid;grid-template-columns:1fr 1fr;column-gap:8px;'
+            f"grid-template-rows:repeat({rows},auto);grid-auto-flow:column;"
+            f'font-size:8pt;line-height:1.5">{items}</div>',
+            width=width,
+            name="key",
+        )
+
+
+def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, tuple[str, str]]) -> Any:
+    """The arrows of every joint force on ``fig``, listed in ``key``, and their toggles.
 
     ``arrows`` maps a quantity of ``source`` (a column ``quantity``) to its
-    legend label and colour; ``draw`` adds a glyph to ``fig`` with its legend
-    entry in ``key``.  Returns the legend figure ``key`` with the check boxes
-    that show or hide each group (a browser-side toggle, no computation).
+    legend label and colour.  All the arrows are two renderers (the shafts and
+    the heads, coloured by quantity), so that a move repaints two glyphs, not
+    two per quantity; the check boxes below the key show or hide a quantity's
+    arrows by the filter of their rows (in the browser, no computation).
+    Returns the key and the check boxes.
     """
     from bokeh.layouts import column
-    from bokeh.models import CDSView, CheckboxGroup, CustomJS, GroupFilter, HoverTool
+    from bokeh.models import CDSView, CheckboxGroup, CustomJS, GroupFilter, HoverTool, UnionFilter
+    from bokeh.transform import factor_cmap
 
-    groups: list[list[Any]] = []
-    for quantity, (label, colour) in arrows.items():
-        view = CDSView(filter=GroupFilter(column_name="quantity", group=quantity))
-        segment = draw(
-            "segment",
-            "x0",
-            "y0",
-            "x1",
-            "y1",
-            source=source,
-            view=view,
-            line_color=colour,
-            line_width=2.5,
-            legend=label,
+    groups = [GroupFilter(column_name="quantity", group=quantity) for quantity in arrows]
+    shown = UnionFilter(operands=list(groups), name="arrow_filter")
+    colours = factor_cmap(
+        "quantity", palette=[colour for _, colour in arrows.values()], factors=list(arrows)
+    )
+    segment = fig.segment(
+        "x0", "y0", "x1", "y1", source=source, view=CDSView(filter=shown),
+        line_color=colours, line_width=2.5,
+    )  # fmt: skip
+    fig.scatter(
+        "x1", "y1", angle="angle", marker="triangle", size=10, source=source,
+        view=CDSView(filter=shown), color=colours,
+    )  # fmt: skip
+    fig.add_tools(
+        HoverTool(
+            renderers=[segment],
+            tooltips=[
+                ("", "@quantity leg @leg"),
+                ("|F|", "@value{0.000} N"),
+                ("Fx, Fy", "@fx{0.000}, @fy{0.000} N"),
+            ],
         )
-        head = draw(
-            "scatter",
-            "x1",
-            "y1",
-            angle="angle",
-            marker="triangle",
-            size=10,
-            source=source,
-            view=view,
-            color=colour,
-            legend=label,
-        )
-        groups.append([segment, head])
-        fig.add_tools(
-            HoverTool(
-                renderers=[segment],
-                tooltips=[
-                    ("", "@quantity leg @leg"),
-                    ("|F|", "@value{0.000} N"),
-                    ("Fx, Fy", "@fx{0.000}, @fy{0.000} N"),
-                ],
-            )
-        )
-    legend = key.legend[0]
-    legend.location = "top_left"
-    legend.label_text_font_size = "8pt"
-    legend.ncols = 2
-    legend.spacing = 0
-    legend.padding = 2
-    legend.border_line_color = None
+    )
+    for label, colour in arrows.values():
+        key.entries.append((_line(colour, 2.5) + f'<span style="color:{colour}">▶</span>', label))
     toggles = CheckboxGroup(
         labels=[f"{quantity} arrows" for quantity in arrows],
         active=list(range(len(arrows))),
         inline=True,
         name="arrow_toggles",
     )
+    nothing = GroupFilter(column_name="quantity", group="")  # no row: every box unticked
     toggles.js_on_change(
         "active",
         CustomJS(
-            args={"groups": groups, "box": toggles},
-            code="groups.forEach((rs, i) => rs.forEach((r) => { r.visible = box.active.includes(i); }));",
+            args={"groups": groups, "shown": shown, "box": toggles, "nothing": nothing},
+            code="shown.operands = box.active.length ? box.active.map((i) => groups[i]) : [nothing];",
         ),
     )
-    return column(key, toggles)
+    return column(key.div(560), toggles)
 
 
 def time_plots(table: Mapping[str, Any], titles: Mapping[str, str]) -> tuple[list[Any], list[Any]]:
@@ -209,6 +275,23 @@ def time_plots(table: Mapping[str, Any], titles: Mapping[str, str]) -> tuple[lis
     return figures, spans
 
 
+#: A slider's handle without a layer of its own or an animation: noUiSlider's ``will-change:
+#: transform`` gives each of the page's sliders two compositor layers, which every frame of
+#: every move then lays out and commits (``benchmarks/bench_explore.py``); a value set by
+#: the server or the scrubber jumps, as a drag does.
+SLIDER_CSS: str = (
+    ".noUi-connect, .noUi-origin { will-change: auto; }\n"
+    ".noUi-state-tap .noUi-connect, .noUi-state-tap .noUi-origin { transition: none; }"
+)
+
+
+def _plain_slider(**properties: Any) -> Any:
+    """A Bokeh ``Slider`` drawn without its own layers (:data:`SLIDER_CSS`)."""
+    from bokeh.models import InlineStyleSheet, Slider
+
+    return Slider(stylesheets=[InlineStyleSheet(css=SLIDER_CSS)], **properties)
+
+
 def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     """A slider of one motion ``control`` over ``[low, high]`` and its numeric field, linked.
 
@@ -216,9 +299,9 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     linked in the browser (``js_link``), so either sets the other.
     """
     from bokeh.layouts import row
-    from bokeh.models import Slider, Spinner
+    from bokeh.models import Spinner
 
-    slider = Slider(
+    slider = _plain_slider(
         start=low,
         end=high,
         value=0.0,
@@ -240,3 +323,137 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     slider.js_link("value", field, "value")
     field.js_link("value", slider, "value")
     return slider, row(slider, field)
+
+
+# ---------------------------------------------------------------- the scrubber of a run
+def frame_sources(views: Sequence[Any]) -> dict[str, Any]:
+    """A source per drawn source of ``views`` (:class:`~prp3.explorer.scene.View`), a row per view.
+
+    Row ``k`` of source ``name`` holds the columns of ``views[k].sources()[name]``
+    (named ``frames:<name>``), which :func:`browser_scrubber` copies at frame ``k``.
+    """
+    from bokeh.models import ColumnDataSource
+
+    first = views[0].sources()
+    every = [view.sources() for view in views]
+    return {
+        name: ColumnDataSource(
+            {c: [drawn[name][c] for drawn in every] for c in first[name]}, name=f"frames:{name}"
+        )
+        for name in first
+    }
+
+
+def _scrubber_widgets(times: Sequence[float], width: int) -> tuple[Any, Any]:
+    from bokeh.models import Toggle
+
+    slider = _plain_slider(
+        start=0,
+        end=max(len(times) - 1, 1),
+        value=0,
+        step=1,
+        name="time",
+        title=f"t = {times[0]:.3f} s",
+        width=width,
+        show_value=False,
+    )
+    return slider, Toggle(label="▶ play", name="play", width=90)
+
+
+def _period(times: Sequence[float]) -> float:
+    """Milliseconds of the run between two of ``times`` (its real pace)."""
+    return 1000.0 * float(times[-1] - times[0]) / max(len(times) - 1, 1)
+
+
+def browser_scrubber(
+    times: Sequence[float],
+    frames: Mapping[str, Any],
+    targets: Mapping[str, Any],
+    tables: Sequence[Any],
+    spans: Sequence[Any],
+    width: int = 400,
+) -> Any:
+    """The scrubber ``time`` and the button ``play`` of an HTML file of a run (no server).
+
+    ``frames`` maps a drawn source's name to a source of its columns at every
+    frame (a row per frame); moving the scrubber to frame ``k`` copies row ``k``
+    into each of ``targets``, redraws the ``tables`` (DataTables), moves the
+    time lines ``spans`` to ``times[k]``.  The play button steps the scrubber on
+    the browser's timer, at the run's pace (at most 33 frames a second).
+    Returns the row of the two.
+    """
+    from bokeh.layouts import row
+    from bokeh.models import CustomJS
+
+    slider, play = _scrubber_widgets(times, width)
+    slider.js_on_change(
+        "value",
+        CustomJS(
+            args={
+                "slider": slider,
+                "sources": dict(frames),
+                "targets": dict(targets),
+                "tables": list(tables),
+                "spans": list(spans),
+                "times": [float(v) for v in times],
+            },
+            code=_COPY_FRAME,
+        ),
+    )
+    period = max(30, int(_period(times)))
+    play.js_on_change(
+        "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
+    )
+    return row(slider, play)
+
+
+def server_scrubber(
+    doc: Any,
+    times: Sequence[float],
+    show: Callable[[int], None],
+    spans: Sequence[Any],
+    width: int = 500,
+) -> Any:
+    """The scrubber ``time`` and the button ``play`` of a run on the server's page.
+
+    Moving the scrubber to sample ``k`` moves the time lines ``spans`` and calls
+    ``show(k)`` (in Python: the page sets its sliders to the run's state at
+    ``k`` and recomputes it).  The play button steps the scrubber on the
+    server's timer at the run's pace, by as many samples as keep a step at
+    least 40 ms apart.  ``show(0)`` runs at once: the page starts at the run's
+    first sample.  Returns the row of the two.
+    """
+    from bokeh.layouts import row
+
+    slider, play = _scrubber_widgets(times, width)
+    samples = len(times)
+    pace = _period(times)
+    period = max(40, int(pace))
+    stride = max(1, round(40 / pace)) if pace > 0 else 1
+    timer: list[Any] = [None]
+
+    def to_sample(k: int) -> None:
+        k = min(max(int(k), 0), samples - 1)
+        for span in spans:
+            span.location = float(times[k])
+        slider.title = f"t = {float(times[k]):.3f} s"
+        show(k)
+
+    def step() -> None:
+        following = int(slider.value) + stride
+        slider.value = following if following < samples else 0
+
+    def on_play(attr: str, old: Any, new: Any) -> None:
+        if new:
+            play.label = "❚❚ pause"
+            timer[0] = doc.add_periodic_callback(step, period)
+        else:
+            play.label = "▶ play"
+            if timer[0] is not None:
+                doc.remove_periodic_callback(timer[0])
+                timer[0] = None
+
+    slider.on_change("value", lambda attr, old, new: to_sample(int(new)))
+    play.on_change("active", on_play)
+    to_sample(0)  # the page starts at the run's first sample
+    return row(slider, play)

@@ -6,9 +6,12 @@ page shows are testable without a browser, and so that another
 architecture can plug into the same page by giving the same columns
 (:class:`Scene`).
 
+A run of ``prp3 simulate`` is read by :mod:`prp3.explorer.run_folder`
+(:class:`~prp3.explorer.run_folder.Run`, :func:`~prp3.explorer.run_folder.read_run`).
+
 The forces come only from prp3's own engines: a pose is solved by
 :func:`prp3.analysis.inverse_dynamics.inverse_dynamics` (the kernel, eqs. 10–25) and turned
-into the columns of ``results.csv`` by :func:`prp3.io.results.results_table`; a run of
+into the columns of ``results.csv`` by :func:`prp3.io.formats.results_table`; a run of
 ``prp3 simulate`` is drawn from its own columns.  Both go through
 :func:`scene_view`, which only places the reported components in the plane:
 
@@ -32,23 +35,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
-from pathlib import Path
+from dataclasses import dataclass, replace
 from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.analysis.forward_kinematics import forward_acceleration, forward_velocity
 from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.analysis.workspace import workspace_statics
-from prp3.errors import InputFileError, Prp3Error
-from prp3.io.formats import read_table_csv
+from prp3.errors import Prp3Error
 from prp3.io.results import (
-    FRICTION_COLUMNS,
-    LOAD_RESULT_COLUMNS,
     OUTPUT_QUANTITIES,
-    RESULT_COLUMNS,
     results_table,
 )
 from prp3.mechanics.geometry import (
@@ -71,7 +68,6 @@ __all__ = [
     "PRP3_SCENE",
     "Columns",
     "MotionControl",
-    "Run",
     "Scene",
     "State",
     "View",
@@ -80,8 +76,6 @@ __all__ = [
     "design_values",
     "empty_view",
     "pose_table",
-    "read_run",
-    "run_motion",
     "scene_view",
     "singularity_curve",
     "stroke_bands",
@@ -287,7 +281,7 @@ def scene_view(robot: Robot, table: Mapping[str, FloatArray], index: int, scale:
     robot : Robot
         The robot of the table (its ``l0``, strokes and payload are drawn).
     table : mapping of str to ndarray (N,)
-        Columns of ``results.csv`` (:func:`pose_table`, :func:`read_run`).
+        Columns of ``results.csv`` (:func:`pose_table`, :func:`prp3.explorer.run_folder.read_run`).
     index : int
         The sample drawn.
     scale : float
@@ -545,158 +539,6 @@ def design_robot(robot: Robot, values: Mapping[str, float]) -> Robot:
             joints[kind] = replace(getattr(base, kind), **fields)
         friction = Friction(**joints)
     return replace(robot, l0=changed.get("l0", robot.l0), friction=friction, **bodies)
-
-
-# ---------------------------------------------------------------- runs
-@dataclass(frozen=True)
-class Run:
-    """The results of a ``prp3 simulate`` run (``DIR/results.csv`` or ``DIR/results.parquet``).
-
-    Attributes
-    ----------
-    path : Path
-        The results file read.
-    table : dict of str to ndarray (N,)
-        Its columns (the 46 of ``results.csv``, the friction and load columns when present).
-    """
-
-    path: Path
-    table: dict[str, FloatArray] = field(repr=False)
-
-    @property
-    def samples(self) -> int:
-        """Its number of samples."""
-        return int(self.table["t"].size)
-
-
-def read_run(directory: str | Path) -> Run:
-    """Read the results of ``prp3 simulate --output DIR`` (CSV or Parquet).
-
-    ``DIR/results.csv`` is read when present, else ``DIR/results.parquet``;
-    the columns are those of the data contract (the 46, optionally the 9 of
-    friction and ``fx, fy, mz``), every value finite, ``t`` strictly increasing.
-
-    Raises
-    ------
-    InputFileError
-        No such folder or no results file in it; a file that does not parse
-        (names the file, line and column).
-    """
-    folder = Path(directory)
-    if not folder.is_dir():
-        raise InputFileError("not a folder of `prp3 simulate` results", file=folder)
-    optional = FRICTION_COLUMNS + LOAD_RESULT_COLUMNS
-    csv_path, parquet_path = folder / "results.csv", folder / "results.parquet"
-    if csv_path.is_file():
-        table = read_table_csv(csv_path, RESULT_COLUMNS, optional, what="results")
-        path = csv_path
-    elif parquet_path.is_file():
-        table = _read_parquet(parquet_path, RESULT_COLUMNS, optional)
-        path = parquet_path
-    else:
-        raise InputFileError(
-            "no results.csv or results.parquet in it (the output of `prp3 simulate --output DIR`)",
-            file=folder,
-        )
-    t = table["t"]
-    steps = np.flatnonzero(np.diff(t) <= 0.0)
-    if steps.size:
-        k = int(steps[0]) + 1
-        raise InputFileError(
-            f"t must be strictly increasing: t = {float(t[k])!r} follows {float(t[k - 1])!r}",
-            file=path,
-            sample=k,
-            time=float(t[k]),
-            key="t",
-        )
-    return Run(path=path, table=table)
-
-
-def _read_parquet(
-    path: Path, required: tuple[str, ...], optional: tuple[str, ...]
-) -> dict[str, FloatArray]:
-    try:
-        import pyarrow.parquet as pq
-    except ImportError:  # pragma: no cover - pyarrow is in the test extra
-        raise InputFileError(
-            "reading Parquet needs pyarrow: pip install 'prp3[parquet]'", file=path
-        ) from None
-    try:
-        data = pq.read_table(str(path))
-    except Exception as error:  # pyarrow raises its own types for a broken file
-        raise InputFileError(f"not a Parquet file ({error})"[:300], file=path) from None
-    names = list(data.column_names)
-    allowed = set(required) | set(optional)
-    for name in names:
-        if name not in allowed:
-            raise InputFileError(f"unknown column {name[:40]!r}", file=path, key=name)
-    missing = [name for name in required if name not in names]
-    if missing:
-        raise InputFileError(f"missing column(s) {', '.join(missing)}", file=path)
-    table: dict[str, FloatArray] = {}
-    for name in names:
-        try:
-            column = np.asarray(data.column(name).to_numpy(), dtype=np.float64)
-        except (TypeError, ValueError) as error:
-            raise InputFileError(
-                f"column {name!r}: not numbers ({error})"[:300], file=path, key=name
-            ) from None
-        bad = np.flatnonzero(~np.isfinite(column))
-        if bad.size:
-            raise InputFileError(
-                f"column {name!r}: not a finite number: {float(column[bad[0]])!r}",
-                file=path,
-                key=name,
-                sample=int(bad[0]),
-            )
-        table[name] = column
-    if table["t"].size == 0:
-        raise InputFileError("no data rows", file=path)
-    return table
-
-
-#: Largest difference between a run's ``lambda10`` and the robot's inverse geometry, per ``l0``.
-RUN_MATCH_TOLERANCE: float = 1e-9
-
-
-def run_motion(robot: Robot, run: Run) -> Motion:
-    """The platform motion of a run: poses from its columns, rates by the forward kinematics.
-
-    ``(ẋ, ẏ, φ̇) = J⁻¹·λ̇10`` and ``q̈ = J⁻¹·(λ̈10 − J̇·q̇)`` (eqs. 14, 17 solved for
-    the platform, :func:`prp3.analysis.forward_kinematics.forward_velocity` and
-    :func:`prp3.analysis.forward_kinematics.forward_acceleration`), with the run's load columns.
-    ``robot`` must be the run's: its inverse geometry must give the run's
-    ``lambda10`` (to ``1e-9·l0``), else an :class:`~prp3.errors.InputFileError`
-    names the sample.
-    """
-    table = run.table
-    pose = np.stack([table["x"], table["y"], table["phi"]], axis=-1)
-    try:
-        geo = inverse_geometry(robot, pose)
-    except Prp3Error as error:
-        raise error.located(file=run.path) from None
-    lam = np.stack([table[f"lambda10_{leg}"] for leg in LEGS], axis=-1)
-    gap = np.abs(geo.lambda10 - lam) > RUN_MATCH_TOLERANCE * robot.l0
-    if gap.any():
-        k, j = (int(v) for v in np.argwhere(gap)[0])
-        raise InputFileError(
-            f"lambda10_{LEGS[j]} = {float(lam[k, j])!r} m, but the robot's geometry gives "
-            f"{float(geo.lambda10[k, j])!r} m: give the --robot of the run",
-            file=run.path,
-            sample=k,
-            time=float(table["t"][k]),
-            leg=LEGS[j],
-        )
-    rates = np.stack([table[f"dlambda10_{leg}"] for leg in LEGS], axis=-1)
-    second = np.stack([table[f"ddlambda10_{leg}"] for leg in LEGS], axis=-1)
-    velocity = forward_velocity(robot, pose, rates)
-    acceleration = forward_acceleration(robot, pose, velocity, second)
-    load = (
-        np.stack([table[name] for name in LOAD_RESULT_COLUMNS], axis=-1)
-        if all(name in table for name in LOAD_RESULT_COLUMNS)
-        else None
-    )
-    return Motion(t=table["t"], pose=pose, velocity=velocity, acceleration=acceleration, load=load)
 
 
 class _Prp3Scene:

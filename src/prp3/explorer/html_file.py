@@ -1,0 +1,100 @@
+"""The self-contained HTML file of a run: ``prp3 simulate --html``, ``prp3 explore --export``.
+
+The frames of the run (at most :data:`~prp3.explorer.page.MAX_HTML_FRAMES`)
+are precomputed by the page's scene (:func:`prp3.explorer.scene.scene_view`,
+or the family's); the few lines of ``CustomJS`` of
+:func:`~prp3.explorer.page.browser_scrubber` only copy frame ``k``'s columns
+into the drawn sources (no force is computed in the browser).  Bokeh's
+JavaScript is inline: the file opens offline.  Bokeh is imported inside the
+functions only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from prp3.explorer.app import PLOTTED, _robot_figure, _sources
+from prp3.explorer.page import (
+    MAX_HTML_FRAMES,
+    _escape,
+    _table,
+    browser_scrubber,
+    frame_sources,
+    time_plots,
+)
+from prp3.explorer.scene import PRP3_SCENE, arrow_scale, stroke_bands
+from prp3.family import FamilyRobot
+from prp3.files import atomic_writer
+from prp3.model.robot import Robot
+from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+
+__all__ = ["run_html", "write_run_html"]
+
+FloatArray = NDArray[np.float64]
+
+
+def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
+    """One self-contained HTML page of a run: the robot with its force arrows, and linked plots.
+
+    Parameters
+    ----------
+    robot : Robot or FamilyRobot
+        The robot of the run; a family robot's page is
+        :func:`prp3.explorer.family_app.family_run_html`.
+    table : mapping of str to ndarray (N,)
+        The run's columns of ``results.csv`` (``prp3 simulate``'s table; the
+        64 of the family form for a family robot).
+    title : str
+        The page's title.
+
+    Returns
+    -------
+    str
+        The page, with Bokeh's JavaScript inline (``bokeh.resources.INLINE``): it
+        opens offline.  At most :data:`MAX_HTML_FRAMES` frames, precomputed by
+        :func:`prp3.explorer.scene.scene_view`; the scrubber and the play button
+        only pick a frame.
+    """
+    from bokeh.embed import file_html
+    from bokeh.layouts import column, row
+    from bokeh.models import Div
+    from bokeh.resources import INLINE
+
+    if isinstance(robot, FamilyRobot):
+        from prp3.explorer.family_app import family_run_html
+
+        return family_run_html(robot, table, title)
+    t = np.asarray(table["t"], dtype=np.float64)
+    frames = frame_indices(int(t.size), MAX_HTML_FRAMES)
+    scale = arrow_scale(robot)
+    views = [PRP3_SCENE.view(robot, table, int(k), scale) for k in frames]
+    sources = _sources(views[0], None, stroke_bands(robot))
+    frames_of = frame_sources(views)
+    targets: dict[str, Any] = {name: sources[name] for name in frames_of}
+    fig, key = _robot_figure(robot, sources, overlay=False)
+    plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
+    table_widget = _table(sources["values"])
+    scrubber = browser_scrubber(
+        [float(v) for v in t[frames]], frames_of, targets, [table_widget], spans
+    )
+    heading = Div(
+        text=f"<b>{_escape(title)}</b>: {t.size} samples over t = {t[0]:g} .. {t[-1]:g} s, "
+        f"{len(frames)} frames; forces by prp3 (the kernel, eqs. 10-25)",
+        width=900,
+    )
+    layout = column(heading, scrubber, row(column(fig, key), column(table_widget, *plots)))
+    return str(file_html(layout, resources=INLINE, title=title))
+
+
+def write_run_html(
+    path: str | Path, robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title: str
+) -> None:
+    """Write :func:`run_html` to ``path`` atomically (whole or not at all)."""
+    page = run_html(robot, table, title)
+    with atomic_writer(path) as stream:
+        stream.write(page)
