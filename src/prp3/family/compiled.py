@@ -314,27 +314,33 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
         ints, par, _c(pose), _c(motion.velocity.reshape(-1, 3)),
         _c(motion.acceleration.reshape(-1, 3)), buffer,
     )  # fmt: skip
-    q, dq, ddq, moment = buffer[: 36 * n].reshape(4, *shape, 3, 3)
+    # the views by integer indexing (the cheapest views numpy makes)
+    ranked = buffer[: 36 * n].reshape(4, *shape, 3, 3)
+    q, dq, ddq, moment = ranked[0], ranked[1], ranked[2], ranked[3]
     at = 36 * n
-    mu_leg, tau, power = buffer[at : at + 9 * n].reshape(3, *shape, 3)
+    legs = buffer[at : at + 9 * n].reshape(3, *shape, 3)
+    mu_leg, tau, power = legs[0], legs[1], legs[2]
     at += 9 * n
     force = buffer[at : at + 18 * n].reshape(*shape, 3, 3, 2)
     at += 18 * n
     mu_par = buffer[at : at + n].reshape(shape)
     at += n
-    joint_angle, angle, end = buffer[at : at + 27 * n].reshape(3, n, 3, 3)
+    angles = buffer[at : at + 27 * n].reshape(3, n, 3, 3)
     at += 27 * n
-    joint_origin, origin, axis = buffer[at : at + 54 * n].reshape(3, n, 3, 3, 2)
+    points = buffer[at : at + 54 * n].reshape(3, n, 3, 3, 2)
     at += 54 * n
-    jacobian, inverse = buffer[at : at + 54 * n].reshape(2, n, 3, 3, 3)
+    jacobians = buffer[at : at + 54 * n].reshape(2, n, 3, 3, 3)
     at += 54 * n
     if status != _OK:
         t = motion.t.reshape(-1)
         batch = [a.reshape(n, *a.shape[len(shape) :]) for a in (dq, ddq, tau, force, moment)]
         _refuse(robot, buffer[at:], pose, t, *batch)
-    frames = ChainFrames(joint_origin, joint_angle, origin, angle, axis, end[..., :2], end[..., 2])
+    end = angles[2]
+    frames = ChainFrames(
+        points[0], angles[0], points[1], angles[1], points[2], end[:, :, :2], end[:, :, 2]
+    )
     kin = FamilyKinematics(
-        robot, motion, q, dq, ddq, mu_leg, mu_par, frames, jacobian, inverse
+        robot, motion, q, dq, ddq, mu_leg, mu_par, frames, jacobians[0], jacobians[1]
     )  # fmt: skip
     return FamilySolution(kin, q, dq, ddq, tau, power, force, moment, "fast")
 
