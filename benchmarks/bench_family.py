@@ -82,10 +82,9 @@ def mujoco_rate(robot: FamilyRobot, motion: Motion) -> tuple[float, float] | Non
     import numpy as np
 
     from prp3.family.mjcf import family_mjcf_model, joint_names
-    from prp3.mjcf import MjcfWarning
 
-    with warnings.catch_warnings():  # a [load] would be xfrc_applied: the defaults have none
-        warnings.simplefilter("ignore", MjcfWarning)
+    with warnings.catch_warnings():  # the MjcfWarning of a [load]: the defaults have none
+        warnings.simplefilter("ignore")
         model = mujoco.MjModel.from_xml_string(family_mjcf_model(robot))
     data = mujoco.MjData(model)
     names = joint_names(robot)

@@ -314,7 +314,7 @@ def unusual_designs(draw: st.DrawFn) -> FamilyRobot:
     arch, act = draw(st.sampled_from(ALLOWED))
     base = FamilyRobot.default(arch, act)
     step = [0.25 if kind == "R" else 0.04 for kind in base.types]
-    home = tuple(h + draw(_f(-d, d)) for h, d in zip(base.leg.home, step, strict=True))
+    h0, h1, h2 = (h + draw(_f(-d, d)) for h, d in zip(base.leg.home, step, strict=True))
 
     def moved(p: tuple[float, float, float]) -> tuple[float, float, float]:
         return (p[0] + draw(_f(-0.05, 0.05)), p[1] + draw(_f(-0.05, 0.05)),
@@ -326,7 +326,7 @@ def unusual_designs(draw: st.DrawFn) -> FamilyRobot:
         joint2=moved(base.leg.joint2),
         joint3=moved(base.leg.joint3),
         attachment=moved(base.leg.attachment),
-        home=home,
+        home=(h0, h1, h2),
         scale=draw(_f(0.05, 2.0)),
     )
 
