@@ -51,7 +51,12 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     import prp3
-    from prp3.fast import compile_robot, paper_forces, sample_forces, sample_forces_unchecked
+    from prp3.engines.entries import (
+        compile_robot,
+        paper_forces,
+        sample_forces,
+        sample_forces_unchecked,
+    )
 
     compiled = compile_robot(prp3.Robot())
     data = np.load(args.samples)

@@ -11,7 +11,7 @@ For each architecture's default design, on the paper's ``rotation`` motion
 resampled to N samples: ``fast`` (:func:`prp3.family.family_inverse_dynamics`,
 kinematics included), ``paper`` and ``newton-euler`` (N ≤ 10^4), and one
 single-sample call (µs, median); beside them, in the same run, the 3-PRP of
-model form by :func:`prp3.fast.paper_forces` with every reaction (the peer the
+model form by :func:`prp3.engines.entries.paper_forces` with every reaction (the peer the
 ratios are taken against) and by ``prp3.inverse_dynamics(..., "paper")``.
 
 Then the engines of the fast route side by side (the targets of issue 20:
@@ -34,8 +34,8 @@ import timeit
 import warnings
 
 from prp3 import Motion, Robot, inverse_dynamics, paper_motion
+from prp3.engines.entries import paper_forces
 from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
-from prp3.fast import paper_forces
 
 
 def rate(call: object, samples: int, repeat: int = 3) -> float:

@@ -45,7 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from prp3 import Motion, paper_motion
-from prp3.codegen import HEADER_NAME, SOURCE_NAME
+from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME
 from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
 from prp3.family.codegen import family_c_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model, joint_names

@@ -9,11 +9,11 @@ Run from the repository root (``pip install -e ".[bench]"`` for the engines)::
 Methods, all on the same samples of the paper's ``vertical`` and ``rotation``
 motions (eq. 4) resampled to N samples:
 
-* ``prp3 fast`` — :func:`prp3.fast.paper_forces` with the default engine
-  (``numba``: the kernel's own functions compiled by numba, :mod:`prp3.engines`);
-  ``prp3 fast f10 alone`` — :func:`prp3.fast.actuator_forces`; the ``numpy``
+* ``prp3 fast`` — :func:`prp3.engines.entries.paper_forces` with the default engine
+  (``numba``: the kernel's own functions compiled by numba, :mod:`prp3.engines.select`);
+  ``prp3 fast f10 alone`` — :func:`prp3.engines.entries.actuator_forces`; the ``numpy``
   rows — the same with ``engine="numpy"`` (the kernel on numpy arrays,
-  chunked); single sample: :func:`prp3.fast.sample_forces` (tuples of floats,
+  chunked); single sample: :func:`prp3.engines.entries.sample_forces` (tuples of floats,
   tuples of numpy scalars, ``(3,)`` ndarrays, a load) on both engines.
 * ``prp3 <commit>`` — ``--baseline``: that commit's fast path on the same
   samples (``benchmarks/baseline.py`` run on ``git archive`` of its ``src``;
@@ -62,7 +62,7 @@ from typing import Any
 import numpy as np
 
 import prp3
-from prp3.fast import (
+from prp3.engines.entries import (
     actuator_forces,
     compile_robot,
     paper_forces,

@@ -11,11 +11,11 @@ resampled to N samples (computed once, untimed):
 
 * ``csv, repr``: the CSV writer without pyarrow (``repr`` of every float, row
   by row: prp3's writer before Arrow made the text);
-* ``csv, arrow``: :func:`prp3.io.write_table_csv` with pyarrow (Arrow's CSV
+* ``csv, arrow``: :func:`prp3.io.formats.write_table_csv` with pyarrow (Arrow's CSV
   writer on the float64 columns: its shortest round-trip texts) — both files
-  read back (:func:`prp3.io.read_table_csv`) to the same doubles bit for bit
+  read back (:func:`prp3.io.formats.read_table_csv`) to the same doubles bit for bit
   (exit status 1 if they do not); the reading is timed too (``read csv``);
-* ``parquet``: :func:`prp3.io.write_table_parquet`;
+* ``parquet``: :func:`prp3.io.formats.write_table_parquet`;
 
 then the whole command ``prp3 simulate --motion rotation --samples N`` in a
 subprocess (start-up, computing, writing), with ``--format parquet`` and with
@@ -39,8 +39,8 @@ from pathlib import Path
 import numpy as np
 
 import prp3
-from prp3 import io as prp3_io
 from prp3.cli.simulate import simulate_table
+from prp3.io import formats as prp3_io
 
 
 def best_of(repeats: int, action: Callable[[], None]) -> float:

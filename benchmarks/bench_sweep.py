@@ -10,17 +10,17 @@ Run from the repository root (``pip install -e ".[bench]"``)::
 Measured in the same run, on the same task (the paper's two motions, the
 designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
 
-* ``kernel`` — :func:`prp3.fast.paper_forces` with the reactions on one core,
+* ``kernel`` — :func:`prp3.engines.entries.paper_forces` with the reactions on one core,
   the task repeated to ~10⁵ samples per call (its best rate: no per-call cost);
 * ``paper_forces, 1 call`` — one ``paper_forces`` call over the task (its
   per-call checks included), the robot compiled already;
-* ``paper_forces per new robot`` — :func:`~prp3.fast.compile_robot` + one
+* ``paper_forces per new robot`` — :func:`~prp3.engines.entries.compile_robot` + one
   call for a robot it has not seen (what a sweep would pay per design through
   ``paper_forces``: the batch path prepares its code per robot);
-* ``evaluate_designs`` — :func:`prp3.design.evaluate_designs` on one chunk in
+* ``evaluate_designs`` — :func:`prp3.apps.design_evaluation.evaluate_designs` on one chunk in
   this process: the kernel traced for blocks of designs × samples (the
   designs' parameters traced from their values), peaks and energy, no Dask;
-* ``sweep, 1 worker`` / ``2 workers`` — :func:`prp3.sweep.run_sweep` on a
+* ``sweep, 1 worker`` / ``2 workers`` — :func:`prp3.apps.sweep.run_sweep` on a
   LocalCluster of 1 or 2 worker processes (one thread each), Parquet files
   included; the cluster start is timed apart (it is paid once per command).
 
@@ -53,9 +53,11 @@ from typing import Any
 import numpy as np
 
 import prp3
-import prp3.sweep
-from prp3.design import design_values, evaluate_designs, sweep_spec
-from prp3.fast import compile_robot, paper_forces
+import prp3.apps.cluster
+import prp3.apps.sweep
+from prp3.apps.design_evaluation import evaluate_designs
+from prp3.apps.sweep_spec import design_values, sweep_spec
+from prp3.engines.entries import compile_robot, paper_forces
 
 
 def _median_time(function: Callable[[], Any], repeats: int) -> float:
@@ -170,7 +172,7 @@ def main() -> int:
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=None,
-                scheduler_kwargs=prp3.sweep.QUIET_SCHEDULER,
+                scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
             ) as cluster,
             Client(cluster) as client,
         ):
@@ -184,7 +186,7 @@ def main() -> int:
             def sweep() -> None:
                 folder = Path(tempfile.mkdtemp(prefix="prp3-bench-sweep-"))
                 try:
-                    prp3.sweep.run_sweep(spec, folder, existing)
+                    prp3.apps.sweep.run_sweep(spec, folder, existing)
                 finally:
                     shutil.rmtree(folder, ignore_errors=True)
 

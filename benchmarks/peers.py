@@ -21,7 +21,7 @@ in a Python loop, as a user of the engine would:
 The tree is exact: the platform is split into three thirds (``m3/3`` each,
 centre at ``G``, ``I3/3``) welded together, one hanging on each leg.  The
 MuJoCo model is the one ``prp3 export mjcf`` writes
-(:func:`prp3.mjcf.mjcf_model`), with its inertia floor for zero inertias;
+(:func:`prp3.apps.mjcf.mjcf_model`), with its inertia floor for zero inertias;
 the Pinocchio model is built in code with the same frames and the exact
 inertias (Pinocchio accepts zero inertias).
 
@@ -40,8 +40,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 import prp3
-from prp3.geometry import ALPHA, LEG_AXIS, LEGS, base_vertices
-from prp3.mjcf import mjcf_model
+from prp3.apps.mjcf import mjcf_model
+from prp3.mechanics.geometry import ALPHA, LEG_AXIS, LEGS, base_vertices
 
 __all__ = ["MujocoPeer", "PinocchioPeer", "TreeMotion", "available_peers", "tree_motion"]
 
@@ -216,7 +216,7 @@ class PinocchioPeer:
 
     @staticmethod
     def _build(pin: Any, robot: prp3.Robot) -> Any:
-        """The tree of :mod:`prp3.mjcf` with Pinocchio joints and exact inertias."""
+        """The tree of :mod:`prp3.apps.mjcf` with Pinocchio joints and exact inertias."""
         model = pin.Model()
         model.name = "prp3"
         gx, gy = robot.gravity

@@ -1,5 +1,5 @@
 #!/usr/bin/env python
-"""Line profiles of prp3's reference path and of the fused kernel of ``prp3.fast``.
+"""Line profiles of prp3's reference path and of the fused kernel of ``prp3.engines.entries``.
 
 Needs ``line_profiler`` (``pip install line_profiler``)::
 
@@ -8,7 +8,7 @@ Needs ``line_profiler`` (``pip install line_profiler``)::
 
 Prints, for ``inverse_dynamics(robot, motion, "paper")`` (inverse geometry,
 inverse kinematics, body wrenches, paper method) and for
-:func:`prp3.fast.paper_forces`, the share of time of each function and the
+:func:`prp3.engines.entries.paper_forces`, the share of time of each function and the
 lines that take the most time.
 """
 
@@ -19,11 +19,11 @@ import linecache
 import sys
 
 import prp3
-import prp3.dynamics
-import prp3.engines
-import prp3.fast
-import prp3.geometry
-import prp3.kinematics
+import prp3.analysis.inverse_dynamics
+import prp3.engines.entries
+import prp3.engines.select
+import prp3.mechanics.geometry
+import prp3.mechanics.kinematics
 
 
 def profile(call: object, functions: list[object], top: int) -> None:
@@ -65,21 +65,25 @@ def main() -> None:
     profile(
         lambda: prp3.inverse_dynamics(robot, motion),
         [
-            prp3.dynamics.inverse_dynamics,
-            prp3.geometry.inverse_geometry,
-            prp3.kinematics.inverse_kinematics,
-            prp3.kinematics.jacobian,
-            prp3.dynamics.kernel_method,
+            prp3.analysis.inverse_dynamics.inverse_dynamics,
+            prp3.mechanics.geometry.inverse_geometry,
+            prp3.mechanics.kinematics.inverse_kinematics,
+            prp3.mechanics.kinematics.jacobian,
+            prp3.analysis.inverse_dynamics.kernel_method,
         ],
         args.top,
     )
-    compiled = prp3.fast.compile_robot(robot)
-    print(f"\nFused path, numpy engine: prp3.fast.paper_forces, N = {args.samples}")
+    compiled = prp3.engines.entries.compile_robot(robot)
+    print(f"\nFused path, numpy engine: prp3.engines.entries.paper_forces, N = {args.samples}")
     profile(
-        lambda: prp3.fast.paper_forces(
+        lambda: prp3.engines.entries.paper_forces(
             compiled, motion.pose, motion.velocity, motion.acceleration, engine="numpy"
         ),
-        [prp3.fast.paper_forces, prp3.engines.run_numpy, prp3.kernel.joint_forces],
+        [
+            prp3.engines.entries.paper_forces,
+            prp3.engines.select.run_numpy,
+            prp3.mechanics.kernel.joint_forces,
+        ],
         args.top,
     )
 

@@ -41,7 +41,7 @@ FloatArray = NDArray[np.float64]
 
 SQRT3 = math.sqrt(3.0)
 
-#: α_i of docs/model.md, written out here on purpose (not imported from prp3.geometry).
+#: α_i of docs/model.md, written out here on purpose (not imported from prp3.mechanics.geometry).
 REF_ALPHA: FloatArray = np.array([math.pi / 3.0, math.pi, -math.pi / 3.0])
 
 

@@ -34,8 +34,8 @@ from hypothesis import given
 from numpy.typing import NDArray
 
 from prp3 import METHODS, LinkParameters, Motion, PistonParameters, Robot, inverse_dynamics
-from prp3.motion import law_motion, paper_motion
-from prp3.results import PER_LEG_COLUMNS, results_table
+from prp3.io.results import PER_LEG_COLUMNS, results_table
+from prp3.model.motion import law_motion, paper_motion
 from strategies import (
     REF_E,
     REF_N,

@@ -3,7 +3,7 @@
 The code is compiled with the system's C compiler (``cc -std=c99
 -pedantic-errors -Wall -Wextra -Werror``; the tests are skipped when there is
 none), loaded with ctypes and compared with prp3's batch inverse dynamics
-(``prp3.fast.paper_forces``, numpy; another path than the single-sample code
+(``prp3.engines.entries.paper_forces``, numpy; another path than the single-sample code
 the C is generated from) over random robots and samples, to 1e-12 relative
 to the largest force of the sample.
 """
@@ -24,11 +24,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import Limits, Motion, Robot, inverse_dynamics
+from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
 from prp3.cli import main
-from prp3.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
+from prp3.engines.entries import compile_robot, paper_forces
 from prp3.errors import ParameterError
-from prp3.fast import compile_robot, paper_forces
-from prp3.model import Friction, JointFriction, Load, Spring, SpringParameters
+from prp3.model.robot import Friction, JointFriction, Load, Spring, SpringParameters
 from strategies import poses, robots
 
 pytest.importorskip("sympy")

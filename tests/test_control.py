@@ -1,4 +1,4 @@
-"""Closed-loop control: ``prp3.control`` and ``prp3 control``.
+"""Closed-loop control: ``prp3.apps.control`` (``control_law``, ``plants``) and ``prp3 control``.
 
 Independent checks:
 
@@ -33,22 +33,14 @@ from prp3 import (
     inverse_dynamics,
     platform_dynamics,
 )
+from prp3.apps.control import check_model, control_times, hermite_reference, track
+from prp3.apps.control_law import DEFAULT_KD, DEFAULT_KP, Gains, control_force
+from prp3.apps.plants import _Prp3Plant
 from prp3.cli import main
-from prp3.control import (
-    DEFAULT_KD,
-    DEFAULT_KP,
-    Gains,
-    _Prp3Plant,
-    check_model,
-    control_force,
-    control_times,
-    hermite_reference,
-    track,
-)
+from prp3.engines.entries import compile_robot
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError
-from prp3.fast import compile_robot
-from prp3.model import Friction, JointFriction, Load, Payload
-from prp3.motion import PAPER_MOTIONS, law_at
+from prp3.model.motion import PAPER_MOTIONS, law_at
+from prp3.model.robot import Friction, JointFriction, Load, Payload
 from strategies import poses, robots
 
 COLUMNS = "t,x,y,phi,x_ref,y_ref,phi_ref,f10_A,f10_B,f10_C"

@@ -39,9 +39,9 @@ from prp3 import (
     kernel_method,
     newton_euler,
 )
-from prp3.motion import law_motion, paper_motion
-from prp3.paper import paper_inverse_dynamics, paper_method
-from prp3.results import RESULT_COLUMNS, results_table
+from prp3.io.results import RESULT_COLUMNS, results_table
+from prp3.model.motion import law_motion, paper_motion
+from prp3.references.paper import paper_inverse_dynamics, paper_method
 from strategies import (
     REF_E,
     REF_N,
@@ -423,9 +423,9 @@ def test_newton_euler_in_chunks_equals_the_kernel_method(
     chunk: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The solver bounds its memory by solving in chunks; the chunk edges change nothing."""
-    import prp3.newton_euler_solver
+    import prp3.references.newton_euler
 
-    monkeypatch.setattr(prp3.newton_euler_solver, "NEWTON_EULER_CHUNK", chunk)
+    monkeypatch.setattr(prp3.references.newton_euler, "NEWTON_EULER_CHUNK", chunk)
     robot = Robot(piston=PistonParameters(com=(0.02, -0.01)), link=LinkParameters(com=(0.03, 0.01)))
     kin = inverse_kinematics(robot, law_motion([0.01, 0.02, 0.2], samples=20))
     expected, got = kernel_method(robot, kin), newton_euler(robot, kin)

@@ -1,4 +1,4 @@
-"""The effects as elements (``prp3.elements``): one place per effect, asked by every consumer.
+"""The effects as elements (``prp3.model.elements``): one place per effect, asked by every consumer.
 
 Structure: every field of the kernel's parameters after the inertial ones
 belongs to exactly one element, and what an element declares (regressor,
@@ -17,14 +17,14 @@ import dataclasses
 
 import pytest
 
-import prp3.design
-import prp3.identification
-import prp3.model
-from prp3.codegen import c_inverse_dynamics
-from prp3.elements import ELEMENTS, SPRING, Element
+import prp3.apps.design_evaluation
+import prp3.apps.regressor
+import prp3.model.robot
+from prp3.apps.codegen import c_inverse_dynamics
 from prp3.errors import ParameterError
-from prp3.kernel import EFFECT_FIELDS, INERTIAL_FIELDS, KernelParameters
-from prp3.model import Friction, JointFriction, Load, Payload, Robot, Spring, SpringParameters
+from prp3.mechanics.kernel import EFFECT_FIELDS, INERTIAL_FIELDS, KernelParameters
+from prp3.model.elements import ELEMENTS, SPRING, Element
+from prp3.model.robot import Friction, JointFriction, Load, Payload, Robot, Spring, SpringParameters
 
 
 def test_every_effect_field_belongs_to_exactly_one_element() -> None:
@@ -55,14 +55,16 @@ def test_a_robot_lists_the_elements_it_has() -> None:
 
 def test_consumers_follow_the_elements(monkeypatch: pytest.MonkeyPatch) -> None:
     # identification's parameters and design's broadcast fields are the elements'
-    assert prp3.identification.ELEMENT_PARAMETERS == tuple(n for e in ELEMENTS for n in e.regressor)
-    assert {n for e in ELEMENTS for n in e.broadcast} <= prp3.design._BROADCAST_FIELDS
+    assert prp3.apps.regressor.ELEMENT_PARAMETERS == tuple(n for e in ELEMENTS for n in e.regressor)
+    assert {
+        n for e in ELEMENTS for n in e.broadcast
+    } <= prp3.apps.design_evaluation._BROADCAST_FIELDS
     # the C code supports the spring because its element says so: declared otherwise, the
     # robot is refused by the element's name
     robot = Robot(spring=Spring(SpringParameters(stiffness=10.0)))
     assert "prp3_spring_stiffness" in c_inverse_dynamics(robot).source
     unsupported: Element = dataclasses.replace(SPRING, generated_c=False)
     elements = tuple(unsupported if e is SPRING else e for e in ELEMENTS)
-    monkeypatch.setattr(prp3.model, "ELEMENTS", elements)
+    monkeypatch.setattr(prp3.model.robot, "ELEMENTS", elements)
     with pytest.raises(ParameterError, match=r"not \[spring\.actuator\]"):
         c_inverse_dynamics(robot)

@@ -16,7 +16,7 @@ rate of change of the total mechanical energy
   independent reference kinematics (``strategies.ref_rates``) at shifted times —
   no output of the core enters it.
 
-With every element (:mod:`prp3.elements`: a payload, a constant load, the
+With every element (:mod:`prp3.model.elements`: a payload, a constant load, the
 motion's wrench, smoothed friction of the three joints, the actuators' spring
 with damper), the same two checks use the elements' own powers, potentials and
 dissipations: ``Σ p10 + Σ_elements power = d(KE)/dt`` (kinetic energy written
@@ -38,9 +38,9 @@ from hypothesis import strategies as st
 from scipy.integrate import simpson
 
 from prp3 import METHODS, Motion, Robot, inverse_dynamics
-from prp3.elements import SPRING, WRENCH, State
-from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
-from prp3.motion import paper_motion
+from prp3.model.elements import SPRING, WRENCH, State
+from prp3.model.motion import paper_motion
+from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import (
     SQRT3,
     AnalyticMotion,

@@ -22,12 +22,13 @@ from hypothesis import strategies as st
 import prp3
 from clitools import cli, one_line
 from prp3 import Motion, Robot
-from prp3.control import Gains, control_force
+from prp3.apps.control_law import Gains, control_force
+from prp3.apps.identification import identified_robot, identify
+from prp3.apps.regressor import standard_parameters
+from prp3.engines.entries import compile_robot
 from prp3.errors import ParameterError, SingularPoseError
-from prp3.fast import compile_robot
-from prp3.identification import identified_robot, identify, standard_parameters
-from prp3.model import Limits, Payload
-from prp3.motion import law_motion
+from prp3.model.motion import law_motion
+from prp3.model.robot import Limits, Payload
 from strategies import body_states, platform_inertia, poses, ref_geometry, ref_rates, robots
 
 rates = st.lists(st.floats(-2.0, 2.0), min_size=3, max_size=3).map(np.array)

@@ -27,7 +27,7 @@ from hypothesis import strategies as st
 
 from clitools import cli, one_line
 from prp3 import Robot
-from prp3.dynamics import inverse_dynamics
+from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.errors import InputFileError, ParameterError, Prp3Error, SingularPoseError
 from prp3.explorer.scene import (
     DESIGN_PARAMETERS,
@@ -44,8 +44,8 @@ from prp3.explorer.scene import (
     stroke_bands,
     workspace_overlay,
 )
-from prp3.model import Limits, Payload
-from prp3.motion import Motion, paper_motion
+from prp3.model.motion import Motion, paper_motion
+from prp3.model.robot import Limits, Payload
 from strategies import REF_E, REF_N, ref_geometry, ref_joint, ref_rates, ref_slide, robots
 
 pytest.importorskip("bokeh", reason="the explorer needs Bokeh (pip install 'prp3[explore]')")

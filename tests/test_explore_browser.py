@@ -29,7 +29,7 @@ import pytest
 from prp3 import Robot
 from prp3.errors import Prp3Error
 from prp3.explorer.scene import State, pose_table, read_run
-from prp3.motion import Motion
+from prp3.model.motion import Motion
 from prp3.plotting.animation import frame_indices
 
 pytest.importorskip("bokeh", reason="the explorer needs Bokeh (pip install 'prp3[explore]')")

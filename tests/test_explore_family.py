@@ -39,7 +39,7 @@ from prp3.family import (
     leg_chain,
 )
 from prp3.family.chain import SIGMA
-from prp3.motion import Motion
+from prp3.model.motion import Motion
 from prp3.validation import LEGS
 
 pytest.importorskip("bokeh", reason="the explorer needs Bokeh (pip install 'prp3[explore]')")

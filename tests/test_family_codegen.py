@@ -26,13 +26,13 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME
 from prp3.cli import main
-from prp3.codegen import HEADER_NAME, SOURCE_NAME
 from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
 from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody, family_inverse_dynamics
 from prp3.family.codegen import C_UNREACHABLE, family_c_inverse_dynamics, python_sample
-from prp3.model import Load, Payload
-from prp3.motion import Motion, paper_motion
+from prp3.model.motion import Motion, paper_motion
+from prp3.model.robot import Load, Payload
 
 COMPILER = shutil.which("gcc") or shutil.which("cc") or shutil.which("clang")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")

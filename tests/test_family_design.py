@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import prp3.sweep
+import prp3.apps.cluster
 from clitools import cli, one_line
 from prp3.errors import Prp3Error
 from prp3.family import FamilyRobot, family_inverse_dynamics
@@ -29,7 +29,7 @@ from prp3.family.design import (
     family_design_rows,
     family_sweep_spec,
 )
-from prp3.motion import paper_motion
+from prp3.model.motion import paper_motion
 
 
 @pytest.fixture(scope="module")
@@ -42,7 +42,7 @@ def scheduler():  # type: ignore[no-untyped-def]
         threads_per_worker=1,
         processes=False,
         dashboard_address=None,
-        scheduler_kwargs=prp3.sweep.QUIET_SCHEDULER,
+        scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
     ) as cluster:
         yield cluster.scheduler_address
 

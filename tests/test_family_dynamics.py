@@ -33,8 +33,8 @@ from prp3.family import (
     family_inverse_dynamics,
     family_results_table,
 )
-from prp3.model import Load, Payload
-from prp3.results import results_table
+from prp3.io.results import results_table
+from prp3.model.robot import Load, Payload
 
 FloatArray = NDArray[np.float64]
 LEGS = "ABC"

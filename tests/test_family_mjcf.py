@@ -36,13 +36,13 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from prp3.apps.mjcf import MjcfWarning
 from prp3.cli import main
 from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
 from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody, family_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model, joint_names
-from prp3.mjcf import MjcfWarning
-from prp3.model import Load, Payload
-from prp3.motion import Motion, paper_motion
+from prp3.model.motion import Motion, paper_motion
+from prp3.model.robot import Load, Payload
 
 LEGS = "ABC"
 

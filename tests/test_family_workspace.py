@@ -19,7 +19,7 @@ from clitools import cli, one_line
 from prp3.errors import Prp3Error
 from prp3.family import ARCHITECTURES, FamilyRobot, family_kinematics
 from prp3.family.workspace import family_orientation_scan, family_workspace_slice
-from prp3.motion import Motion
+from prp3.model.motion import Motion
 
 SIGMA = 2.0 * np.pi * np.arange(3) / 3.0
 

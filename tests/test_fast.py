@@ -1,6 +1,6 @@
-"""The fused paths of ``prp3.fast`` against the reference solvers and against physics.
+"""The fused paths of ``prp3.engines.entries`` against the reference solvers and against physics.
 
-Expected numbers come from :func:`prp3.newton_euler_solver.newton_euler` (the fast
+Expected numbers come from :func:`prp3.references.newton_euler.newton_euler` (the fast
 paths share no code with it: it solves each leg's closure numerically and the
 balances of the 7 bodies), from the test's own reference model
 (``strategies``) for the whole-robot balance, or are worked by hand beside the
@@ -30,7 +30,7 @@ from prp3 import (
     inverse_kinematics,
     newton_euler,
 )
-from prp3.fast import (
+from prp3.engines.entries import (
     ENGINES,
     CompiledRobot,
     FastForces,
@@ -42,8 +42,8 @@ from prp3.fast import (
     sample_forces_unchecked,
     solve_batch,
 )
-from prp3.model import Friction, JointFriction
-from prp3.motion import paper_motion
+from prp3.model.motion import paper_motion
+from prp3.model.robot import Friction, JointFriction
 from strategies import (
     REF_E,
     REF_N,
@@ -522,7 +522,7 @@ def test_single_sample_refuses_what_the_batch_path_refuses(
 
 
 def _with_effects(robot: Robot, friction: bool, mu: float) -> Robot:
-    from prp3.model import Load
+    from prp3.model.robot import Load
 
     joint = JointFriction(viscous=0.7, coulomb=0.4, mu=mu, smoothing=0.05)
     return Robot(
@@ -585,7 +585,7 @@ def test_single_sample_with_a_load_agrees_with_the_batch_path(
 @pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("friction", [False, True])
 def test_single_sample_load_is_the_kernel_on_floats(engine: str, friction: bool) -> None:
-    from prp3 import kernel
+    from prp3.mechanics import kernel
 
     robot = _with_effects(Robot(), friction, 0.0)
     compiled = compile_robot(robot)

@@ -29,16 +29,16 @@ import prp3.cli.simulate as simulate_cli
 import prp3.files as prp3_files
 from clitools import cli, listing, one_line
 from prp3 import Motion, Robot, paper_motion
+from prp3.analysis.forward import ActuatorForces
+from prp3.analysis.inverse_dynamics import inverse_dynamics
+from prp3.apps.control import track
+from prp3.apps.runs import check_memory
 from prp3.cli import main
-from prp3.control import track
-from prp3.dynamics import inverse_dynamics
+from prp3.engines.entries import compile_robot, paper_forces, sample_forces
 from prp3.errors import InputFileError, OutputFileError, ParameterError, TrajectoryError
-from prp3.fast import compile_robot, paper_forces, sample_forces
 from prp3.files import MAX_LINE_BYTES, atomic_writer
-from prp3.forward import ActuatorForces
-from prp3.io import read_trajectory
-from prp3.motion import differentiate_positions
-from prp3.runs import check_memory
+from prp3.io.formats import read_trajectory
+from prp3.model.motion import differentiate_positions
 from prp3.validation import POSE_BOUND
 
 ROBOT = Robot()
@@ -420,7 +420,7 @@ def test_runs_too_big_for_the_memory_are_refused_before_allocating(
     tmp_path, capsys, monkeypatch, argv
 ):
     # was: killed by the kernel (forward), or MemoryError after minutes
-    monkeypatch.setattr("prp3.runs.available_memory", lambda: 16 * 1024**3)
+    monkeypatch.setattr("prp3.apps.runs.available_memory", lambda: 16 * 1024**3)
     forces = tmp_path / "forces.csv"
     forces.write_text("t,f10_A,f10_B,f10_C\n0,0,0,0\n1,0,0,0\n")
     argv = [str(forces) if a == "FORCES" else a for a in argv]

@@ -15,11 +15,11 @@ from hypothesis import strategies as st
 from PIL import Image
 
 import prp3
+from prp3.analysis.workspace import orientation_scan, workspace_slice
+from prp3.io.results import results_table
 from prp3.plotting.animation import END_HOLD_MS, frame_schedule, mechanism_figure, save_animation
 from prp3.plotting.figures import LEG_STYLES, results_figures
 from prp3.plotting.workspace import workspace_figure
-from prp3.results import results_table
-from prp3.workspace import orientation_scan, workspace_slice
 
 
 def _drawn(figure):
@@ -209,7 +209,7 @@ def test_frame_schedule_plays_in_real_time(samples, duration, max_frames, uneven
 )
 def test_the_friction_figure_says_which_curves_coincide(motion, notes):
     # was: three revolute curves of the rotation on top of each other, without a word
-    from prp3.model import Friction, JointFriction
+    from prp3.model.robot import Friction, JointFriction
     from prp3.plotting.figures import friction_figure
 
     joint = JointFriction(viscous=1.0, coulomb=0.5, smoothing=1e-3)
@@ -280,7 +280,8 @@ def _inside_the_figure(figure, renderer) -> None:
 # ---------------------------------------------------------------- design figures
 @pytest.fixture(scope="module")
 def one_parameter_designs():
-    from prp3.design import design_values, evaluate_designs, sweep_spec
+    from prp3.apps.design_evaluation import evaluate_designs
+    from prp3.apps.sweep_spec import design_values, sweep_spec
 
     spec = sweep_spec({"designs": 9, "sampling": "grid",
                        "parameters": {"platform.mass": [2.0, 4.0]},

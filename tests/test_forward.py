@@ -1,4 +1,4 @@
-"""Forward geometry, forward kinematics and forward dynamics (``prp3.forward``).
+"""Forward geometry, forward kinematics and forward dynamics (``prp3.analysis.forward``).
 
 Every expected value comes from a route other than the code under test: the
 core inverse geometry/kinematics/dynamics, a bracketing search, energy
@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-import prp3.forward as fw
+import prp3.analysis.forward as fw
 from prp3 import (
     Limits,
     LinkParameters,
@@ -33,8 +33,7 @@ from prp3 import (
     inverse_kinematics,
     paper_motion,
 )
-from prp3.fast import compile_robot, sample_actuator_forces
-from prp3.forward import (
+from prp3.analysis.forward import (
     DEGENERATE_ASSEMBLY,
     SINGULARITY_STOP,
     ActuatorForces,
@@ -47,8 +46,9 @@ from prp3.forward import (
     platform_dynamics,
     sum_from_orientation,
 )
-from prp3.geometry import LEG_AXIS, base_vertices, platform_vertices
-from prp3.motion import PAPER_MOTIONS
+from prp3.engines.entries import compile_robot, sample_actuator_forces
+from prp3.mechanics.geometry import LEG_AXIS, base_vertices, platform_vertices
+from prp3.model.motion import PAPER_MOTIONS
 
 ROBOT = Robot()
 L0 = ROBOT.l0

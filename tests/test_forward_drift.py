@@ -1,6 +1,6 @@
 """``prp3 forward`` says how far the open-loop motion is from its plan, and that it diverges.
 
-The growth rate of :func:`prp3.forward.open_loop_growth_rate` (eigenvalues of
+The growth rate of :func:`prp3.analysis.forward.open_loop_growth_rate` (eigenvalues of
 the linearised motion at rest) is held against an independent route: the
 motion integrated from a tiny perturbation of the central configuration under
 the constant forces that hold the platform still there, whose error grows by
@@ -20,8 +20,8 @@ import pytest
 
 from clitools import cli
 from prp3 import Motion, Robot, inverse_dynamics
+from prp3.analysis.forward import forward_dynamics, open_loop_growth_rate
 from prp3.cli import main
-from prp3.forward import forward_dynamics, open_loop_growth_rate
 
 
 def poses(path: Path) -> tuple[np.ndarray, np.ndarray]:

@@ -22,20 +22,20 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import Motion, Robot, inverse_dynamics, paper_motion
-from prp3.cli import main
-from prp3.errors import ParameterError
-from prp3.fast import compile_robot, sample_actuator_forces
-from prp3.forward import (
+from prp3.analysis.forward import (
     ActuatorForces,
     forward_dynamics,
     open_loop_growth_rate,
     platform_dynamics,
 )
-from prp3.geometry import inverse_geometry
-from prp3.io import write_table_csv
-from prp3.kinematics import jacobian
-from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
-from prp3.motion import PAPER_MOTIONS
+from prp3.cli import main
+from prp3.engines.entries import compile_robot, sample_actuator_forces
+from prp3.errors import ParameterError
+from prp3.io.formats import write_table_csv
+from prp3.mechanics.geometry import inverse_geometry
+from prp3.mechanics.kinematics import jacobian
+from prp3.model.motion import PAPER_MOTIONS
+from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 
 
 def floats(low: float, high: float) -> st.SearchStrategy[float]:

@@ -14,7 +14,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from prp3 import Limits, Robot, SingularPoseError, TrajectoryError, UnreachablePoseError
-from prp3.geometry import (
+from prp3.mechanics.geometry import (
     ALPHA,
     LEG_AXIS,
     LEG_NORMAL,

@@ -1,4 +1,4 @@
-"""Tests of prp3.io: full-precision CSV, atomic files, staged output, trajectory files.
+"""Tests of prp3.io.formats: full-precision CSV, atomic files, staged output, trajectory files.
 
 Expected values are written out or derived beside each test (exact polynomials,
 the paper's law of motion differentiated by hand), never taken from prp3.
@@ -16,9 +16,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-import prp3.io as prp3_io
+import prp3.io.formats as prp3_io
 from prp3.errors import InputFileError, OutputFileError, TrajectoryError
-from prp3.io import (
+from prp3.io.formats import (
     DERIVATIVE_COLUMNS,
     MANIFEST_NAME,
     POSITION_COLUMNS,
@@ -31,7 +31,7 @@ from prp3.io import (
     staged_output,
     write_table_csv,
 )
-from prp3.results import result_columns
+from prp3.io.results import result_columns
 from strategies import analytic_motions
 
 finite = st.floats(allow_nan=False, allow_infinity=False)

@@ -4,7 +4,7 @@ The physics of the kernel is tested against Newton–Euler and the paper's
 matrices elsewhere (``test_dynamics``, ``test_fast``, ``test_balances``); here
 each engine is held against the reference — the kernel on numpy arrays and
 Newton–Euler — to 1e-13 of a per-sample scale on random robots and motions,
-and the traced numpy code of the design sweeps (:mod:`prp3._trace`) against
+and the traced numpy code of the design sweeps (:mod:`prp3.engines.trace`) against
 the kernel bit for bit.
 """
 
@@ -17,9 +17,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from prp3 import Motion, Prp3Error, Robot, SingularPoseError, engines, kernel, newton_euler
-from prp3._trace import array_function, broadcast_function
-from prp3.fast import (
+from prp3 import Motion, Prp3Error, Robot, SingularPoseError, newton_euler
+from prp3.engines import select as engines
+from prp3.engines.entries import (
     ENGINES,
     actuator_forces,
     compile_robot,
@@ -27,7 +27,9 @@ from prp3.fast import (
     sample_forces_unchecked,
     solve_batch,
 )
-from prp3.kernel import (
+from prp3.engines.trace import array_function, broadcast_function
+from prp3.mechanics import kernel
+from prp3.mechanics.kernel import (
     INERTIAL_FIELDS,
     MATH,
     NUMPY,
@@ -339,7 +341,7 @@ def test_the_numpy_engine_runs_the_kernel_itself(monkeypatch: pytest.MonkeyPatch
     paper_forces(Robot(), zeros, zeros, zeros, engine="numpy", chunk_size=8)
     assert calls == [8, 8, 4]  # one call per chunk, on arrays
     calls.clear()
-    prp3_sample = __import__("prp3.fast", fromlist=["sample_forces"]).sample_forces
+    prp3_sample = __import__("prp3.engines.entries", fromlist=["sample_forces"]).sample_forces
     prp3_sample(compile_robot(Robot()), (0, 0, 0), (0, 0, 0), (0, 0, 0), engine="numpy")
     assert calls == [1]  # one sample, on floats
 
@@ -356,7 +358,7 @@ def test_engine_numba_without_numba_is_refused_at_every_size(
         with pytest.raises(Prp3Error, match=message):
             call(compiled, zeros, zeros, zeros, engine="numba")  # type: ignore[operator]
     with pytest.raises(Prp3Error, match=message):
-        prp3_fast = __import__("prp3.fast", fromlist=["sample_forces"])
+        prp3_fast = __import__("prp3.engines.entries", fromlist=["sample_forces"])
         prp3_fast.sample_forces(compiled, (0, 0, 0), (0, 0, 0), (0, 0, 0), engine="numba")
 
 
@@ -380,7 +382,7 @@ def test_without_numba_the_default_is_numpy_and_says_so_once(
 def test_the_numba_cache_is_keyed_on_the_kernel_source_too() -> None:
     # the engine's loops inline the kernel: their cached machine code must be stale
     # when kernel.py changes, not only when numba_engine.py does
-    numba_engine = pytest.importorskip("prp3.numba_engine")
+    numba_engine = pytest.importorskip("prp3.engines.numba")
     from numba.core import caching
 
     locator = numba_engine.f10_loop._cache._impl.locator  # the dispatcher's own cache

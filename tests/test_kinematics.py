@@ -23,8 +23,8 @@ from prp3 import (
     inverse_geometry,
     inverse_kinematics,
 )
-from prp3.kinematics import jacobian
-from prp3.motion import law_motion, paper_motion
+from prp3.mechanics.kinematics import jacobian
+from prp3.model.motion import law_motion, paper_motion
 from strategies import (
     FD_FIRST,
     FD_OFFSETS,

@@ -16,12 +16,13 @@ import pytest
 
 from clitools import cli, one_line
 from prp3 import Robot
-from prp3.control import control_times, hermite_reference
-from prp3.design import DesignEvaluator, evaluate_designs
-from prp3.dynamics import inverse_dynamics
+from prp3.analysis.inverse_dynamics import inverse_dynamics
+from prp3.apps.control import control_times, hermite_reference
+from prp3.apps.design import DesignEvaluator
+from prp3.apps.design_evaluation import evaluate_designs
+from prp3.apps.excitation import FourierSeries
 from prp3.errors import TrajectoryError
-from prp3.identification import FourierSeries
-from prp3.motion import Motion, paper_motion
+from prp3.model.motion import Motion, paper_motion
 
 LOAD = np.array([3.0, -2.0, 0.4])  # N, N, N·m
 

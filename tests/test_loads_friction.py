@@ -21,11 +21,11 @@ from hypothesis import strategies as st
 
 from prp3 import METHODS, Motion, Robot, inverse_dynamics
 from prp3.cli import main
+from prp3.engines.entries import compile_robot, paper_forces, sample_forces
 from prp3.errors import TrajectoryError
-from prp3.fast import compile_robot, paper_forces, sample_forces
-from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
-from prp3.motion import paper_motion
-from prp3.results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
+from prp3.io.results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
+from prp3.model.motion import paper_motion
+from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import (
     REF_E,
     REF_N,
@@ -487,7 +487,7 @@ def test_simulate_writes_the_friction_columns_and_reads_the_load(tmp_path: Path)
 )
 def test_every_engine_of_the_kernel_has_the_spring(scenario, spring) -> None:  # type: ignore[no-untyped-def]
     # the spring is in the kernel's stages, so the batch (numpy, numba) and the one-sample
-    # paths of prp3.fast carry it: against Newton-Euler, which adds it on its own
+    # paths of prp3.engines.entries carry it: against Newton-Euler, which adds it on its own
     robot, analytic = scenario
     robot = with_effects(robot, {"spring": Spring(spring)})
     motion = analytic.motion(np.linspace(0.05, analytic.duration, 6))

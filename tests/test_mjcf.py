@@ -1,4 +1,4 @@
-"""MuJoCo exchange: ``prp3.mjcf.mjcf_model`` and ``prp3 export mjcf``.
+"""MuJoCo exchange: ``prp3.apps.mjcf.mjcf_model`` and ``prp3 export mjcf``.
 
 Without MuJoCo: the XML is parsed with the standard library and its kinematic
 tree is composed by hand (planar frames: position and angle about ``z``); the
@@ -36,10 +36,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import LinkParameters, Motion, PistonParameters, PlatformParameters, Robot
-from prp3.cli import main
-from prp3.dynamics import inverse_dynamics
-from prp3.errors import ParameterError
-from prp3.mjcf import (
+from prp3.analysis.inverse_dynamics import inverse_dynamics
+from prp3.apps.mjcf import (
     INERTIA_FLOOR,
     MUJOCO_MIN_VALUE,
     TIMESTEP,
@@ -47,8 +45,10 @@ from prp3.mjcf import (
     mjcf_model,
     unrepresented,
 )
-from prp3.model import Friction, JointFriction, Load, Payload, Spring, SpringParameters
-from prp3.motion import PAPER_MOTIONS, law_motion, paper_motion
+from prp3.cli import main
+from prp3.errors import ParameterError
+from prp3.model.motion import PAPER_MOTIONS, law_motion, paper_motion
+from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import (
     REF_E,
     REF_N,
@@ -350,8 +350,8 @@ def test_tiny_masses_and_inertias_still_load(mujoco: ModuleType) -> None:
 
 def test_library_does_not_import_mujoco() -> None:
     code = (
-        "import sys, prp3, prp3.mjcf, prp3.cli; "
-        "prp3.mjcf.mjcf_model(prp3.Robot()); "
+        "import sys, prp3, prp3.apps.mjcf, prp3.cli; "
+        "prp3.apps.mjcf.mjcf_model(prp3.Robot()); "
         "assert sys.modules.get('mujoco') is None and sys.modules.get('pinocchio') is None"
     )
     subprocess.run([sys.executable, "-c", code], check=True)

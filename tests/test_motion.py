@@ -11,7 +11,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from prp3 import Motion, TrajectoryError
-from prp3.motion import PAPER_DURATION, PAPER_MOTIONS, law_motion, paper_motion
+from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_motion, paper_motion
 from strategies import FD_FIRST, FD_OFFSETS, FD_SECOND
 
 

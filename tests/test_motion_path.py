@@ -20,11 +20,11 @@ from hypothesis import strategies as st
 
 from clitools import cli, listing, one_line
 from prp3 import Robot
-from prp3.dynamics import METHODS, inverse_dynamics
+from prp3.analysis.inverse_dynamics import METHODS, inverse_dynamics
+from prp3.apps.runs import simulate_table
 from prp3.errors import SingularPoseError, TrajectoryError
-from prp3.model import Friction, JointFriction
-from prp3.motion import Motion, law_motion, paper_motion
-from prp3.runs import simulate_table
+from prp3.model.motion import Motion, law_motion, paper_motion
+from prp3.model.robot import Friction, JointFriction
 from prp3.validation import RATE_TOLERANCE, check_path, rest_rates
 from strategies import analytic_motions, robots
 
@@ -269,7 +269,7 @@ def test_a_jump_across_blocks_is_found(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_track_refuses_a_reference_across_the_singularity() -> None:
-    from prp3.control import track
+    from prp3.apps.control import track
 
     with pytest.raises(SingularPoseError, match="crosses the singular orientation"):
         track(Robot(), crossing_motion(), controller="pd")

@@ -1,6 +1,6 @@
 """The near-lock warning of the implicit friction (``μ`` terms; docs/loads_and_friction.md).
 
-The definition (``prp3.kernel.NEAR_LOCK_MU``): a sample is near a lock when the
+The definition (``prp3.mechanics.kernel.NEAR_LOCK_MU``): a sample is near a lock when the
 solution reached continuously from ``μ = 0`` does not extend to ``1.2·μ``.
 
 Independent checks:
@@ -28,8 +28,8 @@ import pytest
 from prp3 import Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.errors import TrajectoryError
-from prp3.io import write_table_csv
-from prp3.kernel import (
+from prp3.io.formats import write_table_csv
+from prp3.mechanics.kernel import (
     NEAR_LOCK_MU,
     NUMPY,
     KernelFriction,
@@ -39,8 +39,8 @@ from prp3.kernel import (
     kernel_kinematics,
     kernel_parameters,
 )
-from prp3.model import Friction, JointFriction
-from prp3.motion import Motion, paper_motion
+from prp3.model.motion import Motion, paper_motion
+from prp3.model.robot import Friction, JointFriction
 
 SLEEVE_MU = 0.3  # the spec: the paper's rotation then locks at t ≈ 2.37 s (sample 237 of 301)
 

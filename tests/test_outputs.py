@@ -29,11 +29,11 @@ from hypothesis import strategies as st
 
 import prp3
 import prp3.cli.simulate as simulate_cli
-import prp3.io as prp3_io
+import prp3.io.formats as prp3_io
 from clitools import cli
 from prp3.errors import OutputFileError
-from prp3.io import MANIFEST_NAME, format_floats, staged_output, write_table_csv
-from prp3.results import RESULT_COLUMNS
+from prp3.io.formats import MANIFEST_NAME, format_floats, staged_output, write_table_csv
+from prp3.io.results import RESULT_COLUMNS
 
 PAPER_FIGURES = ["fig3_p10.png", "fig4_f21y.png", "fig5_f21z.png", "f10.png", "lambda10.png"]
 

@@ -1,6 +1,6 @@
-"""The paper's recursive matrix method as printed (prp3.paper) against independent routes.
+"""The paper's recursive matrix method as printed (prp3.references.paper) against independent routes.
 
-* Forces: the Newton–Euler solver of the 7 bodies (shares nothing with prp3.paper
+* Forces: the Newton–Euler solver of the 7 bodies (shares nothing with prp3.references.paper
   but the inputs) and the other methods of prp3, to 1e-12 of the force scale, on
   random robots (centre-of-mass offsets, any gravity) and motions.
 * Intermediate quantities, each against something it could disagree with: the
@@ -38,8 +38,8 @@ from prp3 import (
     UnreachablePoseError,
     inverse_dynamics,
 )
-from prp3.motion import paper_motion
-from prp3.paper import (
+from prp3.model.motion import paper_motion
+from prp3.references.paper import (
     FORCE_SETS,
     MAX_RECORDED_SAMPLES,
     RecursiveMatrixResult,
@@ -47,7 +47,7 @@ from prp3.paper import (
     paper_method,
     recursive_matrix_method,
 )
-from prp3.paper_kinematics import orientation_condition
+from prp3.references.paper_kinematics import orientation_condition
 from strategies import (
     REF_ALPHA,
     REF_E,
@@ -175,7 +175,7 @@ def test_chunks_do_not_change_the_result(monkeypatch: pytest.MonkeyPatch) -> Non
     robot = Robot(gravity=(2.0, -9.81))
     motion = paper_motion("rotation", samples=50)
     whole = paper_inverse_dynamics(robot, motion)
-    monkeypatch.setattr(prp3.paper, "PAPER_CHUNK", 7)
+    monkeypatch.setattr(prp3.references.paper, "PAPER_CHUNK", 7)
     chunked = paper_inverse_dynamics(robot, motion)
     for name in QUANTITIES:
         np.testing.assert_allclose(getattr(chunked, name), getattr(whole, name), rtol=1e-15, atol=0)
@@ -518,7 +518,7 @@ def test_bad_input_is_refused() -> None:
 
 
 def test_errors_name_the_sample_across_chunks(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(prp3.paper, "PAPER_CHUNK", 4)
+    monkeypatch.setattr(prp3.references.paper, "PAPER_CHUNK", 4)
     motion = paper_motion("vertical", samples=11)
     limited = Robot(limits=Limits(stroke=(-0.1, 0.02)))  # λ10_A = 2y/√3 > 0.02 once y > 0.0173
     first = int(np.argmax(2 * motion.pose[:, 1] / SQRT3 > 0.02))
@@ -670,10 +670,10 @@ def test_paper_kinematics_are_derivatives(scenario: tuple[Robot, AnalyticMotion]
 
 
 def test_method_paper_writes_only_the_papers_numbers(monkeypatch: pytest.MonkeyPatch) -> None:
-    # --method paper: every column of results.csv from prp3.paper's recursion; with the
-    # kernel's kinematics and prp3.kinematics disabled, the same table, bit for bit.
-    from prp3.results import results_table
-    from prp3.runs import simulate_table
+    # --method paper: every column of results.csv from prp3.references.paper's recursion; with the
+    # kernel's kinematics and prp3.mechanics.kinematics disabled, the same table, bit for bit.
+    from prp3.apps.runs import simulate_table
+    from prp3.io.results import results_table
 
     robot = Robot(gravity=(1.5, -9.81))
     motion = paper_motion("rotation", samples=13)
@@ -692,10 +692,10 @@ def test_method_paper_writes_only_the_papers_numbers(monkeypatch: pytest.MonkeyP
         raise AssertionError("--method paper used the kernel")
 
     for module, name in (
-        (prp3.dynamics, "inverse_kinematics"),
-        (prp3.kinematics, "kernel_kinematics"),
-        (prp3.kinematics, "kernel_geometry"),
-        (prp3.geometry, "kernel_geometry"),
+        (prp3.analysis.inverse_dynamics, "inverse_kinematics"),
+        (prp3.mechanics.kinematics, "kernel_kinematics"),
+        (prp3.mechanics.kinematics, "kernel_geometry"),
+        (prp3.mechanics.geometry, "kernel_geometry"),
     ):
         monkeypatch.setattr(module, name, refused)
     table = simulate_table(robot, motion, "paper", chunk=5)

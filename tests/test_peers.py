@@ -22,8 +22,8 @@ import pytest
 from hypothesis import given, settings
 
 from prp3 import LinkParameters, Motion, PistonParameters, PlatformParameters, Robot
-from prp3.dynamics import inverse_dynamics
-from prp3.motion import PAPER_MOTIONS, paper_motion
+from prp3.analysis.inverse_dynamics import inverse_dynamics
+from prp3.model.motion import PAPER_MOTIONS, paper_motion
 from strategies import AnalyticMotion, scenarios
 
 PEERS_PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "peers.py"

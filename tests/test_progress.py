@@ -19,14 +19,15 @@ import pytest
 
 import prp3.cli._progress as progress_module
 from prp3 import Robot
+from prp3.analysis.forward import forward_dynamics
+from prp3.analysis.inverse_dynamics import inverse_dynamics
+from prp3.analysis.workspace import orientation_scan
+from prp3.apps.control import control_times, track
+from prp3.apps.excitation import exciting_trajectory
+from prp3.apps.identification import identify
 from prp3.cli import main
 from prp3.cli._progress import Progress
-from prp3.control import control_times, law_at, track
-from prp3.dynamics import inverse_dynamics
-from prp3.forward import forward_dynamics
-from prp3.identification import exciting_trajectory, identify
-from prp3.motion import PAPER_MOTIONS, law_motion
-from prp3.workspace import orientation_scan
+from prp3.model.motion import PAPER_MOTIONS, law_at, law_motion
 
 #: A bar of tqdm: ``stage:  50%|#####     | 5/10 [00:01<00:01, 4.2it/s]`` (the ETA after ``<``).
 BAR = re.compile(r"(\w[\w.]*): +(\d+)%\|[^|]*\| (\d+)/(\d+) \[\d\d:\d\d<(\d\d:\d\d|\?)")

@@ -30,45 +30,61 @@ import numpy as np
 import pytest
 
 import prp3
-import prp3.codegen
-import prp3.control
-import prp3.design
-import prp3.engines
-import prp3.fast
-import prp3.forward
-import prp3.geometry
-import prp3.identification
-import prp3.mjcf
-import prp3.model
-import prp3.motion
-import prp3.paper
-import prp3.paper_kinematics
-import prp3.paper_wrenches
-import prp3.runs
-import prp3.workspace
+import prp3.analysis.forward
+import prp3.analysis.workspace
+import prp3.apps.base_parameters
+import prp3.apps.codegen
+import prp3.apps.control
+import prp3.apps.control_law
+import prp3.apps.design
+import prp3.apps.design_objective
+import prp3.apps.excitation
+import prp3.apps.identification
+import prp3.apps.mjcf
+import prp3.apps.regressor
+import prp3.apps.runs
+import prp3.apps.sweep_spec
+import prp3.engines.entries
+import prp3.engines.select
+import prp3.mechanics.geometry
+import prp3.model.motion
+import prp3.model.robot
+import prp3.references.paper
+import prp3.references.paper_kinematics
+import prp3.references.paper_wrenches
 from prp3.errors import Prp3Error
+from prp3.mechanics.architecture import ClosedForm3PRP, solve_stages
 
 #: Modules whose ``__all__`` is walked besides ``prp3``'s own.
 MODULES = (
-    "prp3.control",
-    "prp3.design",
-    "prp3.dynamics",
-    "prp3.engines",
-    "prp3.fast",
-    "prp3.forward",
-    "prp3.geometry",
-    "prp3.identification",
-    "prp3.kinematics",
-    "prp3.mjcf",
-    "prp3.codegen",
-    "prp3.model",
-    "prp3.motion",
-    "prp3.newton_euler_solver",
-    "prp3.paper",
-    "prp3.paper_kinematics",
-    "prp3.paper_wrenches",
-    "prp3.runs",
-    "prp3.workspace",
+    "prp3.apps.control",
+    "prp3.apps.control_law",
+    "prp3.apps.plants",
+    "prp3.apps.design",
+    "prp3.apps.design_evaluation",
+    "prp3.apps.design_objective",
+    "prp3.apps.sweep_spec",
+    "prp3.analysis.inverse_dynamics",
+    "prp3.engines.select",
+    "prp3.engines.entries",
+    "prp3.analysis.forward",
+    "prp3.mechanics.geometry",
+    "prp3.apps.identification",
+    "prp3.apps.regressor",
+    "prp3.apps.base_parameters",
+    "prp3.apps.excitation",
+    "prp3.mechanics.kinematics",
+    "prp3.mechanics.architecture",
+    "prp3.apps.mjcf",
+    "prp3.apps.codegen",
+    "prp3.model.robot",
+    "prp3.model.motion",
+    "prp3.references.newton_euler",
+    "prp3.references.paper",
+    "prp3.references.paper_kinematics",
+    "prp3.references.paper_wrenches",
+    "prp3.apps.runs",
+    "prp3.analysis.workspace",
 )
 
 #: Public callables that take no user value to validate, with the reason.
@@ -88,6 +104,8 @@ EXEMPT: dict[str, str] = {
     "WorkspaceStatics": "result type",
     "Tracking": "result type",
     "RecursiveMatrixResult": "result type",
+    "JointSolution": "result type",
+    "LegArchitecture": "a protocol (the interface of the architectures), not called",
     "PaperGeometry": "result type",
     "PaperVelocities": "result type",
     "PaperAccelerations": "result type",
@@ -159,7 +177,7 @@ EXEMPT: dict[str, str] = {
     "check_plant": "a check itself, called by track",
     "symbolic_parameters": "sympy",
     # the engines: they receive validated inputs and never validate (test_no_engine_sees_...)
-    "run_numpy": "an engine: called by prp3.fast with validated samples",
+    "run_numpy": "an engine: called by prp3.engines.entries with validated samples",
     "runs_on": "which engine runs a validated robot (internal)",
     "resolve_engine": "a check itself (the engine argument, covered through every entry)",
     "default_engine": "no arguments",
@@ -335,7 +353,7 @@ def _case(
 
 A, T, R, INT, OBJ, C, N = "array", "times", "real", "int", "object", "choice", "names"
 POSE = {"pose": A}
-#: The arguments of the batch paths of prp3.fast, and good values of them.
+#: The arguments of the batch paths of prp3.engines.entries, and good values of them.
 BATCH = {"robot": OBJ, "pose": A, "velocity": A, "acceleration": A, "chunk_size": INT}
 BATCH_GOOD = {
     "robot": ROBOT,
@@ -344,7 +362,7 @@ BATCH_GOOD = {
     "acceleration": ZERO,
     "chunk_size": 64,
 }
-#: The arguments of the single-sample paths of prp3.fast, and good values of them.
+#: The arguments of the single-sample paths of prp3.engines.entries, and good values of them.
 SINGLE = {
     "compiled": OBJ,
     "pose": A,
@@ -383,8 +401,8 @@ CASES: dict[str, Case] = {
         link=prp3.LinkParameters(),
         platform=prp3.PlatformParameters(),
         limits=prp3.Limits(),
-        payload=prp3.model.Payload(),
-        load=prp3.model.Load(),
+        payload=prp3.model.robot.Payload(),
+        load=prp3.model.robot.Load(),
         friction=None,
     ),
     "Limits": _case(
@@ -411,20 +429,20 @@ CASES: dict[str, Case] = {
         prp3.PlatformParameters, {"mass": R, "inertia": "real?"}, mass=3.0, inertia=0.01
     ),
     "Payload": _case(
-        prp3.model.Payload,
+        prp3.model.robot.Payload,
         {"mass": R, "com": A, "inertia": R},
         mass=1.0,
         com=np.array([0.0, 0.0]),
         inertia=0.0,
     ),
     "Load": _case(
-        prp3.model.Load, {"force": A, "moment": R}, force=np.array([0.0, 0.0]), moment=0.0
+        prp3.model.robot.Load, {"force": A, "moment": R}, force=np.array([0.0, 0.0]), moment=0.0
     ),
     "JointFriction": _case(
-        prp3.model.JointFriction, {"viscous": R, "coulomb": R}, viscous=0.0, coulomb=0.0
+        prp3.model.robot.JointFriction, {"viscous": R, "coulomb": R}, viscous=0.0, coulomb=0.0
     ),
     "SpringParameters": _case(
-        prp3.model.SpringParameters,
+        prp3.model.robot.SpringParameters,
         {"stiffness": R, "rest": R, "damping": R},
         stiffness=0.0,
         rest=0.0,
@@ -582,13 +600,22 @@ CASES: dict[str, Case] = {
         prp3.reachable_region, {"robot": OBJ, "phi": R}, robot=LIMITED, phi=0.1
     ),
     "actuator_forces": _case(
-        prp3.fast.actuator_forces,
+        prp3.engines.entries.actuator_forces,
         {**BATCH, "engine": "choice?"},
         **BATCH_GOOD,
         engine="numpy",
     ),
     "sample_forces": _case(prp3.sample_forces, SINGLE, **SINGLE_GOOD),
-    "sample_actuator_forces": _case(prp3.fast.sample_actuator_forces, SINGLE, **SINGLE_GOOD),
+    "ClosedForm3PRP": _case(ClosedForm3PRP, {"robot": OBJ}, robot=ROBOT),
+    "solve_stages": _case(
+        solve_stages,
+        {"architecture": OBJ, "motion": OBJ},
+        architecture=lambda: ClosedForm3PRP(ROBOT),
+        motion=_motion,
+    ),
+    "sample_actuator_forces": _case(
+        prp3.engines.entries.sample_actuator_forces, SINGLE, **SINGLE_GOOD
+    ),
     "workspace_slice": _case(
         prp3.workspace_slice,
         {"robot": OBJ, "phi": R, "x": T, "y": T},
@@ -598,7 +625,7 @@ CASES: dict[str, Case] = {
         y=np.array([0.0, 0.01]),
     ),
     "workspace_statics": _case(
-        prp3.workspace.workspace_statics,
+        prp3.analysis.workspace.workspace_statics,
         {"robot": OBJ, "phi": R, "x": T, "y": T},
         robot=ROBOT,
         phi=0.1,
@@ -607,58 +634,61 @@ CASES: dict[str, Case] = {
     ),
     # ---------------------------------------------------------------- submodules
     "solve_batch": _case(
-        prp3.fast.solve_batch,
+        prp3.engines.entries.solve_batch,
         {**BATCH, "load": "array?", "engine": "choice?"},
         **BATCH_GOOD,
         load=ZERO,
         engine="numba",
     ),
     "open_loop_growth_rate": _case(
-        prp3.forward.open_loop_growth_rate, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL
+        prp3.analysis.forward.open_loop_growth_rate, {"robot": OBJ, **POSE}, robot=ROBOT, pose=SMALL
     ),
-    "base_vertices": _case(prp3.geometry.base_vertices, {"robot": OBJ}, robot=ROBOT),
+    "base_vertices": _case(prp3.mechanics.geometry.base_vertices, {"robot": OBJ}, robot=ROBOT),
     "orientation_from_sum": _case(
-        prp3.geometry.orientation_from_sum,
+        prp3.mechanics.geometry.orientation_from_sum,
         {"l0": R, "sum_lambda10": "array*"},
         l0=0.3,
         sum_lambda10=np.array([0.01]),
     ),
     "sum_from_orientation": _case(
-        prp3.geometry.sum_from_orientation, {"l0": R, "phi": "array*"}, l0=0.3, phi=np.array([0.1])
+        prp3.mechanics.geometry.sum_from_orientation,
+        {"l0": R, "phi": "array*"},
+        l0=0.3,
+        phi=np.array([0.1]),
     ),
     "law_at": _case(
-        prp3.motion.law_at, {"amplitude": A, "t": T}, amplitude=SMALL, t=np.array([0.0, 1.0])
+        prp3.model.motion.law_at, {"amplitude": A, "t": T}, amplitude=SMALL, t=np.array([0.0, 1.0])
     ),
     "differentiate_positions": _case(
-        prp3.motion.differentiate_positions,
+        prp3.model.motion.differentiate_positions,
         {"t": T, "pose": A},
         t=np.linspace(0.0, 1.0, 8),
         pose=np.zeros((8, 3)),
     ),
     "recursive_matrix_method": _case(
-        prp3.paper.recursive_matrix_method,
+        prp3.references.paper.recursive_matrix_method,
         {"robot": OBJ, "motion": OBJ},
         robot=ROBOT,
         motion=_motion,
     ),
     "paper_inverse_dynamics": _case(
-        prp3.paper.paper_inverse_dynamics,
+        prp3.references.paper.paper_inverse_dynamics,
         {"robot": OBJ, "motion": OBJ},
         robot=ROBOT,
         motion=_motion,
     ),
     "paper_method": _case(
-        prp3.paper.paper_method,
+        prp3.references.paper.paper_method,
         {"robot": OBJ, "motion": OBJ},
         robot=ROBOT,
         motion=_motion,
     ),
-    "mjcf_model": _case(prp3.mjcf.mjcf_model, {"robot": OBJ}, robot=ROBOT),
-    "unrepresented": _case(prp3.mjcf.unrepresented, {"robot": OBJ}, robot=ROBOT),
-    "c_inverse_dynamics": _case(prp3.codegen.c_inverse_dynamics, {"robot": OBJ}, robot=ROBOT),
-    "robot_template": _case(prp3.model.robot_template, {"robot": "object?"}, robot=ROBOT),
+    "mjcf_model": _case(prp3.apps.mjcf.mjcf_model, {"robot": OBJ}, robot=ROBOT),
+    "unrepresented": _case(prp3.apps.mjcf.unrepresented, {"robot": OBJ}, robot=ROBOT),
+    "c_inverse_dynamics": _case(prp3.apps.codegen.c_inverse_dynamics, {"robot": OBJ}, robot=ROBOT),
+    "robot_template": _case(prp3.model.robot.robot_template, {"robot": "object?"}, robot=ROBOT),
     "simulate_table": _case(
-        prp3.runs.simulate_table,
+        prp3.apps.runs.simulate_table,
         {"robot": OBJ, "motion": OBJ, "method": C, "chunk": INT, "engine": "choice?"},
         robot=ROBOT,
         motion=_motion,
@@ -667,26 +697,26 @@ CASES: dict[str, Case] = {
         engine="numpy",
     ),
     "summarize": _case(
-        prp3.runs.summarize,
+        prp3.apps.runs.summarize,
         {"table": OBJ},
-        table=lambda: prp3.runs.simulate_table(ROBOT, _motion()),
+        table=lambda: prp3.apps.runs.simulate_table(ROBOT, _motion()),
     ),
-    "Gains": _case(prp3.control.Gains, {"kp": R, "kd": R}, kp=400.0, kd=40.0),
+    "Gains": _case(prp3.apps.control_law.Gains, {"kp": R, "kd": R}, kp=400.0, kd=40.0),
     "control_times": _case(
-        prp3.control.control_times,
+        prp3.apps.control.control_times,
         {"start": R, "stop": R, "rate": R},
         start=0.0,
         stop=0.1,
         rate=100.0,
     ),
     "hermite_reference": _case(
-        prp3.control.hermite_reference,
+        prp3.apps.control.hermite_reference,
         {"motion": OBJ, "times": T},
         motion=_motion,
         times=np.array([0.0, 0.5]),
     ),
     "track": _case(
-        prp3.control.track,
+        prp3.apps.control.track,
         {
             "robot": OBJ,
             "reference": OBJ,
@@ -700,36 +730,36 @@ CASES: dict[str, Case] = {
         controller="pd",
         plant="prp3",
         model=ROBOT,
-        gains=lambda: prp3.control.Gains(),
+        gains=lambda: prp3.apps.control_law.Gains(),
     ),
     "standard_parameters": _case(
-        prp3.identification.standard_parameters,
+        prp3.apps.regressor.standard_parameters,
         {"robot": OBJ, "parameters": N},
         robot=ROBOT,
         parameters=("platform_mass",),
     ),
     "regressor": _case(
-        prp3.identification.regressor,
+        prp3.apps.regressor.regressor,
         {"robot": OBJ, "motion": OBJ, "parameters": N},
         robot=ROBOT,
         motion=_motion,
         parameters=("platform_mass",),
     ),
     "base_parameters": _case(
-        prp3.identification.base_parameters,
+        prp3.apps.base_parameters.base_parameters,
         {"robot": OBJ, "parameters": N},
         robot=ROBOT,
         parameters=("platform_mass", "piston_mass"),
     ),
     "known_forces": _case(
-        prp3.identification.known_forces,
+        prp3.apps.regressor.known_forces,
         {"robot": OBJ, "motion": OBJ, "fixed": "names0"},
         robot=ROBOT,
         motion=_motion,
         fixed=("platform_mass",),
     ),
     "identify": _case(
-        prp3.identification.identify,
+        prp3.apps.identification.identify,
         {"robot": OBJ, "motion": OBJ, "f10": A, "parameters": N},
         robot=ROBOT,
         motion=_motion,
@@ -737,7 +767,7 @@ CASES: dict[str, Case] = {
         parameters=("platform_mass",),
     ),
     "exciting_trajectory": _case(
-        prp3.identification.exciting_trajectory,
+        prp3.apps.excitation.exciting_trajectory,
         {"robot": OBJ, "period": R, "harmonics": INT, "reach": R, "samples": INT, "seed": INT},
         robot=ROBOT,
         period=5.0,
@@ -748,7 +778,7 @@ CASES: dict[str, Case] = {
         max_iterations=2,
     ),
     "design_robot": _case(
-        prp3.design.design_robot,
+        prp3.apps.design.design_robot,
         {"nominal": OBJ, "paths": N, "values": A},
         names={"paths": ("paths", "key", "values")},
         nominal=lambda: {"l0": 0.3},
@@ -756,19 +786,21 @@ CASES: dict[str, Case] = {
         values=np.array([0.25]),
     ),
     "sweep_spec": _case(
-        prp3.design.sweep_spec,
+        prp3.apps.sweep_spec.sweep_spec,
         {"data": OBJ},
         data=lambda: {"parameters": {"l0": [0.2, 0.4]}, "designs": 2},
     ),
     "pareto_front": _case(
-        prp3.design.pareto_front,
+        prp3.apps.design_objective.pareto_front,
         {"x": "array~", "y": "array~"},
         x=np.array([1.0, 2.0]),
         y=np.array([2.0, 1.0]),
     ),
-    "Parameter": _case(prp3.design.Parameter, {"low": R, "high": R}, path="l0", low=0.2, high=0.4),
+    "Parameter": _case(
+        prp3.apps.sweep_spec.Parameter, {"low": R, "high": R}, path="l0", low=0.2, high=0.4
+    ),
     "OptimizeSpec": _case(
-        prp3.design.OptimizeSpec,
+        prp3.apps.design_objective.OptimizeSpec,
         {"maxiter": INT, "popsize": INT, "tol": R},
         maxiter=30,
         popsize=10,
@@ -852,9 +884,9 @@ def test_every_bad_argument_is_refused_naming_it(name: str, argument: str, label
 #: What runs the kernel on samples: the numpy engine, the numba engine's loops and
 #: single-sample calls, the kernel on floats of one sample.
 _ENGINE_ENTRIES = (
-    ("prp3.fast", "run_numpy"),
-    ("prp3.fast", "_sample_floats"),
-    *(("prp3.numba_engine", name) for name in (
+    ("prp3.engines.entries", "run_numpy"),
+    ("prp3.engines.entries", "_sample_floats"),
+    *(("prp3.engines.numba", name) for name in (
         "f10_loop", "forces_loop", "reactions_loop", "solve_loop", "sample_forces",
         "sample_forces_loaded", "sample_f10", "sample_f10_loaded", "lambda10_sample",
     )),

@@ -15,10 +15,10 @@ import pytest
 
 from clitools import cli, one_line
 from prp3 import Robot
+from prp3.analysis.forward import forward_dynamics
+from prp3.analysis.workspace import orientation_range, reachable_region, workspace_slice
 from prp3.errors import ParameterError, TrajectoryError
-from prp3.forward import forward_dynamics
-from prp3.model import Limits
-from prp3.workspace import orientation_range, reachable_region, workspace_slice
+from prp3.model.robot import Limits
 
 
 def force_file(folder: Path, value: float) -> Path:

@@ -1,4 +1,4 @@
-"""One registry of the output quantities (``prp3.results.OUTPUT_QUANTITIES``).
+"""One registry of the output quantities (``prp3.io.results.OUTPUT_QUANTITIES``).
 
 The columns of ``results.csv``, the labels of the figures and the units of the
 run summary come from it: a quantity's unit or symbol is written once.  The
@@ -14,10 +14,10 @@ import pytest
 from hypothesis import given, settings
 
 import prp3
+from prp3.apps.runs import simulate_table, summarize, summary_text
 from prp3.errors import ParameterError
-from prp3.model import Friction, JointFriction
-from prp3.results import OUTPUT_QUANTITIES, output_quantity, result_columns, results_table
-from prp3.runs import simulate_table, summarize, summary_text
+from prp3.io.results import OUTPUT_QUANTITIES, output_quantity, result_columns, results_table
+from prp3.model.robot import Friction, JointFriction
 from strategies import scenarios
 
 #: The contract's units (docs/model.md, section *Quantities and signs*).

@@ -28,20 +28,10 @@ import pytest
 
 import prp3.cli.simulate as simulate_cli
 import prp3.files as prp3_files
-import prp3.io as prp3_io
+import prp3.io.formats as prp3_io
 from clitools import cli, listing
 from prp3 import Motion, Robot
-from prp3.cli import build_parser
-from prp3.dynamics import inverse_dynamics
-from prp3.errors import (
-    InputFileError,
-    OutputFileError,
-    ParameterError,
-    Prp3Error,
-    TrajectoryError,
-)
-from prp3.fast import compile_robot, paper_forces
-from prp3.forward import (
+from prp3.analysis.forward import (
     MIN_RTOL,
     ActuatorForces,
     forward_dynamics,
@@ -49,11 +39,21 @@ from prp3.forward import (
     forward_velocity,
     platform_dynamics,
 )
-from prp3.geometry import inverse_geometry
-from prp3.io import atomic_writer, check_output_directory, read_trajectory, staged_output
-from prp3.mjcf import mjcf_model
-from prp3.motion import law_motion, paper_motion
-from prp3.workspace import jacobian_condition, orientation_scan, reachable, workspace_slice
+from prp3.analysis.inverse_dynamics import inverse_dynamics
+from prp3.analysis.workspace import jacobian_condition, orientation_scan, reachable, workspace_slice
+from prp3.apps.mjcf import mjcf_model
+from prp3.cli import build_parser
+from prp3.engines.entries import compile_robot, paper_forces
+from prp3.errors import (
+    InputFileError,
+    OutputFileError,
+    ParameterError,
+    Prp3Error,
+    TrajectoryError,
+)
+from prp3.io.formats import atomic_writer, check_output_directory, read_trajectory, staged_output
+from prp3.mechanics.geometry import inverse_geometry
+from prp3.model.motion import law_motion, paper_motion
 
 ROBOT = Robot()
 ZERO = np.zeros(3)

@@ -1,4 +1,4 @@
-"""The workspace statics map (``prp3.workspace.workspace_statics``, ``prp3 workspace``).
+"""The workspace statics map (``prp3.analysis.workspace.workspace_statics``, ``prp3 workspace``).
 
 Expected values are not taken from the code under test:
 
@@ -21,12 +21,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import Limits, Robot, inverse_dynamics
+from prp3.analysis.workspace import workspace_slice, workspace_statics
 from prp3.cli import main
 from prp3.cli.workspace import wants_statics
 from prp3.errors import SingularPoseError
-from prp3.model import Friction, JointFriction, Load, Payload
-from prp3.motion import Motion
-from prp3.workspace import workspace_slice, workspace_statics
+from prp3.model.motion import Motion
+from prp3.model.robot import Friction, JointFriction, Load, Payload
 from strategies import poses, robots
 
 STATICS_COLUMNS = "x,y,reachable,f10_A,f10_B,f10_C,f10_peak,held".split(",")
@@ -321,8 +321,8 @@ def test_the_spring_holds_its_share_at_rest() -> None:
     # f10 is the robot's without the spring plus k·(λ10_i − rest), λ10 by the closed-form
     # inverse geometry; and prp3 workspace writes the map by default for it
     from prp3.cli.workspace import wants_statics
-    from prp3.geometry import inverse_geometry
-    from prp3.model import Spring, SpringParameters
+    from prp3.mechanics.geometry import inverse_geometry
+    from prp3.model.robot import Spring, SpringParameters
 
     robot = Robot(spring=Spring(SpringParameters(stiffness=600.0, rest=0.015, damping=9.0)))
     grid = np.linspace(-0.04, 0.04, 9)

@@ -24,17 +24,17 @@ pa = pytest.importorskip("pyarrow")
 pq = pytest.importorskip("pyarrow.parquet")
 
 import prp3  # noqa: E402
-import prp3.sweep  # noqa: E402
+import prp3.apps.cluster  # noqa: E402
+import prp3.apps.design_evaluation  # noqa: E402
+import prp3.apps.design_objective  # noqa: E402
+import prp3.apps.optimization  # noqa: E402
+import prp3.apps.sweep  # noqa: E402
 from clitools import cli  # noqa: E402
-from prp3.design import (  # noqa: E402
-    design_robot,
-    design_values,
-    evaluate_designs,
-    pareto_front,
-    read_sweep_spec,
-    sweep_spec,
-)
-from prp3.kernel import kernel_parameters  # noqa: E402
+from prp3.apps.design import design_robot  # noqa: E402
+from prp3.apps.design_evaluation import evaluate_designs  # noqa: E402
+from prp3.apps.design_objective import pareto_front  # noqa: E402
+from prp3.apps.sweep_spec import design_values, read_sweep_spec, sweep_spec  # noqa: E402
+from prp3.mechanics.kernel import kernel_parameters  # noqa: E402
 
 LEGS = "ABC"
 GRID = """\
@@ -73,7 +73,7 @@ def scheduler():
         threads_per_worker=1,
         processes=False,
         dashboard_address=None,
-        scheduler_kwargs=prp3.sweep.QUIET_SCHEDULER,
+        scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
     ) as cluster:
         yield cluster.scheduler_address
 
@@ -141,7 +141,7 @@ def test_one_or_two_workers_and_an_interrupted_run_give_the_same_file(
 
     # interrupted after two chunks: the staging folder keeps them, no designs.parquet
     written = []
-    original = prp3.sweep._arrow_table
+    original = prp3.apps.sweep._arrow_table
 
     def interrupt(columns, names):
         if len(written) == 2:
@@ -149,14 +149,14 @@ def test_one_or_two_workers_and_an_interrupted_run_give_the_same_file(
         written.append(len(columns["status"]))
         return original(columns, names)
 
-    monkeypatch.setattr(prp3.sweep, "_arrow_table", interrupt)
+    monkeypatch.setattr(prp3.apps.sweep, "_arrow_table", interrupt)
     args = ("sweep", "--spec", spec, "-o", tmp_path / "cut", "--scheduler", scheduler)
     status, out, err = cli(capsys, *args)
     assert status == 130 and "interrupted" in err
     assert not (tmp_path / "cut" / "designs.parquet").exists()
     staged = sorted(p.name for p in (tmp_path / "cut").glob(".prp3-sweep-*/*.parquet"))
     assert len(staged) == 2
-    monkeypatch.setattr(prp3.sweep, "_arrow_table", original)
+    monkeypatch.setattr(prp3.apps.sweep, "_arrow_table", original)
     status, out, err = cli(capsys, *args)
     assert status == 0, err
     assert "2 of 4 chunks computed, 2 found done" in out
@@ -316,8 +316,8 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, text, fragment):
 
 
 def test_an_unreachable_scheduler_is_reported_within_10_s(tmp_path, capsys, monkeypatch):
-    assert prp3.sweep.CONNECT_TIMEOUT <= 5.0  # the default leaves time to start and report
-    monkeypatch.setattr(prp3.sweep, "CONNECT_TIMEOUT", 1.0)  # the same path, sooner
+    assert prp3.apps.cluster.CONNECT_TIMEOUT <= 5.0  # the default leaves time to start and report
+    monkeypatch.setattr(prp3.apps.cluster, "CONNECT_TIMEOUT", 1.0)  # the same path, sooner
     spec = write(tmp_path / "sweep.toml", GRID)
     start = time.monotonic()
     status, _out, err = cli(
@@ -467,14 +467,14 @@ def test_a_positions_only_trajectory_is_a_warning(tmp_path, capsys):
 def test_a_parquet_file_of_something_else_is_refused(tmp_path):
     pq.write_table(pa.table({"x": [1.0]}), tmp_path / "other.parquet")
     with pytest.raises(prp3.InputFileError, match="not a designs file of prp3 sweep"):
-        prp3.sweep.read_designs(tmp_path / "other.parquet")
+        prp3.apps.sweep.read_designs(tmp_path / "other.parquet")
     (tmp_path / "text.parquet").write_text("not parquet")
     with pytest.raises(prp3.InputFileError, match="cannot read a Parquet file"):
-        prp3.sweep.read_designs(tmp_path / "text.parquet")
+        prp3.apps.sweep.read_designs(tmp_path / "text.parquet")
 
 
 def test_rows_are_the_batch_kernel_of_each_design_bit_for_bit():
-    # evaluate_designs runs prp3.kernel.solve on a block of designs; paper_forces one robot
+    # evaluate_designs runs prp3.mechanics.kernel.solve on a block of designs; paper_forces one robot
     spec = sweep_spec(
         {
             "designs": 7,
@@ -566,13 +566,18 @@ def test_designs_in_a_box_of_valid_robots_are_not_built_one_by_one(monkeypatch):
     values = design_values(spec)
     expected = evaluate_designs(spec.evaluator, values)  # traces what it needs
     built, solved = [], []
-    real_from_mapping, real_solve = prp3.Robot.from_mapping.__func__, prp3.design.solve
+    real_from_mapping, real_solve = (
+        prp3.Robot.from_mapping.__func__,
+        prp3.apps.design_evaluation.solve,
+    )
     monkeypatch.setattr(
         prp3.Robot, "from_mapping", classmethod(lambda cls, m: built.append(m) or
                                                real_from_mapping(cls, m))
     )  # fmt: skip
     monkeypatch.setattr(
-        prp3.design, "solve", lambda *a, **k: solved.append(1) or real_solve(*a, **k)
+        prp3.apps.design_evaluation,
+        "solve",
+        lambda *a, **k: solved.append(1) or real_solve(*a, **k),
     )
     columns = evaluate_designs(spec.evaluator, values)
     assert (built, solved) == ([], [])
@@ -609,11 +614,13 @@ def test_traced_parameters_of_designs_are_kernel_parameters_of_their_robots(tmp_
         base=tmp_path,
     )  # fmt: skip
     evaluator, values = spec.evaluator, design_values(spec)
-    fixed, columns, lower, upper = prp3.design._design_parameters(evaluator, values, None)
+    fixed, columns, lower, upper = prp3.apps.design_evaluation._design_parameters(
+        evaluator, values, None
+    )
     assert set(columns) and np.isneginf(lower).all() and np.isposinf(upper).all()
     for k, row in enumerate(values.tolist()):
         expected = kernel_parameters(design_robot(evaluator.nominal, spec.paths, row))
-        for name in prp3.design._PARAMETER_FIELDS:
+        for name in prp3.apps.design_evaluation._PARAMETER_FIELDS:
             got = fixed[name] if name in fixed else columns[name][k]
             assert got == getattr(expected, name), (name, k)
 
@@ -643,8 +650,10 @@ def test_optimize_sends_its_objective_to_the_workers_once(scheduler, monkeypatch
 
         monkeypatch.setattr(client, "scatter", scatter)
         monkeypatch.setattr(client, "submit", submit)
-        outcome = prp3.sweep.optimize_design(spec, client)
-    assert len(scattered) == 1 and isinstance(scattered[0], prp3.design.DesignObjective)
+        outcome = prp3.apps.optimization.optimize_design(spec, client)
+    assert len(scattered) == 1 and isinstance(
+        scattered[0], prp3.apps.design_objective.DesignObjective
+    )
     assert outcome.generations >= 2 and len(submitted) > outcome.generations
     assert all(isinstance(args[0], Future) for args in submitted)
     assert len({args[0].key for args in submitted}) == 1  # every generation: the same copy
@@ -663,7 +672,7 @@ def test_a_finished_sweep_leaves_no_staging_folder_of_its_own_or_of_other_specs(
     mine = out / ".prp3-sweep-notes"  # not a staging folder: never touched
     mine.mkdir(parents=True)
     # the sweep of old.toml interrupted after two of its four chunks
-    original = prp3.sweep._arrow_table
+    original = prp3.apps.sweep._arrow_table
     written = []
 
     def interrupt(columns, names):
@@ -672,9 +681,9 @@ def test_a_finished_sweep_leaves_no_staging_folder_of_its_own_or_of_other_specs(
         written.append(1)
         return original(columns, names)
 
-    monkeypatch.setattr(prp3.sweep, "_arrow_table", interrupt)
+    monkeypatch.setattr(prp3.apps.sweep, "_arrow_table", interrupt)
     assert cli(capsys, "sweep", "--spec", old, "-o", out, "--scheduler", scheduler)[0] == 130
-    monkeypatch.setattr(prp3.sweep, "_arrow_table", original)
+    monkeypatch.setattr(prp3.apps.sweep, "_arrow_table", original)
     (stale,) = [p for p in out.glob(".prp3-sweep-*") if p != mine]
     # its spec changed: a new sweep into the same folder says what it will remove, then does
     status, text, err = cli(capsys, "sweep", "--spec", new, "-o", out, "--scheduler", scheduler)
@@ -687,7 +696,7 @@ def test_a_finished_sweep_leaves_no_staging_folder_of_its_own_or_of_other_specs(
     assert f"  removed {described}: superseded by this sweep" in text
     assert sorted(out.iterdir()) == [out / ".prp3-manifest.json", mine, out / "designs.parquet"]
     # a finished sweep whose own staging folder was left (stopped before removing it)
-    staging = prp3.sweep.staging_folder(out, read_sweep_spec(new))
+    staging = prp3.apps.sweep.staging_folder(out, read_sweep_spec(new))
     staging.mkdir()
     status, text, err = cli(capsys, "sweep", "--spec", new, "-o", out, "--scheduler", scheduler)
     assert (status, err) == (0, "") and "0 of 4 chunks computed" in text
@@ -732,7 +741,7 @@ def test_a_folder_of_another_spec_is_refused_unless_forced_and_stale_figures_go(
     # forced: replaced, and the manifest says by which spec
     status, text, err = cli(capsys, "sweep", "--spec", new, *run, "--force")
     assert (status, err) == (0, ""), err
-    assert prp3.sweep.read_designs(out / "designs.parquet").columns["platform.mass"].tolist() == [
+    assert prp3.apps.sweep.read_designs(out / "designs.parquet").columns["platform.mass"].tolist() == [
         2.0, 3.5, 5.0
     ]  # fmt: skip
     record = json.loads((out / ".prp3-manifest.json").read_text())["commands"]["sweep"]
@@ -761,13 +770,13 @@ def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
     files = []
     with Client(scheduler, set_as_default=False) as client:
         for k, given_ in enumerate((client, lambda: Client(scheduler, set_as_default=False))):
-            run = prp3.sweep.run_sweep(spec, tmp_path / f"s{k}", given_)
+            run = prp3.apps.sweep.run_sweep(spec, tmp_path / f"s{k}", given_)
             files.append(run.path.read_bytes())
         assert client.status == "running"  # a client given is left open
         outcomes = []
-        for given_ in (client, lambda: prp3.sweep.dask_client(scheduler=scheduler)):
+        for given_ in (client, lambda: prp3.apps.cluster.dask_client(scheduler=scheduler)):
             reports: list[tuple[int, int]] = []
-            outcome = prp3.sweep.optimize_design(
+            outcome = prp3.apps.optimization.optimize_design(
                 spec, given_, progress=lambda done, total, seen=reports: seen.append((done, total))
             )
             outcomes.append(outcome)
@@ -779,7 +788,7 @@ def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
     assert outcomes[0].x.tolist() == outcomes[1].x.tolist()
     for bad in (42, lambda: 42):
         with pytest.raises(prp3.errors.ParameterError, match="client"):
-            prp3.sweep.optimize_design(spec, bad)
+            prp3.apps.optimization.optimize_design(spec, bad)
 
 
 def test_sweep_and_optimize_draw_a_bar_on_a_terminal(tmp_path, monkeypatch, scheduler):

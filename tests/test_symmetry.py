@@ -29,8 +29,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from prp3 import METHODS, Motion, PistonParameters, Robot, inverse_dynamics
-from prp3.motion import paper_motion
-from prp3.results import PER_LEG_COLUMNS, results_table
+from prp3.io.results import PER_LEG_COLUMNS, results_table
+from prp3.model.motion import paper_motion
 from strategies import (
     REF_E,
     REF_N,

@@ -24,8 +24,8 @@ import pytest
 
 import prp3
 from prp3 import Motion, Robot
+from prp3.engines.entries import compile_robot
 from prp3.errors import Prp3Error
-from prp3.fast import compile_robot
 from prp3.validation import check_poses, check_real
 
 ROBOT = Robot()

@@ -1,4 +1,4 @@
-"""Workspace, conditioning and singular loci (``prp3.workspace``).
+"""Workspace, conditioning and singular loci (``prp3.analysis.workspace``).
 
 Expected values come from the core's inverse geometry (with its stroke check),
 from half-plane intersections computed here, and from hand derivations
@@ -24,8 +24,7 @@ from prp3 import (
     UnreachablePoseError,
     inverse_geometry,
 )
-from prp3.kinematics import jacobian
-from prp3.workspace import (
+from prp3.analysis.workspace import (
     SINGULAR_ORIENTATIONS,
     jacobian_condition,
     orientation_range,
@@ -34,6 +33,7 @@ from prp3.workspace import (
     reachable_region,
     workspace_slice,
 )
+from prp3.mechanics.kinematics import jacobian
 
 STROKE = (-0.04, 0.06)
 LIMITED = Robot(limits=Limits(stroke=STROKE))

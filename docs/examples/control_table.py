@@ -23,7 +23,7 @@ holds them to 1e-8), so the columns are the same to the digits printed.
 
 ``--open-loop`` prints instead why feedback is needed (a few seconds): the
 growth rate of the robot held at rest by constant forces
-(``prp3.forward.open_loop_growth_rate``) at the central pose and at the poses
+(``prp3.analysis.forward.open_loop_growth_rate``) at the central pose and at the poses
 of the paper's two motions (every 0.1 s), and how far the exact forces of the
 rotation motion, applied open loop (feed-forward, 1 kHz hold, no stroke), take
 the platform off its path.
@@ -39,9 +39,9 @@ import numpy as np
 
 import prp3
 from prp3 import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
-from prp3.control import Tracking, control_times, law_at, track
-from prp3.forward import open_loop_growth_rate
-from prp3.motion import PAPER_DURATION, PAPER_MOTIONS
+from prp3.analysis.forward import open_loop_growth_rate
+from prp3.apps.control import Tracking, control_times, track
+from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
 
 PAPER = Robot()
 #: Actuator strokes of every plant (m): twice what the motions need; a run that

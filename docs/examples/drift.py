@@ -1,7 +1,7 @@
 """The drift table of docs/forward_and_workspace.md: inverse dynamics → forces → forward dynamics.
 
 For each of the paper's two motions (eq. 4, 3 s), the forces of the inverse
-dynamics drive ``prp3.forward.forward_dynamics`` from the motion's initial
+dynamics drive ``prp3.analysis.forward.forward_dynamics`` from the motion's initial
 state, open loop; the error is the largest difference of pose and velocity
 between the integrated and the planned motion over the 301 output samples,
 ``max |Δ(x, y, φ, ẋ, ẏ, φ̇)|`` (m, rad, m/s, rad/s mixed, as the table says).
@@ -17,9 +17,9 @@ from collections.abc import Callable
 import numpy as np
 
 import prp3
-from prp3.fast import compile_robot, sample_actuator_forces
-from prp3.forward import ActuatorForces, forward_dynamics
-from prp3.motion import PAPER_MOTIONS, law_at
+from prp3.analysis.forward import ActuatorForces, forward_dynamics
+from prp3.engines.entries import compile_robot, sample_actuator_forces
+from prp3.model.motion import PAPER_MOTIONS, law_at
 
 T = np.linspace(0.0, 3.0, 301)
 

@@ -26,9 +26,10 @@ from pathlib import Path
 import numpy as np
 
 import prp3
+from prp3.apps.base_parameters import base_parameters
+from prp3.apps.regressor import standard_parameters
 from prp3.cli import main as prp3_main
-from prp3.identification import base_parameters, standard_parameters
-from prp3.io import read_trajectory, write_table_csv
+from prp3.io.formats import read_trajectory, write_table_csv
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = 7

@@ -1,7 +1,7 @@
 """The "measured" column of docs/mujoco.md: the exported model driven by prp3's forces.
 
-The MJCF model of ``prp3.mjcf.mjcf_model`` is stepped by MuJoCo (RK4,
-timestep ``prp3.mjcf.TIMESTEP``) from the planned state, its motors given
+The MJCF model of ``prp3.apps.mjcf.mjcf_model`` is stepped by MuJoCo (RK4,
+timestep ``prp3.apps.mjcf.TIMESTEP``) from the planned state, its motors given
 prp3's ``f10`` at the middle of each step, open loop; the error is
 ``|planned − simulated|`` of ``x, y`` (m) and ``φ`` (rad) after every step.
 The runs are those ``tests/test_mjcf.py`` holds to its tolerances: the
@@ -23,10 +23,10 @@ import mujoco
 import numpy as np
 
 from prp3 import LinkParameters, PistonParameters, PlatformParameters, Robot, inverse_dynamics
-from prp3.geometry import LEGS
-from prp3.mjcf import TIMESTEP, MjcfWarning, mjcf_model
-from prp3.model import Friction, JointFriction, Load, Payload
-from prp3.motion import PAPER_MOTIONS, law_motion
+from prp3.apps.mjcf import TIMESTEP, MjcfWarning, mjcf_model
+from prp3.mechanics.geometry import LEGS
+from prp3.model.motion import PAPER_MOTIONS, law_motion
+from prp3.model.robot import Friction, JointFriction, Load, Payload
 
 #: The robots of the runs: the paper's, and one with offsets and another gravity.
 ROBOTS = {

@@ -24,11 +24,11 @@ from pathlib import Path
 import numpy as np
 
 import prp3
+from prp3.apps.design_objective import quantity
+from prp3.apps.sweep import read_designs
 from prp3.cli import main as prp3_main
-from prp3.design import quantity
 from prp3.plotting.design import pareto_figure
 from prp3.plotting.figures import save_figure
-from prp3.sweep import read_designs
 
 ROOT = Path(__file__).resolve().parents[2]
 SPEC = ROOT / "docs" / "examples" / "synthesis.toml"

@@ -15,24 +15,7 @@ from __future__ import annotations
 
 from importlib.metadata import PackageNotFoundError, version
 
-from .dynamics import (
-    METHODS,
-    InverseDynamics,
-    inverse_dynamics,
-    kernel_method,
-    newton_euler,
-)
-from .errors import (
-    InputFileError,
-    OutputFileError,
-    ParameterError,
-    Prp3Error,
-    SingularPoseError,
-    TrajectoryError,
-    UnreachablePoseError,
-)
-from .fast import CompiledRobot, FastForces, compile_robot, paper_forces, sample_forces
-from .forward import (
+from prp3.analysis.forward import (
     ActuatorForces,
     ForwardDynamics,
     ForwardGeometry,
@@ -46,11 +29,14 @@ from .forward import (
     mass_matrix,
     platform_dynamics,
 )
-from .geometry import LEGS, InverseGeometry, inverse_geometry, platform_vertices
-from .kinematics import Kinematics, inverse_kinematics, jacobian
-from .model import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
-from .motion import Motion, law_motion, paper_motion
-from .workspace import (
+from prp3.analysis.inverse_dynamics import (
+    METHODS,
+    InverseDynamics,
+    inverse_dynamics,
+    kernel_method,
+    newton_euler,
+)
+from prp3.analysis.workspace import (
     jacobian_condition,
     orientation_range,
     orientation_scan,
@@ -59,6 +45,26 @@ from .workspace import (
     workspace_slice,
     workspace_statics,
 )
+from prp3.engines.entries import (
+    CompiledRobot,
+    FastForces,
+    compile_robot,
+    paper_forces,
+    sample_forces,
+)
+from prp3.errors import (
+    InputFileError,
+    OutputFileError,
+    ParameterError,
+    Prp3Error,
+    SingularPoseError,
+    TrajectoryError,
+    UnreachablePoseError,
+)
+from prp3.mechanics.geometry import LEGS, InverseGeometry, inverse_geometry, platform_vertices
+from prp3.mechanics.kinematics import Kinematics, inverse_kinematics, jacobian
+from prp3.model.motion import Motion, law_motion, paper_motion
+from prp3.model.robot import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
 
 try:
     __version__ = version("prp3")

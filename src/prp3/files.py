@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
-from .errors import InputFileError, OutputFileError
+from prp3.errors import InputFileError, OutputFileError
 
 __all__ = [
     "LIBRARY_COMMAND",
@@ -625,7 +625,7 @@ def read_manifest(directory: str | Path, command: str | None = None) -> dict[str
 
 def _manifest_text(staged: StagedOutput, names: Sequence[str]) -> str:
     """The new manifest: this run's record, and the other commands' records kept."""
-    from . import __version__  # here: the package is initialised by the time a run ends
+    from prp3 import __version__  # here: the package is initialised by the time a run ends
 
     written = set(names)
     commands: dict[str, Any] = {}

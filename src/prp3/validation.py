@@ -38,10 +38,10 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import ParameterError, Prp3Error, SingularPoseError, TrajectoryError
+from prp3.errors import ParameterError, Prp3Error, SingularPoseError, TrajectoryError
 
 if TYPE_CHECKING:
-    from .model import Robot
+    from prp3.model.robot import Robot
 
 __all__ = [
     "LEGS",
@@ -272,7 +272,7 @@ def check_poses(
     Traceback (most recent call last):
     ...
     prp3.errors.TrajectoryError: sample 1: phi of pose is not finite (nan)
-    >>> from prp3.model import Robot
+    >>> from prp3.model.robot import Robot
     >>> check_poses([1e3, 0.0, 0.0], Robot())
     Traceback (most recent call last):
     ...
@@ -695,7 +695,7 @@ def check_pose_sample(
 ) -> tuple[float, float, float]:
     """One pose ``(x, y, φ)`` as :func:`check_sample` takes it, checked as :func:`check_poses`.
 
-    >>> from prp3.model import Robot
+    >>> from prp3.model.robot import Robot
     >>> check_pose_sample((0.0, 0, np.float64(0.1)), Robot())
     (0.0, 0.0, 0.1)
     """
@@ -851,7 +851,7 @@ def _bound(value: int) -> str:
 
 
 def check_robot(robot: object, name: str = "robot") -> Robot:
-    """Return ``robot`` if it is a :class:`~prp3.model.Robot`, else raise :class:`ParameterError`.
+    """Return ``robot`` if it is a :class:`~prp3.model.robot.Robot`, else raise :class:`ParameterError`.
 
     >>> check_robot(None)
     Traceback (most recent call last):
@@ -862,7 +862,7 @@ def check_robot(robot: object, name: str = "robot") -> Robot:
     ...
     prp3.errors.ParameterError: model must be a prp3.Robot, got 'robot.toml'
     """
-    from .model import Robot
+    from prp3.model.robot import Robot
 
     if not isinstance(robot, Robot):
         raise ParameterError(f"{name} must be a prp3.Robot, got {_describe(robot)}", key=name)
@@ -872,7 +872,7 @@ def check_robot(robot: object, name: str = "robot") -> Robot:
 def check_instance(name: str, value: object, kind: type[T], what: str) -> T:
     """Return ``value`` if it is a ``kind`` (called ``what`` in the message), else refuse it.
 
-    >>> from prp3.motion import Motion
+    >>> from prp3.model.motion import Motion
     >>> check_instance("motion", [0.0, 0.0, 0.0], Motion, "a prp3.Motion")
     Traceback (most recent call last):
     ...

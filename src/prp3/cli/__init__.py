@@ -27,9 +27,8 @@ from collections.abc import Callable, Sequence
 from types import FrameType
 from typing import Any, TextIO
 
-from .. import __version__
-from ..errors import OutputFileError, Prp3Error
-from . import (
+from prp3 import __version__
+from prp3.cli import (
     control,
     design,
     excite,
@@ -41,6 +40,7 @@ from . import (
     simulate,
     workspace,
 )
+from prp3.errors import OutputFileError, Prp3Error
 
 __all__ = ["main"]
 

@@ -16,7 +16,7 @@ __all__ = ["client_of"]
 @contextlib.contextmanager
 def client_of(args: argparse.Namespace) -> Iterator[Client]:
     """A client of ``--scheduler``, or of a LocalCluster of ``--workers`` processes."""
-    from ..sweep import dask_client
+    from prp3.apps.cluster import dask_client
 
     with dask_client(args.workers, args.scheduler) as client:
         yield client

@@ -13,12 +13,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error
-from ..family import FamilyRobot, family_inverse_dynamics, family_results_table
-from ..io import staged_output, write_table_csv, write_table_parquet
-from ..motion import Motion
-from ..validation import LEGS
-from ._types import emit, files_report
+from prp3.cli._types import emit, files_report
+from prp3.errors import Prp3Error
+from prp3.family import FamilyRobot, family_inverse_dynamics, family_results_table
+from prp3.io.formats import staged_output, write_table_csv, write_table_parquet
+from prp3.model.motion import Motion
+from prp3.validation import LEGS
 
 __all__ = ["family_summary_text", "run_family"]
 
@@ -31,7 +31,7 @@ def family_summary_text(
     """Peaks and energies of a family run, per leg, then the ``files`` lines.
 
     >>> from prp3.family import FamilyRobot, family_inverse_dynamics, family_results_table
-    >>> from prp3.motion import paper_motion
+    >>> from prp3.model.motion import paper_motion
     >>> robot = FamilyRobot.default("3-RRR")
     >>> table = family_results_table(family_inverse_dynamics(robot, paper_motion("vertical", 31)))
     >>> print(family_summary_text(table, robot, "run", []).splitlines()[2])
@@ -85,7 +85,7 @@ def run_family(
     html = getattr(args, "html", None)
     page = None
     if html is not None:  # built before anything is written: a failure leaves no file
-        from ..explorer.app import run_html
+        from prp3.explorer.app import run_html
 
         title = heading.removeprefix("prp3 simulate: ")
         page = run_html(robot, table, f"{robot.architecture}: {title}")
@@ -95,8 +95,8 @@ def run_family(
         else:
             write_table_csv(staged.path(results_name), table, progress=progress.stage(results_name))
         if args.plots:
-            from ..plotting.family import family_figures
-            from ..plotting.figures import save_figure
+            from prp3.plotting.family import family_figures
+            from prp3.plotting.figures import save_figure
 
             figures = family_figures(
                 table,
@@ -108,8 +108,8 @@ def run_family(
             for name, figure in figures.items():
                 save_figure(figure, staged.path(name))
         if args.animate:  # the robot's own legs (prp3.plotting.family_animation)
-            from ..plotting.animation import MAX_FRAMES
-            from ..plotting.family_animation import save_family_animation
+            from prp3.plotting.animation import MAX_FRAMES
+            from prp3.plotting.family_animation import save_family_animation
 
             save_family_animation(
                 robot,
@@ -122,7 +122,7 @@ def run_family(
         heading = heading.replace("prp3 simulate:", f"prp3 simulate: {robot.architecture}", 1)
         emit(family_summary_text(table, robot, heading, files_report(staged)))
     if html is not None and page is not None:
-        from ..files import atomic_writer
+        from prp3.files import atomic_writer
 
         with atomic_writer(html) as stream:
             stream.write(page)

@@ -25,9 +25,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError, Prp3Error
-from ..family import FamilyRobot, family_results_table
-from ..io import (
+from prp3.apps.runs import check_memory
+from prp3.cli._types import check_extent, emit, files_report
+from prp3.errors import ParameterError, Prp3Error
+from prp3.family import FamilyRobot, family_results_table
+from prp3.io.formats import (
     check_inputs_kept,
     check_output_directory,
     read_table_csv,
@@ -35,10 +37,8 @@ from ..io import (
     trajectory_table,
     write_table_csv,
 )
-from ..motion import Motion
-from ..runs import check_memory
-from ..validation import LEGS
-from ._types import check_extent, emit, files_report
+from prp3.model.motion import Motion
+from prp3.validation import LEGS
 
 __all__ = [
     "family_spec_of",
@@ -49,7 +49,7 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:
-    from ..family.design import FamilySweepSpec
+    from prp3.family.design import FamilySweepSpec
 
 FloatArray = NDArray[np.float64]
 
@@ -66,7 +66,7 @@ BYTES_PER_RUN: int = 200 * 1024**2
 
 def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
     """``prp3 workspace`` of a family robot; return the exit status."""
-    from ..family.workspace import family_orientation_scan, family_workspace_slice
+    from prp3.family.workspace import family_orientation_scan, family_workspace_slice
 
     if args.statics:
         raise ParameterError(
@@ -108,7 +108,7 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
         "regular_area": scan.regular_area,
         "min_mu_par": scan.min_mu_par,
     }
-    from ..plotting.family_workspace import save_family_workspace_map
+    from prp3.plotting.family_workspace import save_family_workspace_map
 
     with staged_output(args.output) as staged:
         write_table_csv(staged.path("workspace.csv"), table)
@@ -133,7 +133,7 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
 
 def _read_efforts(path: Path) -> tuple[dict[str, FloatArray], bool]:
     """The efforts table: ``t,tau_A,tau_B,tau_C`` or a family ``results.csv`` (64 columns)."""
-    from ..family import FAMILY_COLUMNS
+    from prp3.family import FAMILY_COLUMNS
 
     try:
         with path.open(encoding="utf-8", errors="replace") as handle:
@@ -163,7 +163,7 @@ def _drift(columns: dict[str, FloatArray], motion: Motion, results: bool) -> lis
 
 def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
     """``prp3 forward`` of a family robot; return the exit status."""
-    from ..family.forward import family_forward_dynamics
+    from prp3.family.forward import family_forward_dynamics
 
     check_inputs_kept(args.output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
     columns, results = _read_efforts(Path(args.forces))
@@ -179,8 +179,8 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
     if args.initial_velocity is not None:
         velocity = np.array(args.initial_velocity, dtype=np.float64)
     elif results and args.initial_pose is None:
-        from ..family import family_kinematics
-        from ..motion import Motion
+        from prp3.family import family_kinematics
+        from prp3.model.motion import Motion
 
         kin = family_kinematics(robot, Motion.at_rest(pose))
         a = robot.actuated - 1
@@ -224,8 +224,8 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
 
 def family_spec_of(path: Path) -> FamilySweepSpec | None:
     """The family sweep spec of ``SWEEP.toml`` at ``path``, or ``None`` for a model-form spec."""
-    from ..family.design import family_sweep_spec, is_family_spec
-    from ..model import read_toml
+    from prp3.family.design import family_sweep_spec, is_family_spec
+    from prp3.model.robot import read_toml
 
     data = read_toml(path, "sweep")
     if not is_family_spec(data):
@@ -261,8 +261,8 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
     """``prp3 sweep`` of a family spec (``[[study]]``); return the exit status."""
     import pyarrow.parquet as pq
 
-    from ..family.design import run_family_sweep as sweep
-    from ._design_client import client_of
+    from prp3.cli._design_client import client_of
+    from prp3.family.design import run_family_sweep as sweep
 
     for option, given in (("--pareto", args.pareto is not None),
                           ("--sensitivity", args.sensitivity is not None)):  # fmt: skip
@@ -279,8 +279,8 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
                for name in spec.evaluator.columns}  # fmt: skip
     written = [result.path]
     if args.plots:
-        from ..plotting.family_design import family_designs_figure
-        from ..plotting.figures import save_figure
+        from prp3.plotting.family_design import family_designs_figure
+        from prp3.plotting.figures import save_figure
 
         written.append(save_figure(family_designs_figure(columns), output / "family_designs.png"))
     statuses = ", ".join(f"{count} {name}" for name, count in sorted(result.status.items()))
@@ -297,8 +297,8 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
 
 def run_family_optimize(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
     """``prp3 optimize`` of a family spec; return the exit status (1 when nothing is feasible)."""
-    from ..family.design import family_design_robot, optimize_family
-    from ._design_client import client_of
+    from prp3.cli._design_client import client_of
+    from prp3.family.design import family_design_robot, optimize_family
 
     output: Path = args.output
     check_output_directory(output)

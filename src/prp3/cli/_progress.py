@@ -1,10 +1,10 @@
 """The progress bar of every subcommand: tqdm on stderr, only on a terminal, only for long runs.
 
 The library reports progress through optional callbacks ``progress(done,
-total)`` (:func:`prp3.runs.simulate_table`, :func:`prp3.workspace.orientation_scan`,
-:func:`prp3.forward.forward_dynamics`, :func:`prp3.identification.identify`,
-:func:`prp3.control.track`, :func:`prp3.identification.excitation`,
-:func:`prp3.sweep.run_sweep`, :func:`prp3.sweep.optimize_design`, the CSV
+total)`` (:func:`prp3.apps.runs.simulate_table`, :func:`prp3.analysis.workspace.orientation_scan`,
+:func:`prp3.analysis.forward.forward_dynamics`, :func:`prp3.apps.identification.identify`,
+:func:`prp3.apps.control.track`, :func:`prp3.apps.excitation.exciting_trajectory`,
+:func:`prp3.apps.sweep.run_sweep`, :func:`prp3.apps.optimization.optimize_design`, the CSV
 writer); only the command line decides to show them, through :class:`Progress`:
 a bar with the count, the rate and the estimated time left (tqdm), nothing
 when stderr is not a terminal (a pipe, a file, a CI log) or before the run

@@ -18,9 +18,9 @@ import sys
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
-from ..errors import OutputFileError, ParameterError
-from ..files import MANIFEST_NAME, StagedOutput, staged_output
-from ..model import Robot
+from prp3.errors import OutputFileError, ParameterError
+from prp3.files import MANIFEST_NAME, StagedOutput, staged_output
+from prp3.model.robot import Robot
 
 __all__ = [
     "add_output_directory",
@@ -118,7 +118,7 @@ def load_robot(args: argparse.Namespace) -> Robot:
     """
     if args.robot is None:
         return Robot()
-    from ..family import FamilyRobot, read_robot_file
+    from prp3.family import FamilyRobot, read_robot_file
 
     robot = read_robot_file(args.robot)
     if isinstance(robot, FamilyRobot):

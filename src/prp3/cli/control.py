@@ -8,9 +8,9 @@
 
 Writes ``DIR/tracking.csv`` (one row per control instant: ``t, x, y, phi,
 x_ref, y_ref, phi_ref, f10_A, f10_B, f10_C``) and ``DIR/tracking.png``
-together (:func:`prp3.io.staged_output`) and prints a summary (max and RMS
+together (:func:`prp3.io.formats.staged_output`) and prints a summary (max and RMS
 tracking errors, the controller's time per step).  The computation is
-:func:`prp3.control.track`; this module only parses and prints.  When the
+:func:`prp3.apps.control.track`; this module only parses and prints.  When the
 plant stops early (singularity, stroke limit, failed simulation), the files
 hold the run up to the stop, the reason goes to stderr and the exit status is 1.
 """
@@ -24,34 +24,19 @@ from typing import Any
 
 import numpy as np
 
-from ..control import (
-    CONTROLLERS,
-    DEFAULT_KD,
-    DEFAULT_KP,
+from prp3.apps.control import (
     DEFAULT_RATE,
     LOAD_REFUSAL,
-    PLANTS,
-    Gains,
     Tracking,
     check_model,
     control_times,
     hermite_reference,
-    law_at,
     track,
 )
-from ..errors import SingularPoseError, TrajectoryError, UnreachablePoseError
-from ..geometry import LEGS, inverse_geometry
-from ..io import (
-    check_inputs_kept,
-    check_output_directory,
-    read_trajectory,
-    write_table_csv,
-)
-from ..model import Robot
-from ..motion import PAPER_DURATION, PAPER_MOTIONS
-from ..plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
-from ._progress import progress_bar
-from ._types import (
+from prp3.apps.control_law import CONTROLLERS, DEFAULT_KD, DEFAULT_KP, Gains
+from prp3.apps.plants import PLANTS
+from prp3.cli._progress import progress_bar
+from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     emit,
@@ -62,6 +47,17 @@ from ._types import (
     path_name,
     positive_float,
 )
+from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from prp3.io.formats import (
+    check_inputs_kept,
+    check_output_directory,
+    read_trajectory,
+    write_table_csv,
+)
+from prp3.mechanics.geometry import LEGS, inverse_geometry
+from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
+from prp3.model.robot import Robot
+from prp3.plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
 
 __all__ = ["EXIT_STOPPED", "TRACKING_COLUMNS", "register", "run", "tracking_table"]
 
@@ -260,8 +256,8 @@ def run(args: argparse.Namespace) -> int:
     with output_folder(args, output) as staged:
         write_table_csv(staged.path("tracking.csv"), table)
         if result.t.size >= 2:
-            from ..plotting.control import tracking_figure
-            from ..plotting.figures import save_figure
+            from prp3.plotting.control import tracking_figure
+            from prp3.plotting.figures import save_figure
 
             save_figure(
                 tracking_figure(

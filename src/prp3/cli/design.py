@@ -26,16 +26,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..design import AGGREGATES, SweepSpec, design_robot, quantity, read_sweep_spec
-from ..errors import Prp3Error
-from ..io import atomic_writer, check_inputs_kept, check_output_directory, format_float
-from ._progress import Progress
-from ._types import emit, files_report, integer_at_least, output_folder, path_name
+from prp3.apps.design import AGGREGATES, design_robot
+from prp3.apps.design_objective import quantity
+from prp3.apps.sweep_spec import SweepSpec, read_sweep_spec
+from prp3.cli._progress import Progress
+from prp3.cli._types import emit, files_report, integer_at_least, output_folder, path_name
+from prp3.errors import Prp3Error
+from prp3.io.formats import atomic_writer, check_inputs_kept, check_output_directory, format_float
 
 if TYPE_CHECKING:
     from dask.distributed import Client
 
-    from ..family.design import FamilySweepSpec
+    from prp3.family.design import FamilySweepSpec
 
 __all__ = ["register", "run_optimize", "run_sweep"]
 
@@ -158,7 +160,7 @@ def _require_design_extra() -> None:
 
 @contextlib.contextmanager
 def _client(args: argparse.Namespace) -> Iterator[Client]:
-    from ..sweep import dask_client
+    from prp3.apps.cluster import dask_client
 
     with dask_client(args.workers, args.scheduler) as client:
         yield client
@@ -198,14 +200,14 @@ def _read_spec(args: argparse.Namespace) -> SweepSpec:
 
 def _family_spec(args: argparse.Namespace) -> FamilySweepSpec | None:
     """The spec of ``--spec`` when it is in family form (``[[study]]``), else ``None``."""
-    from ._family_analysis import family_spec_of
+    from prp3.cli._family_analysis import family_spec_of
 
     return family_spec_of(Path(args.spec))
 
 
 def run_sweep(args: argparse.Namespace) -> int:
     """Run ``prp3 sweep``; return the exit status."""
-    from .. import sweep
+    from prp3.apps import sweep
 
     _require_design_extra()
     for option, value in (("--pareto", args.pareto), ("--sensitivity", args.sensitivity)):
@@ -215,7 +217,7 @@ def run_sweep(args: argparse.Namespace) -> int:
             )
     family = _family_spec(args)
     if family is not None:  # [[study]]: architectures of docs/family.md
-        from ._family_analysis import run_family_sweep
+        from prp3.cli._family_analysis import run_family_sweep
 
         return run_family_sweep(args, family)
     args.sensitivity = args.sensitivity or "peak_f10"
@@ -262,8 +264,8 @@ def run_sweep(args: argparse.Namespace) -> int:
     with output_folder(args, output, [args.spec, *spec.files]) as staged:
         staged.adopt(sweep.DESIGNS_FILE)
         if args.plots:
-            from ..plotting.design import pareto_figure, sensitivity_figure
-            from ..plotting.figures import save_figure
+            from prp3.plotting.design import pareto_figure, sensitivity_figure
+            from prp3.plotting.figures import save_figure
 
             (x, max_x), (y, max_y) = axes
             wanted = {*spec.paths, "status"}
@@ -308,12 +310,12 @@ def _write_history(path: Path, history: Mapping[str, Any]) -> None:
 
 def run_optimize(args: argparse.Namespace) -> int:
     """Run ``prp3 optimize``; return the exit status."""
-    from .. import sweep
+    from prp3.apps import optimization
 
     _require_design_extra()
     family = _family_spec(args)
     if family is not None:  # [[study]]: architectures of docs/family.md
-        from ._family_analysis import run_family_optimize
+        from prp3.cli._family_analysis import run_family_optimize
 
         return run_family_optimize(args, family)
     spec = _read_spec(args)
@@ -323,7 +325,7 @@ def run_optimize(args: argparse.Namespace) -> int:
     start = time.monotonic()
     progress = Progress(sys.stderr)
     try:
-        outcome = sweep.optimize_design(
+        outcome = optimization.optimize_design(
             spec, lambda: _client(args), progress=progress.stage("generations")
         )
     finally:

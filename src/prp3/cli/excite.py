@@ -8,7 +8,7 @@
 
 Writes ``DIR/trajectory.csv`` (columns ``t, x, y, phi, dx, dy, dphi, ddx, ddy,
 ddphi``, the analytic derivatives of the series): one period of the finite
-Fourier series of :func:`prp3.identification.exciting_trajectory`, which
+Fourier series of :func:`prp3.apps.excitation.exciting_trajectory`, which
 minimises the condition number of the stacked base regressor within the
 limits.  This module only parses and prints.
 """
@@ -20,10 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from ..identification import exciting_trajectory
-from ..io import check_output_directory, write_table_csv
-from ._progress import progress_bar
-from ._types import (
+from prp3.apps.excitation import exciting_trajectory
+from prp3.cli._progress import progress_bar
+from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     emit,
@@ -33,6 +32,7 @@ from ._types import (
     output_folder,
     positive_float,
 )
+from prp3.io.formats import check_output_directory, write_table_csv
 
 __all__ = ["TRAJECTORY_NAME", "register", "run"]
 

@@ -20,9 +20,9 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..family import FamilyRobot
-from ..model import Robot
-from ._types import add_robot_option, emit, integer_at_least, load_robot, path_name
+from prp3.cli._types import add_robot_option, emit, integer_at_least, load_robot, path_name
+from prp3.family import FamilyRobot
+from prp3.model.robot import Robot
 
 __all__ = ["register", "run"]
 
@@ -88,11 +88,11 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``prp3 explore`` with parsed ``args``; return the exit status."""
-    from ..explorer.app import require_bokeh, serve, write_run_html
+    from prp3.explorer.app import require_bokeh, serve, write_run_html
 
     require_bokeh()
-    from ..explorer.scene import read_run, run_motion
-    from ..family import read_robot_file
+    from prp3.explorer.scene import read_run, run_motion
+    from prp3.family import read_robot_file
 
     robot = read_robot_file(args.robot) if args.robot is not None else load_robot(args)
     if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
@@ -127,8 +127,8 @@ def run(args: argparse.Namespace) -> int:
 def _run_family(args: argparse.Namespace, robot: FamilyRobot) -> int:
     """``prp3 explore`` of a family robot: the page of its poses, or --export of the paper's
     vertical motion (``--results`` is refused: not yet for the family's columns)."""
-    from ..errors import Prp3Error
-    from ..explorer.app import serve, write_run_html
+    from prp3.errors import Prp3Error
+    from prp3.explorer.app import serve, write_run_html
 
     if args.results is not None:
         raise Prp3Error(
@@ -138,8 +138,8 @@ def _run_family(args: argparse.Namespace, robot: FamilyRobot) -> int:
             file=args.robot,
         )
     if args.export is not None:
-        from ..family import family_inverse_dynamics, family_results_table
-        from ..motion import paper_motion
+        from prp3.family import family_inverse_dynamics, family_results_table
+        from prp3.model.motion import paper_motion
 
         export: Path = args.export
         solution = family_inverse_dynamics(robot, paper_motion("vertical", 301))
@@ -157,7 +157,7 @@ def _run_family(args: argparse.Namespace, robot: FamilyRobot) -> int:
 
 
 def _paper_run(robot: Robot) -> dict[str, Any]:
-    from ..motion import paper_motion
-    from ..runs import simulate_table
+    from prp3.apps.runs import simulate_table
+    from prp3.model.motion import paper_motion
 
     return dict(simulate_table(robot, paper_motion("vertical", 301), "fast"))

@@ -1,13 +1,13 @@
 """``prp3 export``: write the robot in another program's format.
 
 ``prp3 export mjcf [--robot ROBOT.toml] [--output FILE]`` writes the robot as a
-MuJoCo MJCF model (:func:`prp3.mjcf.mjcf_model`) on standard output, or
+MuJoCo MJCF model (:func:`prp3.apps.mjcf.mjcf_model`) on standard output, or
 atomically to ``FILE`` and then says on stdout what it wrote, as every command
 does.  MuJoCo is not needed to export.
 
 ``prp3 export c --output DIR [--robot ROBOT.toml]`` writes the inverse
 dynamics as C99 code, ``DIR/prp3_inverse_dynamics.h`` and ``.c``
-(:func:`prp3.codegen.c_inverse_dynamics`), together or not at all.
+(:func:`prp3.apps.codegen.c_inverse_dynamics`), together or not at all.
 
 A family-form robot file (docs/family.md: 3-RPR, 3-RRR, ...) goes to the
 family's exporters, :func:`prp3.family.mjcf.family_mjcf_model` and
@@ -20,15 +20,9 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..codegen import HEADER_NAME, SOURCE_NAME, CSource, c_inverse_dynamics
-from ..errors import ParameterError
-from ..family import FamilyRobot, read_robot_file
-from ..family.codegen import FamilyCSource, family_c_inverse_dynamics
-from ..family.mjcf import family_mjcf_model
-from ..io import atomic_writer, check_inputs_kept, check_output_directory
-from ..mjcf import mjcf_model
-from ..model import Robot
-from ._types import (
+from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, CSource, c_inverse_dynamics
+from prp3.apps.mjcf import mjcf_model
+from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     emit,
@@ -37,6 +31,12 @@ from ._types import (
     output_folder,
     path_name,
 )
+from prp3.errors import ParameterError
+from prp3.family import FamilyRobot, read_robot_file
+from prp3.family.codegen import FamilyCSource, family_c_inverse_dynamics
+from prp3.family.mjcf import family_mjcf_model
+from prp3.io.formats import atomic_writer, check_inputs_kept, check_output_directory
+from prp3.model.robot import Robot
 
 __all__ = ["register"]
 

@@ -13,7 +13,7 @@ a time-varying load on the platform interpolated like the forces (a
 ``results.csv`` of a trajectory with a load has them).  Writes ``DIR/results.csv``
 (the contract columns of the integrated motion) and ``DIR/trajectory.csv``
 (``t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi``, readable by ``prp3 simulate
---trajectory``), together (:func:`prp3.io.staged_output`).  When the motion
+--trajectory``), together (:func:`prp3.io.formats.staged_output`).  When the motion
 stops early at a singularity or a stroke limit, the files hold the motion up
 to the stop, the reason goes to stderr and the exit status is 1.
 """
@@ -29,8 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error
-from ..forward import (
+from prp3.analysis.forward import (
     MIN_RTOL,
     ForwardDynamics,
     check_forward_friction,
@@ -38,19 +37,9 @@ from ..forward import (
     forward_velocity,
     open_loop_growth_rate,
 )
-from ..io import (
-    FORCE_COLUMNS,
-    ForceInput,
-    check_inputs_kept,
-    check_output_directory,
-    read_forces,
-    trajectory_table,
-    write_table_csv,
-)
-from ..results import results_table
-from ..runs import check_memory
-from ._progress import progress_bar
-from ._types import (
+from prp3.apps.runs import check_memory
+from prp3.cli._progress import progress_bar
+from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     emit,
@@ -62,8 +51,19 @@ from ._types import (
     path_name,
     positive_float,
 )
+from prp3.errors import Prp3Error
+from prp3.io.formats import (
+    FORCE_COLUMNS,
+    ForceInput,
+    check_inputs_kept,
+    check_output_directory,
+    read_forces,
+    trajectory_table,
+    write_table_csv,
+)
+from prp3.io.results import results_table
 
-__all__ = [  # FORCE_COLUMNS, ForceInput and read_forces: from prp3.io
+__all__ = [  # FORCE_COLUMNS, ForceInput and read_forces: from prp3.io.formats
     "FORCE_COLUMNS",
     "ForceInput",
     "PlanDrift",
@@ -190,11 +190,11 @@ def run(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     if args.robot is not None:  # a family-form robot file: docs/family.md
-        from ..family import FamilyRobot, read_robot_file
+        from prp3.family import FamilyRobot, read_robot_file
 
         loaded = read_robot_file(args.robot)
         if isinstance(loaded, FamilyRobot):
-            from ._family_analysis import run_family_forward
+            from prp3.cli._family_analysis import run_family_forward
 
             return run_family_forward(args, loaded)
     check_inputs_kept(output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
@@ -285,8 +285,8 @@ def plan_drift(given: ForceInput, result: ForwardDynamics) -> PlanDrift | None:
     """The drift of ``result`` from the planned poses of a ``results.csv`` (``None`` without).
 
     >>> import numpy as np
-    >>> from prp3.forward import ActuatorForces
-    >>> from prp3.motion import Motion
+    >>> from prp3.analysis.forward import ActuatorForces
+    >>> from prp3.model.motion import Motion
     >>> t = np.array([0.0, 1.0, 2.0])
     >>> given = ForceInput(Path("r.csv"), ActuatorForces(t=t, f10=np.zeros((3, 3))),
     ...                    np.zeros(3), np.zeros(3), np.zeros((3, 3)))

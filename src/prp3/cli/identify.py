@@ -8,11 +8,11 @@
 ``M.csv`` has the columns of a trajectory file (``t, x, y, phi`` and
 optionally all of ``dx, dy, dphi, ddx, ddy, ddphi``; derivatives computed as
 for a trajectory file when absent) and the measured ``f10_A, f10_B, f10_C``.
-Writes, together (:func:`prp3.io.staged_output`), ``DIR/robot.toml`` (the
+Writes, together (:func:`prp3.io.formats.staged_output`), ``DIR/robot.toml`` (the
 nominal robot with physical parameters that reproduce the identified base
 parameters), ``DIR/parameters.csv`` (``name, combination, estimate, std``) and
 ``DIR/identification.png`` (measured and fitted forces), and prints a summary.
-The computation is :mod:`prp3.identification`; this module only parses and prints.
+The computation is :mod:`prp3.apps.identification`; this module only parses and prints.
 """
 
 from __future__ import annotations
@@ -22,33 +22,42 @@ import csv
 import sys
 from typing import Any
 
-from ..elements import FRICTIONS
-from ..errors import SingularPoseError, UnreachablePoseError
-from ..geometry import LEGS, inverse_geometry
-from ..identification import (
+from prp3.apps.base_parameters import base_parameters
+from prp3.apps.identification import (
     FRICTION_MODELS,
+    Identification,
+    IdentifiedRobot,
+    identified_robot,
+    identify,
+)
+from prp3.apps.regressor import (
     FRICTION_PARAMETERS,
     PARAMETER_SYMBOLS,
     PARAMETER_UNITS,
     STANDARD_PARAMETERS,
-    Identification,
-    IdentifiedRobot,
-    base_parameters,
-    identified_robot,
-    identify,
     standard_parameters,
 )
-from ..io import (
+from prp3.cli._progress import progress_bar
+from prp3.cli._types import (
+    add_output_directory,
+    emit,
+    files_report,
+    load_robot,
+    output_folder,
+    path_name,
+)
+from prp3.errors import SingularPoseError, UnreachablePoseError
+from prp3.io.formats import (
     atomic_writer,
     check_inputs_kept,
     check_output_directory,
     format_float,
     read_measurements,
 )
-from ..model import Robot
-from ..plotting.identification import IDENTIFICATION_FIGURE  # a constant: no matplotlib
-from ._progress import progress_bar
-from ._types import add_output_directory, emit, files_report, load_robot, output_folder, path_name
+from prp3.mechanics.geometry import LEGS, inverse_geometry
+from prp3.model.elements import FRICTIONS
+from prp3.model.robot import Robot
+from prp3.plotting.identification import IDENTIFICATION_FIGURE  # a constant: no matplotlib
 
 __all__ = ["FRICTION_CHOICES", "PARAMETERS_NAME", "ROBOT_NAME", "register", "run"]
 
@@ -155,8 +164,8 @@ def run(args: argparse.Namespace) -> int:
     robot = identified_robot(nominal, result)
     if trajectory.note is not None:  # only for a run that goes on
         print(f"{args.program}: warning: {trajectory.note}", file=sys.stderr)
-    from ..plotting.figures import save_figure
-    from ..plotting.identification import identification_figure
+    from prp3.plotting.figures import save_figure
+    from prp3.plotting.identification import identification_figure
 
     figure = identification_figure(
         result.t,

@@ -11,10 +11,10 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..errors import Prp3Error
-from ..family import ARCHITECTURES, FamilyRobot, family_template, read_robot_file
-from ..model import robot_template
-from ._types import emit, path_name
+from prp3.cli._types import emit, path_name
+from prp3.errors import Prp3Error
+from prp3.family import ARCHITECTURES, FamilyRobot, family_template, read_robot_file
+from prp3.model.robot import robot_template
 
 __all__ = ["register", "run"]
 

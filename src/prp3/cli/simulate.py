@@ -26,26 +26,17 @@ from typing import Any, TextIO
 import numpy as np
 from numpy.typing import NDArray
 
-from ..dynamics import METHODS
-from ..errors import Prp3Error
-from ..family import FamilyRobot, read_robot_file
-from ..geometry import LEGS
-from ..io import (
-    Trajectory,
-    check_inputs_kept,
-    check_output_directory,
-    parquet_available,
-    read_trajectory,
-    write_table_csv,
-    write_table_parquet,
+from prp3.analysis.inverse_dynamics import METHODS
+from prp3.apps.runs import (
+    CHUNK_SAMPLES,
+    RunSummary,
+    check_memory,
+    simulate_table,
+    summarize,
+    summary_text,
 )
-from ..kernel import NEAR_LOCK_MU
-from ..kinematics import inverse_kinematics
-from ..motion import PAPER_MOTIONS, Motion, paper_motion
-from ..plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
-from ..runs import CHUNK_SAMPLES, RunSummary, check_memory, simulate_table, summarize, summary_text
-from ._progress import Progress
-from ._types import (
+from prp3.cli._progress import Progress
+from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     emit,
@@ -55,6 +46,22 @@ from ._types import (
     output_folder,
     path_name,
 )
+from prp3.errors import Prp3Error
+from prp3.family import FamilyRobot, read_robot_file
+from prp3.io.formats import (
+    Trajectory,
+    check_inputs_kept,
+    check_output_directory,
+    parquet_available,
+    read_trajectory,
+    write_table_csv,
+    write_table_parquet,
+)
+from prp3.mechanics.geometry import LEGS
+from prp3.mechanics.kernel import NEAR_LOCK_MU
+from prp3.mechanics.kinematics import inverse_kinematics
+from prp3.model.motion import PAPER_MOTIONS, Motion, paper_motion
+from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -66,7 +73,7 @@ __all__ = [
     "run",
     "simulate_table",
     "summarize",
-]  # the run table and summary are built by prp3.runs; re-exported for callers
+]  # the run table and summary are built by prp3.apps.runs; re-exported for callers
 
 FloatArray = NDArray[np.float64]
 
@@ -217,7 +224,7 @@ def near_lock_note(samples: list[int], motion: Motion, trajectory: Trajectory | 
     Names the first three samples (file lines of a trajectory) with their
     times, the last one and the count.
 
-    >>> from prp3.motion import paper_motion
+    >>> from prp3.model.motion import paper_motion
     >>> print(near_lock_note([5, 6, 7, 8, 9], paper_motion("rotation", 11), None))
     ... # doctest: +NORMALIZE_WHITESPACE
     5 samples near a lock of the joint friction (mu coefficients 1.2 times larger would lock
@@ -248,7 +255,7 @@ def near_lock_note(samples: list[int], motion: Motion, trajectory: Trajectory | 
 def _fewer_frames(asked: int, motion: Motion, made: int) -> str:
     """Why the animation has ``made`` frames, fewer than ``--frames asked``.
 
-    >>> from prp3.motion import paper_motion
+    >>> from prp3.model.motion import paper_motion
     >>> print(_fewer_frames(301, paper_motion("vertical", 301), 101))
     ... # doctest: +NORMALIZE_WHITESPACE
     --frames 301: the animation has 101 frames: it plays the motion in real time (3 s) and
@@ -281,7 +288,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         )
     html: Path | None = getattr(args, "html", None)
     if html is not None:
-        from ..explorer.app import require_bokeh
+        from prp3.explorer.app import require_bokeh
 
         require_bokeh("--html")
     check_output_directory(output)
@@ -309,7 +316,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
 
     source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
     if isinstance(loaded, FamilyRobot):  # a family-form robot file: docs/family.md
-        from ._family import run_family
+        from prp3.cli._family import run_family
 
         def note() -> None:
             if trajectory is not None and trajectory.note is not None:
@@ -342,7 +349,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
     summary = summarize(table, motion.velocity[:, 2])
     page = None
     if html is not None:  # built before anything is written: a failure leaves no file
-        from ..explorer.app import run_html
+        from prp3.explorer.app import run_html
 
         page = run_html(robot, table, heading.removeprefix("prp3 simulate: "))
 
@@ -354,14 +361,14 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         else:
             write_table_csv(staged.path(results_name), table, progress=progress.stage(results_name))
         if args.plots:
-            from ..plotting.figures import results_figures, save_figure
+            from prp3.plotting.figures import results_figures, save_figure
 
             figures = results_figures(table, motion=args.motion, source=trajectory_file)
             for done, (name, figure) in enumerate(figures.items(), start=1):
                 save_figure(figure, staged.path(name))
                 progress.update("figures", done, len(figures))
         if args.animate:
-            from ..plotting.animation import frame_schedule, save_animation
+            from prp3.plotting.animation import frame_schedule, save_animation
 
             indices, durations = frame_schedule(motion.t, frames)
             if args.frames is not None and len(indices) < args.frames:
@@ -392,7 +399,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         # output then leaves the earlier results in place
         emit(summary_text(summary, heading, files_report(staged)))
     if html is not None and page is not None:
-        from ..files import atomic_writer
+        from prp3.files import atomic_writer
 
         with atomic_writer(html) as stream:
             stream.write(page)

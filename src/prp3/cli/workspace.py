@@ -9,7 +9,7 @@ writes ``DIR/workspace.csv`` (the grid at ``φ``), ``DIR/orientations.csv``
 (the scan of ``φ``) and ``DIR/workspace.png`` (the map), and with the statics
 map (``--statics``; by default when the robot has a ``[payload]``, a
 ``[load]`` or ``[limits] max_force``) ``DIR/statics.csv`` and
-``DIR/statics.png``, together or not at all (:func:`prp3.io.staged_output`).
+``DIR/statics.png``, together or not at all (:func:`prp3.io.formats.staged_output`).
 The columns are documented in
 ``docs/forward_and_workspace.md`` and in ``--help``.
 """
@@ -23,13 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..geometry import SINGULARITY_THRESHOLD
-from ..io import check_output_directory, write_table_csv
-from ..model import Robot
-from ..runs import check_memory
-from ..validation import POSE_BOUND
-from ..workspace import (
+from prp3.analysis.workspace import (
     OrientationScan,
     WorkspaceSlice,
     WorkspaceStatics,
@@ -39,8 +33,9 @@ from ..workspace import (
     workspace_slice,
     workspace_statics,
 )
-from ._progress import progress_bar
-from ._types import (
+from prp3.apps.runs import check_memory
+from prp3.cli._progress import progress_bar
+from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     check_extent,
@@ -51,6 +46,11 @@ from ._types import (
     load_robot,
     output_folder,
 )
+from prp3.errors import ParameterError
+from prp3.io.formats import check_output_directory, write_table_csv
+from prp3.mechanics.geometry import SINGULARITY_THRESHOLD
+from prp3.model.robot import Robot
+from prp3.validation import POSE_BOUND
 
 __all__ = [
     "DEFAULT_ORIENTATIONS",
@@ -129,11 +129,11 @@ def default_extent(robot: Robot, samples: int = 721) -> tuple[float, float, floa
     """The grid window: the bounding box of every reachable ``(x, y)``, with a margin.
 
     With ``[limits] stroke`` the box covers the exact regions of
-    ``samples`` orientations spread over :func:`~prp3.workspace.orientation_range`,
+    ``samples`` orientations spread over :func:`~prp3.analysis.workspace.orientation_range`,
     enlarged by :data:`EXTENT_MARGIN` of its size; without a stroke the
     workspace is unbounded and the window is ``±l0`` in both directions.
 
-    >>> from prp3.model import Limits
+    >>> from prp3.model.robot import Limits
     >>> [round(v, 4) for v in default_extent(Robot())]
     [-0.3, 0.3, -0.3, 0.3]
     """
@@ -256,7 +256,7 @@ def _statics_table(statics: WorkspaceStatics) -> dict[str, np.ndarray]:
 def wants_statics(robot: Robot, option: bool | None) -> bool:
     """Whether ``prp3 workspace`` writes the statics map: ``--statics``/``--no-statics``, else
     when ``robot`` has an element that changes the forces at rest (a payload, a load, a
-    spring: :meth:`prp3.elements.Element.changes_statics`) or ``[limits] max_force``.
+    spring: :meth:`prp3.model.elements.Element.changes_statics`) or ``[limits] max_force``.
 
     >>> wants_statics(Robot(), None), wants_statics(Robot(), True)
     (False, True)
@@ -274,11 +274,11 @@ def run(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     if args.robot is not None:  # a family-form robot file: docs/family.md
-        from ..family import FamilyRobot, read_robot_file
+        from prp3.family import FamilyRobot, read_robot_file
 
         loaded = read_robot_file(args.robot)
         if isinstance(loaded, FamilyRobot):
-            from ._family_analysis import run_family_workspace
+            from prp3.cli._family_analysis import run_family_workspace
 
             return run_family_workspace(args, loaded)
     robot = load_robot(args)
@@ -329,7 +329,7 @@ def run(args: argparse.Namespace) -> int:
             bar.update("statics", 0, 1)
             statics = workspace_statics(robot, ws.phi, x, y)
 
-        from ..plotting.workspace import save_statics_map, save_workspace_map
+        from prp3.plotting.workspace import save_statics_map, save_workspace_map
 
         with output_folder(args, output) as staged:
             for name, table in (

@@ -20,7 +20,7 @@
 
 from __future__ import annotations
 
-from .scene import (
+from prp3.explorer.scene import (
     PRP3_SCENE,
     Run,
     Scene,

@@ -30,13 +30,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error
-from ..family import FamilyRobot
-from ..files import atomic_writer
-from ..model import Robot
-from ..motion import Motion
-from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
-from .page import (
+from prp3.errors import Prp3Error
+from prp3.explorer.page import (
     _COPY_FRAME,
     _PLAY,
     _UNBUNDLE,
@@ -47,7 +42,7 @@ from .page import (
     slider_with_field,
     time_plots,
 )
-from .scene import (
+from prp3.explorer.scene import (
     ARROWS,
     DESIGN_PARAMETERS,
     MOTION_CONTROLS,
@@ -66,6 +61,11 @@ from .scene import (
     stroke_bands,
     workspace_overlay,
 )
+from prp3.family import FamilyRobot
+from prp3.files import atomic_writer
+from prp3.model.motion import Motion
+from prp3.model.robot import Robot
+from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
 __all__ = [
     "DEFAULT_HOST",
@@ -639,7 +639,7 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
     from bokeh.resources import INLINE
 
     if isinstance(robot, FamilyRobot):
-        from .family_app import family_run_html
+        from prp3.explorer.family_app import family_run_html
 
         return family_run_html(robot, table, title)
     t = np.asarray(table["t"], dtype=np.float64)
@@ -795,7 +795,7 @@ def serve(
         family_robot = robot
 
         def make(doc: Any) -> None:
-            from .family_app import family_document
+            from prp3.explorer.family_app import family_document
 
             family_document(doc, family_robot)
 

@@ -26,10 +26,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error
-from ..family import FamilyRobot
-from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
-from .family_scene import (
+from prp3.errors import Prp3Error
+from prp3.explorer.family_scene import (
     FAMILY_ARROWS,
     FAMILY_DESIGN_PARAMETERS,
     FamilyScene,
@@ -38,7 +36,7 @@ from .family_scene import (
     family_design_values,
     family_extent,
 )
-from .page import (
+from prp3.explorer.page import (
     _COPY_FRAME,
     _PLAY,
     _UNBUNDLE,
@@ -49,7 +47,9 @@ from .page import (
     slider_with_field,
     time_plots,
 )
-from .scene import MOTION_CONTROLS, Columns, State, View, empty_view
+from prp3.explorer.scene import MOTION_CONTROLS, Columns, State, View, empty_view
+from prp3.family import FamilyRobot
+from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
 __all__ = ["family_document", "family_run_html"]
 

@@ -33,8 +33,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error
-from ..family import (
+from prp3.errors import Prp3Error
+from prp3.explorer.scene import LEG_COLOURS, Columns, State, View
+from prp3.family import (
     FamilyRobot,
     family_inverse_dynamics,
     family_results_table,
@@ -44,11 +45,10 @@ from ..family import (
     parallel_measure,
     transmitted_wrench,
 )
-from ..family.chain import SIGMA, SINGULAR
-from ..family.outputs import LEG_COLUMNS
-from ..motion import Motion
-from ..validation import LEGS
-from .scene import LEG_COLOURS, Columns, State, View
+from prp3.family.chain import SIGMA, SINGULAR
+from prp3.family.outputs import LEG_COLUMNS
+from prp3.model.motion import Motion
+from prp3.validation import LEGS
 
 __all__ = [
     "FAMILY_ARROWS",

@@ -13,9 +13,9 @@ from typing import Any
 
 import numpy as np
 
-from ..geometry import LEGS
-from ..plotting.animation import frame_indices  # a pure function: matplotlib is not imported
-from .scene import LEG_COLOURS
+from prp3.explorer.scene import LEG_COLOURS
+from prp3.mechanics.geometry import LEGS
+from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
 __all__ = ["MAX_CURVE_POINTS", "MAX_HTML_FRAMES"]
 

@@ -7,8 +7,8 @@ architecture can plug into the same page by giving the same columns
 (:class:`Scene`).
 
 The forces come only from prp3's own engines: a pose is solved by
-:func:`prp3.dynamics.inverse_dynamics` (the kernel, eqs. 10–25) and turned
-into the columns of ``results.csv`` by :func:`prp3.io.results_table`; a run of
+:func:`prp3.analysis.inverse_dynamics.inverse_dynamics` (the kernel, eqs. 10–25) and turned
+into the columns of ``results.csv`` by :func:`prp3.io.results.results_table`; a run of
 ``prp3 simulate`` is drawn from its own columns.  Both go through
 :func:`scene_view`, which only places the reported components in the plane:
 
@@ -39,22 +39,29 @@ from typing import Any, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from ..dynamics import inverse_dynamics
-from ..errors import InputFileError, Prp3Error
-from ..forward import forward_acceleration, forward_velocity
-from ..geometry import LEG_AXIS, LEGS, base_vertices, inverse_geometry, perp, platform_vertices
-from ..io import read_table_csv
-from ..model import Friction, JointFriction, Robot
-from ..motion import Motion
-from ..results import (
+from prp3.analysis.forward import forward_acceleration, forward_velocity
+from prp3.analysis.inverse_dynamics import inverse_dynamics
+from prp3.analysis.workspace import workspace_statics
+from prp3.errors import InputFileError, Prp3Error
+from prp3.io.formats import read_table_csv
+from prp3.io.results import (
     FRICTION_COLUMNS,
     LOAD_RESULT_COLUMNS,
     OUTPUT_QUANTITIES,
     RESULT_COLUMNS,
     results_table,
 )
-from ..validation import SINGULARITY_THRESHOLD, singularity_measure
-from ..workspace import workspace_statics
+from prp3.mechanics.geometry import (
+    LEG_AXIS,
+    LEGS,
+    base_vertices,
+    inverse_geometry,
+    perp,
+    platform_vertices,
+)
+from prp3.model.motion import Motion
+from prp3.model.robot import Friction, JointFriction, Robot
+from prp3.validation import SINGULARITY_THRESHOLD, singularity_measure
 
 __all__ = [
     "ARROWS",
@@ -247,7 +254,7 @@ class Scene(Protocol):
 def pose_table(robot: Robot, state: State) -> dict[str, FloatArray]:
     """The columns of ``results.csv`` for one instant (each of shape ``(1,)``).
 
-    Solved by :func:`prp3.dynamics.inverse_dynamics` (the kernel, eqs. 10–25);
+    Solved by :func:`prp3.analysis.inverse_dynamics.inverse_dynamics` (the kernel, eqs. 10–25);
     a refused pose raises the library's :class:`~prp3.errors.Prp3Error`.
 
     >>> table = pose_table(Robot(), State())
@@ -427,7 +434,7 @@ def stroke_bands(robot: Robot) -> Columns:
     ``P_i = B_i0 + (l0/√3 + λ10_i)·e_i`` (eq. 10) at both ends of
     ``[limits] stroke``; no rows without a stroke.
 
-    >>> from prp3.model import Limits
+    >>> from prp3.model.robot import Limits
     >>> bands = stroke_bands(Robot(limits=Limits(stroke=(-0.05, 0.05))))
     >>> [round(v, 4) for v in bands["xs"][0]], bands["leg"]
     ([0.0616, 0.1116], ['A', 'B', 'C'])
@@ -450,12 +457,12 @@ def stroke_bands(robot: Robot) -> Columns:
 def workspace_overlay(robot: Robot, phi: float, points: int = 41) -> dict[str, Columns]:
     """The statics map of ``prp3 workspace`` at orientation ``phi``, as an image and a region.
 
-    :func:`prp3.workspace.workspace_statics` on a square grid of ``points²``
+    :func:`prp3.analysis.workspace.workspace_statics` on a square grid of ``points²``
     poses over ``|x|, |y| <= 0.6·l0``: ``image`` holds ``max_i |f10_i|`` (N)
     where the pose is within the strokes, NaN elsewhere; ``region`` the exact
     reachable boundary (no rows without a stroke).
 
-    >>> from prp3.model import Limits
+    >>> from prp3.model.robot import Limits
     >>> overlay = workspace_overlay(Robot(limits=Limits(stroke=(-0.05, 0.05))), 0.0, 41)
     >>> round(float(np.nanmax(overlay["image"]["image"][0])), 3), len(overlay["region"]["xs"][0]) > 3
     (36.547, True)
@@ -656,8 +663,8 @@ def run_motion(robot: Robot, run: Run) -> Motion:
     """The platform motion of a run: poses from its columns, rates by the forward kinematics.
 
     ``(ẋ, ẏ, φ̇) = J⁻¹·λ̇10`` and ``q̈ = J⁻¹·(λ̈10 − J̇·q̇)`` (eqs. 14, 17 solved for
-    the platform, :func:`prp3.forward.forward_velocity` and
-    :func:`prp3.forward.forward_acceleration`), with the run's load columns.
+    the platform, :func:`prp3.analysis.forward.forward_velocity` and
+    :func:`prp3.analysis.forward.forward_acceleration`), with the run's load columns.
     ``robot`` must be the run's: its inverse geometry must give the run's
     ``lambda10`` (to ``1e-9·l0``), else an :class:`~prp3.errors.InputFileError`
     names the sample.

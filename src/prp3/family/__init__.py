@@ -32,7 +32,7 @@ Stable API (other modules build on these names only)
 ``paper_steps(robot, motion)``
     Every intermediate quantity of the paper route.
 
->>> from prp3.motion import paper_motion
+>>> from prp3.model.motion import paper_motion
 >>> robot = FamilyRobot.default("3-RRR")
 >>> solution = family_inverse_dynamics(robot, paper_motion("vertical", 3))
 >>> table = family_results_table(solution)
@@ -42,9 +42,15 @@ Stable API (other modules build on these names only)
 
 from __future__ import annotations
 
-from .chain import leg_chain, leg_jacobian, leg_measure, parallel_measure, transmitted_wrench
-from .mechanics import FamilyKinematics, FamilySolution, family_kinematics
-from .model import (
+from prp3.family.chain import (
+    leg_chain,
+    leg_jacobian,
+    leg_measure,
+    parallel_measure,
+    transmitted_wrench,
+)
+from prp3.family.mechanics import FamilyKinematics, FamilySolution, family_kinematics
+from prp3.family.model import (
     ARCHITECTURES,
     Body,
     FamilyRobot,
@@ -54,7 +60,7 @@ from .model import (
     read_robot_file,
     robot_file_form,
 )
-from .outputs import (
+from prp3.family.outputs import (
     DEFAULT_ENGINE,
     FAMILY_COLUMNS,
     FAMILY_ENGINES,
@@ -62,7 +68,7 @@ from .outputs import (
     family_inverse_dynamics,
     family_results_table,
 )
-from .paper import paper_steps
+from prp3.family.paper import paper_steps
 
 __all__ = [
     "ARCHITECTURES",

@@ -11,7 +11,7 @@ wrench from the platform's pose, velocity and acceleration::
 ``tau[L]`` is ``tau_L`` of legs A, B, C (N along ``+u_a`` or N·m about ``+z0``);
 ``joint[9·L + 3·(k − 1) + c]`` is ``fx{k}_L`` (``c = 0``), ``fy{k}_L`` (1) and
 ``m{k}_L`` (2) of docs/family.md §7.  The return codes are those of the 3-PRP's
-C (:mod:`prp3.codegen`): ``PRP3_OK`` (0), ``PRP3_NOT_FINITE`` (1: an input is NaN
+C (:mod:`prp3.apps.codegen`): ``PRP3_OK`` (0), ``PRP3_NOT_FINITE`` (1: an input is NaN
 or infinite), ``PRP3_SINGULAR`` (2: ``s_L·μ_leg,L < 1e-4`` for a leg or
 ``s_par·μ_par < 1e-4``, the refusals of docs/family.md §6 at the pose, with the
 signs ``s`` of the home configuration), and one more, ``PRP3_UNREACHABLE``
@@ -22,7 +22,7 @@ return every output is NaN.  Only ``<math.h>``; strict C99.
 How it is generated: the mechanics of :mod:`prp3.family.sample_mechanics` is
 written once on scalars, in the vector form of the chain (each frame's
 rotation as ``(cos, sin)``, so no angle is ever needed: ``cos φ`` and ``sin φ``
-are the only trigonometry), and run on the tracer of :mod:`prp3._trace`: every floating-point operation on
+are the only trigonometry), and run on the tracer of :mod:`prp3.engines.trace`: every floating-point operation on
 the inputs is recorded as one C statement, the robot's constants folded in.
 Three traced stages per call:
 
@@ -58,8 +58,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .._trace import trace
-from ..codegen import (
+from prp3.apps.codegen import (
     C_OK,
     C_SINGULAR,
     HEADER_NAME,
@@ -70,11 +69,12 @@ from ..codegen import (
     _signature,
     _version,
 )
-from ..kernel import MATH, Ops
-from ..validation import LEGS, check_instance
-from .chain import SIGMA, SINGULAR
-from .model import FamilyRobot
-from .sample_mechanics import _Design, _Inertia, _turn, leg_candidates, sample_dynamics
+from prp3.engines.trace import trace
+from prp3.family.chain import SIGMA, SINGULAR
+from prp3.family.model import FamilyRobot
+from prp3.family.sample_mechanics import _Design, _Inertia, _turn, leg_candidates, sample_dynamics
+from prp3.mechanics.kernel import MATH, Ops
+from prp3.validation import LEGS, check_instance
 
 __all__ = [
     "C_UNREACHABLE",
@@ -329,7 +329,7 @@ def python_sample(
 ) -> tuple[int, list[float]]:
     """The generated code's steps on Python floats: ``(code, [tau (3), joint (27)])``.
 
-    The same mechanics as the C (the functions above with :data:`prp3.kernel.MATH`),
+    The same mechanics as the C (the functions above with :data:`prp3.mechanics.kernel.MATH`),
     for checks of the mechanics independent of a compiler.
     """
     design, inertia = _Design.of(robot), _Inertia.of(robot)

@@ -23,7 +23,7 @@ Every output lies in one buffer allocated by numpy, the arrays of the same
 size per sample side by side, so that the results are views taken by one
 reshape per size.
 
->>> from prp3.motion import paper_motion
+>>> from prp3.model.motion import paper_motion
 >>> from prp3.family.model import FamilyRobot
 >>> from prp3.family.mechanics import family_kinematics, fast_dynamics
 >>> robot, motion = FamilyRobot.default("3-RRR"), paper_motion("vertical", 5)
@@ -40,11 +40,9 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error
-from ..motion import Motion
-from ..validation import LEGS, require_finite
-from .chain import ChainFrames
-from .compiled_legs import (
+from prp3.errors import Prp3Error
+from prp3.family.chain import ChainFrames
+from prp3.family.compiled_legs import (
     _AX,
     _COS,
     _END,
@@ -79,15 +77,17 @@ from .compiled_legs import (
     numba,
     pack,
 )
-from .compiled_path import _follow
-from .mechanics import (
+from prp3.family.compiled_path import _follow
+from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
     pose_bound_error,
     singular_error,
     unreachable_error,
 )
-from .model import FamilyRobot
+from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
+from prp3.validation import LEGS, require_finite
 
 __all__ = ["compiled_dynamics", "pack"]
 

@@ -22,11 +22,11 @@ from typing import Any, TypeVar, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from ..validation import MAX_ORIENTATION, POSE_BOUND
-from .chain import SIGMA, SINGULAR
-from .legs import LEG_GEOMETRY
-from .mechanics import MAX_MOVE, MAX_TURN, robot_length
-from .model import FamilyRobot
+from prp3.family.chain import SIGMA, SINGULAR
+from prp3.family.legs import LEG_GEOMETRY
+from prp3.family.mechanics import MAX_MOVE, MAX_TURN, robot_length
+from prp3.family.model import FamilyRobot
+from prp3.validation import MAX_ORIENTATION, POSE_BOUND
 
 numba: Any
 try:

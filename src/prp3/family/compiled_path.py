@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from .compiled_legs import (
+from prp3.family.compiled_legs import (
     _BOUND,
     _COS,
     _COSN,

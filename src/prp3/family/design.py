@@ -53,8 +53,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..design import (
-    OptimizeSpec,
+from prp3.apps.design import design_mapping
+from prp3.apps.design_objective import OptimizeSpec, penalized_objective
+from prp3.apps.sweep_spec import (
     Parameter,
     _flatten,
     _integer,
@@ -62,15 +63,13 @@ from ..design import (
     _sampling,
     _table,
     _unknown,
-    design_mapping,
-    penalized_objective,
 )
-from ..errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
-from ..model import read_toml
-from ..motion import Motion
-from ..validation import LEGS
-from .model import ARCHITECTURES, FamilyRobot
-from .outputs import family_inverse_dynamics
+from prp3.errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
+from prp3.family.model import ARCHITECTURES, FamilyRobot
+from prp3.family.outputs import family_inverse_dynamics
+from prp3.model.motion import Motion
+from prp3.model.robot import read_toml
+from prp3.validation import LEGS
 
 __all__ = [
     "AREA_POINTS",
@@ -140,7 +139,7 @@ class Study:
 
 
 def family_design_robot(study: Study, values: Sequence[float]) -> FamilyRobot:
-    """The robot of a design of ``study`` (:func:`prp3.design.design_mapping`)."""
+    """The robot of a design of ``study`` (:func:`prp3.apps.design.design_mapping`)."""
     return FamilyRobot.from_mapping(design_mapping(study.nominal, study.paths, list(values)))
 
 
@@ -160,7 +159,7 @@ class FamilyEvaluator:
 
 def _row(evaluator: FamilyEvaluator, robot: FamilyRobot) -> tuple[str, list[float]]:
     """Status and result values of one design."""
-    from .workspace import family_workspace_slice
+    from prp3.family.workspace import family_workspace_slice
 
     tau, power, force, energy = [], [], [], 0.0
     margin_leg, margin_par = math.inf, math.inf
@@ -344,7 +343,7 @@ def family_sweep_spec(
     ParameterError, InputFileError, TrajectoryError
         One line naming ``source`` and the key.
     """
-    from ..design import _optimize
+    from prp3.apps.sweep_spec import _optimize
 
     base = Path(base)
     _unknown(source, "", data, _TOP_KEYS)
@@ -456,13 +455,13 @@ def run_family_sweep(
     One task per chunk of ``spec.chunk`` designs; the rows keep the order of
     :func:`family_design_rows` whatever the workers; the file is written
     atomically (whole or not at all).  ``client`` makes the Dask client as a
-    context manager (:func:`prp3.sweep.dask_client`).
+    context manager (:func:`prp3.apps.cluster.dask_client`).
     """
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    from ..errors import OutputFileError
-    from ..io import atomic_path, check_output_directory
+    from prp3.errors import OutputFileError
+    from prp3.io.formats import atomic_path, check_output_directory
 
     output = Path(output)
     check_output_directory(output)
@@ -537,7 +536,7 @@ def optimize_family(
     """Minimise the objective of ``spec.optimize`` within every study, on Dask.
 
     Each study with parameters runs :func:`scipy.optimize.differential_evolution`
-    (as :func:`prp3.sweep.optimize_design`: Latin-hypercube start, ``rng = seed``,
+    (as :func:`prp3.apps.optimization.optimize_design`: Latin-hypercube start, ``rng = seed``,
     deferred updating, each generation on the workers); a study without
     parameters is its nominal design.  Returns the best design of each study
     (compare them for the best architecture) and the history of every
@@ -545,8 +544,8 @@ def optimize_family(
     """
     from scipy.optimize import differential_evolution
 
-    from ..design import INFEASIBLE
-    from ..sweep import DaskMap
+    from prp3.apps.design_objective import INFEASIBLE
+    from prp3.apps.optimization import DaskMap
 
     settings = spec.optimize
     optima: list[FamilyOptimum] = []

@@ -10,7 +10,7 @@ so ``b`` is the inverse dynamics at ``ẍ = 0`` and column ``i`` of ``A`` is the
 inverse dynamics at ``ẍ = e_i`` minus ``b`` ("M by unit accelerations":
 ``A = Kᵀ``-weighted mass matrix, ``A = J_aᵀ⁻¹·M`` with ``J_a`` the actuated
 rows).  The state ``(x, ẋ)`` then obeys ``ẍ = A⁻¹·(τ(t) − b)``, integrated by
-``scipy.integrate.solve_ivp`` (``DOP853``) as :func:`prp3.forward.forward_dynamics`
+``scipy.integrate.solve_ivp`` (``DOP853``) as :func:`prp3.analysis.forward.forward_dynamics`
 does for the 3-PRP.  ``τ(t)`` is the not-a-knot cubic spline through the
 given samples.  A terminal event stops the motion when a singularity
 measure on the working mode's side (§6) falls to :data:`SINGULARITY_STOP`;
@@ -36,11 +36,17 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ParameterError, Prp3Error, TrajectoryError
-from ..motion import Motion
-from ..validation import check_instance, check_real, check_times
-from .chain import SIGMA, SINGULAR, inv3, leg_chain, leg_jacobian, parallel_measure, rotate
-from .mechanics import (
+from prp3.errors import ParameterError, Prp3Error, TrajectoryError
+from prp3.family.chain import (
+    SIGMA,
+    SINGULAR,
+    inv3,
+    leg_chain,
+    leg_jacobian,
+    parallel_measure,
+    rotate,
+)
+from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
     _jacobian_rate,
@@ -49,7 +55,9 @@ from .mechanics import (
     family_kinematics,
     fast_dynamics,
 )
-from .model import FamilyRobot
+from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
+from prp3.validation import check_instance, check_real, check_times
 
 __all__ = [
     "SINGULARITY_STOP",
@@ -98,8 +106,8 @@ def _state_kinematics(robot: FamilyRobot, x: FloatArray, v: FloatArray) -> Famil
     changes sign), then ``q̇ = J⁻¹·ẋ``, ``q̈ = J⁻¹·(ẍ − J̇·q̇)`` as
     :func:`prp3.family.mechanics.family_kinematics` computes them.
     """
-    from ..errors import SingularPoseError, UnreachablePoseError
-    from .workspace import home_branch
+    from prp3.errors import SingularPoseError, UnreachablePoseError
+    from prp3.family.workspace import home_branch
 
     q, mu_leg, wrenches = home_branch(robot, x[None, :2], x[2:3])
     if not np.isfinite(q).all():
@@ -140,7 +148,7 @@ def _dynamics(robot: FamilyRobot, x: FloatArray, v: FloatArray) -> tuple[FloatAr
 
 def _margin(robot: FamilyRobot, x: FloatArray) -> float:
     """``min(s_L·μ_leg,L, s_par·μ_par)`` at the pose (home branch); −1 out of reach."""
-    from .workspace import family_measures_at
+    from prp3.family.workspace import family_measures_at
 
     mu_leg, mu_par, reach = family_measures_at(robot, x[None, :2], float(x[2]))
     if not reach[0]:

@@ -29,7 +29,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 from numpy.typing import NDArray
 
-from .chain import cross, leg_chain, perp, rotate, unit
+from prp3.family.chain import cross, leg_chain, perp, rotate, unit
 
 __all__ = ["LEG_GEOMETRY", "LegGeometry"]
 

@@ -17,7 +17,7 @@ The default (``"fast"``) route of docs/family.md §5–§7, vectorised over the 
    wrench on the platform ``w_L = K_Lᵀ·(τ_L·e_a − B_L)``; then every joint force
    ``W_3 = w_L``, ``W_2 = N_2 + W_3``, ``W_1 = N_1 + W_2``.
 
->>> from prp3.motion import Motion
+>>> from prp3.model.motion import Motion
 >>> from prp3.family.model import FamilyRobot
 >>> robot = FamilyRobot.default("3-RRR")
 >>> kin = family_kinematics(robot, Motion.at_rest([0.0, 0.0, 0.0]))
@@ -33,10 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import SingularPoseError, TrajectoryError, UnreachablePoseError
-from ..motion import Motion
-from ..validation import LEGS, MAX_ORIENTATION, POSE_BOUND, check_instance, require_finite
-from .chain import (
+from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from prp3.family.chain import (
     SIGMA,
     SINGULAR,
     ChainFrames,
@@ -50,8 +48,10 @@ from .chain import (
     rotate,
     transmitted_wrench,
 )
-from .legs import LEG_GEOMETRY
-from .model import FamilyRobot
+from prp3.family.legs import LEG_GEOMETRY
+from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
+from prp3.validation import LEGS, MAX_ORIENTATION, POSE_BOUND, check_instance, require_finite
 
 __all__ = [
     "FamilyKinematics",
@@ -61,6 +61,8 @@ __all__ = [
     "fast_dynamics",
     "inverse_geometry",
     "joint_forces",
+    "joint_rates",
+    "virtual_work",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -356,8 +358,13 @@ def family_kinematics(robot: FamilyRobot, motion: Motion) -> FamilyKinematics:
     ``(perp(Ġ − Ȯ_k), 0)`` (R) and ``(ω_{J_k}·perp(u_k), 0)`` (P).
     """
     robot, motion = check_inputs(robot, motion)
+    t, pose, _, _ = _batch(motion)
+    return joint_rates(robot, motion, inverse_geometry(robot, pose, t))
+
+
+def joint_rates(robot: FamilyRobot, motion: Motion, geo: Geometry) -> FamilyKinematics:
+    """:func:`family_kinematics` after the inverse geometry ``geo`` of ``motion``'s poses."""
     t, pose, velocity, acceleration = _batch(motion)
-    geo = inverse_geometry(robot, pose, t)
     frames = geo.frames
     jac = leg_jacobian(robot.types, frames, pose[:, None, :2])
     twist = np.broadcast_to(velocity[:, None, :], (t.size, 3, 3))
@@ -548,6 +555,11 @@ def fast_dynamics(kin: FamilyKinematics) -> FamilySolution:
     platform twist.
     """
     links, platform = body_wrenches(kin)
+    return virtual_work(kin, links, platform)
+
+
+def virtual_work(kin: FamilyKinematics, links: FloatArray, platform: FloatArray) -> FamilySolution:
+    """:func:`fast_dynamics` after the body wrenches ``(links, platform)`` of :func:`body_wrenches`."""
     jac = kin.jacobian
     a = kin.robot.actuated - 1
     inverse = kin.jacobian_inverse  # K_L, (N, 3, 3, 3)

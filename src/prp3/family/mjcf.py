@@ -29,12 +29,12 @@ hold ``platform_B`` and ``platform_C`` at their closed pose relative to
 a constant written as each weld's ``relpose``.  The three thirds welded
 together are one rigid body of mass ``m`` and inertia ``I`` about ``G``.
 
-As for the 3-PRP (:mod:`prp3.mjcf`): an ``I_zz`` below ``INERTIA_FLOOR·m·ℓ²``
+As for the 3-PRP (:mod:`prp3.apps.mjcf`): an ``I_zz`` below ``INERTIA_FLOOR·m·ℓ²``
 (``ℓ`` = ``[leg] scale``) is written as that floor; masses below MuJoCo's
 ``MUJOCO_MIN_VALUE`` are refused; ``I_xx = I_yy = I_zz``; the ``[payload]`` is a
 body without joint inside ``platform_A``; the constant ``[load]`` is the
 custom numeric ``prp3_load`` to be applied as ``data.xfrc_applied[platform_A]``
-(a :class:`~prp3.mjcf.MjcfWarning` says so).  The keyframe ``closed`` holds
+(a :class:`~prp3.apps.mjcf.MjcfWarning` says so).  The keyframe ``closed`` holds
 a configuration where the loops close: the family's joint values at rest at
 the pose ``P̄``, the mean of the legs' home poses (docs/family.md §5; with the
 default designs ``P̄ = 0`` and ``qpos = home``); it is left out when ``P̄`` is
@@ -60,8 +60,7 @@ import warnings
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError, Prp3Error
-from ..mjcf import (
+from prp3.apps.mjcf import (
     _SENSORS,
     MUJOCO_MIN_VALUE,
     MjcfWarning,
@@ -73,10 +72,11 @@ from ..mjcf import (
     _vec,
     _welds_motors_load,
 )
-from ..motion import Motion
-from ..validation import LEGS, check_instance
-from .chain import SIGMA
-from .model import FamilyRobot
+from prp3.errors import ParameterError, Prp3Error
+from prp3.family.chain import SIGMA
+from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
+from prp3.validation import LEGS, check_instance
 
 __all__ = ["closed_configuration", "family_mjcf_model", "joint_names", "weld_relpose"]
 
@@ -103,7 +103,7 @@ def closed_configuration(robot: FamilyRobot) -> list[float] | None:
     >>> max(abs(a - b) for a, b in zip(q, robot.leg.home * 3)) < 1e-15
     True
     """
-    from .mechanics import family_kinematics
+    from prp3.family.mechanics import family_kinematics
 
     try:
         kin = family_kinematics(robot, Motion.at_rest(robot.home_poses.mean(axis=0)))

@@ -30,8 +30,18 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import ParameterError
-from ..model import (
+from prp3.errors import ParameterError
+from prp3.family.chain import (
+    SIGMA,
+    SINGULAR,
+    leg_chain,
+    leg_jacobian,
+    leg_measure,
+    parallel_measure,
+    transmitted_wrench,
+    wrap,
+)
+from prp3.model.robot import (
     Load,
     Payload,
     Robot,
@@ -45,17 +55,7 @@ from ..model import (
     parse_located,
     read_toml,
 )
-from ..validation import check_choice, check_integer, check_scalar
-from .chain import (
-    SIGMA,
-    SINGULAR,
-    leg_chain,
-    leg_jacobian,
-    leg_measure,
-    parallel_measure,
-    transmitted_wrench,
-    wrap,
-)
+from prp3.validation import check_choice, check_integer, check_scalar
 
 __all__ = [
     "ARCHITECTURES",

@@ -13,7 +13,7 @@ a P joint, ``p̈_{F_k} = p̈_{J_k} + q̈·u + 2q̇·ω·perp(u) + q·(α·perp(u
 only the joint values and rates of :func:`~prp3.family.mechanics.family_kinematics`
 are shared with the other routes.
 
->>> from prp3.motion import Motion
+>>> from prp3.model.motion import Motion
 >>> from prp3.family.model import FamilyRobot
 >>> solution = newton_euler_dynamics(FamilyRobot.default("3-PPR"), Motion.at_rest([0, 0, 0.0]))
 >>> round(float(solution.tau.sum()), 6) == round(float(solution.tau[0] * 3), 6)  # symmetric
@@ -25,10 +25,16 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ..motion import Motion
-from .chain import cross, perp, rotate
-from .mechanics import FamilyKinematics, FamilySolution, _batch, _solution, family_kinematics
-from .model import FamilyRobot
+from prp3.family.chain import cross, perp, rotate
+from prp3.family.mechanics import (
+    FamilyKinematics,
+    FamilySolution,
+    _batch,
+    _solution,
+    family_kinematics,
+)
+from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
 
 __all__ = ["link_accelerations", "newton_euler_dynamics"]
 

@@ -13,13 +13,13 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import Prp3Error
-from ..motion import Motion
-from ..validation import LEGS
-from .mechanics import FamilySolution, check_inputs, family_kinematics, fast_dynamics
-from .model import FamilyRobot
-from .newton_euler import newton_euler_dynamics
-from .paper import paper_dynamics
+from prp3.errors import Prp3Error
+from prp3.family.mechanics import FamilySolution, check_inputs, family_kinematics, fast_dynamics
+from prp3.family.model import FamilyRobot
+from prp3.family.newton_euler import newton_euler_dynamics
+from prp3.family.paper import paper_dynamics
+from prp3.model.motion import Motion
+from prp3.validation import LEGS
 
 __all__ = [
     "DEFAULT_ENGINE",
@@ -84,7 +84,7 @@ def family_inverse_dynamics(
 
     Examples
     --------
-    >>> from prp3.motion import paper_motion
+    >>> from prp3.model.motion import paper_motion
     >>> solution = family_inverse_dynamics(FamilyRobot.default("3-RRR"), paper_motion("vertical", 5))
     >>> solution.tau.shape, solution.force.shape
     ((5, 3), (5, 3, 3, 2))
@@ -110,7 +110,7 @@ def _compiled() -> Callable[[FamilyRobot, Motion], FamilySolution]:
     """:func:`prp3.family.compiled.compiled_dynamics`, imported (with numba) on first use only."""
     function = _ENGINE_CACHE.get("numba")
     if function is None:
-        from .compiled import compiled_dynamics
+        from prp3.family.compiled import compiled_dynamics
 
         function = _ENGINE_CACHE["numba"] = compiled_dynamics
     return function

@@ -26,7 +26,7 @@ actuator forces (eqs. 19–23) and body balances for the joint forces (eqs.
 
 Every intermediate quantity is kept in :class:`PaperSteps`.
 
->>> from prp3.motion import Motion
+>>> from prp3.model.motion import Motion
 >>> from prp3.family.model import FamilyRobot
 >>> steps = paper_steps(FamilyRobot.default("3-RRR"), Motion.at_rest([0.0, 0.0, 0.0]))
 >>> steps.rotation[1].shape      # a_{2,0} of every sample and leg
@@ -40,10 +40,16 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..motion import Motion
-from .chain import SIGMA
-from .mechanics import FamilyKinematics, FamilySolution, _batch, _solution, family_kinematics
-from .model import FamilyRobot
+from prp3.family.chain import SIGMA
+from prp3.family.mechanics import (
+    FamilyKinematics,
+    FamilySolution,
+    _batch,
+    _solution,
+    family_kinematics,
+)
+from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
 
 __all__ = ["PaperSteps", "paper_dynamics", "paper_steps"]
 

@@ -37,9 +37,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ParameterError
-from ..validation import MAX_ORIENTATION, check_instance, check_real, check_scalar
-from .chain import (
+from prp3.errors import ParameterError
+from prp3.family.chain import (
     SIGMA,
     SINGULAR,
     leg_chain,
@@ -49,8 +48,9 @@ from .chain import (
     rotate,
     transmitted_wrench,
 )
-from .legs import LEG_GEOMETRY
-from .model import FamilyRobot
+from prp3.family.legs import LEG_GEOMETRY
+from prp3.family.model import FamilyRobot
+from prp3.validation import MAX_ORIENTATION, check_instance, check_real, check_scalar
 
 __all__ = [
     "FamilyOrientationScan",

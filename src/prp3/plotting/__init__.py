@@ -18,7 +18,7 @@ matplotlib is imported lazily inside the functions (never at import time of
 
 from __future__ import annotations
 
-from .animation import (
+from prp3.plotting.animation import (
     MechanismFrame,
     draw_frame,
     frame_indices,
@@ -27,7 +27,7 @@ from .animation import (
     mechanism_frame,
     save_animation,
 )
-from .figures import (
+from prp3.plotting.figures import (
     figure_names,
     friction_figure,
     leg_figure,

@@ -29,11 +29,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..geometry import LEG_AXIS, LEGS, base_vertices, platform_vertices
-from ..io import atomic_path
-from ..kinematics import Kinematics
-from ..model import Robot
-from .figures import LEG_STYLES
+from prp3.io.formats import atomic_path
+from prp3.mechanics.geometry import LEG_AXIS, LEGS, base_vertices, platform_vertices
+from prp3.mechanics.kinematics import Kinematics
+from prp3.model.robot import Robot
+from prp3.plotting.figures import LEG_STYLES
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -102,8 +102,8 @@ class MechanismFrame:
 def mechanism_frame(robot: Robot, kin: Kinematics, index: int) -> MechanismFrame:
     """What to draw for sample ``index`` of ``kin`` (batch kinematics ``(N, …)``).
 
-    >>> from prp3.kinematics import inverse_kinematics
-    >>> from prp3.motion import paper_motion
+    >>> from prp3.mechanics.kinematics import inverse_kinematics
+    >>> from prp3.model.motion import paper_motion
     >>> robot = Robot()
     >>> frame = mechanism_frame(robot, inverse_kinematics(robot, paper_motion("vertical", 5)), 0)
     >>> frame.joints[0].round(4).tolist(), frame.trace.shape    # P_A = A0 + (l0/√3)·e_A at t = 0

@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from ..geometry import LEGS
-from .figures import LEG_STYLES
+from prp3.mechanics.geometry import LEGS
+from prp3.plotting.figures import LEG_STYLES
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -1,7 +1,7 @@
 """Figures of a design sweep: a Pareto front and parameter-sensitivity plots.
 
 Both are drawn from the columns of ``designs.parquet``
-(:class:`prp3.sweep.DesignTable`): any two columns (or the aggregates
+(:class:`prp3.apps.sweep.DesignTable`): any two columns (or the aggregates
 ``peak_f10`` … = largest of legs A, B, C) for the Pareto front, one panel per
 varied parameter for the sensitivity.  Only the designs whose ``status`` is
 ``ok`` are drawn; the nominal design (the robot the sweep varies) is marked
@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..design import pareto_front, quantity
+from prp3.apps.design_objective import pareto_front, quantity
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -73,7 +73,7 @@ def pareto_figure(
     columns : mapping
         Columns of the design table.
     x, y : str
-        Columns or aggregates (:func:`prp3.design.quantity`).
+        Columns or aggregates (:func:`prp3.apps.design_objective.quantity`).
     maximize_x, maximize_y : bool
         Whether larger is better on that axis (default: smaller is better).
     nominal : mapping, optional

@@ -16,14 +16,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from ..validation import LEGS
-from .figures import LEG_MARKERS, LEG_STYLES, leg_figure, motion_description
+from prp3.plotting.figures import LEG_MARKERS, LEG_STYLES, leg_figure, motion_description
+from prp3.validation import LEGS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from ..family import FamilyRobot
+    from prp3.family import FamilyRobot
 
 __all__ = ["designs_figure", "family_figure_names", "family_figures", "joint_forces_figure"]
 
@@ -159,8 +159,8 @@ def _draw_design(ax: Axes, robot: FamilyRobot) -> None:
     """One design at home: ground, guides, sliders, pivots, links, platform, ``G``."""
     from matplotlib.patches import Polygon, Rectangle
 
-    from ..family import leg_chain
-    from ..family.chain import SIGMA
+    from prp3.family import leg_chain
+    from prp3.family.chain import SIGMA
 
     types = robot.types
     q = np.tile(np.asarray(robot.leg.home), (3, 1))

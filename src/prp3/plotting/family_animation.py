@@ -27,14 +27,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..io import atomic_path
-from ..validation import LEGS
-from .figures import LEG_STYLES
+from prp3.io.formats import atomic_path
+from prp3.plotting.figures import LEG_STYLES
+from prp3.validation import LEGS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..family import FamilyKinematics, FamilyRobot
+    from prp3.family import FamilyKinematics, FamilyRobot
 
 __all__ = ["FamilyFrame", "family_frame", "save_family_animation"]
 
@@ -82,8 +82,8 @@ class FamilyFrame:
 
 def family_frame(robot: FamilyRobot, q: FloatArray, pose: FloatArray) -> FamilyFrame:
     """The frame of joint values ``q`` ``(3 legs, 3 joints)`` at the platform pose ``(x, y, φ)``."""
-    from ..family import leg_chain
-    from ..family.chain import SIGMA
+    from prp3.family import leg_chain
+    from prp3.family.chain import SIGMA
 
     frames = leg_chain(robot.types, robot.leg.placements, SIGMA, np.asarray(q, dtype=np.float64))
     act = robot.actuated - 1
@@ -167,7 +167,7 @@ def save_family_animation(
     from matplotlib.figure import Figure
     from PIL import Image
 
-    from .animation import frame_schedule
+    from prp3.plotting.animation import frame_schedule
 
     t = np.atleast_1d(kin.motion.t)
     q = kin.q.reshape(-1, 3, 3)

@@ -17,15 +17,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..io import atomic_path
-from ..validation import LEGS
-from .workspace import cm_grey
+from prp3.io.formats import atomic_path
+from prp3.plotting.workspace import cm_grey
+from prp3.validation import LEGS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from ..family.workspace import FamilyOrientationScan, FamilyWorkspace
+    from prp3.family.workspace import FamilyOrientationScan, FamilyWorkspace
 
 __all__ = ["family_workspace_figure", "save_family_workspace_map"]
 

@@ -6,7 +6,7 @@ and ``f21z`` (Figs. 5 and 8) of the three legs against time.  prp3 draws these
 and also the actuator forces ``f10`` and displacements ``λ10``.
 
 The figures are built from the columns of ``results.csv``
-(:data:`prp3.results.RESULT_COLUMNS`, a mapping ``name -> (N,)``), so they can
+(:data:`prp3.io.results.RESULT_COLUMNS`, a mapping ``name -> (N,)``), so they can
 be drawn from a run in memory or from a file read back.  matplotlib is
 imported inside the functions only, and the figures are
 :class:`matplotlib.figure.Figure` objects rendered by Agg, without pyplot.
@@ -29,9 +29,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from ..geometry import LEGS
-from ..io import atomic_path
-from ..results import OUTPUT_QUANTITIES
+from prp3.io.formats import atomic_path
+from prp3.io.results import OUTPUT_QUANTITIES
+from prp3.mechanics.geometry import LEGS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -92,7 +92,7 @@ class Quantity:
 
 #: The quantities drawn by :func:`results_figures`, in the order they are written.
 def _plotted(column: str, caption: str, unit: str | None = None, scale: float = 1.0) -> Quantity:
-    """A quantity of :data:`prp3.results.OUTPUT_QUANTITIES` as plotted.
+    """A quantity of :data:`prp3.io.results.OUTPUT_QUANTITIES` as plotted.
 
     Its symbol and unit come from there; or ``unit``, ``scale`` times the SI value.
     """

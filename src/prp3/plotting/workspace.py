@@ -1,7 +1,7 @@
 """The workspace map: reachable region, Jacobian conditioning and singular loci (PNG).
 
 Left: the slice at one orientation ``φ`` — the condition number of the
-normalised Jacobian (:func:`prp3.workspace.jacobian_condition`, log colour
+normalised Jacobian (:func:`prp3.analysis.workspace.jacobian_condition`, log colour
 scale) over the reachable grid points, unreachable points in grey, the exact
 boundary of the region, the base triangle and the platform at ``(0, 0, φ)``
 for scale.  The singular set of the slice is empty unless ``φ`` is singular
@@ -12,7 +12,7 @@ orientations ``φ ≡ π/3 (mod π)`` marked.
 
 The statics map (:func:`statics_figure`): the largest actuator force
 ``max_i |f10_i|`` that holds the platform at rest at each reachable grid point
-(:func:`prp3.workspace.workspace_statics`), unreachable points in grey, the
+(:func:`prp3.analysis.workspace.workspace_statics`), unreachable points in grey, the
 exact boundary, and with ``[limits] max_force`` its contour and the points
 beyond it hatched.
 
@@ -28,10 +28,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..geometry import base_vertices, platform_vertices
-from ..io import atomic_path
-from ..model import Robot
-from ..workspace import SINGULAR_ORIENTATIONS, OrientationScan, WorkspaceSlice, WorkspaceStatics
+from prp3.analysis.workspace import (
+    SINGULAR_ORIENTATIONS,
+    OrientationScan,
+    WorkspaceSlice,
+    WorkspaceStatics,
+)
+from prp3.io.formats import atomic_path
+from prp3.mechanics.geometry import base_vertices, platform_vertices
+from prp3.model.robot import Robot
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -68,9 +73,9 @@ def workspace_figure(
     robot : Robot
         The robot the slice was computed for (base triangle, ``l0``, stroke).
     workspace : WorkspaceSlice
-        From :func:`prp3.workspace.workspace_slice`.
+        From :func:`prp3.analysis.workspace.workspace_slice`.
     scan : OrientationScan, optional
-        From :func:`prp3.workspace.orientation_scan` on the same grid; adds the
+        From :func:`prp3.analysis.workspace.orientation_scan` on the same grid; adds the
         right-hand panel.
 
     Returns
@@ -266,7 +271,7 @@ def statics_figure(robot: Robot, statics: WorkspaceStatics) -> Figure:
     robot : Robot
         The robot the map was computed for (title, base triangle).
     statics : WorkspaceStatics
-        From :func:`prp3.workspace.workspace_statics`.
+        From :func:`prp3.analysis.workspace.workspace_statics`.
 
     Returns
     -------

@@ -1,0 +1,508 @@
+"""Identification of the dynamic parameters: weighted least squares and the robot of the estimate.
+
+:func:`identify` fits the base parameters (:mod:`prp3.apps.base_parameters`)
+to measured actuator forces by weighted least squares on the base regressor
+(:mod:`prp3.apps.regressor`; each actuator weighted by the standard deviation
+of its residual in a first, unweighted pass) and :func:`identified_robot`
+turns the estimate into a :class:`~prp3.model.robot.Robot`.  An exciting
+motion for the measurements is :mod:`prp3.apps.excitation`.
+``docs/identification.md`` works through all of it.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from prp3.apps.base_parameters import BaseParameters, _independent_columns, base_parameters
+from prp3.apps.regressor import (
+    ELEMENT_PARAMETERS,
+    FRICTION_PARAMETERS,
+    PARAMETER_SYMBOLS,
+    PARAMETERS,
+    STANDARD_PARAMETERS,
+    _check_names,
+    _refuse_mu,
+    known_forces,
+    regressor,
+    standard_parameters,
+)
+from prp3.errors import ParameterError, TrajectoryError
+from prp3.model.elements import ELEMENTS, FRICTIONS
+from prp3.model.motion import Motion
+from prp3.model.robot import LinkParameters, PistonParameters, PlatformParameters, Robot
+from prp3.validation import check_per_leg, check_robot
+
+__all__ = [
+    "FRICTION_MODELS",
+    "MIN_SAMPLES_PER_PARAMETER",
+    "Identification",
+    "IdentifiedRobot",
+    "identified_robot",
+    "identify",
+    "robot_from_standard",
+    "weighted_least_squares",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: The friction coefficients of each ``prp3 identify --friction`` choice.
+FRICTION_MODELS: dict[str, tuple[str, ...]] = {
+    "none": (),
+    "viscous": tuple(e.regressor[0] for e in FRICTIONS),
+    "coulomb": tuple(e.regressor[1] for e in FRICTIONS),
+    "both": FRICTION_PARAMETERS,
+}
+
+#: Fewest samples (rows of a measurement file) per base parameter :func:`identify` accepts.
+MIN_SAMPLES_PER_PARAMETER: int = 5
+
+#: Same, for a measured motion: below it a base parameter is not excited.
+_EXCITATION_TOLERANCE: float = 1e-6
+
+
+@dataclass(frozen=True)
+class Identification:
+    """The result of :func:`identify`.
+
+    Attributes
+    ----------
+    base : BaseParameters
+        The combinations estimated.
+    estimate, std : ndarray, shape (B,)
+        The base parameters and their standard deviations (SI units).
+    condition : float
+        2-norm condition number of the stacked base regressor ``(3N, B)`` (SI units).
+    sigma : ndarray, shape (3,)
+        Residual standard deviation of each actuator after the first
+        (unweighted) pass: the weights of the second (N).
+    residual_rms : ndarray, shape (3,)
+        RMS of ``measured − fitted`` per actuator after the weighted fit (N).
+    t : ndarray, shape (N,)
+        Sample times (s).
+    measured, fitted : ndarray, shape (N, 3)
+        The measured actuator forces and those of the estimate (N).
+    fixed : tuple of str
+        Standard parameters not estimated but kept at the nominal robot's
+        values (their forces are subtracted from the measurements).
+    """
+
+    base: BaseParameters
+    estimate: FloatArray
+    std: FloatArray
+    condition: float
+    sigma: FloatArray
+    residual_rms: FloatArray
+    t: FloatArray
+    measured: FloatArray
+    fitted: FloatArray
+    fixed: tuple[str, ...]
+
+
+def identify(
+    robot: Robot,
+    motion: Motion,
+    f10: FloatArray,
+    parameters: Sequence[str] = STANDARD_PARAMETERS,
+    *,
+    where: str = "measurements",
+    progress: Callable[[int, int], None] | None = None,
+) -> Identification:
+    """Base parameters from measured actuator forces by weighted least squares.
+
+    1. The base regressor ``W`` of ``f10`` on the motion: the columns of the
+       standard parameters that name the base parameters
+       (``Y·π = W·β`` for any ``π``, because every other column is a
+       combination of these on any motion).  Standard parameters not in
+       ``parameters`` are fixed at ``robot``'s values and their forces
+       subtracted from the measurements.
+    2. Refusals: fewer than :data:`MIN_SAMPLES_PER_PARAMETER` samples per base
+       parameter; a motion that does not excite a base parameter (its scaled
+       column of ``W`` lies in the span of the others to 1e-6: names it).
+    3. Ordinary least squares; the residual standard deviation of each
+       actuator ``σ_j = ‖r_j‖ / √(N − B/3)``.
+    4. Weighted least squares: the rows of actuator ``j`` divided by ``σ_j``;
+       covariance ``s²·(AᵀA)⁻¹`` with ``s² = ‖r_w‖² / (3N − B)``.
+
+    Parameters
+    ----------
+    robot : Robot
+        The nominal robot: geometry, gravity and the fixed parameters.
+    motion : Motion
+        ``N`` samples of the platform motion.
+    f10 : ndarray, shape (N, 3)
+        Measured actuator forces (N).
+    parameters : sequence of str
+        The standard parameters to estimate.
+    where : str
+        Names the data in messages (the file).
+    progress : callable, optional
+        ``progress(samples_done, N)`` while the regressor is built (the long part).
+
+    Raises
+    ------
+    TrajectoryError
+        Too few samples, wrong shapes, or a motion that does not excite the
+        base parameters.
+
+    Examples
+    --------
+    >>> from prp3.model.motion import law_motion
+    >>> from prp3.analysis.inverse_dynamics import inverse_dynamics
+    >>> robot = Robot()
+    >>> motion = law_motion((0.01, 0.02, 0.2), samples=101)
+    >>> result = identify(robot, motion, inverse_dynamics(robot, motion)[1].f10)
+    >>> bool(np.allclose(result.estimate, result.base.values(standard_parameters(robot))))
+    True
+    """
+    check_robot(robot)
+    names = _check_names(parameters)
+    if not isinstance(motion, Motion) or motion.t.ndim != 1:
+        raise TrajectoryError(f"{where}: the motion must be a batch prp3.Motion")
+    _refuse_mu(robot)
+    measured = check_per_leg("f10", f10)
+    samples = motion.samples
+    if measured.shape != (samples, 3):
+        raise TrajectoryError(
+            f"{where}: f10 must have shape ({samples}, 3) to match the motion, got {measured.shape}"
+        )
+    base = base_parameters(robot, ("f10",), names)
+    needed = MIN_SAMPLES_PER_PARAMETER * base.count
+    if samples < needed:
+        raise TrajectoryError(
+            f"{where}: {samples} samples are too few to identify {base.count} base parameters "
+            f"(at least {MIN_SAMPLES_PER_PARAMETER} per parameter: {needed})"
+        )
+    fixed = tuple(name for name in PARAMETERS if name not in names)
+    Y = regressor(robot, motion, names, progress=progress)
+    known = known_forces(robot, motion, fixed)
+    target = measured - known
+    W = Y.f10[..., list(base.independent)]  # (N, 3, B)
+    stacked = W.reshape(-1, base.count)
+    kept = _independent_columns(stacked, _EXCITATION_TOLERANCE)[0]
+    if len(kept) < base.count:
+        missing = [b for b in range(base.count) if b not in kept]
+        raise TrajectoryError(
+            f"{where}: the motion does not excite the base parameter(s) "
+            f"{', '.join(repr(base.label(b)) for b in missing)} (regressor rank {len(kept)} < "
+            f"{base.count}); move every coordinate, e.g. along a trajectory of prp3 excite"
+        )
+    estimate, std, sigma = weighted_least_squares(W, target)
+    fitted = W @ estimate + known
+    return Identification(
+        base=base,
+        estimate=estimate,
+        std=std,
+        condition=float(np.linalg.cond(stacked)),
+        sigma=sigma,
+        residual_rms=np.sqrt(((measured - fitted) ** 2).mean(axis=0)),
+        t=np.asarray(motion.t, dtype=np.float64),
+        measured=measured,
+        fitted=fitted,
+        fixed=fixed,
+    )
+
+
+def weighted_least_squares(
+    W: FloatArray, measured: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Two-pass weighted least squares of ``measured ≈ W·β``, for one or many data sets.
+
+    First pass: ordinary least squares; ``σ_j = ‖r_j‖ / √(N − B/3)`` is the
+    residual standard deviation of actuator ``j``.  Second pass: the rows of
+    actuator ``j`` divided by ``σ_j``; the covariance of the estimate is
+    ``s²·(AᵀA)⁻¹`` with ``s² = ‖r_w‖² / (3N − B)`` (solved by SVD).
+
+    Parameters
+    ----------
+    W : ndarray, shape (N, 3, B)
+        The base regressor.
+    measured : ndarray, shape (..., N, 3)
+        One data set, or a stack of them (vectorised: e.g. many noise draws).
+
+    Returns
+    -------
+    estimate, std : ndarray, shape (..., B)
+        The estimate and its standard deviations.
+    sigma : ndarray, shape (..., 3)
+        The weights: first-pass residual standard deviation per actuator.
+
+    Examples
+    --------
+    >>> W = np.stack([np.ones((20, 3)), np.linspace(0, 1, 60).reshape(20, 3)], axis=-1)
+    >>> estimate, std, sigma = weighted_least_squares(W, W @ np.array([2.0, -1.0]))
+    >>> np.round(estimate, 12).tolist()
+    [2.0, -1.0]
+    """
+    samples, _, count = W.shape
+    target = np.asarray(measured, dtype=np.float64)
+    stacked = W.reshape(-1, count)
+    first = np.einsum(
+        "bk,...k->...b", np.linalg.pinv(stacked), target.reshape(*target.shape[:-2], -1)
+    )
+    residual = target - np.einsum("nlb,...b->...nl", W, first)
+    sigma = np.sqrt((residual**2).sum(axis=-2) / (samples - count / 3.0))
+    floor = 1e-12 * np.sqrt((target**2).mean(axis=-2)).max(axis=-1, keepdims=True) + 1e-300
+    sigma = np.maximum(sigma, floor)
+    A = (W / sigma[..., None, :, None]).reshape(*sigma.shape[:-1], -1, count)
+    b = (target / sigma[..., None, :]).reshape(*sigma.shape[:-1], -1)
+    U, S, Vt = np.linalg.svd(A, full_matrices=False)
+    coordinates = np.einsum("...nb,...n->...b", U, b) / S
+    estimate = np.einsum("...bk,...b->...k", Vt, coordinates)
+    weighted = b - np.einsum("...nk,...k->...n", A, estimate)
+    s2 = (weighted**2).sum(axis=-1) / (3 * samples - count)
+    variance = np.einsum("...bk,...b->...k", Vt**2, 1.0 / S**2) * s2[..., None]
+    return estimate, np.sqrt(variance), sigma
+
+
+# ------------------------------------------------------ physical parameters
+def robot_from_standard(nominal: Robot, standard: dict[str, float]) -> Robot:
+    """The robot with the parameters ``standard`` (the others from ``nominal``).
+
+    The inverse of :func:`prp3.mechanics.kernel.kernel_parameters`: ``c = h/m``,
+    ``I2 = J2 − m2·|c2|²`` about the centre of mass.  The platform side
+    ``(m3, h3, J3)`` is the platform and its payload together: with a payload
+    in ``nominal``, its mass and own inertia are kept and the platform mass,
+    the payload's centre of mass ``h3/m_p`` and the platform inertia
+    ``J3 − I_p − |h3|²/m_p`` are solved; without one, ``h3`` must be zero.
+    Friction coefficients replace ``nominal``'s (its ``μ``, smoothing and pin
+    radius are kept).  The piston inertia (it never enters the dynamics),
+    geometry, gravity, limits and load are ``nominal``'s.
+
+    Raises
+    ------
+    ParameterError
+        A non-positive mass, a negative inertia about a centre of mass or a
+        negative friction coefficient (names the parameter and its value).
+
+    Examples
+    --------
+    >>> robot = robot_from_standard(Robot(), {"link_moment_x": 0.015, "link_inertia": 1e-3})
+    >>> robot.link.com, round(robot.link.inertia, 12)
+    ((0.02, 0.0), 0.0007)
+    """
+    values = dict(zip(PARAMETERS, standard_parameters(nominal, PARAMETERS).tolist(), strict=True))
+    for name, value in standard.items():
+        _check_names([name])
+        values[name] = float(value)
+    for name in ("piston_mass", "link_mass", "platform_mass"):
+        if not values[name] > 0.0:
+            raise ParameterError(
+                f"{PARAMETER_SYMBOLS[name]} = {values[name]!r} kg: a mass must be positive"
+            )
+    m1, m2 = values["piston_mass"], values["link_mass"]
+    c1 = (values["piston_moment_x"] / m1, values["piston_moment_y"] / m1)
+    c2 = (values["link_moment_x"] / m2, values["link_moment_y"] / m2)
+    round_off = 1e-12 * nominal.l0**2  # kg·m² per kg: an inertia of round-off size
+    link_inertia = values["link_inertia"] - m2 * (c2[0] ** 2 + c2[1] ** 2)
+    if -round_off * m2 <= link_inertia < 0.0:
+        link_inertia = 0.0
+    if not link_inertia >= 0.0:
+        raise ParameterError(
+            f"J2 = {values['link_inertia']!r} kg m^2 is less than m2·|c2|^2 = "
+            f"{m2 * (c2[0] ** 2 + c2[1] ** 2)!r}: link 2's inertia about its centre of mass "
+            "would be negative"
+        )
+    mass, inertia = values["platform_mass"], values["platform_inertia"]
+    h3 = (values["platform_moment_x"], values["platform_moment_y"])
+    payload = nominal.payload
+    if payload.mass > 0.0:
+        mp = payload.mass
+        cp = (h3[0] / mp, h3[1] / mp)
+        mass = mass - mp
+        inertia = inertia - payload.inertia - (h3[0] ** 2 + h3[1] ** 2) / mp
+        payload = replace(payload, com=cp)
+        if not mass > 0.0:
+            raise ParameterError(
+                f"m3 = {values['platform_mass']!r} kg is not more than the payload's "
+                f"{mp!r} kg: the platform mass would not be positive"
+            )
+    elif h3 != (0.0, 0.0):
+        raise ParameterError(
+            f"h3 = ({h3[0]!r}, {h3[1]!r}) kg m: a first moment of the platform about G "
+            "needs a payload; give the nominal robot a [payload] with its mass"
+        )
+    if -round_off * mass <= inertia < 0.0:
+        inertia = 0.0
+    if not inertia >= 0.0:
+        raise ParameterError(
+            f"J3 = {values['platform_inertia']!r} kg m^2: the platform inertia about G would "
+            "be negative"
+        )
+    robot = replace(
+        nominal,
+        piston=PistonParameters(mass=m1, inertia=nominal.piston.inertia, com=c1),
+        link=LinkParameters(mass=m2, inertia=link_inertia, com=c2),
+        platform=PlatformParameters(mass=mass, inertia=inertia),
+        payload=payload,
+    )
+    for element in ELEMENTS:  # the friction coefficients, the spring's stiffness and damping
+        if element.regressor:
+            robot = element.identified(robot, values)
+    return robot
+
+
+@dataclass(frozen=True)
+class IdentifiedRobot:
+    """A robot whose physical parameters reproduce identified base parameters.
+
+    Attributes
+    ----------
+    robot : Robot
+        Geometry, gravity and limits of the nominal robot.
+    solved : tuple of str
+        For each base parameter, the standard parameter solved from it.
+    kept : tuple of str
+        Standard parameters kept at the nominal robot's values.
+    clamped : tuple of str
+        Friction coefficients estimated below zero but within 3 standard
+        deviations of it (or round-off), and, for a nominal robot without a
+        payload, the platform's first moments ``h3x``, ``h3y`` estimated within
+        3 standard deviations of zero (or ``1e-9·m3·l0``): written as 0.
+    """
+
+    robot: Robot
+    solved: tuple[str, ...]
+    kept: tuple[str, ...]
+    clamped: tuple[str, ...] = ()
+
+
+#: Most choices of solved parameters :func:`identified_robot` tries.
+_MAX_CHOICES: int = 4096
+
+
+def _kept_values(nominal: Robot, values: dict[str, float]) -> dict[str, float]:
+    """The parameters of ``nominal``'s physical ones, with the current masses and moments.
+
+    A kept first moment keeps the nominal centre of mass (``h = m·c``), a kept
+    inertia the nominal inertia about the centre of mass (``J2 = I2 + |h2|²/m2``,
+    ``J3 = I3 + I_p + |h3|²/m_p`` with a payload), whatever the masses and
+    moments solved; friction coefficients are kept as they are.
+    """
+    m1, m2 = values["piston_mass"], values["link_mass"]
+    h2x, h2y = values["link_moment_x"], values["link_moment_y"]
+    h3x, h3y = values["platform_moment_x"], values["platform_moment_y"]
+    payload = nominal.payload
+    mp = payload.mass
+    kept = dict(zip(PARAMETERS, standard_parameters(nominal, PARAMETERS).tolist(), strict=True))
+    kept.update(
+        piston_moment_x=m1 * nominal.piston.com[0],
+        piston_moment_y=m1 * nominal.piston.com[1],
+        link_moment_x=m2 * nominal.link.com[0],
+        link_moment_y=m2 * nominal.link.com[1],
+        link_inertia=nominal.link.inertia + (h2x * h2x + h2y * h2y) / m2 if m2 > 0 else 0.0,
+    )
+    if mp > 0.0:
+        kept["platform_inertia"] = (
+            nominal.platform_inertia + payload.inertia + (h3x * h3x + h3y * h3y) / mp
+        )
+    return kept
+
+
+def _solve_choice(
+    nominal: Robot, base: BaseParameters, estimate: FloatArray, solved: list[int]
+) -> dict[str, float]:
+    """Standard parameters: ``solved`` from the base parameters, the others kept (physically)."""
+    names = base.parameters
+    C = base.combination
+    others = [j for j in range(len(names)) if j not in solved]
+    values = dict(zip(PARAMETERS, standard_parameters(nominal, PARAMETERS).tolist(), strict=True))
+    for _ in range(4):  # masses, then moments, then inertias: a fixed point in 3 passes
+        kept = _kept_values(nominal, values)
+        fixed = np.array([kept[names[j]] for j in others])
+        rhs = estimate - C[:, others] @ fixed
+        for j, v in zip(others, fixed.tolist(), strict=True):
+            values[names[j]] = v
+        for j, v in zip(solved, np.linalg.solve(C[:, solved], rhs).tolist(), strict=True):
+            values[names[j]] = v
+    return values
+
+
+def identified_robot(nominal: Robot, result: Identification) -> IdentifiedRobot:
+    """The robot of an identification: in each combination, solve the dominant parameter.
+
+    Within each base parameter the member with the largest nominal
+    contribution ``|coefficient × nominal value|`` is solved (the platform
+    inertia, not a link's small inertia), the others keep ``nominal``'s
+    physical values: its masses, centres of mass and inertias about the
+    centres of mass (so a kept ``J2`` follows the identified ``h2``).
+    If that robot is not physically valid (a mass ≤ 0, an inertia < 0 about a
+    centre of mass), the other choices are tried in order of dominance.  A
+    friction coefficient estimated below 0 but within 3 standard deviations
+    of it is written as 0 (and listed in :attr:`IdentifiedRobot.clamped`);
+    further below, the robot is invalid.  Likewise, without a payload in
+    ``nominal`` the platform's centre of mass is ``G`` (``h3 = 0``, the
+    robot cannot say otherwise): the first moments ``h3x``, ``h3y`` estimated
+    within 3 standard deviations of zero (noise), or within ``1e-9·m3·l0``
+    (round-off on exact forces), are written as 0; farther from it, the robot is invalid (give
+    ``nominal`` a ``[payload]``).
+
+    Examples
+    --------
+    >>> from prp3.model.motion import law_motion
+    >>> from prp3.analysis.inverse_dynamics import inverse_dynamics
+    >>> robot, motion = Robot(), law_motion((0.01, 0.02, 0.2), samples=101)
+    >>> result = identify(robot, motion, inverse_dynamics(robot, motion)[1].f10)
+    >>> identified = identified_robot(robot, result)
+    >>> round(identified.robot.platform.mass, 9), identified.clamped
+    (3.0, ('platform_moment_x', 'platform_moment_y'))
+
+    Raises
+    ------
+    ParameterError
+        No choice gives a physically valid robot (names the first failure).
+    """
+    base = result.base
+    estimate = result.estimate.copy()
+    clamped = []
+    without_payload = not nominal.payload.mass > 0.0
+    moment_floor = 1e-9 * nominal.platform.mass * nominal.l0  # kg m: round-off of h3
+    roundoff = 1e-12 * float(np.abs(result.measured).max())  # of the forces: N (N s/m at 1 m/s)
+    for b, name in enumerate(base.names):  # a friction coefficient of 0 estimated below 0
+        if base.members(b) != (base.independent[b],):
+            continue
+        floor = max(3.0 * result.std[b], roundoff)
+        if name in ELEMENT_PARAMETERS and -floor <= estimate[b] < 0.0:
+            estimate[b] = 0.0
+            clamped.append(name)
+        elif (  # no payload: the centre of mass of the platform is G
+            without_payload
+            and name in ("platform_moment_x", "platform_moment_y")
+            and estimate[b] != 0.0
+            and abs(estimate[b]) <= max(3.0 * result.std[b], moment_floor)
+        ):
+            estimate[b] = 0.0
+            clamped.append(name)
+    nominal_values = standard_parameters(nominal, base.parameters)
+    candidates = []
+    for b in range(base.count):
+        members = base.members(b)
+        weight = [abs(base.combination[b, j] * nominal_values[j]) for j in members]
+        order = sorted(range(len(members)), key=lambda i: (-weight[i], members[i]))
+        candidates.append([members[i] for i in order])
+    first_error: ParameterError | None = None
+    for choice in itertools.islice(itertools.product(*candidates), _MAX_CHOICES):
+        if (
+            len(set(choice)) != len(choice)
+            or abs(np.linalg.det(base.combination[:, choice])) < 1e-12
+        ):
+            continue
+        values = _solve_choice(nominal, base, estimate, list(choice))
+        for name in ELEMENT_PARAMETERS:  # a zero coefficient solved to round-off below zero
+            if name in values and -roundoff <= values[name] < 0.0:
+                values[name] = 0.0
+        try:
+            robot = robot_from_standard(nominal, values)
+        except ParameterError as error:
+            first_error = first_error or error
+            continue
+        solved_names = tuple(base.parameters[j] for j in choice)
+        kept = tuple(name for name in PARAMETERS if name not in solved_names)
+        return IdentifiedRobot(robot=robot, solved=solved_names, kept=kept, clamped=tuple(clamped))
+    raise ParameterError(
+        f"the identified base parameters give no physically valid robot ({first_error})"
+    )

@@ -1,0 +1,1 @@
+"""How the mechanics runs: the engine choice and the numpy engine (`select`), the numba engine (`numba`), the validated entries (`entries`), the straight-line tracer of the design sweeps (`trace`)."""

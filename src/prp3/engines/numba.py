@@ -1,0 +1,332 @@
+"""The numba engine: the kernel's own functions compiled to machine code (internal).
+
+Nothing here is written twice: every function of :mod:`prp3.mechanics.kernel` is
+compiled by numba from its own bytecode (:func:`_compiled_kernel`), with the
+functions of :mod:`math` as its :class:`~prp3.mechanics.kernel.Ops` and the robot's
+constants as a named tuple of the fields of
+:class:`~prp3.mechanics.kernel.KernelParameters` (read from a float64 array, so that one
+compiled function serves every robot).  The loops below only call the
+kernel's stages in the order of :func:`prp3.mechanics.kernel.solve` —
+:func:`~prp3.mechanics.kernel.kernel_geometry`, :func:`~prp3.mechanics.kernel.kernel_kinematics`,
+:func:`~prp3.mechanics.kernel.body_wrenches`, :func:`~prp3.mechanics.kernel.joint_forces` — and
+store what they return.  What the kernel does not write on plain floats
+(the friction laws, the implicit ``μ`` solve) is not compiled: the numpy
+engine runs it (:mod:`prp3.engines.select`).
+
+The machine code is cached on disk (``cache=True``: in ``__pycache__`` beside
+this file where it is writable, else numba's user cache directory, or
+``NUMBA_CACHE_DIR``), so the compile cost (about two seconds per function)
+is paid once per installation.  The cache is keyed on the source of this
+file *and* of :mod:`prp3.mechanics.kernel` (:class:`_KernelStamp`): a change of the
+kernel recompiles.
+
+The engine does not validate: its callers (:mod:`prp3.engines.entries`) pass finite,
+non-singular samples.  Division by a zero is IEEE's (``error_model="numpy"``).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import types
+from collections import namedtuple
+from dataclasses import fields
+from typing import Any
+
+import numba
+import numpy as np
+from numba.core import caching
+from numba.np.unsafe.ndarray import to_fixed_tuple
+
+from prp3.mechanics import kernel
+
+__all__ = [
+    "f10_loop",
+    "forces_loop",
+    "lambda10_sample",
+    "parameter_array",
+    "reactions_loop",
+    "sample_f10",
+    "sample_f10_loaded",
+    "sample_forces",
+    "sample_forces_loaded",
+    "solve_loop",
+]
+
+_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(kernel.KernelParameters))
+_COUNT = len(_FIELDS)
+#: The kernel's parameters as numba sees them: the fields of KernelParameters, floats.
+_Parameters = namedtuple("_Parameters", _FIELDS)  # type: ignore[misc]
+
+
+def parameter_array(parameters: kernel.KernelParameters) -> np.ndarray[Any, np.dtype[np.float64]]:
+    """The fields of ``parameters`` (floats) as a float64 array, in field order."""
+    return np.array([float(getattr(parameters, name)) for name in _FIELDS])
+
+
+# ------------------------------------------------------------------ the cache
+_KERNEL_FILE = kernel.__file__
+
+
+class _KernelStamp:
+    """A cache locator whose stamp is this file's and :mod:`prp3.mechanics.kernel`'s.
+
+    numba stamps a cached function with its own source file only; the loops
+    here inline the kernel, so a change of ``kernel.py`` must invalidate
+    them too.
+    """
+
+    def get_source_stamp(self) -> Any:
+        stamp = super().get_source_stamp()  # type: ignore[misc]
+        st = os.stat(_KERNEL_FILE)
+        return (stamp, caching._hash_source_file(_KERNEL_FILE, st.st_mtime, st.st_size))
+
+    @classmethod
+    def from_function(cls, py_func: Any, py_file: str) -> Any:
+        if os.path.abspath(py_file) != os.path.abspath(__file__):
+            return None
+        return super().from_function(py_func, py_file)  # type: ignore[misc]
+
+
+def _install_locators() -> None:
+    """Put the :class:`_KernelStamp` locators first in numba's list (once)."""
+    impl = caching.CacheImpl
+    if any(issubclass(c, _KernelStamp) for c in impl._locator_classes):
+        return
+    ours: list[type] = [
+        type(f"Kernel{base.__name__}", (_KernelStamp, base), {"__module__": __name__})
+        for base in (
+            caching.UserProvidedCacheLocator,
+            caching.InTreeCacheLocator,
+            caching.UserWideCacheLocator,
+        )
+    ]
+    impl._locator_classes = [*ours, *impl._locator_classes]  # type: ignore[list-item]
+
+
+_install_locators()
+
+
+# ------------------------------------------------------- the kernel, compiled
+def _inline(function: Any) -> Any:
+    return numba.njit(inline="always")(function)
+
+
+def _cos(value: float) -> float:
+    return math.cos(value)
+
+
+def _sin(value: float) -> float:
+    return math.sin(value)
+
+
+def _sqrt(value: float) -> float:
+    return math.sqrt(value)
+
+
+def _tanh(value: float) -> float:
+    return math.tanh(value)
+
+
+def _abs(value: float) -> float:
+    return abs(value)
+
+
+def _sign(value: float) -> float:
+    return float((value > 0.0) - (value < 0.0))
+
+
+def _zero(value: float) -> bool:
+    return value == 0.0
+
+
+_Ops = namedtuple("_Ops", ("name", "cos", "sin", "sqrt", "tanh", "abs", "sign"))
+
+
+def _compiled_kernel() -> types.ModuleType:
+    """Every function of :mod:`prp3.mechanics.kernel`, compiled by numba from its own bytecode.
+
+    Each function is rebuilt from its code object with a namespace in which
+    the kernel's names are the compiled functions, ``_zero`` tests a float
+    (numba has no ``isinstance`` of unions) and :data:`OPS` is :mod:`math`'s.
+    Compilation is lazy: only what the loops call is compiled.
+    """
+    module = types.ModuleType("prp3.kernel_numba")
+    namespace = module.__dict__
+    namespace.update(vars(kernel))
+    for name, value in vars(kernel).items():
+        if isinstance(value, types.FunctionType) and value.__module__ == kernel.__name__:
+            clone = types.FunctionType(
+                value.__code__, namespace, value.__name__, value.__defaults__, value.__closure__
+            )
+            clone.__kwdefaults__ = value.__kwdefaults__
+            namespace[name] = _inline(clone)
+    namespace["_zero"] = _inline(_zero)
+    return module
+
+
+_kernel = _compiled_kernel()
+OPS = _Ops(
+    "numba", *(_inline(f) for f in (_cos, _sin, _sqrt, _tanh, _abs, _sign))
+)  # the kernel's Ops on floats, for numba
+
+
+# ------------------------------------------------------------------ the stages
+@numba.njit(inline="always")
+def _parameters(array: Any) -> Any:
+    return _Parameters(*to_fixed_tuple(array, _COUNT))  # type: ignore[call-arg]
+
+
+@numba.njit(inline="always")
+def _solve(k: Any, x: float, y: float, phi: float, dx: float, dy: float, dphi: float,
+           ddx: float, ddy: float, ddphi: float, load: Any, reactions: bool) -> Any:  # fmt: skip
+    """:func:`prp3.mechanics.kernel.solve` without joint friction: its stages in its order."""
+    geo = _kernel.kernel_geometry(OPS, k, x, y, phi)
+    kin = _kernel.kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
+    # load, friction, inertia: numba's inliner binds keyword-only arguments by position
+    w = _kernel.body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load, None, True)
+    f10, f21y, f21z, rest = _kernel.joint_forces(k, kin, w, reactions)
+    return kin, f10, f21y, f21z, rest
+
+
+@numba.njit(inline="always")
+def _store(target: Any, i: int, legs: Any) -> None:
+    target[i, 0] = legs[0]
+    target[i, 1] = legs[1]
+    target[i, 2] = legs[2]
+
+
+@numba.njit(inline="always")
+def _power(f10: Any, rate: Any) -> Any:
+    return (f10[0] * rate[0], f10[1] * rate[1], f10[2] * rate[2])  # p10 = f10·λ̇10
+
+
+@numba.njit(inline="always")
+def _solve_row(k: Any, pose: Any, velocity: Any, acceleration: Any, i: int, load: Any,
+               reactions: bool) -> Any:  # fmt: skip
+    """:func:`_solve` of the sample ``i`` of the arrays ``(n, 3)``."""
+    return _solve(
+        k, pose[i, 0], pose[i, 1], pose[i, 2], velocity[i, 0], velocity[i, 1], velocity[i, 2],
+        acceleration[i, 0], acceleration[i, 1], acceleration[i, 2], load, reactions,
+    )  # fmt: skip
+
+
+@numba.njit(inline="always")
+def _store_forces(f10: Any, p10: Any, f21y: Any, f21z: Any, i: int, kin: Any, f: Any, fy: Any,
+                  fz: Any) -> None:  # fmt: skip
+    """Row ``i`` of ``f10``, ``p10 = f10·λ̇10``, ``f21y``, ``f21z``."""
+    _store(f10, i, f)
+    _store(p10, i, _power(f, kin.dlambda10))
+    _store(f21y, i, fy)
+    _store(f21z, i, fz)
+
+
+@numba.njit(inline="always")
+def _store_reactions(n10: Any, m10: Any, n32: Any, m32: Any, i: int, rest: Any) -> None:
+    """Row ``i`` of the reactions ``n10, m10, n32, m32``."""
+    _store(n10, i, rest[0])
+    _store(m10, i, rest[1])
+    _store(n32, i, rest[2])
+    _store(m32, i, rest[3])
+
+
+# ------------------------------------------------------------------- batches
+@numba.njit(cache=True, error_model="numpy")
+def f10_loop(
+    a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any
+) -> None:  # pragma: no cover
+    """``f10`` ``(n, 3)`` of samples ``(n, 3)``, written into ``f10``."""
+    k = _parameters(a)
+    for i in range(pose.shape[0]):
+        _, f, _, _, _ = _solve_row(k, pose, velocity, acceleration, i, None, False)
+        _store(f10, i, f)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def forces_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any, p10: Any,
+                f21y: Any, f21z: Any) -> None:  # pragma: no cover  # fmt: skip
+    """``f10, p10, f21y, f21z`` ``(n, 3)`` of samples ``(n, 3)``, written into them."""
+    k = _parameters(a)
+    for i in range(pose.shape[0]):
+        kin, f, fy, fz, _ = _solve_row(k, pose, velocity, acceleration, i, None, False)
+        _store_forces(f10, p10, f21y, f21z, i, kin, f, fy, fz)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def reactions_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any, p10: Any,
+                   f21y: Any, f21z: Any, n10: Any, m10: Any, n32: Any, m32: Any) -> None:  # pragma: no cover  # fmt: skip
+    """:func:`forces_loop` and the reactions ``n10, m10, n32, m32``."""
+    k = _parameters(a)
+    for i in range(pose.shape[0]):
+        kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, None, True)
+        _store_forces(f10, p10, f21y, f21z, i, kin, f, fy, fz)
+        _store_reactions(n10, m10, n32, m32, i, rest)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def solve_loop(
+    a: Any, pose: Any, velocity: Any, acceleration: Any, load: Any, out: Any
+) -> None:  # pragma: no cover
+    """Every output of :class:`~prp3.mechanics.kernel.KernelSolution` up to ``m32``: ``out`` ``(14, n, 3)``.
+
+    ``load`` ``(n, 3)``: the time-varying wrench on the platform, or ``None``.
+    """
+    k = _parameters(a)
+    for i in range(pose.shape[0]):
+        if load is None:
+            kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, None, True)
+        else:
+            wrench = (load[i, 0], load[i, 1], load[i, 2])
+            kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, wrench, True)
+        geo = kin.geometry
+        _store(out[0], i, geo.lambda10)
+        _store(out[1], i, kin.dlambda10)
+        _store(out[2], i, kin.ddlambda10)
+        _store(out[3], i, geo.lambda32)
+        _store(out[4], i, kin.dlambda32)
+        _store(out[5], i, kin.ddlambda32)
+        _store_forces(out[6], out[7], out[8], out[9], i, kin, f, fy, fz)
+        _store_reactions(out[10], out[11], out[12], out[13], i, rest)
+
+
+# ------------------------------------------------------------- single samples
+@numba.njit(cache=True, error_model="numpy")
+def sample_forces(a: Any, x: float, y: float, phi: float, dx: float, dy: float, dphi: float,
+                  ddx: float, ddy: float, ddphi: float) -> Any:  # pragma: no cover  # fmt: skip
+    """``(f10, p10, f21y, f21z)`` of one sample, each ``(A, B, C)``."""
+    k = _parameters(a)
+    kin, f, fy, fz, _ = _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, None, False)
+    return f, _power(f, kin.dlambda10), fy, fz
+
+
+@numba.njit(cache=True, error_model="numpy")
+def sample_forces_loaded(a: Any, x: float, y: float, phi: float, dx: float, dy: float,
+                         dphi: float, ddx: float, ddy: float, ddphi: float, fx: float,
+                         fy: float, mz: float) -> Any:  # pragma: no cover  # fmt: skip
+    """:func:`sample_forces` with a time-varying load ``(f_x, f_y, m_z)`` on the platform."""
+    k = _parameters(a)
+    kin, f, f21y, f21z, _ = _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, (fx, fy, mz), False)
+    return f, _power(f, kin.dlambda10), f21y, f21z
+
+
+@numba.njit(cache=True, error_model="numpy")
+def sample_f10(a: Any, x: float, y: float, phi: float, dx: float, dy: float, dphi: float,
+               ddx: float, ddy: float, ddphi: float) -> Any:  # pragma: no cover  # fmt: skip
+    """``f10`` ``(A, B, C)`` of one sample."""
+    k = _parameters(a)
+    return _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, None, False)[1]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def sample_f10_loaded(a: Any, x: float, y: float, phi: float, dx: float, dy: float,
+                      dphi: float, ddx: float, ddy: float, ddphi: float, fx: float, fy: float,
+                      mz: float) -> Any:  # pragma: no cover  # fmt: skip
+    """:func:`sample_f10` with a time-varying load ``(f_x, f_y, m_z)`` on the platform."""
+    k = _parameters(a)
+    return _solve(k, x, y, phi, dx, dy, dphi, ddx, ddy, ddphi, (fx, fy, mz), False)[1]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def lambda10_sample(a: Any, x: float, y: float, phi: float) -> Any:  # pragma: no cover
+    """``λ10`` ``(A, B, C)`` of one pose (eq. 10), for the stroke check."""
+    return _kernel.kernel_geometry(OPS, _parameters(a), x, y, phi).lambda10
