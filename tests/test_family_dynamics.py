@@ -305,6 +305,77 @@ def test_routes_agree_and_balances_hold(data: st.DataObject) -> None:
     assert max(abs(r) for r in residuals) < 1e-10
 
 
+@st.composite
+def unusual_designs(draw: st.DrawFn) -> FamilyRobot:
+    """Valid designs away from the defaults (docs/family.md §2, §5): every architecture and
+    allowed actuation, other ``home`` joint values (the legs' home poses off the origin and
+    apart), placements moved and turned, a scale from 0.05 to 2, massless bodies, gravity
+    in the plane along ``−y`` or ``+x``, oblique, or none (the plane horizontal)."""
+    arch, act = draw(st.sampled_from(ALLOWED))
+    base = FamilyRobot.default(arch, act)
+    step = [0.25 if kind == "R" else 0.04 for kind in base.types]
+    h0, h1, h2 = (h + draw(_f(-d, d)) for h, d in zip(base.leg.home, step, strict=True))
+
+    def moved(p: tuple[float, float, float]) -> tuple[float, float, float]:
+        return (p[0] + draw(_f(-0.05, 0.05)), p[1] + draw(_f(-0.05, 0.05)),
+                p[2] + draw(_f(-0.3, 0.3)))  # fmt: skip
+
+    leg = replace(
+        base.leg,
+        joint1=moved(base.leg.joint1),
+        joint2=moved(base.leg.joint2),
+        joint3=moved(base.leg.joint3),
+        attachment=moved(base.leg.attachment),
+        home=(h0, h1, h2),
+        scale=draw(_f(0.05, 2.0)),
+    )
+
+    def mass(high: float) -> float:
+        return draw(st.sampled_from([0.0, draw(_f(0.01, high))]))
+
+    def body(name: str) -> Body:
+        com = (draw(_f(-0.3, 0.3)), draw(_f(-0.3, 0.3)))
+        return Body(mass(3.0), com, mass(0.02), name=name)
+
+    gravity = draw(st.sampled_from([(0.0, 0.0), (0.0, -9.81), (9.81, 0.0), (-6.9367, -6.9367)]))
+    try:
+        return FamilyRobot(
+            architecture=arch,
+            actuated=act,
+            leg=leg,
+            link1=body("link1"),
+            link2=body("link2"),
+            platform=PlatformBody(mass(5.0), mass(0.1)),
+            payload=Payload(mass(2.0), (draw(_f(-0.2, 0.2)), draw(_f(-0.2, 0.2))), mass(0.01)),
+            load=Load((draw(_f(-20, 20)), draw(_f(-20, 20))), draw(_f(-2, 2))),
+            gravity=gravity,
+        )
+    except ParameterError:
+        assume(False)
+        raise
+
+
+@given(data=st.data())
+def test_routes_agree_at_unusual_designs(data: st.DataObject) -> None:
+    """Away from the defaults the three routes and both engines of the fast route agree to
+    1e-10, and every balance rebuilt from the columns (independent of the routes) holds."""
+    robot = data.draw(unusual_designs())
+    motion = data.draw(motions(robot.home_poses.mean(axis=0)))
+    tables = solve_all(robot, motion)
+    tables["numpy"] = family_results_table(family_inverse_dynamics(robot, motion, engine="numpy"))
+    fast = tables["fast"]
+    scale = 1.0 + max(float(np.abs(v).max()) for v in fast.values())
+    for method in ("paper", "newton-euler", "numpy"):
+        for name in FAMILY_COLUMNS:
+            np.testing.assert_allclose(
+                tables[method][name], fast[name], rtol=0, atol=1e-10 * scale,
+                err_msg=f"{method} {name}",
+            )  # fmt: skip
+    for k in range(motion.samples):
+        row = {name: float(fast[name][k]) for name in FAMILY_COLUMNS}
+        assert abs(check_sample(robot, row, motion, k)) < 1e-10
+
+
 @pytest.mark.parametrize(("arch", "act"), ALLOWED)
 def test_every_actuation_balances(arch: str, act: int) -> None:
     """Each allowed actuation of each default design, a loaded, moving platform."""
