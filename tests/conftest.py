@@ -7,12 +7,25 @@ Profiles (choose with the environment variable ``PRP3_HYPOTHESIS_PROFILE``):
   and no example database (nothing written to the working tree).
 * ``thorough`` — 1000 random examples per property, for an occasional deep run:
   ``PRP3_HYPOTHESIS_PROFILE=thorough python -m pytest tests``.
+
+Two things keep the whole suite short on a few cores (pytest-xdist, ``-n auto``):
+
+* the tests marked ``slow`` run first, then the doctests of the documents
+  (:func:`pytest_collection_modifyitems`): a long test started last would run
+  alone on one core at the end;
+* on a fresh checkout the numba engines are compiled once, shared out among
+  the workers (:func:`_compiled_engines`), instead of each worker compiling
+  every loop the first time one of its tests calls it (seconds per loop; the
+  machine code is then read from numba's disk cache).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
+from collections.abc import Callable, Iterator
+from importlib import util as importlib_util
 from pathlib import Path
 
 import pytest
@@ -53,3 +66,67 @@ def earlier_run(tmp_path: Path) -> Path:
     (folder / "results.csv").write_text("t,x\n0.0,1.0\n")
     (folder / "notes.txt").write_text("the user's own file\n")
     return folder
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Run the ``slow`` tests first, then the doctests of the documents, then the rest.
+
+    The sort is stable (each group keeps pytest's order) and the same in every
+    xdist worker, which all collect the same items.
+    """
+
+    def group(item: pytest.Item) -> int:
+        if item.get_closest_marker("slow") is not None:
+            return 0
+        return 1 if item.path.suffix == ".md" else 2
+
+    items.sort(key=group)
+
+
+def _engine_warmups() -> list[Callable[[], object]]:
+    """One call per compiled loop of the numba engines (each compiles one machine code)."""
+    import numpy as np
+
+    from prp3 import Robot, compile_robot, paper_forces, sample_forces
+    from prp3.family import FamilyRobot, family_inverse_dynamics
+    from prp3.fast import actuator_forces, sample_actuator_forces, solve_batch
+    from prp3.motion import paper_motion
+
+    robot = Robot.from_mapping({"limits": {"stroke": [-0.2, 0.2]}})
+    compiled = compile_robot(robot)
+    rest = np.zeros((2, 3))
+    states = (rest, rest, rest)
+    still = ((0.0, 0.0, 0.0),) * 3
+    load = (0.0, -1.0, 0.0)
+    family = FamilyRobot.from_mapping({"architecture": "3-RRR"})
+    return [  # in an order that shares the compile time out evenly (about 5 s a loop)
+        lambda: family_inverse_dynamics(family, paper_motion("vertical", 3), engine="numba"),
+        lambda: solve_batch(compiled, *states, load=rest, engine="numba"),
+        lambda: solve_batch(compiled, *states, engine="numba"),
+        lambda: paper_forces(compiled, *states, reactions=True, engine="numba"),
+        lambda: paper_forces(compiled, *states, engine="numba"),
+        lambda: actuator_forces(compiled, *states, engine="numba"),
+        lambda: sample_forces(compiled, *still, engine="numba"),
+        lambda: sample_forces(compiled, *still, load=load, engine="numba"),
+        lambda: sample_actuator_forces(compiled, *still, engine="numba"),
+        lambda: sample_actuator_forces(compiled, *still, load=load, engine="numba"),
+    ]
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _compiled_engines(request: pytest.FixtureRequest) -> Iterator[None]:
+    """Under xdist, worker ``k`` of ``n`` compiles every ``n``-th loop of the engines first.
+
+    Each worker then reads the others' machine code from numba's disk cache
+    instead of compiling it again (with a warm cache this only loads it).
+    Without xdist, or without numba, nothing is done: the tests compile what
+    they call.  A warm-up that fails is left to the tests that call it.
+    """
+    workerinput = getattr(request.config, "workerinput", None)
+    count = int(workerinput["workercount"]) if workerinput else 1
+    if count > 1 and importlib_util.find_spec("numba") is not None:
+        index = int(str(workerinput["workerid"]).removeprefix("gw"))  # type: ignore[index]
+        with contextlib.suppress(Exception):
+            for warmup in _engine_warmups()[index::count]:
+                warmup()
+    yield

@@ -387,6 +387,7 @@ def _free_port() -> int:
         return int(probe.getsockname()[1])
 
 
+@pytest.mark.slow  # a server in a subprocess
 def test_ctrl_c_stops_the_server_with_130_and_writes_nothing(tmp_path: Path) -> None:
     port = _free_port()
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}

@@ -94,6 +94,7 @@ def test_a_closed_standard_output_is_one_line():
     assert (run.returncode, run.stderr) == (2, "prp3 robot: error: standard output: closed\n")
 
 
+@pytest.mark.slow  # a subprocess per command
 def test_help_and_runs_on_a_closed_standard_output_are_one_line(earlier_run):
     # was: --help printed on stderr with exit 0; a run moved its files in, then failed
     run = prp3("--help", stdout=subprocess.DEVNULL, preexec_fn=lambda: os.close(1))

@@ -63,6 +63,7 @@ def test_the_design_kernel_adds_the_trajectory_load() -> None:
     assert np.abs(np.abs(bare.f10).max(axis=0) - got).max() > 0.1
 
 
+@pytest.mark.slow  # a design sweep on a LocalCluster
 def test_sweep_uses_the_load_columns(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     motion = loaded(paper_motion("vertical", 31))
     write(tmp_path / "loaded.csv", motion)

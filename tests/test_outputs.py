@@ -175,6 +175,7 @@ def _sha256(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
+@pytest.mark.slow  # six commands into one folder
 def test_commands_sharing_a_folder_keep_each_others_files(tmp_path, capsys):
     # was: simulate, then workspace, then export c into one folder: each run deleted the
     # files of the one before (one manifest for the folder, whatever the command)

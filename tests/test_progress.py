@@ -138,6 +138,7 @@ def _commands(tmp: Path) -> list[tuple[list[str], list[str]]]:
     ]  # fmt: skip
 
 
+@pytest.mark.slow  # every long command, on a terminal and off it
 def test_every_long_command_draws_a_bar_on_a_terminal_and_nothing_elsewhere(tmp_path, monkeypatch):
     monkeypatch.setattr(progress_module, "DELAY", 0.0)  # small inputs: draw at once
     for terminal in (True, False):

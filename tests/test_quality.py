@@ -34,6 +34,7 @@ def test_ruff_check_and_format() -> None:
     assert form.returncode == 0, form.stdout + form.stderr
 
 
+@pytest.mark.slow  # a cold mypy run: 20 s of one core
 def test_mypy_strict() -> None:
     pytest.importorskip("mypy")
     result = _run(sys.executable, "-m", "mypy")

@@ -38,6 +38,7 @@ def test_the_readme_starts_with_the_two_commands() -> None:
     assert commands[1].strip() in ci.splitlines()
 
 
+@pytest.mark.slow  # every command of the README's tour
 def test_beyond_the_paper_commands_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
     lines = _shell_lines("Beyond the paper")

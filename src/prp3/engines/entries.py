@@ -519,6 +519,18 @@ def _run(
     return flags
 
 
+def _frozen(array: FloatArray) -> FloatArray:
+    """A C-contiguous, read-only view of ``array`` (a copy only where it is not contiguous).
+
+    numba compiles a loop once per argument type, and a read-only array is
+    another type than a writable one: the same flags on every call keep one
+    machine code per loop (each compile costs seconds).
+    """
+    view = np.ascontiguousarray(array).view()
+    view.flags.writeable = False
+    return view
+
+
 def _run_numba(
     numba: Any,
     array: FloatArray,
@@ -528,7 +540,7 @@ def _run_numba(
     block: FloatArray | None,
 ) -> None:
     """The numba engine's loop for the outputs ``targets`` (C-contiguous inputs)."""
-    pose, velocity, acceleration = (np.ascontiguousarray(a) for a in inputs)
+    pose, velocity, acceleration = (_frozen(a) for a in inputs)
     names = tuple(targets)
     if names == ("f10",):
         numba.f10_loop(array, pose, velocity, acceleration, targets["f10"])
@@ -538,7 +550,7 @@ def _run_numba(
         numba.reactions_loop(array, pose, velocity, acceleration, *targets.values())
     else:
         assert block is not None and names == KERNEL_OUTPUTS
-        wrench = None if load is None else np.ascontiguousarray(load)
+        wrench = None if load is None else _frozen(load)
         numba.solve_loop(array, pose, velocity, acceleration, wrench, block)
 
 
