@@ -88,9 +88,9 @@ def _engine_warmups() -> list[Callable[[], object]]:
     import numpy as np
 
     from prp3 import Robot, compile_robot, paper_forces, sample_forces
+    from prp3.engines.entries import actuator_forces, sample_actuator_forces, solve_batch
     from prp3.family import FamilyRobot, family_inverse_dynamics
-    from prp3.fast import actuator_forces, sample_actuator_forces, solve_batch
-    from prp3.motion import paper_motion
+    from prp3.model.motion import paper_motion
 
     robot = Robot.from_mapping({"limits": {"stroke": [-0.2, 0.2]}})
     compiled = compile_robot(robot)
