@@ -29,6 +29,7 @@ from clitools import cli, one_line
 from prp3 import Robot
 from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.errors import InputFileError, ParameterError, Prp3Error, SingularPoseError
+from prp3.explorer.run_folder import read_run, run_motion
 from prp3.explorer.scene import (
     DESIGN_PARAMETERS,
     State,
@@ -37,8 +38,6 @@ from prp3.explorer.scene import (
     design_values,
     empty_view,
     pose_table,
-    read_run,
-    run_motion,
     scene_view,
     singularity_curve,
     stroke_bands,
