@@ -226,7 +226,9 @@ class ClosedForm3PRP:
             f10, f21y, f21z, rest = kernel.joint_forces(k, kinematics, wrenches)
         assert rest is not None
         n10, m10, n32, m32 = (np.stack(np.broadcast_arrays(*v), axis=-1) for v in rest)
-        return _family_form(kinematics, velocity, acceleration, f10, f21y, f21z, n10, m10, n32, m32)
+        return _family_form(
+            kinematics, pose, velocity, acceleration, f10, f21y, f21z, n10, m10, n32, m32
+        )
 
 
 def _floor(
@@ -243,6 +245,7 @@ def _floor(
 
 def _family_form(
     kin: kernel.KernelKinematics,
+    pose: FloatArray,
     velocity: FloatArray,
     acceleration: FloatArray,
     f10: kernel.Legs,
@@ -262,7 +265,7 @@ def _family_form(
     """
     geo = kin.geometry
     samples = velocity.shape[0]
-    phi = np.arctan2(np.asarray(geo.sin_phi), np.asarray(geo.cos_phi)) * np.ones(samples)
+    phi = pose[:, 2]
 
     def legs(values: kernel.Legs) -> FloatArray:
         return np.stack(np.broadcast_arrays(*values), axis=-1) * np.ones((samples, 1))
