@@ -111,8 +111,8 @@ def _documents() -> list[Path]:
     return [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 
 
-def _quoted_outputs() -> list[tuple[str, str, str]]:
-    """(document, command, quoted text) for every marker of the documents (see ``_factor``)."""
+def _quoted_outputs() -> list[tuple[str, str, str, float | None]]:
+    """(document, command, quoted text, factor of its numbers or None) for every marker."""
     found = []
     for document in _documents():
         text = document.read_text(encoding="utf-8")
@@ -122,17 +122,9 @@ def _quoted_outputs() -> list[tuple[str, str, str]]:
                 body = rest.split("\n", 1)[1].split("\n```", 1)[0] + "\n"
             else:
                 body = rest.split("\n\n", 1)[0] + "\n"
-            found.append((str(document.relative_to(ROOT)), match[2], body))
+            factor = float(match[1]) if match[1] else None
+            found.append((str(document.relative_to(ROOT)), match[2], body, factor))
     return found
-
-
-def _factor(document: str, command: str) -> float | None:
-    """The factor the numbers of ``command``'s output in ``document`` may differ by, if any."""
-    text = (ROOT / document).read_text(encoding="utf-8")
-    for match in _MARKER.finditer(text):
-        if match[2] == command and match[1]:
-            return float(match[1])
-    return None
 
 
 def _run_documented(command: str, folder: Path) -> str:
@@ -186,25 +178,25 @@ _MEASURED = re.compile(r"^<!-- measured by: (.+?) -->\n```text\n(.*?)```", re.M 
 
 def test_every_script_of_docs_examples_is_quoted_by_a_document() -> None:
     measured = [m[1] for doc in _documents() for m in _MEASURED.finditer(doc.read_text("utf-8"))]
-    commands = " ".join([*(command for _, command, _ in _quoted_outputs()), *measured])
+    commands = " ".join([*(command for _, command, _, _ in _quoted_outputs()), *measured])
     for script in sorted((ROOT / "docs" / "examples").glob("*.py")):
         assert f"docs/examples/{script.name}" in commands, script
 
 
 @pytest.mark.slow  # the scripts of docs/examples run for 5-20 s each
 @pytest.mark.parametrize(
-    "document, command, quoted",
+    "document, command, quoted, factor",
     _quoted_outputs(),
-    ids=[f"{doc}: {command}" for doc, command, _ in _quoted_outputs()],
+    ids=[f"{doc}: {command}" for doc, command, _, _ in _quoted_outputs()],
 )
 def test_the_quoted_output_is_what_the_command_prints(
-    document: str, command: str, quoted: str, tmp_path: Path
+    document: str, command: str, quoted: str, factor: float | None, tmp_path: Path
 ) -> None:
     script = ROOT / shlex.split(command)[1] if command.startswith("python ") else None
     if script is not None and "\nimport mujoco\n" in script.read_text(encoding="utf-8"):
         pytest.importorskip("mujoco")
     printed = _run_documented(command, tmp_path)
-    assert _same(quoted, printed, _factor(document, command)), (
+    assert _same(quoted, printed, factor), (
         f"{document} quotes for `{command}`:\n{quoted}\nit prints:\n{printed}"
     )
 
