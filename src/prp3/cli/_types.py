@@ -109,12 +109,29 @@ def add_robot_option(parser: argparse.ArgumentParser, note: str = "") -> None:
     )
 
 
+FAMILY_COMMANDS: tuple[str, ...] = (
+    "simulate",
+    "workspace",
+    "forward",
+    "export",
+    "sweep",
+    "optimize",
+    "explore",
+    "robot",
+)
+"""The commands that take a family-form robot (``tests/test_family_cli.py`` runs each)."""
+
+FAMILY_COMMANDS_NOTE = (
+    "docs/family.md: prp3 " + ", ".join(FAMILY_COMMANDS[:-1]) + f" and {FAMILY_COMMANDS[-1]} take it"
+)
+
+
 def load_robot(args: argparse.Namespace) -> Robot:
     """The robot of ``--robot``, or the paper's robot.
 
     A family-form robot file (docs/family.md) is refused by capability, naming
-    its architecture: ``prp3 simulate``, ``workspace``, ``forward`` and ``robot``
-    take it (and the family form of ``SWEEP.toml``), before calling this.
+    its architecture: the commands of :data:`FAMILY_COMMANDS` take it before
+    calling this (and ``sweep``/``optimize`` the family form of ``SWEEP.toml``).
     """
     if args.robot is None:
         return Robot()
@@ -129,8 +146,7 @@ def load_robot(args: argparse.Namespace) -> Robot:
         )
         raise ParameterError(
             f"prp3 {command or 'this command'} computes the 3-PRP of docs/model.md only, not yet "
-            f"the {robot.architecture} of a family-form robot file (docs/family.md: prp3 simulate, "
-            "workspace, forward and robot take it)",
+            f"the {robot.architecture} of a family-form robot file ({FAMILY_COMMANDS_NOTE})",
             file=args.robot,
         )
     return robot
