@@ -438,4 +438,4 @@ def test_the_plants_integrator_is_named_as_it_runs() -> None:
     assert plants.PLANT_METHOD == "RK45"
     docs = (Path(__file__).resolve().parents[1] / "docs" / "control.md").read_text()
     assert "`scipy.integrate.solve_ivp` (`RK45`" in " ".join(docs.split())
-    assert "``solve_ivp`` (``RK45``" in " ".join(inspect.getdoc(control).split())
+    assert "scipy.integrate.solve_ivp`` (``RK45``" in " ".join(inspect.getdoc(control).split())
