@@ -17,10 +17,14 @@ import math
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from prp3.errors import OutputFileError, ParameterError
 from prp3.files import MANIFEST_NAME, StagedOutput, staged_output
 from prp3.model.robot import Robot
+
+if TYPE_CHECKING:
+    from prp3.family import FamilyRobot
 
 __all__ = [
     "add_output_directory",
@@ -30,6 +34,7 @@ __all__ = [
     "finite_float",
     "input_paths",
     "integer_at_least",
+    "load_any_robot",
     "load_robot",
     "output_folder",
     "path_name",
@@ -122,7 +127,9 @@ FAMILY_COMMANDS: tuple[str, ...] = (
 """The commands that take a family-form robot (``tests/test_family_cli.py`` runs each)."""
 
 FAMILY_COMMANDS_NOTE = (
-    "docs/family.md: prp3 " + ", ".join(FAMILY_COMMANDS[:-1]) + f" and {FAMILY_COMMANDS[-1]} take it"
+    "docs/family.md: prp3 "
+    + ", ".join(FAMILY_COMMANDS[:-1])
+    + f" and {FAMILY_COMMANDS[-1]} take it"
 )
 
 
@@ -150,6 +157,22 @@ def load_robot(args: argparse.Namespace) -> Robot:
             file=args.robot,
         )
     return robot
+
+
+def load_any_robot(args: argparse.Namespace) -> Robot | FamilyRobot:
+    """The robot of ``--robot`` in either form (docs/family.md §1), or the paper's robot.
+
+    For the commands of :data:`FAMILY_COMMANDS`, which run a family-form robot
+    their own way; an error in the file names it.
+    """
+    if args.robot is None:
+        return Robot()
+    from prp3.family import read_robot_file
+
+    try:
+        return read_robot_file(args.robot)
+    except ParameterError as error:
+        raise error.located(file=args.robot) from None
 
 
 def add_output_directory(parser: argparse.ArgumentParser) -> None:
