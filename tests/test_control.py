@@ -427,3 +427,15 @@ def test_cli_in_a_subprocess(tmp_path: Path) -> None:
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "o" / "tracking.csv").read_text().startswith(COLUMNS + "\n")
+
+
+def test_the_plants_integrator_is_named_as_it_runs() -> None:
+    """The prp3 plant's ``solve_ivp`` method is the one its docs name (not forward's DOP853)."""
+    import inspect
+
+    from prp3.apps import control, plants
+
+    assert plants.PLANT_METHOD == "RK45"
+    docs = (Path(__file__).resolve().parents[1] / "docs" / "control.md").read_text()
+    assert "`scipy.integrate.solve_ivp` (`RK45`" in " ".join(docs.split())
+    assert "scipy.integrate.solve_ivp`` (``RK45``" in " ".join(inspect.getdoc(control).split())

@@ -398,7 +398,7 @@ def test_ctrl_c_stops_the_server_with_130_and_writes_nothing(tmp_path: Path) -> 
         assert server.stdout is not None
         line = server.stdout.readline()
         assert line.strip() == f"prp3 explore: serving http://127.0.0.1:{port}/ (Ctrl-C stops)"
-        with socket.create_connection(("127.0.0.1", port), timeout=10) as client:
+        with socket.create_connection(("127.0.0.1", port), timeout=60) as client:
             client.sendall(b"GET / HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n")
             reply = client.recv(64)
         assert reply.startswith(b"HTTP/1.1 200")

@@ -176,3 +176,8 @@ def test_other_commands_refuse_by_capability(
     line = one_line(err)
     assert status == 2 and out == ""
     assert f"{command} computes the 3-PRP" in line and "3-RPP" in line and str(path) in line
+    # the commands that do take it, each of which other tests run on family robots
+    assert (
+        "prp3 simulate, workspace, forward, export, sweep, optimize, explore and robot take it"
+        in line
+    )

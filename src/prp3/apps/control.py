@@ -24,7 +24,8 @@ default 1000 Hz) and the plant holds each force until the next instant (zero
 order hold).  The plant is either prp3's own equations of motion
 (``plant="prp3"``: ``q̈ = A(q)⁻¹·(f10 − b(q, q̇))`` of
 :func:`prp3.analysis.equations_of_motion.platform_dynamics`, integrated over each step by
-``scipy.integrate.solve_ivp`` (``DOP853``, ``rtol = 1e-10``, ``atol = 1e-12``),
+``scipy.integrate.solve_ivp`` (``RK45``, ``rtol = 1e-10``, ``atol = 1e-12``: the
+:data:`prp3.apps.plants.PLANT_METHOD` and tolerances, restarted at every step),
 or MuJoCo running the exported MJCF (``plant="mujoco"``,
 :func:`prp3.apps.mjcf.mjcf_model`: its own RK4 integrator at ``1e-4 s`` and its
 soft weld constraints), which is an independent simulation of the same robot.

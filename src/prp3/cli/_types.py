@@ -17,10 +17,14 @@ import math
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from prp3.errors import OutputFileError, ParameterError
 from prp3.files import MANIFEST_NAME, StagedOutput, staged_output
 from prp3.model.robot import Robot
+
+if TYPE_CHECKING:
+    from prp3.family import FamilyRobot
 
 __all__ = [
     "add_output_directory",
@@ -30,6 +34,7 @@ __all__ = [
     "finite_float",
     "input_paths",
     "integer_at_least",
+    "load_any_robot",
     "load_robot",
     "output_folder",
     "path_name",
@@ -109,12 +114,31 @@ def add_robot_option(parser: argparse.ArgumentParser, note: str = "") -> None:
     )
 
 
+FAMILY_COMMANDS: tuple[str, ...] = (
+    "simulate",
+    "workspace",
+    "forward",
+    "export",
+    "sweep",
+    "optimize",
+    "explore",
+    "robot",
+)
+"""The commands that take a family-form robot (``tests/test_family_cli.py`` runs each)."""
+
+FAMILY_COMMANDS_NOTE = (
+    "docs/family.md: prp3 "
+    + ", ".join(FAMILY_COMMANDS[:-1])
+    + f" and {FAMILY_COMMANDS[-1]} take it"
+)
+
+
 def load_robot(args: argparse.Namespace) -> Robot:
     """The robot of ``--robot``, or the paper's robot.
 
     A family-form robot file (docs/family.md) is refused by capability, naming
-    its architecture: ``prp3 simulate``, ``workspace``, ``forward`` and ``robot``
-    take it (and the family form of ``SWEEP.toml``), before calling this.
+    its architecture: the commands of :data:`FAMILY_COMMANDS` take it before
+    calling this (and ``sweep``/``optimize`` the family form of ``SWEEP.toml``).
     """
     if args.robot is None:
         return Robot()
@@ -129,11 +153,26 @@ def load_robot(args: argparse.Namespace) -> Robot:
         )
         raise ParameterError(
             f"prp3 {command or 'this command'} computes the 3-PRP of docs/model.md only, not yet "
-            f"the {robot.architecture} of a family-form robot file (docs/family.md: prp3 simulate, "
-            "workspace, forward and robot take it)",
+            f"the {robot.architecture} of a family-form robot file ({FAMILY_COMMANDS_NOTE})",
             file=args.robot,
         )
     return robot
+
+
+def load_any_robot(args: argparse.Namespace) -> Robot | FamilyRobot:
+    """The robot of ``--robot`` in either form (docs/family.md §1), or the paper's robot.
+
+    For the commands of :data:`FAMILY_COMMANDS`, which run a family-form robot
+    their own way; an error in the file names it.
+    """
+    if args.robot is None:
+        return Robot()
+    from prp3.family import read_robot_file
+
+    try:
+        return read_robot_file(args.robot)
+    except ParameterError as error:
+        raise error.located(file=args.robot) from None
 
 
 def add_output_directory(parser: argparse.ArgumentParser) -> None:

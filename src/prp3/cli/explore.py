@@ -20,7 +20,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from prp3.cli._types import add_robot_option, emit, integer_at_least, load_robot, path_name
+from prp3.cli._types import add_robot_option, emit, integer_at_least, load_any_robot, path_name
 from prp3.family import FamilyRobot
 from prp3.model.robot import Robot
 
@@ -96,9 +96,8 @@ def run(args: argparse.Namespace) -> int:
 
     require_bokeh()
     from prp3.explorer.run_folder import read_run, run_motion
-    from prp3.family import read_robot_file
 
-    robot = read_robot_file(args.robot) if args.robot is not None else load_robot(args)
+    robot = load_any_robot(args)
     if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
         return _run_family(args, robot)
     results = read_run(args.results) if args.results is not None else None

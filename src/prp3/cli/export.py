@@ -27,16 +27,15 @@ from prp3.cli._types import (
     add_robot_option,
     emit,
     files_report,
-    load_robot,
+    load_any_robot,
     output_folder,
     path_name,
 )
 from prp3.errors import ParameterError
-from prp3.family import FamilyRobot, read_robot_file
+from prp3.family import FamilyRobot
 from prp3.family.codegen import FamilyCSource, family_c_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model
 from prp3.io.formats import atomic_writer, check_inputs_kept, check_output_directory
-from prp3.model.robot import Robot
 
 __all__ = ["register"]
 
@@ -130,18 +129,8 @@ def register(subparsers: Any) -> None:
     code.set_defaults(handler=_export_c)
 
 
-def _load_either(args: argparse.Namespace) -> Robot | FamilyRobot:
-    """The robot of ``--robot`` in either form (docs/family.md §1), or the paper's robot."""
-    if args.robot is None:
-        return load_robot(args)
-    try:
-        return read_robot_file(args.robot)
-    except ParameterError as error:
-        raise error.located(file=args.robot) from None
-
-
 def _export_mjcf(args: argparse.Namespace) -> int:
-    robot = _load_either(args)
+    robot = load_any_robot(args)
     if isinstance(robot, FamilyRobot):
         try:
             text = family_mjcf_model(robot)
@@ -173,7 +162,7 @@ def _export_c(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, (HEADER_NAME, SOURCE_NAME), (args.robot,))
-    robot = _load_either(args)
+    robot = load_any_robot(args)
     code: CSource | FamilyCSource
     if isinstance(robot, FamilyRobot):
         code = family_c_inverse_dynamics(robot)

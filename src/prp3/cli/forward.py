@@ -41,12 +41,13 @@ from prp3.cli._types import (
     files_report,
     finite_float,
     integer_at_least,
-    load_robot,
+    load_any_robot,
     output_folder,
     path_name,
     positive_float,
 )
 from prp3.errors import Prp3Error
+from prp3.family import FamilyRobot
 from prp3.io.formats import (
     FORCE_COLUMNS,
     ForceInput,
@@ -184,16 +185,12 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 forward`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
-    if args.robot is not None:  # a family-form robot file: docs/family.md
-        from prp3.family import FamilyRobot, read_robot_file
+    robot = load_any_robot(args)
+    if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
+        from prp3.cli._family_analysis import run_family_forward
 
-        loaded = read_robot_file(args.robot)
-        if isinstance(loaded, FamilyRobot):
-            from prp3.cli._family_analysis import run_family_forward
-
-            return run_family_forward(args, loaded)
+        return run_family_forward(args, robot)
     check_inputs_kept(output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
-    robot = load_robot(args)
     try:
         check_forward_friction(robot)
     except Prp3Error as error:

@@ -42,12 +42,12 @@ from prp3.cli._types import (
     emit,
     files_report,
     integer_at_least,
-    load_robot,
+    load_any_robot,
     output_folder,
     path_name,
 )
 from prp3.errors import Prp3Error
-from prp3.family import FamilyRobot, read_robot_file
+from prp3.family import FamilyRobot
 from prp3.io.formats import (
     Trajectory,
     check_inputs_kept,
@@ -293,7 +293,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         require_bokeh("--html")
     check_output_directory(output)
     check_inputs_kept(output, (results_name,), (args.trajectory, args.robot))
-    loaded = read_robot_file(args.robot) if args.robot is not None else load_robot(args)
+    loaded = load_any_robot(args)
     trajectory: Trajectory | None = None
     if args.trajectory is not None:
         if args.samples is not None:

@@ -42,10 +42,11 @@ from prp3.cli._types import (
     files_report,
     finite_float,
     integer_at_least,
-    load_robot,
+    load_any_robot,
     output_folder,
 )
 from prp3.errors import ParameterError
+from prp3.family import FamilyRobot
 from prp3.io.formats import check_output_directory, write_table_csv
 from prp3.mechanics.geometry import SINGULARITY_THRESHOLD
 from prp3.model.robot import Robot
@@ -272,15 +273,11 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 workspace`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
-    if args.robot is not None:  # a family-form robot file: docs/family.md
-        from prp3.family import FamilyRobot, read_robot_file
+    robot = load_any_robot(args)
+    if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
+        from prp3.cli._family_analysis import run_family_workspace
 
-        loaded = read_robot_file(args.robot)
-        if isinstance(loaded, FamilyRobot):
-            from prp3.cli._family_analysis import run_family_workspace
-
-            return run_family_workspace(args, loaded)
-    robot = load_robot(args)
+        return run_family_workspace(args, robot)
     try:
         orientation_range(robot)  # refuses a stroke beyond the bounds of the poses
     except ParameterError as error:

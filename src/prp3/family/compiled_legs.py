@@ -274,8 +274,8 @@ def _det3n(m: FloatArray, n: int) -> float:
 
 
 @_inline
-def _inv3(m: FloatArray, out: FloatArray) -> None:
-    """:func:`~prp3.family.chain.inv3`: the adjugate over the determinant."""
+def _inverse3(m: FloatArray) -> tuple[float, ...]:
+    """:func:`~prp3.family.chain.inv3`: the adjugate over the determinant, row by row."""
     a, b, c = m[0, 0], m[0, 1], m[0, 2]
     d, e, f = m[1, 0], m[1, 1], m[1, 2]
     g, h, i = m[2, 0], m[2, 1], m[2, 2]
@@ -283,40 +283,37 @@ def _inv3(m: FloatArray, out: FloatArray) -> None:
     c1 = f * g - d * i
     c2 = d * h - e * g
     det = a * c0 + b * c1 + c * c2
-    out[0, 0], out[1, 0], out[2, 0] = c0 / det, c1 / det, c2 / det
-    out[0, 1], out[1, 1], out[2, 1] = (
+    return (
+        c0 / det,
         (c * h - b * i) / det,
-        (a * i - c * g) / det,
-        (b * g - a * h) / det,
-    )
-    out[0, 2], out[1, 2], out[2, 2] = (
         (b * f - c * e) / det,
+        c1 / det,
+        (a * i - c * g) / det,
         (c * d - a * f) / det,
+        c2 / det,
+        (b * g - a * h) / det,
         (a * e - b * d) / det,
     )
 
 
 @_inline
+def _inv3(m: FloatArray, out: FloatArray) -> None:
+    """The inverse of the 3×3 ``m`` into ``out`` (:func:`_inverse3`)."""
+    (
+        out[0, 0], out[0, 1], out[0, 2],
+        out[1, 0], out[1, 1], out[1, 2],
+        out[2, 0], out[2, 1], out[2, 2],
+    ) = _inverse3(m)  # fmt: skip
+
+
+@_inline
 def _inv3j(m: FloatArray, out: FloatArray, j: int) -> None:
     """:func:`_inv3` into ``out[j]`` (no view of ``out``, no reference counted)."""
-    a, b, c = m[0, 0], m[0, 1], m[0, 2]
-    d, e, f = m[1, 0], m[1, 1], m[1, 2]
-    g, h, i = m[2, 0], m[2, 1], m[2, 2]
-    c0 = e * i - f * h
-    c1 = f * g - d * i
-    c2 = d * h - e * g
-    det = a * c0 + b * c1 + c * c2
-    out[j, 0, 0], out[j, 1, 0], out[j, 2, 0] = c0 / det, c1 / det, c2 / det
-    out[j, 0, 1], out[j, 1, 1], out[j, 2, 1] = (
-        (c * h - b * i) / det,
-        (a * i - c * g) / det,
-        (b * g - a * h) / det,
-    )
-    out[j, 0, 2], out[j, 1, 2], out[j, 2, 2] = (
-        (b * f - c * e) / det,
-        (c * d - a * f) / det,
-        (a * e - b * d) / det,
-    )
+    (
+        out[j, 0, 0], out[j, 0, 1], out[j, 0, 2],
+        out[j, 1, 0], out[j, 1, 1], out[j, 1, 2],
+        out[j, 2, 0], out[j, 2, 1], out[j, 2, 2],
+    ) = _inverse3(m)  # fmt: skip
 
 
 @_inline

@@ -297,6 +297,18 @@ class _Moving:
         return out
 
 
+def _sums_before(types: str, rates: Sequence[Any]) -> list[Any]:
+    """``[Σ_{i<k, R} rates_i for k = 0..3]``: the rotation rate of each joint's frame."""
+    total: Any = 0.0
+    sums = [0.0 * rates[0]] * 4
+    for k in range(3):
+        sums[k] = total
+        if types[k] == "R":
+            total = total + rates[k]
+    sums[3] = total
+    return sums
+
+
 def sample_dynamics(
     ops: Ops,
     types: str,
@@ -331,14 +343,7 @@ def sample_dynamics(
                 cols.append((rotations[k][0], rotations[k][1], 0.0))
         kinv = _inverse(cols)
         dq = _apply(kinv, twist)
-        omega_before = [0.0 * dq[0]] * 4  # Σ_{i<k, R} q̇_i
-        alpha_before = [0.0 * dq[0]] * 4
-        omega: Any = 0.0
-        for k in range(3):
-            omega_before[k] = omega
-            if types[k] == "R":
-                omega = omega + dq[k]
-        omega_before[3] = omega
+        omega_before = _sums_before(types, dq)  # Σ_{i<k, R} q̇_i
 
         chain = _Moving(types, origins, rotations, dq)
         o_dot = [chain.velocity(origins[k], k) if types[k] == "R" else (0.0, 0.0) for k in range(3)]
@@ -354,12 +359,7 @@ def sample_dynamics(
             ddphi,
         )
         ddq = _apply(kinv, rhs)
-        alpha: Any = 0.0
-        for k in range(3):
-            alpha_before[k] = alpha
-            if types[k] == "R":
-                alpha = alpha + ddq[k]
-        alpha_before[3] = alpha
+        alpha_before = _sums_before(types, ddq)  # Σ_{i<k, R} q̈_i
 
         links = []
         for body in (1, 2):
