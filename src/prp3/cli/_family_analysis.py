@@ -225,7 +225,7 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
 def family_spec_of(path: Path) -> FamilySweepSpec | None:
     """The family sweep spec of ``SWEEP.toml`` at ``path``, or ``None`` for a model-form spec."""
     from prp3.family.design import family_sweep_spec, is_family_spec
-    from prp3.model.robot import read_toml
+    from prp3.model.robot_toml import read_toml
 
     data = read_toml(path, "sweep")
     if not is_family_spec(data):

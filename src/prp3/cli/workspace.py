@@ -132,7 +132,7 @@ def default_extent(robot: Robot, samples: int = 721) -> tuple[float, float, floa
     enlarged by :data:`EXTENT_MARGIN` of its size; without a stroke the
     workspace is unbounded and the window is ``±l0`` in both directions.
 
-    >>> from prp3.model.robot import Limits
+    >>> from prp3.model.parameters import Limits
     >>> [round(v, 4) for v in default_extent(Robot())]
     [-0.3, 0.3, -0.3, 0.3]
     """
@@ -255,7 +255,7 @@ def _statics_table(statics: WorkspaceStatics) -> dict[str, np.ndarray]:
 def wants_statics(robot: Robot, option: bool | None) -> bool:
     """Whether ``prp3 workspace`` writes the statics map: ``--statics``/``--no-statics``, else
     when ``robot`` has an element that changes the forces at rest (a payload, a load, a
-    spring: :meth:`prp3.model.elements.Element.changes_statics`) or ``[limits] max_force``.
+    spring: :meth:`prp3.model.element_base.Element.changes_statics`) or ``[limits] max_force``.
 
     >>> wants_statics(Robot(), None), wants_statics(Robot(), True)
     (False, True)

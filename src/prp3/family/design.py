@@ -68,7 +68,7 @@ from prp3.errors import ParameterError, Prp3Error, SingularPoseError, Unreachabl
 from prp3.family.model import ARCHITECTURES, FamilyRobot
 from prp3.family.outputs import family_inverse_dynamics
 from prp3.model.motion import Motion
-from prp3.model.robot import read_toml
+from prp3.model.robot_toml import read_toml
 from prp3.validation import LEGS
 
 __all__ = [
