@@ -28,7 +28,7 @@ import pytest
 from prp3 import Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.errors import TrajectoryError
-from prp3.io.formats import write_table_csv
+from prp3.io.tables import write_table_csv
 from prp3.mechanics.kernel import (
     NEAR_LOCK_MU,
     NUMPY,

@@ -31,7 +31,7 @@ from prp3.errors import (
     ParameterError,
     Prp3Error,
 )
-from prp3.io.formats import read_trajectory
+from prp3.io.trajectory import read_trajectory
 from prp3.model.motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
 from prp3.model.robot import Robot
 from prp3.model.robot_toml import read_toml

@@ -11,7 +11,7 @@ A run of ``prp3 simulate`` is read by :mod:`prp3.explorer.run_folder`
 
 The forces come only from prp3's own engines: a pose is solved by
 :func:`prp3.analysis.inverse_dynamics.inverse_dynamics` (the kernel, eqs. 10–25) and turned
-into the columns of ``results.csv`` by :func:`prp3.io.formats.results_table`; a run of
+into the columns of ``results.csv`` by :func:`prp3.io.results.results_table`; a run of
 ``prp3 simulate`` is drawn from its own columns.  Both go through
 :func:`scene_view`, which only places the reported components in the plane:
 

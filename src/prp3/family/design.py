@@ -461,7 +461,7 @@ def run_family_sweep(
     import pyarrow.parquet as pq
 
     from prp3.errors import OutputFileError
-    from prp3.io.formats import atomic_path, check_output_directory
+    from prp3.files import atomic_path, check_output_directory
 
     output = Path(output)
     check_output_directory(output)
