@@ -11,11 +11,11 @@ resampled to N samples (computed once, untimed):
 
 * ``csv, repr``: the CSV writer without pyarrow (``repr`` of every float, row
   by row: prp3's writer before Arrow made the text);
-* ``csv, arrow``: :func:`prp3.io.formats.write_table_csv` with pyarrow (Arrow's CSV
+* ``csv, arrow``: :func:`prp3.io.tables.write_table_csv` with pyarrow (Arrow's CSV
   writer on the float64 columns: its shortest round-trip texts) — both files
-  read back (:func:`prp3.io.formats.read_table_csv`) to the same doubles bit for bit
+  read back (:func:`prp3.io.tables.read_table_csv`) to the same doubles bit for bit
   (exit status 1 if they do not); the reading is timed too (``read csv``);
-* ``parquet``: :func:`prp3.io.formats.write_table_parquet`;
+* ``parquet``: :func:`prp3.io.tables.write_table_parquet`;
 
 then the whole command ``prp3 simulate --motion rotation --samples N`` in a
 subprocess (start-up, computing, writing), with ``--format parquet`` and with
@@ -40,7 +40,7 @@ import numpy as np
 
 import prp3
 from prp3.cli.simulate import simulate_table
-from prp3.io import formats as prp3_io
+from prp3.io import tables as prp3_tables
 
 
 def best_of(repeats: int, action: Callable[[], None]) -> float:
@@ -59,7 +59,7 @@ def main() -> int:
     parser.add_argument("--no-runs", action="store_true", help="skip the whole-command runs")
     args = parser.parse_args()
     samples = args.samples
-    arrow = prp3_io.parquet_available()
+    arrow = prp3_tables.parquet_available()
     print(
         f"prp3 {prp3.__version__}, Python {platform.python_version()}, numpy {np.__version__}, "
         f"pyarrow {'missing' if not arrow else __import__('pyarrow').__version__}, "
@@ -75,20 +75,20 @@ def main() -> int:
         plain, fast, parquet = (Path(folder) / n for n in ("a.csv", "b.csv", "c.parquet"))
         timings = {
             "csv, repr": best_of(
-                args.repeats, lambda: prp3_io._write_csv_python(plain, names, columns, None)
+                args.repeats, lambda: prp3_tables._write_csv_python(plain, names, columns, None)
             )
         }
         if arrow:
             timings["csv, arrow"] = best_of(
-                args.repeats, lambda: prp3_io.write_table_csv(fast, table)
+                args.repeats, lambda: prp3_tables.write_table_csv(fast, table)
             )
             timings["parquet"] = best_of(
-                args.repeats, lambda: prp3_io.write_table_parquet(parquet, table)
+                args.repeats, lambda: prp3_tables.write_table_parquet(parquet, table)
             )
             start = time.perf_counter()
-            back = prp3_io.read_table_csv(fast, required=names)
+            back = prp3_tables.read_table_csv(fast, required=names)
             read_seconds = time.perf_counter() - start
-            again = prp3_io.read_table_csv(plain, required=names)
+            again = prp3_tables.read_table_csv(plain, required=names)
             same = all(
                 back[name].tobytes() == again[name].tobytes() == column.tobytes()
                 for name, column in zip(names, columns, strict=True)

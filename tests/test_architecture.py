@@ -24,7 +24,7 @@ from prp3.errors import Prp3Error, SingularPoseError, UnreachablePoseError
 from prp3.family import FamilyRobot, family_inverse_dynamics
 from prp3.family.architecture import LegChain, architecture_of
 from prp3.mechanics.architecture import ClosedForm3PRP, JointSolution, solve_stages
-from prp3.model.robot import Friction, JointFriction, Load, Payload
+from prp3.model.parameters import Friction, JointFriction, Load, Payload
 from test_family_dynamics import ALLOWED, _f, designs, motions
 
 

@@ -25,8 +25,8 @@ from prp3 import (
     inverse_geometry,
     paper_motion,
 )
-from prp3.io.formats import write_table_csv
 from prp3.io.results import results_table
+from prp3.io.tables import write_table_csv
 
 #: The contract's columns (docs/model.md), written out here rather than imported.
 PER_LEG = (

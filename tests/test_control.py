@@ -40,7 +40,7 @@ from prp3.cli import main
 from prp3.engines.entries import compile_robot
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError
 from prp3.model.motion import PAPER_MOTIONS, law_at
-from prp3.model.robot import Friction, JointFriction, Load, Payload
+from prp3.model.parameters import Friction, JointFriction, Load, Payload
 from strategies import poses, robots
 
 COLUMNS = "t,x,y,phi,x_ref,y_ref,phi_ref,f10_A,f10_B,f10_C"

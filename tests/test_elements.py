@@ -23,8 +23,10 @@ import prp3.model.robot
 from prp3.apps.codegen import c_inverse_dynamics
 from prp3.errors import ParameterError
 from prp3.mechanics.kernel import EFFECT_FIELDS, INERTIAL_FIELDS, KernelParameters
-from prp3.model.elements import ELEMENTS, SPRING, Element
-from prp3.model.robot import Friction, JointFriction, Load, Payload, Robot, Spring, SpringParameters
+from prp3.model.element_base import Element
+from prp3.model.elements import ELEMENTS, SPRING
+from prp3.model.parameters import Friction, JointFriction, Load, Payload, Spring, SpringParameters
+from prp3.model.robot import Robot
 
 
 def test_every_effect_field_belongs_to_exactly_one_element() -> None:

@@ -38,9 +38,10 @@ from hypothesis import strategies as st
 from scipy.integrate import simpson
 
 from prp3 import METHODS, Motion, Robot, inverse_dynamics
-from prp3.model.elements import SPRING, WRENCH, State
+from prp3.model.element_base import State
+from prp3.model.elements import SPRING, WRENCH
 from prp3.model.motion import paper_motion
-from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
+from prp3.model.parameters import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import (
     SQRT3,
     AnalyticMotion,

@@ -28,7 +28,7 @@ from prp3.apps.regressor import standard_parameters
 from prp3.engines.entries import compile_robot
 from prp3.errors import ParameterError, SingularPoseError
 from prp3.model.motion import law_motion
-from prp3.model.robot import Limits, Payload
+from prp3.model.parameters import Limits, Payload
 from strategies import body_states, platform_inertia, poses, ref_geometry, ref_rates, robots
 
 rates = st.lists(st.floats(-2.0, 2.0), min_size=3, max_size=3).map(np.array)

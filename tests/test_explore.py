@@ -44,7 +44,7 @@ from prp3.explorer.scene import (
     workspace_overlay,
 )
 from prp3.model.motion import Motion, paper_motion
-from prp3.model.robot import Limits, Payload
+from prp3.model.parameters import Limits, Payload
 from strategies import REF_E, REF_N, ref_geometry, ref_joint, ref_rates, ref_slide, robots
 
 pytest.importorskip("bokeh", reason="the explorer needs Bokeh (pip install 'prp3[explore]')")

@@ -17,7 +17,7 @@ from prp3.family import (
     family_inverse_dynamics,
     family_results_table,
 )
-from prp3.io.formats import parquet_available
+from prp3.io.tables import parquet_available
 
 
 def _robot_file(tmp_path: Path, text: str, name: str = "robot.toml") -> Path:

@@ -32,7 +32,7 @@ from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
 from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody, family_inverse_dynamics
 from prp3.family.codegen import C_UNREACHABLE, family_c_inverse_dynamics, python_sample
 from prp3.model.motion import Motion, paper_motion
-from prp3.model.robot import Load, Payload
+from prp3.model.parameters import Load, Payload
 
 COMPILER = shutil.which("gcc") or shutil.which("cc") or shutil.which("clang")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")

@@ -34,7 +34,7 @@ from prp3.family import (
     family_results_table,
 )
 from prp3.io.results import results_table
-from prp3.model.robot import Load, Payload
+from prp3.model.parameters import Load, Payload
 
 FloatArray = NDArray[np.float64]
 LEGS = "ABC"

@@ -23,7 +23,7 @@ from prp3.errors import Prp3Error
 from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics, family_kinematics
 from prp3.family.forward import family_energy, family_forward_dynamics, platform_dynamics
 from prp3.model.motion import Motion, law_at
-from prp3.model.robot import Load, Payload
+from prp3.model.parameters import Load, Payload
 
 
 def _law(t: float, amplitude: list[float]) -> Motion:

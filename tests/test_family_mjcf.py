@@ -42,7 +42,7 @@ from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
 from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody, family_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model, joint_names
 from prp3.model.motion import Motion, paper_motion
-from prp3.model.robot import Load, Payload
+from prp3.model.parameters import Load, Payload
 
 LEGS = "ABC"
 

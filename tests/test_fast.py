@@ -43,7 +43,7 @@ from prp3.engines.entries import (
     solve_batch,
 )
 from prp3.model.motion import paper_motion
-from prp3.model.robot import Friction, JointFriction
+from prp3.model.parameters import Friction, JointFriction
 from strategies import (
     REF_E,
     REF_N,
@@ -522,7 +522,7 @@ def test_single_sample_refuses_what_the_batch_path_refuses(
 
 
 def _with_effects(robot: Robot, friction: bool, mu: float) -> Robot:
-    from prp3.model.robot import Load
+    from prp3.model.parameters import Load
 
     joint = JointFriction(viscous=0.7, coulomb=0.4, mu=mu, smoothing=0.05)
     return Robot(

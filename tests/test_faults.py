@@ -37,7 +37,7 @@ from prp3.cli import main
 from prp3.engines.entries import compile_robot, paper_forces, sample_forces
 from prp3.errors import InputFileError, OutputFileError, ParameterError, TrajectoryError
 from prp3.files import MAX_LINE_BYTES, atomic_writer
-from prp3.io.formats import read_trajectory
+from prp3.io.trajectory import read_trajectory
 from prp3.model.motion import differentiate_positions
 from prp3.validation import POSE_BOUND
 

@@ -209,7 +209,7 @@ def test_frame_schedule_plays_in_real_time(samples, duration, max_frames, uneven
 )
 def test_the_friction_figure_says_which_curves_coincide(motion, notes):
     # was: three revolute curves of the rotation on top of each other, without a word
-    from prp3.model.robot import Friction, JointFriction
+    from prp3.model.parameters import Friction, JointFriction
     from prp3.plotting.figures import friction_figure
 
     joint = JointFriction(viscous=1.0, coulomb=0.5, smoothing=1e-3)

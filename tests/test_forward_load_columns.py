@@ -25,9 +25,10 @@ from prp3.analysis.forward import forward_dynamics
 from prp3.cli import main
 from prp3.engines.entries import compile_robot, solve_batch
 from prp3.errors import ParameterError
-from prp3.io.formats import read_forces, write_table_csv
+from prp3.io.forces import read_forces
+from prp3.io.tables import write_table_csv
 from prp3.model.motion import PAPER_MOTIONS
-from prp3.model.robot import Load, Payload
+from prp3.model.parameters import Load, Payload
 
 ROBOT = Robot(payload=Payload(0.5, (0.02, 0.0), 1e-3), load=Load((1.0, -2.0), 0.05))
 W = math.pi / 3.0

@@ -28,11 +28,11 @@ from prp3.analysis.forward import forward_dynamics
 from prp3.cli import main
 from prp3.engines.entries import compile_robot, sample_actuator_forces
 from prp3.errors import ParameterError
-from prp3.io.formats import write_table_csv
+from prp3.io.tables import write_table_csv
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kinematics import jacobian
 from prp3.model.motion import PAPER_MOTIONS
-from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
+from prp3.model.parameters import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 
 
 def floats(low: float, high: float) -> st.SearchStrategy[float]:

@@ -41,7 +41,7 @@ from prp3.apps.regressor import (
 )
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.mechanics.kernel import INERTIAL_FIELDS, NUMPY, kernel_parameters, solve
-from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
+from prp3.model.parameters import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import analytic_motions, robots, scenarios
 
 

@@ -1,4 +1,4 @@
-"""Tests of prp3.io.formats: full-precision CSV, atomic files, staged output, trajectory files.
+"""Tests of prp3.io.tables, prp3.io.trajectory and prp3.files: CSV, atomic and staged files, TRAJ.csv.
 
 Expected values are written out or derived beside each test (exact polynomials,
 the paper's law of motion differentiated by hand), never taken from prp3.
@@ -16,22 +16,19 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-import prp3.io.formats as prp3_io
+import prp3.io.tables as prp3_tables
 from prp3.errors import InputFileError, OutputFileError, TrajectoryError
-from prp3.io.formats import (
-    DERIVATIVE_COLUMNS,
+from prp3.files import (
     MANIFEST_NAME,
-    POSITION_COLUMNS,
     atomic_path,
     atomic_writer,
     check_output_directory,
-    differentiate_positions,
-    read_table_csv,
-    read_trajectory,
     staged_output,
-    write_table_csv,
 )
 from prp3.io.results import result_columns
+from prp3.io.tables import read_table_csv, write_table_csv
+from prp3.io.trajectory import DERIVATIVE_COLUMNS, POSITION_COLUMNS, read_trajectory
+from prp3.model.motion import differentiate_positions
 from strategies import analytic_motions
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
@@ -65,10 +62,10 @@ def test_write_table_csv_round_trips_every_float_exactly(tmp_path_factory, rows)
 def test_write_table_csv_streams_in_blocks_and_reports_progress(tmp_path, monkeypatch, arrow):
     if arrow:
         pytest.importorskip("pyarrow")
-        block = prp3_io._ARROW_ROWS_PER_BLOCK
+        block = prp3_tables._ARROW_ROWS_PER_BLOCK
     else:
-        monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
-        block = prp3_io._ROWS_PER_BLOCK
+        monkeypatch.setattr(prp3_tables, "_pyarrow", lambda: None)
+        block = prp3_tables._ROWS_PER_BLOCK
     rows = 2 * block + 5_000  # more than two blocks
     t = np.arange(rows) * 0.5
     reports: list[tuple[int, int]] = []
@@ -378,7 +375,7 @@ def test_mixed_line_ends_and_a_cr_only_file_on_the_command_line(tmp_path, capsys
 )
 def test_cells_numpy_refuses_are_named_with_line_and_column(tmp_path, monkeypatch, cell, message):
     # the bad cell deep in a later block: the bisection finds its line
-    monkeypatch.setattr(prp3_io, "_READ_BLOCK", 16)
+    monkeypatch.setattr(prp3_tables, "_READ_BLOCK", 16)
     rows = [f"{k},{k / 7!r}" for k in range(40)]
     rows[37] = f"37,{cell}"
     path = write(tmp_path / "t.csv", "t,x\n" + "\n".join(rows) + "\n")
@@ -401,7 +398,7 @@ def test_written_tables_read_back_bit_for_bit(tmp_path_factory, arrow, rows):
     b = np.array([r[1] for r in rows])
     with pytest.MonkeyPatch.context() as patch:
         if not arrow:
-            patch.setattr(prp3_io, "_pyarrow", lambda: None)
+            patch.setattr(prp3_tables, "_pyarrow", lambda: None)
         write_table_csv(path, {"t": a, "x": b})
     table = read_table_csv(path, required=("t", "x"))
     assert table["t"].tobytes() == a.tobytes() and table["x"].tobytes() == b.tobytes()

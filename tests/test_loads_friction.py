@@ -33,7 +33,7 @@ from prp3.engines.entries import compile_robot, paper_forces, sample_forces
 from prp3.errors import TrajectoryError
 from prp3.io.results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
 from prp3.model.motion import paper_motion
-from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
+from prp3.model.parameters import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import (
     REF_E,
     REF_N,

@@ -48,7 +48,7 @@ from prp3.apps.mjcf import (
 from prp3.cli import main
 from prp3.errors import ParameterError
 from prp3.model.motion import PAPER_MOTIONS, law_motion, paper_motion
-from prp3.model.robot import Friction, JointFriction, Load, Payload, Spring, SpringParameters
+from prp3.model.parameters import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import (
     REF_E,
     REF_N,

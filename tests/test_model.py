@@ -399,7 +399,7 @@ def test_a_robot_file_may_start_with_a_byte_order_mark(tmp_path: Path) -> None:
 
 # ------------------------------------------------------------ [spring.actuator]
 def test_the_spring_table_reads_validates_and_round_trips(tmp_path: Path) -> None:
-    from prp3.model.robot import Spring, SpringParameters
+    from prp3.model.parameters import Spring, SpringParameters
 
     text = "[spring.actuator]\nstiffness = 500\nrest = -0.01\ndamping = 2.5\n"
     path = tmp_path / "robot.toml"

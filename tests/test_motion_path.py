@@ -24,7 +24,7 @@ from prp3.analysis.inverse_dynamics import METHODS, inverse_dynamics
 from prp3.apps.runs import simulate_table
 from prp3.errors import SingularPoseError, TrajectoryError
 from prp3.model.motion import Motion, law_motion, paper_motion
-from prp3.model.robot import Friction, JointFriction
+from prp3.model.parameters import Friction, JointFriction
 from prp3.validation import RATE_TOLERANCE, check_path, rest_rates
 from strategies import analytic_motions, robots
 

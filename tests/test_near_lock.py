@@ -28,7 +28,7 @@ import pytest
 from prp3 import Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.errors import TrajectoryError
-from prp3.io.formats import write_table_csv
+from prp3.io.tables import write_table_csv
 from prp3.mechanics.kernel import (
     NEAR_LOCK_MU,
     NUMPY,
@@ -40,7 +40,7 @@ from prp3.mechanics.kernel import (
     kernel_parameters,
 )
 from prp3.model.motion import Motion, paper_motion
-from prp3.model.robot import Friction, JointFriction
+from prp3.model.parameters import Friction, JointFriction
 
 SLEEVE_MU = 0.3  # the spec: the paper's rotation then locks at t ≈ 2.37 s (sample 237 of 301)
 

@@ -29,11 +29,12 @@ from hypothesis import strategies as st
 
 import prp3
 import prp3.cli.simulate as simulate_cli
-import prp3.io.formats as prp3_io
+import prp3.io.tables as prp3_tables
 from clitools import cli
 from prp3.errors import OutputFileError
-from prp3.io.formats import MANIFEST_NAME, format_floats, staged_output, write_table_csv
+from prp3.files import MANIFEST_NAME, staged_output
 from prp3.io.results import RESULT_COLUMNS
+from prp3.io.tables import format_floats, write_table_csv
 
 PAPER_FIGURES = ["fig3_p10.png", "fig4_f21y.png", "fig5_f21z.png", "f10.png", "lambda10.png"]
 
@@ -259,7 +260,7 @@ def test_format_floats_is_the_shortest_round_trip_for_special_and_random_doubles
     if arrow:
         pytest.importorskip("pyarrow")
     else:
-        monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
+        monkeypatch.setattr(prp3_tables, "_pyarrow", lambda: None)
     rng = np.random.default_rng(20261201)
     bits = rng.integers(0, 2**64, 200_000, dtype=np.uint64).view(np.float64)  # every exponent
     scaled = rng.standard_normal(200_000) * 10.0 ** rng.integers(-12, 20, 200_000)
@@ -301,8 +302,8 @@ def test_write_table_csv_writes_the_shortest_round_trip_texts(tmp_path, monkeypa
     if arrow:
         pytest.importorskip("pyarrow")
     else:
-        monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
-    monkeypatch.setattr(prp3_io, "_ARROW_ROWS_PER_BLOCK", 1000)  # three blocks, the last short
+        monkeypatch.setattr(prp3_tables, "_pyarrow", lambda: None)
+    monkeypatch.setattr(prp3_tables, "_ARROW_ROWS_PER_BLOCK", 1000)  # three blocks, the last short
     table = _random_table(2017)
     write_table_csv(tmp_path / "a.csv", table)
     text = (tmp_path / "a.csv").read_bytes().decode("ascii")
@@ -349,9 +350,9 @@ def test_parquet_without_pyarrow_is_refused_before_anything_runs(tmp_path, capsy
         "pip install 'prp3[parquet]' (or pyarrow), or leave --format out for CSV\n"
     )
     assert not (tmp_path / "o").exists()
-    monkeypatch.setattr(prp3_io, "_pyarrow", lambda: None)
+    monkeypatch.setattr(prp3_tables, "_pyarrow", lambda: None)
     with pytest.raises(OutputFileError, match="writing Parquet needs pyarrow"):
-        prp3_io.write_table_parquet(tmp_path / "x.parquet", {"t": np.zeros(2)})
+        prp3_tables.write_table_parquet(tmp_path / "x.parquet", {"t": np.zeros(2)})
     assert not os.path.exists(tmp_path / "x.parquet")
 
 

@@ -21,7 +21,7 @@ from PIL import Image
 import prp3
 from prp3.cli import main
 from prp3.io.results import results_table
-from prp3.model.robot import Friction, JointFriction
+from prp3.model.parameters import Friction, JointFriction
 from prp3.plotting import (
     draw_frame,
     figure_names,

@@ -49,6 +49,7 @@ import prp3.engines.entries
 import prp3.engines.select
 import prp3.mechanics.geometry
 import prp3.model.motion
+import prp3.model.parameters
 import prp3.model.robot
 import prp3.references.paper
 import prp3.references.paper_kinematics
@@ -81,6 +82,7 @@ MODULES = (
     "prp3.mechanics.architecture",
     "prp3.apps.mjcf",
     "prp3.apps.codegen",
+    "prp3.model.parameters",
     "prp3.model.robot",
     "prp3.model.motion",
     "prp3.references.newton_euler",
@@ -406,8 +408,8 @@ CASES: dict[str, Case] = {
         link=prp3.LinkParameters(),
         platform=prp3.PlatformParameters(),
         limits=prp3.Limits(),
-        payload=prp3.model.robot.Payload(),
-        load=prp3.model.robot.Load(),
+        payload=prp3.model.parameters.Payload(),
+        load=prp3.model.parameters.Load(),
         friction=None,
     ),
     "Limits": _case(
@@ -434,20 +436,23 @@ CASES: dict[str, Case] = {
         prp3.PlatformParameters, {"mass": R, "inertia": "real?"}, mass=3.0, inertia=0.01
     ),
     "Payload": _case(
-        prp3.model.robot.Payload,
+        prp3.model.parameters.Payload,
         {"mass": R, "com": A, "inertia": R},
         mass=1.0,
         com=np.array([0.0, 0.0]),
         inertia=0.0,
     ),
     "Load": _case(
-        prp3.model.robot.Load, {"force": A, "moment": R}, force=np.array([0.0, 0.0]), moment=0.0
+        prp3.model.parameters.Load,
+        {"force": A, "moment": R},
+        force=np.array([0.0, 0.0]),
+        moment=0.0,
     ),
     "JointFriction": _case(
-        prp3.model.robot.JointFriction, {"viscous": R, "coulomb": R}, viscous=0.0, coulomb=0.0
+        prp3.model.parameters.JointFriction, {"viscous": R, "coulomb": R}, viscous=0.0, coulomb=0.0
     ),
     "SpringParameters": _case(
-        prp3.model.robot.SpringParameters,
+        prp3.model.parameters.SpringParameters,
         {"stiffness": R, "rest": R, "damping": R},
         stiffness=0.0,
         rest=0.0,

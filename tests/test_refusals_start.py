@@ -19,7 +19,7 @@ from prp3.analysis.forward import forward_dynamics
 from prp3.analysis.reachability import orientation_range, reachable_region
 from prp3.analysis.workspace import workspace_slice
 from prp3.errors import ParameterError, TrajectoryError
-from prp3.model.robot import Limits
+from prp3.model.parameters import Limits
 
 
 def force_file(folder: Path, value: float) -> Path:

@@ -17,7 +17,7 @@ import prp3
 from prp3.apps.runs import simulate_table, summarize, summary_text
 from prp3.errors import ParameterError
 from prp3.io.results import OUTPUT_QUANTITIES, output_quantity, result_columns, results_table
-from prp3.model.robot import Friction, JointFriction
+from prp3.model.parameters import Friction, JointFriction
 from strategies import scenarios
 
 #: The contract's units (docs/model.md, section *Quantities and signs*).

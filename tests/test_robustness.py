@@ -28,7 +28,7 @@ import pytest
 
 import prp3.cli.simulate as simulate_cli
 import prp3.files as prp3_files
-import prp3.io.formats as prp3_io
+import prp3.io.tables as prp3_tables
 from clitools import cli, listing
 from prp3 import Motion, Robot
 from prp3.analysis.equations_of_motion import platform_dynamics
@@ -48,7 +48,8 @@ from prp3.errors import (
     Prp3Error,
     TrajectoryError,
 )
-from prp3.io.formats import atomic_writer, check_output_directory, read_trajectory, staged_output
+from prp3.files import atomic_writer, check_output_directory, staged_output
+from prp3.io.trajectory import read_trajectory
 from prp3.mechanics.geometry import forward_geometry, inverse_geometry
 from prp3.model.motion import law_motion, paper_motion
 
@@ -194,7 +195,7 @@ def test_standard_output_on_a_full_disk_is_one_line(tmp_path, argv):
 def test_sigterm_while_writing_cleans_up_like_ctrl_c(tmp_path, capsys, monkeypatch, earlier_run):
     # was: killed outright, leaving DIR/.prp3-*.tmp/results.csv half written
     before = listing(earlier_run)
-    written = prp3_io.write_table_csv
+    written = prp3_tables.write_table_csv
 
     def write_then_terminate(path, table, **kwargs):
         written(path, table, **kwargs)

@@ -26,7 +26,7 @@ from prp3.cli import main
 from prp3.cli.workspace import wants_statics
 from prp3.errors import SingularPoseError
 from prp3.model.motion import Motion
-from prp3.model.robot import Friction, JointFriction, Load, Payload
+from prp3.model.parameters import Friction, JointFriction, Load, Payload
 from strategies import poses, robots
 
 STATICS_COLUMNS = "x,y,reachable,f10_A,f10_B,f10_C,f10_peak,held".split(",")
@@ -322,7 +322,7 @@ def test_the_spring_holds_its_share_at_rest() -> None:
     # inverse geometry; and prp3 workspace writes the map by default for it
     from prp3.cli.workspace import wants_statics
     from prp3.mechanics.geometry import inverse_geometry
-    from prp3.model.robot import Spring, SpringParameters
+    from prp3.model.parameters import Spring, SpringParameters
 
     robot = Robot(spring=Spring(SpringParameters(stiffness=600.0, rest=0.015, damping=9.0)))
     grid = np.linspace(-0.04, 0.04, 9)

@@ -31,7 +31,7 @@ import numpy as np
 from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
 from prp3.family.workspace import family_workspace_slice
 from prp3.model.motion import paper_motion
-from prp3.model.robot import Payload
+from prp3.model.parameters import Payload
 
 PAYLOAD = Payload(1.5, (0.02, 0.0), 2e-3)
 MOTIONS = ("vertical", "rotation")

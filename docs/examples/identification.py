@@ -29,7 +29,8 @@ import prp3
 from prp3.apps.base_parameters import base_parameters
 from prp3.apps.regressor import standard_parameters
 from prp3.cli import main as prp3_main
-from prp3.io.formats import read_trajectory, write_table_csv
+from prp3.io.tables import write_table_csv
+from prp3.io.trajectory import read_trajectory
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = 7

@@ -26,7 +26,7 @@ from prp3 import LinkParameters, PistonParameters, PlatformParameters, Robot, in
 from prp3.apps.mjcf import TIMESTEP, MjcfWarning, mjcf_model
 from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import PAPER_MOTIONS, law_motion
-from prp3.model.robot import Friction, JointFriction, Load, Payload
+from prp3.model.parameters import Friction, JointFriction, Load, Payload
 
 #: The robots of the runs: the paper's, and one with offsets and another gravity.
 ROBOTS = {

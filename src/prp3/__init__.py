@@ -68,7 +68,8 @@ from prp3.mechanics.geometry import (
 )
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics, jacobian
 from prp3.model.motion import Motion, law_motion, paper_motion
-from prp3.model.robot import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
+from prp3.model.parameters import Limits, LinkParameters, PistonParameters, PlatformParameters
+from prp3.model.robot import Robot
 
 try:
     __version__ = version("prp3")

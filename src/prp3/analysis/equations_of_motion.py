@@ -37,7 +37,8 @@ from prp3.errors import ParameterError, TrajectoryError
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kinematics import jacobian
 from prp3.model.motion import Motion
-from prp3.model.robot import Limits, Load, Robot
+from prp3.model.parameters import Limits, Load
+from prp3.model.robot import Robot
 from prp3.validation import (
     check_choice,
     check_per_leg,
@@ -338,7 +339,7 @@ def check_forward_friction(robot: Robot) -> None:
     """Refuse the elements forward dynamics cannot integrate (module notes).
 
     Each of the robot's elements checks itself
-    (:meth:`prp3.model.elements.Element.check_forward`); today only friction refuses
+    (:meth:`prp3.model.element_base.Element.check_forward`); today only friction refuses
     anything.  The sign of a Coulomb or ``μ`` term must be smoothed: with the exact sign
     the joint force jumps where the joint velocity changes sign, and the
     equations of motion have no unique acceleration there.
@@ -349,7 +350,7 @@ def check_forward_friction(robot: Robot) -> None:
         A Coulomb or ``μ`` term with the exact sign (``coulomb > 0`` or
         ``mu > 0`` with ``smoothing = 0``); the message names the table and key.
 
-    >>> from prp3.model.robot import Friction, JointFriction
+    >>> from prp3.model.parameters import Friction, JointFriction
     >>> check_forward_friction(Robot(friction=Friction(actuator=JointFriction(coulomb=1.0))))
     Traceback (most recent call last):
     ...

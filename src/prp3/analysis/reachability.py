@@ -47,7 +47,8 @@ from prp3.mechanics.geometry import (
     inverse_geometry,
     singularity_measure,
 )
-from prp3.model.robot import Limits, Robot
+from prp3.model.parameters import Limits
+from prp3.model.robot import Robot
 from prp3.validation import (
     MAX_ORIENTATION,
     POSE_BOUND,

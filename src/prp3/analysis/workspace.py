@@ -130,7 +130,7 @@ def workspace_slice(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> Wor
 
     Examples
     --------
-    >>> from prp3.model.robot import Limits
+    >>> from prp3.model.parameters import Limits
     >>> robot = Robot(limits=Limits(stroke=(-0.05, 0.05)))
     >>> grid = np.linspace(-0.1, 0.1, 41)
     >>> ws = workspace_slice(robot, 0.0, grid, grid)
@@ -250,7 +250,7 @@ def workspace_statics(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> W
     ``f10 = ((√3/2)·t_i − (m1 + m2)·g·e_i)``, ``t = (2/3)·m3·g·(1, −1/2, −1/2)``
     (``tests/test_statics.py`` derives it):
 
-    >>> from prp3.model.robot import Limits
+    >>> from prp3.model.parameters import Limits
     >>> robot = Robot(limits=Limits(stroke=(-0.05, 0.05), max_force=30.0))
     >>> grid = np.linspace(-0.1, 0.1, 41)
     >>> statics = workspace_statics(robot, 0.0, grid, grid)
@@ -350,7 +350,7 @@ def orientation_scan(
     -------
     OrientationScan
 
-    >>> from prp3.model.robot import Limits
+    >>> from prp3.model.parameters import Limits
     >>> robot = Robot(limits=Limits(stroke=(-0.05, 0.05)))
     >>> grid = np.linspace(-0.1, 0.1, 21)
     >>> scan = orientation_scan(robot, grid, grid, np.linspace(-0.5, 0.5, 11))

@@ -39,7 +39,8 @@ from prp3.apps.regressor import (
 )
 from prp3.errors import ParameterError
 from prp3.model.motion import Motion
-from prp3.model.robot import Limits, Robot
+from prp3.model.parameters import Limits
+from prp3.model.robot import Robot
 from prp3.validation import check_names, check_robot
 
 __all__ = [

@@ -185,7 +185,7 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
     robot : Robot
         Its ``l0``, gravity, masses, inertias and centres of mass, and the
         parameters of its elements that the C code supports
-        (:attr:`prp3.model.elements.Element.generated_c`: the payload, the
+        (:attr:`prp3.model.element_base.Element.generated_c`: the payload, the
         actuators' spring), become constants of the source;
         ``limits.stroke`` (when set) the stroke check.
 

@@ -99,7 +99,7 @@ _PARAMETER_FIELDS = tuple(f.name for f in fields(KernelParameters))
 #: Fields of :class:`~prp3.mechanics.kernel.KernelParameters` that may differ between the designs of
 #: one kernel call: the kernel performs the same operations whatever their values (it
 #: branches on the others: a zero smoothing is a sign, the mu terms are implicit), as each
-#: element says (:attr:`prp3.model.elements.Element.broadcast`).
+#: element says (:attr:`prp3.model.element_base.Element.broadcast`).
 _BROADCAST_FIELDS: frozenset[str] = frozenset(INERTIAL_FIELDS) | {
     name for element in ELEMENTS for name in element.broadcast
 }

@@ -21,7 +21,8 @@ from prp3.apps.base_parameters import base_parameters
 from prp3.apps.regressor import _regressor_rows, _state_rows, _unit_parameters, standard_parameters
 from prp3.errors import ParameterError
 from prp3.model.motion import Motion
-from prp3.model.robot import Limits, Robot
+from prp3.model.parameters import Limits
+from prp3.model.robot import Robot
 from prp3.validation import check_integer, check_robot, check_scalar
 
 __all__ = [

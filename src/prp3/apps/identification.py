@@ -34,7 +34,8 @@ from prp3.apps.regressor import (
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.model.elements import ELEMENTS, FRICTIONS
 from prp3.model.motion import Motion
-from prp3.model.robot import LinkParameters, PistonParameters, PlatformParameters, Robot
+from prp3.model.parameters import LinkParameters, PistonParameters, PlatformParameters
+from prp3.model.robot import Robot
 from prp3.validation import check_per_leg, check_robot
 
 __all__ = [

@@ -82,8 +82,9 @@ import numpy as np
 
 from prp3.errors import ParameterError
 from prp3.mechanics.geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
-from prp3.model.elements import number_text
-from prp3.model.robot import Load, Payload, Robot
+from prp3.model.element_base import number_text
+from prp3.model.parameters import Load, Payload
+from prp3.model.robot import Robot
 from prp3.validation import check_robot
 
 __all__ = [
@@ -223,7 +224,7 @@ def _joint_attributes(robot: Robot) -> dict[str, str]:
 
     ``lambda10``, ``phi``, ``lambda32`` map to their attribute text (empty
     without); the attributes of several elements on one joint add
-    (:meth:`prp3.model.elements.Element.mjcf_joints`: viscous friction and the
+    (:meth:`prp3.model.element_base.Element.mjcf_joints`: viscous friction and the
     spring's damper both give ``damping``).
     """
     merged: dict[str, dict[str, float]] = {"lambda10": {}, "phi": {}, "lambda32": {}}
@@ -252,7 +253,7 @@ def unrepresented(robot: Robot) -> list[str]:
 
     Examples
     --------
-    >>> from prp3.model.robot import Friction, JointFriction
+    >>> from prp3.model.parameters import Friction, JointFriction
     >>> unrepresented(Robot(friction=Friction(sleeve=JointFriction(mu=0.1))))
     ['the load-dependent friction friction.sleeve.mu']
     """

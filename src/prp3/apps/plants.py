@@ -29,7 +29,8 @@ from prp3.engines.entries import compile_robot
 from prp3.errors import ParameterError, Prp3Error
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import Motion
-from prp3.model.robot import Limits, Robot
+from prp3.model.parameters import Limits
+from prp3.model.robot import Robot
 
 __all__ = [
     "PLANTS",
@@ -67,7 +68,7 @@ def check_plant(robot: Robot, plant: Plant) -> None:
       friction proportional to the joint reactions (``mu``) makes ``f10``
       non-affine in ``q̈``.
 
-    >>> from prp3.model.robot import Friction, JointFriction
+    >>> from prp3.model.parameters import Friction, JointFriction
     >>> check_plant(Robot(friction=Friction(sleeve=JointFriction(coulomb=0.5))), "mujoco")
     Traceback (most recent call last):
     ...

@@ -81,7 +81,7 @@ STANDARD_PARAMETERS: tuple[str, ...] = (
 #: have no column.)
 FRICTION_PARAMETERS: tuple[str, ...] = tuple(n for e in FRICTIONS for n in e.regressor)
 
-#: The regressor fields of every element (:attr:`prp3.model.elements.Element.regressor`):
+#: The regressor fields of every element (:attr:`prp3.model.element_base.Element.regressor`):
 #: the friction coefficients, the spring's stiffness and damping.
 ELEMENT_PARAMETERS: tuple[str, ...] = tuple(n for e in ELEMENTS for n in e.regressor)
 
@@ -168,7 +168,7 @@ def _zero_parameters(robot: Robot, keep: Sequence[str] = ()) -> kernel.KernelPar
     """``robot``'s kernel parameters with every inertial field and element field 0.
 
     Kept: ``l0``, gravity, the fields each element keeps for the shape of its
-    columns (:attr:`prp3.model.elements.Element.kept`: the friction smoothings, a
+    columns (:attr:`prp3.model.element_base.Element.kept`: the friction smoothings, a
     Coulomb column is ``s(v)`` with the robot's smoothing; the spring's rest
     length) and the fields named in ``keep``.
     """

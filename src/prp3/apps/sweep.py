@@ -47,7 +47,7 @@ from prp3.apps.design import DesignEvaluator, nominal_value
 from prp3.apps.design_evaluation import evaluate_designs
 from prp3.apps.sweep_spec import SweepSpec, design_values
 from prp3.errors import InputFileError, OutputFileError
-from prp3.io.formats import atomic_path, check_output_directory
+from prp3.files import atomic_path, check_output_directory
 
 if TYPE_CHECKING:
     from dask.distributed import Client

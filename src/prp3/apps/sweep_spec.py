@@ -31,9 +31,10 @@ from prp3.errors import (
     ParameterError,
     Prp3Error,
 )
-from prp3.io.formats import read_trajectory
+from prp3.io.trajectory import read_trajectory
 from prp3.model.motion import MAX_SAMPLES, PAPER_MOTIONS, Motion, paper_motion
-from prp3.model.robot import Robot, read_toml
+from prp3.model.robot import Robot
+from prp3.model.robot_toml import read_toml
 from prp3.validation import check_instance, check_scalar
 
 __all__ = [

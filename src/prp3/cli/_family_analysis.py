@@ -29,14 +29,9 @@ from prp3.apps.runs import check_memory
 from prp3.cli._types import check_extent, emit, files_report
 from prp3.errors import ParameterError, Prp3Error
 from prp3.family import FamilyRobot, family_results_table
-from prp3.io.formats import (
-    check_inputs_kept,
-    check_output_directory,
-    read_table_csv,
-    staged_output,
-    trajectory_table,
-    write_table_csv,
-)
+from prp3.files import check_inputs_kept, check_output_directory, staged_output
+from prp3.io.tables import read_table_csv, write_table_csv
+from prp3.io.trajectory import trajectory_table
 from prp3.model.motion import Motion
 from prp3.validation import LEGS
 
@@ -225,7 +220,7 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
 def family_spec_of(path: Path) -> FamilySweepSpec | None:
     """The family sweep spec of ``SWEEP.toml`` at ``path``, or ``None`` for a model-form spec."""
     from prp3.family.design import family_sweep_spec, is_family_spec
-    from prp3.model.robot import read_toml
+    from prp3.model.robot_toml import read_toml
 
     data = read_toml(path, "sweep")
     if not is_family_spec(data):

@@ -8,7 +8,7 @@
 
 Writes ``DIR/tracking.csv`` (one row per control instant: ``t, x, y, phi,
 x_ref, y_ref, phi_ref, f10_A, f10_B, f10_C``) and ``DIR/tracking.png``
-together (:func:`prp3.io.formats.staged_output`) and prints a summary (max and RMS
+together (:func:`prp3.files.staged_output`) and prints a summary (max and RMS
 tracking errors, the controller's time per step).  The computation is
 :func:`prp3.apps.control.track`; this module only parses and prints.  When the
 plant stops early (singularity, stroke limit, failed simulation), the files
@@ -48,12 +48,9 @@ from prp3.cli._types import (
     positive_float,
 )
 from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
-from prp3.io.formats import (
-    check_inputs_kept,
-    check_output_directory,
-    read_trajectory,
-    write_table_csv,
-)
+from prp3.files import check_inputs_kept, check_output_directory
+from prp3.io.tables import write_table_csv
+from prp3.io.trajectory import read_trajectory
 from prp3.mechanics.geometry import LEGS, inverse_geometry
 from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
 from prp3.model.robot import Robot

@@ -32,7 +32,8 @@ from prp3.apps.sweep_spec import SweepSpec, read_sweep_spec
 from prp3.cli._progress import Progress
 from prp3.cli._types import emit, files_report, integer_at_least, output_folder, path_name
 from prp3.errors import Prp3Error
-from prp3.io.formats import atomic_writer, check_inputs_kept, check_output_directory, format_float
+from prp3.files import atomic_writer, check_inputs_kept, check_output_directory
+from prp3.io.tables import format_float
 
 if TYPE_CHECKING:
     from dask.distributed import Client

@@ -32,7 +32,8 @@ from prp3.cli._types import (
     output_folder,
     positive_float,
 )
-from prp3.io.formats import check_output_directory, write_table_csv
+from prp3.files import check_output_directory
+from prp3.io.tables import write_table_csv
 
 __all__ = ["TRAJECTORY_NAME", "register", "run"]
 

@@ -35,7 +35,7 @@ from prp3.errors import ParameterError
 from prp3.family import FamilyRobot
 from prp3.family.codegen import FamilyCSource, family_c_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model
-from prp3.io.formats import atomic_writer, check_inputs_kept, check_output_directory
+from prp3.files import atomic_writer, check_inputs_kept, check_output_directory
 
 __all__ = ["register"]
 

@@ -13,7 +13,7 @@ a time-varying load on the platform interpolated like the forces (a
 ``results.csv`` of a trajectory with a load has them).  Writes ``DIR/results.csv``
 (the contract columns of the integrated motion) and ``DIR/trajectory.csv``
 (``t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi``, readable by ``prp3 simulate
---trajectory``), together (:func:`prp3.io.formats.staged_output`).  When the motion
+--trajectory``), together (:func:`prp3.files.staged_output`).  When the motion
 stops early at a singularity or a stroke limit, the files hold the motion up
 to the stop, the reason goes to stderr and the exit status is 1.
 """
@@ -48,26 +48,13 @@ from prp3.cli._types import (
 )
 from prp3.errors import Prp3Error
 from prp3.family import FamilyRobot
-from prp3.io.formats import (
-    FORCE_COLUMNS,
-    ForceInput,
-    check_inputs_kept,
-    check_output_directory,
-    read_forces,
-    trajectory_table,
-    write_table_csv,
-)
+from prp3.files import check_inputs_kept, check_output_directory
+from prp3.io.forces import ForceInput, read_forces
 from prp3.io.results import results_table
+from prp3.io.tables import write_table_csv
+from prp3.io.trajectory import trajectory_table
 
-__all__ = [  # FORCE_COLUMNS, ForceInput and read_forces: from prp3.io.formats
-    "FORCE_COLUMNS",
-    "ForceInput",
-    "PlanDrift",
-    "plan_drift",
-    "read_forces",
-    "register",
-    "run",
-]
+__all__ = ["PlanDrift", "plan_drift", "register", "run"]
 
 FloatArray = NDArray[np.float64]
 

@@ -8,7 +8,7 @@
 ``M.csv`` has the columns of a trajectory file (``t, x, y, phi`` and
 optionally all of ``dx, dy, dphi, ddx, ddy, ddphi``; derivatives computed as
 for a trajectory file when absent) and the measured ``f10_A, f10_B, f10_C``.
-Writes, together (:func:`prp3.io.formats.staged_output`), ``DIR/robot.toml`` (the
+Writes, together (:func:`prp3.files.staged_output`), ``DIR/robot.toml`` (the
 nominal robot with physical parameters that reproduce the identified base
 parameters), ``DIR/parameters.csv`` (``name, combination, estimate, std``) and
 ``DIR/identification.png`` (measured and fitted forces), and prints a summary.
@@ -47,13 +47,9 @@ from prp3.cli._types import (
     path_name,
 )
 from prp3.errors import SingularPoseError, UnreachablePoseError
-from prp3.io.formats import (
-    atomic_writer,
-    check_inputs_kept,
-    check_output_directory,
-    format_float,
-    read_measurements,
-)
+from prp3.files import atomic_writer, check_inputs_kept, check_output_directory
+from prp3.io.measurements import read_measurements
+from prp3.io.tables import format_float
 from prp3.mechanics.geometry import LEGS, inverse_geometry
 from prp3.model.elements import FRICTIONS
 from prp3.model.robot import Robot

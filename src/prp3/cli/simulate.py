@@ -48,15 +48,9 @@ from prp3.cli._types import (
 )
 from prp3.errors import Prp3Error
 from prp3.family import FamilyRobot
-from prp3.io.formats import (
-    Trajectory,
-    check_inputs_kept,
-    check_output_directory,
-    parquet_available,
-    read_trajectory,
-    write_table_csv,
-    write_table_parquet,
-)
+from prp3.files import check_inputs_kept, check_output_directory
+from prp3.io.tables import parquet_available, write_table_csv, write_table_parquet
+from prp3.io.trajectory import Trajectory, read_trajectory
 from prp3.mechanics.geometry import LEGS
 from prp3.mechanics.kernel import NEAR_LOCK_MU
 from prp3.mechanics.kinematics import inverse_kinematics

@@ -9,7 +9,7 @@ writes ``DIR/workspace.csv`` (the grid at ``φ``), ``DIR/orientations.csv``
 (the scan of ``φ``) and ``DIR/workspace.png`` (the map), and with the statics
 map (``--statics``; by default when the robot has a ``[payload]``, a
 ``[load]`` or ``[limits] max_force``) ``DIR/statics.csv`` and
-``DIR/statics.png``, together or not at all (:func:`prp3.io.formats.staged_output`).
+``DIR/statics.png``, together or not at all (:func:`prp3.files.staged_output`).
 The columns are documented in
 ``docs/forward_and_workspace.md`` and in ``--help``.
 """
@@ -47,7 +47,8 @@ from prp3.cli._types import (
 )
 from prp3.errors import ParameterError
 from prp3.family import FamilyRobot
-from prp3.io.formats import check_output_directory, write_table_csv
+from prp3.files import check_output_directory
+from prp3.io.tables import write_table_csv
 from prp3.mechanics.geometry import SINGULARITY_THRESHOLD
 from prp3.model.robot import Robot
 from prp3.validation import POSE_BOUND
@@ -133,7 +134,7 @@ def default_extent(robot: Robot, samples: int = 721) -> tuple[float, float, floa
     enlarged by :data:`EXTENT_MARGIN` of its size; without a stroke the
     workspace is unbounded and the window is ``±l0`` in both directions.
 
-    >>> from prp3.model.robot import Limits
+    >>> from prp3.model.parameters import Limits
     >>> [round(v, 4) for v in default_extent(Robot())]
     [-0.3, 0.3, -0.3, 0.3]
     """
@@ -256,7 +257,7 @@ def _statics_table(statics: WorkspaceStatics) -> dict[str, np.ndarray]:
 def wants_statics(robot: Robot, option: bool | None) -> bool:
     """Whether ``prp3 workspace`` writes the statics map: ``--statics``/``--no-statics``, else
     when ``robot`` has an element that changes the forces at rest (a payload, a load, a
-    spring: :meth:`prp3.model.elements.Element.changes_statics`) or ``[limits] max_force``.
+    spring: :meth:`prp3.model.element_base.Element.changes_statics`) or ``[limits] max_force``.
 
     >>> wants_statics(Robot(), None), wants_statics(Robot(), True)
     (False, True)

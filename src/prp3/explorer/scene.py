@@ -11,7 +11,7 @@ A run of ``prp3 simulate`` is read by :mod:`prp3.explorer.run_folder`
 
 The forces come only from prp3's own engines: a pose is solved by
 :func:`prp3.analysis.inverse_dynamics.inverse_dynamics` (the kernel, eqs. 10–25) and turned
-into the columns of ``results.csv`` by :func:`prp3.io.formats.results_table`; a run of
+into the columns of ``results.csv`` by :func:`prp3.io.results.results_table`; a run of
 ``prp3 simulate`` is drawn from its own columns.  Both go through
 :func:`scene_view`, which only places the reported components in the plane:
 
@@ -57,7 +57,8 @@ from prp3.mechanics.geometry import (
     platform_vertices,
 )
 from prp3.model.motion import Motion
-from prp3.model.robot import Friction, JointFriction, Robot
+from prp3.model.parameters import Friction, JointFriction
+from prp3.model.robot import Robot
 from prp3.validation import SINGULARITY_THRESHOLD, singularity_measure
 
 __all__ = [
@@ -428,7 +429,7 @@ def stroke_bands(robot: Robot) -> Columns:
     ``P_i = B_i0 + (l0/√3 + λ10_i)·e_i`` (eq. 10) at both ends of
     ``[limits] stroke``; no rows without a stroke.
 
-    >>> from prp3.model.robot import Limits
+    >>> from prp3.model.parameters import Limits
     >>> bands = stroke_bands(Robot(limits=Limits(stroke=(-0.05, 0.05))))
     >>> [round(v, 4) for v in bands["xs"][0]], bands["leg"]
     ([0.0616, 0.1116], ['A', 'B', 'C'])
@@ -456,7 +457,7 @@ def workspace_overlay(robot: Robot, phi: float, points: int = 41) -> dict[str, C
     where the pose is within the strokes, NaN elsewhere; ``region`` the exact
     reachable boundary (no rows without a stroke).
 
-    >>> from prp3.model.robot import Limits
+    >>> from prp3.model.parameters import Limits
     >>> overlay = workspace_overlay(Robot(limits=Limits(stroke=(-0.05, 0.05))), 0.0, 41)
     >>> round(float(np.nanmax(overlay["image"]["image"][0])), 3), len(overlay["region"]["xs"][0]) > 3
     (36.547, True)

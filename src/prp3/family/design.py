@@ -68,7 +68,7 @@ from prp3.errors import ParameterError, Prp3Error, SingularPoseError, Unreachabl
 from prp3.family.model import ARCHITECTURES, FamilyRobot
 from prp3.family.outputs import family_inverse_dynamics
 from prp3.model.motion import Motion
-from prp3.model.robot import read_toml
+from prp3.model.robot_toml import read_toml
 from prp3.validation import LEGS
 
 __all__ = [
@@ -461,7 +461,7 @@ def run_family_sweep(
     import pyarrow.parquet as pq
 
     from prp3.errors import OutputFileError
-    from prp3.io.formats import atomic_path, check_output_directory
+    from prp3.files import atomic_path, check_output_directory
 
     output = Path(output)
     check_output_directory(output)

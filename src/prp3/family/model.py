@@ -41,19 +41,16 @@ from prp3.family.chain import (
     transmitted_wrench,
     wrap,
 )
-from prp3.model.robot import (
-    Load,
-    Payload,
-    Robot,
-    _check_parts,
-    _fmt,
-    _pair,
-    _payload_load_toml,
-    _table,
-    _toml_line,
-    _toml_list,
+from prp3.model.parameters import Load, Payload, check_pair, check_parts
+from prp3.model.robot import Robot
+from prp3.model.robot_toml import (
     parse_located,
+    payload_load_toml,
     read_toml,
+    toml_float,
+    toml_line,
+    toml_list,
+    toml_table,
 )
 from prp3.validation import check_choice, check_integer, check_scalar
 
@@ -184,7 +181,7 @@ class Body:
     def __post_init__(self) -> None:
         n = self.name
         object.__setattr__(self, "mass", _non_negative(f"{n}.mass", self.mass, "kg"))
-        object.__setattr__(self, "com", _pair(f"{n}.com", self.com))
+        object.__setattr__(self, "com", check_pair(f"{n}.com", self.com))
         object.__setattr__(self, "inertia", _non_negative(f"{n}.inertia", self.inertia, "kg·m²"))
 
 
@@ -244,7 +241,7 @@ class FamilyRobot:
     def __post_init__(self) -> None:
         check_choice("architecture", self.architecture, ARCHITECTURES)
         check_integer("actuated", self.actuated, 1, 3, subject="robot")
-        _check_parts(
+        check_parts(
             self,
             (
                 ("leg", LegDesign),
@@ -255,7 +252,7 @@ class FamilyRobot:
                 ("load", Load),
             ),
         )
-        object.__setattr__(self, "gravity", _pair("gravity", self.gravity))
+        object.__setattr__(self, "gravity", check_pair("gravity", self.gravity))
         passive = [self.types[k] for k in range(3) if k != self.actuated - 1]
         if passive == ["P", "P"]:
             raise ParameterError(
@@ -356,7 +353,7 @@ class FamilyRobot:
         ...
         prp3.errors.ParameterError: robot: key 'l0' belongs to model form (the 3-PRP file of docs/model.md); a family-form robot file (architecture, actuated, [leg], [link1], [link2]) does not accept it
         """
-        top = _table("", data, FAMILY_KEYS, _model_only)
+        top = toml_table("", data, FAMILY_KEYS, _model_only)
         architecture = top.get("architecture", "3-PRP")
         if not isinstance(architecture, str) or architecture not in ARCHITECTURES:
             raise ParameterError(
@@ -367,18 +364,20 @@ class FamilyRobot:
                 key="architecture",
             )
         base = cls.default(architecture)
-        leg = replace(base.leg, **_table("leg", top.get("leg", {}), _LEG_KEYS))
+        leg = replace(base.leg, **toml_table("leg", top.get("leg", {}), _LEG_KEYS))
         bodies = {}
         for name in ("link1", "link2"):
-            given = _table(name, top.get(name, {}), ("mass", "com", "inertia"))
+            given = toml_table(name, top.get(name, {}), ("mass", "com", "inertia"))
             bodies[name] = replace(getattr(base, name), **given)
-        platform = PlatformBody(**_table("platform", top.get("platform", {}), ("mass", "inertia")))
-        payload = _table("payload", top.get("payload", {}), ("mass", "com", "inertia"))
+        platform = PlatformBody(
+            **toml_table("platform", top.get("platform", {}), ("mass", "inertia"))
+        )
+        payload = toml_table("payload", top.get("payload", {}), ("mass", "com", "inertia"))
         if "com" in payload:
-            payload["com"] = _pair("payload.com", payload["com"])
-        load = _table("load", top.get("load", {}), ("force", "moment"))
+            payload["com"] = check_pair("payload.com", payload["com"])
+        load = toml_table("load", top.get("load", {}), ("force", "moment"))
         if "force" in load:
-            load["force"] = _pair("load.force", load["force"])
+            load["force"] = check_pair("load.force", load["force"])
         return cls(
             architecture=architecture,
             actuated=top.get("actuated", base.actuated),
@@ -388,7 +387,7 @@ class FamilyRobot:
             platform=platform,
             payload=Payload(**payload),
             load=Load(**load),
-            gravity=_pair("gravity", top["gravity"]) if "gravity" in top else base.gravity,
+            gravity=check_pair("gravity", top["gravity"]) if "gravity" in top else base.gravity,
         )
 
     @classmethod
@@ -481,9 +480,9 @@ def family_template(robot: FamilyRobot | str | None = None, *, comments: bool = 
         raise ParameterError(f"robot must be a FamilyRobot, got {robot!r}"[:200], key="robot")
 
     def line(key: str, value: str, comment: str) -> str:
-        return _toml_line(key, value, comment, comments)
+        return toml_line(key, value, comment, comments)
 
-    values = _toml_list
+    values = toml_list
 
     leg = robot.leg
     units = ["m" if kind == "P" else "rad" for kind in robot.types]
@@ -508,22 +507,22 @@ def family_template(robot: FamilyRobot | str | None = None, *, comments: bool = 
         line("joint3", values(leg.joint3), f"joint 3 ({robot.types[2]}) in F_2"),
         line("attachment", values(leg.attachment), "the platform frame (G, phi) in F_3"),
         line("home", values(leg.home), f"q1, q2, q3 at home ({', '.join(units)})"),
-        line("scale", _fmt(leg.scale), "m, length of the singularity measures"),
+        line("scale", toml_float(leg.scale), "m, length of the singularity measures"),
     ]  # fmt: skip
     for name, where in (("link1", "joints 1 and 2, frame F_1"), ("link2", "joints 2 and 3, F_2")):
         body: Body = getattr(robot, name)
         out += [
             "",
             f"[{name}]" + (f"  # body between {where}" if comments else ""),
-            line("mass", _fmt(body.mass), "kg"),
+            line("mass", toml_float(body.mass), "kg"),
             line("com", values(body.com), "m, mass centre in the body's frame"),
-            line("inertia", _fmt(body.inertia), "kg m^2, I_zz about its mass centre"),
+            line("inertia", toml_float(body.inertia), "kg m^2, I_zz about its mass centre"),
         ]
     out += [
         "",
         "[platform]" + ("  # its mass centre is G by definition" if comments else ""),
-        line("mass", _fmt(robot.platform.mass), "kg"),
-        line("inertia", _fmt(robot.platform.inertia), "kg m^2, I_zz about G"),
+        line("mass", toml_float(robot.platform.mass), "kg"),
+        line("inertia", toml_float(robot.platform.inertia), "kg m^2, I_zz about G"),
     ]
-    out += _payload_load_toml(robot.payload, robot.load, comments)
+    out += payload_load_toml(robot.payload, robot.load, comments)
     return "\n".join(out) + "\n"

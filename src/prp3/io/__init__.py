@@ -1,1 +1,1 @@
-"""File formats (`formats`: CSV, Parquet, TRAJ.csv, forces, measurements) and the registry of output quantities (`results`)."""
+"""File formats (`tables`: CSV and Parquet; `trajectory`: TRAJ.csv; `measurements`; `forces`) and the registry of output quantities (`results`)."""

@@ -6,7 +6,8 @@ given (:data:`OUTPUT_QUANTITIES`).  The columns of ``results.csv`` and Parquet
 :func:`result_columns`), the labels of the figures (:mod:`prp3.plotting.figures`)
 and the units of the run summary (:func:`prp3.apps.runs.summary_text`) are derived
 from it; :func:`results_table` fills the columns from a method's kinematics and
-forces.  The file formats themselves are :mod:`prp3.io.formats`.
+forces.  The file formats themselves are :mod:`prp3.io.tables` (CSV, Parquet),
+:mod:`prp3.io.trajectory`, :mod:`prp3.io.measurements` and :mod:`prp3.io.forces`.
 
 >>> RESULT_COLUMNS[:5]
 ('t', 'x', 'y', 'phi', 'lambda10_A')

@@ -64,7 +64,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.mechanics.kernel import NUMPY, kernel_geometry, kernel_parameters
-from prp3.model.robot import Limits, Robot
+from prp3.model.parameters import Limits
+from prp3.model.robot import Robot
 from prp3.validation import (
     LEGS,
     POSE_BOUND,
@@ -298,7 +299,7 @@ def check_stroke(robot: Robot, lambda10: FloatArray, pose: FloatArray | None = N
     The message names the first sample, the leg and the value, and the pose
     when ``pose`` is given.
 
-    >>> from prp3.model.robot import Limits
+    >>> from prp3.model.parameters import Limits
     >>> check_stroke(Robot(limits=Limits(stroke=(-0.1, 0.1))), np.array([0.0, 0.2, 0.0]))
     Traceback (most recent call last):
     ...

@@ -92,7 +92,8 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from prp3.model import elements as _elements
-from prp3.model.elements import FRICTIONS, LOAD, PAYLOAD, is_zero, rate_sign
+from prp3.model.element_base import is_zero, rate_sign
+from prp3.model.elements import FRICTIONS, LOAD, PAYLOAD
 from prp3.model.robot import Robot
 from prp3.validation import joint_rate_floor
 

@@ -31,7 +31,8 @@ from prp3.mechanics.geometry import (
 )
 from prp3.mechanics.kernel import NUMPY, kernel_geometry, kernel_kinematics, kernel_parameters
 from prp3.model.motion import Motion
-from prp3.model.robot import Limits, Robot
+from prp3.model.parameters import Limits
+from prp3.model.robot import Robot
 from prp3.validation import check_instance, check_robot, require_finite
 
 __all__ = ["Kinematics", "inverse_kinematics", "jacobian"]

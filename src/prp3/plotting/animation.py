@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.io.formats import atomic_path
+from prp3.files import atomic_path
 from prp3.mechanics.geometry import LEG_AXIS, LEGS, base_vertices, platform_vertices
 from prp3.mechanics.kinematics import Kinematics
 from prp3.model.robot import Robot

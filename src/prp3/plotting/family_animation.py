@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.io.formats import atomic_path
+from prp3.files import atomic_path
 from prp3.plotting.figures import LEG_STYLES
 from prp3.validation import LEGS
 

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from prp3.io.formats import atomic_path
+from prp3.files import atomic_path
 from prp3.plotting.workspace import cm_grey
 from prp3.validation import LEGS
 

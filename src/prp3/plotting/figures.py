@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.io.formats import atomic_path
+from prp3.files import atomic_path
 from prp3.io.results import OUTPUT_QUANTITIES
 from prp3.mechanics.geometry import LEGS
 

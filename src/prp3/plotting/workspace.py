@@ -30,7 +30,7 @@ import numpy as np
 
 from prp3.analysis.reachability import SINGULAR_ORIENTATIONS
 from prp3.analysis.workspace import OrientationScan, WorkspaceSlice, WorkspaceStatics
-from prp3.io.formats import atomic_path
+from prp3.files import atomic_path
 from prp3.mechanics.geometry import base_vertices, platform_vertices
 from prp3.model.robot import Robot
 
