@@ -39,7 +39,7 @@ from prp3.errors import InputFileError, OutputFileError, ParameterError, Traject
 from prp3.files import MAX_LINE_BYTES, atomic_writer
 from prp3.io.formats import read_trajectory
 from prp3.model.motion import differentiate_positions
-from prp3.validation import POSE_BOUND
+from prp3.pose_validation import POSE_BOUND
 
 ROBOT = Robot()
 ENV = {key: value for key, value in os.environ.items() if key != "PYTHONUNBUFFERED"}

@@ -92,6 +92,9 @@ MODULES = (
     "prp3.analysis.workspace",
 )
 
+#: The modules of the validation layer (their checks are what the cases exercise).
+VALIDATION_MODULES = ("prp3.validation", "prp3.pose_validation", "prp3.path_validation")
+
 #: Public callables that take no user value to validate, with the reason.
 EXEMPT: dict[str, str] = {
     # result types: built by prp3 from validated values, not by users
@@ -832,7 +835,7 @@ def _public() -> dict[str, object]:
             value = getattr(module, name)
             if not (inspect.isfunction(value) or inspect.isclass(value)):
                 continue  # constants and type aliases
-            if value.__module__ == "prp3.validation":
+            if value.__module__ in VALIDATION_MODULES:
                 continue  # the validation layer itself, re-exported
             found.setdefault(name, value)
     return found

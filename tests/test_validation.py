@@ -26,7 +26,8 @@ import prp3
 from prp3 import Motion, Robot
 from prp3.engines.entries import compile_robot
 from prp3.errors import Prp3Error
-from prp3.validation import check_poses, check_real
+from prp3.pose_validation import check_poses
+from prp3.validation import check_real
 
 ROBOT = Robot()
 COMPILED = compile_robot(ROBOT)

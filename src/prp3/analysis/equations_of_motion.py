@@ -38,13 +38,8 @@ from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kinematics import jacobian
 from prp3.model.motion import Motion
 from prp3.model.robot import Limits, Load, Robot
-from prp3.validation import (
-    check_choice,
-    check_per_leg,
-    check_poses,
-    check_robot,
-    check_same_shape,
-)
+from prp3.pose_validation import check_poses
+from prp3.validation import check_choice, check_per_leg, check_robot, check_same_shape
 
 __all__ = [
     "SPACES",

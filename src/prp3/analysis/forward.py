@@ -50,13 +50,8 @@ from prp3.mechanics.geometry import (
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import (
-    check_per_leg,
-    check_poses,
-    check_robot,
-    check_scalar,
-    check_times,
-)
+from prp3.pose_validation import check_poses
+from prp3.validation import check_per_leg, check_robot, check_scalar, check_times
 
 __all__ = [
     "MIN_RTOL",

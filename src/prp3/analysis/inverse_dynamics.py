@@ -25,9 +25,10 @@ from prp3.mechanics.forces import FORCE_NAMES, FRICTION_NAMES, InverseDynamics, 
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
+from prp3.path_validation import check_path
 from prp3.references.newton_euler import newton_euler
 from prp3.references.paper import paper_method
-from prp3.validation import check_choice, check_instance, check_path, check_robot
+from prp3.validation import check_choice, check_instance, check_robot
 
 __all__ = [
     "METHODS",

@@ -24,7 +24,8 @@ from prp3.io.results import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_colum
 from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import check_instance, check_integer, check_path, check_robot
+from prp3.path_validation import check_path
+from prp3.validation import check_instance, check_integer, check_robot
 
 __all__ = [
     "CHUNK_SAMPLES",

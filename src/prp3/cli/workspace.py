@@ -49,7 +49,7 @@ from prp3.errors import ParameterError
 from prp3.io.formats import check_output_directory, write_table_csv
 from prp3.mechanics.geometry import SINGULARITY_THRESHOLD
 from prp3.model.robot import Robot
-from prp3.validation import POSE_BOUND
+from prp3.pose_validation import POSE_BOUND
 
 __all__ = [
     "DEFAULT_ORIENTATIONS",

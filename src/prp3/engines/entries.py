@@ -23,7 +23,7 @@ agree to round-off (tests: 1e-13 relative).
 
 What is checked, in this order (the order of the reference path): the
 inputs' types and shapes, their finiteness, the poses' bounds and
-singularity (:func:`prp3.validation.check_pose_array`), the actuator strokes
+singularity (:func:`prp3.pose_validation.check_pose_array`), the actuator strokes
 (:func:`prp3.mechanics.geometry.check_stroke`); then, after the engine, the results'
 finiteness (:func:`prp3.validation.require_finite`) and, with ``μ`` terms, a
 self-locking joint.
@@ -51,15 +51,8 @@ from prp3.errors import Prp3Error, TrajectoryError
 from prp3.mechanics import kernel
 from prp3.mechanics.geometry import check_stroke
 from prp3.model.robot import Robot
-from prp3.validation import (
-    check_finite,
-    check_integer,
-    check_pose_array,
-    check_real,
-    check_robot,
-    check_state_sample,
-    require_finite,
-)
+from prp3.pose_validation import check_pose_array, check_state_sample
+from prp3.validation import check_finite, check_integer, check_real, check_robot, require_finite
 
 __all__ = [
     "DEFAULT_CHUNK",

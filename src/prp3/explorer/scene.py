@@ -58,7 +58,7 @@ from prp3.mechanics.geometry import (
 )
 from prp3.model.motion import Motion
 from prp3.model.robot import Friction, JointFriction, Robot
-from prp3.validation import SINGULARITY_THRESHOLD, singularity_measure
+from prp3.pose_validation import SINGULARITY_THRESHOLD, singularity_measure
 
 __all__ = [
     "ARROWS",
@@ -407,7 +407,7 @@ def arrow_scale(robot: Robot, fraction: float = 0.35) -> float:
 
 # ---------------------------------------------------------------- limits
 def singularity_curve(phi_range: tuple[float, float], samples: int = 721) -> Columns:
-    """The singularity measure ``sin(φ − π/3)`` over ``phi_range`` (:func:`prp3.validation.singularity_measure`),
+    """The singularity measure ``sin(φ − π/3)`` over ``phi_range`` (:func:`prp3.pose_validation.singularity_measure`),
     with the threshold below which poses are refused.
 
     >>> curve = singularity_curve((-math.pi, math.pi), 5)

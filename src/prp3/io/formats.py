@@ -64,7 +64,7 @@ from prp3.files import (
 from prp3.io.results import FRICTION_COLUMNS, RESULT_COLUMNS
 from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import Motion, differentiate_positions, spline_derivatives
-from prp3.validation import check_path
+from prp3.path_validation import check_path
 
 __all__ = [
     "DERIVATIVE_COLUMNS",

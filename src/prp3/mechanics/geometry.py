@@ -65,18 +65,15 @@ from numpy.typing import ArrayLike, NDArray
 from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.mechanics.kernel import NUMPY, kernel_geometry, kernel_parameters
 from prp3.model.robot import Limits, Robot
+from prp3.pose_validation import POSE_BOUND, SINGULARITY_THRESHOLD, check_poses, singularity_measure
 from prp3.validation import (
     LEGS,
-    POSE_BOUND,
-    SINGULARITY_THRESHOLD,
     check_finite,
     check_per_leg,
-    check_poses,
     check_real,
     check_robot,
     check_scalar,
     require_finite,
-    singularity_measure,
 )
 
 __all__ = [
