@@ -27,8 +27,8 @@ import numpy as np
 import pytest
 
 import prp3.cli.simulate as simulate_cli
-import prp3.files as prp3_files
 import prp3.io.formats as prp3_io
+import prp3.staged_files as staged_files
 from clitools import cli, listing
 from prp3 import Motion, Robot
 from prp3.analysis.equations_of_motion import platform_dynamics
@@ -484,7 +484,7 @@ def test_staged_output_puts_older_files_back_when_a_move_fails(tmp_path, monkeyp
             raise failure
         replace(source, target)
 
-    monkeypatch.setattr(prp3_files.os, "replace", flaky_replace)
+    monkeypatch.setattr(staged_files.os, "replace", flaky_replace)
     with pytest.raises(OutputFileError if isinstance(failure, OSError) else KeyboardInterrupt):
         with staged_output(tmp_path) as staged:
             for name in ("a.txt", "b.txt", "c.txt"):

@@ -50,21 +50,18 @@ from prp3.errors import (
     TrajectoryError,
 )
 from prp3.files import (
-    MANIFEST_NAME,
     MAX_LINE_BYTES,
-    StagedOutput,
     atomic_path,
     atomic_writer,
     check_inputs_kept,
     check_output_directory,
-    read_manifest,
     read_text_lines,
-    staged_output,
 )
 from prp3.io.results import FRICTION_COLUMNS, RESULT_COLUMNS
 from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import Motion, differentiate_positions, spline_derivatives
 from prp3.path_validation import check_path
+from prp3.staged_files import MANIFEST_NAME, StagedOutput, read_manifest, staged_output
 
 __all__ = [
     "DERIVATIVE_COLUMNS",
