@@ -59,7 +59,6 @@ from prp3.errors import (
     UnreachablePoseError,
 )
 from prp3.mechanics.geometry import (
-    LEGS,
     ForwardGeometry,
     InverseGeometry,
     forward_geometry,
@@ -69,6 +68,7 @@ from prp3.mechanics.geometry import (
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics, jacobian
 from prp3.model.motion import Motion, law_motion, paper_motion
 from prp3.model.robot import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
+from prp3.validation import LEGS
 
 try:
     __version__ = version("prp3")

@@ -40,15 +40,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import ParameterError, SingularPoseError, TrajectoryError
-from prp3.mechanics.geometry import (
+from prp3.mechanics.geometry import InverseGeometry, forward_geometry, inverse_geometry
+from prp3.model.robot import Limits, Robot
+from prp3.pose_validation import (
+    MAX_ORIENTATION,
+    POSE_BOUND,
     SINGULARITY_THRESHOLD,
-    InverseGeometry,
-    forward_geometry,
-    inverse_geometry,
+    check_poses,
     singularity_measure,
 )
-from prp3.model.robot import Limits, Robot
-from prp3.pose_validation import MAX_ORIENTATION, POSE_BOUND, check_poses
 from prp3.validation import check_real, check_robot, check_scalar
 
 __all__ = [

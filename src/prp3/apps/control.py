@@ -67,10 +67,11 @@ from prp3.apps.plants import (
 )
 from prp3.engines.entries import compile_robot, paper_forces
 from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
-from prp3.mechanics.geometry import SINGULARITY_THRESHOLD, inverse_geometry
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
 from prp3.path_validation import check_path
+from prp3.pose_validation import SINGULARITY_THRESHOLD
 from prp3.validation import check_instance, check_robot, check_scalar, check_times
 
 __all__ = [

@@ -81,10 +81,10 @@ import warnings
 import numpy as np
 
 from prp3.errors import ParameterError
-from prp3.mechanics.geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
+from prp3.mechanics.geometry import ALPHA, LEG_AXIS, base_vertices, platform_vertices
 from prp3.model.elements import number_text
 from prp3.model.robot import Load, Payload, Robot
-from prp3.validation import check_robot
+from prp3.validation import LEGS, check_robot
 
 __all__ = [
     "INERTIA_FLOOR",

@@ -21,11 +21,10 @@ from prp3.engines.entries import CompiledRobot, Engine, compile_robot, solve_bat
 from prp3.engines.select import resolve_engine
 from prp3.errors import ParameterError, Prp3Error
 from prp3.io.results import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_columns, results_table
-from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
 from prp3.path_validation import check_path
-from prp3.validation import check_instance, check_integer, check_robot
+from prp3.validation import LEGS, check_instance, check_integer, check_robot
 
 __all__ = [
     "CHUNK_SAMPLES",

@@ -54,10 +54,11 @@ from prp3.io.formats import (
     read_trajectory,
     write_table_csv,
 )
-from prp3.mechanics.geometry import LEGS, inverse_geometry
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
 from prp3.model.robot import Robot
 from prp3.plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
+from prp3.validation import LEGS
 
 __all__ = ["EXIT_STOPPED", "TRACKING_COLUMNS", "register", "run", "tracking_table"]
 

@@ -54,10 +54,11 @@ from prp3.io.formats import (
     format_float,
     read_measurements,
 )
-from prp3.mechanics.geometry import LEGS, inverse_geometry
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.elements import FRICTIONS
 from prp3.model.robot import Robot
 from prp3.plotting.identification import IDENTIFICATION_FIGURE  # a constant: no matplotlib
+from prp3.validation import LEGS
 
 __all__ = ["FRICTION_CHOICES", "PARAMETERS_NAME", "ROBOT_NAME", "register", "run"]
 

@@ -47,9 +47,8 @@ from prp3.cli._types import (
 )
 from prp3.errors import ParameterError
 from prp3.io.formats import check_output_directory, write_table_csv
-from prp3.mechanics.geometry import SINGULARITY_THRESHOLD
 from prp3.model.robot import Robot
-from prp3.pose_validation import POSE_BOUND
+from prp3.pose_validation import POSE_BOUND, SINGULARITY_THRESHOLD
 
 __all__ = [
     "DEFAULT_ORIENTATIONS",

@@ -50,7 +50,6 @@ from prp3.io.results import (
 )
 from prp3.mechanics.geometry import (
     LEG_AXIS,
-    LEGS,
     base_vertices,
     inverse_geometry,
     perp,
@@ -59,6 +58,7 @@ from prp3.mechanics.geometry import (
 from prp3.model.motion import Motion
 from prp3.model.robot import Friction, JointFriction, Robot
 from prp3.pose_validation import SINGULARITY_THRESHOLD, singularity_measure
+from prp3.validation import LEGS
 
 __all__ = [
     "ARROWS",

@@ -58,10 +58,10 @@ from prp3.files import (
     read_text_lines,
 )
 from prp3.io.results import FRICTION_COLUMNS, RESULT_COLUMNS
-from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import Motion, differentiate_positions, spline_derivatives
 from prp3.path_validation import check_path
 from prp3.staged_files import MANIFEST_NAME, StagedOutput, read_manifest, staged_output
+from prp3.validation import LEGS
 
 __all__ = [
     "DERIVATIVE_COLUMNS",

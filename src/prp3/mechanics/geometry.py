@@ -79,14 +79,11 @@ from prp3.validation import (
 __all__ = [
     "ALPHA",
     "DEGENERATE_ASSEMBLY",
-    "LEGS",
     "LEG_AXIS",
     "LEG_NORMAL",
-    "SINGULARITY_THRESHOLD",
     "ForwardGeometry",
     "InverseGeometry",
     "base_vertices",
-    "check_poses",
     "check_stroke",
     "cross2",
     "dot2",
@@ -95,7 +92,6 @@ __all__ = [
     "orientation_from_sum",
     "perp",
     "platform_vertices",
-    "singularity_measure",
     "sum_from_orientation",
 ]
 

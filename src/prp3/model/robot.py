@@ -49,7 +49,6 @@ __all__ = [
     "Robot",
     "Spring",
     "SpringParameters",
-    "check_robot",
     "robot_template",
 ]
 
