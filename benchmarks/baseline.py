@@ -51,12 +51,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     import prp3
-    from prp3.engines.entries import (
-        compile_robot,
-        paper_forces,
-        sample_forces,
-        sample_forces_unchecked,
-    )
+    from prp3.engines.compiled_robot import compile_robot
+    from prp3.engines.entries import paper_forces
+    from prp3.engines.sample_entries import sample_forces, sample_forces_unchecked
 
     compiled = compile_robot(prp3.Robot())
     data = np.load(args.samples)

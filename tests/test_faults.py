@@ -35,7 +35,9 @@ from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.apps.control import track
 from prp3.apps.runs import check_memory
 from prp3.cli import main
-from prp3.engines.entries import compile_robot, paper_forces, sample_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
+from prp3.engines.sample_entries import sample_forces
 from prp3.errors import InputFileError, OutputFileError, ParameterError, TrajectoryError
 from prp3.files import MAX_LINE_BYTES, atomic_writer
 from prp3.io.formats import read_trajectory

@@ -29,7 +29,9 @@ from prp3 import (
     inverse_dynamics,
 )
 from prp3.cli import main
-from prp3.engines.entries import compile_robot, paper_forces, sample_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
+from prp3.engines.sample_entries import sample_forces
 from prp3.errors import TrajectoryError
 from prp3.io.results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
 from prp3.model.motion import paper_motion

@@ -46,6 +46,7 @@ import prp3.apps.regressor
 import prp3.apps.runs
 import prp3.apps.sweep_spec
 import prp3.engines.entries
+import prp3.engines.sample_entries
 import prp3.engines.select
 import prp3.mechanics.geometry
 import prp3.model.motion
@@ -68,6 +69,8 @@ MODULES = (
     "prp3.analysis.inverse_dynamics",
     "prp3.engines.select",
     "prp3.engines.entries",
+    "prp3.engines.compiled_robot",
+    "prp3.engines.sample_entries",
     "prp3.analysis.forward",
     "prp3.analysis.forward_kinematics",
     "prp3.analysis.equations_of_motion",
@@ -370,7 +373,7 @@ BATCH_GOOD = {
     "acceleration": ZERO,
     "chunk_size": 64,
 }
-#: The arguments of the single-sample paths of prp3.engines.entries, and good values of them.
+#: The arguments of the single-sample paths of prp3.engines.sample_entries, and good values of them.
 SINGLE = {
     "compiled": OBJ,
     "pose": A,
@@ -622,7 +625,7 @@ CASES: dict[str, Case] = {
         motion=_motion,
     ),
     "sample_actuator_forces": _case(
-        prp3.engines.entries.sample_actuator_forces, SINGLE, **SINGLE_GOOD
+        prp3.engines.sample_entries.sample_actuator_forces, SINGLE, **SINGLE_GOOD
     ),
     "workspace_slice": _case(
         prp3.workspace_slice,
@@ -896,7 +899,7 @@ def test_every_bad_argument_is_refused_naming_it(name: str, argument: str, label
 #: single-sample calls, the kernel on floats of one sample.
 _ENGINE_ENTRIES = (
     ("prp3.engines.entries", "run_numpy"),
-    ("prp3.engines.entries", "_sample_floats"),
+    ("prp3.engines.sample_entries", "_sample_floats"),
     *(("prp3.engines.numba", name) for name in (
         "f10_loop", "forces_loop", "reactions_loop", "solve_loop", "sample_forces",
         "sample_forces_loaded", "sample_f10", "sample_f10_loaded", "lambda10_sample",

@@ -40,7 +40,8 @@ from prp3.analysis.reachability import jacobian_condition, reachable
 from prp3.analysis.workspace import orientation_scan, workspace_slice
 from prp3.apps.mjcf import mjcf_model
 from prp3.cli import build_parser
-from prp3.engines.entries import compile_robot, paper_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
 from prp3.errors import (
     InputFileError,
     OutputFileError,

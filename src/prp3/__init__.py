@@ -42,13 +42,9 @@ from prp3.analysis.reachability import (
     reachable_region,
 )
 from prp3.analysis.workspace import orientation_scan, workspace_slice, workspace_statics
-from prp3.engines.entries import (
-    CompiledRobot,
-    FastForces,
-    compile_robot,
-    paper_forces,
-    sample_forces,
-)
+from prp3.engines.compiled_robot import CompiledRobot, compile_robot
+from prp3.engines.entries import FastForces, paper_forces
+from prp3.engines.sample_entries import sample_forces
 from prp3.errors import (
     InputFileError,
     OutputFileError,

@@ -56,6 +56,11 @@ POSE_BOUND: float = 100.0
 #: singular orientations, so larger angles only add round-off to ``sin φ``.
 MAX_ORIENTATION: float = 100.0
 
+#: The orientations between the singular ones nearest zero, ``−2π/3`` and ``π/3``, less
+#: twice the threshold: a pose's ``|sin(φ − π/3)|`` there exceeds the threshold, no sine needed.
+_BAND_LOW: float = -2.0 * math.pi / 3.0 + 2.0 * SINGULARITY_THRESHOLD
+_BAND_HIGH: float = math.pi / 3.0 - 2.0 * SINGULARITY_THRESHOLD
+
 #: The names of a pose's three components, in messages.
 POSE_COMPONENTS: tuple[str, str, str] = ("x", "y", "phi")
 
@@ -148,10 +153,7 @@ def check_pose_array(
         # multiple of π bounds |sin(φ − π/3)| from below: only poses within twice the
         # threshold need the sine
         phi = flat[:, 2]
-        margin = 2.0 * SINGULARITY_THRESHOLD
-        if -2.0 * math.pi / 3.0 + margin < float(phi.min()) and float(phi.max()) < (
-            math.pi / 3.0 - margin
-        ):
+        if _BAND_LOW < float(phi.min()) and float(phi.max()) < _BAND_HIGH:
             return array
         psi = phi - math.pi / 3.0
         near = np.abs(psi - np.pi * np.rint(psi * (1.0 / np.pi)))
@@ -202,7 +204,7 @@ def check_pose_array(
 
 
 #: The types of a number of one sample that :func:`check_sample` converts at once.
-_NUMBERS = (float, int, np.float64)
+_NUMBERS = frozenset((float, int, np.float64))
 
 
 def check_sample(
@@ -252,9 +254,11 @@ def check_sample(
     return x, y, z
 
 
-_SEQUENCES = (tuple, list, np.ndarray)
-_STATE_NAMES = ("pose", "velocity", "acceleration")
+#: What :func:`check_state_sample` unpacks at once (arrays: as their ``tolist()``).
+_UNPACKED = frozenset((tuple, list))
 _RATE_COMPONENTS = (("dx", "dy", "dphi"), ("ddx", "ddy", "ddphi"))
+_UNBOUNDED = math.inf
+_PI_3 = math.pi / 3.0
 
 
 def check_state_sample(
@@ -263,54 +267,71 @@ def check_state_sample(
     """One sample's pose, velocity and acceleration as nine Python floats, validated.
 
     Each a tuple or list of three numbers (Python floats or ints, numpy
-    scalars) or a ``(3,)`` array, all at the same cost; checked in the order
-    of the batch checks — each as :func:`check_sample` (pose, velocity,
+    scalars) or a ``(3,)`` array, all at about the same cost; checked in the
+    order of the batch checks — each as :func:`check_sample` (pose, velocity,
     acceleration), then the pose as :func:`check_poses` — with their messages.
+
+    The common case takes one pass: nine numbers of the accepted types
+    (Python floats as they are; ints and numpy float64 scalars converted),
+    finite (their sum times zero is zero), the pose within the bounds and its
+    orientation in the band of no singular orientation (else its sine
+    tested).  Anything else, and a sum that overflows, takes the exact
+    checks, which name what is wrong; the fast pass accepts only what they
+    accept.
 
     >>> check_state_sample((0, 0, 0.1), [0.0, 0.0, 0.0], np.zeros(3))
     (0.0, 0.0, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     """
-    if (
-        type(pose) in _SEQUENCES
-        and type(velocity) in _SEQUENCES
-        and type(acceleration) in _SEQUENCES
-    ):
-        if type(pose) is np.ndarray:
-            pose = pose.tolist()  # Python numbers (3,), at once
-        if type(velocity) is np.ndarray:
-            velocity = velocity.tolist()
-        if type(acceleration) is np.ndarray:
-            acceleration = acceleration.tolist()
-        three: Any = (pose, velocity, acceleration)
+    # arrays as their Python numbers, at once; the exact checks see the values as given
+    three: Any = (
+        pose.tolist() if type(pose) is np.ndarray else pose,
+        velocity.tolist() if type(velocity) is np.ndarray else velocity,
+        acceleration.tolist() if type(acceleration) is np.ndarray else acceleration,
+    )
+    if type(three[0]) in _UNPACKED and type(three[1]) in _UNPACKED and type(three[2]) in _UNPACKED:
         try:
             (x, y, phi), (dx, dy, dphi), (ddx, ddy, ddphi) = three
         except (TypeError, ValueError):
-            pass  # not three values each: the exact checks say which
-        else:
+            return _exact_state(pose, velocity, acceleration, robot)  # not three values each
+        if not (
+            type(x) is float and type(y) is float and type(phi) is float
+            and type(dx) is float and type(dy) is float and type(dphi) is float
+            and type(ddx) is float and type(ddy) is float and type(ddphi) is float
+        ):  # fmt: skip
             numbers = _NUMBERS
-            if (
+            if not (
                 type(x) in numbers and type(y) in numbers and type(phi) in numbers
                 and type(dx) in numbers and type(dy) in numbers and type(dphi) in numbers
                 and type(ddx) in numbers and type(ddy) in numbers and type(ddphi) in numbers
             ):  # fmt: skip
-                try:
-                    values = (
-                        float(x), float(y), float(phi), float(dx), float(dy), float(dphi),
-                        float(ddx), float(ddy), float(ddphi),
-                    )  # fmt: skip
-                except OverflowError:
-                    pass  # an integer too large for float64
-                else:
-                    reach = math.inf if robot is None else POSE_BOUND * robot.l0
-                    fx, fy, fphi = values[0], values[1], values[2]
-                    if (
-                        0.0 * sum(values) == 0.0  # finite (a sum that overflows: exactly below)
-                        and -reach <= fx <= reach
-                        and -reach <= fy <= reach
-                        and -MAX_ORIENTATION <= fphi <= MAX_ORIENTATION
-                        and abs(math.sin(fphi - math.pi / 3.0)) >= SINGULARITY_THRESHOLD
-                    ):
-                        return values
+                return _exact_state(pose, velocity, acceleration, robot)
+            try:
+                x, y, phi = float(x), float(y), float(phi)
+                dx, dy, dphi = float(dx), float(dy), float(dphi)
+                ddx, ddy, ddphi = float(ddx), float(ddy), float(ddphi)
+            except OverflowError:  # an integer too large for float64
+                return _exact_state(pose, velocity, acceleration, robot)
+        reach = _UNBOUNDED if robot is None else POSE_BOUND * robot.l0
+        if (
+            0.0 * (x + y + dx + dy + dphi + ddx + ddy + ddphi) == 0.0
+            and -reach <= x <= reach
+            and -reach <= y <= reach
+            and (
+                _BAND_LOW < phi < _BAND_HIGH
+                or (
+                    -MAX_ORIENTATION <= phi <= MAX_ORIENTATION
+                    and abs(math.sin(phi - _PI_3)) >= SINGULARITY_THRESHOLD
+                )
+            )
+        ):
+            return x, y, phi, dx, dy, dphi, ddx, ddy, ddphi
+    return _exact_state(pose, velocity, acceleration, robot)
+
+
+def _exact_state(
+    pose: object, velocity: object, acceleration: object, robot: Robot | None
+) -> tuple[float, float, float, float, float, float, float, float, float]:
+    """:func:`check_state_sample` by the exact checks, in their order, with their messages."""
     state = (
         check_sample("pose", pose),
         check_sample("velocity", velocity, _RATE_COMPONENTS[0]),

@@ -32,7 +32,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.engines.entries import CompiledRobot, actuator_forces, compile_robot, solve_batch
+from prp3.engines.compiled_robot import CompiledRobot, compile_robot
+from prp3.engines.entries import actuator_forces, solve_batch
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kinematics import jacobian

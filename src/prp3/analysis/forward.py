@@ -34,7 +34,7 @@ from prp3.analysis.force_histories import (
     _load_function,
 )
 from prp3.analysis.inverse_dynamics import InverseDynamics, kernel_method
-from prp3.engines.entries import CompiledRobot, compile_robot
+from prp3.engines.compiled_robot import CompiledRobot, compile_robot
 from prp3.errors import (
     ParameterError,
     Prp3Error,

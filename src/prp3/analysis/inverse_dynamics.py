@@ -19,7 +19,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.engines.entries import Engine, solve_batch
+from prp3.engines.compiled_robot import Engine
+from prp3.engines.entries import solve_batch
 from prp3.engines.select import resolve_engine
 from prp3.mechanics.forces import FORCE_NAMES, FRICTION_NAMES, InverseDynamics, checked
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics

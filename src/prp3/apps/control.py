@@ -65,7 +65,8 @@ from prp3.apps.plants import (
     _without_limits,
     check_plant,
 )
-from prp3.engines.entries import compile_robot, paper_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
 from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import Motion
