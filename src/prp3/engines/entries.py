@@ -164,9 +164,8 @@ def paper_forces(
     names = FORCE_OUTPUTS + (_REACTIONS if reactions else ())
     flat, shape = _inputs(compiled, pose, velocity, acceleration)
     result = _outputs(out, names, shape)
-    chunk, name = _chunk_size(chunk_size), engine_for(compiled, engine)
     targets = {key: array.reshape(-1, 3) for key, array in result.items()}
-    _run(compiled, name, flat, targets, chunk)
+    _run(compiled, engine, flat, targets, chunk_size)
     return FastForces(**result)
 
 
@@ -208,8 +207,7 @@ def actuator_forces(
     compiled = as_compiled(robot)
     flat, shape = _inputs(compiled, pose, velocity, acceleration)
     f10 = np.empty(shape) if out is None else _out_array("out", out, shape)
-    chunk, name = _chunk_size(chunk_size), engine_for(compiled, engine)
-    _run(compiled, name, flat, {"f10": f10.reshape(-1, 3)}, chunk)
+    _run(compiled, engine, flat, {"f10": f10.reshape(-1, 3)}, chunk_size)
     return f10
 
 
@@ -244,9 +242,8 @@ def solve_batch(
     block = np.empty((len(names), flat[0].shape[0], 3))  # (14, N, 3): the numba engine's output
     result = {key: block[k].reshape(shape) for k, key in enumerate(names)}
     wrench = None if load is None else check_load(load, shape).reshape(-1, 3)
-    chunk, name = _chunk_size(chunk_size), engine_for(compiled, engine)
     targets = {key: block[k] for k, key in enumerate(names)}
-    iterations = _run(compiled, name, flat, targets, chunk, wrench, block)
+    iterations = _run(compiled, engine, flat, targets, chunk_size, wrench, block)
     if iterations is not None:
         result["iterations"], result["near_lock"] = (a.reshape(shape[:-1]) for a in iterations)
     return result
@@ -342,14 +339,17 @@ def _out_array(label: str, array: object, shape: tuple[int, ...]) -> FloatArray:
 
 def _run(
     compiled: CompiledRobot,
-    engine: str,
+    engine: object,
     inputs: list[FloatArray],
     targets: dict[str, FloatArray],
-    chunk_size: int,
+    chunk_size: object,
     load: FloatArray | None = None,
     block: FloatArray | None = None,
 ) -> tuple[FloatArray, FloatArray] | None:
     """Validated samples through ``engine`` into ``targets``; the results then checked.
+
+    ``chunk_size`` and ``engine`` (the arguments of the entry) are validated
+    first, after the samples and the outputs.
 
     ``block``: the ``(14, N, 3)`` array under ``targets`` when they are
     :data:`KERNEL_OUTPUTS` (:func:`solve_batch`).
@@ -358,16 +358,17 @@ def _run(
     terms, else ``None``.  Raises TrajectoryError where a result is not
     finite or the friction locks.
     """
+    chunk, name = _chunk_size(chunk_size), engine_for(compiled, engine)
     samples = inputs[0].shape[0]
     mu = compiled.parameters.has_mu
     flags = (np.zeros(samples), np.zeros(samples)) if mu else None
     if not samples:
         return flags
-    numba = numba_module() if engine == "numba" else None
+    numba = numba_module() if name == "numba" else None
     if numba is None:
         iterations, near_lock = flags if flags is not None else (None, None)
         run_numpy(
-            compiled.parameters, inputs, targets, chunk_size=chunk_size, load=load,
+            compiled.parameters, inputs, targets, chunk_size=chunk, load=load,
             iterations=iterations, near_lock=near_lock,
         )  # fmt: skip
     else:
