@@ -24,8 +24,8 @@ import pytest
 
 import prp3
 from clitools import cli
+from prp3.apps.runs import simulate_table
 from prp3.cli import main
-from prp3.cli.simulate import simulate_table
 from prp3.io.formats import MANIFEST_NAME
 
 #: The contract's columns (docs/model.md), written out here rather than imported.

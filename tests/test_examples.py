@@ -15,8 +15,7 @@ import pytest
 
 import prp3
 from prp3.cli import main
-from prp3.cli.forward import read_forces
-from prp3.io.formats import read_trajectory
+from prp3.io.formats import read_forces, read_trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"

@@ -28,13 +28,7 @@ from prp3.analysis.forward_kinematics import (
     forward_kinematics,
     forward_velocity,
 )
-from prp3.analysis.inverse_dynamics import (
-    METHODS,
-    InverseDynamics,
-    inverse_dynamics,
-    kernel_method,
-    newton_euler,
-)
+from prp3.analysis.inverse_dynamics import METHODS, inverse_dynamics, kernel_method
 from prp3.analysis.reachability import (
     jacobian_condition,
     orientation_range,
@@ -54,6 +48,7 @@ from prp3.errors import (
     TrajectoryError,
     UnreachablePoseError,
 )
+from prp3.mechanics.forces import InverseDynamics
 from prp3.mechanics.geometry import (
     ForwardGeometry,
     InverseGeometry,
@@ -64,6 +59,7 @@ from prp3.mechanics.geometry import (
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics, jacobian
 from prp3.model.motion import Motion, law_motion, paper_motion
 from prp3.model.robot import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
+from prp3.references.newton_euler import newton_euler
 from prp3.validation import LEGS
 
 try:

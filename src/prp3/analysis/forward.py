@@ -33,7 +33,7 @@ from prp3.analysis.force_histories import (
     _force_function,
     _load_function,
 )
-from prp3.analysis.inverse_dynamics import InverseDynamics, kernel_method
+from prp3.analysis.inverse_dynamics import kernel_method
 from prp3.engines.compiled_robot import CompiledRobot, compile_robot
 from prp3.errors import (
     ParameterError,
@@ -41,6 +41,7 @@ from prp3.errors import (
     SingularPoseError,
     TrajectoryError,
 )
+from prp3.mechanics.forces import InverseDynamics
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
 from prp3.model.motion import Motion

@@ -33,10 +33,8 @@ from prp3.validation import check_choice, check_instance, check_robot
 
 __all__ = [
     "METHODS",
-    "InverseDynamics",
     "inverse_dynamics",
     "kernel_method",
-    "newton_euler",
 ]
 
 FloatArray = NDArray[np.float64]

@@ -48,7 +48,6 @@ from prp3.cli._types import (
 )
 from prp3.errors import Prp3Error
 from prp3.io.formats import (
-    FORCE_COLUMNS,
     ForceInput,
     check_inputs_kept,
     check_output_directory,
@@ -58,12 +57,9 @@ from prp3.io.formats import (
 )
 from prp3.io.results import results_table
 
-__all__ = [  # FORCE_COLUMNS, ForceInput and read_forces: from prp3.io.formats
-    "FORCE_COLUMNS",
-    "ForceInput",
+__all__ = [
     "PlanDrift",
     "plan_drift",
-    "read_forces",
     "register",
     "run",
 ]

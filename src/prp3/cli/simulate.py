@@ -28,8 +28,6 @@ from numpy.typing import NDArray
 
 from prp3.analysis.inverse_dynamics import METHODS
 from prp3.apps.runs import (
-    CHUNK_SAMPLES,
-    RunSummary,
     check_memory,
     simulate_table,
     summarize,
@@ -64,15 +62,10 @@ from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not 
 from prp3.validation import LEGS
 
 __all__ = [
-    "CHUNK_SAMPLES",
     "DEFAULT_SAMPLES",
-    "Progress",
-    "RunSummary",
     "near_lock_note",
     "register",
     "run",
-    "simulate_table",
-    "summarize",
 ]  # the run table and summary are built by prp3.apps.runs; re-exported for callers
 
 FloatArray = NDArray[np.float64]

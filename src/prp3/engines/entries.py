@@ -82,7 +82,7 @@ class FastForces:
 
     Every array has the batch shape of the input and legs A, B, C last:
     ``(N, 3)``, or ``(3,)`` for a single sample.  Signs and units as in
-    :class:`prp3.analysis.inverse_dynamics.InverseDynamics`.
+    :class:`prp3.mechanics.forces.InverseDynamics`.
 
     Attributes
     ----------
