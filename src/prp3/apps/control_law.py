@@ -151,7 +151,7 @@ def control_force(
     Examples
     --------
     >>> from prp3 import Robot
-    >>> from prp3.engines.entries import compile_robot
+    >>> from prp3.engines.compiled_robot import compile_robot
     >>> still = (0.0,) * 9
     >>> f = control_force("pd", compile_robot(Robot()), Gains(), still, (0.0,) * 6)
     >>> [round(v, 4) for v in f]          # gravity compensation at the centre
