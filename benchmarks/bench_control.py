@@ -18,7 +18,7 @@ Measured, in the same run (ratios are what travel between machines):
   ``--batches`` batches of 1000 calls over 1000 different samples with
   ``clock_gettime``: the median batch, in ns per call; and the same function
   called through ctypes from Python;
-* the Python single-sample calls ``prp3.engines.entries.sample_forces`` (validated) and
+* the Python single-sample calls ``prp3.engines.sample_entries.sample_forces`` (validated) and
   ``sample_forces_unchecked`` on the same samples.
 
 Exit status 1 if the C results differ from ``sample_forces`` by more than
@@ -44,7 +44,8 @@ import prp3
 from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
 from prp3.apps.control import control_times, track
 from prp3.apps.control_law import Gains, control_force
-from prp3.engines.entries import compile_robot, sample_forces, sample_forces_unchecked
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.sample_entries import sample_forces, sample_forces_unchecked
 from prp3.model.motion import PAPER_MOTIONS, law_at
 
 HARNESS = r"""

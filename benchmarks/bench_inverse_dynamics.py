@@ -13,7 +13,7 @@ motions (eq. 4) resampled to N samples:
   (``numba``: the kernel's own functions compiled by numba, :mod:`prp3.engines.select`);
   ``prp3 fast f10 alone`` — :func:`prp3.engines.entries.actuator_forces`; the ``numpy``
   rows — the same with ``engine="numpy"`` (the kernel on numpy arrays,
-  chunked); single sample: :func:`prp3.engines.entries.sample_forces` (tuples of floats,
+  chunked); single sample: :func:`prp3.engines.sample_entries.sample_forces` (tuples of floats,
   tuples of numpy scalars, ``(3,)`` ndarrays, a load) on both engines.
 * ``prp3 <commit>`` — ``--baseline``: that commit's fast path on the same
   samples (``benchmarks/baseline.py`` run on ``git archive`` of its ``src``;
@@ -62,10 +62,9 @@ from typing import Any
 import numpy as np
 
 import prp3
-from prp3.engines.entries import (
-    actuator_forces,
-    compile_robot,
-    paper_forces,
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import actuator_forces, paper_forces
+from prp3.engines.sample_entries import (
     sample_actuator_forces,
     sample_forces,
     sample_forces_unchecked,

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 import prp3
-from prp3.cli.simulate import simulate_table
+from prp3.apps.runs import simulate_table
 from prp3.io import tables as prp3_tables
 
 

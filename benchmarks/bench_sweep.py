@@ -14,7 +14,7 @@ designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
   the task repeated to ~10⁵ samples per call (its best rate: no per-call cost);
 * ``paper_forces, 1 call`` — one ``paper_forces`` call over the task (its
   per-call checks included), the robot compiled already;
-* ``paper_forces per new robot`` — :func:`~prp3.engines.entries.compile_robot` + one
+* ``paper_forces per new robot`` — :func:`~prp3.engines.compiled_robot.compile_robot` + one
   call for a robot it has not seen (what a sweep would pay per design through
   ``paper_forces``: the batch path prepares its code per robot);
 * ``evaluate_designs`` — :func:`prp3.apps.design_evaluation.evaluate_designs` on one chunk in
@@ -57,7 +57,8 @@ import prp3.apps.cluster
 import prp3.apps.sweep
 from prp3.apps.design_evaluation import evaluate_designs
 from prp3.apps.sweep_spec import design_values, sweep_spec
-from prp3.engines.entries import compile_robot, paper_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
 
 
 def _median_time(function: Callable[[], Any], repeats: int) -> float:

@@ -41,7 +41,8 @@ from numpy.typing import NDArray
 
 import prp3
 from prp3.apps.mjcf import mjcf_model
-from prp3.mechanics.geometry import ALPHA, LEG_AXIS, LEGS, base_vertices
+from prp3.mechanics.geometry import ALPHA, LEG_AXIS, base_vertices
+from prp3.validation import LEGS
 
 __all__ = ["MujocoPeer", "PinocchioPeer", "TreeMotion", "available_peers", "tree_motion"]
 

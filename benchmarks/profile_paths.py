@@ -20,6 +20,7 @@ import sys
 
 import prp3
 import prp3.analysis.inverse_dynamics
+import prp3.engines.compiled_robot
 import prp3.engines.entries
 import prp3.engines.select
 import prp3.mechanics.geometry
@@ -73,7 +74,7 @@ def main() -> None:
         ],
         args.top,
     )
-    compiled = prp3.engines.entries.compile_robot(robot)
+    compiled = prp3.engines.compiled_robot.compile_robot(robot)
     print(f"\nFused path, numpy engine: prp3.engines.entries.paper_forces, N = {args.samples}")
     profile(
         lambda: prp3.engines.entries.paper_forces(

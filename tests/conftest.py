@@ -88,7 +88,8 @@ def _engine_warmups() -> list[Callable[[], object]]:
     import numpy as np
 
     from prp3 import Robot, compile_robot, paper_forces, sample_forces
-    from prp3.engines.entries import actuator_forces, sample_actuator_forces, solve_batch
+    from prp3.engines.entries import actuator_forces, solve_batch
+    from prp3.engines.sample_entries import sample_actuator_forces
     from prp3.family import FamilyRobot, family_inverse_dynamics
     from prp3.model.motion import paper_motion
 

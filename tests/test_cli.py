@@ -24,9 +24,9 @@ import pytest
 
 import prp3
 from clitools import cli
+from prp3.apps.runs import simulate_table
 from prp3.cli import main
-from prp3.cli.simulate import simulate_table
-from prp3.files import MANIFEST_NAME
+from prp3.staged_files import MANIFEST_NAME
 
 #: The contract's columns (docs/model.md), written out here rather than imported.
 PER_LEG = (

@@ -26,7 +26,8 @@ from hypothesis import strategies as st
 from prp3 import Limits, Motion, Robot, inverse_dynamics
 from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
 from prp3.cli import main
-from prp3.engines.entries import compile_robot, paper_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
 from prp3.errors import ParameterError
 from prp3.model.parameters import Friction, JointFriction, Load, Spring, SpringParameters
 from strategies import poses, robots

@@ -37,7 +37,7 @@ from prp3.apps.control import check_model, control_times, hermite_reference, tra
 from prp3.apps.control_law import DEFAULT_KD, DEFAULT_KP, Gains, control_force
 from prp3.apps.plants import _Prp3Plant
 from prp3.cli import main
-from prp3.engines.entries import compile_robot
+from prp3.engines.compiled_robot import compile_robot
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError
 from prp3.model.motion import PAPER_MOTIONS, law_at
 from prp3.model.parameters import Friction, JointFriction, Load, Payload

@@ -25,7 +25,7 @@ from prp3 import Motion, Robot
 from prp3.apps.control_law import Gains, control_force
 from prp3.apps.identification import identified_robot, identify
 from prp3.apps.regressor import standard_parameters
-from prp3.engines.entries import compile_robot
+from prp3.engines.compiled_robot import compile_robot
 from prp3.errors import ParameterError, SingularPoseError
 from prp3.model.motion import law_motion
 from prp3.model.parameters import Limits, Payload

@@ -30,18 +30,14 @@ from prp3 import (
     inverse_kinematics,
     newton_euler,
 )
-from prp3.engines.entries import (
-    ENGINES,
-    CompiledRobot,
-    FastForces,
-    actuator_forces,
-    compile_robot,
-    paper_forces,
+from prp3.engines.compiled_robot import CompiledRobot, compile_robot
+from prp3.engines.entries import FastForces, actuator_forces, paper_forces, solve_batch
+from prp3.engines.sample_entries import (
     sample_actuator_forces,
     sample_forces,
     sample_forces_unchecked,
-    solve_batch,
 )
+from prp3.engines.select import ENGINES
 from prp3.model.motion import paper_motion
 from prp3.model.parameters import Friction, JointFriction
 from strategies import (

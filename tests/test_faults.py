@@ -27,6 +27,7 @@ import pytest
 
 import prp3.cli.simulate as simulate_cli
 import prp3.files as prp3_files
+import prp3.staged_files as staged_files
 from clitools import cli, listing, one_line
 from prp3 import Motion, Robot, paper_motion
 from prp3.analysis.force_histories import ActuatorForces
@@ -34,12 +35,14 @@ from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.apps.control import track
 from prp3.apps.runs import check_memory
 from prp3.cli import main
-from prp3.engines.entries import compile_robot, paper_forces, sample_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
+from prp3.engines.sample_entries import sample_forces
 from prp3.errors import InputFileError, OutputFileError, ParameterError, TrajectoryError
 from prp3.files import MAX_LINE_BYTES, atomic_writer
 from prp3.io.trajectory import read_trajectory
 from prp3.model.motion import differentiate_positions
-from prp3.validation import POSE_BOUND
+from prp3.pose_validation import POSE_BOUND
 
 ROBOT = Robot()
 ENV = {key: value for key, value in os.environ.items() if key != "PYTHONUNBUFFERED"}
@@ -192,7 +195,7 @@ def test_a_burst_of_signals_is_one_line_and_keeps_the_earlier_run(
     # was: the second signal interrupted the clean-up: a traceback, a staging folder left
     before = listing(earlier_run)
     written = simulate_cli.write_table_csv
-    real_rmtree = prp3_files.shutil.rmtree
+    real_rmtree = staged_files.shutil.rmtree
 
     def write_then_signal(path: object, table: object, **kwargs: object) -> None:
         written(path, table, **kwargs)  # type: ignore[arg-type]
@@ -204,7 +207,7 @@ def test_a_burst_of_signals_is_one_line_and_keeps_the_earlier_run(
         real_rmtree(path, **kwargs)  # type: ignore[arg-type]
 
     monkeypatch.setattr(simulate_cli, "write_table_csv", write_then_signal)
-    monkeypatch.setattr(prp3_files.shutil, "rmtree", rmtree_under_fire)
+    monkeypatch.setattr(staged_files.shutil, "rmtree", rmtree_under_fire)
     previous = {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
     result = cli(capsys, "simulate", "--motion", "vertical", "--samples", "5", "-o", earlier_run)
     assert result == (status, "", f"prp3 simulate: {word}\n")

@@ -41,7 +41,8 @@ from prp3.analysis.forward_kinematics import (
     forward_kinematics,
     forward_velocity,
 )
-from prp3.engines.entries import compile_robot, sample_actuator_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.sample_entries import sample_actuator_forces
 from prp3.mechanics.geometry import (
     DEGENERATE_ASSEMBLY,
     LEG_AXIS,

@@ -23,7 +23,8 @@ from prp3.analysis.equations_of_motion import platform_dynamics
 from prp3.analysis.force_histories import ActuatorForces
 from prp3.analysis.forward import forward_dynamics
 from prp3.cli import main
-from prp3.engines.entries import compile_robot, solve_batch
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import solve_batch
 from prp3.errors import ParameterError
 from prp3.io.forces import read_forces
 from prp3.io.tables import write_table_csv

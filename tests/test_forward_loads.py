@@ -26,7 +26,8 @@ from prp3.analysis.equations_of_motion import open_loop_growth_rate, platform_dy
 from prp3.analysis.force_histories import ActuatorForces
 from prp3.analysis.forward import forward_dynamics
 from prp3.cli import main
-from prp3.engines.entries import compile_robot, sample_actuator_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.sample_entries import sample_actuator_forces
 from prp3.errors import ParameterError
 from prp3.io.tables import write_table_csv
 from prp3.mechanics.geometry import inverse_geometry

@@ -18,12 +18,12 @@ from prp3.mechanics.geometry import (
     ALPHA,
     LEG_AXIS,
     LEG_NORMAL,
-    LEGS,
-    SINGULARITY_THRESHOLD,
     base_vertices,
     inverse_geometry,
     platform_vertices,
 )
+from prp3.pose_validation import SINGULARITY_THRESHOLD
+from prp3.validation import LEGS
 from strategies import (
     REF_E,
     SQRT3,

@@ -18,17 +18,12 @@ from hypothesis import strategies as st
 
 import prp3.io.tables as prp3_tables
 from prp3.errors import InputFileError, OutputFileError, TrajectoryError
-from prp3.files import (
-    MANIFEST_NAME,
-    atomic_path,
-    atomic_writer,
-    check_output_directory,
-    staged_output,
-)
+from prp3.files import atomic_path, atomic_writer, check_output_directory
 from prp3.io.results import result_columns
 from prp3.io.tables import read_table_csv, write_table_csv
 from prp3.io.trajectory import DERIVATIVE_COLUMNS, POSITION_COLUMNS, read_trajectory
 from prp3.model.motion import differentiate_positions
+from prp3.staged_files import MANIFEST_NAME, staged_output
 from strategies import analytic_motions
 
 finite = st.floats(allow_nan=False, allow_infinity=False)

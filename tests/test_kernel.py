@@ -19,14 +19,10 @@ from hypothesis import strategies as st
 
 from prp3 import Motion, Prp3Error, Robot, SingularPoseError, newton_euler
 from prp3.engines import select as engines
-from prp3.engines.entries import (
-    ENGINES,
-    actuator_forces,
-    compile_robot,
-    paper_forces,
-    sample_forces_unchecked,
-    solve_batch,
-)
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import actuator_forces, paper_forces, solve_batch
+from prp3.engines.sample_entries import sample_forces_unchecked
+from prp3.engines.select import ENGINES
 from prp3.engines.trace import array_function, broadcast_function
 from prp3.mechanics import kernel
 from prp3.mechanics.kernel import (
@@ -341,7 +337,9 @@ def test_the_numpy_engine_runs_the_kernel_itself(monkeypatch: pytest.MonkeyPatch
     paper_forces(Robot(), zeros, zeros, zeros, engine="numpy", chunk_size=8)
     assert calls == [8, 8, 4]  # one call per chunk, on arrays
     calls.clear()
-    prp3_sample = __import__("prp3.engines.entries", fromlist=["sample_forces"]).sample_forces
+    prp3_sample = __import__(
+        "prp3.engines.sample_entries", fromlist=["sample_forces"]
+    ).sample_forces
     prp3_sample(compile_robot(Robot()), (0, 0, 0), (0, 0, 0), (0, 0, 0), engine="numpy")
     assert calls == [1]  # one sample, on floats
 
@@ -358,7 +356,7 @@ def test_engine_numba_without_numba_is_refused_at_every_size(
         with pytest.raises(Prp3Error, match=message):
             call(compiled, zeros, zeros, zeros, engine="numba")  # type: ignore[operator]
     with pytest.raises(Prp3Error, match=message):
-        prp3_fast = __import__("prp3.engines.entries", fromlist=["sample_forces"])
+        prp3_fast = __import__("prp3.engines.sample_entries", fromlist=["sample_forces"])
         prp3_fast.sample_forces(compiled, (0, 0, 0), (0, 0, 0), (0, 0, 0), engine="numba")
 
 

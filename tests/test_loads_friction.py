@@ -29,7 +29,9 @@ from prp3 import (
     inverse_dynamics,
 )
 from prp3.cli import main
-from prp3.engines.entries import compile_robot, paper_forces, sample_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
+from prp3.engines.sample_entries import sample_forces
 from prp3.errors import TrajectoryError
 from prp3.io.results import FRICTION_COLUMNS, RESULT_COLUMNS, results_table
 from prp3.model.motion import paper_motion
@@ -171,7 +173,7 @@ _ZERO_FRICTION = dict(viscous=0.0, coulomb=0.0, mu=0.0, smoothing=0.0, pin_radiu
 )
 # y spans 7.6e-135 m: the joint rates it gives are round-off, whose random sign an exact-sign
 # Coulomb law of the sleeves read as motion in the kernel but not in Newton-Euler (f10 off by
-# 1.29 N); every method now takes them as zero (prp3.validation.rest_joint_rates)
+# 1.29 N); every method now takes them as zero (prp3.path_validation.rest_joint_rates)
 @example(
     scenario=(
         Robot(

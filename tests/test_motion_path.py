@@ -25,7 +25,7 @@ from prp3.apps.runs import simulate_table
 from prp3.errors import SingularPoseError, TrajectoryError
 from prp3.model.motion import Motion, law_motion, paper_motion
 from prp3.model.parameters import Friction, JointFriction
-from prp3.validation import RATE_TOLERANCE, check_path, rest_rates
+from prp3.path_validation import RATE_TOLERANCE, check_path, rest_rates
 from strategies import analytic_motions, robots
 
 # x = 0.01 m, φ = 2t rad, every 0.2 s: φ passes π/3 between t = 0.4 and 0.6 s
@@ -256,9 +256,9 @@ def test_the_misfit_of_a_sine_at_1_6_samples_per_period_is_0_18() -> None:
 
 
 def test_a_jump_across_blocks_is_found(monkeypatch: pytest.MonkeyPatch) -> None:
-    import prp3.validation
+    import prp3.path_validation
 
-    monkeypatch.setattr(prp3.validation, "_STEP_BLOCK", 3)
+    monkeypatch.setattr(prp3.path_validation, "_STEP_BLOCK", 3)
     t = np.linspace(0.0, 1.0, 11)
     for k in range(1, 11):  # every position of the step against the blocks
         pose = np.zeros((11, 3))

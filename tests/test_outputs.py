@@ -32,9 +32,9 @@ import prp3.cli.simulate as simulate_cli
 import prp3.io.tables as prp3_tables
 from clitools import cli
 from prp3.errors import OutputFileError
-from prp3.files import MANIFEST_NAME, staged_output
 from prp3.io.results import RESULT_COLUMNS
 from prp3.io.tables import format_floats, write_table_csv
+from prp3.staged_files import MANIFEST_NAME, staged_output
 
 PAPER_FIGURES = ["fig3_p10.png", "fig4_f21y.png", "fig5_f21z.png", "f10.png", "lambda10.png"]
 

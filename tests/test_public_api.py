@@ -46,6 +46,7 @@ import prp3.apps.regressor
 import prp3.apps.runs
 import prp3.apps.sweep_spec
 import prp3.engines.entries
+import prp3.engines.sample_entries
 import prp3.engines.select
 import prp3.mechanics.geometry
 import prp3.model.motion
@@ -69,6 +70,8 @@ MODULES = (
     "prp3.analysis.inverse_dynamics",
     "prp3.engines.select",
     "prp3.engines.entries",
+    "prp3.engines.compiled_robot",
+    "prp3.engines.sample_entries",
     "prp3.analysis.forward",
     "prp3.analysis.forward_kinematics",
     "prp3.analysis.equations_of_motion",
@@ -93,6 +96,9 @@ MODULES = (
     "prp3.analysis.reachability",
     "prp3.analysis.workspace",
 )
+
+#: The modules of the validation layer (their checks are what the cases exercise).
+VALIDATION_MODULES = ("prp3.validation", "prp3.pose_validation", "prp3.path_validation")
 
 #: Public callables that take no user value to validate, with the reason.
 EXEMPT: dict[str, str] = {
@@ -369,7 +375,7 @@ BATCH_GOOD = {
     "acceleration": ZERO,
     "chunk_size": 64,
 }
-#: The arguments of the single-sample paths of prp3.engines.entries, and good values of them.
+#: The arguments of the single-sample paths of prp3.engines.sample_entries, and good values of them.
 SINGLE = {
     "compiled": OBJ,
     "pose": A,
@@ -624,7 +630,7 @@ CASES: dict[str, Case] = {
         motion=_motion,
     ),
     "sample_actuator_forces": _case(
-        prp3.engines.entries.sample_actuator_forces, SINGLE, **SINGLE_GOOD
+        prp3.engines.sample_entries.sample_actuator_forces, SINGLE, **SINGLE_GOOD
     ),
     "workspace_slice": _case(
         prp3.workspace_slice,
@@ -837,7 +843,7 @@ def _public() -> dict[str, object]:
             value = getattr(module, name)
             if not (inspect.isfunction(value) or inspect.isclass(value)):
                 continue  # constants and type aliases
-            if value.__module__ == "prp3.validation":
+            if value.__module__ in VALIDATION_MODULES:
                 continue  # the validation layer itself, re-exported
             found.setdefault(name, value)
     return found
@@ -898,7 +904,7 @@ def test_every_bad_argument_is_refused_naming_it(name: str, argument: str, label
 #: single-sample calls, the kernel on floats of one sample.
 _ENGINE_ENTRIES = (
     ("prp3.engines.entries", "run_numpy"),
-    ("prp3.engines.entries", "_sample_floats"),
+    ("prp3.engines.sample_entries", "_sample_floats"),
     *(("prp3.engines.numba", name) for name in (
         "f10_loop", "forces_loop", "reactions_loop", "solve_loop", "sample_forces",
         "sample_forces_loaded", "sample_f10", "sample_f10_loaded", "lambda10_sample",

@@ -27,8 +27,8 @@ import numpy as np
 import pytest
 
 import prp3.cli.simulate as simulate_cli
-import prp3.files as prp3_files
 import prp3.io.tables as prp3_tables
+import prp3.staged_files as staged_files
 from clitools import cli, listing
 from prp3 import Motion, Robot
 from prp3.analysis.equations_of_motion import platform_dynamics
@@ -40,7 +40,8 @@ from prp3.analysis.reachability import jacobian_condition, reachable
 from prp3.analysis.workspace import orientation_scan, workspace_slice
 from prp3.apps.mjcf import mjcf_model
 from prp3.cli import build_parser
-from prp3.engines.entries import compile_robot, paper_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
 from prp3.errors import (
     InputFileError,
     OutputFileError,
@@ -48,10 +49,11 @@ from prp3.errors import (
     Prp3Error,
     TrajectoryError,
 )
-from prp3.files import atomic_writer, check_output_directory, staged_output
+from prp3.files import atomic_writer, check_output_directory
 from prp3.io.trajectory import read_trajectory
 from prp3.mechanics.geometry import forward_geometry, inverse_geometry
 from prp3.model.motion import law_motion, paper_motion
+from prp3.staged_files import staged_output
 
 ROBOT = Robot()
 ZERO = np.zeros(3)
@@ -485,7 +487,7 @@ def test_staged_output_puts_older_files_back_when_a_move_fails(tmp_path, monkeyp
             raise failure
         replace(source, target)
 
-    monkeypatch.setattr(prp3_files.os, "replace", flaky_replace)
+    monkeypatch.setattr(staged_files.os, "replace", flaky_replace)
     with pytest.raises(OutputFileError if isinstance(failure, OSError) else KeyboardInterrupt):
         with staged_output(tmp_path) as staged:
             for name in ("a.txt", "b.txt", "c.txt"):

@@ -24,9 +24,10 @@ import pytest
 
 import prp3
 from prp3 import Motion, Robot
-from prp3.engines.entries import compile_robot
+from prp3.engines.compiled_robot import compile_robot
 from prp3.errors import Prp3Error
-from prp3.validation import check_poses, check_real
+from prp3.pose_validation import check_poses
+from prp3.validation import check_real
 
 ROBOT = Robot()
 COMPILED = compile_robot(ROBOT)
@@ -244,3 +245,74 @@ def test_jacobian_condition_is_accurate_next_to_the_singularity(
 def test_jacobian_condition_is_still_sqrt6_at_the_centre() -> None:
     assert abs(float(prp3.jacobian_condition(ROBOT, ZERO)) - math.sqrt(6.0)) < 1e-14
     assert abs(_kappa_mp(ROBOT, (0.0, 0.0, 0.0)) - math.sqrt(6.0)) < 1e-12
+
+
+# ------------------------------------------------- one sample: the fast pass and the exact checks
+_EDGES = (
+    0.0, -0.0, 1e-300, 0.01, -0.3, 1.5, 1e308, -1e308, math.nan, math.inf, -math.inf,
+    30.0, -30.0, math.nextafter(30.0, 31.0), 100.0, -100.0, math.nextafter(100.0, 101.0),
+    math.pi / 3.0, -2.0 * math.pi / 3.0, math.pi / 3.0 - 1.5e-4, math.pi / 3.0 - 2e-4,
+    math.pi / 3.0 + 1e-4, -2.0 * math.pi / 3.0 + 2e-4, -2.0 * math.pi / 3.0 - 9e-5,
+    4.0 * math.pi / 3.0 + 1e-4, 99.0,
+)  # fmt: skip
+
+
+def _numbers() -> Any:
+    from hypothesis import strategies as st
+
+    edge = st.sampled_from(_EDGES)
+    real = st.one_of(edge, st.floats(-200.0, 200.0), st.floats(allow_nan=True))
+    return st.one_of(
+        real,
+        real.map(np.float64),
+        st.floats(-200.0, 200.0, width=32).map(np.float32),
+        st.integers(-200, 200),
+        st.sampled_from([10**400, True, False, np.int64(3), np.bool_(True), "1.0", None, 1j]),
+    )
+
+
+def _three() -> Any:
+    from hypothesis import strategies as st
+
+    exact = st.lists(_numbers(), min_size=3, max_size=3)
+    values = st.one_of(exact, exact, st.lists(_numbers(), min_size=2, max_size=4))
+
+    def container(items: list[Any], kind: str) -> Any:
+        if kind == "tuple":
+            return tuple(items)
+        if kind == "list":
+            return items
+        try:
+            return np.array(items, dtype=np.float64 if kind == "float64" else None)
+        except (TypeError, ValueError, OverflowError):
+            return tuple(items)
+
+    kinds = st.sampled_from(["tuple", "list", "float64", "array"])
+    return st.builds(container, values, kinds)
+
+
+def _outcome(call: Callable[[], object]) -> tuple[Any, ...]:
+    try:
+        result = call()
+    except Prp3Error as error:
+        return ("refused", type(error), str(error))
+    assert isinstance(result, tuple) and all(type(value) is float for value in result)
+    return ("accepted", tuple(map(repr, result)))
+
+
+def test_one_sample_is_accepted_and_refused_as_the_exact_checks_do() -> None:
+    # the fast pass of check_state_sample accepts only what the exact checks accept,
+    # returns the same floats, and leaves every refusal to them (the same message)
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from prp3.pose_validation import _exact_state, check_state_sample
+
+    @settings(max_examples=200)
+    @given(_three(), _three(), _three(), st.sampled_from([None, ROBOT]))
+    def agree(pose: Any, velocity: Any, acceleration: Any, robot: Robot | None) -> None:
+        fast = _outcome(lambda: check_state_sample(pose, velocity, acceleration, robot))
+        exact = _outcome(lambda: _exact_state(pose, velocity, acceleration, robot))
+        assert fast == exact
+
+    agree()

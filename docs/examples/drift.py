@@ -19,7 +19,8 @@ import numpy as np
 import prp3
 from prp3.analysis.force_histories import ActuatorForces
 from prp3.analysis.forward import forward_dynamics
-from prp3.engines.entries import compile_robot, sample_actuator_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.sample_entries import sample_actuator_forces
 from prp3.model.motion import PAPER_MOTIONS, law_at
 
 T = np.linspace(0.0, 3.0, 301)

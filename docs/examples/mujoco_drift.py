@@ -24,9 +24,9 @@ import numpy as np
 
 from prp3 import LinkParameters, PistonParameters, PlatformParameters, Robot, inverse_dynamics
 from prp3.apps.mjcf import TIMESTEP, MjcfWarning, mjcf_model
-from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import PAPER_MOTIONS, law_motion
 from prp3.model.parameters import Friction, JointFriction, Load, Payload
+from prp3.validation import LEGS
 
 #: The robots of the runs: the paper's, and one with offsets and another gravity.
 ROBOTS = {

@@ -28,13 +28,7 @@ from prp3.analysis.forward_kinematics import (
     forward_kinematics,
     forward_velocity,
 )
-from prp3.analysis.inverse_dynamics import (
-    METHODS,
-    InverseDynamics,
-    inverse_dynamics,
-    kernel_method,
-    newton_euler,
-)
+from prp3.analysis.inverse_dynamics import METHODS, inverse_dynamics, kernel_method
 from prp3.analysis.reachability import (
     jacobian_condition,
     orientation_range,
@@ -42,13 +36,9 @@ from prp3.analysis.reachability import (
     reachable_region,
 )
 from prp3.analysis.workspace import orientation_scan, workspace_slice, workspace_statics
-from prp3.engines.entries import (
-    CompiledRobot,
-    FastForces,
-    compile_robot,
-    paper_forces,
-    sample_forces,
-)
+from prp3.engines.compiled_robot import CompiledRobot, compile_robot
+from prp3.engines.entries import FastForces, paper_forces
+from prp3.engines.sample_entries import sample_forces
 from prp3.errors import (
     InputFileError,
     OutputFileError,
@@ -58,8 +48,8 @@ from prp3.errors import (
     TrajectoryError,
     UnreachablePoseError,
 )
+from prp3.mechanics.forces import InverseDynamics
 from prp3.mechanics.geometry import (
-    LEGS,
     ForwardGeometry,
     InverseGeometry,
     forward_geometry,
@@ -70,6 +60,8 @@ from prp3.mechanics.kinematics import Kinematics, inverse_kinematics, jacobian
 from prp3.model.motion import Motion, law_motion, paper_motion
 from prp3.model.parameters import Limits, LinkParameters, PistonParameters, PlatformParameters
 from prp3.model.robot import Robot
+from prp3.references.newton_euler import newton_euler
+from prp3.validation import LEGS
 
 try:
     __version__ = version("prp3")

@@ -32,20 +32,16 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.engines.entries import CompiledRobot, actuator_forces, compile_robot, solve_batch
+from prp3.engines.compiled_robot import CompiledRobot, compile_robot
+from prp3.engines.entries import actuator_forces, solve_batch
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kinematics import jacobian
 from prp3.model.motion import Motion
 from prp3.model.parameters import Limits, Load
 from prp3.model.robot import Robot
-from prp3.validation import (
-    check_choice,
-    check_per_leg,
-    check_poses,
-    check_robot,
-    check_same_shape,
-)
+from prp3.pose_validation import check_poses
+from prp3.validation import check_choice, check_per_leg, check_robot, check_same_shape
 
 __all__ = [
     "SPACES",

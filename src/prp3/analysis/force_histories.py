@@ -16,9 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import ParameterError, TrajectoryError
-from prp3.mechanics.geometry import LEGS
 from prp3.model.robot import Robot
-from prp3.validation import check_finite, check_real, check_times
+from prp3.validation import LEGS, check_finite, check_real, check_times
 
 __all__ = [
     "ActuatorForces",

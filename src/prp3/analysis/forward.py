@@ -33,30 +33,21 @@ from prp3.analysis.force_histories import (
     _force_function,
     _load_function,
 )
-from prp3.analysis.inverse_dynamics import InverseDynamics, kernel_method
-from prp3.engines.entries import CompiledRobot, compile_robot
+from prp3.analysis.inverse_dynamics import kernel_method
+from prp3.engines.compiled_robot import CompiledRobot, compile_robot
 from prp3.errors import (
     ParameterError,
     Prp3Error,
     SingularPoseError,
     TrajectoryError,
 )
-from prp3.mechanics.geometry import (
-    LEGS,
-    SINGULARITY_THRESHOLD,
-    inverse_geometry,
-    singularity_measure,
-)
+from prp3.mechanics.forces import InverseDynamics
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import (
-    check_per_leg,
-    check_poses,
-    check_robot,
-    check_scalar,
-    check_times,
-)
+from prp3.pose_validation import SINGULARITY_THRESHOLD, check_poses, singularity_measure
+from prp3.validation import LEGS, check_per_leg, check_robot, check_scalar, check_times
 
 __all__ = [
     "MIN_RTOL",
@@ -72,7 +63,7 @@ Status = Literal["completed", "singular", "stroke", "failed"]
 MIN_RTOL: float = 100.0 * float(np.finfo(np.float64).eps)
 
 #: :func:`forward_dynamics` stops when ``|sin(φ − π/3)|`` falls to this value
-#: (twice :data:`~prp3.mechanics.geometry.SINGULARITY_THRESHOLD`, so that the stop pose
+#: (twice :data:`~prp3.pose_validation.SINGULARITY_THRESHOLD`, so that the stop pose
 #: itself is still one prp3 computes with).
 SINGULARITY_STOP: float = 2.0 * SINGULARITY_THRESHOLD
 

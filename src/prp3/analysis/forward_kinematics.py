@@ -21,13 +21,8 @@ from prp3.mechanics.geometry import forward_geometry, inverse_geometry
 from prp3.mechanics.kinematics import inverse_kinematics, jacobian
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import (
-    check_per_leg,
-    check_poses,
-    check_real,
-    check_robot,
-    check_same_shape,
-)
+from prp3.pose_validation import check_poses
+from prp3.validation import check_per_leg, check_real, check_robot, check_same_shape
 
 __all__ = [
     "forward_acceleration",

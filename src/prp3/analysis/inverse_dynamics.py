@@ -19,22 +19,22 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.engines.entries import Engine, solve_batch
+from prp3.engines.compiled_robot import Engine
+from prp3.engines.entries import solve_batch
 from prp3.engines.select import resolve_engine
 from prp3.mechanics.forces import FORCE_NAMES, FRICTION_NAMES, InverseDynamics, checked
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
+from prp3.path_validation import check_path
 from prp3.references.newton_euler import newton_euler
 from prp3.references.paper import paper_method
-from prp3.validation import check_choice, check_instance, check_path, check_robot
+from prp3.validation import check_choice, check_instance, check_robot
 
 __all__ = [
     "METHODS",
-    "InverseDynamics",
     "inverse_dynamics",
     "kernel_method",
-    "newton_euler",
 ]
 
 FloatArray = NDArray[np.float64]

@@ -40,23 +40,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import ParameterError, SingularPoseError, TrajectoryError
-from prp3.mechanics.geometry import (
-    SINGULARITY_THRESHOLD,
-    InverseGeometry,
-    forward_geometry,
-    inverse_geometry,
-    singularity_measure,
-)
+from prp3.mechanics.geometry import InverseGeometry, forward_geometry, inverse_geometry
 from prp3.model.parameters import Limits
 from prp3.model.robot import Robot
-from prp3.validation import (
+from prp3.pose_validation import (
     MAX_ORIENTATION,
     POSE_BOUND,
+    SINGULARITY_THRESHOLD,
     check_poses,
-    check_real,
-    check_robot,
-    check_scalar,
+    singularity_measure,
 )
+from prp3.validation import check_real, check_robot, check_scalar
 
 __all__ = [
     "SINGULAR_ORIENTATIONS",
@@ -81,7 +75,7 @@ def _free(robot: Robot) -> Robot:
 
 
 def _poses(robot: Robot, value: ArrayLike) -> FloatArray:
-    """Poses ``(..., 3)`` validated as everywhere (:func:`prp3.validation.check_poses`).
+    """Poses ``(..., 3)`` validated as everywhere (:func:`prp3.pose_validation.check_poses`).
 
     Singular poses are accepted here (they are reported unreachable, κ = ∞).
     """
@@ -261,7 +255,7 @@ def _stroke(robot: Robot) -> tuple[float, float] | None:
     """``robot.limits.stroke``, refused when an end lies beyond ``POSE_BOUND·l0``.
 
     prp3 computes poses and displacements up to ``POSE_BOUND·l0``
-    (:func:`prp3.validation.check_poses`); a longer stroke reaches nothing
+    (:func:`prp3.pose_validation.check_poses`); a longer stroke reaches nothing
     more there, and its cube's sums overflow float64 near ``1e308``.
     """
     stroke = robot.limits.stroke

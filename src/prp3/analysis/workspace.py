@@ -30,8 +30,9 @@ from prp3.analysis.reachability import (
 )
 from prp3.engines.entries import paper_forces
 from prp3.errors import ParameterError
-from prp3.mechanics.geometry import SINGULARITY_THRESHOLD, inverse_geometry
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.robot import Robot
+from prp3.pose_validation import SINGULARITY_THRESHOLD
 from prp3.validation import check_real, check_robot
 
 __all__ = [

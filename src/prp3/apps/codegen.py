@@ -39,9 +39,9 @@ from dataclasses import dataclass
 
 from prp3.errors import ParameterError, Prp3Error
 from prp3.mechanics import kernel
-from prp3.mechanics.geometry import SINGULARITY_THRESHOLD
 from prp3.model.elements import ELEMENTS
 from prp3.model.robot import Robot
+from prp3.pose_validation import SINGULARITY_THRESHOLD
 
 __all__ = [
     "C_NOT_FINITE",

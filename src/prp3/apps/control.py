@@ -66,12 +66,15 @@ from prp3.apps.plants import (
     _without_limits,
     check_plant,
 )
-from prp3.engines.entries import compile_robot, paper_forces
+from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.entries import paper_forces
 from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
-from prp3.mechanics.geometry import SINGULARITY_THRESHOLD, inverse_geometry
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import check_instance, check_path, check_robot, check_scalar, check_times
+from prp3.path_validation import check_path
+from prp3.pose_validation import SINGULARITY_THRESHOLD
+from prp3.validation import check_instance, check_robot, check_scalar, check_times
 
 __all__ = [
     "DEFAULT_RATE",
@@ -161,7 +164,7 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
         A single-sample motion, times outside the motion, a motion with a
         time-varying load (:data:`LOAD_REFUSAL`).
     SingularPoseError
-        A motion that crosses the singularity (:func:`prp3.validation.check_path`).
+        A motion that crosses the singularity (:func:`prp3.path_validation.check_path`).
 
     >>> from prp3.model.motion import law_at
     >>> m = law_at([0.01, 0.0, 0.0], np.linspace(0.0, 3.0, 31))

@@ -23,7 +23,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from prp3.engines.entries import CompiledRobot
+from prp3.engines.compiled_robot import CompiledRobot
 from prp3.errors import ParameterError
 from prp3.validation import check_scalar
 
@@ -128,7 +128,7 @@ def control_force(
     """Actuator forces ``f10`` (N) of one control step (see the module notes).
 
     Pure Python floats on prp3's single-sample inverse dynamics
-    (:meth:`prp3.engines.entries.CompiledRobot.actuator_sample_function`, ``f10`` alone):
+    (:meth:`prp3.engines.compiled_robot.CompiledRobot.actuator_sample_function`, ``f10`` alone):
     it does not validate, the caller guarantees finite numbers and poses away
     from the singularity.
 
@@ -136,7 +136,7 @@ def control_force(
     ----------
     controller : {"computed-torque", "pd", "feedforward"}
     model : CompiledRobot
-        The controller's model of the robot (:func:`prp3.engines.entries.compile_robot`).
+        The controller's model of the robot (:func:`prp3.engines.compiled_robot.compile_robot`).
     gains : Gains
     reference : sequence of 9 floats
         ``(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈)`` of the reference at this instant.
@@ -151,7 +151,7 @@ def control_force(
     Examples
     --------
     >>> from prp3 import Robot
-    >>> from prp3.engines.entries import compile_robot
+    >>> from prp3.engines.compiled_robot import compile_robot
     >>> still = (0.0,) * 9
     >>> f = control_force("pd", compile_robot(Robot()), Gains(), still, (0.0,) * 6)
     >>> [round(v, 4) for v in f]          # gravity compensation at the centre

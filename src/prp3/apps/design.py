@@ -32,10 +32,10 @@ from prp3.errors import (
     ParameterError,
     SingularPoseError,
 )
-from prp3.mechanics.geometry import LEGS, check_poses
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import check_finite, check_instance, check_real
+from prp3.pose_validation import check_poses
+from prp3.validation import LEGS, check_finite, check_instance, check_real
 
 __all__ = [
     "AGGREGATES",

@@ -25,8 +25,7 @@ from prp3.errors import (
     ParameterError,
     Prp3Error,
 )
-from prp3.mechanics.geometry import LEGS
-from prp3.validation import check_integer, check_real, check_scalar
+from prp3.validation import LEGS, check_integer, check_real, check_scalar
 
 __all__ = [
     "INFEASIBLE",

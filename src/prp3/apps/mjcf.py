@@ -81,11 +81,11 @@ import warnings
 import numpy as np
 
 from prp3.errors import ParameterError
-from prp3.mechanics.geometry import ALPHA, LEG_AXIS, LEGS, base_vertices, platform_vertices
+from prp3.mechanics.geometry import ALPHA, LEG_AXIS, base_vertices, platform_vertices
 from prp3.model.element_base import number_text
 from prp3.model.parameters import Load, Payload
 from prp3.model.robot import Robot
-from prp3.validation import check_robot
+from prp3.validation import LEGS, check_robot
 
 __all__ = [
     "INERTIA_FLOOR",

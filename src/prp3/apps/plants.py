@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.analysis.forward import SINGULARITY_STOP
-from prp3.engines.entries import compile_robot
+from prp3.engines.compiled_robot import compile_robot
 from prp3.errors import ParameterError, Prp3Error
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import Motion

@@ -17,14 +17,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.analysis.inverse_dynamics import Method, inverse_dynamics
-from prp3.engines.entries import CompiledRobot, Engine, compile_robot, solve_batch
+from prp3.engines.compiled_robot import CompiledRobot, Engine, compile_robot
+from prp3.engines.entries import solve_batch
 from prp3.engines.select import resolve_engine
 from prp3.errors import ParameterError, Prp3Error
 from prp3.io.results import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_columns, results_table
-from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import check_instance, check_integer, check_path, check_robot
+from prp3.path_validation import check_path
+from prp3.validation import LEGS, check_instance, check_integer, check_robot
 
 __all__ = [
     "CHUNK_SAMPLES",

@@ -16,9 +16,9 @@ from numpy.typing import NDArray
 from prp3.cli._types import emit, files_report
 from prp3.errors import Prp3Error
 from prp3.family import FamilyRobot, family_inverse_dynamics, family_results_table
-from prp3.files import staged_output
 from prp3.io.tables import write_table_csv, write_table_parquet
 from prp3.model.motion import Motion
+from prp3.staged_files import staged_output
 from prp3.validation import LEGS
 
 __all__ = ["family_summary_text", "run_family"]

@@ -29,10 +29,11 @@ from prp3.apps.runs import check_memory
 from prp3.cli._types import check_extent, emit, files_report
 from prp3.errors import ParameterError, Prp3Error
 from prp3.family import FamilyRobot, family_results_table
-from prp3.files import check_inputs_kept, check_output_directory, staged_output
+from prp3.files import check_inputs_kept, check_output_directory
 from prp3.io.tables import read_table_csv, write_table_csv
 from prp3.io.trajectory import trajectory_table
 from prp3.model.motion import Motion
+from prp3.staged_files import staged_output
 from prp3.validation import LEGS
 
 __all__ = [

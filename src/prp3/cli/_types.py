@@ -20,8 +20,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from prp3.errors import OutputFileError, ParameterError
-from prp3.files import MANIFEST_NAME, StagedOutput, staged_output
 from prp3.model.robot import Robot
+from prp3.staged_files import MANIFEST_NAME, StagedOutput, staged_output
 
 if TYPE_CHECKING:
     from prp3.family import FamilyRobot
@@ -212,7 +212,7 @@ def output_folder(
     directory: str | Path,
     inputs: Sequence[str | Path | None] | None = None,
 ) -> Iterator[StagedOutput]:
-    """:func:`prp3.files.staged_output` for a subcommand: its record in the manifest, a note.
+    """:func:`prp3.staged_files.staged_output` for a subcommand: its record in the manifest, a note.
 
     The manifest records the subcommand, its command line (``args.command_line``,
     set by :func:`prp3.cli.main`) and the SHA-256 of ``inputs`` (default:

@@ -8,7 +8,7 @@
 
 Writes ``DIR/tracking.csv`` (one row per control instant: ``t, x, y, phi,
 x_ref, y_ref, phi_ref, f10_A, f10_B, f10_C``) and ``DIR/tracking.png``
-together (:func:`prp3.files.staged_output`) and prints a summary (max and RMS
+together (:func:`prp3.staged_files.staged_output`) and prints a summary (max and RMS
 tracking errors, the controller's time per step).  The computation is
 :func:`prp3.apps.control.track`; this module only parses and prints.  When the
 plant stops early (singularity, stroke limit, failed simulation), the files
@@ -51,10 +51,11 @@ from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.files import check_inputs_kept, check_output_directory
 from prp3.io.tables import write_table_csv
 from prp3.io.trajectory import read_trajectory
-from prp3.mechanics.geometry import LEGS, inverse_geometry
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
 from prp3.model.robot import Robot
 from prp3.plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
+from prp3.validation import LEGS
 
 __all__ = ["EXIT_STOPPED", "TRACKING_COLUMNS", "register", "run", "tracking_table"]
 

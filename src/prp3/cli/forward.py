@@ -13,7 +13,7 @@ a time-varying load on the platform interpolated like the forces (a
 ``results.csv`` of a trajectory with a load has them).  Writes ``DIR/results.csv``
 (the contract columns of the integrated motion) and ``DIR/trajectory.csv``
 (``t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi``, readable by ``prp3 simulate
---trajectory``), together (:func:`prp3.files.staged_output`).  When the motion
+--trajectory``), together (:func:`prp3.staged_files.staged_output`).  When the motion
 stops early at a singularity or a stroke limit, the files hold the motion up
 to the stop, the reason goes to stderr and the exit status is 1.
 """

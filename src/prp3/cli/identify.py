@@ -8,7 +8,7 @@
 ``M.csv`` has the columns of a trajectory file (``t, x, y, phi`` and
 optionally all of ``dx, dy, dphi, ddx, ddy, ddphi``; derivatives computed as
 for a trajectory file when absent) and the measured ``f10_A, f10_B, f10_C``.
-Writes, together (:func:`prp3.files.staged_output`), ``DIR/robot.toml`` (the
+Writes, together (:func:`prp3.staged_files.staged_output`), ``DIR/robot.toml`` (the
 nominal robot with physical parameters that reproduce the identified base
 parameters), ``DIR/parameters.csv`` (``name, combination, estimate, std``) and
 ``DIR/identification.png`` (measured and fitted forces), and prints a summary.
@@ -50,10 +50,11 @@ from prp3.errors import SingularPoseError, UnreachablePoseError
 from prp3.files import atomic_writer, check_inputs_kept, check_output_directory
 from prp3.io.measurements import read_measurements
 from prp3.io.tables import format_float
-from prp3.mechanics.geometry import LEGS, inverse_geometry
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.elements import FRICTIONS
 from prp3.model.robot import Robot
 from prp3.plotting.identification import IDENTIFICATION_FIGURE  # a constant: no matplotlib
+from prp3.validation import LEGS
 
 __all__ = ["FRICTION_CHOICES", "PARAMETERS_NAME", "ROBOT_NAME", "register", "run"]
 

@@ -28,8 +28,6 @@ from numpy.typing import NDArray
 
 from prp3.analysis.inverse_dynamics import METHODS
 from prp3.apps.runs import (
-    CHUNK_SAMPLES,
-    RunSummary,
     check_memory,
     simulate_table,
     summarize,
@@ -51,22 +49,17 @@ from prp3.family import FamilyRobot
 from prp3.files import check_inputs_kept, check_output_directory
 from prp3.io.tables import parquet_available, write_table_csv, write_table_parquet
 from prp3.io.trajectory import Trajectory, read_trajectory
-from prp3.mechanics.geometry import LEGS
 from prp3.mechanics.kernel import NEAR_LOCK_MU
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import PAPER_MOTIONS, Motion, paper_motion
 from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
+from prp3.validation import LEGS
 
 __all__ = [
-    "CHUNK_SAMPLES",
     "DEFAULT_SAMPLES",
-    "Progress",
-    "RunSummary",
     "near_lock_note",
     "register",
     "run",
-    "simulate_table",
-    "summarize",
 ]  # the run table and summary are built by prp3.apps.runs; re-exported for callers
 
 FloatArray = NDArray[np.float64]

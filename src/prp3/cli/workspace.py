@@ -9,7 +9,7 @@ writes ``DIR/workspace.csv`` (the grid at ``φ``), ``DIR/orientations.csv``
 (the scan of ``φ``) and ``DIR/workspace.png`` (the map), and with the statics
 map (``--statics``; by default when the robot has a ``[payload]``, a
 ``[load]`` or ``[limits] max_force``) ``DIR/statics.csv`` and
-``DIR/statics.png``, together or not at all (:func:`prp3.files.staged_output`).
+``DIR/statics.png``, together or not at all (:func:`prp3.staged_files.staged_output`).
 The columns are documented in
 ``docs/forward_and_workspace.md`` and in ``--help``.
 """
@@ -49,9 +49,8 @@ from prp3.errors import ParameterError
 from prp3.family import FamilyRobot
 from prp3.files import check_output_directory
 from prp3.io.tables import write_table_csv
-from prp3.mechanics.geometry import SINGULARITY_THRESHOLD
 from prp3.model.robot import Robot
-from prp3.validation import POSE_BOUND
+from prp3.pose_validation import POSE_BOUND, SINGULARITY_THRESHOLD
 
 __all__ = [
     "DEFAULT_ORIENTATIONS",

@@ -41,9 +41,11 @@ from numba.np.unsafe.ndarray import to_fixed_tuple
 from prp3.mechanics import kernel
 
 __all__ = [
+    "MACHINE_CODE",
     "f10_loop",
     "forces_loop",
     "lambda10_sample",
+    "machine_code",
     "parameter_array",
     "reactions_loop",
     "sample_f10",
@@ -330,3 +332,35 @@ def sample_f10_loaded(a: Any, x: float, y: float, phi: float, dx: float, dy: flo
 def lambda10_sample(a: Any, x: float, y: float, phi: float) -> Any:  # pragma: no cover
     """``λ10`` ``(A, B, C)`` of one pose (eq. 10), for the stroke check."""
     return _kernel.kernel_geometry(OPS, _parameters(a), x, y, phi).lambda10
+
+
+# ------------------------------------------------------------- machine code
+#: The numba type of the parameter array of :func:`~prp3.engines.compiled_robot.compile_robot`
+#: (float64, C-contiguous, read-only): the first argument of every single-sample function.
+_ARRAY_TYPE = numba.types.Array(numba.float64, 1, "C", readonly=True)
+
+#: The machine code of the single-sample functions, by function: :func:`machine_code`.
+MACHINE_CODE: dict[Any, Any] = {}
+
+
+def machine_code(function: Any) -> Any:
+    """The machine code of a single-sample function, for a parameter array and floats.
+
+    Called directly, the compiled code skips the dispatcher's resolution of
+    each argument's type (a third of a single-sample call).  Only for the
+    arguments of that type: the read-only float64 array of
+    :func:`~prp3.engines.compiled_robot.compile_robot` (which
+    :class:`~prp3.engines.compiled_robot.CompiledRobot` checks) and Python
+    floats.  Until the function is compiled for them (its first call), and
+    for anything that is not a numba function, ``function`` itself; once
+    found, the code is kept in :data:`MACHINE_CODE`.
+    """
+    overloads = getattr(function, "overloads", None)
+    code = getattr(getattr(function, "py_func", None), "__code__", None)
+    if overloads is None or code is None:
+        return function
+    compiled = overloads.get((_ARRAY_TYPE, *(numba.float64,) * (code.co_argcount - 1)))
+    if compiled is None:
+        return function
+    MACHINE_CODE[function] = compiled.entry_point
+    return compiled.entry_point

@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 
 from prp3.explorer.scene import LEG_COLOURS
-from prp3.mechanics.geometry import LEGS
 from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+from prp3.validation import LEGS
 
 __all__ = [
     "MAX_CURVE_POINTS",

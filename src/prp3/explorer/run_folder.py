@@ -20,9 +20,10 @@ from prp3.analysis.forward_kinematics import forward_acceleration, forward_veloc
 from prp3.errors import InputFileError, Prp3Error
 from prp3.io.results import FRICTION_COLUMNS, LOAD_RESULT_COLUMNS, RESULT_COLUMNS
 from prp3.io.tables import read_table_csv
-from prp3.mechanics.geometry import LEGS, inverse_geometry
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
+from prp3.validation import LEGS
 
 if TYPE_CHECKING:
     from prp3.family import FamilyRobot

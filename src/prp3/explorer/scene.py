@@ -50,7 +50,6 @@ from prp3.io.results import (
 )
 from prp3.mechanics.geometry import (
     LEG_AXIS,
-    LEGS,
     base_vertices,
     inverse_geometry,
     perp,
@@ -59,7 +58,8 @@ from prp3.mechanics.geometry import (
 from prp3.model.motion import Motion
 from prp3.model.parameters import Friction, JointFriction
 from prp3.model.robot import Robot
-from prp3.validation import SINGULARITY_THRESHOLD, singularity_measure
+from prp3.pose_validation import SINGULARITY_THRESHOLD, singularity_measure
+from prp3.validation import LEGS
 
 __all__ = [
     "ARROWS",
@@ -408,7 +408,7 @@ def arrow_scale(robot: Robot, fraction: float = 0.35) -> float:
 
 # ---------------------------------------------------------------- limits
 def singularity_curve(phi_range: tuple[float, float], samples: int = 721) -> Columns:
-    """The singularity measure ``sin(φ − π/3)`` over ``phi_range`` (:func:`prp3.validation.singularity_measure`),
+    """The singularity measure ``sin(φ − π/3)`` over ``phi_range`` (:func:`prp3.pose_validation.singularity_measure`),
     with the threshold below which poses are refused.
 
     >>> curve = singularity_curve((-math.pi, math.pi), 5)

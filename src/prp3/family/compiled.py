@@ -89,7 +89,7 @@ from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
 from prp3.validation import LEGS, require_finite
 
-__all__ = ["compiled_dynamics", "pack"]
+__all__ = ["compiled_dynamics"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]

@@ -26,7 +26,7 @@ from prp3.family.chain import SIGMA, SINGULAR
 from prp3.family.legs import LEG_GEOMETRY
 from prp3.family.mechanics import MAX_MOVE, MAX_TURN, robot_length
 from prp3.family.model import FamilyRobot
-from prp3.validation import MAX_ORIENTATION, POSE_BOUND
+from prp3.pose_validation import MAX_ORIENTATION, POSE_BOUND
 
 numba: Any
 try:

@@ -51,7 +51,8 @@ from prp3.family.chain import (
 from prp3.family.legs import LEG_GEOMETRY
 from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
-from prp3.validation import LEGS, MAX_ORIENTATION, POSE_BOUND, check_instance, require_finite
+from prp3.pose_validation import MAX_ORIENTATION, POSE_BOUND
+from prp3.validation import LEGS, check_instance, require_finite
 
 __all__ = [
     "FamilyKinematics",

@@ -50,7 +50,8 @@ from prp3.family.chain import (
 )
 from prp3.family.legs import LEG_GEOMETRY
 from prp3.family.model import FamilyRobot
-from prp3.validation import MAX_ORIENTATION, check_instance, check_real, check_scalar
+from prp3.pose_validation import MAX_ORIENTATION
+from prp3.validation import check_instance, check_real, check_scalar
 
 __all__ = [
     "FamilyOrientationScan",

@@ -20,7 +20,7 @@ from prp3.errors import InputFileError, Prp3Error
 from prp3.io.results import FRICTION_COLUMNS, RESULT_COLUMNS
 from prp3.io.tables import read_table
 from prp3.io.trajectory import LOAD_COLUMNS, column_group
-from prp3.mechanics.geometry import LEGS
+from prp3.validation import LEGS
 
 __all__ = ["FORCE_COLUMNS", "ForceInput", "read_forces"]
 

@@ -22,8 +22,8 @@ from numpy.typing import NDArray
 
 from prp3.errors import ParameterError
 from prp3.mechanics.forces import InverseDynamics
-from prp3.mechanics.geometry import LEGS
 from prp3.mechanics.kinematics import Kinematics
+from prp3.validation import LEGS
 
 __all__ = [
     "FRICTION_COLUMNS",

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from prp3.errors import InputFileError, SingularPoseError, TrajectoryError
 from prp3.io.tables import Table, read_table
 from prp3.model.motion import Motion, spline_derivatives
-from prp3.validation import check_path
+from prp3.path_validation import check_path
 
 __all__ = [
     "DERIVATIVE_COLUMNS",

@@ -55,7 +55,8 @@ from numpy.typing import NDArray
 from prp3.mechanics import kernel
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import check_instance, check_pose_array
+from prp3.pose_validation import check_pose_array
+from prp3.validation import check_instance
 
 __all__ = ["ClosedForm3PRP", "JointSolution", "LegArchitecture", "solve_stages"]
 

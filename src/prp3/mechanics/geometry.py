@@ -66,31 +66,25 @@ from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.mechanics.kernel import NUMPY, kernel_geometry, kernel_parameters
 from prp3.model.parameters import Limits
 from prp3.model.robot import Robot
+from prp3.pose_validation import POSE_BOUND, SINGULARITY_THRESHOLD, check_poses, singularity_measure
 from prp3.validation import (
     LEGS,
-    POSE_BOUND,
-    SINGULARITY_THRESHOLD,
     check_finite,
     check_per_leg,
-    check_poses,
     check_real,
     check_robot,
     check_scalar,
     require_finite,
-    singularity_measure,
 )
 
 __all__ = [
     "ALPHA",
     "DEGENERATE_ASSEMBLY",
-    "LEGS",
     "LEG_AXIS",
     "LEG_NORMAL",
-    "SINGULARITY_THRESHOLD",
     "ForwardGeometry",
     "InverseGeometry",
     "base_vertices",
-    "check_poses",
     "check_stroke",
     "cross2",
     "dot2",
@@ -99,7 +93,6 @@ __all__ = [
     "orientation_from_sum",
     "perp",
     "platform_vertices",
-    "singularity_measure",
     "sum_from_orientation",
 ]
 

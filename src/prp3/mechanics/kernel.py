@@ -95,7 +95,7 @@ from prp3.model import elements as _elements
 from prp3.model.element_base import is_zero, rate_sign
 from prp3.model.elements import FRICTIONS, LOAD, PAYLOAD
 from prp3.model.robot import Robot
-from prp3.validation import joint_rate_floor
+from prp3.path_validation import joint_rate_floor
 
 __all__ = [
     "EFFECT_FIELDS",
@@ -394,7 +394,7 @@ class KernelSolution(NamedTuple):
     """Joint motion and joint forces of one state; every field ``(A, B, C)``.
 
     Reactions are ``None`` unless requested.  Units and signs as
-    :class:`prp3.analysis.inverse_dynamics.InverseDynamics`.
+    :class:`prp3.mechanics.forces.InverseDynamics`.
     """
 
     lambda10: Legs
@@ -882,7 +882,7 @@ def rate_floor(
     dy: Value,
     dphi: Value,
 ) -> Value:
-    """The size below which a joint rate is round-off (:func:`prp3.validation.joint_rate_floor`)."""
+    """The size below which a joint rate is round-off (:func:`prp3.path_validation.joint_rate_floor`)."""
     speed = ops.sqrt(dx * dx + dy * dy)
     return joint_rate_floor(speed, dphi, k.l0 + ops.sqrt(x * x + y * y), geo.D)
 
@@ -893,7 +893,7 @@ def rest_kinematics(kin: KernelKinematics, floor: Value) -> KernelKinematics:
     A joint rate can vanish by cancellation while the platform moves (leg B's
     ``λ̇32`` at ``φ = 0``, ``ẏ = φ̇ = 0``); each method computes that zero with
     its own round-off, and an exact-sign law would read its random sign
-    (:func:`prp3.validation.rest_joint_rates`, which the paper and Newton–Euler apply).
+    (:func:`prp3.path_validation.rest_joint_rates`, which the paper and Newton–Euler apply).
     """
 
     def rest(rates: Legs) -> Legs:

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import TrajectoryError
+from prp3.path_validation import rest_rates
 from prp3.validation import (
     check_finite,
     check_integer,
@@ -26,7 +27,6 @@ from prp3.validation import (
     check_scalar,
     check_times,
     require_finite,
-    rest_rates,
 )
 
 __all__ = [
@@ -71,8 +71,8 @@ class Motion:
         ``(x, y, φ)``: mass centre ``G`` (m) and orientation (rad).
     velocity : ndarray, same shape as ``pose``
         ``(ẋ, ẏ, φ̇)`` (m/s, m/s, rad/s).  Rates of round-off size (at most
-        :data:`~prp3.validation.RATE_TOLERANCE` times the motion's largest of
-        their kind, :func:`~prp3.validation.rest_rates`) are stored as zero:
+        :data:`~prp3.path_validation.RATE_TOLERANCE` times the motion's largest of
+        their kind, :func:`~prp3.path_validation.rest_rates`) are stored as zero:
         the platform is at rest there, and the sign of a Coulomb friction is 0.
     acceleration : ndarray, same shape as ``pose``
         ``(ẍ, ÿ, φ̈)`` (m/s², m/s², rad/s²).

@@ -30,10 +30,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.files import atomic_path
-from prp3.mechanics.geometry import LEG_AXIS, LEGS, base_vertices, platform_vertices
+from prp3.mechanics.geometry import LEG_AXIS, base_vertices, platform_vertices
 from prp3.mechanics.kinematics import Kinematics
 from prp3.model.robot import Robot
 from prp3.plotting.figures import LEG_STYLES
+from prp3.validation import LEGS
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

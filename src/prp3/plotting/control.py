@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.mechanics.geometry import LEGS
 from prp3.plotting.figures import LEG_STYLES
+from prp3.validation import LEGS
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

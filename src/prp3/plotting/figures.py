@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 
 from prp3.files import atomic_path
 from prp3.io.results import OUTPUT_QUANTITIES
-from prp3.mechanics.geometry import LEGS
+from prp3.validation import LEGS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

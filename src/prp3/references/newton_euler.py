@@ -27,7 +27,8 @@ from prp3.mechanics.forces import InverseDynamics, checked
 from prp3.mechanics.kinematics import Kinematics
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import check_instance, check_robot, rest_joint_rates
+from prp3.path_validation import rest_joint_rates
+from prp3.validation import check_instance, check_robot
 
 __all__ = ["NEWTON_EULER_CHUNK", "newton_euler"]
 

@@ -62,10 +62,11 @@ from numpy.typing import NDArray
 
 from prp3.errors import TrajectoryError
 from prp3.mechanics.forces import InverseDynamics
-from prp3.mechanics.geometry import InverseGeometry, check_poses, check_stroke
+from prp3.mechanics.geometry import InverseGeometry, check_stroke
 from prp3.mechanics.kinematics import Kinematics
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
+from prp3.pose_validation import check_poses
 from prp3.references.paper_evaluation import _evaluate_loaded
 from prp3.references.paper_kinematics import FixedFrameKinematics
 from prp3.validation import check_robot, first_non_finite

@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 from prp3.errors import TrajectoryError
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
+from prp3.path_validation import rest_joint_rates
 from prp3.references.paper_kinematics import (
     A32,
     U3,
@@ -40,7 +41,6 @@ from prp3.references.paper_wrenches import (
     virtual_work,
     weight_wrenches,
 )
-from prp3.validation import rest_joint_rates
 
 __all__: list[str] = []
 
@@ -81,7 +81,7 @@ def _evaluate_loaded(
 
     v10, v32 = chunk["v10"], chunk["v32"]
     w = np.broadcast_to(velocity[:, 2, None], v10.shape)
-    # round-off joint rates are zero for s(v) (validation.rest_joint_rates)
+    # round-off joint rates are zero for s(v) (path_validation.rest_joint_rates)
     still10 = rest_joint_rates(v10, pose, velocity, robot.l0)
     still32 = rest_joint_rates(v32, pose, velocity, robot.l0)
     s10, s21, s32 = s(still10, act.smoothing), s(w, rev.smoothing), s(still32, slv.smoothing)
