@@ -58,7 +58,7 @@ from prp3.io.formats import (
     write_table_parquet,
 )
 from prp3.mechanics.geometry import LEGS
-from prp3.mechanics.kernel import NEAR_LOCK_MU
+from prp3.mechanics.implicit_friction import NEAR_LOCK_MU
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import PAPER_MOTIONS, Motion, paper_motion
 from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported

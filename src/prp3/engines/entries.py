@@ -50,6 +50,9 @@ from prp3.engines.select import (
 from prp3.errors import Prp3Error, TrajectoryError
 from prp3.mechanics import kernel
 from prp3.mechanics.geometry import check_stroke
+from prp3.mechanics.joint_motion import kernel_geometry
+from prp3.mechanics.ops import MATH, NUMPY
+from prp3.mechanics.parameters import KernelParameters, kernel_parameters
 from prp3.model.robot import Robot
 from prp3.validation import (
     check_finite,
@@ -122,7 +125,7 @@ class CompiledRobot:
     """
 
     robot: Robot
-    parameters: kernel.KernelParameters
+    parameters: KernelParameters
     stroke: tuple[float, float] | None
     array: FloatArray
     compiled_kernel: bool
@@ -170,7 +173,7 @@ def _unchecked(
         return numba_forces
 
     def floats(*state: float) -> tuple[float, ...]:
-        sol = kernel.solve(kernel.MATH, params, *state, reactions=False)
+        sol = kernel.solve(MATH, params, *state, reactions=False)
         if sol.iterations is not None and sol.iterations < 0:
             return (math.nan,) * (3 if f10_only else 15 if stroke else 12)
         if f10_only:
@@ -195,9 +198,9 @@ def compile_robot(robot: Robot) -> CompiledRobot:
     0.0675
     """
     check_robot(robot)
-    parameters = kernel.kernel_parameters(robot)
+    parameters = kernel_parameters(robot)
     array = np.array(
-        [float(getattr(parameters, name)) for name in kernel.KernelParameters.__dataclass_fields__]
+        [float(getattr(parameters, name)) for name in KernelParameters.__dataclass_fields__]
     )
     array.flags.writeable = False
     friction = robot.friction is not None or parameters.has_mu
@@ -362,7 +365,7 @@ def solve_batch(
     and reactions), with a robot's ``[friction]`` also :data:`FRICTION_OUTPUTS`
     and, with ``μ`` terms, ``"iterations"`` (shape ``(N,)``: Newton
     iterations of each sample) and ``"near_lock"`` (shape ``(N,)``: 1.0 where
-    the sample is near a lock, :data:`prp3.mechanics.kernel.NEAR_LOCK_MU`, else 0.0);
+    the sample is near a lock, :data:`prp3.mechanics.implicit_friction.NEAR_LOCK_MU`, else 0.0);
     shapes as :func:`paper_forces`.  ``load``: the time-varying wrench
     ``(f_x, f_y, m_z)`` on the platform, shaped as ``pose``.  ``engine`` as
     :func:`paper_forces`.
@@ -418,7 +421,7 @@ def _lambda10(compiled: CompiledRobot, pose: FloatArray) -> FloatArray:
     lam = np.empty_like(pose)
     for start in range(0, pose.shape[0], DEFAULT_CHUNK):
         rows = pose[start : start + DEFAULT_CHUNK]
-        geo = kernel.kernel_geometry(kernel.NUMPY, compiled.parameters, *rows.T)
+        geo = kernel_geometry(NUMPY, compiled.parameters, *rows.T)
         for leg in range(3):
             lam[start : start + DEFAULT_CHUNK, leg] = geo.lambda10[leg]
     return lam
@@ -711,7 +714,7 @@ def _sample_inputs(
         if numba is not None:
             lam = numba.lambda10_sample(compiled.array, x, y, phi)
         else:
-            lam = kernel.kernel_geometry(kernel.MATH, compiled.parameters, x, y, phi).lambda10
+            lam = kernel_geometry(MATH, compiled.parameters, x, y, phi).lambda10
         if not all(stroke[0] <= value <= stroke[1] for value in lam):
             check_stroke(compiled.robot, np.array(lam), np.array([x, y, phi]))
     return state, wrench, numba
@@ -721,7 +724,7 @@ def _sample_floats(
     compiled: CompiledRobot, state: tuple[float, ...], load: tuple[float, float, float] | None
 ) -> kernel.KernelSolution:
     """One validated sample by the kernel on Python floats; its results checked."""
-    sol = kernel.solve(kernel.MATH, compiled.parameters, *state, reactions=False, load=load)
+    sol = kernel.solve(MATH, compiled.parameters, *state, reactions=False, load=load)
     if sol.iterations is not None and sol.iterations < 0:
         raise TrajectoryError(
             "the joint friction locks: no inverse dynamics reached continuously "

@@ -1,24 +1,29 @@
 """The numba engine: the kernel's own functions compiled to machine code (internal).
 
-Nothing here is written twice: every function of :mod:`prp3.mechanics.kernel` is
-compiled by numba from its own bytecode (:func:`_compiled_kernel`), with the
-functions of :mod:`math` as its :class:`~prp3.mechanics.kernel.Ops` and the robot's
+Nothing here is written twice: every function of the kernel's stages
+(:data:`STAGE_MODULES`: :mod:`prp3.mechanics.joint_motion`,
+:mod:`prp3.mechanics.wrenches`, :mod:`prp3.mechanics.virtual_work`) is compiled
+by numba from its own bytecode (:func:`_compiled_kernel`), with the functions
+of :mod:`math` as its :class:`~prp3.mechanics.ops.Ops` and the robot's
 constants as a named tuple of the fields of
-:class:`~prp3.mechanics.kernel.KernelParameters` (read from a float64 array, so that one
-compiled function serves every robot).  The loops below only call the
-kernel's stages in the order of :func:`prp3.mechanics.kernel.solve` —
-:func:`~prp3.mechanics.kernel.kernel_geometry`, :func:`~prp3.mechanics.kernel.kernel_kinematics`,
-:func:`~prp3.mechanics.kernel.body_wrenches`, :func:`~prp3.mechanics.kernel.joint_forces` — and
-store what they return.  What the kernel does not write on plain floats
-(the friction laws, the implicit ``μ`` solve) is not compiled: the numpy
-engine runs it (:mod:`prp3.engines.select`).
+:class:`~prp3.mechanics.parameters.KernelParameters` (read from a float64
+array, so that one compiled function serves every robot).  The loops below
+only call the kernel's stages in the order of :func:`prp3.mechanics.kernel.solve` —
+:func:`~prp3.mechanics.joint_motion.kernel_geometry`,
+:func:`~prp3.mechanics.joint_motion.kernel_kinematics`,
+:func:`~prp3.mechanics.wrenches.body_wrenches`,
+:func:`~prp3.mechanics.virtual_work.joint_forces` — and store what they
+return.  What the kernel does not write on plain floats (the friction laws,
+the implicit ``μ`` solve) is not compiled: the numpy engine runs it
+(:mod:`prp3.engines.select`).
 
 The machine code is cached on disk (``cache=True``: in ``__pycache__`` beside
 this file where it is writable, else numba's user cache directory, or
 ``NUMBA_CACHE_DIR``), so the compile cost (about two seconds per function)
 is paid once per installation.  The cache is keyed on the source of this
-file *and* of :mod:`prp3.mechanics.kernel` (:class:`_KernelStamp`): a change of the
-kernel recompiles.
+file *and* of every module whose functions it compiles or whose layout it
+reads (:data:`KERNEL_SOURCES`, :class:`_KernelStamp`): a change of any of
+them recompiles.
 
 The engine does not validate: its callers (:mod:`prp3.engines.entries`) pass finite,
 non-singular samples.  Division by a zero is IEEE's (``error_model="numpy"``).
@@ -38,7 +43,8 @@ import numpy as np
 from numba.core import caching
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
-from prp3.mechanics import kernel
+from prp3.mechanics import joint_motion, parameters, virtual_work, wrenches
+from prp3.mechanics.parameters import KernelParameters
 
 __all__ = [
     "f10_loop",
@@ -53,39 +59,50 @@ __all__ = [
     "solve_loop",
 ]
 
-_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(kernel.KernelParameters))
+_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(KernelParameters))
 _COUNT = len(_FIELDS)
 #: The kernel's parameters as numba sees them: the fields of KernelParameters, floats.
 _Parameters = namedtuple("_Parameters", _FIELDS)  # type: ignore[misc]
 
 
-def parameter_array(parameters: kernel.KernelParameters) -> np.ndarray[Any, np.dtype[np.float64]]:
+def parameter_array(parameters: KernelParameters) -> np.ndarray[Any, np.dtype[np.float64]]:
     """The fields of ``parameters`` (floats) as a float64 array, in field order."""
     return np.array([float(getattr(parameters, name)) for name in _FIELDS])
 
 
 # ------------------------------------------------------------------ the cache
-_KERNEL_FILE = kernel.__file__
+#: The modules whose functions :func:`_compiled_kernel` compiles (the kernel's stages).
+STAGE_MODULES: tuple[types.ModuleType, ...] = (joint_motion, wrenches, virtual_work)
+#: The source files the cached machine code depends on besides this one: the stages and
+#: :mod:`prp3.mechanics.parameters` (the fields, in order, of the named tuple they read).
+KERNEL_SOURCES: tuple[str, ...] = tuple(
+    str(module.__file__) for module in (*STAGE_MODULES, parameters)
+)
 
 
 class _KernelStamp:
-    """A cache locator whose stamp is this file's and :mod:`prp3.mechanics.kernel`'s.
+    """A cache locator whose stamp is this file's and those of :data:`KERNEL_SOURCES`.
 
     numba stamps a cached function with its own source file only; the loops
-    here inline the kernel, so a change of ``kernel.py`` must invalidate
-    them too.
+    here inline the kernel's stages, so a change of any of their files must
+    invalidate them too.
     """
 
     def get_source_stamp(self) -> Any:
         stamp = super().get_source_stamp()  # type: ignore[misc]
-        st = os.stat(_KERNEL_FILE)
-        return (stamp, caching._hash_source_file(_KERNEL_FILE, st.st_mtime, st.st_size))
+        return (stamp, *(_source_stamp(path) for path in KERNEL_SOURCES))
 
     @classmethod
     def from_function(cls, py_func: Any, py_file: str) -> Any:
         if os.path.abspath(py_file) != os.path.abspath(__file__):
             return None
         return super().from_function(py_func, py_file)  # type: ignore[misc]
+
+
+def _source_stamp(path: str) -> Any:
+    """numba's stamp of the source file ``path`` (its modification time and size)."""
+    st = os.stat(path)
+    return caching._hash_source_file(path, st.st_mtime, st.st_size)
 
 
 def _install_locators() -> None:
@@ -144,23 +161,26 @@ _Ops = namedtuple("_Ops", ("name", "cos", "sin", "sqrt", "tanh", "abs", "sign"))
 
 
 def _compiled_kernel() -> types.ModuleType:
-    """Every function of :mod:`prp3.mechanics.kernel`, compiled by numba from its own bytecode.
+    """Every function of :data:`STAGE_MODULES`, compiled by numba from its own bytecode.
 
-    Each function is rebuilt from its code object with a namespace in which
-    the kernel's names are the compiled functions, ``_zero`` tests a float
-    (numba has no ``isinstance`` of unions) and :data:`OPS` is :mod:`math`'s.
-    Compilation is lazy: only what the loops call is compiled.
+    Each function is rebuilt from its code object with one namespace, that of
+    the stages together, in which their names are the compiled functions,
+    ``_zero`` tests a float (numba has no ``isinstance`` of unions) and
+    :data:`OPS` is :mod:`math`'s.  Compilation is lazy: only what the loops
+    call is compiled.
     """
     module = types.ModuleType("prp3.kernel_numba")
     namespace = module.__dict__
-    namespace.update(vars(kernel))
-    for name, value in vars(kernel).items():
-        if isinstance(value, types.FunctionType) and value.__module__ == kernel.__name__:
-            clone = types.FunctionType(
-                value.__code__, namespace, value.__name__, value.__defaults__, value.__closure__
-            )
-            clone.__kwdefaults__ = value.__kwdefaults__
-            namespace[name] = _inline(clone)
+    for stage in STAGE_MODULES:
+        namespace.update(vars(stage))
+    for stage in STAGE_MODULES:
+        for name, value in vars(stage).items():
+            if isinstance(value, types.FunctionType) and value.__module__ == stage.__name__:
+                clone = types.FunctionType(
+                    value.__code__, namespace, value.__name__, value.__defaults__, value.__closure__
+                )
+                clone.__kwdefaults__ = value.__kwdefaults__
+                namespace[name] = _inline(clone)
     namespace["_zero"] = _inline(_zero)
     return module
 

@@ -6,10 +6,10 @@ fixed to the platform, the constant ``[load]``, the motion's time-varying
 wrench ``fx, fy, mz``, the friction of each kind of joint and the linear
 spring with damper of the actuators.  An element says, in one class,
 
-* which fields of :class:`prp3.mechanics.kernel.KernelParameters` it owns and their
+* which fields of :class:`prp3.mechanics.parameters.KernelParameters` it owns and their
   values for a robot (:meth:`Element.parameters`);
 * where its contribution to the wrench each body needs is written: in
-  :func:`prp3.mechanics.kernel.body_wrenches` and its helpers (``_leg_spring``,
+  :func:`prp3.mechanics.wrenches.body_wrenches` and its helpers (``_leg_spring``,
   ``_leg_friction``, the load), in the kernel's ``+ − × ÷`` on tuples, so that
   the same code runs on floats, arrays, sympy and compiled by numba (which
   cannot call methods of these objects); the element owns its fields, and a
@@ -129,7 +129,7 @@ class Element:
     name : str
         Its name, the ``ROBOT.toml`` table where it has one (``"friction.sleeve"``).
     fields : tuple of str
-        The fields of :class:`~prp3.mechanics.kernel.KernelParameters` it owns (default ``0.0``).
+        The fields of :class:`~prp3.mechanics.parameters.KernelParameters` it owns (default ``0.0``).
     regressor : tuple of str
         Fields the joint forces are linear and homogeneous in: the columns it
         adds to identification's regressor.
@@ -315,7 +315,7 @@ class LoadElement(Element):
     """The constant wrench of the environment on the platform (``[load]``): force at ``G``, moment.
 
     Applied to the platform, with the motion's time-varying wrench
-    (:data:`WRENCH`) in :func:`prp3.mechanics.kernel.body_wrenches`.  Its forces are known, not estimated
+    (:data:`WRENCH`) in :func:`prp3.mechanics.wrenches.body_wrenches`.  Its forces are known, not estimated
     (identification subtracts them); MuJoCo has no constant external force
     (the model stores it as the numeric ``prp3_load``).  Power ``F·Ġ + M·φ̇``.
     """
@@ -356,7 +356,7 @@ class LoadElement(Element):
 class WrenchElement(Element):
     """The motion's time-varying wrench ``fx, fy, mz`` on the platform at ``G`` (``TRAJ.csv``).
 
-    Not a robot's parameter (no field): :func:`prp3.mechanics.kernel.body_wrenches` adds it
+    Not a robot's parameter (no field): :func:`prp3.mechanics.wrenches.body_wrenches` adds it
     to the constant load.  The generated C code has no input for it.
     Power ``f·Ġ + m_z·φ̇``.
     """
@@ -397,7 +397,7 @@ class FrictionElement(Element):
 
     ``fric = −(b·v + (c + μ·N)·s(v))`` with the joint's rate ``v`` (λ̇10, φ̇,
     λ̇32) and ``N`` the magnitude of its reaction (``|n10|``, ``r_r·|F21|``,
-    ``|n32|``; the ``μ`` terms are implicit: :func:`prp3.mechanics.kernel.solve_mu`).
+    ``|n32|``; the ``μ`` terms are implicit: :func:`prp3.mechanics.implicit_friction.solve_mu`).
     Linear in ``b`` and ``c`` (regressor columns); MuJoCo's ``damping`` and
     ``frictionloss`` carry ``b`` and (its own dry friction) ``c``.  Power
     ``Σ_i fric_i·v_i ≤ 0`` (dissipation).
@@ -660,5 +660,5 @@ ELEMENTS: tuple[Element, ...] = (GRAVITY, PAYLOAD, LOAD, WRENCH, *FRICTIONS, SPR
 
 
 def effect_fields() -> tuple[str, ...]:
-    """Every field of :class:`~prp3.mechanics.kernel.KernelParameters` an element owns, in order."""
+    """Every field of :class:`~prp3.mechanics.parameters.KernelParameters` an element owns, in order."""
     return tuple(name for element in ELEMENTS for name in element.fields)
