@@ -542,19 +542,26 @@ def _run_numba(
     load: FloatArray | None,
     block: FloatArray | None,
 ) -> None:
-    """The numba engine's loop for the outputs ``targets`` (C-contiguous inputs)."""
+    """The numba engine's loop for the outputs ``targets`` (C-contiguous inputs).
+
+    On every thread from :data:`prp3.engines.numba.PARALLEL_MIN_SAMPLES` samples
+    (:func:`prp3.engines.numba.batch_loops`), on one below.
+    """
     pose, velocity, acceleration = (_frozen(a) for a in inputs)
+    samples = pose.shape[0]
+    loops = numba.batch_loops(samples)
+    rows = (array, pose, velocity, acceleration, 0, samples)
     names = tuple(targets)
     if names == ("f10",):
-        numba.f10_loop(array, pose, velocity, acceleration, targets["f10"])
+        loops.f10(*rows, targets["f10"])
     elif names == _FORCES:
-        numba.forces_loop(array, pose, velocity, acceleration, *targets.values())
+        loops.forces(*rows, *targets.values())
     elif names == _FORCES + _REACTIONS:
-        numba.reactions_loop(array, pose, velocity, acceleration, *targets.values())
+        loops.reactions(*rows, *targets.values())
     else:
         assert block is not None and names == KERNEL_OUTPUTS
         wrench = None if load is None else _frozen(load)
-        numba.solve_loop(array, pose, velocity, acceleration, wrench, block)
+        loops.solve(*rows, wrench, block)
 
 
 # -------------------------------------------------------------- single sample

@@ -17,6 +17,18 @@ return.  What the kernel does not write on plain floats (the friction laws,
 the implicit ``μ`` solve) is not compiled: the numpy engine runs it
 (:mod:`prp3.engines.select`).
 
+A batch of :data:`PARALLEL_MIN_SAMPLES` samples or more runs on every thread
+of numba's threading layer (:func:`batch_loops`: the ``*_parallel`` loops,
+``parallel=True``, ``prange`` over blocks of :data:`BLOCK` samples, each block
+one call of the loop on one thread, so that the numbers are those of one
+thread), a smaller one on the calling thread (waking the threads would cost
+more than they save).  The layer must be thread-safe (:data:`THREAD_SAFE_LAYERS`:
+the explorer's server, dask's threads or a user's threads may call at once;
+numba's ``workqueue`` aborts the process then): :func:`parallel_layer` asks
+numba for one, and without one the batches run on one thread, said once by an
+:class:`~prp3.engines.select.EngineWarning`.  ``numba.set_num_threads`` sets
+the threads of the calling thread's batches.
+
 The machine code is cached on disk (``cache=True``: in ``__pycache__`` beside
 this file where it is writable, else numba's user cache directory, or
 ``NUMBA_CACHE_DIR``), so the compile cost (about two seconds per function)
@@ -33,30 +45,44 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 import types
+import warnings
 from collections import namedtuple
 from dataclasses import fields
-from typing import Any
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
 from numba.core import caching
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
+from prp3.engines.select import EngineWarning
 from prp3.mechanics import joint_motion, parameters, virtual_work, wrenches
 from prp3.mechanics.parameters import KernelParameters
 
 __all__ = [
+    "KERNEL_SOURCES",
+    "PARALLEL_MIN_SAMPLES",
+    "STAGE_MODULES",
+    "THREAD_SAFE_LAYERS",
+    "BatchLoops",
+    "batch_loops",
     "f10_loop",
+    "f10_loop_parallel",
     "forces_loop",
+    "forces_loop_parallel",
     "lambda10_sample",
+    "parallel_layer",
     "parameter_array",
     "reactions_loop",
+    "reactions_loop_parallel",
     "sample_f10",
     "sample_f10_loaded",
     "sample_forces",
     "sample_forces_loaded",
     "solve_loop",
+    "solve_loop_parallel",
 ]
 
 _FIELDS: tuple[str, ...] = tuple(f.name for f in fields(KernelParameters))
@@ -250,49 +276,120 @@ def _store_reactions(n10: Any, m10: Any, n32: Any, m32: Any, i: int, rest: Any) 
     _store(m32, i, rest[3])
 
 
+# ---------------------------------------------------------------- the threads
+#: Samples from which a batch runs on every thread (:func:`batch_loops`): below, waking the
+#: threads costs more than they save (and on a machine whose cores are busy, a thread may
+#: wait for one longer than the whole batch takes on the calling thread).
+PARALLEL_MIN_SAMPLES = 4096
+#: The threading layers of numba whose parallel loops may be called from several Python
+#: threads at once (the explorer's server, dask's threads, a user's); ``workqueue`` may not.
+THREAD_SAFE_LAYERS: tuple[str, ...] = ("tbb", "omp")
+
+_UNSET: Any = object()
+_layer: Any = _UNSET
+_NUMBA: Any = numba  # its threading functions and config, as numba documents them
+_layer_lock = threading.Lock()
+
+
+def parallel_layer() -> str | None:
+    """The thread-safe threading layer the parallel loops run on, or ``None``: one thread.
+
+    Started on the first call (once per process) with numba's choice among
+    :data:`THREAD_SAFE_LAYERS` (``"threadsafe"``) unless the user chose a layer
+    (``NUMBA_THREADING_LAYER``) or started one before; a layer that is not
+    thread-safe, or none at all, leaves the batches on one thread, said once by
+    an :class:`~prp3.engines.select.EngineWarning`.  A process forked from one
+    that started the threads runs on one thread (GNU OpenMP is not fork-safe).
+    """
+    global _layer
+    if _layer is _UNSET:
+        with _layer_lock:
+            if _layer is _UNSET:
+                _layer = _start_layer()
+    return _layer  # type: ignore[no-any-return]
+
+
+def _start_layer() -> str | None:
+    try:
+        layer: str | None = _NUMBA.threading_layer()  # started before: as it is
+    except ValueError:  # not started yet
+        requested = _NUMBA.config.THREADING_LAYER
+        if requested == "default":  # not the user's choice: a thread-safe one
+            _NUMBA.config.THREADING_LAYER = "threadsafe"
+        try:
+            _NUMBA.get_num_threads()  # starts the layer
+            layer = _NUMBA.threading_layer()
+        except ValueError:  # no such layer could be loaded
+            layer = None
+        finally:
+            _NUMBA.config.THREADING_LAYER = requested
+    if layer in THREAD_SAFE_LAYERS:
+        return layer
+    warnings.warn(
+        f"numba's threading layer {layer or 'tbb or omp'!r} is not thread-safe or not "
+        "available: prp3's batches run on one thread; pip install tbb (or a GNU OpenMP) "
+        "for every core",
+        EngineWarning,
+        stacklevel=4,
+    )
+    return None
+
+
+def _after_fork_in_child() -> None:
+    """A child of a process whose threads run: one thread (GNU OpenMP is not fork-safe)."""
+    global _layer
+    try:
+        _NUMBA.threading_layer()
+    except ValueError:  # no threads before the fork: the child may start its own
+        return
+    _layer = None
+
+
+os.register_at_fork(after_in_child=_after_fork_in_child)
+
+
 # ------------------------------------------------------------------- batches
 @numba.njit(cache=True, error_model="numpy")
-def f10_loop(
-    a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any
-) -> None:  # pragma: no cover
-    """``f10`` ``(n, 3)`` of samples ``(n, 3)``, written into ``f10``."""
+def f10_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+             f10: Any) -> None:  # pragma: no cover  # fmt: skip
+    """``f10`` ``(n, 3)`` of the samples ``start:stop`` of ``(n, 3)``, written into ``f10``."""
     k = _parameters(a)
-    for i in range(pose.shape[0]):
+    for i in range(start, stop):
         _, f, _, _, _ = _solve_row(k, pose, velocity, acceleration, i, None, False)
         _store(f10, i, f)
 
 
 @numba.njit(cache=True, error_model="numpy")
-def forces_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any, p10: Any,
-                f21y: Any, f21z: Any) -> None:  # pragma: no cover  # fmt: skip
-    """``f10, p10, f21y, f21z`` ``(n, 3)`` of samples ``(n, 3)``, written into them."""
+def forces_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+                f10: Any, p10: Any, f21y: Any, f21z: Any) -> None:  # pragma: no cover  # fmt: skip
+    """``f10, p10, f21y, f21z`` ``(n, 3)`` of the samples ``start:stop``, written into them."""
     k = _parameters(a)
-    for i in range(pose.shape[0]):
+    for i in range(start, stop):
         kin, f, fy, fz, _ = _solve_row(k, pose, velocity, acceleration, i, None, False)
         _store_forces(f10, p10, f21y, f21z, i, kin, f, fy, fz)
 
 
 @numba.njit(cache=True, error_model="numpy")
-def reactions_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any, p10: Any,
-                   f21y: Any, f21z: Any, n10: Any, m10: Any, n32: Any, m32: Any) -> None:  # pragma: no cover  # fmt: skip
+def reactions_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+                   f10: Any, p10: Any, f21y: Any, f21z: Any, n10: Any, m10: Any, n32: Any,
+                   m32: Any) -> None:  # pragma: no cover  # fmt: skip
     """:func:`forces_loop` and the reactions ``n10, m10, n32, m32``."""
     k = _parameters(a)
-    for i in range(pose.shape[0]):
+    for i in range(start, stop):
         kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, None, True)
         _store_forces(f10, p10, f21y, f21z, i, kin, f, fy, fz)
         _store_reactions(n10, m10, n32, m32, i, rest)
 
 
 @numba.njit(cache=True, error_model="numpy")
-def solve_loop(
-    a: Any, pose: Any, velocity: Any, acceleration: Any, load: Any, out: Any
-) -> None:  # pragma: no cover
+def solve_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+               load: Any, out: Any) -> None:  # pragma: no cover  # fmt: skip
     """Every output of :class:`~prp3.mechanics.kernel.KernelSolution` up to ``m32``: ``out`` ``(14, n, 3)``.
 
     ``load`` ``(n, 3)``: the time-varying wrench on the platform, or ``None``.
     """
     k = _parameters(a)
-    for i in range(pose.shape[0]):
+    for i in range(start, stop):
         if load is None:
             kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, None, True)
         else:
@@ -307,6 +404,66 @@ def solve_loop(
         _store(out[5], i, kin.ddlambda32)
         _store_forces(out[6], out[7], out[8], out[9], i, kin, f, fy, fz)
         _store_reactions(out[10], out[11], out[12], out[13], i, rest)
+
+
+#: Samples per call of a loop above by its parallel loop (the share of one thread at a time).
+BLOCK = 512
+
+
+def _blocks(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+            *outputs: Any) -> None:  # pragma: no cover  # fmt: skip
+    """The loop ``_loop`` on the samples ``start:stop``, block by block on every thread."""
+    for b in numba.prange((stop - start + BLOCK - 1) // BLOCK):
+        first = start + b * BLOCK
+        last = min(stop, first + BLOCK)
+        _loop(a, pose, velocity, acceleration, first, last, *outputs)  # type: ignore[name-defined]  # noqa: F821
+
+
+def _parallel(loop: Any) -> Any:
+    """``loop`` on every thread: :func:`_blocks` compiled with ``parallel=True`` for it.
+
+    Each block is one call of ``loop`` (numba's analysis of parallel loops does
+    not follow the kernel's tuples inlined), so each sample is computed by the
+    same machine code as on one thread.  Compiled from a copy of :func:`_blocks`
+    named ``<loop>_parallel`` (numba names a cache entry after its function).
+    """
+    name = f"{loop.py_func.__name__}_parallel"
+    function = types.FunctionType(_blocks.__code__, {**globals(), "_loop": loop}, name)
+    function.__qualname__ = name
+    function.__doc__ = f":func:`{loop.py_func.__name__}` on every thread, block by block."
+    return numba.njit(cache=True, error_model="numpy", parallel=True)(function)
+
+
+f10_loop_parallel = _parallel(f10_loop)
+forces_loop_parallel = _parallel(forces_loop)
+reactions_loop_parallel = _parallel(reactions_loop)
+solve_loop_parallel = _parallel(solve_loop)
+
+
+class BatchLoops(NamedTuple):
+    """The four batch loops of one kind (:func:`batch_loops`)."""
+
+    f10: Any
+    forces: Any
+    reactions: Any
+    solve: Any
+
+
+def batch_loops(samples: int) -> BatchLoops:
+    """The loops that run a batch of ``samples`` samples: on every thread, or on one.
+
+    On every thread of numba's threading layer (the ``*_parallel`` loops) when
+    ``samples >= PARALLEL_MIN_SAMPLES`` and the layer is thread-safe
+    (:func:`parallel_layer`), else on the calling thread alone (:func:`f10_loop`,
+    ...).  The choice is a function of ``samples`` and of what the process
+    offers, never of earlier calls; both kinds give the same numbers (each
+    sample is computed alone, by the same machine code).
+    """
+    if samples >= PARALLEL_MIN_SAMPLES and parallel_layer() is not None:
+        return BatchLoops(
+            f10_loop_parallel, forces_loop_parallel, reactions_loop_parallel, solve_loop_parallel
+        )
+    return BatchLoops(f10_loop, forces_loop, reactions_loop, solve_loop)
 
 
 # ------------------------------------------------------------- single samples

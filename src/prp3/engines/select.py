@@ -6,7 +6,9 @@ engine runs it on many samples:
 
 * ``"numba"`` — :mod:`prp3.engines.numba`: the kernel's own functions compiled
   by numba (machine code cached on disk, compiled once per installation), one
-  loop over the samples; no temporary arrays.  The default when numba imports.
+  loop over the samples, on every thread of numba's threading layer from
+  :data:`prp3.engines.numba.PARALLEL_MIN_SAMPLES` samples; no temporary arrays.
+  The default when numba imports.
 * ``"numpy"`` — :func:`run_numpy`: :func:`prp3.mechanics.kernel.solve` itself on 1-D
   float64 arrays (:data:`~prp3.mechanics.ops.NUMPY`), :data:`CHUNK` samples at a time
   (memory bounded for any ``N``); a breakpoint in
@@ -67,7 +69,12 @@ _numba: Any = _MISSING
 
 
 class EngineWarning(UserWarning):
-    """The compiled engine is not available: the numpy engine runs (said once)."""
+    """The compiled engine, or its threads, are not available (said once).
+
+    Without numba the numpy engine runs (:func:`default_engine`); without a
+    thread-safe threading layer of numba its batches run on one thread
+    (:func:`prp3.engines.numba.parallel_layer`).
+    """
 
 
 def numba_module() -> ModuleType | None:
