@@ -73,7 +73,7 @@ class KernelSolution(NamedTuple):
     """Joint motion and joint forces of one state; every field ``(A, B, C)``.
 
     Reactions are ``None`` unless requested.  Units and signs as
-    :class:`prp3.analysis.inverse_dynamics.InverseDynamics`.
+    :class:`prp3.mechanics.forces.InverseDynamics`.
     """
 
     lambda10: Legs
