@@ -11,7 +11,10 @@ motions (eq. 4) resampled to N samples:
 
 * ``prp3 fast`` — :func:`prp3.engines.entries.paper_forces` with the default engine
   (``numba``: the kernel's own functions compiled by numba, :mod:`prp3.engines.select`);
-  ``prp3 fast f10 alone`` — :func:`prp3.engines.entries.actuator_forces`; the ``numpy``
+  ``prp3 fast f10 alone`` — :func:`prp3.engines.entries.actuator_forces`; from
+  :data:`prp3.engines.numba.PARALLEL_MIN_SAMPLES` samples on every thread of
+  numba's threading layer, and the ``1 thread`` rows the same with
+  ``numba.set_num_threads(1)`` (in the same run, on the same samples); the ``numpy``
   rows — the same with ``engine="numpy"`` (the kernel on numpy arrays,
   chunked); single sample: :func:`prp3.engines.sample_entries.sample_forces` (tuples of floats,
   tuples of numpy scalars, ``(3,)`` ndarrays, a load) on both engines.
@@ -129,6 +132,29 @@ def methods(
     def alone_numpy(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
         return actuator_forces(compiled, *arrays, engine="numpy")
 
+    def one_thread(run: Callable[[Any], np.ndarray]) -> Callable[[Any], np.ndarray]:
+        """``run`` with ``numba.set_num_threads(1)``: the batch on one thread."""
+
+        def call(arrays: tuple[np.ndarray, ...]) -> np.ndarray:
+            threads = numba_threads.get_num_threads()
+            numba_threads.set_num_threads(1)
+            try:
+                return run(arrays)
+            finally:
+                numba_threads.set_num_threads(threads)
+
+        return call
+
+    try:
+        import numba as numba_threads
+    except ImportError:
+        threaded: list[Method] = []
+    else:
+        threaded = [
+            Method("prp3 fast, 1 thread", fused_prepare, one_thread(fused)),
+            Method("prp3 fast f10 alone, 1 thread", fused_prepare, one_thread(alone)),
+        ]
+
     def paper(motion: prp3.Motion) -> np.ndarray:
         return prp3.inverse_dynamics(robot, motion, "paper")[1].f10
 
@@ -141,6 +167,7 @@ def methods(
     found = [
         Method("prp3 fast", fused_prepare, fused),
         Method("prp3 fast f10 alone", fused_prepare, alone),
+        *threaded,
         *(
             [
                 Method("prp3 fast numpy", fused_prepare, fused_numpy),
@@ -586,24 +613,34 @@ def targets(
 
     out = ["Speed targets (the default install: the numba engine):"]
     n = 10**5
+    # the peers at N = 10⁵, or at their largest N timed (--peers-max): a Python loop per sample
+    timed = [size for (name, size) in rates if name in ("mujoco", "pinocchio") and size <= n]
+    peer_n = max(timed, default=n)
     peers = {
         name: rate
         for (name, size), rate in rates.items()
-        if size == n and name in ("mujoco", "pinocchio")
+        if size == peer_n and name in ("mujoco", "pinocchio")
     }
-    alone = rates.get(("prp3 fast f10 alone", n))
-    if alone is not None:
-        line = f"  batch f10 N = 10⁵: {alone:.3g} samples/s (target ≥ 2e7: {verdict(alone >= 2e7)})"
-        if peers:
-            best = max(peers, key=lambda k: peers[k])
-            ratio = alone / peers[best]
-            line += f"; faster peer {best} {peers[best]:.3g}/s, ratio {ratio:.3g} (target ≥ 300: {verdict(ratio >= 300)})"
+    best = max(peers, key=lambda k: peers[k]) if peers else None
+    at = "" if peer_n == n else f" at N = {peer_n:,}"
+    for row, what, target, ratio_target in (
+        ("prp3 fast f10 alone", "f10", 2e7, 300.0),
+        ("prp3 fast f10 alone, 1 thread", "f10", None, None),
+        ("prp3 fast", "f10, p10, f21y, f21z", 1.5e7, None),
+        ("prp3 fast, 1 thread", "f10, p10, f21y, f21z", None, None),
+    ):
+        rate = rates.get((row, n))
+        if rate is None:
+            continue
+        line = f"  batch {what} N = 10⁵, {row}: {rate:.3g} samples/s"
+        if target is not None:
+            line += f" (target ≥ {target:.2g}: {verdict(rate >= target)})"
+        if best is not None:
+            ratio = rate / peers[best]
+            line += f"; {ratio:.3g}× the faster peer ({best}{at} {peers[best]:.3g}/s)"
+            if ratio_target is not None:
+                line += f" (target ≥ {ratio_target:.0f}: {verdict(ratio >= ratio_target)})"
         out.append(line)
-    four = rates.get(("prp3 fast", n))
-    if four is not None:
-        out.append(
-            f"  batch f10, p10, f21y, f21z N = 10⁵: {four:.3g} samples/s (target ≥ 1.5e7: {verdict(four >= 1.5e7)})"
-        )
     for call in (
         CHECKED_CALL,
         "prp3 fast sample_forces, numpy scalars",

@@ -10,7 +10,8 @@ Run from the repository root (``pip install -e ".[bench]"``)::
 Measured in the same run, on the same task (the paper's two motions, the
 designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
 
-* ``kernel`` — :func:`prp3.engines.entries.paper_forces` with the reactions on one core,
+* ``kernel`` — :func:`prp3.engines.entries.paper_forces` with the reactions on one core
+  (``numba.set_num_threads(1)``: a batch this large runs on every thread otherwise),
   the task repeated to ~10⁵ samples per call (its best rate: no per-call cost);
 * ``paper_forces, 1 call`` — one ``paper_forces`` call over the task (its
   per-call checks included), the robot compiled already;
@@ -77,6 +78,22 @@ def _cpu_time(function: Callable[..., Any], *args: Any) -> float:
     return time.thread_time() - start
 
 
+@contextlib.contextmanager
+def _one_thread() -> Iterator[None]:
+    """The numba engine's batches on one thread (``numba.set_num_threads(1)``), if numba runs."""
+    try:
+        import numba
+    except ImportError:
+        yield
+        return
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(threads)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
     parser.add_argument("--designs", type=int, default=2000)
@@ -118,10 +135,14 @@ def main() -> int:
     # the kernel alone, big batches (its best single-core rate)
     repeat = max(1, 100_000 // task)
     big = [np.tile(a, (repeat, 1)) for a in (pose, velocity, acceleration)]
-    paper_forces(compiled, *big, reactions=True)
-    t_kernel = _median_time(
-        lambda: paper_forces(compiled, *big, reactions=True), max(3, args.repeats)
-    )
+    with _one_thread():
+        paper_forces(compiled, *big, reactions=True)
+        t_kernel = _median_time(
+            lambda: paper_forces(compiled, *big, reactions=True), max(3, args.repeats)
+        )
+        cpu_kernel = statistics.median(
+            _cpu_time(lambda: paper_forces(compiled, *big, reactions=True)) for _ in range(3)
+        ) / (repeat * task)
     kernel_rate = repeat * task / t_kernel
 
     # one call over the task, the robot compiled already
@@ -153,9 +174,6 @@ def main() -> int:
     cpu_eval = statistics.median(
         _cpu_time(evaluate_designs, spec.evaluator, part) for _ in range(args.repeats)
     ) / len(part)
-    cpu_kernel = statistics.median(
-        _cpu_time(lambda: paper_forces(compiled, *big, reactions=True)) for _ in range(3)
-    ) / (repeat * task)
     cpu_worker = math.nan
 
     rows: list[tuple[str, float]] = [

@@ -25,6 +25,7 @@ import prp3.engines.entries
 import prp3.engines.select
 import prp3.mechanics.geometry
 import prp3.mechanics.kinematics
+import prp3.mechanics.virtual_work
 
 
 def profile(call: object, functions: list[object], top: int) -> None:
@@ -83,7 +84,7 @@ def main() -> None:
         [
             prp3.engines.entries.paper_forces,
             prp3.engines.select.run_numpy,
-            prp3.mechanics.kernel.joint_forces,
+            prp3.mechanics.virtual_work.joint_forces,
         ],
         args.top,
     )

@@ -89,6 +89,7 @@ def _engine_warmups() -> list[Callable[[], object]]:
 
     from prp3 import Robot, compile_robot, paper_forces, sample_forces
     from prp3.engines.entries import actuator_forces, solve_batch
+    from prp3.engines.numba import PARALLEL_MIN_SAMPLES
     from prp3.engines.sample_entries import sample_actuator_forces
     from prp3.family import FamilyRobot, family_inverse_dynamics
     from prp3.model.motion import paper_motion
@@ -97,6 +98,7 @@ def _engine_warmups() -> list[Callable[[], object]]:
     compiled = compile_robot(robot)
     rest = np.zeros((2, 3))
     states = (rest, rest, rest)
+    big = (np.zeros((PARALLEL_MIN_SAMPLES, 3)),) * 3  # the loops on every thread
     still = ((0.0, 0.0, 0.0),) * 3
     load = (0.0, -1.0, 0.0)
     family = FamilyRobot.from_mapping({"architecture": "3-RRR"})
@@ -111,6 +113,11 @@ def _engine_warmups() -> list[Callable[[], object]]:
         lambda: sample_forces(compiled, *still, load=load, engine="numba"),
         lambda: sample_actuator_forces(compiled, *still, engine="numba"),
         lambda: sample_actuator_forces(compiled, *still, load=load, engine="numba"),
+        lambda: solve_batch(compiled, *big, load=big[0], engine="numba"),
+        lambda: solve_batch(compiled, *big, engine="numba"),
+        lambda: paper_forces(compiled, *big, reactions=True, engine="numba"),
+        lambda: paper_forces(compiled, *big, engine="numba"),
+        lambda: actuator_forces(compiled, *big, engine="numba"),
     ]
 
 

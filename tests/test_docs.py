@@ -255,13 +255,14 @@ def test_the_names_of_notation_md_exist() -> None:
     import dataclasses
 
     import prp3
-    from prp3.mechanics import geometry, kernel, kinematics
+    from prp3.mechanics import geometry, kinematics
+    from prp3.mechanics.joint_motion import KernelGeometry
     from prp3.references import paper, paper_kinematics
 
     classes = {
         "InverseDynamics": prp3.InverseDynamics,
         "InverseGeometry": geometry.InverseGeometry,
-        "KernelGeometry": kernel.KernelGeometry,
+        "KernelGeometry": KernelGeometry,
         "Motion": prp3.Motion,
         "Robot": prp3.Robot(),
     }

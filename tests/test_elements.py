@@ -22,7 +22,7 @@ import prp3.apps.regressor
 import prp3.model.robot
 from prp3.apps.codegen import c_inverse_dynamics
 from prp3.errors import ParameterError
-from prp3.mechanics.kernel import EFFECT_FIELDS, INERTIAL_FIELDS, KernelParameters
+from prp3.mechanics.parameters import EFFECT_FIELDS, INERTIAL_FIELDS, KernelParameters
 from prp3.model.element_base import Element
 from prp3.model.elements import ELEMENTS, SPRING
 from prp3.model.parameters import Friction, JointFriction, Load, Payload, Spring, SpringParameters

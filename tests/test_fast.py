@@ -582,13 +582,14 @@ def test_single_sample_with_a_load_agrees_with_the_batch_path(
 @pytest.mark.parametrize("friction", [False, True])
 def test_single_sample_load_is_the_kernel_on_floats(engine: str, friction: bool) -> None:
     from prp3.mechanics import kernel
+    from prp3.mechanics.ops import MATH
 
     robot = _with_effects(Robot(), friction, 0.0)
     compiled = compile_robot(robot)
     state = (0.01, -0.02, 0.3, 0.1, -0.2, 0.5, 1.0, -2.0, 3.0)
     load = (4.0, -5.0, 0.25)
     one = sample_forces(compiled, state[:3], state[3:6], state[6:], load, engine=engine)  # type: ignore[arg-type]
-    expected = kernel.solve(kernel.MATH, compiled.parameters, *state, reactions=False, load=load)
+    expected = kernel.solve(MATH, compiled.parameters, *state, reactions=False, load=load)
     for got, legs in zip(
         one, (expected.f10, expected.p10, expected.f21y, expected.f21z), strict=True
     ):

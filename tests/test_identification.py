@@ -40,7 +40,9 @@ from prp3.apps.regressor import (
     standard_parameters,
 )
 from prp3.errors import ParameterError, TrajectoryError
-from prp3.mechanics.kernel import INERTIAL_FIELDS, NUMPY, kernel_parameters, solve
+from prp3.mechanics.kernel import solve
+from prp3.mechanics.ops import NUMPY
+from prp3.mechanics.parameters import INERTIAL_FIELDS, kernel_parameters
 from prp3.model.parameters import Friction, JointFriction, Load, Payload, Spring, SpringParameters
 from strategies import analytic_motions, robots, scenarios
 

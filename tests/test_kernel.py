@@ -25,17 +25,13 @@ from prp3.engines.sample_entries import sample_forces_unchecked
 from prp3.engines.select import ENGINES
 from prp3.engines.trace import array_function, broadcast_function
 from prp3.mechanics import kernel
-from prp3.mechanics.kernel import (
+from prp3.mechanics.kernel import STATE_SYMBOLS, KernelSolution, solve, symbolic_solution
+from prp3.mechanics.ops import MATH, NUMPY
+from prp3.mechanics.parameters import (
     INERTIAL_FIELDS,
-    MATH,
-    NUMPY,
-    STATE_SYMBOLS,
     KernelParameters,
-    KernelSolution,
     kernel_parameters,
-    solve,
     symbolic_parameters,
-    symbolic_solution,
 )
 from strategies import robots, scenarios
 
@@ -323,8 +319,8 @@ def test_each_engine_is_the_kernel_on_arrays_and_newton_euler(  # type: ignore[n
 
 
 def test_the_numpy_engine_runs_the_kernel_itself(monkeypatch: pytest.MonkeyPatch) -> None:
-    # engine="numpy" calls kernel.body_wrenches on the arrays (a breakpoint there stops):
-    # no generated code stands between the caller and the kernel
+    # engine="numpy" calls body_wrenches (through kernel.dynamics) on the arrays (a
+    # breakpoint there stops): no generated code stands between the caller and the kernel
     calls: list[int] = []
     original = kernel.body_wrenches
 
@@ -377,15 +373,33 @@ def test_without_numba_the_default_is_numpy_and_says_so_once(
     assert engines.default_engine() == "numpy"
 
 
-def test_the_numba_cache_is_keyed_on_the_kernel_source_too() -> None:
-    # the engine's loops inline the kernel: their cached machine code must be stale
-    # when kernel.py changes, not only when numba_engine.py does
+def test_the_numba_cache_is_keyed_on_the_kernel_sources_too() -> None:
+    # the engine's loops inline the kernel's stages: their cached machine code must be
+    # stale when any module whose functions it compiles changes, not only numba.py
     numba_engine = pytest.importorskip("prp3.engines.numba")
+    import os
+
     from numba.core import caching
 
-    locator = numba_engine.f10_loop._cache._impl.locator  # the dispatcher's own cache
-    assert isinstance(locator, numba_engine._KernelStamp)
-    own, of_kernel = locator.get_source_stamp()
-    stat = __import__("os").stat(kernel.__file__)
-    assert of_kernel == caching._hash_source_file(kernel.__file__, stat.st_mtime, stat.st_size)
-    assert own != of_kernel
+    from prp3.mechanics import joint_motion, parameters, virtual_work, wrenches
+
+    sources = {os.path.abspath(path) for path in numba_engine.KERNEL_SOURCES}
+    for module in (joint_motion, wrenches, virtual_work, parameters):
+        assert os.path.abspath(str(module.__file__)) in sources
+    # every file a function compiled from the kernel comes from (its bytecode's) is keyed
+    compiled = {
+        os.path.abspath(value.py_func.__code__.co_filename)
+        for name, value in vars(numba_engine._kernel).items()
+        if hasattr(value, "py_func") and name != "_zero"
+    }
+    assert len(compiled) == 3
+    assert compiled <= sources
+    for loop in (numba_engine.f10_loop, numba_engine.solve_loop, numba_engine.sample_f10):
+        locator = loop._cache._impl.locator  # the dispatcher's own cache
+        assert isinstance(locator, numba_engine._KernelStamp)
+        own, *of_sources = locator.get_source_stamp()
+        assert len(of_sources) == len(numba_engine.KERNEL_SOURCES)
+        for path, stamp in zip(numba_engine.KERNEL_SOURCES, of_sources, strict=True):
+            stat = os.stat(path)
+            assert stamp == caching._hash_source_file(path, stat.st_mtime, stat.st_size)
+            assert own != stamp

@@ -1,6 +1,6 @@
 """The near-lock warning of the implicit friction (``μ`` terms; docs/loads_and_friction.md).
 
-The definition (``prp3.mechanics.kernel.NEAR_LOCK_MU``): a sample is near a lock when the
+The definition (``prp3.mechanics.implicit_friction.NEAR_LOCK_MU``): a sample is near a lock when the
 solution reached continuously from ``μ = 0`` does not extend to ``1.2·μ``.
 
 Independent checks:
@@ -29,16 +29,12 @@ from prp3 import Robot, inverse_dynamics
 from prp3.cli import main
 from prp3.errors import TrajectoryError
 from prp3.io.tables import write_table_csv
-from prp3.mechanics.kernel import (
-    NEAR_LOCK_MU,
-    NUMPY,
-    KernelFriction,
-    body_wrenches,
-    joint_forces,
-    kernel_geometry,
-    kernel_kinematics,
-    kernel_parameters,
-)
+from prp3.mechanics.implicit_friction import NEAR_LOCK_MU
+from prp3.mechanics.joint_motion import kernel_geometry, kernel_kinematics
+from prp3.mechanics.ops import NUMPY
+from prp3.mechanics.parameters import kernel_parameters
+from prp3.mechanics.virtual_work import joint_forces
+from prp3.mechanics.wrenches import KernelFriction, body_wrenches
 from prp3.model.motion import Motion, paper_motion
 from prp3.model.parameters import Friction, JointFriction
 

@@ -906,7 +906,8 @@ _ENGINE_ENTRIES = (
     ("prp3.engines.entries", "run_numpy"),
     ("prp3.engines.sample_entries", "_sample_floats"),
     *(("prp3.engines.numba", name) for name in (
-        "f10_loop", "forces_loop", "reactions_loop", "solve_loop", "sample_forces",
+        "f10_loop", "forces_loop", "reactions_loop", "solve_loop", "f10_loop_parallel",
+        "forces_loop_parallel", "reactions_loop_parallel", "solve_loop_parallel", "sample_forces",
         "sample_forces_loaded", "sample_f10", "sample_f10_loaded", "lambda10_sample",
     )),
 )  # fmt: skip

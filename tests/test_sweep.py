@@ -34,7 +34,7 @@ from prp3.apps.design import design_robot  # noqa: E402
 from prp3.apps.design_evaluation import evaluate_designs  # noqa: E402
 from prp3.apps.design_objective import pareto_front  # noqa: E402
 from prp3.apps.sweep_spec import design_values, read_sweep_spec, sweep_spec  # noqa: E402
-from prp3.mechanics.kernel import kernel_parameters  # noqa: E402
+from prp3.mechanics.parameters import kernel_parameters  # noqa: E402
 
 LEGS = "ABC"
 GRID = """\

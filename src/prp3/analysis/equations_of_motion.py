@@ -10,7 +10,7 @@ with ``h = Jᵀ·b`` (``J = ∂λ10/∂(x, y, φ)``,
 
 Loads and friction.  The payload adds to the platform's inertial parameters
 and the constant ``[load]`` and the friction forces to the body wrenches, all
-in the kernel (:func:`prp3.mechanics.kernel.body_wrenches`), so ``A`` and ``b`` carry
+in the kernel (:func:`prp3.mechanics.wrenches.body_wrenches`), so ``A`` and ``b`` carry
 them.  Viscous and Coulomb friction depend on the velocities only: at a given
 ``(q, q̇)`` they are part of ``b`` and ``f10`` stays exactly affine in ``q̈``.
 The load-dependent ``μ`` terms make ``f10`` non-linear in ``q̈`` (the

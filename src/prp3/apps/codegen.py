@@ -39,6 +39,9 @@ from dataclasses import dataclass
 
 from prp3.errors import ParameterError, Prp3Error
 from prp3.mechanics import kernel
+from prp3.mechanics.joint_motion import PI_3
+from prp3.mechanics.ops import sympy_ops
+from prp3.mechanics.parameters import INERTIAL_FIELDS, KernelParameters, kernel_parameters
 from prp3.model.elements import ELEMENTS
 from prp3.model.robot import Robot
 from prp3.pose_validation import SINGULARITY_THRESHOLD
@@ -89,21 +92,21 @@ class CSource:
 
 
 def _scalars(robot: Robot) -> tuple[str, ...]:
-    """Constants of the closed form: the inertial fields of :class:`prp3.mechanics.kernel.KernelParameters`
+    """Constants of the closed form: the inertial fields of :class:`prp3.mechanics.parameters.KernelParameters`
     and the fields of the robot's elements that are not zero (a zero field adds no operation)."""
-    parameters = kernel.kernel_parameters(robot)
+    parameters = kernel_parameters(robot)
     effects = tuple(
         name
         for element in robot.elements
         for name in element.fields
         if float(getattr(parameters, name)) != 0.0
     )
-    return kernel.INERTIAL_FIELDS + effects
+    return INERTIAL_FIELDS + effects
 
 
 def _constant_values(robot: Robot) -> dict[str, float]:
     """The robot's constants by their C names (``prp3_l0``, ``prp3_link_mass``, ...)."""
-    parameters = kernel.kernel_parameters(robot)
+    parameters = kernel_parameters(robot)
     return {f"prp3_{name}": float(getattr(parameters, name)) for name in _scalars(robot)}
 
 
@@ -121,22 +124,22 @@ class _Template:
 def _template(with_stroke: bool, scalars: tuple[str, ...]) -> _Template:
     """Evaluate prp3's closed form on sympy symbols, share subexpressions, print C99.
 
-    ``scalars`` are the fields of :class:`~prp3.mechanics.kernel.KernelParameters` that are
+    ``scalars`` are the fields of :class:`~prp3.mechanics.parameters.KernelParameters` that are
     symbols (constants of the C code); the others are the number 0.
     """
     import sympy
     from sympy.printing.c import C99CodePrinter
 
-    parameters = kernel.KernelParameters(
+    parameters = KernelParameters(
         **{name: sympy.Symbol(f"prp3_{name}", real=True) for name in scalars}
     )
     inputs = tuple(sympy.Symbol(name, real=True) for name in _INPUTS)
     # the one kernel, evaluated on sympy symbols
-    solution = kernel.solve(kernel.sympy_ops(), parameters, *inputs, reactions=False)
+    solution = kernel.solve(sympy_ops(), parameters, *inputs, reactions=False)
     outputs = [*solution.f10, *solution.f21y, *solution.f21z]
     checks = list(solution.lambda10) if with_stroke else []
     # cos(φ − π/3) and sin(φ − π/3) once, before the singularity check that uses the sine
-    psi = inputs[2] - kernel.PI_3
+    psi = inputs[2] - PI_3
     trig = {sympy.cos(psi): sympy.Symbol("cos_psi"), sympy.sin(psi): sympy.Symbol("sin_psi")}
     outputs = [expr.xreplace(trig) for expr in outputs]
     checks = [expr.xreplace(trig) for expr in checks]
@@ -266,7 +269,7 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
         "        return prp3_refuse(f10, f21y, f21z, PRP3_NOT_FINITE);",
         "    }",
         "    {",
-        f"        const double psi = phi - {_c_number(kernel.PI_3)};",
+        f"        const double psi = phi - {_c_number(PI_3)};",
         "        const double cos_psi = cos(psi);",
         "        const double sin_psi = sin(psi);",
         "        /* sin(phi - pi/3), the determinant of every leg: singular below 1e-4 */",

@@ -65,15 +65,9 @@ from prp3.engines.trace import array_function, broadcast_function, trace
 from prp3.errors import (
     ParameterError,
 )
-from prp3.mechanics.kernel import (
-    INERTIAL_FIELDS,
-    NUMPY,
-    STATE_SYMBOLS,
-    KernelParameters,
-    Ops,
-    kernel_parameters,
-    solve,
-)
+from prp3.mechanics.kernel import STATE_SYMBOLS, solve
+from prp3.mechanics.ops import NUMPY, Ops
+from prp3.mechanics.parameters import INERTIAL_FIELDS, KernelParameters, kernel_parameters
 from prp3.model.elements import ELEMENTS
 from prp3.model.robot import Robot
 
@@ -96,7 +90,7 @@ _BLOCK = 8192
 
 _PARAMETER_FIELDS = tuple(f.name for f in fields(KernelParameters))
 
-#: Fields of :class:`~prp3.mechanics.kernel.KernelParameters` that may differ between the designs of
+#: Fields of :class:`~prp3.mechanics.parameters.KernelParameters` that may differ between the designs of
 #: one kernel call: the kernel performs the same operations whatever their values (it
 #: branches on the others: a zero smoothing is a sign, the mu terms are implicit), as each
 #: element says (:attr:`prp3.model.element_base.Element.broadcast`).
@@ -324,13 +318,13 @@ _PARAMETERS = {}
 def _parameter_function(
     nominal: dict[str, Any], paths: tuple[str, ...]
 ) -> tuple[Callable[..., None], list[int | float]] | None:
-    """:func:`prp3.mechanics.kernel.kernel_parameters` of the designs, traced over their values.
+    """:func:`prp3.mechanics.parameters.kernel_parameters` of the designs, traced over their values.
 
     The nominal robot with the values of the designs at ``paths``, through
     the robot's own properties (the platform inertia that follows ``l0`` and
     the mass) and ``kernel_parameters``: straight-line code
     (:func:`prp3.engines.trace.array_function`) from the ``(k,)`` columns of the
-    values to every field of :class:`~prp3.mechanics.kernel.KernelParameters`, then the
+    values to every field of :class:`~prp3.mechanics.parameters.KernelParameters`, then the
     lower and upper stroke.  Returns the function and the trace's outputs (a
     line, or the float of a field that no parameter changes); ``None`` when a
     path cannot be followed (the designs are then built one by one).
@@ -467,7 +461,7 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
     it is needed: designs outside a box of valid robots
     (:class:`~prp3.apps.design.DesignEvaluator`), the workspace columns, loads and friction
     that make the kernel branch; the kernel's parameters of the designs come
-    from :func:`prp3.mechanics.kernel.kernel_parameters` traced over their values.
+    from :func:`prp3.mechanics.parameters.kernel_parameters` traced over their values.
 
     Returns
     -------

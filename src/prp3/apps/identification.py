@@ -264,7 +264,7 @@ def weighted_least_squares(
 def robot_from_standard(nominal: Robot, standard: dict[str, float]) -> Robot:
     """The robot with the parameters ``standard`` (the others from ``nominal``).
 
-    The inverse of :func:`prp3.mechanics.kernel.kernel_parameters`: ``c = h/m``,
+    The inverse of :func:`prp3.mechanics.parameters.kernel_parameters`: ``c = h/m``,
     ``I2 = J2 − m2·|c2|²`` about the centre of mass.  The platform side
     ``(m3, h3, J3)`` is the platform and its payload together: with a payload
     in ``nominal``, its mass and own inertia are kept and the platform mass,

@@ -2,7 +2,7 @@
 
 The joint forces of the kernel (:mod:`prp3.mechanics.kernel`, eqs. 19–25) are linear and
 homogeneous in the standard inertial parameters ``π`` of
-:class:`~prp3.mechanics.kernel.KernelParameters` (for a fixed ``l0`` and gravity):
+:class:`~prp3.mechanics.parameters.KernelParameters` (for a fixed ``l0`` and gravity):
 gravity multiplies the masses and first moments only, every inertia wrench
 (eq. 22) is a parameter times a kinematic quantity, and the virtual work
 (eqs. 23–25) is linear in the wrenches.  So, for any motion,
@@ -12,8 +12,8 @@ gravity multiplies the masses and first moments only, every inertia wrench
 and column ``k`` of the regressor ``Y`` is exactly the kernel evaluated with
 ``π_k = 1`` and every other inertial parameter 0.  :func:`regressor` builds it
 that way, from the one source: the geometry and kinematics of a chunk of
-samples once (eqs. 10, 14, 17), then :func:`~prp3.mechanics.kernel.body_wrenches` and
-:func:`~prp3.mechanics.kernel.joint_forces` once per parameter.  (The symbolic route —
+samples once (eqs. 10, 14, 17), then :func:`~prp3.mechanics.wrenches.body_wrenches` and
+:func:`~prp3.mechanics.virtual_work.joint_forces` once per parameter.  (The symbolic route —
 ``sympy`` derivatives of :func:`~prp3.mechanics.kernel.symbolic_solution` — gives the
 same columns, but expressions of thousands of operations per column; the
 numeric one is exact to round-off because the forces are linear, and runs on
@@ -34,8 +34,18 @@ from numpy.typing import NDArray
 
 from prp3.engines.entries import DEFAULT_CHUNK
 from prp3.errors import ParameterError, TrajectoryError
-from prp3.mechanics import kernel
 from prp3.mechanics.geometry import inverse_geometry
+from prp3.mechanics.joint_motion import (
+    KernelKinematics,
+    kernel_geometry,
+    kernel_kinematics,
+    rate_floor,
+    rest_kinematics,
+)
+from prp3.mechanics.ops import NUMPY, Legs
+from prp3.mechanics.parameters import EFFECT_FIELDS, KernelParameters, kernel_parameters
+from prp3.mechanics.virtual_work import joint_forces
+from prp3.mechanics.wrenches import body_wrenches, friction_forces
 from prp3.model.elements import ELEMENTS, FRICTIONS, LOAD
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
@@ -57,7 +67,7 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: The standard inertial parameters (fields of :class:`~prp3.mechanics.kernel.KernelParameters`),
+#: The standard inertial parameters (fields of :class:`~prp3.mechanics.parameters.KernelParameters`),
 #: in the order of preference in which they name a base parameter: the platform's
 #: first, then the legs'.
 STANDARD_PARAMETERS: tuple[str, ...] = (
@@ -127,12 +137,12 @@ FORCES: tuple[str, ...] = ("f10", "f21y", "f21z")
 def standard_parameters(
     robot: Robot, parameters: Sequence[str] = STANDARD_PARAMETERS
 ) -> FloatArray:
-    """The standard parameters ``π`` of ``robot`` (:func:`prp3.mechanics.kernel.kernel_parameters`).
+    """The standard parameters ``π`` of ``robot`` (:func:`prp3.mechanics.parameters.kernel_parameters`).
 
     >>> standard_parameters(Robot(), ("piston_mass", "link_inertia")).tolist()
     [1.0, 0.000625]
     """
-    k = kernel.kernel_parameters(check_robot(robot))
+    k = kernel_parameters(check_robot(robot))
     return np.array([float(getattr(k, name)) for name in _check_names(parameters)])
 
 
@@ -164,7 +174,7 @@ class Regressor:
     dlambda10: FloatArray
 
 
-def _zero_parameters(robot: Robot, keep: Sequence[str] = ()) -> kernel.KernelParameters:
+def _zero_parameters(robot: Robot, keep: Sequence[str] = ()) -> KernelParameters:
     """``robot``'s kernel parameters with every inertial field and element field 0.
 
     Kept: ``l0``, gravity, the fields each element keeps for the shape of its
@@ -172,42 +182,40 @@ def _zero_parameters(robot: Robot, keep: Sequence[str] = ()) -> kernel.KernelPar
     Coulomb column is ``s(v)`` with the robot's smoothing; the spring's rest
     length) and the fields named in ``keep``.
     """
-    k = kernel.kernel_parameters(robot)
+    k = kernel_parameters(robot)
     shape = {name for element in ELEMENTS for name in element.kept}
     cleared = [
         name
-        for name in (*STANDARD_PARAMETERS, *kernel.EFFECT_FIELDS)
+        for name in (*STANDARD_PARAMETERS, *EFFECT_FIELDS)
         if name not in shape and name not in keep
     ]
     return replace(k, **dict.fromkeys(cleared, 0.0))
 
 
-def _unit_parameters(robot: Robot, names: Sequence[str]) -> list[kernel.KernelParameters]:
+def _unit_parameters(robot: Robot, names: Sequence[str]) -> list[KernelParameters]:
     """One :class:`KernelParameters` per name: that parameter 1, every other one 0."""
     zero = _zero_parameters(robot)
     return [replace(zero, **{name: 1.0}) for name in names]
 
 
 def _forces(
-    k: kernel.KernelParameters,
-    kin: kernel.KernelKinematics,
+    k: KernelParameters,
+    kin: KernelKinematics,
     rows: FloatArray,
     load: FloatArray | None = None,
-) -> tuple[kernel.Legs, kernel.Legs, kernel.Legs]:
+) -> tuple[Legs, Legs, Legs]:
     """``f10, f21y, f21z`` of the kernel for ``k`` (no ``μ`` terms), wrenches to virtual work."""
     ddx, ddy, dphi, ddphi = rows[6], rows[7], rows[5], rows[8]
-    floor = kernel.rate_floor(
-        kernel.NUMPY, k, kin.geometry, rows[0], rows[1], rows[3], rows[4], dphi
-    )
-    friction = kernel.friction_forces(kernel.NUMPY, k, kernel.rest_kinematics(kin, floor), dphi)
+    floor = rate_floor(NUMPY, k, kin.geometry, rows[0], rows[1], rows[3], rows[4], dphi)
+    friction = friction_forces(NUMPY, k, rest_kinematics(kin, floor), dphi)
     loads = None if load is None else (load[0], load[1], load[2])
-    wrenches = kernel.body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=loads, friction=friction)
-    f10, f21y, f21z, _ = kernel.joint_forces(k, kin, wrenches, reactions=False)
+    wrenches = body_wrenches(k, kin, ddx, ddy, dphi, ddphi, load=loads, friction=friction)
+    f10, f21y, f21z, _ = joint_forces(k, kin, wrenches, reactions=False)
     return f10, f21y, f21z
 
 
 def _regressor_rows(
-    units: Sequence[kernel.KernelParameters], rows: FloatArray
+    units: Sequence[KernelParameters], rows: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Regressor of the states ``rows`` (9, n): ``(3 forces, n, 3, P)``, ``λ10``, ``λ̇10``."""
     kin = _kinematics(units[0], rows)  # l0 is the same in every unit parameter set
@@ -219,11 +227,11 @@ def _regressor_rows(
     return out, np.stack(kin.geometry.lambda10, axis=-1), np.stack(kin.dlambda10, axis=-1)
 
 
-def _kinematics(k: kernel.KernelParameters, rows: FloatArray) -> kernel.KernelKinematics:
+def _kinematics(k: KernelParameters, rows: FloatArray) -> KernelKinematics:
     """Joint displacements and rates of the states ``rows`` (eqs. 10, 14, 17)."""
     x, y, phi, dx, dy, dphi, ddx, ddy, ddphi = rows
-    geo = kernel.kernel_geometry(kernel.NUMPY, k, x, y, phi)
-    return kernel.kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
+    geo = kernel_geometry(NUMPY, k, x, y, phi)
+    return kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
 
 
 def _state_rows(motion: Motion) -> FloatArray:
@@ -321,7 +329,7 @@ def regressor(
 
 def _refuse_mu(robot: Robot) -> None:
     """The load-dependent ``μ`` friction terms are not linear: refuse a robot with them."""
-    if kernel.kernel_parameters(robot).has_mu:
+    if kernel_parameters(robot).has_mu:
         raise ParameterError(
             "the robot has load-dependent friction (a friction mu > 0): its forces are not "
             "linear in the parameters, so it cannot be identified by least squares; set the "

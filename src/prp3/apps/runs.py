@@ -62,7 +62,7 @@ def simulate_table(
 
     ``near_lock``: a list to which the indices of the samples near a lock of
     the joint friction are appended (robots with ``μ`` terms; the kernel's
-    definition, :data:`prp3.mechanics.kernel.NEAR_LOCK_MU`, whatever the ``method``).
+    definition, :data:`prp3.mechanics.implicit_friction.NEAR_LOCK_MU`, whatever the ``method``).
     ``engine``: the kernel's engine (:mod:`prp3.engines.select`; ``None``: the default).
 
     >>> from prp3.model.motion import paper_motion

@@ -49,7 +49,7 @@ from prp3.family import FamilyRobot
 from prp3.files import check_inputs_kept, check_output_directory
 from prp3.io.tables import parquet_available, write_table_csv, write_table_parquet
 from prp3.io.trajectory import Trajectory, read_trajectory
-from prp3.mechanics.kernel import NEAR_LOCK_MU
+from prp3.mechanics.implicit_friction import NEAR_LOCK_MU
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import PAPER_MOTIONS, Motion, paper_motion
 from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported

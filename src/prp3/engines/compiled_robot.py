@@ -3,7 +3,7 @@
 The entries of the kernel (:mod:`prp3.engines.entries` for batches,
 :mod:`prp3.engines.sample_entries` for one sample) take a
 :class:`CompiledRobot`: the robot's constants as the kernel uses them
-(:class:`~prp3.mechanics.kernel.KernelParameters`), packed into the float64
+(:class:`~prp3.mechanics.KernelParameters`), packed into the float64
 array that the numba engine reads, the stroke, and whether the compiled
 kernel runs the robot (no joint friction).  Its :meth:`CompiledRobot.sample_function`
 is the unvalidated kernel of one sample for a control loop.
@@ -22,6 +22,8 @@ from numpy.typing import NDArray
 from prp3.engines.select import numba_module, resolve_engine
 from prp3.errors import Prp3Error
 from prp3.mechanics import kernel
+from prp3.mechanics.ops import MATH
+from prp3.mechanics.parameters import KernelParameters, kernel_parameters
 from prp3.model.robot import Robot
 from prp3.validation import check_robot
 
@@ -59,7 +61,7 @@ class CompiledRobot:
     """
 
     robot: Robot
-    parameters: kernel.KernelParameters
+    parameters: KernelParameters
     stroke: tuple[float, float] | None
     array: FloatArray
     compiled_kernel: bool
@@ -69,7 +71,7 @@ class CompiledRobot:
         if not (
             type(array) is np.ndarray
             and array.dtype == np.float64
-            and array.shape == (len(kernel.KernelParameters.__dataclass_fields__),)
+            and array.shape == (len(KernelParameters.__dataclass_fields__),)
             and array.flags.c_contiguous
             and array.flags.aligned
             and not array.flags.writeable
@@ -122,7 +124,7 @@ def _unchecked(
         return numba_forces
 
     def floats(*state: float) -> tuple[float, ...]:
-        sol = kernel.solve(kernel.MATH, params, *state, reactions=False)
+        sol = kernel.solve(MATH, params, *state, reactions=False)
         if sol.iterations is not None and sol.iterations < 0:
             return (math.nan,) * (3 if f10_only else 15 if stroke else 12)
         if f10_only:
@@ -147,9 +149,9 @@ def compile_robot(robot: Robot) -> CompiledRobot:
     0.0675
     """
     check_robot(robot)
-    parameters = kernel.kernel_parameters(robot)
+    parameters = kernel_parameters(robot)
     array = np.array(
-        [float(getattr(parameters, name)) for name in kernel.KernelParameters.__dataclass_fields__]
+        [float(getattr(parameters, name)) for name in KernelParameters.__dataclass_fields__]
     )
     array.flags.writeable = False
     friction = robot.friction is not None or parameters.has_mu

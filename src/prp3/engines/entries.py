@@ -38,6 +38,8 @@ from prp3.engines.select import CHUNK, numba_module, run_numpy
 from prp3.errors import Prp3Error, TrajectoryError
 from prp3.mechanics import kernel
 from prp3.mechanics.geometry import check_stroke
+from prp3.mechanics.joint_motion import kernel_geometry
+from prp3.mechanics.ops import NUMPY
 from prp3.model.robot import Robot
 from prp3.pose_validation import check_pose_array
 from prp3.validation import check_finite, check_integer, check_real, require_finite
@@ -227,7 +229,7 @@ def solve_batch(
     and reactions), with a robot's ``[friction]`` also :data:`FRICTION_OUTPUTS`
     and, with ``μ`` terms, ``"iterations"`` (shape ``(N,)``: Newton
     iterations of each sample) and ``"near_lock"`` (shape ``(N,)``: 1.0 where
-    the sample is near a lock, :data:`prp3.mechanics.kernel.NEAR_LOCK_MU`, else 0.0);
+    the sample is near a lock, :data:`prp3.mechanics.implicit_friction.NEAR_LOCK_MU`, else 0.0);
     shapes as :func:`paper_forces`.  ``load``: the time-varying wrench
     ``(f_x, f_y, m_z)`` on the platform, shaped as ``pose``.  ``engine`` as
     :func:`paper_forces`.
@@ -282,7 +284,7 @@ def _lambda10(compiled: CompiledRobot, pose: FloatArray) -> FloatArray:
     lam = np.empty_like(pose)
     for start in range(0, pose.shape[0], DEFAULT_CHUNK):
         rows = pose[start : start + DEFAULT_CHUNK]
-        geo = kernel.kernel_geometry(kernel.NUMPY, compiled.parameters, *rows.T)
+        geo = kernel_geometry(NUMPY, compiled.parameters, *rows.T)
         for leg in range(3):
             lam[start : start + DEFAULT_CHUNK, leg] = geo.lambda10[leg]
     return lam
@@ -412,16 +414,23 @@ def _run_numba(
     load: FloatArray | None,
     block: FloatArray | None,
 ) -> None:
-    """The numba engine's loop for the outputs ``targets`` (C-contiguous inputs)."""
+    """The numba engine's loop for the outputs ``targets`` (C-contiguous inputs).
+
+    On every thread from :data:`prp3.engines.numba.PARALLEL_MIN_SAMPLES` samples
+    (:func:`prp3.engines.numba.batch_loops`), on one below.
+    """
     pose, velocity, acceleration = (_frozen(a) for a in inputs)
+    samples = pose.shape[0]
+    loops = numba.batch_loops(samples)
+    rows = (array, pose, velocity, acceleration, 0, samples)
     names = tuple(targets)
     if names == ("f10",):
-        numba.f10_loop(array, pose, velocity, acceleration, targets["f10"])
+        loops.f10(*rows, targets["f10"])
     elif names == FORCE_OUTPUTS:
-        numba.forces_loop(array, pose, velocity, acceleration, *targets.values())
+        loops.forces(*rows, *targets.values())
     elif names == FORCE_OUTPUTS + _REACTIONS:
-        numba.reactions_loop(array, pose, velocity, acceleration, *targets.values())
+        loops.reactions(*rows, *targets.values())
     else:
         assert block is not None and names == KERNEL_OUTPUTS
         wrench = None if load is None else _frozen(load)
-        numba.solve_loop(array, pose, velocity, acceleration, wrench, block)
+        loops.solve(*rows, wrench, block)

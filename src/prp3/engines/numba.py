@@ -1,24 +1,41 @@
 """The numba engine: the kernel's own functions compiled to machine code (internal).
 
-Nothing here is written twice: every function of :mod:`prp3.mechanics.kernel` is
-compiled by numba from its own bytecode (:func:`_compiled_kernel`), with the
-functions of :mod:`math` as its :class:`~prp3.mechanics.kernel.Ops` and the robot's
+Nothing here is written twice: every function of the kernel's stages
+(:data:`STAGE_MODULES`: :mod:`prp3.mechanics.joint_motion`,
+:mod:`prp3.mechanics.wrenches`, :mod:`prp3.mechanics.virtual_work`) is compiled
+by numba from its own bytecode (:func:`_compiled_kernel`), with the functions
+of :mod:`math` as its :class:`~prp3.mechanics.ops.Ops` and the robot's
 constants as a named tuple of the fields of
-:class:`~prp3.mechanics.kernel.KernelParameters` (read from a float64 array, so that one
-compiled function serves every robot).  The loops below only call the
-kernel's stages in the order of :func:`prp3.mechanics.kernel.solve` —
-:func:`~prp3.mechanics.kernel.kernel_geometry`, :func:`~prp3.mechanics.kernel.kernel_kinematics`,
-:func:`~prp3.mechanics.kernel.body_wrenches`, :func:`~prp3.mechanics.kernel.joint_forces` — and
-store what they return.  What the kernel does not write on plain floats
-(the friction laws, the implicit ``μ`` solve) is not compiled: the numpy
-engine runs it (:mod:`prp3.engines.select`).
+:class:`~prp3.mechanics.parameters.KernelParameters` (read from a float64
+array, so that one compiled function serves every robot).  The loops below
+only call the kernel's stages in the order of :func:`prp3.mechanics.kernel.solve` —
+:func:`~prp3.mechanics.joint_motion.kernel_geometry`,
+:func:`~prp3.mechanics.joint_motion.kernel_kinematics`,
+:func:`~prp3.mechanics.wrenches.body_wrenches`,
+:func:`~prp3.mechanics.virtual_work.joint_forces` — and store what they
+return.  What the kernel does not write on plain floats (the friction laws,
+the implicit ``μ`` solve) is not compiled: the numpy engine runs it
+(:mod:`prp3.engines.select`).
+
+A batch of :data:`PARALLEL_MIN_SAMPLES` samples or more runs on every thread
+of numba's threading layer (:func:`batch_loops`: the ``*_parallel`` loops,
+``parallel=True``, ``prange`` over blocks of :data:`BLOCK` samples, each block
+one call of the loop on one thread, so that the numbers are those of one
+thread), a smaller one on the calling thread (waking the threads would cost
+more than they save).  The layer must be thread-safe (:data:`THREAD_SAFE_LAYERS`:
+the explorer's server, dask's threads or a user's threads may call at once;
+numba's ``workqueue`` aborts the process then): :func:`parallel_layer` asks
+numba for one, and without one the batches run on one thread, said once by an
+:class:`~prp3.engines.select.EngineWarning`.  ``numba.set_num_threads`` sets
+the threads of the calling thread's batches.
 
 The machine code is cached on disk (``cache=True``: in ``__pycache__`` beside
 this file where it is writable, else numba's user cache directory, or
 ``NUMBA_CACHE_DIR``), so the compile cost (about two seconds per function)
 is paid once per installation.  The cache is keyed on the source of this
-file *and* of :mod:`prp3.mechanics.kernel` (:class:`_KernelStamp`): a change of the
-kernel recompiles.
+file *and* of every module whose functions it compiles or whose layout it
+reads (:data:`KERNEL_SOURCES`, :class:`_KernelStamp`): a change of any of
+them recompiles.
 
 The engine does not validate: its callers (:mod:`prp3.engines.entries`) pass finite,
 non-singular samples.  Division by a zero is IEEE's (``error_model="numpy"``).
@@ -28,66 +45,92 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 import types
+import warnings
 from collections import namedtuple
 from dataclasses import fields
-from typing import Any
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
 from numba.core import caching
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
-from prp3.mechanics import kernel
+from prp3.engines.select import EngineWarning
+from prp3.mechanics import joint_motion, parameters, virtual_work, wrenches
+from prp3.mechanics.parameters import KernelParameters
 
 __all__ = [
+    "KERNEL_SOURCES",
     "MACHINE_CODE",
+    "PARALLEL_MIN_SAMPLES",
+    "STAGE_MODULES",
+    "THREAD_SAFE_LAYERS",
+    "BatchLoops",
+    "batch_loops",
     "f10_loop",
+    "f10_loop_parallel",
     "forces_loop",
+    "forces_loop_parallel",
     "lambda10_sample",
     "machine_code",
+    "parallel_layer",
     "parameter_array",
     "reactions_loop",
+    "reactions_loop_parallel",
     "sample_f10",
     "sample_f10_loaded",
     "sample_forces",
     "sample_forces_loaded",
     "solve_loop",
+    "solve_loop_parallel",
 ]
 
-_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(kernel.KernelParameters))
+_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(KernelParameters))
 _COUNT = len(_FIELDS)
 #: The kernel's parameters as numba sees them: the fields of KernelParameters, floats.
 _Parameters = namedtuple("_Parameters", _FIELDS)  # type: ignore[misc]
 
 
-def parameter_array(parameters: kernel.KernelParameters) -> np.ndarray[Any, np.dtype[np.float64]]:
+def parameter_array(parameters: KernelParameters) -> np.ndarray[Any, np.dtype[np.float64]]:
     """The fields of ``parameters`` (floats) as a float64 array, in field order."""
     return np.array([float(getattr(parameters, name)) for name in _FIELDS])
 
 
 # ------------------------------------------------------------------ the cache
-_KERNEL_FILE = kernel.__file__
+#: The modules whose functions :func:`_compiled_kernel` compiles (the kernel's stages).
+STAGE_MODULES: tuple[types.ModuleType, ...] = (joint_motion, wrenches, virtual_work)
+#: The source files the cached machine code depends on besides this one: the stages and
+#: :mod:`prp3.mechanics.parameters` (the fields, in order, of the named tuple they read).
+KERNEL_SOURCES: tuple[str, ...] = tuple(
+    str(module.__file__) for module in (*STAGE_MODULES, parameters)
+)
 
 
 class _KernelStamp:
-    """A cache locator whose stamp is this file's and :mod:`prp3.mechanics.kernel`'s.
+    """A cache locator whose stamp is this file's and those of :data:`KERNEL_SOURCES`.
 
     numba stamps a cached function with its own source file only; the loops
-    here inline the kernel, so a change of ``kernel.py`` must invalidate
-    them too.
+    here inline the kernel's stages, so a change of any of their files must
+    invalidate them too.
     """
 
     def get_source_stamp(self) -> Any:
         stamp = super().get_source_stamp()  # type: ignore[misc]
-        st = os.stat(_KERNEL_FILE)
-        return (stamp, caching._hash_source_file(_KERNEL_FILE, st.st_mtime, st.st_size))
+        return (stamp, *(_source_stamp(path) for path in KERNEL_SOURCES))
 
     @classmethod
     def from_function(cls, py_func: Any, py_file: str) -> Any:
         if os.path.abspath(py_file) != os.path.abspath(__file__):
             return None
         return super().from_function(py_func, py_file)  # type: ignore[misc]
+
+
+def _source_stamp(path: str) -> Any:
+    """numba's stamp of the source file ``path`` (its modification time and size)."""
+    st = os.stat(path)
+    return caching._hash_source_file(path, st.st_mtime, st.st_size)
 
 
 def _install_locators() -> None:
@@ -146,23 +189,26 @@ _Ops = namedtuple("_Ops", ("name", "cos", "sin", "sqrt", "tanh", "abs", "sign"))
 
 
 def _compiled_kernel() -> types.ModuleType:
-    """Every function of :mod:`prp3.mechanics.kernel`, compiled by numba from its own bytecode.
+    """Every function of :data:`STAGE_MODULES`, compiled by numba from its own bytecode.
 
-    Each function is rebuilt from its code object with a namespace in which
-    the kernel's names are the compiled functions, ``_zero`` tests a float
-    (numba has no ``isinstance`` of unions) and :data:`OPS` is :mod:`math`'s.
-    Compilation is lazy: only what the loops call is compiled.
+    Each function is rebuilt from its code object with one namespace, that of
+    the stages together, in which their names are the compiled functions,
+    ``_zero`` tests a float (numba has no ``isinstance`` of unions) and
+    :data:`OPS` is :mod:`math`'s.  Compilation is lazy: only what the loops
+    call is compiled.
     """
     module = types.ModuleType("prp3.kernel_numba")
     namespace = module.__dict__
-    namespace.update(vars(kernel))
-    for name, value in vars(kernel).items():
-        if isinstance(value, types.FunctionType) and value.__module__ == kernel.__name__:
-            clone = types.FunctionType(
-                value.__code__, namespace, value.__name__, value.__defaults__, value.__closure__
-            )
-            clone.__kwdefaults__ = value.__kwdefaults__
-            namespace[name] = _inline(clone)
+    for stage in STAGE_MODULES:
+        namespace.update(vars(stage))
+    for stage in STAGE_MODULES:
+        for name, value in vars(stage).items():
+            if isinstance(value, types.FunctionType) and value.__module__ == stage.__name__:
+                clone = types.FunctionType(
+                    value.__code__, namespace, value.__name__, value.__defaults__, value.__closure__
+                )
+                clone.__kwdefaults__ = value.__kwdefaults__
+                namespace[name] = _inline(clone)
     namespace["_zero"] = _inline(_zero)
     return module
 
@@ -232,49 +278,120 @@ def _store_reactions(n10: Any, m10: Any, n32: Any, m32: Any, i: int, rest: Any) 
     _store(m32, i, rest[3])
 
 
+# ---------------------------------------------------------------- the threads
+#: Samples from which a batch runs on every thread (:func:`batch_loops`): below, waking the
+#: threads costs more than they save (and on a machine whose cores are busy, a thread may
+#: wait for one longer than the whole batch takes on the calling thread).
+PARALLEL_MIN_SAMPLES = 4096
+#: The threading layers of numba whose parallel loops may be called from several Python
+#: threads at once (the explorer's server, dask's threads, a user's); ``workqueue`` may not.
+THREAD_SAFE_LAYERS: tuple[str, ...] = ("tbb", "omp")
+
+_UNSET: Any = object()
+_layer: Any = _UNSET
+_NUMBA: Any = numba  # its threading functions and config, as numba documents them
+_layer_lock = threading.Lock()
+
+
+def parallel_layer() -> str | None:
+    """The thread-safe threading layer the parallel loops run on, or ``None``: one thread.
+
+    Started on the first call (once per process) with numba's choice among
+    :data:`THREAD_SAFE_LAYERS` (``"threadsafe"``) unless the user chose a layer
+    (``NUMBA_THREADING_LAYER``) or started one before; a layer that is not
+    thread-safe, or none at all, leaves the batches on one thread, said once by
+    an :class:`~prp3.engines.select.EngineWarning`.  A process forked from one
+    that started the threads runs on one thread (GNU OpenMP is not fork-safe).
+    """
+    global _layer
+    if _layer is _UNSET:
+        with _layer_lock:
+            if _layer is _UNSET:
+                _layer = _start_layer()
+    return _layer  # type: ignore[no-any-return]
+
+
+def _start_layer() -> str | None:
+    try:
+        layer: str | None = _NUMBA.threading_layer()  # started before: as it is
+    except ValueError:  # not started yet
+        requested = _NUMBA.config.THREADING_LAYER
+        if requested == "default":  # not the user's choice: a thread-safe one
+            _NUMBA.config.THREADING_LAYER = "threadsafe"
+        try:
+            _NUMBA.get_num_threads()  # starts the layer
+            layer = _NUMBA.threading_layer()
+        except ValueError:  # no such layer could be loaded
+            layer = None
+        finally:
+            _NUMBA.config.THREADING_LAYER = requested
+    if layer in THREAD_SAFE_LAYERS:
+        return layer
+    warnings.warn(
+        f"numba's threading layer {layer or 'tbb or omp'!r} is not thread-safe or not "
+        "available: prp3's batches run on one thread; pip install tbb (or a GNU OpenMP) "
+        "for every core",
+        EngineWarning,
+        stacklevel=4,
+    )
+    return None
+
+
+def _after_fork_in_child() -> None:
+    """A child of a process whose threads run: one thread (GNU OpenMP is not fork-safe)."""
+    global _layer
+    try:
+        _NUMBA.threading_layer()
+    except ValueError:  # no threads before the fork: the child may start its own
+        return
+    _layer = None
+
+
+os.register_at_fork(after_in_child=_after_fork_in_child)
+
+
 # ------------------------------------------------------------------- batches
 @numba.njit(cache=True, error_model="numpy")
-def f10_loop(
-    a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any
-) -> None:  # pragma: no cover
-    """``f10`` ``(n, 3)`` of samples ``(n, 3)``, written into ``f10``."""
+def f10_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+             f10: Any) -> None:  # pragma: no cover  # fmt: skip
+    """``f10`` ``(n, 3)`` of the samples ``start:stop`` of ``(n, 3)``, written into ``f10``."""
     k = _parameters(a)
-    for i in range(pose.shape[0]):
+    for i in range(start, stop):
         _, f, _, _, _ = _solve_row(k, pose, velocity, acceleration, i, None, False)
         _store(f10, i, f)
 
 
 @numba.njit(cache=True, error_model="numpy")
-def forces_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any, p10: Any,
-                f21y: Any, f21z: Any) -> None:  # pragma: no cover  # fmt: skip
-    """``f10, p10, f21y, f21z`` ``(n, 3)`` of samples ``(n, 3)``, written into them."""
+def forces_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+                f10: Any, p10: Any, f21y: Any, f21z: Any) -> None:  # pragma: no cover  # fmt: skip
+    """``f10, p10, f21y, f21z`` ``(n, 3)`` of the samples ``start:stop``, written into them."""
     k = _parameters(a)
-    for i in range(pose.shape[0]):
+    for i in range(start, stop):
         kin, f, fy, fz, _ = _solve_row(k, pose, velocity, acceleration, i, None, False)
         _store_forces(f10, p10, f21y, f21z, i, kin, f, fy, fz)
 
 
 @numba.njit(cache=True, error_model="numpy")
-def reactions_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, f10: Any, p10: Any,
-                   f21y: Any, f21z: Any, n10: Any, m10: Any, n32: Any, m32: Any) -> None:  # pragma: no cover  # fmt: skip
+def reactions_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+                   f10: Any, p10: Any, f21y: Any, f21z: Any, n10: Any, m10: Any, n32: Any,
+                   m32: Any) -> None:  # pragma: no cover  # fmt: skip
     """:func:`forces_loop` and the reactions ``n10, m10, n32, m32``."""
     k = _parameters(a)
-    for i in range(pose.shape[0]):
+    for i in range(start, stop):
         kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, None, True)
         _store_forces(f10, p10, f21y, f21z, i, kin, f, fy, fz)
         _store_reactions(n10, m10, n32, m32, i, rest)
 
 
 @numba.njit(cache=True, error_model="numpy")
-def solve_loop(
-    a: Any, pose: Any, velocity: Any, acceleration: Any, load: Any, out: Any
-) -> None:  # pragma: no cover
+def solve_loop(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+               load: Any, out: Any) -> None:  # pragma: no cover  # fmt: skip
     """Every output of :class:`~prp3.mechanics.kernel.KernelSolution` up to ``m32``: ``out`` ``(14, n, 3)``.
 
     ``load`` ``(n, 3)``: the time-varying wrench on the platform, or ``None``.
     """
     k = _parameters(a)
-    for i in range(pose.shape[0]):
+    for i in range(start, stop):
         if load is None:
             kin, f, fy, fz, rest = _solve_row(k, pose, velocity, acceleration, i, None, True)
         else:
@@ -289,6 +406,66 @@ def solve_loop(
         _store(out[5], i, kin.ddlambda32)
         _store_forces(out[6], out[7], out[8], out[9], i, kin, f, fy, fz)
         _store_reactions(out[10], out[11], out[12], out[13], i, rest)
+
+
+#: Samples per call of a loop above by its parallel loop (the share of one thread at a time).
+BLOCK = 512
+
+
+def _blocks(a: Any, pose: Any, velocity: Any, acceleration: Any, start: int, stop: int,
+            *outputs: Any) -> None:  # pragma: no cover  # fmt: skip
+    """The loop ``_loop`` on the samples ``start:stop``, block by block on every thread."""
+    for b in numba.prange((stop - start + BLOCK - 1) // BLOCK):
+        first = start + b * BLOCK
+        last = min(stop, first + BLOCK)
+        _loop(a, pose, velocity, acceleration, first, last, *outputs)  # type: ignore[name-defined]  # noqa: F821
+
+
+def _parallel(loop: Any) -> Any:
+    """``loop`` on every thread: :func:`_blocks` compiled with ``parallel=True`` for it.
+
+    Each block is one call of ``loop`` (numba's analysis of parallel loops does
+    not follow the kernel's tuples inlined), so each sample is computed by the
+    same machine code as on one thread.  Compiled from a copy of :func:`_blocks`
+    named ``<loop>_parallel`` (numba names a cache entry after its function).
+    """
+    name = f"{loop.py_func.__name__}_parallel"
+    function = types.FunctionType(_blocks.__code__, {**globals(), "_loop": loop}, name)
+    function.__qualname__ = name
+    function.__doc__ = f":func:`{loop.py_func.__name__}` on every thread, block by block."
+    return numba.njit(cache=True, error_model="numpy", parallel=True)(function)
+
+
+f10_loop_parallel = _parallel(f10_loop)
+forces_loop_parallel = _parallel(forces_loop)
+reactions_loop_parallel = _parallel(reactions_loop)
+solve_loop_parallel = _parallel(solve_loop)
+
+
+class BatchLoops(NamedTuple):
+    """The four batch loops of one kind (:func:`batch_loops`)."""
+
+    f10: Any
+    forces: Any
+    reactions: Any
+    solve: Any
+
+
+def batch_loops(samples: int) -> BatchLoops:
+    """The loops that run a batch of ``samples`` samples: on every thread, or on one.
+
+    On every thread of numba's threading layer (the ``*_parallel`` loops) when
+    ``samples >= PARALLEL_MIN_SAMPLES`` and the layer is thread-safe
+    (:func:`parallel_layer`), else on the calling thread alone (:func:`f10_loop`,
+    ...).  The choice is a function of ``samples`` and of what the process
+    offers, never of earlier calls; both kinds give the same numbers (each
+    sample is computed alone, by the same machine code).
+    """
+    if samples >= PARALLEL_MIN_SAMPLES and parallel_layer() is not None:
+        return BatchLoops(
+            f10_loop_parallel, forces_loop_parallel, reactions_loop_parallel, solve_loop_parallel
+        )
+    return BatchLoops(f10_loop, forces_loop, reactions_loop, solve_loop)
 
 
 # ------------------------------------------------------------- single samples

@@ -26,6 +26,8 @@ from prp3.engines.select import default_engine, numba_module, resolve_engine
 from prp3.errors import Prp3Error
 from prp3.mechanics import kernel
 from prp3.mechanics.geometry import check_stroke
+from prp3.mechanics.joint_motion import kernel_geometry
+from prp3.mechanics.ops import MATH
 from prp3.pose_validation import check_state_sample
 from prp3.validation import require_finite
 
@@ -208,7 +210,7 @@ def _check_stroke(compiled: CompiledRobot, state: tuple[float, ...], numba: Any)
             compiled.array, x, y, phi
         )
     else:
-        lam = kernel.kernel_geometry(kernel.MATH, compiled.parameters, x, y, phi).lambda10
+        lam = kernel_geometry(MATH, compiled.parameters, x, y, phi).lambda10
     if not all(stroke[0] <= value <= stroke[1] for value in lam):
         check_stroke(compiled.robot, np.array(lam), np.array([x, y, phi]))
 
@@ -217,7 +219,7 @@ def _sample_floats(
     compiled: CompiledRobot, state: tuple[float, ...], load: tuple[float, float, float] | None
 ) -> kernel.KernelSolution:
     """One validated sample by the kernel on Python floats; its results checked."""
-    sol = kernel.solve(kernel.MATH, compiled.parameters, *state, reactions=False, load=load)
+    sol = kernel.solve(MATH, compiled.parameters, *state, reactions=False, load=load)
     if sol.iterations is not None and sol.iterations < 0:
         raise friction_lock(0)
     values = (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z)

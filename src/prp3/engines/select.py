@@ -6,13 +6,15 @@ engine runs it on many samples:
 
 * ``"numba"`` — :mod:`prp3.engines.numba`: the kernel's own functions compiled
   by numba (machine code cached on disk, compiled once per installation), one
-  loop over the samples; no temporary arrays.  The default when numba imports.
+  loop over the samples, on every thread of numba's threading layer from
+  :data:`prp3.engines.numba.PARALLEL_MIN_SAMPLES` samples; no temporary arrays.
+  The default when numba imports.
 * ``"numpy"`` — :func:`run_numpy`: :func:`prp3.mechanics.kernel.solve` itself on 1-D
-  float64 arrays (:data:`~prp3.mechanics.kernel.NUMPY`), :data:`CHUNK` samples at a time
+  float64 arrays (:data:`~prp3.mechanics.ops.NUMPY`), :data:`CHUNK` samples at a time
   (memory bounded for any ``N``); a breakpoint in
-  :func:`prp3.mechanics.kernel.body_wrenches` stops there.  It runs every effect of the
+  :func:`prp3.mechanics.wrenches.body_wrenches` stops there.  It runs every effect of the
   kernel, among them the joint friction and its implicit ``μ`` terms
-  (:func:`prp3.mechanics.kernel.solve_mu`, Newton on arrays), which the numba engine
+  (:func:`prp3.mechanics.implicit_friction.solve_mu`, Newton on arrays), which the numba engine
   does not compile: a robot with ``[friction]`` runs on numpy whichever
   engine is asked (:func:`runs_on`).
 
@@ -39,6 +41,8 @@ from numpy.typing import NDArray
 
 from prp3.errors import Prp3Error
 from prp3.mechanics import kernel
+from prp3.mechanics.ops import NUMPY
+from prp3.mechanics.parameters import KernelParameters
 from prp3.validation import check_choice
 
 __all__ = [
@@ -65,7 +69,12 @@ _numba: Any = _MISSING
 
 
 class EngineWarning(UserWarning):
-    """The compiled engine is not available: the numpy engine runs (said once)."""
+    """The compiled engine, or its threads, are not available (said once).
+
+    Without numba the numpy engine runs (:func:`default_engine`); without a
+    thread-safe threading layer of numba its batches run on one thread
+    (:func:`prp3.engines.numba.parallel_layer`).
+    """
 
 
 def numba_module() -> ModuleType | None:
@@ -118,7 +127,7 @@ def resolve_engine(engine: object) -> str:
     return name
 
 
-def runs_on(engine: str, parameters: kernel.KernelParameters, friction: bool) -> str:
+def runs_on(engine: str, parameters: KernelParameters, friction: bool) -> str:
     """The engine that runs a robot: ``engine``, or ``"numpy"`` for what numba does not compile.
 
     The numba engine compiles the kernel without joint friction (the friction
@@ -131,7 +140,7 @@ def runs_on(engine: str, parameters: kernel.KernelParameters, friction: bool) ->
 
 
 def run_numpy(
-    parameters: kernel.KernelParameters,
+    parameters: KernelParameters,
     inputs: list[FloatArray],
     targets: dict[str, FloatArray],
     *,
@@ -160,7 +169,7 @@ def run_numpy(
             for k, array in enumerate(inputs):
                 np.copyto(rows[3 * k : 3 * k + 3], array[start:stop].T)
             wrench = None if load is None else tuple(load[start:stop].T)
-            sol = kernel.solve(kernel.NUMPY, parameters, *rows, reactions=reactions, load=wrench)
+            sol = kernel.solve(NUMPY, parameters, *rows, reactions=reactions, load=wrench)
             if sol.iterations is not None and iterations is not None:
                 iterations[start:stop] = sol.iterations
             if sol.near_lock is not None and near_lock is not None:

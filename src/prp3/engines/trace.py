@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from prp3.mechanics.kernel import Ops
+from prp3.mechanics.ops import Ops
 
 __all__ = [
     "TRACE",

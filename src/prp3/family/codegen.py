@@ -73,7 +73,7 @@ from prp3.engines.trace import trace
 from prp3.family.chain import SIGMA, SINGULAR
 from prp3.family.model import FamilyRobot
 from prp3.family.sample_mechanics import _Design, _Inertia, _turn, leg_candidates, sample_dynamics
-from prp3.mechanics.kernel import MATH, Ops
+from prp3.mechanics.ops import MATH, Ops
 from prp3.validation import LEGS, check_instance
 
 __all__ = [
@@ -329,7 +329,7 @@ def python_sample(
 ) -> tuple[int, list[float]]:
     """The generated code's steps on Python floats: ``(code, [tau (3), joint (27)])``.
 
-    The same mechanics as the C (the functions above with :data:`prp3.mechanics.kernel.MATH`),
+    The same mechanics as the C (the functions above with :data:`prp3.mechanics.ops.MATH`),
     for checks of the mechanics independent of a compiler.
     """
     design, inertia = _Design.of(robot), _Inertia.of(robot)

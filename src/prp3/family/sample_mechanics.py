@@ -2,7 +2,7 @@
 
 Written once, in the vector form of the chain (each frame's rotation as
 ``(cos, sin)``, so no angle is ever needed), on the operations ``ops`` of
-:class:`prp3.mechanics.kernel.Ops`: run on the tracer of :mod:`prp3.engines.trace` it becomes
+:class:`prp3.mechanics.ops.Ops`: run on the tracer of :mod:`prp3.engines.trace` it becomes
 the C of :mod:`prp3.family.codegen`, on Python floats it is
 :func:`prp3.family.codegen.python_sample`.  Two stages:
 
@@ -14,7 +14,7 @@ the C of :mod:`prp3.family.codegen`, on Python floats it is
   chosen configurations: ``q̇ = J⁻¹·t``, ``q̈ = J⁻¹·(ṫ − J̇·q̇)``, the body
   wrenches, virtual work for ``tau``, every joint wrench, and ``μ_par``.
 
->>> from prp3.mechanics.kernel import MATH
+>>> from prp3.mechanics.ops import MATH
 >>> from prp3.family.model import FamilyRobot
 >>> design = _Design.of(FamilyRobot.default("3-RRR"))
 >>> len(list(leg_candidates(MATH, design, (0.0, 0.0), (1.0, 0.0))))
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from prp3.family.model import FamilyRobot
-from prp3.mechanics.kernel import Ops
+from prp3.mechanics.ops import Ops
 
 __all__ = ["leg_candidates", "sample_dynamics"]
 

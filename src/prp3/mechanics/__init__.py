@@ -1,1 +1,1 @@
-"""What is computed: the paper's closed form (`kernel`), inverse geometry and kinematics with every vector, the one result type (`forces`)."""
+"""What is computed: the paper's closed form (`kernel`, assembled from its stages `joint_motion`, `wrenches`, `virtual_work`, `implicit_friction` on `ops` and `parameters`), inverse geometry and kinematics with every vector, the one result type (`forces`)."""

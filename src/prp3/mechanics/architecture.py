@@ -14,7 +14,7 @@ and every route of prp3 runs the same four stages for one:
 A leg architecture is an object with these four methods
 (:class:`LegArchitecture`).  What the first three return is the
 architecture's own — the 3-PRP's closed form gives a few scalars per leg
-(:class:`~prp3.mechanics.kernel.KernelGeometry`, …), a general leg chain its
+(:class:`~prp3.mechanics.joint_motion.KernelGeometry`, …), a general leg chain its
 frames and 3×3 Jacobians (:class:`prp3.family.architecture.LegChain`) —; the
 last returns the one common result, :class:`JointSolution`: the joint
 motion, the actuator efforts and every joint force in the family's form
@@ -53,6 +53,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.mechanics import kernel
+from prp3.mechanics.joint_motion import (
+    KernelGeometry,
+    KernelKinematics,
+    kernel_geometry,
+    kernel_kinematics,
+    rate_floor,
+    rest_kinematics,
+)
+from prp3.mechanics.ops import NUMPY, Legs
+from prp3.mechanics.parameters import KernelParameters, kernel_parameters
+from prp3.mechanics.virtual_work import joint_forces
+from prp3.mechanics.wrenches import BodyWrenches, body_wrenches, friction_forces
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
 from prp3.pose_validation import check_pose_array
@@ -175,56 +187,54 @@ class ClosedForm3PRP:
     robot : Robot
         Every effect of the robot enters (the loads, the actuators' spring, the
         friction: its explicit part in stage 3, its implicit ``μ`` terms by
-        :func:`prp3.mechanics.kernel.solve_mu` in stage 4, as :func:`kernel.dynamics` does).
+        :func:`prp3.mechanics.implicit_friction.solve_mu` in stage 4, as
+        :func:`prp3.mechanics.kernel.dynamics` does).
     """
 
     architecture = "3-PRP"
 
     def __init__(self, robot: Robot) -> None:
         self.robot = check_instance("robot", robot, Robot, "a prp3.Robot")
-        self.parameters = kernel.kernel_parameters(self.robot)
+        self.parameters = kernel_parameters(self.robot)
 
     def check(self, motion: Motion) -> None:
         """Bounds and the singular orientation ``sin(φ − π/3) = 0`` (eq. 10 divides by it)."""
         check_pose_array(_states(motion)[0], self.robot, "motion pose")
 
-    def inverse_geometry(self, motion: Motion) -> kernel.KernelGeometry:
-        """Eqs. (7)–(10): :func:`prp3.mechanics.kernel.kernel_geometry`."""
+    def inverse_geometry(self, motion: Motion) -> KernelGeometry:
+        """Eqs. (7)–(10): :func:`prp3.mechanics.joint_motion.kernel_geometry`."""
         x, y, phi = _states(motion)[0].T
-        return kernel.kernel_geometry(kernel.NUMPY, self.parameters, x, y, phi)
+        return kernel_geometry(NUMPY, self.parameters, x, y, phi)
 
-    def rates(self, motion: Motion, geometry: kernel.KernelGeometry) -> kernel.KernelKinematics:
-        """Eqs. (14), (17): :func:`prp3.mechanics.kernel.kernel_kinematics`."""
+    def rates(self, motion: Motion, geometry: KernelGeometry) -> KernelKinematics:
+        """Eqs. (14), (17): :func:`prp3.mechanics.joint_motion.kernel_kinematics`."""
         _, velocity, acceleration = _states(motion)
-        return kernel.kernel_kinematics(self.parameters, geometry, *velocity.T, *acceleration.T)
+        return kernel_kinematics(self.parameters, geometry, *velocity.T, *acceleration.T)
 
-    def body_wrenches(
-        self, motion: Motion, kinematics: kernel.KernelKinematics
-    ) -> kernel.BodyWrenches:
-        """Eqs. (19), (20), (22): :func:`prp3.mechanics.kernel.body_wrenches` (explicit friction)."""
+    def body_wrenches(self, motion: Motion, kinematics: KernelKinematics) -> BodyWrenches:
+        """Eqs. (19), (20), (22): :func:`prp3.mechanics.wrenches.body_wrenches` (explicit friction)."""
         pose, velocity, acceleration = _states(motion)
         k, dphi = self.parameters, velocity[:, 2]
         floor = _floor(k, kinematics, pose, velocity)
-        friction = kernel.friction_forces(
-            kernel.NUMPY, k, kernel.rest_kinematics(kinematics, floor), dphi
-        )
+        friction = friction_forces(NUMPY, k, rest_kinematics(kinematics, floor), dphi)
         ddx, ddy, ddphi = acceleration.T
-        return kernel.body_wrenches(k, kinematics, ddx, ddy, dphi, ddphi, friction=friction)
+        return body_wrenches(k, kinematics, ddx, ddy, dphi, ddphi, friction=friction)
 
     def virtual_work(
-        self, motion: Motion, kinematics: kernel.KernelKinematics, wrenches: kernel.BodyWrenches
+        self, motion: Motion, kinematics: KernelKinematics, wrenches: BodyWrenches
     ) -> JointSolution:
-        """Eqs. (15), (16), (21), (23)–(25): :func:`prp3.mechanics.kernel.joint_forces`."""
+        """Eqs. (15), (16), (21), (23)–(25): :func:`prp3.mechanics.virtual_work.joint_forces`."""
         pose, velocity, acceleration = _states(motion)
         k = self.parameters
         if k.has_mu:  # the μ terms are implicit: stages 3 and 4 together, solved by Newton
             ddx, ddy, ddphi = acceleration.T
             floor = _floor(k, kinematics, pose, velocity)
+            motion_rates = (ddx, ddy, velocity[:, 2], ddphi)
             f10, f21y, f21z, rest, *_ = kernel.dynamics(
-                kernel.NUMPY, k, kinematics, ddx, ddy, velocity[:, 2], ddphi, floor=floor
+                NUMPY, k, kinematics, motion_rates, floor=floor
             )
         else:
-            f10, f21y, f21z, rest = kernel.joint_forces(k, kinematics, wrenches)
+            f10, f21y, f21z, rest = joint_forces(k, kinematics, wrenches)
         assert rest is not None
         n10, m10, n32, m32 = (np.stack(np.broadcast_arrays(*v), axis=-1) for v in rest)
         return _family_form(
@@ -233,25 +243,25 @@ class ClosedForm3PRP:
 
 
 def _floor(
-    k: kernel.KernelParameters,
-    kin: kernel.KernelKinematics,
+    k: KernelParameters,
+    kin: KernelKinematics,
     pose: FloatArray,
     velocity: FloatArray,
 ) -> FloatArray:
-    """:func:`prp3.mechanics.kernel.rate_floor` of the states (round-off joint rates)."""
+    """:func:`prp3.mechanics.joint_motion.rate_floor` of the states (round-off joint rates)."""
     x, y, _ = pose.T
     dx, dy, dphi = velocity.T
-    return np.asarray(kernel.rate_floor(kernel.NUMPY, k, kin.geometry, x, y, dx, dy, dphi))
+    return np.asarray(rate_floor(NUMPY, k, kin.geometry, x, y, dx, dy, dphi))
 
 
 def _family_form(
-    kin: kernel.KernelKinematics,
+    kin: KernelKinematics,
     pose: FloatArray,
     velocity: FloatArray,
     acceleration: FloatArray,
-    f10: kernel.Legs,
-    f21y: kernel.Legs,
-    f21z: kernel.Legs,
+    f10: Legs,
+    f21y: Legs,
+    f21z: Legs,
     n10: FloatArray,
     m10: FloatArray,
     n32: FloatArray,
@@ -268,7 +278,7 @@ def _family_form(
     samples = velocity.shape[0]
     phi = pose[:, 2]
 
-    def legs(values: kernel.Legs) -> FloatArray:
+    def legs(values: Legs) -> FloatArray:
         return np.stack(np.broadcast_arrays(*values), axis=-1) * np.ones((samples, 1))
 
     lam10, lam32 = legs(geo.lambda10), legs(geo.lambda32)

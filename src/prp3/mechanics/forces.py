@@ -68,7 +68,7 @@ class InverseDynamics:
         With ``μ`` terms, by the kernel (``method="fast"``): whether each
         sample is near a lock of the joint friction (batch shape): the
         solution reached continuously from ``μ = 0`` would end with ``μ``
-        coefficients :data:`prp3.mechanics.kernel.NEAR_LOCK_MU` times larger, and a
+        coefficients :data:`prp3.mechanics.implicit_friction.NEAR_LOCK_MU` times larger, and a
         second solution may lie close by; else ``None``.
     """
 

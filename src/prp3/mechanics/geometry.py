@@ -10,7 +10,7 @@ normal ``n_i = (−sin α_i, cos α_i)``, revolute joint centre
 
 is, per leg, the 2×2 linear system ``[e_i d_i]·[l0/√3 + λ10_i, λ32_i]ᵀ = r_i``
 with ``r_i = G − B_i0 − Rot(α_i + φ)·c``, solved in closed form by the kernel
-(:func:`prp3.mechanics.kernel.kernel_geometry`); this module adds the vectors of each leg.  Its
+(:func:`prp3.mechanics.joint_motion.kernel_geometry`); this module adds the vectors of each leg.  Its
 determinant ``e_i × d_i = sin(φ − π/3)`` is the same for the three legs: the
 robot is singular at ``φ ≡ π/3 (mod π)``.  Poses with
 ``|sin(φ − π/3)| < SINGULARITY_THRESHOLD`` are refused.
@@ -63,7 +63,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
-from prp3.mechanics.kernel import NUMPY, kernel_geometry, kernel_parameters
+from prp3.mechanics.joint_motion import kernel_geometry
+from prp3.mechanics.ops import NUMPY
+from prp3.mechanics.parameters import kernel_parameters
 from prp3.model.parameters import Limits
 from prp3.model.robot import Robot
 from prp3.pose_validation import POSE_BOUND, SINGULARITY_THRESHOLD, check_poses, singularity_measure

@@ -8,7 +8,7 @@ platform gives, per leg, the conditions of connectivity
 
 with ``s_i = l0/√3 + λ10_i`` and ``J`` the rotation by +90° (``ũ3``).  Both
 are the 2×2 system of eq. (10) with other right-hand sides; their closed-form
-solution is the kernel's (:func:`prp3.mechanics.kernel.kernel_kinematics`), and this
+solution is the kernel's (:func:`prp3.mechanics.joint_motion.kernel_kinematics`), and this
 module adds the velocities and accelerations of every joint and body.  The angular velocities and accelerations of eqs. (11), (12)
 and (18) are ``ω10 = 0``, ``ω20 = ω30 = φ̇`` and ``ε10 = 0``, ``ε20 = ε30 = φ̈``.
 """
@@ -29,7 +29,9 @@ from prp3.mechanics.geometry import (
     inverse_geometry,
     perp,
 )
-from prp3.mechanics.kernel import NUMPY, kernel_geometry, kernel_kinematics, kernel_parameters
+from prp3.mechanics.joint_motion import kernel_geometry, kernel_kinematics
+from prp3.mechanics.ops import NUMPY
+from prp3.mechanics.parameters import kernel_parameters
 from prp3.model.motion import Motion
 from prp3.model.parameters import Limits
 from prp3.model.robot import Robot

@@ -140,7 +140,7 @@ class LoadElement(Element):
     """The constant wrench of the environment on the platform (``[load]``): force at ``G``, moment.
 
     Applied to the platform, with the motion's time-varying wrench
-    (:data:`WRENCH`) in :func:`prp3.mechanics.kernel.body_wrenches`.  Its forces are known, not estimated
+    (:data:`WRENCH`) in :func:`prp3.mechanics.wrenches.body_wrenches`.  Its forces are known, not estimated
     (identification subtracts them); MuJoCo has no constant external force
     (the model stores it as the numeric ``prp3_load``).  Power ``F·Ġ + M·φ̇``.
     """
@@ -181,7 +181,7 @@ class LoadElement(Element):
 class WrenchElement(Element):
     """The motion's time-varying wrench ``fx, fy, mz`` on the platform at ``G`` (``TRAJ.csv``).
 
-    Not a robot's parameter (no field): :func:`prp3.mechanics.kernel.body_wrenches` adds it
+    Not a robot's parameter (no field): :func:`prp3.mechanics.wrenches.body_wrenches` adds it
     to the constant load.  The generated C code has no input for it.
     Power ``f·Ġ + m_z·φ̇``.
     """

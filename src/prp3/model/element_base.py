@@ -73,7 +73,7 @@ class Element:
     name : str
         Its name, the ``ROBOT.toml`` table where it has one (``"friction.sleeve"``).
     fields : tuple of str
-        The fields of :class:`~prp3.mechanics.kernel.KernelParameters` it owns (default ``0.0``).
+        The fields of :class:`~prp3.mechanics.parameters.KernelParameters` it owns (default ``0.0``).
     regressor : tuple of str
         Fields the joint forces are linear and homogeneous in: the columns it
         adds to identification's regressor.

@@ -6,10 +6,10 @@ fixed to the platform, the constant ``[load]``, the motion's time-varying
 wrench ``fx, fy, mz``, the friction of each kind of joint and the linear
 spring with damper of the actuators.  An element says, in one class,
 
-* which fields of :class:`prp3.mechanics.kernel.KernelParameters` it owns and their
+* which fields of :class:`prp3.mechanics.parameters.KernelParameters` it owns and their
   values for a robot (:meth:`Element.parameters`);
 * where its contribution to the wrench each body needs is written: in
-  :func:`prp3.mechanics.kernel.body_wrenches` and its helpers (``_leg_spring``,
+  :func:`prp3.mechanics.wrenches.body_wrenches` and its helpers (``_leg_spring``,
   ``_leg_friction``, the load), in the kernel's ``+ − × ÷`` on tuples, so that
   the same code runs on floats, arrays, sympy and compiled by numba (which
   cannot call methods of these objects); the element owns its fields, and a
@@ -77,5 +77,5 @@ ELEMENTS: tuple[Element, ...] = (GRAVITY, PAYLOAD, LOAD, WRENCH, *FRICTIONS, SPR
 
 
 def effect_fields() -> tuple[str, ...]:
-    """Every field of :class:`~prp3.mechanics.kernel.KernelParameters` an element owns, in order."""
+    """Every field of :class:`~prp3.mechanics.parameters.KernelParameters` an element owns, in order."""
     return tuple(name for element in ELEMENTS for name in element.fields)

@@ -53,7 +53,7 @@ class FrictionElement(Element):
 
     ``fric = −(b·v + (c + μ·N)·s(v))`` with the joint's rate ``v`` (λ̇10, φ̇,
     λ̇32) and ``N`` the magnitude of its reaction (``|n10|``, ``r_r·|F21|``,
-    ``|n32|``; the ``μ`` terms are implicit: :func:`prp3.mechanics.kernel.solve_mu`).
+    ``|n32|``; the ``μ`` terms are implicit: :func:`prp3.mechanics.implicit_friction.solve_mu`).
     Linear in ``b`` and ``c`` (regressor columns); MuJoCo's ``damping`` and
     ``frictionloss`` carry ``b`` and (its own dry friction) ``c``.  Power
     ``Σ_i fric_i·v_i ≤ 0`` (dissipation).
