@@ -19,30 +19,21 @@ the filter of the arrows' rows ``arrow_filter``, and with a run the scrubber
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from prp3.errors import Prp3Error
-from prp3.explorer.page import (
-    _UNBUNDLE,
-    Key,
-    _escape,
-    _table,
-    arrow_layers,
-    server_scrubber,
-    slider_with_field,
-    time_plots,
-)
+from prp3.explorer.page import Bundle, Changes, Key, LivePage, _table, arrow_layers
 from prp3.explorer.run_folder import Run, run_motion
 from prp3.explorer.scene import (
     ARROWS,
     DESIGN_PARAMETERS,
-    MOTION_CONTROLS,
     PRP3_SCENE,
     Columns,
+    MotionControl,
     Scene,
     State,
     View,
@@ -54,10 +45,10 @@ from prp3.explorer.scene import (
     stroke_bands,
     workspace_overlay,
 )
-from prp3.model.motion import Motion
+from prp3.explorer.scrubber import server_scrubber, time_plots
 from prp3.model.robot import Robot
 
-__all__ = ["PLOTTED", "explorer_document", "require_bokeh", "set_state", "widened"]
+__all__ = ["PLOTTED", "explorer_document", "require_bokeh"]
 
 FloatArray = NDArray[np.float64]
 
@@ -82,12 +73,12 @@ def _limits(robot: Robot) -> float:
 
 def _robot_figure(
     robot: Robot, sources: Mapping[str, Any], overlay: bool, peak: float = 1.0
-) -> tuple[Any, Any]:
+) -> tuple[Any, Any, Any]:
     """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map.
 
-    Returns the figure (with the map, in a row with its colour bar) and, to put below it, its
+    Returns the figure (with the map, in a row with its colour bar), to put below it its
     key (:class:`~prp3.explorer.page.Key`, HTML) and the check boxes that show or hide the
-    arrows of each quantity.
+    arrows of each quantity, and the map's colour mapper (``None`` without the map).
     """
     from bokeh.layouts import row
     from bokeh.models import ColorBar, LinearColorMapper, Range1d
@@ -110,6 +101,7 @@ def _robot_figure(
     draw = key.draw
 
     bar: Any = None
+    mapper: Any = None
     if overlay:
         mapper = LinearColorMapper(palette="Viridis256", low=0.0, high=peak, nan_color=(0, 0, 0, 0))
         mapper.name = "overlay_colours"
@@ -229,7 +221,7 @@ def _robot_figure(
     )
     fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
     key_and_toggles = arrow_layers(fig, key, sources["arrows"], ARROWS)
-    return (fig if bar is None else row(fig, bar)), key_and_toggles
+    return (fig if bar is None else row(fig, bar)), key_and_toggles, mapper
 
 
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:
@@ -296,189 +288,92 @@ def explorer_document(
     """Fill a Bokeh ``Document`` with the live explorer of ``robot`` (and of a ``run``).
 
     Every change of a slider, field or design parameter recomputes the pose
-    with prp3's engines in Python (:meth:`Scene.table`, :meth:`Scene.view`) and
-    replaces the columns of the drawn sources; a refused pose empties them and
-    shows the library's one-line message.
+    with prp3's engines in Python (:meth:`Scene.table`, :meth:`Scene.view`;
+    the statics map when ``φ`` or the robot changed) and sends the columns
+    that changed (:class:`~prp3.explorer.page.LivePage`); a refused pose
+    empties them and shows the library's one-line message.
     """
     from bokeh.layouts import column, row
-    from bokeh.models import Checkbox, ColumnDataSource, CustomJS, Div, Spinner
+    from bokeh.models import Checkbox, Div
 
-    base_robot = robot
-    current: dict[str, Any] = {"robot": robot, "load": None, "busy": False, "served": False}
+    current: dict[str, Robot] = {"robot": robot}
     motion = run_motion(robot, run) if run is not None else None
-    scale = [arrow_scale(robot)]
-    first = scene.view(robot, scene.table(robot, State()), 0, scale[0])
+
+    def limits(control: MotionControl) -> tuple[float, float]:
+        scale = robot.l0 if control.length else 1.0
+        return control.low * scale, control.high * scale
+
+    live = LivePage(
+        doc, limits, motion, DESIGN_PARAMETERS, design_values(robot), arrow_scale(robot)
+    )
+    first = scene.view(robot, scene.table(robot, State()), 0, live.scale)
     try:
         overlay0: dict[str, Columns] | None = workspace_overlay(robot, 0.0)
     except Prp3Error:
         overlay0 = None
     sources = _sources(first, overlay0, stroke_bands(robot))
-    message = Div(
-        text="", name="message", width=860, styles={"color": "#b00000", "font-weight": "bold"}
-    )
-
-    sliders: dict[str, Any] = {}
-    fields: list[Any] = []
-    for control in MOTION_CONTROLS:
-        low, high = control.low, control.high
-        if control.length:
-            low, high = low * robot.l0, high * robot.l0
-        if motion is not None:
-            low, high = widened(low, high, motion, control.name)
-        slider, pair = slider_with_field(control, low, high)
-        sliders[control.name] = slider
-        fields.append(pair)
-    design_fields: dict[str, Any] = {}
-    for key, (label, unit) in DESIGN_PARAMETERS.items():
-        design_fields[key] = Spinner(
-            title=f"{label} ({unit})",
-            value=design_values(robot)[key],
-            low=0.0,
-            step=0.01,
-            width=130,
-            name=f"design:{key}",
-            format="0.[0000]",
-        )
-    scale_field = Spinner(
-        title="arrow scale (mm/N)",
-        value=round(scale[0] * 1e3, 4),
-        low=1e-6,
-        step=0.1,
-        width=120,
-        name="arrow_scale",
-    )
     overlay_box = Checkbox(
         label="statics map of the workspace at φ",
         active=overlay0 is not None,
         name="overlay_toggle",
     )
-    singularity, marker = _singularity_figure((sliders["phi"].start, sliders["phi"].end), scene)
+    phi_range = (live.sliders["phi"].start, live.sliders["phi"].end)
+    singularity, sources["singularity_marker"] = _singularity_figure(phi_range, scene)
     peak0 = float(np.nanmax(overlay0["image"]["image"][0])) if overlay0 is not None else 1.0
-    figure_, key = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
-    overlay_phi: list[float | None] = [0.0 if overlay0 is not None else None]
-
-    shown: dict[str, Columns] = dict(first.sources())
-    values_table = _table(sources["values"])
-    # every drawn source of an update travels in one message: one row of the bundle holds
-    # each changed source's columns, which _UNBUNDLE copies into it in the browser (one
-    # message and one repaint instead of one per source)
-    bundle = ColumnDataSource({}, name="bundle")
-    bundle.js_on_change(
-        "data",
-        CustomJS(
-            args={
-                "bundle": bundle,
-                "targets": {name: sources[name] for name in shown},
-                "table": values_table,
-            },
-            code=_UNBUNDLE,
-        ),
+    figure_, key, colours = _robot_figure(
+        robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0
     )
+    values_table = _table(sources["values"])
+    bundle = Bundle(sources, {"overlay_colours": colours, "message": live.message}, [values_table])
+    # the statics map of the last (φ, robot, shown): recomputed when one of them changes
+    overlay: dict[str, Any] = {"key": (0.0, robot, True) if overlay0 is not None else None}
 
-    def show(view: View) -> None:
-        changed: dict[str, list[Any]] = {}
-        for name, columns in view.sources().items():
-            if shown.get(name) == columns:  # only what changed goes to the browser
-                continue
-            shown[name] = columns
-            if not current["served"]:  # the browser has not the document yet: its sources
-                sources[name].data = columns
-                continue
-            changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
-        if changed:
-            bundle.data = changed
-
-    def refresh_overlay(phi: float, robot_now: Robot) -> None:
-        if not overlay_box.active:
-            sources["overlay"].data = _empty_overlay()["image"]
-            sources["region"].data = _empty_overlay()["region"]
-            overlay_phi[0] = None
-            return
-        if overlay_phi[0] == phi:
-            return
+    def layers(phi: float, robot_now: Robot) -> Changes:
+        key = (phi, robot_now, bool(overlay_box.active))
+        if overlay["key"] == key:
+            return {}
+        overlay["key"] = key
         try:
-            layers = workspace_overlay(robot_now, phi)
+            maps = workspace_overlay(robot_now, phi) if overlay_box.active else _empty_overlay()
         except Prp3Error:  # a singular φ: the message says it; no map
-            layers = _empty_overlay()
-        sources["overlay"].data = layers["image"]
-        sources["region"].data = layers["region"]
-        if layers["image"]["image"]:
-            peak = float(np.nanmax(layers["image"]["image"][0]))
-            figure_.select_one({"name": "overlay_colours"}).high = peak if peak > 0 else 1.0
-        overlay_phi[0] = phi
+            maps = _empty_overlay()
+        changes: Changes = {"overlay": maps["image"], "region": maps["region"]}
+        if maps["image"]["image"]:
+            peak = float(np.nanmax(maps["image"]["image"][0]))
+            changes["overlay_colours"] = {"high": peak if peak > 0 else 1.0}
+        return changes
 
-    def update() -> None:
-        if current["busy"]:
-            return
-        doc.hold("combine")  # every change of this update reaches the browser in one message
-        try:
-            _update()
-        finally:
-            doc.unhold()
+    def marker(state: State) -> Changes:
+        phi = state.pose[2]
+        measure = float(scene.singularity(np.array(phi)))
+        return {"singularity_marker": {"phi": [phi], "measure": [measure]}}
 
-    def _update() -> None:
-        values = {name: float(slider.value) for name, slider in sliders.items()}
-        base_state = State.from_controls(values)
-        state = State(
-            base_state.pose, base_state.velocity, base_state.acceleration, current["load"]
-        )
-        if marker.data["phi"] != [state.pose[2]]:
-            measure = float(scene.singularity(np.array(state.pose[2])))
-            marker.data = {"phi": [state.pose[2]], "measure": [measure]}
-        robot_now: Robot = current["robot"]
-        try:
-            table = scene.table(robot_now, state)
-            view = scene.view(robot_now, table, 0, scale[0])
-        except Prp3Error as error:
-            refuse(error)
-            return
-        show(view)
-        message.text = ""
-        refresh_overlay(state.pose[2], robot_now)
+    def compute(state: State) -> Changes:
+        robot_now = current["robot"]
+        changes = marker(state)  # moves with φ, also when the pose is refused
+        view = scene.view(robot_now, scene.table(robot_now, state), 0, live.scale)
+        changes.update(view.sources())
+        changes["strokes"] = stroke_bands(robot_now)
+        changes.update(layers(state.pose[2], robot_now))
+        return changes
 
-    def refuse(error: Prp3Error) -> None:
-        """Draw nothing that belongs to the refused pose (the base stays), and say why."""
-        blank = empty_view(first)
-        show(View({**blank.shapes, "base": shown["base"]}, blank.arrows, blank.table))
-        sources["overlay"].data = _empty_overlay()["image"]
-        sources["region"].data = _empty_overlay()["region"]
-        overlay_phi[0] = None
-        message.text = _escape(str(error))
-
-    def on_slider(attr: str, old: Any, new: Any) -> None:
-        update()
-
-    def on_design(attr: str, old: Any, new: Any) -> None:
-        values = {
-            key: float(field.value)
-            for key, field in design_fields.items()
-            if field.value is not None
+    def blank(state: State) -> Changes:
+        """Nothing that belongs to the refused pose (the base stays), no map of another φ."""
+        empty = empty_view(first)
+        overlay["key"] = None
+        maps = _empty_overlay()
+        return {
+            **marker(state),
+            **{name: columns for name, columns in empty.sources().items() if name != "base"},
+            "overlay": maps["image"],
+            "region": maps["region"],
         }
-        try:
-            robot_now = design_robot(base_robot, values)
-        except Prp3Error as error:
-            refuse(error)
-            return
-        current["robot"] = robot_now
-        sources["strokes"].data = stroke_bands(robot_now)
-        overlay_phi[0] = None
-        update()
 
-    def on_scale(attr: str, old: Any, new: Any) -> None:
-        if new is not None and float(new) > 0.0:
-            scale[0] = float(new) * 1e-3
-            update()
+    def redesign(values: Mapping[str, float]) -> None:
+        current["robot"] = design_robot(robot, values)
 
-    def on_overlay(attr: str, old: Any, new: Any) -> None:
-        overlay_phi[0] = None
-        update()
-
-    for slider in sliders.values():
-        slider.on_change("value", on_slider)
-    for field in design_fields.values():
-        field.on_change("value", on_design)
-    scale_field.on_change("value", on_scale)
-    overlay_box.on_change("active", on_overlay)
+    live.connect(bundle, compute, blank, redesign)
+    overlay_box.on_change("active", lambda attr, old, new: live.update())
 
     stroke = robot.limits.stroke
     info = Div(
@@ -490,70 +385,20 @@ def explorer_document(
         width=500,
         styles={"font-size": "9pt", "color": "#444"},
     )
-    controls = column(Div(text="<b>platform pose, velocity, acceleration</b>"), *fields, width=300)
+    fields = list(live.design_fields.values())
     design = column(
         Div(text="<b>design</b> (the robot's parameters; forces update live)"),
-        row(*list(design_fields.values())[:5], scale_field),
-        row(*list(design_fields.values())[5:9]),
-        row(*list(design_fields.values())[9:]),
+        row(*fields[:5], live.scale_field),
+        row(*fields[5:9]),
+        row(*fields[9:]),
         overlay_box,
     )
     right = [values_table, singularity]
-    top: list[Any] = [message]
+    scrubber = None
     if run is not None and motion is not None:
-        right_extra, time_widgets = _run_widgets(doc, motion, sliders, current, update, run.table)
-        right.extend(right_extra)
-        top.insert(0, time_widgets)
-    layout = column(
-        *top,
-        row(column(figure_, key, info), controls, column(*right)),
-        design,
-    )
-    doc.add_root(layout)
-    doc.add_root(bundle)  # drawn by nothing: a root, so that it reaches the browser
-    doc.title = "prp3 explore"
-    update()
-    for pair in fields:  # a slider set before the page is served: its field shows its value
-        slider_now, field_now = pair.children
-        field_now.value = slider_now.value
-    current["served"] = True  # from now on, every change reaches the browser in the bundle
-
-
-def _run_widgets(
-    doc: Any,
-    motion: Motion,
-    sliders: Mapping[str, Any],
-    current: dict[str, Any],
-    update: Callable[[], None],
-    table: Mapping[str, Any],
-) -> tuple[list[Any], Any]:
-    """The scrubber, the play button and the linked plots of a run (server side)."""
-    from bokeh.layouts import column
-
-    plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
-
-    def show(k: int) -> None:
-        current["load"] = None if motion.load is None else tuple(float(v) for v in motion.load[k])
-        set_state(sliders, current, motion, k)
-        update()
-
-    scrubber = server_scrubber(doc, [float(v) for v in motion.t], show, spans)
-    return [column(*plots)], scrubber
-
-
-def widened(low: float, high: float, motion: Motion, name: str) -> tuple[float, float]:
-    """A motion slider's range ``[low, high]`` widened to the run's values of its control."""
-    values = np.concatenate([motion.pose, motion.velocity, motion.acceleration], axis=-1)
-    k = [c.name for c in MOTION_CONTROLS].index(name)
-    return min(low, float(values[:, k].min())), max(high, float(values[:, k].max()))
-
-
-def set_state(sliders: Mapping[str, Any], current: dict[str, Any], motion: Motion, k: int) -> None:
-    """Set the nine motion sliders to sample ``k`` of ``motion``, without an update per slider."""
-    values = np.concatenate([motion.pose[k], motion.velocity[k], motion.acceleration[k]])
-    current["busy"] = True
-    try:
-        for name, value in zip(sliders, values, strict=True):
-            sliders[name].value = float(value)
-    finally:
-        current["busy"] = False
+        plots, spans = time_plots(run.table, {q: f"{q} (N)" for q in PLOTTED})
+        right.append(column(*plots))
+        times = [float(v) for v in motion.t]
+        run_motion_ = motion  # narrowed for the closure
+        scrubber = server_scrubber(doc, times, lambda k: live.show_sample(run_motion_, k), spans)
+    live.start("prp3 explore", figure_, [key, info], right, design, scrubber)

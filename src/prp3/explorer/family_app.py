@@ -27,8 +27,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.errors import Prp3Error
-from prp3.explorer.app import set_state, widened
 from prp3.explorer.family_scene import (
     FAMILY_ARROWS,
     FAMILY_DESIGN_PARAMETERS,
@@ -38,21 +36,16 @@ from prp3.explorer.family_scene import (
     family_design_values,
     family_extent,
 )
-from prp3.explorer.page import (
-    _UNBUNDLE,
+from prp3.explorer.page import Bundle, Changes, Key, LivePage, _escape, _table, arrow_layers
+from prp3.explorer.run_folder import Run, family_run_motion
+from prp3.explorer.scene import MotionControl, State, View, empty_view
+from prp3.explorer.scrubber import (
     MAX_HTML_FRAMES,
-    Key,
-    _escape,
-    _table,
-    arrow_layers,
     browser_scrubber,
     frame_sources,
     server_scrubber,
-    slider_with_field,
     time_plots,
 )
-from prp3.explorer.run_folder import Run, family_run_motion
-from prp3.explorer.scene import MOTION_CONTROLS, Columns, State, View, empty_view
 from prp3.family import FamilyRobot
 from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
@@ -206,133 +199,52 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
 
     Every slider or design change solves the pose with
     :func:`prp3.family.family_inverse_dynamics` in Python
-    (:func:`~prp3.explorer.family_scene.family_pose_table`) and replaces the drawn
-    columns; a refused pose empties them (the base stays) and shows the
-    library's one-line message.  With a ``run`` (:func:`~prp3.explorer.run_folder.read_family_run`)
-    the scrubber sets the sliders to the run's state at a sample
+    (:func:`~prp3.explorer.family_scene.family_pose_table`) and sends the drawn
+    columns that changed (:class:`~prp3.explorer.page.LivePage`); a refused pose
+    empties them (the base stays) and shows the library's one-line message.
+    With a ``run`` (:func:`~prp3.explorer.run_folder.read_family_run`) the
+    scrubber sets the sliders to the run's state at a sample
     (:func:`~prp3.explorer.run_folder.family_run_motion`) and the page recomputes
     it, beside the run's force plots against time.
     """
     from bokeh.layouts import column, row
-    from bokeh.models import ColumnDataSource, CustomJS, Div, Spinner
+    from bokeh.models import Div
 
-    base_robot = robot
-    current: dict[str, Any] = {"robot": robot, "busy": False, "served": False}
+    current = {"robot": robot}
     motion = family_run_motion(robot, run) if run is not None else None
-    scale = [family_arrow_scale(robot)]
-    first = SCENE.view(robot, SCENE.table(robot, State()), 0, scale[0])
-    sources = _sources(first)
-    message = Div(
-        text="", name="message", width=860, styles={"color": "#b00000", "font-weight": "bold"}
-    )
     reach = 0.45 * family_extent(robot)
-    sliders: dict[str, Any] = {}
-    fields: list[Any] = []
-    for control in MOTION_CONTROLS:
-        low, high = control.low, control.high
-        if control.length:
-            low, high = -reach, reach
-        if motion is not None:
-            low, high = widened(low, high, motion, control.name)
-        slider, pair = slider_with_field(control, low, high)
-        sliders[control.name] = slider
-        fields.append(pair)
-    design_fields = {
-        key: Spinner(
-            title=f"{label} ({unit})",
-            value=family_design_values(robot)[key],
-            low=0.0,
-            step=0.01,
-            width=130,
-            name=f"design:{key}",
-            format="0.[0000]",
-        )
-        for key, (label, unit) in FAMILY_DESIGN_PARAMETERS.items()
-    }
-    scale_field = Spinner(
-        title="arrow scale (mm/N)",
-        value=round(scale[0] * 1e3, 4),
-        low=1e-6,
-        step=0.1,
-        width=120,
-        name="arrow_scale",
+
+    def limits(control: MotionControl) -> tuple[float, float]:
+        return (-reach, reach) if control.length else (control.low, control.high)
+
+    live = LivePage(
+        doc,
+        limits,
+        motion,
+        FAMILY_DESIGN_PARAMETERS,
+        family_design_values(robot),
+        family_arrow_scale(robot),
     )
+    first = SCENE.view(robot, SCENE.table(robot, State()), 0, live.scale)
+    sources = _sources(first)
     figure_, key = _figure(robot, sources)
     values_table = _table(sources["values"])
     values_table.height = 420
     measures_table = _measures_table(sources["measures"])
-    shown: dict[str, Columns] = dict(first.sources())
-    bundle = ColumnDataSource({}, name="bundle")
-    bundle.js_on_change(
-        "data",
-        CustomJS(
-            args={
-                "bundle": bundle,
-                "targets": {name: sources[name] for name in shown},
-                "table": values_table,
-                "measures": measures_table,
-            },
-            code=_UNBUNDLE + "\nif ('measures' in grouped) measures.view.change.emit();",
-        ),
-    )
+    bundle = Bundle(sources, {"message": live.message}, [values_table, measures_table])
 
-    def show(view: View) -> None:
-        changed: dict[str, list[Any]] = {}
-        for name, columns in view.sources().items():
-            if shown.get(name) == columns:
-                continue
-            shown[name] = columns
-            if not current["served"]:  # the browser has not the document yet: its sources
-                sources[name].data = columns
-                continue
-            changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
-        if changed:
-            bundle.data = changed
+    def compute(state: State) -> Changes:
+        robot_now = current["robot"]
+        return SCENE.view(robot_now, SCENE.table(robot_now, state), 0, live.scale).sources()
 
-    def update() -> None:
-        if current["busy"]:
-            return
-        doc.hold("combine")
-        try:
-            state = State.from_controls({name: float(s.value) for name, s in sliders.items()})
-            robot_now: FamilyRobot = current["robot"]
-            try:
-                view = SCENE.view(robot_now, SCENE.table(robot_now, state), 0, scale[0])
-            except Prp3Error as error:
-                refuse(error)
-                return
-            show(view)
-            message.text = ""
-        finally:
-            doc.unhold()
+    def blank(state: State) -> Changes:
+        """Nothing that belongs to the refused pose (the base stays)."""
+        return {name: c for name, c in empty_view(first).sources().items() if name != "base"}
 
-    def refuse(error: Prp3Error) -> None:
-        blank = empty_view(first)
-        show(View({**blank.shapes, "base": shown["base"]}, blank.arrows, blank.table))
-        message.text = _escape(str(error))
+    def redesign(values: Mapping[str, float]) -> None:
+        current["robot"] = family_design_robot(robot, values)
 
-    def on_slider(attr: str, old: Any, new: Any) -> None:
-        update()
-
-    def on_design(attr: str, old: Any, new: Any) -> None:
-        values = {k: float(f.value) for k, f in design_fields.items() if f.value is not None}
-        try:
-            current["robot"] = family_design_robot(base_robot, values)
-        except Prp3Error as error:
-            refuse(error)
-            return
-        update()
-
-    def on_scale(attr: str, old: Any, new: Any) -> None:
-        if new is not None and float(new) > 0.0:
-            scale[0] = float(new) * 1e-3
-            update()
-
-    for slider in sliders.values():
-        slider.on_change("value", on_slider)
-    for field in design_fields.values():
-        field.on_change("value", on_design)
-    scale_field.on_change("value", on_scale)
+    live.connect(bundle, compute, blank, redesign)
     home_leg, home_par = robot.home_measures
     info = Div(
         text=(
@@ -343,38 +255,25 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
         width=500,
         styles={"font-size": "9pt", "color": "#444"},
     )
-    controls = column(Div(text="<b>platform pose, velocity, acceleration</b>"), *fields, width=300)
     design = column(
         Div(text="<b>design</b> (masses; forces update live)"),
-        row(*design_fields.values(), scale_field),
+        row(*live.design_fields.values(), live.scale_field),
     )
     right = [values_table, measures_table]
-    top: list[Any] = [message]
+    scrubber = None
     if run is not None and motion is not None:
         plots, spans = time_plots(run.table, {q: q for q in FAMILY_PLOTTED})
         right.extend(plots)
-        run_states = motion  # narrowed for the closure
-
-        def to_sample(k: int) -> None:
-            set_state(sliders, current, run_states, k)
-            update()
-
-        top.insert(0, server_scrubber(doc, [float(v) for v in motion.t], to_sample, spans))
-    layout = column(*top, row(column(figure_, key, info), controls, column(*right)), design)
-    doc.add_root(layout)
-    doc.add_root(bundle)
-    doc.title = f"prp3 explore: {robot.architecture}"
-    update()
-    for pair in fields:  # a slider set before the page is served: its field shows its value
-        slider_now, field_now = pair.children
-        field_now.value = slider_now.value
-    current["served"] = True  # from now on, every change reaches the browser in the bundle
+        times = [float(v) for v in motion.t]
+        run_motion = motion  # narrowed for the closure
+        scrubber = server_scrubber(doc, times, lambda k: live.show_sample(run_motion, k), spans)
+    live.start(f"prp3 explore: {robot.architecture}", figure_, [key, info], right, design, scrubber)
 
 
 def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
     """One self-contained HTML page of a family run (the 64 columns of ``results.csv``).
 
-    At most :data:`~prp3.explorer.page.MAX_HTML_FRAMES` frames of
+    At most :data:`~prp3.explorer.scrubber.MAX_HTML_FRAMES` frames of
     :func:`~prp3.explorer.family_scene.family_view`, precomputed; the scrubber
     and the play button only pick a frame.  Bokeh's JavaScript is inline: it
     opens offline.

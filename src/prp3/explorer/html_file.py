@@ -1,9 +1,9 @@
 """The self-contained HTML file of a run: ``prp3 simulate --html``, ``prp3 explore --export``.
 
-The frames of the run (at most :data:`~prp3.explorer.page.MAX_HTML_FRAMES`)
+The frames of the run (at most :data:`~prp3.explorer.scrubber.MAX_HTML_FRAMES`)
 are precomputed by the page's scene (:func:`prp3.explorer.scene.scene_view`,
 or the family's); the few lines of ``CustomJS`` of
-:func:`~prp3.explorer.page.browser_scrubber` only copy frame ``k``'s columns
+:func:`~prp3.explorer.scrubber.browser_scrubber` only copy frame ``k``'s columns
 into the drawn sources (no force is computed in the browser).  Bokeh's
 JavaScript is inline: the file opens offline.  Bokeh is imported inside the
 functions only.
@@ -19,15 +19,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.explorer.app import PLOTTED, _robot_figure, _sources
-from prp3.explorer.page import (
-    MAX_HTML_FRAMES,
-    _escape,
-    _table,
-    browser_scrubber,
-    frame_sources,
-    time_plots,
-)
+from prp3.explorer.page import _escape, _table
 from prp3.explorer.scene import PRP3_SCENE, arrow_scale, stroke_bands
+from prp3.explorer.scrubber import MAX_HTML_FRAMES, browser_scrubber, frame_sources, time_plots
 from prp3.family import FamilyRobot
 from prp3.files import atomic_writer
 from prp3.model.robot import Robot
@@ -76,7 +70,7 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
     sources = _sources(views[0], None, stroke_bands(robot))
     frames_of = frame_sources(views)
     targets: dict[str, Any] = {name: sources[name] for name in frames_of}
-    fig, key = _robot_figure(robot, sources, overlay=False)
+    fig, key, _ = _robot_figure(robot, sources, overlay=False)
     plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
     table_widget = _table(sources["values"])
     scrubber = browser_scrubber(

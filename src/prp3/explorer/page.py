@@ -1,9 +1,13 @@
-"""What the explorer's two pages share: their few lines of JavaScript, bounds, the table.
+"""What the explorer's two live pages share: the widgets, the key, the arrows, the update loop.
 
 The 3-PRP page (:mod:`prp3.explorer.app`) and the family's
 (:mod:`prp3.explorer.family_app`) both import from here, so neither imports the
-other at module level (one way, no cycle).  Bokeh is imported inside the
-functions only.
+other at module level (one way, no cycle): the table of values, the key and
+the arrows of a robot figure, the motion sliders with their fields, the design
+fields, and :class:`LivePage`, which recomputes the page in Python at every
+change and sends what changed to the browser in one message
+(:class:`Bundle`).  A run's plots and scrubber are
+:mod:`prp3.explorer.scrubber`.  Bokeh is imported inside the functions only.
 """
 
 from __future__ import annotations
@@ -13,66 +17,64 @@ from typing import Any
 
 import numpy as np
 
-from prp3.explorer.scene import LEG_COLOURS
+from prp3.errors import Prp3Error
+from prp3.explorer.scene import LEG_COLOURS, MOTION_CONTROLS, MotionControl, State
 from prp3.mechanics.geometry import LEGS
-from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+from prp3.model.motion import Motion
 
 __all__ = [
-    "MAX_CURVE_POINTS",
-    "MAX_HTML_FRAMES",
+    "REDRAW_TABLES",
+    "Bundle",
     "Key",
+    "LivePage",
     "arrow_layers",
-    "browser_scrubber",
-    "server_scrubber",
+    "plain_slider",
     "slider_with_field",
-    "time_plots",
 ]
 
-#: Largest number of frames of the robot in an HTML file of a run.
-MAX_HTML_FRAMES: int = 200
-#: Largest number of points of each curve of the linked plots.
-MAX_CURVE_POINTS: int = 2000
-#: Copies frame ``k`` of every frame source into its drawn source (the only JavaScript).
-_COPY_FRAME = """
-const k = Math.round(slider.value);
-for (const [name, target] of Object.entries(targets)) {
-  const frames = sources[name];
-  const data = {};
-  for (const column of Object.keys(frames.data)) data[column] = frames.data[column][k];
-  target.data = data;
-}
-for (const table of tables) table.view.change.emit();  // a DataTable redraws on a change of its view only
-for (const span of spans) span.location = times[k];
-slider.title = "t = " + times[k].toFixed(3) + " s";
+#: Defines ``redraw(table)``: BokehJS redraws a DataTable when the rows of its view change,
+#: not when the data of the same rows does.  The rows are redrawn in place (SlickGrid's
+#: ``updateRow``: the cells' text, no row rebuilt and laid out anew) while their number
+#: stays, the whole table (its view's change) otherwise.
+REDRAW_TABLES = """
+const redraw = (table) => {
+  const view = Bokeh.index.find_one(table);
+  const grid = view == null ? null : view.grid;
+  const rows = table.source.get_length() ?? 0;
+  if (grid != null && grid.getDataLength() === rows && typeof grid.updateRow === "function"
+      && view.data != null && typeof view.data.init === "function") {
+    view.data.init(table.source, table.view);
+    for (let row = 0; row < rows; row++) grid.updateRow(row);
+  } else {
+    table.view.change.emit();
+  }
+};
 """
 
-#: Copies the columns of the one row of the server's bundle into the drawn sources.
-_UNBUNDLE = """
+#: Copies the one row of the server's bundle into the page: ``source|column`` into the data
+#: of ``sources[source]`` (the other columns kept), ``model|property`` into ``models[model]``.
+_UNBUNDLE = (
+    REDRAW_TABLES
+    + """
 const data = bundle.data instanceof Map ? Object.fromEntries(bundle.data) : bundle.data;
 const grouped = {};
 for (const [key, values] of Object.entries(data)) {
   const [name, column] = key.split("|");
-  (grouped[name] = grouped[name] || {})[column] = values[0];
+  if (column !== undefined) (grouped[name] = grouped[name] || {})[column] = values[0];
 }
-// not synced back: the server sent these columns (an echo would cost a patch each way)
-for (const [name, columns] of Object.entries(grouped)) targets[name].setv({data: columns}, {sync: false});
-// BokehJS redraws a DataTable when its view's rows change, not when the data of the same
-// rows does: tell it
-if ("values" in grouped) table.view.change.emit();
-"""
-
-#: Steps the scrubber while the play button is down (the browser's timer; no computation).
-_PLAY = """
-if (toggle.active) {
-  toggle.label = "❚❚ pause";
-  window._prp3_timer = setInterval(() => {
-    slider.value = slider.value >= slider.end ? slider.start : slider.value + 1;
-  }, period);
-} else {
-  toggle.label = "▶ play";
-  clearInterval(window._prp3_timer);
+// not synced back: the server sent these values (an echo would cost a patch each way)
+for (const [name, changed] of Object.entries(grouped)) {
+  if (name in sources) {
+    const source = sources[name];
+    const old = source.data instanceof Map ? Object.fromEntries(source.data) : source.data;
+    source.setv({data: {...old, ...changed}}, {sync: false});
+  } else {
+    models[name].setv(changed, {sync: false});
+  }
 }
+for (const table of tables) if (table.source.name in grouped) redraw(table);
 """
+)
 
 
 def _table(source: Any) -> Any:
@@ -232,49 +234,6 @@ def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, tuple[str
     return column(key.div(560), toggles)
 
 
-def time_plots(table: Mapping[str, Any], titles: Mapping[str, str]) -> tuple[list[Any], list[Any]]:
-    """The quantities ``titles`` names (``quantity_L`` columns of ``table``) of the three legs
-    against time, one figure each with its title, and one shared time line (a Span) each.
-    """
-    from bokeh.models import Span
-    from bokeh.plotting import figure
-
-    t = np.asarray(table["t"])
-    kept = frame_indices(t.size, MAX_CURVE_POINTS)
-    spans: list[Any] = []
-    figures: list[Any] = []
-    x_range = None
-    for quantity, title in titles.items():
-        fig = figure(
-            title=title,
-            width=330,
-            height=140,
-            tools="xpan,xwheel_zoom,reset",
-            toolbar_location=None,
-            **({"x_range": x_range} if x_range is not None else {}),
-        )
-        fig.title.text_font_size = "9pt"
-        x_range = fig.x_range
-        for leg in LEGS:
-            fig.line(
-                t[kept],
-                np.asarray(table[f"{quantity}_{leg}"])[kept],
-                color=LEG_COLOURS[leg],
-                legend_label=leg,
-            )
-        legend = fig.legend[0]
-        legend.label_text_font_size = "8pt"
-        legend.padding = 2
-        legend.spacing = 0
-        fig.add_layout(legend, "right")
-        span = Span(location=float(t[0]), dimension="height", line_color="black", line_width=1)
-        fig.add_layout(span)
-        spans.append(span)
-        figures.append(fig)
-    figures[-1].xaxis.axis_label = "t (s)"
-    return figures, spans
-
-
 #: A slider's handle without a layer of its own or an animation: noUiSlider's ``will-change:
 #: transform`` gives each of the page's sliders two compositor layers, which every frame of
 #: every move then lays out and commits (``benchmarks/bench_explore.py``); a value set by
@@ -285,7 +244,7 @@ SLIDER_CSS: str = (
 )
 
 
-def _plain_slider(**properties: Any) -> Any:
+def plain_slider(**properties: Any) -> Any:
     """A Bokeh ``Slider`` drawn without its own layers (:data:`SLIDER_CSS`)."""
     from bokeh.models import InlineStyleSheet, Slider
 
@@ -301,7 +260,7 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     from bokeh.layouts import row
     from bokeh.models import Spinner
 
-    slider = _plain_slider(
+    slider = plain_slider(
         start=low,
         end=high,
         value=0.0,
@@ -325,135 +284,292 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     return slider, row(slider, field)
 
 
-# ---------------------------------------------------------------- the scrubber of a run
-def frame_sources(views: Sequence[Any]) -> dict[str, Any]:
-    """A source per drawn source of ``views`` (:class:`~prp3.explorer.scene.View`), a row per view.
+# ---------------------------------------------------------------- the live page
+def _same(shown: Any, new: Any) -> bool:
+    """Whether a column or property ``new`` is the one shown (arrays exactly, NaN equal to NaN)."""
+    arrays = (shown, new) if not isinstance(shown, list) else (*shown[:1], *new[:1])
+    if any(isinstance(value, np.ndarray) for value in arrays):
+        if isinstance(shown, list):
+            return len(shown) == len(new) and all(map(_same, shown, new))
+        return bool(np.array_equal(shown, new, equal_nan=True))
+    return bool(shown == new)
 
-    Row ``k`` of source ``name`` holds the columns of ``views[k].sources()[name]``
-    (named ``frames:<name>``), which :func:`browser_scrubber` copies at frame ``k``.
+
+class Bundle:
+    """The drawn sources and models of a live page, and the one message of each update.
+
+    Bokeh sends one message per changed model, which the browser applies and
+    repaints in turn, and the whole of a changed source.  :meth:`send`
+    compares each column of a source, and each property of a model, with the
+    one the browser shows, and puts only those that changed in one row of its
+    own source :attr:`source` (``bundle``: a root of the document that nothing
+    draws), which a few lines of ``CustomJS`` copy into the page in the browser
+    (the other columns of a source kept): one message and one repaint per
+    update.  Until :attr:`served` is set, the document is not in a browser:
+    :meth:`send` sets the sources and models themselves.
+
+    Parameters
+    ----------
+    sources : mapping of str to ColumnDataSource
+        The drawn sources by name.
+    models : mapping of str to Model
+        Other models whose properties an update sets (a colour mapper's
+        ``high``, the message's ``text``), by name.
+    tables : sequence of DataTable
+        Redrawn when their source changes (:data:`REDRAW_TABLES`).
     """
-    from bokeh.models import ColumnDataSource
 
-    first = views[0].sources()
-    every = [view.sources() for view in views]
-    return {
-        name: ColumnDataSource(
-            {c: [drawn[name][c] for drawn in every] for c in first[name]}, name=f"frames:{name}"
+    def __init__(
+        self, sources: Mapping[str, Any], models: Mapping[str, Any], tables: Sequence[Any]
+    ) -> None:
+        from bokeh.models import ColumnDataSource, CustomJS
+
+        self.sources = dict(sources)
+        self.models = dict(models)
+        self.shown: dict[str, dict[str, Any]] = {
+            **{name: dict(source.data) for name, source in self.sources.items()},
+            **{name: {} for name in self.models},
+        }
+        self.served = False
+        self._serial = 0
+        self.source = ColumnDataSource({}, name="bundle")
+        self.source.js_on_change(
+            "data",
+            CustomJS(
+                args={
+                    "bundle": self.source,
+                    "sources": self.sources,
+                    "models": self.models,
+                    "tables": list(tables),
+                },
+                code=_UNBUNDLE,
+            ),
         )
-        for name in first
-    }
+
+    def send(self, changes: Mapping[str, Mapping[str, Any]]) -> None:
+        """Show ``changes``: a source's name → columns, or a model's name → properties.
+
+        Only the columns and properties that differ from those shown travel,
+        all of them in one message.
+        """
+        row: dict[str, list[Any]] = {}
+        for name, values in changes.items():
+            shown = self.shown[name]
+            changed = {
+                key: value
+                for key, value in values.items()
+                if key not in shown or not _same(shown[key], value)
+            }
+            if not changed:
+                continue
+            shown.update(changed)
+            if self.served:
+                row.update({f"{name}|{key}": [value] for key, value in changed.items()})
+            elif name in self.sources:
+                self.sources[name].data = dict(shown)
+            else:
+                for key, value in changed.items():
+                    setattr(self.models[name], key, value)
+        if row:
+            self._serial += 1  # never the same row twice: each send is a change of the bundle
+            self.source.data = {"serial": [self._serial], **row}
 
 
-def _scrubber_widgets(times: Sequence[float], width: int) -> tuple[Any, Any]:
-    from bokeh.models import Toggle
-
-    slider = _plain_slider(
-        start=0,
-        end=max(len(times) - 1, 1),
-        value=0,
-        step=1,
-        name="time",
-        title=f"t = {times[0]:.3f} s",
-        width=width,
-        show_value=False,
-    )
-    return slider, Toggle(label="▶ play", name="play", width=90)
+def widened(low: float, high: float, motion: Motion, name: str) -> tuple[float, float]:
+    """A motion slider's range ``[low, high]`` widened to the run's values of its control."""
+    values = np.concatenate([motion.pose, motion.velocity, motion.acceleration], axis=-1)
+    k = [c.name for c in MOTION_CONTROLS].index(name)
+    return min(low, float(values[:, k].min())), max(high, float(values[:, k].max()))
 
 
-def _period(times: Sequence[float]) -> float:
-    """Milliseconds of the run between two of ``times`` (its real pace)."""
-    return 1000.0 * float(times[-1] - times[0]) / max(len(times) - 1, 1)
+#: What an update draws: a source's name → its columns, or a model's name → its properties.
+Changes = dict[str, dict[str, Any]]
 
 
-def browser_scrubber(
-    times: Sequence[float],
-    frames: Mapping[str, Any],
-    targets: Mapping[str, Any],
-    tables: Sequence[Any],
-    spans: Sequence[Any],
-    width: int = 400,
-) -> Any:
-    """The scrubber ``time`` and the button ``play`` of an HTML file of a run (no server).
+class LivePage:
+    """The live page of the server but its figures: the widgets and the update loop.
 
-    ``frames`` maps a drawn source's name to a source of its columns at every
-    frame (a row per frame); moving the scrubber to frame ``k`` copies row ``k``
-    into each of ``targets``, redraws the ``tables`` (DataTables), moves the
-    time lines ``spans`` to ``times[k]``.  The play button steps the scrubber on
-    the browser's timer, at the run's pace (at most 33 frames a second).
-    Returns the row of the two.
+    The nine motion sliders (:data:`~prp3.explorer.scene.MOTION_CONTROLS`, with
+    their fields), a field per design parameter, the arrows' scale
+    (``arrow_scale``, mm/N) and the message ``message``.  Once
+    :meth:`connect`-ed, every change of a slider or field recomputes the page
+    in Python (``compute(state)``: prp3's engines) and sends what changed
+    (:class:`Bundle`); a refused pose shows ``blank(state)`` (nothing that
+    belongs to it) and the library's one-line message.
+
+    Parameters
+    ----------
+    doc : bokeh.document.Document
+        The document filled.
+    limits : callable
+        ``limits(control)``: the range ``(low, high)`` of a motion slider.
+    motion : Motion or None
+        A run's platform motion: the sliders' ranges are widened to hold it.
+    design : mapping of str to (str, str)
+        The design parameters: key → (label, unit).
+    values : mapping of str to float
+        Their values.
+    scale : float
+        The arrows' length per newton (m/N), :attr:`scale`.
     """
-    from bokeh.layouts import row
-    from bokeh.models import CustomJS
 
-    slider, play = _scrubber_widgets(times, width)
-    slider.js_on_change(
-        "value",
-        CustomJS(
-            args={
-                "slider": slider,
-                "sources": dict(frames),
-                "targets": dict(targets),
-                "tables": list(tables),
-                "spans": list(spans),
-                "times": [float(v) for v in times],
-            },
-            code=_COPY_FRAME,
-        ),
-    )
-    period = max(30, int(_period(times)))
-    play.js_on_change(
-        "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
-    )
-    return row(slider, play)
+    def __init__(
+        self,
+        doc: Any,
+        limits: Callable[[MotionControl], tuple[float, float]],
+        motion: Motion | None,
+        design: Mapping[str, tuple[str, str]],
+        values: Mapping[str, float],
+        scale: float,
+    ) -> None:
+        from bokeh.models import Div, Spinner
 
+        self.doc = doc
+        self.scale = scale
+        #: The run's wrench on the platform at the sample shown (``None`` without).
+        self.load: tuple[float, float, float] | None = None
+        self._busy = False
+        self._compute: Callable[[State], Changes] | None = None
+        self._blank: Callable[[State], Changes] = lambda state: {}
+        self.bundle: Bundle | None = None
+        self.message = Div(
+            text="", name="message", width=860, styles={"color": "#b00000", "font-weight": "bold"}
+        )
+        self.sliders: dict[str, Any] = {}
+        self.fields: list[Any] = []
+        for control in MOTION_CONTROLS:
+            low, high = limits(control)
+            if motion is not None:
+                low, high = widened(low, high, motion, control.name)
+            slider, pair = slider_with_field(control, low, high)
+            self.sliders[control.name] = slider
+            self.fields.append(pair)
+        self.design_fields: dict[str, Any] = {
+            key: Spinner(
+                title=f"{label} ({unit})",
+                value=values[key],
+                low=0.0,
+                step=0.01,
+                width=130,
+                name=f"design:{key}",
+                format="0.[0000]",
+            )
+            for key, (label, unit) in design.items()
+        }
+        self.scale_field = Spinner(
+            title="arrow scale (mm/N)",
+            value=round(scale * 1e3, 4),
+            low=1e-6,
+            step=0.1,
+            width=120,
+            name="arrow_scale",
+        )
 
-def server_scrubber(
-    doc: Any,
-    times: Sequence[float],
-    show: Callable[[int], None],
-    spans: Sequence[Any],
-    width: int = 500,
-) -> Any:
-    """The scrubber ``time`` and the button ``play`` of a run on the server's page.
+    def state(self) -> State:
+        """The state of the sliders, with the run's :attr:`load`."""
+        values = State.from_controls({n: float(s.value) for n, s in self.sliders.items()})
+        return State(values.pose, values.velocity, values.acceleration, self.load)
 
-    Moving the scrubber to sample ``k`` moves the time lines ``spans`` and calls
-    ``show(k)`` (in Python: the page sets its sliders to the run's state at
-    ``k`` and recomputes it).  The play button steps the scrubber on the
-    server's timer at the run's pace, by as many samples as keep a step at
-    least 40 ms apart.  ``show(0)`` runs at once: the page starts at the run's
-    first sample.  Returns the row of the two.
-    """
-    from bokeh.layouts import row
+    def connect(
+        self,
+        bundle: Bundle,
+        compute: Callable[[State], Changes],
+        blank: Callable[[State], Changes],
+        redesign: Callable[[Mapping[str, float]], None],
+    ) -> None:
+        """Recompute the page at every change: ``compute(state)`` raises the library's error
+        for a refused pose, ``redesign(values)`` takes the design fields' values (and may
+        refuse them, too)."""
+        self.bundle = bundle
+        self._compute, self._blank = compute, blank
 
-    slider, play = _scrubber_widgets(times, width)
-    samples = len(times)
-    pace = _period(times)
-    period = max(40, int(pace))
-    stride = max(1, round(40 / pace)) if pace > 0 else 1
-    timer: list[Any] = [None]
+        def on_design(attr: str, old: Any, new: Any) -> None:
+            fields = self.design_fields.items()
+            try:
+                redesign({k: float(f.value) for k, f in fields if f.value is not None})
+            except Prp3Error as error:
+                self.refuse(error)
+                return
+            self.update()
 
-    def to_sample(k: int) -> None:
-        k = min(max(int(k), 0), samples - 1)
-        for span in spans:
-            span.location = float(times[k])
-        slider.title = f"t = {float(times[k]):.3f} s"
-        show(k)
+        def on_scale(attr: str, old: Any, new: Any) -> None:
+            if new is not None and float(new) > 0.0:
+                self.scale = float(new) * 1e-3
+                self.update()
 
-    def step() -> None:
-        following = int(slider.value) + stride
-        slider.value = following if following < samples else 0
+        for slider in self.sliders.values():
+            slider.on_change("value", lambda attr, old, new: self.update())
+        for field in self.design_fields.values():
+            field.on_change("value", on_design)
+        self.scale_field.on_change("value", on_scale)
 
-    def on_play(attr: str, old: Any, new: Any) -> None:
-        if new:
-            play.label = "❚❚ pause"
-            timer[0] = doc.add_periodic_callback(step, period)
-        else:
-            play.label = "▶ play"
-            if timer[0] is not None:
-                doc.remove_periodic_callback(timer[0])
-                timer[0] = None
+    def update(self) -> None:
+        """Recompute the page at the sliders' state and send what changed (one message)."""
+        if self._busy or self._compute is None or self.bundle is None:
+            return
+        state = self.state()
+        self.doc.hold("combine")  # every change of this update reaches the browser at once
+        try:
+            try:
+                changes = self._compute(state)
+            except Prp3Error as error:
+                self.refuse(error, state)
+                return
+            self.bundle.send({**changes, "message": {"text": ""}})
+        finally:
+            self.doc.unhold()
 
-    slider.on_change("value", lambda attr, old, new: to_sample(int(new)))
-    play.on_change("active", on_play)
-    to_sample(0)  # the page starts at the run's first sample
-    return row(slider, play)
+    def refuse(self, error: Prp3Error, state: State | None = None) -> None:
+        """Draw nothing that belongs to the refused pose, and say why (the library's line)."""
+        assert self.bundle is not None
+        blank = self._blank(self.state() if state is None else state)
+        self.bundle.send({**blank, "message": {"text": _escape(str(error))}})
+
+    def show_sample(self, motion: Motion, k: int) -> None:
+        """Set the nine motion sliders (and the load) to sample ``k`` of a run, then update once."""
+        values = np.concatenate([motion.pose[k], motion.velocity[k], motion.acceleration[k]])
+        load = motion.load
+        self.load = (
+            None if load is None else (float(load[k, 0]), float(load[k, 1]), float(load[k, 2]))
+        )
+        self._busy = True
+        try:
+            for name, value in zip(self.sliders, values, strict=True):
+                self.sliders[name].value = float(value)
+        finally:
+            self._busy = False
+        self.update()
+
+    def start(
+        self,
+        title: str,
+        figure: Any,
+        below: Sequence[Any],
+        right: Sequence[Any],
+        design: Any,
+        scrubber: Any = None,
+    ) -> None:
+        """Lay the page out and add it to the document, draw the sliders' state, then send
+        every later change in the bundle.
+
+        Above, the run's ``scrubber`` (if any) and the message; then the robot's
+        ``figure`` with what goes ``below`` it, the motion sliders, and the column
+        ``right``; the ``design`` widgets last.
+        """
+        from bokeh.layouts import column, row
+        from bokeh.models import Div
+
+        assert self.bundle is not None
+        controls = column(
+            Div(text="<b>platform pose, velocity, acceleration</b>"), *self.fields, width=300
+        )
+        top = [self.message] if scrubber is None else [scrubber, self.message]
+        middle = row(column(figure, *below), controls, column(*right))
+        self.doc.add_root(column(*top, middle, design))
+        self.doc.add_root(self.bundle.source)  # drawn by nothing: a root, to reach the browser
+        self.doc.title = title
+        self.update()
+        for pair in self.fields:  # a slider set before the page is served: its field shows it
+            slider, field = pair.children
+            field.value = slider.value
+        self.bundle.served = True
