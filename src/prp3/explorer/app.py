@@ -20,13 +20,22 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from prp3.errors import Prp3Error
-from prp3.explorer.page import Bundle, Changes, Key, LivePage, _table, arrow_layers
+from prp3.explorer.page import (
+    LEVEL,
+    Bundle,
+    Changes,
+    Key,
+    LivePage,
+    _table,
+    arrow_layers,
+    clip_overlays,
+)
 from prp3.explorer.run_folder import Run, run_motion
 from prp3.explorer.scene import (
     ARROWS,
@@ -71,14 +80,26 @@ def _limits(robot: Robot) -> float:
     return 1.3 * robot.l0
 
 
+class RobotFigure(NamedTuple):
+    """The robot's figure of a page (:func:`_robot_figure`)."""
+
+    #: The figure (with the map, in a row with its colour bar).
+    layout: Any
+    #: To put below it: its key (:class:`~prp3.explorer.page.Key`, HTML) and the check boxes
+    #: that show or hide the arrows of each quantity.
+    key: Any
+    #: The figure itself.
+    plot: Any
+    #: The map's colour mapper (``None`` without the map).
+    colours: Any
+
+
 def _robot_figure(
     robot: Robot, sources: Mapping[str, Any], overlay: bool, peak: float = 1.0
-) -> tuple[Any, Any, Any]:
+) -> RobotFigure:
     """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map.
 
-    Returns the figure (with the map, in a row with its colour bar), to put below it its
-    key (:class:`~prp3.explorer.page.Key`, HTML) and the check boxes that show or hide the
-    arrows of each quantity, and the map's colour mapper (``None`` without the map).
+    Every glyph at :data:`~prp3.explorer.page.LEVEL`: a move repaints them, not the axes.
     """
     from bokeh.layouts import row
     from bokeh.models import ColorBar, LinearColorMapper, Range1d
@@ -114,7 +135,7 @@ def _robot_figure(
             source=sources["overlay"],
             color_mapper=mapper,
             alpha=0.45,
-            level="image",
+            level=LEVEL,
         )
         image.name = "overlay_image"
         draw(
@@ -207,7 +228,7 @@ def _robot_figure(
         line_dash="dashed",
         legend="links 2 (sleeves)",
     )
-    fig.scatter("x", "y", source=sources["joints"], color="colour", size=9, line_color="black")
+    draw("scatter", "x", "y", source=sources["joints"], color="colour", size=9, line_color="black")
     draw(
         "scatter",
         "x",
@@ -219,9 +240,9 @@ def _robot_figure(
         fill_alpha=0.8,
         legend="payload",
     )
-    fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
+    draw("scatter", "x", "y", source=sources["centre"], marker="cross", size=10, color="black")
     key_and_toggles = arrow_layers(fig, key, sources["arrows"], ARROWS)
-    return (fig if bar is None else row(fig, bar)), key_and_toggles, mapper
+    return RobotFigure((fig if bar is None else row(fig, bar)), key_and_toggles, fig, mapper)
 
 
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:
@@ -255,7 +276,7 @@ def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[A
         {"phi": [0.0], "measure": [float(scene.singularity(np.zeros(())))]},
         name="singularity_marker",
     )
-    fig.scatter("phi", "measure", source=marker, size=10, color="#d62728")
+    fig.scatter("phi", "measure", source=marker, size=10, color="#d62728", level=LEVEL)
     return fig, marker
 
 
@@ -320,11 +341,12 @@ def explorer_document(
     phi_range = (live.sliders["phi"].start, live.sliders["phi"].end)
     singularity, sources["singularity_marker"] = _singularity_figure(phi_range, scene)
     peak0 = float(np.nanmax(overlay0["image"]["image"][0])) if overlay0 is not None else 1.0
-    figure_, key, colours = _robot_figure(
-        robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0
-    )
+    drawn = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
+    clip_overlays(doc, [drawn.plot, singularity])
     values_table = _table(sources["values"])
-    bundle = Bundle(sources, {"overlay_colours": colours, "message": live.message}, [values_table])
+    bundle = Bundle(
+        sources, {"overlay_colours": drawn.colours, "message": live.message}, [values_table]
+    )
     # the statics map of the last (φ, robot, shown): recomputed when one of them changes
     overlay: dict[str, Any] = {"key": (0.0, robot, True) if overlay0 is not None else None}
 
@@ -401,4 +423,4 @@ def explorer_document(
         times = [float(v) for v in motion.t]
         run_motion_ = motion  # narrowed for the closure
         scrubber = server_scrubber(doc, times, lambda k: live.show_sample(run_motion_, k), spans)
-    live.start("prp3 explore", figure_, [key, info], right, design, scrubber)
+    live.start("prp3 explore", drawn.layout, [drawn.key, info], right, design, scrubber)

@@ -36,13 +36,23 @@ from prp3.explorer.family_scene import (
     family_design_values,
     family_extent,
 )
-from prp3.explorer.page import Bundle, Changes, Key, LivePage, _escape, _table, arrow_layers
+from prp3.explorer.page import (
+    Bundle,
+    Changes,
+    Key,
+    LivePage,
+    _escape,
+    _table,
+    arrow_layers,
+    clip_overlays,
+)
 from prp3.explorer.run_folder import Run, family_run_motion
 from prp3.explorer.scene import MotionControl, State, View, empty_view
 from prp3.explorer.scrubber import (
     MAX_HTML_FRAMES,
     browser_scrubber,
     frame_sources,
+    page_html,
     server_scrubber,
     time_plots,
 )
@@ -60,7 +70,10 @@ SCENE = FamilyScene()
 
 
 def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
-    """The robot to scale with its force arrows, and its key (a legend and check boxes)."""
+    """The robot to scale with its force arrows, and its key (a legend and check boxes).
+
+    Every glyph at :data:`~prp3.explorer.page.LEVEL`: a move repaints them, not the axes.
+    """
     from bokeh.models import Range1d
     from bokeh.plotting import figure
 
@@ -159,7 +172,7 @@ def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
         fill_alpha=0.8,
         legend="payload",
     )
-    fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
+    key.draw("scatter", "x", "y", source=sources["centre"], marker="cross", size=10, color="black")
     present = [q for q in FAMILY_ARROWS if q in sources["arrows"].data["quantity"]]
     arrows = {quantity: FAMILY_ARROWS[quantity] for quantity in present}
     return fig, arrow_layers(fig, key, sources["arrows"], arrows)
@@ -228,6 +241,7 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
     first = SCENE.view(robot, SCENE.table(robot, State()), 0, live.scale)
     sources = _sources(first)
     figure_, key = _figure(robot, sources)
+    clip_overlays(doc, [figure_])
     values_table = _table(sources["values"])
     values_table.height = 420
     measures_table = _measures_table(sources["measures"])
@@ -278,10 +292,8 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     and the play button only pick a frame.  Bokeh's JavaScript is inline: it
     opens offline.
     """
-    from bokeh.embed import file_html
     from bokeh.layouts import column, row
     from bokeh.models import Div
-    from bokeh.resources import INLINE
 
     t = np.asarray(table["t"], dtype=np.float64)
     frames = frame_indices(int(t.size), MAX_HTML_FRAMES)
@@ -310,4 +322,4 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
         scrubber,
         row(column(fig, key), column(table_widget, measures), column(*plots)),
     )
-    return str(file_html(layout, resources=INLINE, title=title))
+    return page_html(layout, [fig], title)

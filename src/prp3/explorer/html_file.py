@@ -21,7 +21,13 @@ from numpy.typing import NDArray
 from prp3.explorer.app import PLOTTED, _robot_figure, _sources
 from prp3.explorer.page import _escape, _table
 from prp3.explorer.scene import PRP3_SCENE, arrow_scale, stroke_bands
-from prp3.explorer.scrubber import MAX_HTML_FRAMES, browser_scrubber, frame_sources, time_plots
+from prp3.explorer.scrubber import (
+    MAX_HTML_FRAMES,
+    browser_scrubber,
+    frame_sources,
+    page_html,
+    time_plots,
+)
 from prp3.family import FamilyRobot
 from prp3.files import atomic_writer
 from prp3.model.robot import Robot
@@ -54,10 +60,8 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
         :func:`prp3.explorer.scene.scene_view`; the scrubber and the play button
         only pick a frame.
     """
-    from bokeh.embed import file_html
     from bokeh.layouts import column, row
     from bokeh.models import Div
-    from bokeh.resources import INLINE
 
     if isinstance(robot, FamilyRobot):
         from prp3.explorer.family_app import family_run_html
@@ -70,7 +74,7 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
     sources = _sources(views[0], None, stroke_bands(robot))
     frames_of = frame_sources(views)
     targets: dict[str, Any] = {name: sources[name] for name in frames_of}
-    fig, key, _ = _robot_figure(robot, sources, overlay=False)
+    drawn = _robot_figure(robot, sources, overlay=False)
     plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
     table_widget = _table(sources["values"])
     scrubber = browser_scrubber(
@@ -81,8 +85,10 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
         f"{len(frames)} frames; forces by prp3 (the kernel, eqs. 10-25)",
         width=900,
     )
-    layout = column(heading, scrubber, row(column(fig, key), column(table_widget, *plots)))
-    return str(file_html(layout, resources=INLINE, title=title))
+    layout = column(
+        heading, scrubber, row(column(drawn.layout, drawn.key), column(table_widget, *plots))
+    )
+    return page_html(layout, [drawn.plot], title)
 
 
 def write_run_html(

@@ -23,11 +23,13 @@ from prp3.mechanics.geometry import LEGS
 from prp3.model.motion import Motion
 
 __all__ = [
+    "LEVEL",
     "REDRAW_TABLES",
     "Bundle",
     "Key",
     "LivePage",
     "arrow_layers",
+    "clip_overlays",
     "plain_slider",
     "slider_with_field",
 ]
@@ -75,6 +77,45 @@ for (const [name, changed] of Object.entries(grouped)) {
 for (const table of tables) if (table.source.name in grouped) redraw(table);
 """
 )
+
+#: The level of every glyph of a robot figure (and of the singularity marker).  BokehJS
+#: paints a figure on two canvases: the primary one (background, grid, axes and their
+#: labels, title, and the renderers of the other levels), and the overlay one, which a
+#: change of its renderers alone repaints without the primary one (``PlotView._actual_paint``).
+#: A move then repaints the robot, its arrows and the map, not the axes, the grid and the
+#: text around them.
+LEVEL: str = "overlay"
+
+#: Clips the overlay canvas of each of ``figures`` to its frame, as BokehJS clips the glyphs of
+#: the primary canvas (not those of the overlay one): set once the page is laid out, and
+#: again after every repaint that moved the frame (a zoom that widened the axis labels).
+_CLIP_OVERLAYS = """
+for (const figure of figures) {
+  const view = Bokeh.index.find_one(figure);
+  if (view == null) continue;
+  const layer = view.canvas_view.overlays.el;
+  const clip = () => {
+    const frame = view.frame.bbox;
+    const canvas = view.canvas_view.bbox;
+    const inset = `inset(${frame.top}px ${canvas.width - frame.right}px `
+      + `${canvas.height - frame.bottom}px ${frame.left}px)`;
+    if (layer.dataset.inset !== inset) {
+      layer.dataset.inset = inset;
+      layer.style.clipPath = inset;
+    }
+  };
+  clip();
+  view.repainted.connect(clip);
+}
+"""
+
+
+def clip_overlays(doc: Any, figures: Sequence[Any]) -> None:
+    """Clip the glyphs of ``figures`` drawn at :data:`LEVEL` to each one's frame, in ``doc``."""
+    from bokeh.events import DocumentReady
+    from bokeh.models import CustomJS
+
+    doc.js_on_event(DocumentReady, CustomJS(args={"figures": list(figures)}, code=_CLIP_OVERLAYS))
 
 
 def _table(source: Any) -> Any:
@@ -146,7 +187,8 @@ class Key:
     A Bokeh legend draws each entry's glyph in a canvas of its own, and the
     browser composites every canvas of the page at every frame of a move; a
     ``Div`` of text and coloured marks is laid out once.  :meth:`draw` draws a
-    glyph on ``fig`` and, with a ``legend``, lists it.
+    glyph on ``fig`` (at :data:`LEVEL` unless ``style`` says another level) and, with a
+    ``legend``, lists it.
     """
 
     def __init__(self, fig: Any) -> None:
@@ -155,7 +197,7 @@ class Key:
 
     def draw(self, method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
         """``fig.<method>(*fields, source=source, **style)``; listed in the key under ``legend``."""
-        renderer = getattr(self.fig, method)(*fields, source=source, **style)
+        renderer = getattr(self.fig, method)(*fields, source=source, **{"level": LEVEL, **style})
         if legend:
             self.entries.append((_symbol(method, style), legend))
         return renderer
@@ -199,11 +241,11 @@ def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, tuple[str
     )
     segment = fig.segment(
         "x0", "y0", "x1", "y1", source=source, view=CDSView(filter=shown),
-        line_color=colours, line_width=2.5,
+        line_color=colours, line_width=2.5, level=LEVEL,
     )  # fmt: skip
     fig.scatter(
         "x1", "y1", angle="angle", marker="triangle", size=10, source=source,
-        view=CDSView(filter=shown), color=colours,
+        view=CDSView(filter=shown), color=colours, level=LEVEL,
     )  # fmt: skip
     fig.add_tools(
         HoverTool(
@@ -255,10 +297,12 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     """A slider of one motion ``control`` over ``[low, high]`` and its numeric field, linked.
 
     Returns the slider (named ``control.name``) and the row of both; the two are
-    linked in the browser (``js_link``), so either sets the other.
+    linked in the browser, so either sets the other.  The slider's value reaches
+    the server; the field shows it without sending it (no second patch, and no
+    second reply, per move: the server reads the sliders only).
     """
     from bokeh.layouts import row
-    from bokeh.models import Spinner
+    from bokeh.models import CustomJS, Spinner
 
     slider = plain_slider(
         start=low,
@@ -279,7 +323,8 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
         name=f"{control.name}_field",
         format="0.[0000]",
     )
-    slider.js_link("value", field, "value")
+    shown = "if (field.value !== slider.value) field.setv({value: slider.value}, {sync: false});"
+    slider.js_on_change("value", CustomJS(args={"slider": slider, "field": field}, code=shown))
     field.js_link("value", slider, "value")
     return slider, row(slider, field)
 

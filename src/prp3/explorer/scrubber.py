@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from prp3.explorer.page import REDRAW_TABLES, plain_slider
+from prp3.explorer.page import REDRAW_TABLES, clip_overlays, plain_slider
 from prp3.explorer.scene import LEG_COLOURS
 from prp3.mechanics.geometry import LEGS
 from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
@@ -26,6 +26,7 @@ __all__ = [
     "MAX_HTML_FRAMES",
     "browser_scrubber",
     "frame_sources",
+    "page_html",
     "server_scrubber",
     "time_plots",
 ]
@@ -125,6 +126,20 @@ def frame_sources(views: Sequence[Any]) -> dict[str, Any]:
         )
         for name in first
     }
+
+
+def page_html(layout: Any, figures: Sequence[Any], title: str) -> str:
+    """The self-contained HTML page of a run's ``layout``: Bokeh's JavaScript inline (it opens
+    offline), the glyphs of ``figures`` clipped to their frames
+    (:func:`~prp3.explorer.page.clip_overlays`)."""
+    from bokeh.document import Document
+    from bokeh.embed import file_html
+    from bokeh.resources import INLINE
+
+    doc = Document()
+    doc.add_root(layout)
+    clip_overlays(doc, figures)
+    return str(file_html(doc, resources=INLINE, title=title))
 
 
 def _scrubber_widgets(times: Sequence[float], width: int) -> tuple[Any, Any]:
