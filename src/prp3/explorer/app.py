@@ -245,21 +245,33 @@ def _robot_figure(
     return RobotFigure((fig if bar is None else row(fig, bar)), key_and_toggles, fig, mapper)
 
 
+def _padded(values: Any) -> Any:
+    """A fixed range around ``values``: their span and 5 % of it on each side, as Bokeh's
+    automatic range pads it (which would be computed again at every move of the marker)."""
+    from bokeh.models import Range1d
+
+    low, high = float(np.min(values)), float(np.max(values))
+    return Range1d(low - 0.05 * (high - low), high + 0.05 * (high - low))
+
+
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:
     from bokeh.models import ColumnDataSource, Span
     from bokeh.plotting import figure
 
     curve = singularity_curve(phi_range)
+    measure = scene.singularity(np.array(curve["phi"]))
     fig = figure(
         title="sin(φ − π/3): singular at the red lines",
         width=330,
         height=170,
         x_axis_label="φ (rad)",
+        x_range=_padded(curve["phi"]),
+        y_range=_padded(measure),
         tools="",
         toolbar_location=None,
     )
     fig.title.text_font_size = "9pt"
-    fig.line(curve["phi"], list(scene.singularity(np.array(curve["phi"]))), color="#333333")
+    fig.line(curve["phi"], list(measure), color="#333333")
     for k in range(-2, 3):
         phi = math.pi / 3.0 + k * math.pi
         if phi_range[0] <= phi <= phi_range[1]:
@@ -344,9 +356,9 @@ def explorer_document(
     drawn = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
     clip_overlays(doc, [drawn.plot, singularity])
     values_table = _table(sources["values"])
-    bundle = Bundle(
-        sources, {"overlay_colours": drawn.colours, "message": live.message}, [values_table]
-    )
+    models = {"overlay_colours": drawn.colours, "message": live.message}
+    # the colour scale reaches the browser with the map's image, which is coloured with it
+    bundle = Bundle(sources, models, [values_table], quiet=["overlay_colours"])
     # the statics map of the last (φ, robot, shown): recomputed when one of them changes
     overlay: dict[str, Any] = {"key": (0.0, robot, True) if overlay0 is not None else None}
 

@@ -34,21 +34,31 @@ __all__ = [
     "slider_with_field",
 ]
 
-#: Defines ``redraw(table)``: BokehJS redraws a DataTable when the rows of its view change,
-#: not when the data of the same rows does.  The rows are redrawn in place (SlickGrid's
-#: ``updateRow``: the cells' text, no row rebuilt and laid out anew) while their number
-#: stays, the whole table (its view's change) otherwise.
+#: Defines ``redraw(table, old, changed)``: BokehJS redraws a DataTable when the rows of its
+#: view change, not when the data of the same rows does.  While their number stays, the cells
+#: are redrawn in place (SlickGrid's ``updateCell``: the cell's text, no row rebuilt and laid
+#: out anew), only those of the ``changed`` columns whose value differs from the ``old`` one
+#: when both are given; the whole table (its view's change) otherwise.
 REDRAW_TABLES = """
-const redraw = (table) => {
+const redraw = (table, old = null, changed = null) => {
   const view = Bokeh.index.find_one(table);
   const grid = view == null ? null : view.grid;
   const rows = table.source.get_length() ?? 0;
-  if (grid != null && grid.getDataLength() === rows && typeof grid.updateRow === "function"
-      && view.data != null && typeof view.data.init === "function") {
-    view.data.init(table.source, table.view);
-    for (let row = 0; row < rows; row++) grid.updateRow(row);
-  } else {
+  if (grid == null || grid.getDataLength() !== rows || typeof grid.updateCell !== "function"
+      || view.data == null || typeof view.data.init !== "function") {
     table.view.change.emit();
+    return;
+  }
+  view.data.init(table.source, table.view);
+  const columns = grid.getColumns();
+  for (let c = 0; c < columns.length; c++) {
+    const field = columns[c].field;
+    if (changed != null && !(field in changed)) continue;
+    const before = old == null || changed == null ? null : old[field];
+    for (let r = 0; r < rows; r++) {
+      const k = view.data.index[r];
+      if (before == null || before[k] !== changed[field][k]) grid.updateCell(r, c);
+    }
   }
 };
 """
@@ -64,17 +74,25 @@ for (const [key, values] of Object.entries(data)) {
   const [name, column] = key.split("|");
   if (column !== undefined) (grouped[name] = grouped[name] || {})[column] = values[0];
 }
-// not synced back: the server sent these values (an echo would cost a patch each way)
+// not synced back: the server sent these values (an echo would cost a patch each way).  The
+// models first; those of `quiet` without a change signal: a source of the same row reads them
+// when it is drawn next (a colour mapper: the map's image mapped once, not once for the new
+// scale and once for the new image, and its colour bar told by that one mapping)
 for (const [name, changed] of Object.entries(grouped)) {
-  if (name in sources) {
-    const source = sources[name];
-    const old = source.data instanceof Map ? Object.fromEntries(source.data) : source.data;
-    source.setv({data: {...old, ...changed}}, {sync: false});
-  } else {
-    models[name].setv(changed, {sync: false});
-  }
+  if (name in models) models[name].setv(changed, {sync: false, silent: quiet.includes(name)});
 }
-for (const table of tables) if (table.source.name in grouped) redraw(table);
+const olds = {};
+for (const [name, changed] of Object.entries(grouped)) {
+  if (!(name in sources)) continue;
+  const source = sources[name];
+  const old = source.data instanceof Map ? Object.fromEntries(source.data) : source.data;
+  olds[name] = old;
+  source.setv({data: {...old, ...changed}}, {sync: false});
+}
+for (const table of tables) {
+  const name = table.source.name;
+  if (name in grouped) redraw(table, olds[name], grouped[name]);
+}
 """
 )
 
@@ -362,10 +380,18 @@ class Bundle:
         ``high``, the message's ``text``), by name.
     tables : sequence of DataTable
         Redrawn when their source changes (:data:`REDRAW_TABLES`).
+    quiet : sequence of str
+        Models of ``models`` set without a change signal in the browser: each is sent only
+        with a change of a source that reads it (the statics map's colour mapper, sent with
+        the map's image).  They are set before the sources.
     """
 
     def __init__(
-        self, sources: Mapping[str, Any], models: Mapping[str, Any], tables: Sequence[Any]
+        self,
+        sources: Mapping[str, Any],
+        models: Mapping[str, Any],
+        tables: Sequence[Any],
+        quiet: Sequence[str] = (),
     ) -> None:
         from bokeh.models import ColumnDataSource, CustomJS
 
@@ -386,6 +412,7 @@ class Bundle:
                     "sources": self.sources,
                     "models": self.models,
                     "tables": list(tables),
+                    "quiet": list(quiet),
                 },
                 code=_UNBUNDLE,
             ),
