@@ -26,15 +26,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.errors import Prp3Error
+from prp3.explorer.live import Bundle, Changes, LivePage, refused
 from prp3.explorer.page import (
     LEVEL,
-    Bundle,
-    Changes,
+    Glyph,
     Key,
-    LivePage,
     _table,
     arrow_layers,
     clip_overlays,
+    robot_figure,
 )
 from prp3.explorer.run_folder import Run, run_motion
 from prp3.explorer.scene import (
@@ -49,12 +49,10 @@ from prp3.explorer.scene import (
     arrow_scale,
     design_robot,
     design_values,
-    empty_view,
     singularity_curve,
     stroke_bands,
     workspace_overlay,
 )
-from prp3.explorer.scrubber import server_scrubber, time_plots
 from prp3.model.robot import Robot
 
 __all__ = ["PLOTTED", "explorer_document", "require_bokeh"]
@@ -94,6 +92,52 @@ class RobotFigure(NamedTuple):
     colours: Any
 
 
+#: The statics map's reachable region, drawn first (under the robot) with the map.
+_REGION: Glyph = (
+    "patches",
+    "region",
+    "reachable region (strokes)",
+    {"fill_alpha": 0.0, "line_color": "#444444", "line_dash": "dotted", "line_width": 1.5},
+)
+
+#: The 3-PRP's glyphs, in drawing order (the arrows follow them).
+_GLYPHS: tuple[Glyph, ...] = (
+    (
+        "patches",
+        "base",
+        "base (guides)",
+        {"fill_color": "#dddddd", "fill_alpha": 0.5, "line_color": "#555555", "line_width": 2},
+    ),
+    (
+        "multi_line",
+        "strokes",
+        "strokes",
+        {"line_color": "colour", "line_width": 9, "line_alpha": 0.25},
+    ),
+    (
+        "patches",
+        "platform",
+        "platform",
+        {"fill_color": "#bbbbbb", "fill_alpha": 0.6, "line_color": "#222222", "line_width": 2},
+    ),
+    ("multi_line", "pistons", "pistons (legs A, B, C)", {"line_color": "colour", "line_width": 7}),
+    (
+        "multi_line",
+        "sleeves",
+        "links 2 (sleeves)",
+        {"line_color": "colour", "line_width": 4, "line_dash": "dashed"},
+    ),
+    ("scatter", "joints", "", {"color": "colour", "size": 9, "line_color": "black"}),
+    (
+        "scatter",
+        "payload",
+        "payload",
+        {"marker": "circle", "size": 16, "fill_color": "#444444", "fill_alpha": 0.8},
+    ),
+    ("scatter", "centre", "", {"marker": "cross", "size": 10, "color": "black"}),
+)
+
+
 def _robot_figure(
     robot: Robot, sources: Mapping[str, Any], overlay: bool, peak: float = 1.0
 ) -> RobotFigure:
@@ -105,22 +149,8 @@ def _robot_figure(
     from bokeh.models import ColorBar, LinearColorMapper, Range1d
     from bokeh.plotting import figure
 
-    half = _limits(robot)
-    fig = figure(
-        name="robot",
-        title="3-PRP robot to scale; arrows: joint forces at P_i",
-        frame_width=470,
-        frame_height=470,
-        x_range=Range1d(-half, half),
-        y_range=Range1d(-half, half),
-        x_axis_label="x (m)",
-        y_axis_label="y (m)",
-        tools="pan,wheel_zoom,reset,save",
-        toolbar_location="above",
-    )
+    fig = robot_figure("3-PRP robot to scale; arrows: joint forces at P_i", _limits(robot))
     key = Key(fig)
-    draw = key.draw
-
     bar: Any = None
     mapper: Any = None
     if overlay:
@@ -138,17 +168,7 @@ def _robot_figure(
             level=LEVEL,
         )
         image.name = "overlay_image"
-        draw(
-            "patches",
-            "xs",
-            "ys",
-            source=sources["region"],
-            fill_alpha=0.0,
-            line_color="#444444",
-            line_dash="dotted",
-            line_width=1.5,
-            legend="reachable region (strokes)",
-        )
+        key.draw_glyphs([_REGION], sources)
         # the colour bar in a figure of its own, beside: painted when the map changes, not at
         # every move of the robot (a colour bar is an axis, ticks and labels to measure)
         bar = figure(
@@ -177,70 +197,7 @@ def _robot_figure(
             ),
             "right",
         )
-    draw(
-        "patches",
-        "xs",
-        "ys",
-        source=sources["base"],
-        fill_color="#dddddd",
-        fill_alpha=0.5,
-        line_color="#555555",
-        line_width=2,
-        legend="base (guides)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["strokes"],
-        line_color="colour",
-        line_width=9,
-        line_alpha=0.25,
-        legend="strokes",
-    )
-    draw(
-        "patches",
-        "xs",
-        "ys",
-        source=sources["platform"],
-        fill_color="#bbbbbb",
-        fill_alpha=0.6,
-        line_color="#222222",
-        line_width=2,
-        legend="platform",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["pistons"],
-        line_color="colour",
-        line_width=7,
-        legend="pistons (legs A, B, C)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["sleeves"],
-        line_color="colour",
-        line_width=4,
-        line_dash="dashed",
-        legend="links 2 (sleeves)",
-    )
-    draw("scatter", "x", "y", source=sources["joints"], color="colour", size=9, line_color="black")
-    draw(
-        "scatter",
-        "x",
-        "y",
-        source=sources["payload"],
-        marker="circle",
-        size=16,
-        fill_color="#444444",
-        fill_alpha=0.8,
-        legend="payload",
-    )
-    draw("scatter", "x", "y", source=sources["centre"], marker="cross", size=10, color="black")
+    key.draw_glyphs(_GLYPHS, sources)
     key_and_toggles = arrow_layers(fig, key, sources["arrows"], ARROWS)
     return RobotFigure((fig if bar is None else row(fig, bar)), key_and_toggles, fig, mapper)
 
@@ -323,11 +280,11 @@ def explorer_document(
     Every change of a slider, field or design parameter recomputes the pose
     with prp3's engines in Python (:meth:`Scene.table`, :meth:`Scene.view`;
     the statics map when ``φ`` or the robot changed) and sends the columns
-    that changed (:class:`~prp3.explorer.page.LivePage`); a refused pose
+    that changed (:class:`~prp3.explorer.live.LivePage`); a refused pose
     empties them and shows the library's one-line message.
     """
-    from bokeh.layouts import column, row
-    from bokeh.models import Checkbox, Div
+    from bokeh.layouts import row
+    from bokeh.models import Checkbox
 
     current: dict[str, Robot] = {"robot": robot}
     motion = run_motion(robot, run) if run is not None else None
@@ -393,12 +350,11 @@ def explorer_document(
 
     def blank(state: State) -> Changes:
         """Nothing that belongs to the refused pose (the base stays), no map of another φ."""
-        empty = empty_view(first)
         overlay["key"] = None
         maps = _empty_overlay()
         return {
             **marker(state),
-            **{name: columns for name, columns in empty.sources().items() if name != "base"},
+            **refused(first),
             "overlay": maps["image"],
             "region": maps["region"],
         }
@@ -408,31 +364,23 @@ def explorer_document(
 
     live.connect(bundle, compute, blank, redesign)
     overlay_box.on_change("active", lambda attr, old, new: live.update())
-
     stroke = robot.limits.stroke
-    info = Div(
-        text=(
-            f"l0 = {robot.l0:g} m; strokes: "
-            + (f"[{stroke[0]:g}, {stroke[1]:g}] m (bands on the guides)" if stroke else "none")
-            + "; singular at φ = π/3 mod π.  The check boxes show or hide the arrows."
-        ),
-        width=500,
-        styles={"font-size": "9pt", "color": "#444"},
+    info = (
+        f"l0 = {robot.l0:g} m; strokes: "
+        + (f"[{stroke[0]:g}, {stroke[1]:g}] m (bands on the guides)" if stroke else "none")
+        + "; singular at φ = π/3 mod π.  The check boxes show or hide the arrows."
     )
     fields = list(live.design_fields.values())
-    design = column(
-        Div(text="<b>design</b> (the robot's parameters; forces update live)"),
+    design = [
+        "<b>design</b> (the robot's parameters; forces update live)",
         row(*fields[:5], live.scale_field),
         row(*fields[5:9]),
         row(*fields[9:]),
         overlay_box,
-    )
+    ]
     right = [values_table, singularity]
     scrubber = None
     if run is not None and motion is not None:
-        plots, spans = time_plots(run.table, {q: f"{q} (N)" for q in PLOTTED})
-        right.append(column(*plots))
-        times = [float(v) for v in motion.t]
-        run_motion_ = motion  # narrowed for the closure
-        scrubber = server_scrubber(doc, times, lambda k: live.show_sample(run_motion_, k), spans)
-    live.start("prp3 explore", drawn.layout, [drawn.key, info], right, design, scrubber)
+        plots, scrubber = live.run_widgets(run.table, {q: f"{q} (N)" for q in PLOTTED}, motion)
+        right.append(plots)
+    live.start("prp3 explore", drawn.layout, [drawn.key], info, right, design, scrubber)

@@ -36,28 +36,20 @@ from prp3.explorer.family_scene import (
     family_design_values,
     family_extent,
 )
+from prp3.explorer.live import Bundle, Changes, LivePage, refused
 from prp3.explorer.page import (
-    Bundle,
-    Changes,
+    Glyph,
     Key,
-    LivePage,
     _escape,
     _table,
     arrow_layers,
     clip_overlays,
+    robot_figure,
 )
 from prp3.explorer.run_folder import Run, family_run_motion
-from prp3.explorer.scene import MotionControl, State, View, empty_view
-from prp3.explorer.scrubber import (
-    MAX_HTML_FRAMES,
-    browser_scrubber,
-    frame_sources,
-    page_html,
-    server_scrubber,
-    time_plots,
-)
+from prp3.explorer.scene import MotionControl, State, View
+from prp3.explorer.scrubber import run_page
 from prp3.family import FamilyRobot
-from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
 __all__ = ["family_document", "family_run_html"]
 
@@ -69,110 +61,65 @@ FAMILY_PLOTTED: tuple[str, ...] = ("tau", "fx1", "fy1", "p")
 SCENE = FamilyScene()
 
 
+#: A family robot's glyphs, in drawing order (the arrows follow them).
+_GLYPHS: tuple[Glyph, ...] = (
+    (
+        "patches",
+        "base",
+        "base (the joint-1 frames)",
+        {"fill_alpha": 0.0, "line_color": "#777777", "line_dash": "dotted", "line_width": 1.5},
+    ),
+    (
+        "multi_line",
+        "guides",
+        "guides of the P joints",
+        {"line_color": "#595959", "line_dash": "dashed", "line_width": 1},
+    ),
+    (
+        "patches",
+        "platform",
+        "platform (the O_3)",
+        {"fill_color": "#bbbbbb", "fill_alpha": 0.6, "line_color": "#222222", "line_width": 2},
+    ),
+    ("multi_line", "links", "links 1, 2 (legs A, B, C)", {"line_color": "colour", "line_width": 3}),
+    ("multi_line", "sliders", "P joints (slides)", {"line_color": "colour", "line_width": 8}),
+    (
+        "scatter",
+        "revolute",
+        "R joints",
+        {
+            "marker": "circle",
+            "size": 11,
+            "fill_color": "white",
+            "line_color": "outline",
+            "line_width": 2.5,
+        },
+    ),
+    (
+        "scatter",
+        "payload",
+        "payload",
+        {"marker": "circle", "size": 14, "fill_color": "#444444", "fill_alpha": 0.8},
+    ),
+    ("scatter", "centre", "", {"marker": "cross", "size": 10, "color": "black"}),
+)
+
+
 def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
-    """The robot to scale with its force arrows, and its key (a legend and check boxes).
+    """The robot to scale with its force arrows, and its key (a legend and check boxes): of
+    what this robot has (a glyph without rows is not listed).
 
     Every glyph at :data:`~prp3.explorer.page.LEVEL`: a move repaints them, not the axes.
     """
-    from bokeh.models import Range1d
-    from bokeh.plotting import figure
-
-    half = family_extent(robot)
     driven = robot.types[robot.actuated - 1]
-    fig = figure(
-        name="robot",
-        title=f"{robot.architecture} to scale, joint {robot.actuated} ({driven}) driven (black); "
+    fig = robot_figure(
+        f"{robot.architecture} to scale, joint {robot.actuated} ({driven}) driven (black); "
         "arrows: forces at O_k",
-        frame_width=470,
-        frame_height=470,
-        x_range=Range1d(-half, half),
-        y_range=Range1d(-half, half),
-        x_axis_label="x (m)",
-        y_axis_label="y (m)",
-        tools="pan,wheel_zoom,reset,save",
-        toolbar_location="above",
+        family_extent(robot),
     )
     fig.title.text_font_size = "9pt"
     key = Key(fig)
-
-    def draw(method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
-        rows = len(next(iter(source.data.values()), []))  # a key of what this robot has
-        return key.draw(method, *fields, source=source, legend=legend if rows else "", **style)
-
-    draw(
-        "patches",
-        "xs",
-        "ys",
-        source=sources["base"],
-        fill_alpha=0.0,
-        line_color="#777777",
-        line_dash="dotted",
-        line_width=1.5,
-        legend="base (the joint-1 frames)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["guides"],
-        line_color="#595959",
-        line_dash="dashed",
-        line_width=1,
-        legend="guides of the P joints",
-    )
-    draw(
-        "patches",
-        "xs",
-        "ys",
-        source=sources["platform"],
-        fill_color="#bbbbbb",
-        fill_alpha=0.6,
-        line_color="#222222",
-        line_width=2,
-        legend="platform (the O_3)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["links"],
-        line_color="colour",
-        line_width=3,
-        legend="links 1, 2 (legs A, B, C)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["sliders"],
-        line_color="colour",
-        line_width=8,
-        legend="P joints (slides)",
-    )
-    draw(
-        "scatter",
-        "x",
-        "y",
-        source=sources["revolute"],
-        marker="circle",
-        size=11,
-        fill_color="white",
-        line_color="outline",
-        line_width=2.5,
-        legend="R joints",
-    )
-    draw(
-        "scatter",
-        "x",
-        "y",
-        source=sources["payload"],
-        marker="circle",
-        size=14,
-        fill_color="#444444",
-        fill_alpha=0.8,
-        legend="payload",
-    )
-    key.draw("scatter", "x", "y", source=sources["centre"], marker="cross", size=10, color="black")
+    key.draw_glyphs(_GLYPHS, sources, present=True)
     present = [q for q in FAMILY_ARROWS if q in sources["arrows"].data["quantity"]]
     arrows = {quantity: FAMILY_ARROWS[quantity] for quantity in present}
     return fig, arrow_layers(fig, key, sources["arrows"], arrows)
@@ -213,15 +160,14 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
     Every slider or design change solves the pose with
     :func:`prp3.family.family_inverse_dynamics` in Python
     (:func:`~prp3.explorer.family_scene.family_pose_table`) and sends the drawn
-    columns that changed (:class:`~prp3.explorer.page.LivePage`); a refused pose
+    columns that changed (:class:`~prp3.explorer.live.LivePage`); a refused pose
     empties them (the base stays) and shows the library's one-line message.
     With a ``run`` (:func:`~prp3.explorer.run_folder.read_family_run`) the
     scrubber sets the sliders to the run's state at a sample
     (:func:`~prp3.explorer.run_folder.family_run_motion`) and the page recomputes
     it, beside the run's force plots against time.
     """
-    from bokeh.layouts import column, row
-    from bokeh.models import Div
+    from bokeh.layouts import row
 
     current = {"robot": robot}
     motion = family_run_motion(robot, run) if run is not None else None
@@ -251,37 +197,27 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
         robot_now = current["robot"]
         return SCENE.view(robot_now, SCENE.table(robot_now, state), 0, live.scale).sources()
 
-    def blank(state: State) -> Changes:
-        """Nothing that belongs to the refused pose (the base stays)."""
-        return {name: c for name, c in empty_view(first).sources().items() if name != "base"}
-
     def redesign(values: Mapping[str, float]) -> None:
         current["robot"] = family_design_robot(robot, values)
 
-    live.connect(bundle, compute, blank, redesign)
+    live.connect(bundle, compute, lambda state: refused(first), redesign)
     home_leg, home_par = robot.home_measures
-    info = Div(
-        text=(
-            f"{robot.architecture}, joint {robot.actuated} driven; legs B, C are leg A turned by "
-            f"120°, 240°.  Home measures: μ_leg = {home_leg[0]:.4f}, μ_par = {home_par:.4f}; a "
-            "pose is refused when sign·μ < 1e-4 (docs/family.md §6)."
-        ),
-        width=500,
-        styles={"font-size": "9pt", "color": "#444"},
+    info = (
+        f"{robot.architecture}, joint {robot.actuated} driven; legs B, C are leg A turned by "
+        f"120°, 240°.  Home measures: μ_leg = {home_leg[0]:.4f}, μ_par = {home_par:.4f}; a "
+        "pose is refused when sign·μ < 1e-4 (docs/family.md §6)."
     )
-    design = column(
-        Div(text="<b>design</b> (masses; forces update live)"),
+    design = [
+        "<b>design</b> (masses; forces update live)",
         row(*live.design_fields.values(), live.scale_field),
-    )
+    ]
     right = [values_table, measures_table]
     scrubber = None
     if run is not None and motion is not None:
-        plots, spans = time_plots(run.table, {q: q for q in FAMILY_PLOTTED})
-        right.extend(plots)
-        times = [float(v) for v in motion.t]
-        run_motion = motion  # narrowed for the closure
-        scrubber = server_scrubber(doc, times, lambda k: live.show_sample(run_motion, k), spans)
-    live.start(f"prp3 explore: {robot.architecture}", figure_, [key, info], right, design, scrubber)
+        plots, scrubber = live.run_widgets(run.table, {q: q for q in FAMILY_PLOTTED}, motion)
+        right.append(plots)
+    title = f"prp3 explore: {robot.architecture}"
+    live.start(title, figure_, [key], info, right, design, scrubber)
 
 
 def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
@@ -292,34 +228,24 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     and the play button only pick a frame.  Bokeh's JavaScript is inline: it
     opens offline.
     """
-    from bokeh.layouts import column, row
-    from bokeh.models import Div
-
-    t = np.asarray(table["t"], dtype=np.float64)
-    frames = frame_indices(int(t.size), MAX_HTML_FRAMES)
     scale = family_arrow_scale(robot)
-    views = [SCENE.view(robot, table, int(k), scale) for k in frames]
-    sources = _sources(views[0])
-    fig, key = _figure(robot, sources)
-    plots, spans = time_plots(table, {q: q for q in FAMILY_PLOTTED})
-    table_widget = _table(sources["values"])
-    table_widget.height = 420
-    measures = _measures_table(sources["measures"])
-    scrubber = browser_scrubber(
-        [float(v) for v in t[frames]],
-        frame_sources(views),
-        sources,
-        [table_widget, measures],
-        spans,
+
+    def draw(first: View) -> tuple[dict[str, Any], tuple[Any, Any, Any], list[Any]]:
+        sources = _sources(first)
+        fig, key = _figure(robot, sources)
+        values = _table(sources["values"])
+        values.height = 420
+        return sources, (fig, key, fig), [values, _measures_table(sources["measures"])]
+
+    samples = len(table["t"])
+    return run_page(
+        title,
+        table,
+        lambda k: SCENE.view(robot, table, k, scale),
+        draw,
+        {q: q for q in FAMILY_PLOTTED},
+        lambda frames: (
+            f"<b>{_escape(title)}</b>; {frames} frames of {samples} samples; forces by prp3.family"
+        ),
+        beside=True,
     )
-    heading = Div(
-        text=f"<b>{_escape(title)}</b>; {len(frames)} frames of {t.size} samples; "
-        "forces by prp3.family",
-        width=900,
-    )
-    layout = column(
-        heading,
-        scrubber,
-        row(column(fig, key), column(table_widget, measures), column(*plots)),
-    )
-    return page_html(layout, [fig], title)

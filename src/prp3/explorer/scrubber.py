@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from prp3.drawing import LEG_COLOURS
 from prp3.explorer.page import REDRAW_TABLES, clip_overlays, plain_slider
-from prp3.explorer.scene import LEG_COLOURS
 from prp3.mechanics.geometry import LEGS
 from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
@@ -26,7 +26,7 @@ __all__ = [
     "MAX_HTML_FRAMES",
     "browser_scrubber",
     "frame_sources",
-    "page_html",
+    "run_page",
     "server_scrubber",
     "time_plots",
 ]
@@ -128,17 +128,58 @@ def frame_sources(views: Sequence[Any]) -> dict[str, Any]:
     }
 
 
-def page_html(layout: Any, figures: Sequence[Any], title: str) -> str:
-    """The self-contained HTML page of a run's ``layout``: Bokeh's JavaScript inline (it opens
-    offline), the glyphs of ``figures`` clipped to their frames
-    (:func:`~prp3.explorer.page.clip_overlays`)."""
+def run_page(
+    title: str,
+    table: Mapping[str, Any],
+    view: Callable[[int], Any],
+    draw: Callable[[Any], tuple[Mapping[str, Any], Sequence[Any], Sequence[Any]]],
+    titles: Mapping[str, str],
+    heading: Callable[[int], str],
+    beside: bool = False,
+) -> str:
+    """The self-contained HTML page of a run: Bokeh's JavaScript inline, it opens offline.
+
+    At most :data:`MAX_HTML_FRAMES` samples of the run are drawn, precomputed;
+    the scrubber and the play button only pick a frame (:func:`browser_scrubber`).
+
+    Parameters
+    ----------
+    title : str
+        The page's title.
+    table : mapping of str to ndarray (N,)
+        The run's columns (``t`` and the per-leg quantities ``titles`` names, plotted).
+    view : callable
+        ``view(k)``: the :class:`~prp3.explorer.scene.View` of sample ``k``.
+    draw : callable
+        ``draw(first)``: the page's sources made from the first frame's view, the
+        robot's figure as laid out, its key and the figure itself (its glyphs
+        clipped to its frame, :func:`~prp3.explorer.page.clip_overlays`), and the
+        tables beside it (the plots below them, or ``beside`` them).
+    heading : callable
+        ``heading(frames)``: the HTML of the page's first line.
+    """
     from bokeh.document import Document
     from bokeh.embed import file_html
+    from bokeh.layouts import column, row
+    from bokeh.models import Div
     from bokeh.resources import INLINE
 
+    t = np.asarray(table["t"], dtype=np.float64)
+    frames = [int(k) for k in frame_indices(int(t.size), MAX_HTML_FRAMES)]
+    views = [view(k) for k in frames]
+    sources, (layout, key, figure), tables = draw(views[0])
+    plots, spans = time_plots(table, titles)
+    frames_of = frame_sources(views)
+    targets = {name: sources[name] for name in frames_of}
+    scrubber = browser_scrubber([float(t[k]) for k in frames], frames_of, targets, tables, spans)
+    right = [column(*tables), column(*plots)] if beside else [column(*tables, *plots)]
     doc = Document()
-    doc.add_root(layout)
-    clip_overlays(doc, figures)
+    doc.add_root(
+        column(
+            Div(text=heading(len(frames)), width=900), scrubber, row(column(layout, key), *right)
+        )
+    )
+    clip_overlays(doc, [figure])
     return str(file_html(doc, resources=INLINE, title=title))
 
 
