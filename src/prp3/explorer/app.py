@@ -23,7 +23,6 @@ from collections.abc import Mapping
 from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
 
 from prp3.errors import Prp3Error
 from prp3.explorer.live import Bundle, Changes, LivePage, refused
@@ -56,8 +55,6 @@ from prp3.explorer.scene import (
 from prp3.model.robot import Robot
 
 __all__ = ["PLOTTED", "explorer_document", "require_bokeh"]
-
-FloatArray = NDArray[np.float64]
 
 #: The per-leg quantities of the linked plots against time.
 PLOTTED: tuple[str, ...] = ("f10", "f21y", "f21z", "n32")

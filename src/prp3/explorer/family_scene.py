@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 
 from prp3.drawing import GUIDE_OVERHANG, LEG_COLOURS, SLIDE_HALF_LENGTH
 from prp3.errors import Prp3Error
-from prp3.explorer.scene import Columns, State, View, arrow_columns
+from prp3.explorer.scene import ArrowStyle, Columns, State, View, arrow_columns
 from prp3.family import (
     FamilyRobot,
     family_inverse_dynamics,
@@ -66,12 +66,12 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: The force arrows of a family robot: quantity → (legend label, colour).
-FAMILY_ARROWS: dict[str, tuple[str, str]] = {
-    "F1": ("F1 = (fx1, fy1): base/link 0 on link 1 at O_1", "#d62728"),
-    "F2": ("F2 = (fx2, fy2): link 1 on link 2 at O_2", "#9467bd"),
-    "F3": ("F3 = (fx3, fy3): link 2 on the platform at O_3", "#e377c2"),
-    "tau": ("tau·u_a: the actuator's share of an actuated P joint", "#000000"),
+#: The force arrows of a family robot: quantity → its style.
+FAMILY_ARROWS: dict[str, ArrowStyle] = {
+    "F1": ArrowStyle("F1 = (fx1, fy1): base/link 0 on link 1 at O_1", "#d62728"),
+    "F2": ArrowStyle("F2 = (fx2, fy2): link 1 on link 2 at O_2", "#9467bd"),
+    "F3": ArrowStyle("F3 = (fx3, fy3): link 2 on the platform at O_3", "#e377c2"),
+    "tau": ArrowStyle("tau·u_a: the actuator's share of an actuated P joint", "#000000"),
 }
 
 #: Editable design parameters of a family robot: dotted key → (label, unit).

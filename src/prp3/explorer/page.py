@@ -15,6 +15,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from prp3.drawing import LEG_COLOURS
+from prp3.explorer.scene import ArrowStyle
 from prp3.mechanics.geometry import LEGS
 
 __all__ = [
@@ -242,13 +243,14 @@ class Key:
         )
 
 
-def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, tuple[str, str]]) -> Any:
+def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, ArrowStyle]) -> Any:
     """The arrows of every joint force on ``fig``, listed in ``key``, and their toggles.
 
     ``arrows`` maps a quantity of ``source`` (a column ``quantity``) to its
-    legend label and colour.  All the arrows are two renderers (the shafts and
-    the heads, coloured by quantity), so that a move repaints two glyphs, not
-    two per quantity; the check boxes below the key show or hide a quantity's
+    style (:class:`~prp3.explorer.scene.ArrowStyle`: its label in the key, its
+    colour).  All the arrows are two renderers (the shafts and the heads,
+    coloured by quantity), so that a move repaints two glyphs, not two per
+    quantity; the check boxes below the key show or hide a quantity's
     arrows by the filter of their rows (in the browser, no computation).
     Returns the key and the check boxes.
     """
@@ -259,7 +261,7 @@ def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, tuple[str
     groups = [GroupFilter(column_name="quantity", group=quantity) for quantity in arrows]
     shown = UnionFilter(operands=list(groups), name="arrow_filter")
     colours = factor_cmap(
-        "quantity", palette=[colour for _, colour in arrows.values()], factors=list(arrows)
+        "quantity", palette=[style.colour for style in arrows.values()], factors=list(arrows)
     )
     segment = fig.segment(
         "x0", "y0", "x1", "y1", source=source, view=CDSView(filter=shown),

@@ -36,7 +36,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
-from typing import Any, Protocol
+from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -67,6 +67,7 @@ __all__ = [
     "DESIGN_PARAMETERS",
     "MOTION_CONTROLS",
     "PRP3_SCENE",
+    "ArrowStyle",
     "Columns",
     "MotionControl",
     "Scene",
@@ -88,14 +89,22 @@ FloatArray = NDArray[np.float64]
 #: The columns of one data source: name → values.
 Columns = dict[str, list[Any]]
 
-#: The force arrows: quantity → (label of the legend, colour).
-ARROWS: dict[str, tuple[str, str]] = {
-    "f10": ("f10: actuator force on the piston (along e)", "#d62728"),
-    "f21": ("f21: piston on link 2 (f21y n + f21z e)", "#9467bd"),
-    "n10": ("n10: guide reaction on the piston (along n)", "#8c564b"),
-    "n32": ("n32: link 2 on the platform (along d⊥)", "#e377c2"),
-    "fric10": ("fric10: guide friction on the piston (along e)", "#7f7f7f"),
-    "fric32": ("fric32: sleeve friction on the platform (along d)", "#bcbd22"),
+
+class ArrowStyle(NamedTuple):
+    """How the arrows of one quantity are drawn: their label in the key, and their colour."""
+
+    label: str
+    colour: str
+
+
+#: The force arrows: quantity → its style.
+ARROWS: dict[str, ArrowStyle] = {
+    "f10": ArrowStyle("f10: actuator force on the piston (along e)", "#d62728"),
+    "f21": ArrowStyle("f21: piston on link 2 (f21y n + f21z e)", "#9467bd"),
+    "n10": ArrowStyle("n10: guide reaction on the piston (along n)", "#8c564b"),
+    "n32": ArrowStyle("n32: link 2 on the platform (along d⊥)", "#e377c2"),
+    "fric10": ArrowStyle("fric10: guide friction on the piston (along e)", "#7f7f7f"),
+    "fric32": ArrowStyle("fric32: sleeve friction on the platform (along d)", "#bcbd22"),
 }
 
 #: The rows of the table of values, in order (columns of ``results.csv``).
