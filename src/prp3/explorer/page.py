@@ -16,7 +16,7 @@ from typing import Any
 
 from prp3.drawing import LEG_COLOURS
 from prp3.explorer.scene import ArrowStyle
-from prp3.mechanics.geometry import LEGS
+from prp3.validation import LEGS
 
 __all__ = [
     "LEVEL",

@@ -18,8 +18,8 @@ import numpy as np
 
 from prp3.drawing import LEG_COLOURS
 from prp3.explorer.page import REDRAW_TABLES, clip_overlays, plain_slider
-from prp3.mechanics.geometry import LEGS
 from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+from prp3.validation import LEGS
 
 __all__ = [
     "MAX_CURVE_POINTS",
