@@ -10,11 +10,13 @@ OS's Chromium, as the browser tests do)::
 Starts ``prp3 explore --no-browser`` (the paper's robot, the defaults: the
 statics map on) on a free port of 127.0.0.1, opens the page in headless
 Chromium and, for each move, sets a slider's ``value`` in the page (what a
-drag does), then waits in the page for the ``arrows`` source to change (the
-server's recomputed columns have arrived) and for the next animation frame
-to be painted (a ``requestAnimationFrame`` callback, then a task after it): ``performance.now()`` from the move to that paint.
-The ``x`` slider recomputes the pose; the ``phi`` slider also recomputes the
-statics map of the workspace (41 × 41 poses).
+drag does), then waits in the page for every source the move redraws to
+change (:data:`DRAWN`: the ``arrows``, which arrive with the robot in the same
+message, and for ``phi`` the statics map ``overlay`` as well) and for the next
+animation frame to be painted (a ``requestAnimationFrame`` callback, then a
+task after it): ``performance.now()`` from the move to that paint.  The ``x``
+slider recomputes the pose; the ``phi`` slider also recomputes the statics map
+of the workspace (41 × 41 poses).
 
 Measured in the same run, interleaved in batches of 10 moves (the same load
 for all), as peers of the page's latency: the smallest Bokeh server app of
@@ -24,8 +26,8 @@ machine at that moment, with ``TCP_NODELAY`` on its websocket as the
 explorer sets it (``prp3.explorer.server._no_delay``) and as Bokeh ships it;
 and the Python work of one update alone (``pose_table`` and ``scene_view``,
 and for ``phi`` ``workspace_overlay``), timed in this process.  The ratios
-are what travel between machines.  Exit status 1 if the median latency at the defaults
-(``x``) exceeds 50 ms.
+are what travel between machines.  Exit status 1 if the median latency of
+either slider at the defaults exceeds :data:`TARGET` (50 ms).
 """
 
 from __future__ import annotations
@@ -59,19 +61,24 @@ FLAGS = [
 ]
 
 MOVES = """
-async ([name, values]) => {
+async ([name, values, drawn]) => {
   const doc = Bokeh.documents[0];
   const slider = doc.get_model_by_name(name);
-  const arrows = doc.get_model_by_name('arrows');
+  const sources = drawn.map((source) => doc.get_model_by_name(source));
   const times = [];
   for (const value of values) {
-    const painted = new Promise((resolve) => {
-      const changed = () => {
-        arrows.change.disconnect(changed);
-        requestAnimationFrame(() => setTimeout(() => resolve(performance.now()), 0));
+    // every source the move redraws has changed (they arrive in one message), then a frame
+    // is painted
+    const changed = sources.map((source) => new Promise((resolve) => {
+      const done = () => {
+        source.change.disconnect(done);
+        resolve();
       };
-      arrows.change.connect(changed);
-    });
+      source.change.connect(done);
+    }));
+    const painted = Promise.all(changed).then(() => new Promise((resolve) => {
+      requestAnimationFrame(() => setTimeout(() => resolve(performance.now()), 0));
+    }));
     const start = performance.now();
     slider.value = value;
     times.push((await painted) - start);
@@ -80,6 +87,13 @@ async ([name, values]) => {
   return times;
 }
 """
+
+#: The sources each slider's move redraws: the arrows (and the robot, in the same message);
+#: ``phi`` also the statics map.
+DRAWN: dict[str, list[str]] = {"x": ["arrows"], "phi": ["arrows", "overlay"]}
+
+#: The largest median latency at the defaults (ms): the issue's target.
+TARGET: float = 50.0
 
 
 #: The peer: the smallest Bokeh server app of the same kind (a slider whose Python callback
@@ -196,20 +210,23 @@ def main() -> int:
             pages = {name: browser.new_page() for name in commands}
             for name, page in pages.items():
                 _ready(page, f"http://127.0.0.1:{ports[name]}/")
-                page.evaluate(MOVES, ["x", [0.0011, 0.0021, 0.0031]])  # warm-up
+                page.evaluate(MOVES, ["x", [0.0011, 0.0021, 0.0031], ["arrows"]])  # warm-up
             for slider, values in sweeps.items():
                 times: dict[str, list[float]] = {name: [] for name in pages}
                 for start in range(0, len(values), 10):  # interleaved: the same load for all
                     for name, page in pages.items():
                         moved = slider if name == "explorer" else "x"
-                        times[name] += page.evaluate(MOVES, [moved, values[start : start + 10]])
+                        drawn = DRAWN[slider] if name == "explorer" else ["arrows"]
+                        batch = values[start : start + 10]
+                        times[name] += page.evaluate(MOVES, [moved, batch, drawn])
                 times["Python update alone"] = _python_update(slider, values)
                 median = statistics.median(times["explorer"])
                 print(f"slider {slider}:")
                 for name, measured in times.items():
                     ratio = median / statistics.median(measured)
                     print(f"  {name:<24} {_summary(measured)}; explorer / this = {ratio:5.2f}")
-                if slider == "x" and median > 50.0:
+                if median > TARGET:
+                    print(f"  the median of {slider} is above the target of {TARGET:g} ms")
                     status = 1
             browser.close()
     finally:

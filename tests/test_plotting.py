@@ -20,6 +20,7 @@ from PIL import Image
 
 import prp3
 from prp3.cli import main
+from prp3.drawing import PISTON_HALF_LENGTH, SLEEVE_HALF_LENGTH
 from prp3.io.results import results_table
 from prp3.model.parameters import Friction, JointFriction
 from prp3.plotting import (
@@ -33,7 +34,6 @@ from prp3.plotting import (
     save_figure,
     save_figures,
 )
-from prp3.plotting.animation import PISTON_HALF_LENGTH, SLEEVE_HALF_LENGTH
 from strategies import REF_E, analytic_motions, ref_base, ref_geometry, ref_slide
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"

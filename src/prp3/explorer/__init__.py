@@ -6,8 +6,10 @@
 * :mod:`prp3.explorer.run_folder`: a folder of ``prp3 simulate`` results read
   and checked against the robot, and the run's platform motion.
 * :mod:`prp3.explorer.app`: the Bokeh document of the server's 3-PRP page;
-  :mod:`prp3.explorer.page`, what both pages share (the key, the arrows, the
-  sliders, the time plots, the run's scrubber); :mod:`prp3.explorer.server`,
+  :mod:`prp3.explorer.page`, what both pages draw alike (the robot's figure,
+  the key, the arrows, the table, the sliders); :mod:`prp3.explorer.live`, the
+  update loop of a live page and its one message per update;
+  :mod:`prp3.explorer.scrubber`, a run's time plots and scrubber; :mod:`prp3.explorer.server`,
   the server of ``prp3 explore``; :mod:`prp3.explorer.html_file`, the
   self-contained HTML file of a run (``prp3 simulate --html``, ``prp3 explore
   --export``).  Bokeh is imported lazily, inside their functions.

@@ -19,47 +19,42 @@ the filter of the arrows' rows ``arrow_filter``, and with a run the scrubber
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
-from typing import Any
+from collections.abc import Mapping
+from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
 
 from prp3.errors import Prp3Error
+from prp3.explorer.live import Bundle, Changes, LivePage, refused
 from prp3.explorer.page import (
-    _UNBUNDLE,
+    LEVEL,
+    Glyph,
     Key,
-    _escape,
     _table,
     arrow_layers,
-    server_scrubber,
-    slider_with_field,
-    time_plots,
+    clip_overlays,
+    robot_figure,
 )
 from prp3.explorer.run_folder import Run, run_motion
 from prp3.explorer.scene import (
     ARROWS,
     DESIGN_PARAMETERS,
-    MOTION_CONTROLS,
     PRP3_SCENE,
     Columns,
+    MotionControl,
     Scene,
     State,
     View,
     arrow_scale,
     design_robot,
     design_values,
-    empty_view,
     singularity_curve,
     stroke_bands,
     workspace_overlay,
 )
-from prp3.model.motion import Motion
 from prp3.model.robot import Robot
 
-__all__ = ["PLOTTED", "explorer_document", "require_bokeh", "set_state", "widened"]
-
-FloatArray = NDArray[np.float64]
+__all__ = ["PLOTTED", "explorer_document", "require_bokeh"]
 
 #: The per-leg quantities of the linked plots against time.
 PLOTTED: tuple[str, ...] = ("f10", "f21y", "f21z", "n32")
@@ -80,36 +75,81 @@ def _limits(robot: Robot) -> float:
     return 1.3 * robot.l0
 
 
+class RobotFigure(NamedTuple):
+    """The robot's figure of a page (:func:`_robot_figure`)."""
+
+    #: The figure (with the map, in a row with its colour bar).
+    layout: Any
+    #: To put below it: its key (:class:`~prp3.explorer.page.Key`, HTML) and the check boxes
+    #: that show or hide the arrows of each quantity.
+    key: Any
+    #: The figure itself.
+    plot: Any
+    #: The map's colour mapper (``None`` without the map).
+    colours: Any
+
+
+#: The statics map's reachable region, drawn first (under the robot) with the map.
+_REGION: Glyph = (
+    "patches",
+    "region",
+    "reachable region (strokes)",
+    {"fill_alpha": 0.0, "line_color": "#444444", "line_dash": "dotted", "line_width": 1.5},
+)
+
+#: The 3-PRP's glyphs, in drawing order (the arrows follow them).
+_GLYPHS: tuple[Glyph, ...] = (
+    (
+        "patches",
+        "base",
+        "base (guides)",
+        {"fill_color": "#dddddd", "fill_alpha": 0.5, "line_color": "#555555", "line_width": 2},
+    ),
+    (
+        "multi_line",
+        "strokes",
+        "strokes",
+        {"line_color": "colour", "line_width": 9, "line_alpha": 0.25},
+    ),
+    (
+        "patches",
+        "platform",
+        "platform",
+        {"fill_color": "#bbbbbb", "fill_alpha": 0.6, "line_color": "#222222", "line_width": 2},
+    ),
+    ("multi_line", "pistons", "pistons (legs A, B, C)", {"line_color": "colour", "line_width": 7}),
+    (
+        "multi_line",
+        "sleeves",
+        "links 2 (sleeves)",
+        {"line_color": "colour", "line_width": 4, "line_dash": "dashed"},
+    ),
+    ("scatter", "joints", "", {"color": "colour", "size": 9, "line_color": "black"}),
+    (
+        "scatter",
+        "payload",
+        "payload",
+        {"marker": "circle", "size": 16, "fill_color": "#444444", "fill_alpha": 0.8},
+    ),
+    ("scatter", "centre", "", {"marker": "cross", "size": 10, "color": "black"}),
+)
+
+
 def _robot_figure(
     robot: Robot, sources: Mapping[str, Any], overlay: bool, peak: float = 1.0
-) -> tuple[Any, Any]:
+) -> RobotFigure:
     """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map.
 
-    Returns the figure (with the map, in a row with its colour bar) and, to put below it, its
-    key (:class:`~prp3.explorer.page.Key`, HTML) and the check boxes that show or hide the
-    arrows of each quantity.
+    Every glyph at :data:`~prp3.explorer.page.LEVEL`: a move repaints them, not the axes.
     """
     from bokeh.layouts import row
     from bokeh.models import ColorBar, LinearColorMapper, Range1d
     from bokeh.plotting import figure
 
-    half = _limits(robot)
-    fig = figure(
-        name="robot",
-        title="3-PRP robot to scale; arrows: joint forces at P_i",
-        frame_width=470,
-        frame_height=470,
-        x_range=Range1d(-half, half),
-        y_range=Range1d(-half, half),
-        x_axis_label="x (m)",
-        y_axis_label="y (m)",
-        tools="pan,wheel_zoom,reset,save",
-        toolbar_location="above",
-    )
+    fig = robot_figure("3-PRP robot to scale; arrows: joint forces at P_i", _limits(robot))
     key = Key(fig)
-    draw = key.draw
-
     bar: Any = None
+    mapper: Any = None
     if overlay:
         mapper = LinearColorMapper(palette="Viridis256", low=0.0, high=peak, nan_color=(0, 0, 0, 0))
         mapper.name = "overlay_colours"
@@ -122,20 +162,10 @@ def _robot_figure(
             source=sources["overlay"],
             color_mapper=mapper,
             alpha=0.45,
-            level="image",
+            level=LEVEL,
         )
         image.name = "overlay_image"
-        draw(
-            "patches",
-            "xs",
-            "ys",
-            source=sources["region"],
-            fill_alpha=0.0,
-            line_color="#444444",
-            line_dash="dotted",
-            line_width=1.5,
-            legend="reachable region (strokes)",
-        )
+        key.draw_glyphs([_REGION], sources)
         # the colour bar in a figure of its own, beside: painted when the map changes, not at
         # every move of the robot (a colour bar is an axis, ticks and labels to measure)
         bar = figure(
@@ -164,72 +194,18 @@ def _robot_figure(
             ),
             "right",
         )
-    draw(
-        "patches",
-        "xs",
-        "ys",
-        source=sources["base"],
-        fill_color="#dddddd",
-        fill_alpha=0.5,
-        line_color="#555555",
-        line_width=2,
-        legend="base (guides)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["strokes"],
-        line_color="colour",
-        line_width=9,
-        line_alpha=0.25,
-        legend="strokes",
-    )
-    draw(
-        "patches",
-        "xs",
-        "ys",
-        source=sources["platform"],
-        fill_color="#bbbbbb",
-        fill_alpha=0.6,
-        line_color="#222222",
-        line_width=2,
-        legend="platform",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["pistons"],
-        line_color="colour",
-        line_width=7,
-        legend="pistons (legs A, B, C)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["sleeves"],
-        line_color="colour",
-        line_width=4,
-        line_dash="dashed",
-        legend="links 2 (sleeves)",
-    )
-    fig.scatter("x", "y", source=sources["joints"], color="colour", size=9, line_color="black")
-    draw(
-        "scatter",
-        "x",
-        "y",
-        source=sources["payload"],
-        marker="circle",
-        size=16,
-        fill_color="#444444",
-        fill_alpha=0.8,
-        legend="payload",
-    )
-    fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
+    key.draw_glyphs(_GLYPHS, sources)
     key_and_toggles = arrow_layers(fig, key, sources["arrows"], ARROWS)
-    return (fig if bar is None else row(fig, bar)), key_and_toggles
+    return RobotFigure((fig if bar is None else row(fig, bar)), key_and_toggles, fig, mapper)
+
+
+def _padded(values: Any) -> Any:
+    """A fixed range around ``values``: their span and 5 % of it on each side, as Bokeh's
+    automatic range pads it (which would be computed again at every move of the marker)."""
+    from bokeh.models import Range1d
+
+    low, high = float(np.min(values)), float(np.max(values))
+    return Range1d(low - 0.05 * (high - low), high + 0.05 * (high - low))
 
 
 def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[Any, Any]:
@@ -237,16 +213,19 @@ def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[A
     from bokeh.plotting import figure
 
     curve = singularity_curve(phi_range)
+    measure = scene.singularity(np.array(curve["phi"]))
     fig = figure(
         title="sin(φ − π/3): singular at the red lines",
         width=330,
         height=170,
         x_axis_label="φ (rad)",
+        x_range=_padded(curve["phi"]),
+        y_range=_padded(measure),
         tools="",
         toolbar_location=None,
     )
     fig.title.text_font_size = "9pt"
-    fig.line(curve["phi"], list(scene.singularity(np.array(curve["phi"]))), color="#333333")
+    fig.line(curve["phi"], list(measure), color="#333333")
     for k in range(-2, 3):
         phi = math.pi / 3.0 + k * math.pi
         if phi_range[0] <= phi <= phi_range[1]:
@@ -263,7 +242,7 @@ def _singularity_figure(phi_range: tuple[float, float], scene: Scene) -> tuple[A
         {"phi": [0.0], "measure": [float(scene.singularity(np.zeros(())))]},
         name="singularity_marker",
     )
-    fig.scatter("phi", "measure", source=marker, size=10, color="#d62728")
+    fig.scatter("phi", "measure", source=marker, size=10, color="#d62728", level=LEVEL)
     return fig, marker
 
 
@@ -296,264 +275,109 @@ def explorer_document(
     """Fill a Bokeh ``Document`` with the live explorer of ``robot`` (and of a ``run``).
 
     Every change of a slider, field or design parameter recomputes the pose
-    with prp3's engines in Python (:meth:`Scene.table`, :meth:`Scene.view`) and
-    replaces the columns of the drawn sources; a refused pose empties them and
-    shows the library's one-line message.
+    with prp3's engines in Python (:meth:`Scene.table`, :meth:`Scene.view`;
+    the statics map when ``φ`` or the robot changed) and sends the columns
+    that changed (:class:`~prp3.explorer.live.LivePage`); a refused pose
+    empties them and shows the library's one-line message.
     """
-    from bokeh.layouts import column, row
-    from bokeh.models import Checkbox, ColumnDataSource, CustomJS, Div, Spinner
+    from bokeh.layouts import row
+    from bokeh.models import Checkbox
 
-    base_robot = robot
-    current: dict[str, Any] = {"robot": robot, "load": None, "busy": False, "served": False}
+    current: dict[str, Robot] = {"robot": robot}
     motion = run_motion(robot, run) if run is not None else None
-    scale = [arrow_scale(robot)]
-    first = scene.view(robot, scene.table(robot, State()), 0, scale[0])
+
+    def limits(control: MotionControl) -> tuple[float, float]:
+        scale = robot.l0 if control.length else 1.0
+        return control.low * scale, control.high * scale
+
+    live = LivePage(
+        doc, limits, motion, DESIGN_PARAMETERS, design_values(robot), arrow_scale(robot)
+    )
+    first = scene.view(robot, scene.table(robot, State()), 0, live.scale)
     try:
         overlay0: dict[str, Columns] | None = workspace_overlay(robot, 0.0)
     except Prp3Error:
         overlay0 = None
     sources = _sources(first, overlay0, stroke_bands(robot))
-    message = Div(
-        text="", name="message", width=860, styles={"color": "#b00000", "font-weight": "bold"}
-    )
-
-    sliders: dict[str, Any] = {}
-    fields: list[Any] = []
-    for control in MOTION_CONTROLS:
-        low, high = control.low, control.high
-        if control.length:
-            low, high = low * robot.l0, high * robot.l0
-        if motion is not None:
-            low, high = widened(low, high, motion, control.name)
-        slider, pair = slider_with_field(control, low, high)
-        sliders[control.name] = slider
-        fields.append(pair)
-    design_fields: dict[str, Any] = {}
-    for key, (label, unit) in DESIGN_PARAMETERS.items():
-        design_fields[key] = Spinner(
-            title=f"{label} ({unit})",
-            value=design_values(robot)[key],
-            low=0.0,
-            step=0.01,
-            width=130,
-            name=f"design:{key}",
-            format="0.[0000]",
-        )
-    scale_field = Spinner(
-        title="arrow scale (mm/N)",
-        value=round(scale[0] * 1e3, 4),
-        low=1e-6,
-        step=0.1,
-        width=120,
-        name="arrow_scale",
-    )
     overlay_box = Checkbox(
         label="statics map of the workspace at φ",
         active=overlay0 is not None,
         name="overlay_toggle",
     )
-    singularity, marker = _singularity_figure((sliders["phi"].start, sliders["phi"].end), scene)
+    phi_range = (live.sliders["phi"].start, live.sliders["phi"].end)
+    singularity, sources["singularity_marker"] = _singularity_figure(phi_range, scene)
     peak0 = float(np.nanmax(overlay0["image"]["image"][0])) if overlay0 is not None else 1.0
-    figure_, key = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
-    overlay_phi: list[float | None] = [0.0 if overlay0 is not None else None]
-
-    shown: dict[str, Columns] = dict(first.sources())
+    drawn = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
+    clip_overlays(doc, [drawn.plot, singularity])
     values_table = _table(sources["values"])
-    # every drawn source of an update travels in one message: one row of the bundle holds
-    # each changed source's columns, which _UNBUNDLE copies into it in the browser (one
-    # message and one repaint instead of one per source)
-    bundle = ColumnDataSource({}, name="bundle")
-    bundle.js_on_change(
-        "data",
-        CustomJS(
-            args={
-                "bundle": bundle,
-                "targets": {name: sources[name] for name in shown},
-                "table": values_table,
-            },
-            code=_UNBUNDLE,
-        ),
-    )
+    models = {"overlay_colours": drawn.colours, "message": live.message}
+    # the colour scale reaches the browser with the map's image, which is coloured with it
+    bundle = Bundle(sources, models, [values_table], quiet=["overlay_colours"])
+    # the statics map of the last (φ, robot, shown): recomputed when one of them changes
+    overlay: dict[str, Any] = {"key": (0.0, robot, True) if overlay0 is not None else None}
 
-    def show(view: View) -> None:
-        changed: dict[str, list[Any]] = {}
-        for name, columns in view.sources().items():
-            if shown.get(name) == columns:  # only what changed goes to the browser
-                continue
-            shown[name] = columns
-            if not current["served"]:  # the browser has not the document yet: its sources
-                sources[name].data = columns
-                continue
-            changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
-        if changed:
-            bundle.data = changed
-
-    def refresh_overlay(phi: float, robot_now: Robot) -> None:
-        if not overlay_box.active:
-            sources["overlay"].data = _empty_overlay()["image"]
-            sources["region"].data = _empty_overlay()["region"]
-            overlay_phi[0] = None
-            return
-        if overlay_phi[0] == phi:
-            return
+    def layers(phi: float, robot_now: Robot) -> Changes:
+        key = (phi, robot_now, bool(overlay_box.active))
+        if overlay["key"] == key:
+            return {}
+        overlay["key"] = key
         try:
-            layers = workspace_overlay(robot_now, phi)
+            maps = workspace_overlay(robot_now, phi) if overlay_box.active else _empty_overlay()
         except Prp3Error:  # a singular φ: the message says it; no map
-            layers = _empty_overlay()
-        sources["overlay"].data = layers["image"]
-        sources["region"].data = layers["region"]
-        if layers["image"]["image"]:
-            peak = float(np.nanmax(layers["image"]["image"][0]))
-            figure_.select_one({"name": "overlay_colours"}).high = peak if peak > 0 else 1.0
-        overlay_phi[0] = phi
+            maps = _empty_overlay()
+        changes: Changes = {"overlay": maps["image"], "region": maps["region"]}
+        if maps["image"]["image"]:
+            peak = float(np.nanmax(maps["image"]["image"][0]))
+            changes["overlay_colours"] = {"high": peak if peak > 0 else 1.0}
+        return changes
 
-    def update() -> None:
-        if current["busy"]:
-            return
-        doc.hold("combine")  # every change of this update reaches the browser in one message
-        try:
-            _update()
-        finally:
-            doc.unhold()
+    def marker(state: State) -> Changes:
+        phi = state.pose[2]
+        measure = float(scene.singularity(np.array(phi)))
+        return {"singularity_marker": {"phi": [phi], "measure": [measure]}}
 
-    def _update() -> None:
-        values = {name: float(slider.value) for name, slider in sliders.items()}
-        base_state = State.from_controls(values)
-        state = State(
-            base_state.pose, base_state.velocity, base_state.acceleration, current["load"]
-        )
-        if marker.data["phi"] != [state.pose[2]]:
-            measure = float(scene.singularity(np.array(state.pose[2])))
-            marker.data = {"phi": [state.pose[2]], "measure": [measure]}
-        robot_now: Robot = current["robot"]
-        try:
-            table = scene.table(robot_now, state)
-            view = scene.view(robot_now, table, 0, scale[0])
-        except Prp3Error as error:
-            refuse(error)
-            return
-        show(view)
-        message.text = ""
-        refresh_overlay(state.pose[2], robot_now)
+    def compute(state: State) -> Changes:
+        robot_now = current["robot"]
+        changes = marker(state)  # moves with φ, also when the pose is refused
+        view = scene.view(robot_now, scene.table(robot_now, state), 0, live.scale)
+        changes.update(view.sources())
+        changes["strokes"] = stroke_bands(robot_now)
+        changes.update(layers(state.pose[2], robot_now))
+        return changes
 
-    def refuse(error: Prp3Error) -> None:
-        """Draw nothing that belongs to the refused pose (the base stays), and say why."""
-        blank = empty_view(first)
-        show(View({**blank.shapes, "base": shown["base"]}, blank.arrows, blank.table))
-        sources["overlay"].data = _empty_overlay()["image"]
-        sources["region"].data = _empty_overlay()["region"]
-        overlay_phi[0] = None
-        message.text = _escape(str(error))
-
-    def on_slider(attr: str, old: Any, new: Any) -> None:
-        update()
-
-    def on_design(attr: str, old: Any, new: Any) -> None:
-        values = {
-            key: float(field.value)
-            for key, field in design_fields.items()
-            if field.value is not None
+    def blank(state: State) -> Changes:
+        """Nothing that belongs to the refused pose (the base stays), no map of another φ."""
+        overlay["key"] = None
+        maps = _empty_overlay()
+        return {
+            **marker(state),
+            **refused(first),
+            "overlay": maps["image"],
+            "region": maps["region"],
         }
-        try:
-            robot_now = design_robot(base_robot, values)
-        except Prp3Error as error:
-            refuse(error)
-            return
-        current["robot"] = robot_now
-        sources["strokes"].data = stroke_bands(robot_now)
-        overlay_phi[0] = None
-        update()
 
-    def on_scale(attr: str, old: Any, new: Any) -> None:
-        if new is not None and float(new) > 0.0:
-            scale[0] = float(new) * 1e-3
-            update()
+    def redesign(values: Mapping[str, float]) -> None:
+        current["robot"] = design_robot(robot, values)
 
-    def on_overlay(attr: str, old: Any, new: Any) -> None:
-        overlay_phi[0] = None
-        update()
-
-    for slider in sliders.values():
-        slider.on_change("value", on_slider)
-    for field in design_fields.values():
-        field.on_change("value", on_design)
-    scale_field.on_change("value", on_scale)
-    overlay_box.on_change("active", on_overlay)
-
+    live.connect(bundle, compute, blank, redesign)
+    overlay_box.on_change("active", lambda attr, old, new: live.update())
     stroke = robot.limits.stroke
-    info = Div(
-        text=(
-            f"l0 = {robot.l0:g} m; strokes: "
-            + (f"[{stroke[0]:g}, {stroke[1]:g}] m (bands on the guides)" if stroke else "none")
-            + "; singular at φ = π/3 mod π.  The check boxes show or hide the arrows."
-        ),
-        width=500,
-        styles={"font-size": "9pt", "color": "#444"},
+    info = (
+        f"l0 = {robot.l0:g} m; strokes: "
+        + (f"[{stroke[0]:g}, {stroke[1]:g}] m (bands on the guides)" if stroke else "none")
+        + "; singular at φ = π/3 mod π.  The check boxes show or hide the arrows."
     )
-    controls = column(Div(text="<b>platform pose, velocity, acceleration</b>"), *fields, width=300)
-    design = column(
-        Div(text="<b>design</b> (the robot's parameters; forces update live)"),
-        row(*list(design_fields.values())[:5], scale_field),
-        row(*list(design_fields.values())[5:9]),
-        row(*list(design_fields.values())[9:]),
+    fields = list(live.design_fields.values())
+    design = [
+        "<b>design</b> (the robot's parameters; forces update live)",
+        row(*fields[:5], live.scale_field),
+        row(*fields[5:9]),
+        row(*fields[9:]),
         overlay_box,
-    )
+    ]
     right = [values_table, singularity]
-    top: list[Any] = [message]
+    scrubber = None
     if run is not None and motion is not None:
-        right_extra, time_widgets = _run_widgets(doc, motion, sliders, current, update, run.table)
-        right.extend(right_extra)
-        top.insert(0, time_widgets)
-    layout = column(
-        *top,
-        row(column(figure_, key, info), controls, column(*right)),
-        design,
-    )
-    doc.add_root(layout)
-    doc.add_root(bundle)  # drawn by nothing: a root, so that it reaches the browser
-    doc.title = "prp3 explore"
-    update()
-    for pair in fields:  # a slider set before the page is served: its field shows its value
-        slider_now, field_now = pair.children
-        field_now.value = slider_now.value
-    current["served"] = True  # from now on, every change reaches the browser in the bundle
-
-
-def _run_widgets(
-    doc: Any,
-    motion: Motion,
-    sliders: Mapping[str, Any],
-    current: dict[str, Any],
-    update: Callable[[], None],
-    table: Mapping[str, Any],
-) -> tuple[list[Any], Any]:
-    """The scrubber, the play button and the linked plots of a run (server side)."""
-    from bokeh.layouts import column
-
-    plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
-
-    def show(k: int) -> None:
-        current["load"] = None if motion.load is None else tuple(float(v) for v in motion.load[k])
-        set_state(sliders, current, motion, k)
-        update()
-
-    scrubber = server_scrubber(doc, [float(v) for v in motion.t], show, spans)
-    return [column(*plots)], scrubber
-
-
-def widened(low: float, high: float, motion: Motion, name: str) -> tuple[float, float]:
-    """A motion slider's range ``[low, high]`` widened to the run's values of its control."""
-    values = np.concatenate([motion.pose, motion.velocity, motion.acceleration], axis=-1)
-    k = [c.name for c in MOTION_CONTROLS].index(name)
-    return min(low, float(values[:, k].min())), max(high, float(values[:, k].max()))
-
-
-def set_state(sliders: Mapping[str, Any], current: dict[str, Any], motion: Motion, k: int) -> None:
-    """Set the nine motion sliders to sample ``k`` of ``motion``, without an update per slider."""
-    values = np.concatenate([motion.pose[k], motion.velocity[k], motion.acceleration[k]])
-    current["busy"] = True
-    try:
-        for name, value in zip(sliders, values, strict=True):
-            sliders[name].value = float(value)
-    finally:
-        current["busy"] = False
+        plots, scrubber = live.run_widgets(run.table, {q: f"{q} (N)" for q in PLOTTED}, motion)
+        right.append(plots)
+    live.start("prp3 explore", drawn.layout, [drawn.key], info, right, design, scrubber)

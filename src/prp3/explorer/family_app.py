@@ -27,8 +27,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.errors import Prp3Error
-from prp3.explorer.app import set_state, widened
 from prp3.explorer.family_scene import (
     FAMILY_ARROWS,
     FAMILY_DESIGN_PARAMETERS,
@@ -38,23 +36,20 @@ from prp3.explorer.family_scene import (
     family_design_values,
     family_extent,
 )
+from prp3.explorer.live import Bundle, Changes, LivePage, refused
 from prp3.explorer.page import (
-    _UNBUNDLE,
-    MAX_HTML_FRAMES,
+    Glyph,
     Key,
     _escape,
     _table,
     arrow_layers,
-    browser_scrubber,
-    frame_sources,
-    server_scrubber,
-    slider_with_field,
-    time_plots,
+    clip_overlays,
+    robot_figure,
 )
 from prp3.explorer.run_folder import Run, family_run_motion
-from prp3.explorer.scene import MOTION_CONTROLS, Columns, State, View, empty_view
+from prp3.explorer.scene import MotionControl, State, View
+from prp3.explorer.scrubber import run_page
 from prp3.family import FamilyRobot
-from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
 __all__ = ["family_document", "family_run_html"]
 
@@ -66,107 +61,65 @@ FAMILY_PLOTTED: tuple[str, ...] = ("tau", "fx1", "fy1", "p")
 SCENE = FamilyScene()
 
 
-def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
-    """The robot to scale with its force arrows, and its key (a legend and check boxes)."""
-    from bokeh.models import Range1d
-    from bokeh.plotting import figure
+#: A family robot's glyphs, in drawing order (the arrows follow them).
+_GLYPHS: tuple[Glyph, ...] = (
+    (
+        "patches",
+        "base",
+        "base (the joint-1 frames)",
+        {"fill_alpha": 0.0, "line_color": "#777777", "line_dash": "dotted", "line_width": 1.5},
+    ),
+    (
+        "multi_line",
+        "guides",
+        "guides of the P joints",
+        {"line_color": "#595959", "line_dash": "dashed", "line_width": 1},
+    ),
+    (
+        "patches",
+        "platform",
+        "platform (the O_3)",
+        {"fill_color": "#bbbbbb", "fill_alpha": 0.6, "line_color": "#222222", "line_width": 2},
+    ),
+    ("multi_line", "links", "links 1, 2 (legs A, B, C)", {"line_color": "colour", "line_width": 3}),
+    ("multi_line", "sliders", "P joints (slides)", {"line_color": "colour", "line_width": 8}),
+    (
+        "scatter",
+        "revolute",
+        "R joints",
+        {
+            "marker": "circle",
+            "size": 11,
+            "fill_color": "white",
+            "line_color": "outline",
+            "line_width": 2.5,
+        },
+    ),
+    (
+        "scatter",
+        "payload",
+        "payload",
+        {"marker": "circle", "size": 14, "fill_color": "#444444", "fill_alpha": 0.8},
+    ),
+    ("scatter", "centre", "", {"marker": "cross", "size": 10, "color": "black"}),
+)
 
-    half = family_extent(robot)
+
+def _figure(robot: FamilyRobot, sources: Mapping[str, Any]) -> tuple[Any, Any]:
+    """The robot to scale with its force arrows, and its key (a legend and check boxes): of
+    what this robot has (a glyph without rows is not listed).
+
+    Every glyph at :data:`~prp3.explorer.page.LEVEL`: a move repaints them, not the axes.
+    """
     driven = robot.types[robot.actuated - 1]
-    fig = figure(
-        name="robot",
-        title=f"{robot.architecture} to scale, joint {robot.actuated} ({driven}) driven (black); "
+    fig = robot_figure(
+        f"{robot.architecture} to scale, joint {robot.actuated} ({driven}) driven (black); "
         "arrows: forces at O_k",
-        frame_width=470,
-        frame_height=470,
-        x_range=Range1d(-half, half),
-        y_range=Range1d(-half, half),
-        x_axis_label="x (m)",
-        y_axis_label="y (m)",
-        tools="pan,wheel_zoom,reset,save",
-        toolbar_location="above",
+        family_extent(robot),
     )
     fig.title.text_font_size = "9pt"
     key = Key(fig)
-
-    def draw(method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
-        rows = len(next(iter(source.data.values()), []))  # a key of what this robot has
-        return key.draw(method, *fields, source=source, legend=legend if rows else "", **style)
-
-    draw(
-        "patches",
-        "xs",
-        "ys",
-        source=sources["base"],
-        fill_alpha=0.0,
-        line_color="#777777",
-        line_dash="dotted",
-        line_width=1.5,
-        legend="base (the joint-1 frames)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["guides"],
-        line_color="#595959",
-        line_dash="dashed",
-        line_width=1,
-        legend="guides of the P joints",
-    )
-    draw(
-        "patches",
-        "xs",
-        "ys",
-        source=sources["platform"],
-        fill_color="#bbbbbb",
-        fill_alpha=0.6,
-        line_color="#222222",
-        line_width=2,
-        legend="platform (the O_3)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["links"],
-        line_color="colour",
-        line_width=3,
-        legend="links 1, 2 (legs A, B, C)",
-    )
-    draw(
-        "multi_line",
-        "xs",
-        "ys",
-        source=sources["sliders"],
-        line_color="colour",
-        line_width=8,
-        legend="P joints (slides)",
-    )
-    draw(
-        "scatter",
-        "x",
-        "y",
-        source=sources["revolute"],
-        marker="circle",
-        size=11,
-        fill_color="white",
-        line_color="outline",
-        line_width=2.5,
-        legend="R joints",
-    )
-    draw(
-        "scatter",
-        "x",
-        "y",
-        source=sources["payload"],
-        marker="circle",
-        size=14,
-        fill_color="#444444",
-        fill_alpha=0.8,
-        legend="payload",
-    )
-    fig.scatter("x", "y", source=sources["centre"], marker="cross", size=10, color="black")
+    key.draw_glyphs(_GLYPHS, sources, present=True)
     present = [q for q in FAMILY_ARROWS if q in sources["arrows"].data["quantity"]]
     arrows = {quantity: FAMILY_ARROWS[quantity] for quantity in present}
     return fig, arrow_layers(fig, key, sources["arrows"], arrows)
@@ -206,209 +159,93 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
 
     Every slider or design change solves the pose with
     :func:`prp3.family.family_inverse_dynamics` in Python
-    (:func:`~prp3.explorer.family_scene.family_pose_table`) and replaces the drawn
-    columns; a refused pose empties them (the base stays) and shows the
-    library's one-line message.  With a ``run`` (:func:`~prp3.explorer.run_folder.read_family_run`)
-    the scrubber sets the sliders to the run's state at a sample
+    (:func:`~prp3.explorer.family_scene.family_pose_table`) and sends the drawn
+    columns that changed (:class:`~prp3.explorer.live.LivePage`); a refused pose
+    empties them (the base stays) and shows the library's one-line message.
+    With a ``run`` (:func:`~prp3.explorer.run_folder.read_family_run`) the
+    scrubber sets the sliders to the run's state at a sample
     (:func:`~prp3.explorer.run_folder.family_run_motion`) and the page recomputes
     it, beside the run's force plots against time.
     """
-    from bokeh.layouts import column, row
-    from bokeh.models import ColumnDataSource, CustomJS, Div, Spinner
+    from bokeh.layouts import row
 
-    base_robot = robot
-    current: dict[str, Any] = {"robot": robot, "busy": False, "served": False}
+    current = {"robot": robot}
     motion = family_run_motion(robot, run) if run is not None else None
-    scale = [family_arrow_scale(robot)]
-    first = SCENE.view(robot, SCENE.table(robot, State()), 0, scale[0])
-    sources = _sources(first)
-    message = Div(
-        text="", name="message", width=860, styles={"color": "#b00000", "font-weight": "bold"}
-    )
     reach = 0.45 * family_extent(robot)
-    sliders: dict[str, Any] = {}
-    fields: list[Any] = []
-    for control in MOTION_CONTROLS:
-        low, high = control.low, control.high
-        if control.length:
-            low, high = -reach, reach
-        if motion is not None:
-            low, high = widened(low, high, motion, control.name)
-        slider, pair = slider_with_field(control, low, high)
-        sliders[control.name] = slider
-        fields.append(pair)
-    design_fields = {
-        key: Spinner(
-            title=f"{label} ({unit})",
-            value=family_design_values(robot)[key],
-            low=0.0,
-            step=0.01,
-            width=130,
-            name=f"design:{key}",
-            format="0.[0000]",
-        )
-        for key, (label, unit) in FAMILY_DESIGN_PARAMETERS.items()
-    }
-    scale_field = Spinner(
-        title="arrow scale (mm/N)",
-        value=round(scale[0] * 1e3, 4),
-        low=1e-6,
-        step=0.1,
-        width=120,
-        name="arrow_scale",
+
+    def limits(control: MotionControl) -> tuple[float, float]:
+        return (-reach, reach) if control.length else (control.low, control.high)
+
+    live = LivePage(
+        doc,
+        limits,
+        motion,
+        FAMILY_DESIGN_PARAMETERS,
+        family_design_values(robot),
+        family_arrow_scale(robot),
     )
+    first = SCENE.view(robot, SCENE.table(robot, State()), 0, live.scale)
+    sources = _sources(first)
     figure_, key = _figure(robot, sources)
+    clip_overlays(doc, [figure_])
     values_table = _table(sources["values"])
     values_table.height = 420
     measures_table = _measures_table(sources["measures"])
-    shown: dict[str, Columns] = dict(first.sources())
-    bundle = ColumnDataSource({}, name="bundle")
-    bundle.js_on_change(
-        "data",
-        CustomJS(
-            args={
-                "bundle": bundle,
-                "targets": {name: sources[name] for name in shown},
-                "table": values_table,
-                "measures": measures_table,
-            },
-            code=_UNBUNDLE + "\nif ('measures' in grouped) measures.view.change.emit();",
-        ),
-    )
+    bundle = Bundle(sources, {"message": live.message}, [values_table, measures_table])
 
-    def show(view: View) -> None:
-        changed: dict[str, list[Any]] = {}
-        for name, columns in view.sources().items():
-            if shown.get(name) == columns:
-                continue
-            shown[name] = columns
-            if not current["served"]:  # the browser has not the document yet: its sources
-                sources[name].data = columns
-                continue
-            changed.update({f"{name}|{key}": [values] for key, values in columns.items()})
-        if changed:
-            bundle.data = changed
+    def compute(state: State) -> Changes:
+        robot_now = current["robot"]
+        return SCENE.view(robot_now, SCENE.table(robot_now, state), 0, live.scale).sources()
 
-    def update() -> None:
-        if current["busy"]:
-            return
-        doc.hold("combine")
-        try:
-            state = State.from_controls({name: float(s.value) for name, s in sliders.items()})
-            robot_now: FamilyRobot = current["robot"]
-            try:
-                view = SCENE.view(robot_now, SCENE.table(robot_now, state), 0, scale[0])
-            except Prp3Error as error:
-                refuse(error)
-                return
-            show(view)
-            message.text = ""
-        finally:
-            doc.unhold()
+    def redesign(values: Mapping[str, float]) -> None:
+        current["robot"] = family_design_robot(robot, values)
 
-    def refuse(error: Prp3Error) -> None:
-        blank = empty_view(first)
-        show(View({**blank.shapes, "base": shown["base"]}, blank.arrows, blank.table))
-        message.text = _escape(str(error))
-
-    def on_slider(attr: str, old: Any, new: Any) -> None:
-        update()
-
-    def on_design(attr: str, old: Any, new: Any) -> None:
-        values = {k: float(f.value) for k, f in design_fields.items() if f.value is not None}
-        try:
-            current["robot"] = family_design_robot(base_robot, values)
-        except Prp3Error as error:
-            refuse(error)
-            return
-        update()
-
-    def on_scale(attr: str, old: Any, new: Any) -> None:
-        if new is not None and float(new) > 0.0:
-            scale[0] = float(new) * 1e-3
-            update()
-
-    for slider in sliders.values():
-        slider.on_change("value", on_slider)
-    for field in design_fields.values():
-        field.on_change("value", on_design)
-    scale_field.on_change("value", on_scale)
+    live.connect(bundle, compute, lambda state: refused(first), redesign)
     home_leg, home_par = robot.home_measures
-    info = Div(
-        text=(
-            f"{robot.architecture}, joint {robot.actuated} driven; legs B, C are leg A turned by "
-            f"120°, 240°.  Home measures: μ_leg = {home_leg[0]:.4f}, μ_par = {home_par:.4f}; a "
-            "pose is refused when sign·μ < 1e-4 (docs/family.md §6)."
-        ),
-        width=500,
-        styles={"font-size": "9pt", "color": "#444"},
+    info = (
+        f"{robot.architecture}, joint {robot.actuated} driven; legs B, C are leg A turned by "
+        f"120°, 240°.  Home measures: μ_leg = {home_leg[0]:.4f}, μ_par = {home_par:.4f}; a "
+        "pose is refused when sign·μ < 1e-4 (docs/family.md §6)."
     )
-    controls = column(Div(text="<b>platform pose, velocity, acceleration</b>"), *fields, width=300)
-    design = column(
-        Div(text="<b>design</b> (masses; forces update live)"),
-        row(*design_fields.values(), scale_field),
-    )
+    design = [
+        "<b>design</b> (masses; forces update live)",
+        row(*live.design_fields.values(), live.scale_field),
+    ]
     right = [values_table, measures_table]
-    top: list[Any] = [message]
+    scrubber = None
     if run is not None and motion is not None:
-        plots, spans = time_plots(run.table, {q: q for q in FAMILY_PLOTTED})
-        right.extend(plots)
-        run_states = motion  # narrowed for the closure
-
-        def to_sample(k: int) -> None:
-            set_state(sliders, current, run_states, k)
-            update()
-
-        top.insert(0, server_scrubber(doc, [float(v) for v in motion.t], to_sample, spans))
-    layout = column(*top, row(column(figure_, key, info), controls, column(*right)), design)
-    doc.add_root(layout)
-    doc.add_root(bundle)
-    doc.title = f"prp3 explore: {robot.architecture}"
-    update()
-    for pair in fields:  # a slider set before the page is served: its field shows its value
-        slider_now, field_now = pair.children
-        field_now.value = slider_now.value
-    current["served"] = True  # from now on, every change reaches the browser in the bundle
+        plots, scrubber = live.run_widgets(run.table, {q: q for q in FAMILY_PLOTTED}, motion)
+        right.append(plots)
+    title = f"prp3 explore: {robot.architecture}"
+    live.start(title, figure_, [key], info, right, design, scrubber)
 
 
 def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: str) -> str:
     """One self-contained HTML page of a family run (the 64 columns of ``results.csv``).
 
-    At most :data:`~prp3.explorer.page.MAX_HTML_FRAMES` frames of
+    At most :data:`~prp3.explorer.scrubber.MAX_HTML_FRAMES` frames of
     :func:`~prp3.explorer.family_scene.family_view`, precomputed; the scrubber
     and the play button only pick a frame.  Bokeh's JavaScript is inline: it
     opens offline.
     """
-    from bokeh.embed import file_html
-    from bokeh.layouts import column, row
-    from bokeh.models import Div
-    from bokeh.resources import INLINE
-
-    t = np.asarray(table["t"], dtype=np.float64)
-    frames = frame_indices(int(t.size), MAX_HTML_FRAMES)
     scale = family_arrow_scale(robot)
-    views = [SCENE.view(robot, table, int(k), scale) for k in frames]
-    sources = _sources(views[0])
-    fig, key = _figure(robot, sources)
-    plots, spans = time_plots(table, {q: q for q in FAMILY_PLOTTED})
-    table_widget = _table(sources["values"])
-    table_widget.height = 420
-    measures = _measures_table(sources["measures"])
-    scrubber = browser_scrubber(
-        [float(v) for v in t[frames]],
-        frame_sources(views),
-        sources,
-        [table_widget, measures],
-        spans,
+
+    def draw(first: View) -> tuple[dict[str, Any], tuple[Any, Any, Any], list[Any]]:
+        sources = _sources(first)
+        fig, key = _figure(robot, sources)
+        values = _table(sources["values"])
+        values.height = 420
+        return sources, (fig, key, fig), [values, _measures_table(sources["measures"])]
+
+    samples = len(table["t"])
+    return run_page(
+        title,
+        table,
+        lambda k: SCENE.view(robot, table, k, scale),
+        draw,
+        {q: q for q in FAMILY_PLOTTED},
+        lambda frames: (
+            f"<b>{_escape(title)}</b>; {frames} frames of {samples} samples; forces by prp3.family"
+        ),
+        beside=True,
     )
-    heading = Div(
-        text=f"<b>{_escape(title)}</b>; {len(frames)} frames of {t.size} samples; "
-        "forces by prp3.family",
-        width=900,
-    )
-    layout = column(
-        heading,
-        scrubber,
-        row(column(fig, key), column(table_widget, measures), column(*plots)),
-    )
-    return str(file_html(layout, resources=INLINE, title=title))

@@ -33,8 +33,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from prp3.drawing import GUIDE_OVERHANG, LEG_COLOURS, SLIDE_HALF_LENGTH
 from prp3.errors import Prp3Error
-from prp3.explorer.scene import LEG_COLOURS, Columns, State, View
+from prp3.explorer.scene import ArrowStyle, Columns, State, View, arrow_columns
 from prp3.family import (
     FamilyRobot,
     family_inverse_dynamics,
@@ -65,12 +66,12 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: The force arrows of a family robot: quantity → (legend label, colour).
-FAMILY_ARROWS: dict[str, tuple[str, str]] = {
-    "F1": ("F1 = (fx1, fy1): base/link 0 on link 1 at O_1", "#d62728"),
-    "F2": ("F2 = (fx2, fy2): link 1 on link 2 at O_2", "#9467bd"),
-    "F3": ("F3 = (fx3, fy3): link 2 on the platform at O_3", "#e377c2"),
-    "tau": ("tau·u_a: the actuator's share of an actuated P joint", "#000000"),
+#: The force arrows of a family robot: quantity → its style.
+FAMILY_ARROWS: dict[str, ArrowStyle] = {
+    "F1": ArrowStyle("F1 = (fx1, fy1): base/link 0 on link 1 at O_1", "#d62728"),
+    "F2": ArrowStyle("F2 = (fx2, fy2): link 1 on link 2 at O_2", "#9467bd"),
+    "F3": ArrowStyle("F3 = (fx3, fy3): link 2 on the platform at O_3", "#e377c2"),
+    "tau": ArrowStyle("tau·u_a: the actuator's share of an actuated P joint", "#000000"),
 }
 
 #: Editable design parameters of a family robot: dotted key → (label, unit).
@@ -80,10 +81,6 @@ FAMILY_DESIGN_PARAMETERS: dict[str, tuple[str, str]] = {
     "platform.mass": ("platform mass", "kg"),
     "payload.mass": ("payload mass", "kg"),
 }
-
-#: Half length of a slide bar and the extra length of a guide (m): those of the animation.
-SLIDER: float = 0.025
-GUIDE: float = 0.07
 
 
 def family_pose_table(robot: FamilyRobot, state: State) -> dict[str, FloatArray]:
@@ -213,14 +210,15 @@ def family_view(
                 revolute["leg"].append(leg)
                 revolute["joint"].append(k + 1)
             else:
-                ends = np.stack([o[k] - SLIDER * u[k], o[k] + SLIDER * u[k]])
+                ends = np.stack([o[k] - SLIDE_HALF_LENGTH * u[k], o[k] + SLIDE_HALF_LENGTH * u[k]])
                 sliders["xs"].append(ends[:, 0].tolist())
                 sliders["ys"].append(ends[:, 1].tolist())
                 sliders["colour"].append("#000000" if driven else colours[j])
                 sliders["leg"].append(leg)
                 sliders["joint"].append(k + 1)
                 travel = float((o[k] - jo[k]) @ u[k])
-                low, high = min(travel, 0.0) - GUIDE, max(travel, 0.0) + GUIDE
+                low = min(travel, 0.0) - GUIDE_OVERHANG
+                high = max(travel, 0.0) + GUIDE_OVERHANG
                 guide = np.stack([jo[k] + low * u[k], jo[k] + high * u[k]])
                 guides["xs"].append(guide[:, 0].tolist())
                 guides["ys"].append(guide[:, 1].tolist())
@@ -256,32 +254,16 @@ def family_view(
             "margin": [sign * value for sign, value in zip(signs, values, strict=True)],
         },
     }
-    arrows: Columns = {
-        key: [] for key in ("quantity", "leg", "x0", "y0", "x1", "y1", "fx", "fy", "value", "angle")
-    }
-
-    def arrow(quantity: str, leg: str, tail: FloatArray, fx: float, fy: float) -> None:
-        x0, y0 = float(tail[0]), float(tail[1])
-        arrows["quantity"].append(quantity)
-        arrows["leg"].append(leg)
-        arrows["x0"].append(x0)
-        arrows["y0"].append(y0)
-        arrows["x1"].append(x0 + scale * fx)
-        arrows["y1"].append(y0 + scale * fy)
-        arrows["fx"].append(fx)
-        arrows["fy"].append(fy)
-        arrows["value"].append(math.hypot(fx, fy))
-        arrows["angle"].append(math.atan2(fy, fx) - math.pi / 2.0)  # a triangle points up
-
-    for k in (1, 2, 3):
+    forces = [
+        (f"F{k}", leg, origin[j, k - 1], *(float(table[f"f{c}{k}_{leg}"][index]) for c in "xy"))
+        for k in (1, 2, 3)
+        for j, leg in enumerate(LEGS)
+    ]
+    if types[act - 1] == "P":  # the actuator's share tau·u_a at its joint
         for j, leg in enumerate(LEGS):
-            fx, fy = float(table[f"fx{k}_{leg}"][index]), float(table[f"fy{k}_{leg}"][index])
-            arrow(f"F{k}", leg, origin[j, k - 1], fx, fy)
-    if types[act - 1] == "P":
-        for j, leg in enumerate(LEGS):
-            tau = float(table[f"tau_{leg}"][index])
-            u = axis[j, act - 1]
-            arrow("tau", leg, origin[j, act - 1], tau * float(u[0]), tau * float(u[1]))
+            tau, u = float(table[f"tau_{leg}"][index]), axis[j, act - 1]
+            forces.append(("tau", leg, origin[j, act - 1], tau * float(u[0]), tau * float(u[1])))
+    arrows = arrow_columns(forces, scale)
     rows: Columns = {"quantity": [], "unit": [], "A": [], "B": [], "C": []}
     for name in LEG_COLUMNS:
         rows["quantity"].append(name)

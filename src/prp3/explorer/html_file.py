@@ -1,9 +1,9 @@
 """The self-contained HTML file of a run: ``prp3 simulate --html``, ``prp3 explore --export``.
 
-The frames of the run (at most :data:`~prp3.explorer.page.MAX_HTML_FRAMES`)
+The frames of the run (at most :data:`~prp3.explorer.scrubber.MAX_HTML_FRAMES`)
 are precomputed by the page's scene (:func:`prp3.explorer.scene.scene_view`,
 or the family's); the few lines of ``CustomJS`` of
-:func:`~prp3.explorer.page.browser_scrubber` only copy frame ``k``'s columns
+:func:`~prp3.explorer.scrubber.browser_scrubber` only copy frame ``k``'s columns
 into the drawn sources (no force is computed in the browser).  Bokeh's
 JavaScript is inline: the file opens offline.  Bokeh is imported inside the
 functions only.
@@ -19,19 +19,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.explorer.app import PLOTTED, _robot_figure, _sources
-from prp3.explorer.page import (
-    MAX_HTML_FRAMES,
-    _escape,
-    _table,
-    browser_scrubber,
-    frame_sources,
-    time_plots,
-)
-from prp3.explorer.scene import PRP3_SCENE, arrow_scale, stroke_bands
+from prp3.explorer.page import _escape, _table
+from prp3.explorer.scene import PRP3_SCENE, View, arrow_scale, stroke_bands
+from prp3.explorer.scrubber import run_page
 from prp3.family import FamilyRobot
 from prp3.files import atomic_writer
 from prp3.model.robot import Robot
-from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
 
 __all__ = ["run_html", "write_run_html"]
 
@@ -55,40 +48,34 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
     Returns
     -------
     str
-        The page, with Bokeh's JavaScript inline (``bokeh.resources.INLINE``): it
-        opens offline.  At most :data:`MAX_HTML_FRAMES` frames, precomputed by
-        :func:`prp3.explorer.scene.scene_view`; the scrubber and the play button
-        only pick a frame.
+        The page, with Bokeh's JavaScript inline (``bokeh.resources.INLINE``):
+        it opens offline.  At most :data:`~prp3.explorer.scrubber.MAX_HTML_FRAMES`
+        frames, precomputed by :func:`prp3.explorer.scene.scene_view`; the
+        scrubber and the play button only pick a frame.
     """
-    from bokeh.embed import file_html
-    from bokeh.layouts import column, row
-    from bokeh.models import Div
-    from bokeh.resources import INLINE
-
     if isinstance(robot, FamilyRobot):
         from prp3.explorer.family_app import family_run_html
 
         return family_run_html(robot, table, title)
-    t = np.asarray(table["t"], dtype=np.float64)
-    frames = frame_indices(int(t.size), MAX_HTML_FRAMES)
     scale = arrow_scale(robot)
-    views = [PRP3_SCENE.view(robot, table, int(k), scale) for k in frames]
-    sources = _sources(views[0], None, stroke_bands(robot))
-    frames_of = frame_sources(views)
-    targets: dict[str, Any] = {name: sources[name] for name in frames_of}
-    fig, key = _robot_figure(robot, sources, overlay=False)
-    plots, spans = time_plots(table, {q: f"{q} (N)" for q in PLOTTED})
-    table_widget = _table(sources["values"])
-    scrubber = browser_scrubber(
-        [float(v) for v in t[frames]], frames_of, targets, [table_widget], spans
+
+    def draw(first: View) -> tuple[dict[str, Any], tuple[Any, Any, Any], list[Any]]:
+        sources = _sources(first, None, stroke_bands(robot))
+        drawn = _robot_figure(robot, sources, overlay=False)
+        return sources, (drawn.layout, drawn.key, drawn.plot), [_table(sources["values"])]
+
+    t = np.asarray(table["t"], dtype=np.float64)
+    return run_page(
+        title,
+        table,
+        lambda k: PRP3_SCENE.view(robot, table, k, scale),
+        draw,
+        {q: f"{q} (N)" for q in PLOTTED},
+        lambda frames: (
+            f"<b>{_escape(title)}</b>: {t.size} samples over t = {t[0]:g} .. "
+            f"{t[-1]:g} s, {frames} frames; forces by prp3 (the kernel, eqs. 10-25)"
+        ),
     )
-    heading = Div(
-        text=f"<b>{_escape(title)}</b>: {t.size} samples over t = {t[0]:g} .. {t[-1]:g} s, "
-        f"{len(frames)} frames; forces by prp3 (the kernel, eqs. 10-25)",
-        width=900,
-    )
-    layout = column(heading, scrubber, row(column(fig, key), column(table_widget, *plots)))
-    return str(file_html(layout, resources=INLINE, title=title))
 
 
 def write_run_html(

@@ -1,78 +1,102 @@
-"""What the explorer's two pages share: their few lines of JavaScript, bounds, the table.
+"""What the explorer's two live pages draw alike: the robot's figure, its key and arrows, the table.
 
 The 3-PRP page (:mod:`prp3.explorer.app`) and the family's
 (:mod:`prp3.explorer.family_app`) both import from here, so neither imports the
-other at module level (one way, no cycle).  Bokeh is imported inside the
-functions only.
+other at module level (one way, no cycle): the robot's figure and its glyphs
+(:func:`robot_figure`, :class:`Key`, :func:`arrow_layers`), the table of
+values, and the motion sliders with their fields.  The update loop of a live
+page is :mod:`prp3.explorer.live`; a run's plots and scrubber
+:mod:`prp3.explorer.scrubber`.  Bokeh is imported inside the functions only.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
-import numpy as np
-
-from prp3.explorer.scene import LEG_COLOURS
-from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+from prp3.drawing import LEG_COLOURS
+from prp3.explorer.scene import ArrowStyle
 from prp3.validation import LEGS
 
 __all__ = [
-    "MAX_CURVE_POINTS",
-    "MAX_HTML_FRAMES",
+    "LEVEL",
+    "REDRAW_TABLES",
+    "Glyph",
     "Key",
     "arrow_layers",
-    "browser_scrubber",
-    "server_scrubber",
+    "clip_overlays",
+    "plain_slider",
+    "robot_figure",
     "slider_with_field",
-    "time_plots",
 ]
 
-#: Largest number of frames of the robot in an HTML file of a run.
-MAX_HTML_FRAMES: int = 200
-#: Largest number of points of each curve of the linked plots.
-MAX_CURVE_POINTS: int = 2000
-#: Copies frame ``k`` of every frame source into its drawn source (the only JavaScript).
-_COPY_FRAME = """
-const k = Math.round(slider.value);
-for (const [name, target] of Object.entries(targets)) {
-  const frames = sources[name];
-  const data = {};
-  for (const column of Object.keys(frames.data)) data[column] = frames.data[column][k];
-  target.data = data;
-}
-for (const table of tables) table.view.change.emit();  // a DataTable redraws on a change of its view only
-for (const span of spans) span.location = times[k];
-slider.title = "t = " + times[k].toFixed(3) + " s";
+#: Defines ``redraw(table, old, changed)``: BokehJS redraws a DataTable when the rows of its
+#: view change, not when the data of the same rows does.  While their number stays, the cells
+#: are redrawn in place (SlickGrid's ``updateCell``: the cell's text, no row rebuilt and laid
+#: out anew), only those of the ``changed`` columns whose value differs from the ``old`` one
+#: when both are given; the whole table (its view's change) otherwise.
+REDRAW_TABLES = """
+const redraw = (table, old = null, changed = null) => {
+  const view = Bokeh.index.find_one(table);
+  const grid = view == null ? null : view.grid;
+  const rows = table.source.get_length() ?? 0;
+  if (grid == null || grid.getDataLength() !== rows || typeof grid.updateCell !== "function"
+      || view.data == null || typeof view.data.init !== "function") {
+    table.view.change.emit();
+    return;
+  }
+  view.data.init(table.source, table.view);
+  const columns = grid.getColumns();
+  for (let c = 0; c < columns.length; c++) {
+    const field = columns[c].field;
+    if (changed != null && !(field in changed)) continue;
+    const before = old == null || changed == null ? null : old[field];
+    for (let r = 0; r < rows; r++) {
+      const k = view.data.index[r];
+      if (before == null || before[k] !== changed[field][k]) grid.updateCell(r, c);
+    }
+  }
+};
 """
 
-#: Copies the columns of the one row of the server's bundle into the drawn sources.
-_UNBUNDLE = """
-const data = bundle.data instanceof Map ? Object.fromEntries(bundle.data) : bundle.data;
-const grouped = {};
-for (const [key, values] of Object.entries(data)) {
-  const [name, column] = key.split("|");
-  (grouped[name] = grouped[name] || {})[column] = values[0];
+#: The level of every glyph of a robot figure (and of the singularity marker).  BokehJS
+#: paints a figure on two canvases: the primary one (background, grid, axes and their
+#: labels, title, and the renderers of the other levels), and the overlay one, which a
+#: change of its renderers alone repaints without the primary one (``PlotView._actual_paint``).
+#: A move then repaints the robot, its arrows and the map, not the axes, the grid and the
+#: text around them.
+LEVEL: str = "overlay"
+
+#: Clips the overlay canvas of each of ``figures`` to its frame, as BokehJS clips the glyphs of
+#: the primary canvas (not those of the overlay one): set once the page is laid out, and
+#: again after every repaint that moved the frame (a zoom that widened the axis labels).
+_CLIP_OVERLAYS = """
+for (const figure of figures) {
+  const view = Bokeh.index.find_one(figure);
+  if (view == null) continue;
+  const layer = view.canvas_view.overlays.el;
+  const clip = () => {
+    const frame = view.frame.bbox;
+    const canvas = view.canvas_view.bbox;
+    const inset = `inset(${frame.top}px ${canvas.width - frame.right}px `
+      + `${canvas.height - frame.bottom}px ${frame.left}px)`;
+    if (layer.dataset.inset !== inset) {
+      layer.dataset.inset = inset;
+      layer.style.clipPath = inset;
+    }
+  };
+  clip();
+  view.repainted.connect(clip);
 }
-// not synced back: the server sent these columns (an echo would cost a patch each way)
-for (const [name, columns] of Object.entries(grouped)) targets[name].setv({data: columns}, {sync: false});
-// BokehJS redraws a DataTable when its view's rows change, not when the data of the same
-// rows does: tell it
-if ("values" in grouped) table.view.change.emit();
 """
 
-#: Steps the scrubber while the play button is down (the browser's timer; no computation).
-_PLAY = """
-if (toggle.active) {
-  toggle.label = "❚❚ pause";
-  window._prp3_timer = setInterval(() => {
-    slider.value = slider.value >= slider.end ? slider.start : slider.value + 1;
-  }, period);
-} else {
-  toggle.label = "▶ play";
-  clearInterval(window._prp3_timer);
-}
-"""
+
+def clip_overlays(doc: Any, figures: Sequence[Any]) -> None:
+    """Clip the glyphs of ``figures`` drawn at :data:`LEVEL` to each one's frame, in ``doc``."""
+    from bokeh.events import DocumentReady
+    from bokeh.models import CustomJS
+
+    doc.js_on_event(DocumentReady, CustomJS(args={"figures": list(figures)}, code=_CLIP_OVERLAYS))
 
 
 def _table(source: Any) -> Any:
@@ -138,13 +162,45 @@ def _symbol(method: str, style: Mapping[str, Any]) -> str:
     return "".join(_line(c, min(width, 8.0), dash, alpha, 18 // len(colours)) for c in colours)
 
 
+#: A glyph of a robot figure: the figure's method (``patches``, ``multi_line``, ``scatter``),
+#: the name of its source, its label in the key (``""``: not listed) and its style.
+Glyph = tuple[str, str, str, dict[str, Any]]
+
+#: The columns a glyph method draws.
+_FIELDS: dict[str, tuple[str, str]] = {
+    "patches": ("xs", "ys"),
+    "multi_line": ("xs", "ys"),
+    "scatter": ("x", "y"),
+}
+
+
+def robot_figure(title: str, half: float) -> Any:
+    """The figure ``robot`` of a page: the robot to scale over ``[-half, half]²`` (m), 470 px."""
+    from bokeh.models import Range1d
+    from bokeh.plotting import figure
+
+    return figure(
+        name="robot",
+        title=title,
+        frame_width=470,
+        frame_height=470,
+        x_range=Range1d(-half, half),
+        y_range=Range1d(-half, half),
+        x_axis_label="x (m)",
+        y_axis_label="y (m)",
+        tools="pan,wheel_zoom,reset,save",
+        toolbar_location="above",
+    )
+
+
 class Key:
     """The key of a robot figure: an HTML legend (a ``Div``) beside it, with no canvas.
 
     A Bokeh legend draws each entry's glyph in a canvas of its own, and the
     browser composites every canvas of the page at every frame of a move; a
     ``Div`` of text and coloured marks is laid out once.  :meth:`draw` draws a
-    glyph on ``fig`` and, with a ``legend``, lists it.
+    glyph on ``fig`` (at :data:`LEVEL` unless ``style`` says another level) and, with a
+    ``legend``, lists it.
     """
 
     def __init__(self, fig: Any) -> None:
@@ -153,10 +209,21 @@ class Key:
 
     def draw(self, method: str, *fields: str, source: Any, legend: str = "", **style: Any) -> Any:
         """``fig.<method>(*fields, source=source, **style)``; listed in the key under ``legend``."""
-        renderer = getattr(self.fig, method)(*fields, source=source, **style)
+        renderer = getattr(self.fig, method)(*fields, source=source, **{"level": LEVEL, **style})
         if legend:
             self.entries.append((_symbol(method, style), legend))
         return renderer
+
+    def draw_glyphs(
+        self, glyphs: Sequence[Glyph], sources: Mapping[str, Any], present: bool = False
+    ) -> None:
+        """Draw ``glyphs`` in order, each from its source of ``sources``; with ``present``, a
+        glyph whose source has no row is not listed (the key of what this robot has)."""
+        for method, name, legend, style in glyphs:
+            source = sources[name]
+            rows = len(next(iter(source.data.values()), []))
+            listed = legend if rows or not present else ""
+            self.draw(method, *_FIELDS[method], source=source, legend=listed, **style)
 
     def div(self, width: int) -> Any:
         """The key: its entries in two columns, in the order drawn (down, then across)."""
@@ -176,13 +243,14 @@ class Key:
         )
 
 
-def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, tuple[str, str]]) -> Any:
+def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, ArrowStyle]) -> Any:
     """The arrows of every joint force on ``fig``, listed in ``key``, and their toggles.
 
     ``arrows`` maps a quantity of ``source`` (a column ``quantity``) to its
-    legend label and colour.  All the arrows are two renderers (the shafts and
-    the heads, coloured by quantity), so that a move repaints two glyphs, not
-    two per quantity; the check boxes below the key show or hide a quantity's
+    style (:class:`~prp3.explorer.scene.ArrowStyle`: its label in the key, its
+    colour).  All the arrows are two renderers (the shafts and the heads,
+    coloured by quantity), so that a move repaints two glyphs, not two per
+    quantity; the check boxes below the key show or hide a quantity's
     arrows by the filter of their rows (in the browser, no computation).
     Returns the key and the check boxes.
     """
@@ -193,15 +261,15 @@ def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, tuple[str
     groups = [GroupFilter(column_name="quantity", group=quantity) for quantity in arrows]
     shown = UnionFilter(operands=list(groups), name="arrow_filter")
     colours = factor_cmap(
-        "quantity", palette=[colour for _, colour in arrows.values()], factors=list(arrows)
+        "quantity", palette=[style.colour for style in arrows.values()], factors=list(arrows)
     )
     segment = fig.segment(
         "x0", "y0", "x1", "y1", source=source, view=CDSView(filter=shown),
-        line_color=colours, line_width=2.5,
+        line_color=colours, line_width=2.5, level=LEVEL,
     )  # fmt: skip
     fig.scatter(
         "x1", "y1", angle="angle", marker="triangle", size=10, source=source,
-        view=CDSView(filter=shown), color=colours,
+        view=CDSView(filter=shown), color=colours, level=LEVEL,
     )  # fmt: skip
     fig.add_tools(
         HoverTool(
@@ -232,49 +300,6 @@ def arrow_layers(fig: Any, key: Key, source: Any, arrows: Mapping[str, tuple[str
     return column(key.div(560), toggles)
 
 
-def time_plots(table: Mapping[str, Any], titles: Mapping[str, str]) -> tuple[list[Any], list[Any]]:
-    """The quantities ``titles`` names (``quantity_L`` columns of ``table``) of the three legs
-    against time, one figure each with its title, and one shared time line (a Span) each.
-    """
-    from bokeh.models import Span
-    from bokeh.plotting import figure
-
-    t = np.asarray(table["t"])
-    kept = frame_indices(t.size, MAX_CURVE_POINTS)
-    spans: list[Any] = []
-    figures: list[Any] = []
-    x_range = None
-    for quantity, title in titles.items():
-        fig = figure(
-            title=title,
-            width=330,
-            height=140,
-            tools="xpan,xwheel_zoom,reset",
-            toolbar_location=None,
-            **({"x_range": x_range} if x_range is not None else {}),
-        )
-        fig.title.text_font_size = "9pt"
-        x_range = fig.x_range
-        for leg in LEGS:
-            fig.line(
-                t[kept],
-                np.asarray(table[f"{quantity}_{leg}"])[kept],
-                color=LEG_COLOURS[leg],
-                legend_label=leg,
-            )
-        legend = fig.legend[0]
-        legend.label_text_font_size = "8pt"
-        legend.padding = 2
-        legend.spacing = 0
-        fig.add_layout(legend, "right")
-        span = Span(location=float(t[0]), dimension="height", line_color="black", line_width=1)
-        fig.add_layout(span)
-        spans.append(span)
-        figures.append(fig)
-    figures[-1].xaxis.axis_label = "t (s)"
-    return figures, spans
-
-
 #: A slider's handle without a layer of its own or an animation: noUiSlider's ``will-change:
 #: transform`` gives each of the page's sliders two compositor layers, which every frame of
 #: every move then lays out and commits (``benchmarks/bench_explore.py``); a value set by
@@ -285,7 +310,7 @@ SLIDER_CSS: str = (
 )
 
 
-def _plain_slider(**properties: Any) -> Any:
+def plain_slider(**properties: Any) -> Any:
     """A Bokeh ``Slider`` drawn without its own layers (:data:`SLIDER_CSS`)."""
     from bokeh.models import InlineStyleSheet, Slider
 
@@ -296,12 +321,14 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     """A slider of one motion ``control`` over ``[low, high]`` and its numeric field, linked.
 
     Returns the slider (named ``control.name``) and the row of both; the two are
-    linked in the browser (``js_link``), so either sets the other.
+    linked in the browser, so either sets the other.  The slider's value reaches
+    the server; the field shows it without sending it (no second patch, and no
+    second reply, per move: the server reads the sliders only).
     """
     from bokeh.layouts import row
-    from bokeh.models import Spinner
+    from bokeh.models import CustomJS, Spinner
 
-    slider = _plain_slider(
+    slider = plain_slider(
         start=low,
         end=high,
         value=0.0,
@@ -320,140 +347,7 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
         name=f"{control.name}_field",
         format="0.[0000]",
     )
-    slider.js_link("value", field, "value")
+    shown = "if (field.value !== slider.value) field.setv({value: slider.value}, {sync: false});"
+    slider.js_on_change("value", CustomJS(args={"slider": slider, "field": field}, code=shown))
     field.js_link("value", slider, "value")
     return slider, row(slider, field)
-
-
-# ---------------------------------------------------------------- the scrubber of a run
-def frame_sources(views: Sequence[Any]) -> dict[str, Any]:
-    """A source per drawn source of ``views`` (:class:`~prp3.explorer.scene.View`), a row per view.
-
-    Row ``k`` of source ``name`` holds the columns of ``views[k].sources()[name]``
-    (named ``frames:<name>``), which :func:`browser_scrubber` copies at frame ``k``.
-    """
-    from bokeh.models import ColumnDataSource
-
-    first = views[0].sources()
-    every = [view.sources() for view in views]
-    return {
-        name: ColumnDataSource(
-            {c: [drawn[name][c] for drawn in every] for c in first[name]}, name=f"frames:{name}"
-        )
-        for name in first
-    }
-
-
-def _scrubber_widgets(times: Sequence[float], width: int) -> tuple[Any, Any]:
-    from bokeh.models import Toggle
-
-    slider = _plain_slider(
-        start=0,
-        end=max(len(times) - 1, 1),
-        value=0,
-        step=1,
-        name="time",
-        title=f"t = {times[0]:.3f} s",
-        width=width,
-        show_value=False,
-    )
-    return slider, Toggle(label="▶ play", name="play", width=90)
-
-
-def _period(times: Sequence[float]) -> float:
-    """Milliseconds of the run between two of ``times`` (its real pace)."""
-    return 1000.0 * float(times[-1] - times[0]) / max(len(times) - 1, 1)
-
-
-def browser_scrubber(
-    times: Sequence[float],
-    frames: Mapping[str, Any],
-    targets: Mapping[str, Any],
-    tables: Sequence[Any],
-    spans: Sequence[Any],
-    width: int = 400,
-) -> Any:
-    """The scrubber ``time`` and the button ``play`` of an HTML file of a run (no server).
-
-    ``frames`` maps a drawn source's name to a source of its columns at every
-    frame (a row per frame); moving the scrubber to frame ``k`` copies row ``k``
-    into each of ``targets``, redraws the ``tables`` (DataTables), moves the
-    time lines ``spans`` to ``times[k]``.  The play button steps the scrubber on
-    the browser's timer, at the run's pace (at most 33 frames a second).
-    Returns the row of the two.
-    """
-    from bokeh.layouts import row
-    from bokeh.models import CustomJS
-
-    slider, play = _scrubber_widgets(times, width)
-    slider.js_on_change(
-        "value",
-        CustomJS(
-            args={
-                "slider": slider,
-                "sources": dict(frames),
-                "targets": dict(targets),
-                "tables": list(tables),
-                "spans": list(spans),
-                "times": [float(v) for v in times],
-            },
-            code=_COPY_FRAME,
-        ),
-    )
-    period = max(30, int(_period(times)))
-    play.js_on_change(
-        "active", CustomJS(args={"toggle": play, "slider": slider, "period": period}, code=_PLAY)
-    )
-    return row(slider, play)
-
-
-def server_scrubber(
-    doc: Any,
-    times: Sequence[float],
-    show: Callable[[int], None],
-    spans: Sequence[Any],
-    width: int = 500,
-) -> Any:
-    """The scrubber ``time`` and the button ``play`` of a run on the server's page.
-
-    Moving the scrubber to sample ``k`` moves the time lines ``spans`` and calls
-    ``show(k)`` (in Python: the page sets its sliders to the run's state at
-    ``k`` and recomputes it).  The play button steps the scrubber on the
-    server's timer at the run's pace, by as many samples as keep a step at
-    least 40 ms apart.  ``show(0)`` runs at once: the page starts at the run's
-    first sample.  Returns the row of the two.
-    """
-    from bokeh.layouts import row
-
-    slider, play = _scrubber_widgets(times, width)
-    samples = len(times)
-    pace = _period(times)
-    period = max(40, int(pace))
-    stride = max(1, round(40 / pace)) if pace > 0 else 1
-    timer: list[Any] = [None]
-
-    def to_sample(k: int) -> None:
-        k = min(max(int(k), 0), samples - 1)
-        for span in spans:
-            span.location = float(times[k])
-        slider.title = f"t = {float(times[k]):.3f} s"
-        show(k)
-
-    def step() -> None:
-        following = int(slider.value) + stride
-        slider.value = following if following < samples else 0
-
-    def on_play(attr: str, old: Any, new: Any) -> None:
-        if new:
-            play.label = "❚❚ pause"
-            timer[0] = doc.add_periodic_callback(step, period)
-        else:
-            play.label = "▶ play"
-            if timer[0] is not None:
-                doc.remove_periodic_callback(timer[0])
-                timer[0] = None
-
-    slider.on_change("value", lambda attr, old, new: to_sample(int(new)))
-    play.on_change("active", on_play)
-    to_sample(0)  # the page starts at the run's first sample
-    return row(slider, play)

@@ -34,15 +34,16 @@ Every arrow starts at ``P_i``: the reactions are reported about ``P_i``
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
-from typing import Any, Protocol
+from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from prp3.analysis.inverse_dynamics import inverse_dynamics
 from prp3.analysis.workspace import workspace_statics
+from prp3.drawing import LEG_COLOURS, PISTON_HALF_LENGTH, SLEEVE_HALF_LENGTH
 from prp3.errors import Prp3Error
 from prp3.io.results import (
     OUTPUT_QUANTITIES,
@@ -63,15 +64,17 @@ from prp3.validation import LEGS
 
 __all__ = [
     "ARROWS",
+    "ARROW_COLUMNS",
     "DESIGN_PARAMETERS",
-    "LEG_COLOURS",
     "MOTION_CONTROLS",
     "PRP3_SCENE",
+    "ArrowStyle",
     "Columns",
     "MotionControl",
     "Scene",
     "State",
     "View",
+    "arrow_columns",
     "arrow_scale",
     "design_robot",
     "design_values",
@@ -87,23 +90,23 @@ FloatArray = NDArray[np.float64]
 #: The columns of one data source: name → values.
 Columns = dict[str, list[Any]]
 
-#: The legs' colours: those of the figures (``prp3.plotting.figures.LEG_STYLES``:
-#: matplotlib's tab:blue, tab:orange, tab:green), as hexadecimal colours.
-LEG_COLOURS: dict[str, str] = {"A": "#1f77b4", "B": "#ff7f0e", "C": "#2ca02c"}
 
-#: The force arrows: quantity → (label of the legend, colour).
-ARROWS: dict[str, tuple[str, str]] = {
-    "f10": ("f10: actuator force on the piston (along e)", "#d62728"),
-    "f21": ("f21: piston on link 2 (f21y n + f21z e)", "#9467bd"),
-    "n10": ("n10: guide reaction on the piston (along n)", "#8c564b"),
-    "n32": ("n32: link 2 on the platform (along d⊥)", "#e377c2"),
-    "fric10": ("fric10: guide friction on the piston (along e)", "#7f7f7f"),
-    "fric32": ("fric32: sleeve friction on the platform (along d)", "#bcbd22"),
+class ArrowStyle(NamedTuple):
+    """How the arrows of one quantity are drawn: their label in the key, and their colour."""
+
+    label: str
+    colour: str
+
+
+#: The force arrows: quantity → its style.
+ARROWS: dict[str, ArrowStyle] = {
+    "f10": ArrowStyle("f10: actuator force on the piston (along e)", "#d62728"),
+    "f21": ArrowStyle("f21: piston on link 2 (f21y n + f21z e)", "#9467bd"),
+    "n10": ArrowStyle("n10: guide reaction on the piston (along n)", "#8c564b"),
+    "n32": ArrowStyle("n32: link 2 on the platform (along d⊥)", "#e377c2"),
+    "fric10": ArrowStyle("fric10: guide friction on the piston (along e)", "#7f7f7f"),
+    "fric32": ArrowStyle("fric32: sleeve friction on the platform (along d)", "#bcbd22"),
 }
-
-#: Half-lengths of the piston and sleeve bars, as fractions of ``l0`` (those of the animation).
-PISTON_HALF_LENGTH: float = 0.12
-SLEEVE_HALF_LENGTH: float = 0.09
 
 #: The rows of the table of values, in order (columns of ``results.csv``).
 TABLE_QUANTITIES: tuple[str, ...] = (
@@ -339,9 +342,6 @@ def scene_view(robot: Robot, table: Mapping[str, FloatArray], index: int, scale:
             else {"x": [], "y": [], "radius": []}
         ),
     }
-    arrows: Columns = {
-        key: [] for key in ("quantity", "leg", "x0", "y0", "x1", "y1", "fx", "fy", "value", "angle")
-    }
     components: dict[str, FloatArray | None] = {}
     f10, f21y, f21z = (_per_leg(table, n, index) for n in ("f10", "f21y", "f21z"))
     n10, n32 = _per_leg(table, "n10", index), _per_leg(table, "n32", index)
@@ -354,22 +354,15 @@ def scene_view(robot: Robot, table: Mapping[str, FloatArray], index: int, scale:
     components["n32"] = n32[:, None] * perp(slide)
     components["fric10"] = None if fric10 is None else fric10[:, None] * LEG_AXIS
     components["fric32"] = None if fric32 is None else fric32[:, None] * slide
-    for quantity, vectors in components.items():
-        if vectors is None:
-            continue
-        for j, leg in enumerate(LEGS):
-            fx, fy = float(vectors[j, 0]), float(vectors[j, 1])
-            x0, y0 = float(joint[j, 0]), float(joint[j, 1])
-            arrows["quantity"].append(quantity)
-            arrows["leg"].append(leg)
-            arrows["x0"].append(x0)
-            arrows["y0"].append(y0)
-            arrows["x1"].append(x0 + scale * fx)
-            arrows["y1"].append(y0 + scale * fy)
-            arrows["fx"].append(fx)
-            arrows["fy"].append(fy)
-            arrows["value"].append(math.hypot(fx, fy))
-            arrows["angle"].append(math.atan2(fy, fx) - math.pi / 2.0)  # a triangle points up
+    arrows = arrow_columns(
+        (
+            (quantity, leg, joint[j], float(vectors[j, 0]), float(vectors[j, 1]))
+            for quantity, vectors in components.items()
+            if vectors is not None
+            for j, leg in enumerate(LEGS)
+        ),
+        scale,
+    )
     rows: Columns = {"quantity": [], "unit": [], "A": [], "B": [], "C": []}
     for quantity in TABLE_QUANTITIES:
         values = _per_leg(table, quantity, index)
@@ -380,6 +373,38 @@ def scene_view(robot: Robot, table: Mapping[str, FloatArray], index: int, scale:
         for j, leg in enumerate(LEGS):
             rows[leg].append(float(values[j]))
     return View(shapes=shapes, arrows=arrows, table=rows)
+
+
+#: The columns of the arrows' source (:attr:`View.arrows`).
+ARROW_COLUMNS: tuple[str, ...] = (
+    "quantity", "leg", "x0", "y0", "x1", "y1", "fx", "fy", "value", "angle",
+)  # fmt: skip
+
+
+def arrow_columns(
+    rows: Iterable[tuple[str, str, FloatArray, float, float]], scale: float
+) -> Columns:
+    """The columns of :attr:`View.arrows`, a row per ``(quantity, leg, tail, fx, fy)`` of ``rows``.
+
+    The force ``(fx, fy)`` (N) with its tail at the point ``tail`` (m) and its
+    head at ``tail + scale·(fx, fy)``; ``value`` its magnitude (N), ``angle``
+    the direction of its head (rad, for a triangle that points up).
+
+    >>> arrows = arrow_columns([("f10", "A", np.zeros(2), 3.0, 4.0)], 0.01)
+    >>> arrows["x1"], arrows["value"]
+    ([0.03], [5.0])
+    """
+    arrows: Columns = {key: [] for key in ARROW_COLUMNS}
+    for quantity, leg, tail, fx, fy in rows:
+        x0, y0 = float(tail[0]), float(tail[1])
+        for key, value in zip(
+            ARROW_COLUMNS,
+            (quantity, leg, x0, y0, x0 + scale * fx, y0 + scale * fy, fx, fy,
+             math.hypot(fx, fy), math.atan2(fy, fx) - math.pi / 2.0),
+            strict=True,
+        ):  # fmt: skip
+            arrows[key].append(value)
+    return arrows
 
 
 def empty_view(like: View) -> View:

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from prp3.drawing import PISTON_HALF_LENGTH, SLEEVE_HALF_LENGTH
 from prp3.files import atomic_path
 from prp3.mechanics.geometry import LEG_AXIS, base_vertices, platform_vertices
 from prp3.mechanics.kinematics import Kinematics
@@ -59,10 +60,6 @@ IntArray = NDArray[np.int64]
 
 #: Default largest number of frames of an animation (the samples are thinned out).
 MAX_FRAMES: int = 100
-
-#: Half-lengths of the piston and sleeve bars, as fractions of ``l0``.
-PISTON_HALF_LENGTH: float = 0.12
-SLEEVE_HALF_LENGTH: float = 0.09
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from prp3.drawing import GUIDE_OVERHANG, SLIDE_HALF_LENGTH
 from prp3.files import atomic_path
 from prp3.plotting.figures import LEG_STYLES
 from prp3.validation import LEGS
@@ -39,10 +40,6 @@ if TYPE_CHECKING:
 __all__ = ["FamilyFrame", "family_frame", "save_family_animation"]
 
 FloatArray = NDArray[np.float64]
-
-#: Half length of a slider bar and of a guide beyond the slider's travel (m).
-SLIDER: float = 0.025
-GUIDE: float = 0.07
 
 
 @dataclass(frozen=True)
@@ -98,9 +95,12 @@ def family_frame(robot: FamilyRobot, q: FloatArray, pose: FloatArray) -> FamilyF
                 r_leg.append(j)
                 r_driven.append(k == act)
             else:
-                sliders.append(np.stack([o[k] - SLIDER * u[k], o[k] + SLIDER * u[k]]))
+                sliders.append(
+                    np.stack([o[k] - SLIDE_HALF_LENGTH * u[k], o[k] + SLIDE_HALF_LENGTH * u[k]])
+                )
                 travel = float((o[k] - jo[k]) @ u[k])
-                low, high = min(travel, 0.0) - GUIDE, max(travel, 0.0) + GUIDE
+                low = min(travel, 0.0) - GUIDE_OVERHANG
+                high = max(travel, 0.0) + GUIDE_OVERHANG
                 guides.append(np.stack([jo[k] + low * u[k], jo[k] + high * u[k]]))
                 s_leg.append(j)
                 s_driven.append(k == act)

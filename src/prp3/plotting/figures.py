@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from prp3.drawing import LEG_COLOURS
 from prp3.files import atomic_path
 from prp3.io.results import OUTPUT_QUANTITIES
 from prp3.validation import LEGS
@@ -57,11 +58,10 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: Colour and line style of each leg's curve (distinct in grey too).
+#: Colour (:data:`prp3.drawing.LEG_COLOURS`) and line style of each leg's curve (distinct in
+#: grey too).
 LEG_STYLES: dict[str, tuple[str, str]] = {
-    "A": ("tab:blue", "-"),
-    "B": ("tab:orange", "--"),
-    "C": ("tab:green", "-."),
+    leg: (LEG_COLOURS[leg], style) for leg, style in zip(LEGS, ("-", "--", "-."), strict=True)
 }
 
 
