@@ -57,6 +57,7 @@ __all__ = [
     "check_scalar",
     "check_times",
     "first_non_finite",
+    "first_not_increasing",
     "require_finite",
 ]
 
@@ -187,6 +188,16 @@ def check_per_leg(
     return check_finite(name, array, error, subject=subject)
 
 
+def first_not_increasing(t: FloatArray) -> int | None:
+    """The index of the first time of ``t`` (shape ``(N,)``) not after the one before, or ``None``.
+
+    >>> first_not_increasing(np.array([0.0, 0.1, 0.1, 0.3])), first_not_increasing(np.array([0.0, 1.0]))
+    (2, None)
+    """
+    late = np.diff(t) <= 0.0
+    return int(np.argmax(late)) + 1 if late.any() else None
+
+
 def check_times(
     name: str, value: ArrayLike, *, minimum: int = 1, subject: str | None = None
 ) -> FloatArray:
@@ -203,9 +214,8 @@ def check_times(
             f"{name} must have shape (N,) with N >= {minimum}, got {t.shape}", subject=subject
         )
     check_finite(name, t[:, None], components=(name,), subject=subject)
-    steps = np.diff(t)
-    if (steps <= 0).any():
-        k = int(np.argmax(steps <= 0)) + 1
+    k = first_not_increasing(t)
+    if k is not None:
         raise TrajectoryError(
             f"time must be strictly increasing; {name}[{k}] = {float(t[k])!r} follows "
             f"{name}[{k - 1}] = {float(t[k - 1])!r}",

@@ -23,7 +23,7 @@ from prp3.io.tables import read_table_csv
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import LEGS
+from prp3.validation import LEGS, first_not_increasing
 
 if TYPE_CHECKING:
     from prp3.family import FamilyRobot
@@ -108,9 +108,8 @@ def _read_folder(
             file=folder,
         )
     t = table["t"]
-    steps = np.flatnonzero(np.diff(t) <= 0.0)
-    if steps.size:
-        k = int(steps[0]) + 1
+    k = first_not_increasing(t)
+    if k is not None:
         raise InputFileError(
             f"t must be strictly increasing: t = {float(t[k])!r} follows {float(t[k - 1])!r}",
             file=path,

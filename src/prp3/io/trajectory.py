@@ -25,6 +25,7 @@ from prp3.errors import InputFileError, SingularPoseError, TrajectoryError
 from prp3.io.tables import Table, read_table
 from prp3.model.motion import Motion, spline_derivatives
 from prp3.path_validation import check_path
+from prp3.validation import first_not_increasing
 
 __all__ = [
     "DERIVATIVE_COLUMNS",
@@ -157,9 +158,8 @@ def trajectory_of(path: Path, table: Table) -> Trajectory:
         raise TrajectoryError(
             f"a trajectory needs at least 2 samples, got {len(t)}", file=path, line=int(lines[0])
         )
-    steps = np.diff(t)
-    if (steps <= 0.0).any():
-        k = int(np.argmax(steps <= 0.0)) + 1
+    k = first_not_increasing(t)
+    if k is not None:
         raise TrajectoryError(
             f"time must increase: t = {float(t[k])!r} follows t = {float(t[k - 1])!r} on line "
             f"{int(lines[k - 1])}",
