@@ -210,3 +210,29 @@ def test_any_memory_layout_of_the_motion() -> None:
     signatures = len(_kernel.signatures)
     same_solution(family_inverse_dynamics(robot, strided), family_inverse_dynamics(robot, base))
     assert len(_kernel.signatures) == signatures
+
+
+@pytest.mark.parametrize("arch", sorted({arch for arch, _ in ALLOWED}))
+def test_a_batch_on_every_thread_gives_the_one_thread_numbers(
+    arch: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """From ``PARALLEL_MIN_SAMPLES`` samples steps 2 and 3 run block by block on every thread.
+
+    Each sample is computed alone by the same machine code, so every output equals
+    the same batch on the calling thread bit for bit (an uneven last block included).
+    """
+    from prp3.engines.numba import BLOCK, PARALLEL_MIN_SAMPLES
+    from prp3.family import compiled
+
+    samples = PARALLEL_MIN_SAMPLES + BLOCK // 2 + 3
+    assert compiled.uses_threads(samples) and not compiled.uses_threads(PARALLEL_MIN_SAMPLES - 1)
+    robot, motion = FamilyRobot.default(arch), paper_motion("rotation", samples)
+    threaded = compiled.compiled_dynamics(robot, motion)
+    monkeypatch.setattr(compiled, "uses_threads", lambda samples: False)
+    alone = compiled.compiled_dynamics(robot, motion)
+    for name in ("q", "dq", "ddq", "tau", "power", "force", "moment"):
+        np.testing.assert_array_equal(getattr(threaded, name), getattr(alone, name), err_msg=name)
+    for name in ("jacobian", "jacobian_inverse"):
+        np.testing.assert_array_equal(
+            getattr(threaded.kinematics, name), getattr(alone.kinematics, name), err_msg=name
+        )

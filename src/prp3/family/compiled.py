@@ -89,6 +89,15 @@ from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
 from prp3.validation import LEGS, require_finite
 
+try:  # the threads of the 3-PRP's numba engine: its block, threshold and threading layer
+    from prp3.engines.numba import BLOCK, PARALLEL_MIN_SAMPLES, parallel_layer
+except ImportError:  # pragma: no cover - the numba extra is not installed: one thread
+    BLOCK, PARALLEL_MIN_SAMPLES = 1, 0
+
+    def parallel_layer() -> str | None:
+        return None
+
+
 __all__ = ["compiled_dynamics"]
 
 FloatArray = NDArray[np.float64]
@@ -111,9 +120,9 @@ def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatA
              acceleration: FloatArray, q: FloatArray, dq: FloatArray, ddq: FloatArray,
              jo: FloatArray, ja: FloatArray, fo: FloatArray, fa: FloatArray, ax: FloatArray,
              end: FloatArray, jac: FloatArray, inv: FloatArray, tau: FloatArray,
-             power: FloatArray, force: FloatArray, moment: FloatArray) -> int:  # fmt: skip
-    """Steps 2 and 3 at the samples (``q`` given): the status ``_OK`` or not finite."""
-    n = pose.shape[0]
+             power: FloatArray, force: FloatArray, moment: FloatArray, start: int,
+             stop: int) -> int:  # fmt: skip
+    """Steps 2 and 3 at the samples ``start:stop`` (``q`` given): the status ``_OK`` or not finite."""
     a = ints[4]
     gvx, gvy = par[_GRAVITY], par[_GRAVITY + 1]
     work = np.zeros(144)  # every small array, in one allocation
@@ -132,7 +141,7 @@ def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatA
     acc = work[141:144]
     kin_ok = True
     dyn_ok = True
-    for k in range(n):
+    for k in range(start, stop):
         gx, gy, phi = pose[k, 0], pose[k, 1], pose[k, 2]
         vgx, vgy, omega = velocity[k, 0], velocity[k, 1], velocity[k, 2]
         agx, agy, alpha = acceleration[k, 0], acceleration[k, 1], acceleration[k, 2]
@@ -254,10 +263,51 @@ def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatA
     return _OK
 
 
+def _blocks(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatArray,
+            acceleration: FloatArray, q: FloatArray, dq: FloatArray, ddq: FloatArray,
+            jo: FloatArray, ja: FloatArray, fo: FloatArray, fa: FloatArray, ax: FloatArray,
+            end: FloatArray, jac: FloatArray, inv: FloatArray, tau: FloatArray,
+            power: FloatArray, force: FloatArray, moment: FloatArray, start: int,
+            stop: int) -> int:  # pragma: no cover  # fmt: skip
+    """:func:`_samples` on ``start:stop`` block by block on every thread; the worst status.
+
+    Each block of :data:`~prp3.engines.numba.BLOCK` samples is one call of
+    :func:`_samples` (the same machine code for each sample as on one thread);
+    a block with a kinematic result not finite outranks one with a dynamic one,
+    as in one pass.
+    """
+    blocks = (stop - start + BLOCK - 1) // BLOCK
+    status = np.zeros(blocks, dtype=np.int64)
+    for b in _prange(blocks):
+        first = start + b * BLOCK
+        last = min(stop, first + BLOCK)
+        status[b] = _samples(ints, par, pose, velocity, acceleration, q, dq, ddq, jo, ja, fo,
+                             fa, ax, end, jac, inv, tau, power, force, moment, first, last)  # fmt: skip
+    worst = _OK
+    for b in range(blocks):
+        if status[b] == _NOT_FINITE_KIN:
+            return _NOT_FINITE_KIN
+        if status[b] != _OK:
+            worst = status[b]
+    return worst
+
+
+_prange = range if numba is None else numba.prange
+_samples_parallel = (
+    _blocks
+    if numba is None
+    else numba.njit(cache=True, error_model="numpy", parallel=True)(_blocks)
+)
+
+
 @_compile
 def _kernel(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatArray,
-            acceleration: FloatArray, buffer: FloatArray) -> int:  # fmt: skip
-    """Every output at the samples into ``buffer`` (``n·_WIDTH + _TAIL``, from numpy); the status."""
+            acceleration: FloatArray, buffer: FloatArray, threads: bool) -> int:  # fmt: skip
+    """Every output at the samples into ``buffer`` (``n·_WIDTH + _TAIL``, from numpy); the status.
+
+    ``threads``: steps 2 and 3 on every thread (:func:`_samples_parallel`),
+    else on the calling thread; the path of step 1 is sequential.
+    """
     n = pose.shape[0]
     at = 0
     ranked = buffer[at : at + 36 * n].reshape((4, n, 3, 3))
@@ -282,8 +332,14 @@ def _kernel(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatAr
     info = np.zeros(4)
     _follow(ints, par, pose, q, mu_leg, mu_par, status, info)
     if status[0] == _OK:
-        status[0] = _samples(ints, par, pose, velocity, acceleration, q, dq, ddq, jo, ja, fo, fa,
-                             ax, end, block27[0], block27[1], tau, power, force, moment)  # fmt: skip
+        if threads:
+            status[0] = _samples_parallel(ints, par, pose, velocity, acceleration, q, dq, ddq, jo,
+                                          ja, fo, fa, ax, end, block27[0], block27[1], tau, power,
+                                          force, moment, 0, n)  # fmt: skip
+        else:
+            status[0] = _samples(ints, par, pose, velocity, acceleration, q, dq, ddq, jo, ja, fo,
+                                 fa, ax, end, block27[0], block27[1], tau, power, force, moment,
+                                 0, n)  # fmt: skip
     for i in range(4):
         buffer[at + i] = status[i]
         buffer[at + 4 + i] = info[i]
@@ -312,7 +368,7 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     buffer = np.empty(_WIDTH * n + _TAIL)  # allocated by numpy: huge pages for a large N
     status = _kernel(
         ints, par, _c(pose), _c(motion.velocity.reshape(-1, 3)),
-        _c(motion.acceleration.reshape(-1, 3)), buffer,
+        _c(motion.acceleration.reshape(-1, 3)), buffer, uses_threads(n),
     )  # fmt: skip
     # the views by integer indexing (the cheapest views numpy makes)
     ranked = buffer[: 36 * n].reshape(4, *shape, 3, 3)
@@ -343,6 +399,18 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
         robot, motion, q, dq, ddq, mu_leg, mu_par, frames, jacobians[0], jacobians[1]
     )  # fmt: skip
     return FamilySolution(kin, q, dq, ddq, tau, power, force, moment, "fast")
+
+
+def uses_threads(samples: int) -> bool:
+    """Whether a batch of ``samples`` runs its steps 2 and 3 on every thread.
+
+    As the 3-PRP's batches (:func:`prp3.engines.numba.batch_loops`): from
+    :data:`~prp3.engines.numba.PARALLEL_MIN_SAMPLES` samples when numba's
+    threading layer is thread-safe (:func:`~prp3.engines.numba.parallel_layer`);
+    a function of ``samples`` and of what the process offers, never of earlier
+    calls; both give the same numbers.
+    """
+    return samples >= PARALLEL_MIN_SAMPLES and parallel_layer() is not None
 
 
 def _c(values: FloatArray) -> FloatArray:
