@@ -3,7 +3,7 @@
 The entries of the kernel (:mod:`prp3.engines.entries` for batches,
 :mod:`prp3.engines.sample_entries` for one sample) take a
 :class:`CompiledRobot`: the robot's constants as the kernel uses them
-(:class:`~prp3.mechanics.KernelParameters`), packed into the float64
+(:class:`~prp3.mechanics.parameters.KernelParameters`), packed into the float64
 array that the numba engine reads, the stroke, and whether the compiled
 kernel runs the robot (no joint friction).  Its :meth:`CompiledRobot.sample_function`
 is the unvalidated kernel of one sample for a control loop.

@@ -173,14 +173,6 @@ def trace(
     return [(k, line) for k, line in enumerate(tape.lines) if k in needed], outputs
 
 
-#: Operations whose result is not finite whenever an operand is not (IEEE 754:
-#: ``inf ± x``, ``inf × x``, ``inf/x``, ``cos(inf)``, … are ``±inf`` or NaN, and NaN
-#: stays NaN).  A division by a non-finite value can give zero, ``tanh`` and
-#: ``sign`` of an infinity are ±1: there only the numerator carries it, or nothing.
-def _operand(value: int | float, names: Callable[[int], str]) -> str:
-    return names(value) if isinstance(value, int) else repr(float(value))
-
-
 def _compile(source: str, name: str, namespace: dict[str, Any]) -> Callable[..., Any]:
     exec(compile(source, f"<prp3 kernel: {name}>", "exec"), namespace)
     compiled: Callable[..., Any] = namespace[name]

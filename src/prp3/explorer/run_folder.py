@@ -172,8 +172,8 @@ def run_motion(robot: Robot, run: Run) -> Motion:
     """The platform motion of a run: poses from its columns, rates by the forward kinematics.
 
     ``(ẋ, ẏ, φ̇) = J⁻¹·λ̇10`` and ``q̈ = J⁻¹·(λ̈10 − J̇·q̇)`` (eqs. 14, 17 solved for
-    the platform, :func:`prp3.analysis.forward.forward_velocity` and
-    :func:`prp3.analysis.forward.forward_acceleration`), with the run's load columns.
+    the platform, :func:`prp3.analysis.forward_kinematics.forward_velocity` and
+    :func:`prp3.analysis.forward_kinematics.forward_acceleration`), with the run's load columns.
     ``robot`` must be the run's: its inverse geometry must give the run's
     ``lambda10`` (to ``1e-9·l0``), else an :class:`~prp3.errors.InputFileError`
     names the sample.

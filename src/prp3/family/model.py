@@ -216,8 +216,8 @@ class FamilyRobot:
     link1, link2 : Body
         The bodies between joints 1–2 (frame ``F_1``) and 2–3 (frame ``F_2``).
     platform : PlatformBody
-    payload : prp3.Payload
-    load : prp3.Load
+    payload : prp3.model.parameters.Payload
+    load : prp3.model.parameters.Load
     gravity : tuple of float
         ``(g_x, g_y)`` (m/s²).
 

@@ -195,7 +195,7 @@ def rate_floor(
     dy: Value,
     dphi: Value,
 ) -> Value:
-    """The size below which a joint rate is round-off (:func:`prp3.validation.joint_rate_floor`)."""
+    """The size below which a joint rate is round-off (:func:`prp3.path_validation.joint_rate_floor`)."""
     speed = ops.sqrt(dx * dx + dy * dy)
     return joint_rate_floor(speed, dphi, k.l0 + ops.sqrt(x * x + y * y), geo.D)
 
@@ -206,7 +206,7 @@ def rest_kinematics(kin: KernelKinematics, floor: Value) -> KernelKinematics:
     A joint rate can vanish by cancellation while the platform moves (leg B's
     ``λ̇32`` at ``φ = 0``, ``ẏ = φ̇ = 0``); each method computes that zero with
     its own round-off, and an exact-sign law would read its random sign
-    (:func:`prp3.validation.rest_joint_rates`, which the paper and Newton–Euler apply).
+    (:func:`prp3.path_validation.rest_joint_rates`, which the paper and Newton–Euler apply).
     """
 
     def rest(rates: Legs) -> Legs:
