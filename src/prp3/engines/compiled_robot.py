@@ -3,7 +3,7 @@
 The entries of the kernel (:mod:`prp3.engines.entries` for batches,
 :mod:`prp3.engines.sample_entries` for one sample) take a
 :class:`CompiledRobot`: the robot's constants as the kernel uses them
-(:class:`~prp3.mechanics.parameters.KernelParameters`), packed into the float64
+(:class:`~prp3.mechanics.parameters.KernelParameters`), packed into the record
 array that the numba engine reads, the stroke, and whether the compiled
 kernel runs the robot (no joint friction).  Its :meth:`CompiledRobot.sample_function`
 is the unvalidated kernel of one sample for a control loop.
@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
 from prp3.engines.select import numba_module, resolve_engine
 from prp3.errors import Prp3Error
@@ -27,9 +26,15 @@ from prp3.mechanics.parameters import KernelParameters, kernel_parameters
 from prp3.model.robot import Robot
 from prp3.validation import check_robot
 
-__all__ = ["CompiledRobot", "Engine", "compile_robot"]
+__all__ = ["PARAMETER_RECORD", "CompiledRobot", "Engine", "ParameterArray", "compile_robot"]
 
-FloatArray = NDArray[np.float64]
+#: The read-only ``(1,)`` array of :data:`PARAMETER_RECORD` the numba engine reads.
+ParameterArray = np.ndarray[tuple[int], np.dtype[np.void]]
+#: The kernel's parameters as the numba engine reads them: one record of the fields of
+#: :class:`~prp3.mechanics.parameters.KernelParameters`, in order, each a float64.
+PARAMETER_RECORD = np.dtype(
+    [(name, np.float64) for name in KernelParameters.__dataclass_fields__], align=True
+)
 #: The engine argument: ``"numba"``, ``"numpy"`` or ``None`` (the default engine).
 Engine = Literal["numba", "numpy"] | None
 
@@ -47,9 +52,9 @@ class CompiledRobot:
     stroke : tuple of float or None
         ``robot.limits.stroke``.
     array : ndarray
-        The fields of ``parameters`` as a read-only, C-contiguous float64
-        array (the numba engine's input, the type its machine code is called
-        with: checked).
+        The fields of ``parameters`` as a read-only array of one
+        :data:`PARAMETER_RECORD` (the numba engine's input, the type its
+        machine code is called with: checked).
     compiled_kernel : bool
         Whether the numba engine runs this robot (no joint friction):
         :func:`prp3.engines.select.runs_on`.
@@ -63,21 +68,21 @@ class CompiledRobot:
     robot: Robot
     parameters: KernelParameters
     stroke: tuple[float, float] | None
-    array: FloatArray
+    array: ParameterArray
     compiled_kernel: bool
 
     def __post_init__(self) -> None:
         array = self.array
         if not (
             type(array) is np.ndarray
-            and array.dtype == np.float64
-            and array.shape == (len(KernelParameters.__dataclass_fields__),)
+            and array.dtype == PARAMETER_RECORD
+            and array.shape == (1,)
             and array.flags.c_contiguous
             and array.flags.aligned
             and not array.flags.writeable
         ):
             raise Prp3Error(
-                "the array of a CompiledRobot must be the read-only float64 array of its "
+                "the array of a CompiledRobot must be the read-only record array of its "
                 "kernel parameters: build it by compile_robot(robot)"
             )
 
@@ -151,7 +156,8 @@ def compile_robot(robot: Robot) -> CompiledRobot:
     check_robot(robot)
     parameters = kernel_parameters(robot)
     array = np.array(
-        [float(getattr(parameters, name)) for name in KernelParameters.__dataclass_fields__]
+        [tuple(float(getattr(parameters, name)) for name in KernelParameters.__dataclass_fields__)],
+        dtype=PARAMETER_RECORD,
     )
     array.flags.writeable = False
     friction = robot.friction is not None or parameters.has_mu

@@ -33,7 +33,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.engines.compiled_robot import CompiledRobot, Engine, as_compiled, engine_for
+from prp3.engines.compiled_robot import (
+    CompiledRobot,
+    Engine,
+    ParameterArray,
+    as_compiled,
+    engine_for,
+)
 from prp3.engines.select import CHUNK, numba_module, run_numpy
 from prp3.errors import Prp3Error, TrajectoryError
 from prp3.mechanics import kernel
@@ -408,7 +414,7 @@ def _frozen(array: FloatArray) -> FloatArray:
 
 def _run_numba(
     numba: Any,
-    array: FloatArray,
+    array: ParameterArray,
     inputs: list[FloatArray],
     targets: dict[str, FloatArray],
     load: FloatArray | None,

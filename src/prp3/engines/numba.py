@@ -5,9 +5,10 @@ Nothing here is written twice: every function of the kernel's stages
 :mod:`prp3.mechanics.wrenches`, :mod:`prp3.mechanics.virtual_work`) is compiled
 by numba from its own bytecode (:func:`_compiled_kernel`), with the functions
 of :mod:`math` as its :class:`~prp3.mechanics.ops.Ops` and the robot's
-constants as a named tuple of the fields of
-:class:`~prp3.mechanics.parameters.KernelParameters` (read from a float64
-array, so that one compiled function serves every robot).  The loops below
+constants as one numpy record of the fields of
+:class:`~prp3.mechanics.parameters.KernelParameters`
+(:data:`~prp3.engines.compiled_robot.PARAMETER_RECORD`, read where it lies,
+so that one compiled function serves every robot).  The loops below
 only call the kernel's stages in the order of :func:`prp3.mechanics.kernel.solve` —
 :func:`~prp3.mechanics.joint_motion.kernel_geometry`,
 :func:`~prp3.mechanics.joint_motion.kernel_kinematics`,
@@ -49,17 +50,14 @@ import threading
 import types
 import warnings
 from collections import namedtuple
-from dataclasses import fields
 from typing import Any, NamedTuple
 
 import numba
-import numpy as np
 from numba.core import caching
-from numba.np.unsafe.ndarray import to_fixed_tuple
 
+from prp3.engines.compiled_robot import PARAMETER_RECORD
 from prp3.engines.select import EngineWarning
 from prp3.mechanics import joint_motion, parameters, virtual_work, wrenches
-from prp3.mechanics.parameters import KernelParameters
 
 __all__ = [
     "KERNEL_SOURCES",
@@ -76,7 +74,6 @@ __all__ = [
     "lambda10_sample",
     "machine_code",
     "parallel_layer",
-    "parameter_array",
     "reactions_loop",
     "reactions_loop_parallel",
     "sample_f10",
@@ -87,22 +84,11 @@ __all__ = [
     "solve_loop_parallel",
 ]
 
-_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(KernelParameters))
-_COUNT = len(_FIELDS)
-#: The kernel's parameters as numba sees them: the fields of KernelParameters, floats.
-_Parameters = namedtuple("_Parameters", _FIELDS)  # type: ignore[misc]
-
-
-def parameter_array(parameters: KernelParameters) -> np.ndarray[Any, np.dtype[np.float64]]:
-    """The fields of ``parameters`` (floats) as a float64 array, in field order."""
-    return np.array([float(getattr(parameters, name)) for name in _FIELDS])
-
-
 # ------------------------------------------------------------------ the cache
 #: The modules whose functions :func:`_compiled_kernel` compiles (the kernel's stages).
 STAGE_MODULES: tuple[types.ModuleType, ...] = (joint_motion, wrenches, virtual_work)
 #: The source files the cached machine code depends on besides this one: the stages and
-#: :mod:`prp3.mechanics.parameters` (the fields, in order, of the named tuple they read).
+#: :mod:`prp3.mechanics.parameters` (the fields, in order, of the record they read).
 KERNEL_SOURCES: tuple[str, ...] = tuple(
     str(module.__file__) for module in (*STAGE_MODULES, parameters)
 )
@@ -222,7 +208,13 @@ OPS = _Ops(
 # ------------------------------------------------------------------ the stages
 @numba.njit(inline="always")
 def _parameters(array: Any) -> Any:
-    return _Parameters(*to_fixed_tuple(array, _COUNT))  # type: ignore[call-arg]
+    """The kernel's parameters: the one record of :data:`~prp3.engines.compiled_robot.PARAMETER_RECORD`.
+
+    Its fields are read where they lie (a named tuple built from a float64
+    array copied them all at every single-sample call: half of its machine
+    code's time).
+    """
+    return array[0]
 
 
 @numba.njit(inline="always")
@@ -513,8 +505,9 @@ def lambda10_sample(a: Any, x: float, y: float, phi: float) -> Any:  # pragma: n
 
 # ------------------------------------------------------------- machine code
 #: The numba type of the parameter array of :func:`~prp3.engines.compiled_robot.compile_robot`
-#: (float64, C-contiguous, read-only): the first argument of every single-sample function.
-_ARRAY_TYPE = numba.types.Array(numba.float64, 1, "C", readonly=True)
+#: (one aligned record, C-contiguous, read-only): the first argument of every single-sample
+#: function.
+_ARRAY_TYPE = numba.types.Array(numba.from_dtype(PARAMETER_RECORD), 1, "C", readonly=True)
 
 #: The machine code of the single-sample functions, by function: :func:`machine_code`.
 MACHINE_CODE: dict[Any, Any] = {}
@@ -525,7 +518,7 @@ def machine_code(function: Any) -> Any:
 
     Called directly, the compiled code skips the dispatcher's resolution of
     each argument's type (a third of a single-sample call).  Only for the
-    arguments of that type: the read-only float64 array of
+    arguments of that type: the read-only record array of
     :func:`~prp3.engines.compiled_robot.compile_robot` (which
     :class:`~prp3.engines.compiled_robot.CompiledRobot` checks) and Python
     floats.  Until the function is compiled for them (its first call), and
