@@ -354,23 +354,48 @@ def run_baseline(
 
 
 # ------------------------------------------------------------------- memory
+def _status_mib(field: str) -> float | None:
+    """``field`` (``VmHWM``, ``VmRSS``) of ``/proc/self/status`` in MiB; ``None`` off Linux."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith(f"{field}:"):
+                return int(line.split()[1]) / 2**10  # kB
+    except OSError:
+        pass
+    return None
+
+
 def peak_rss_mib() -> float:
     """Peak resident memory of this process (MiB).
 
     ``VmHWM`` of ``/proc/self/status`` on Linux: ``ru_maxrss`` would carry the
     peak of the parent across ``fork`` + ``exec``.
     """
-    try:
-        for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1]) / 2**10  # kB
-    except OSError:
-        pass
+    peak = _status_mib("VmHWM")
+    if peak is not None:
+        return peak
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**10  # KiB on Linux
 
 
+def reset_peak_rss() -> bool:
+    """Set the peak resident memory to the current one (Linux ≥ 4.0); whether it could."""
+    try:
+        Path("/proc/self/clear_refs").write_text("5")
+    except OSError:
+        return False
+    return True
+
+
 def child_memory(method_name: str, samples: int, args: argparse.Namespace) -> None:
-    """In a subprocess: peak memory of one call (printed as JSON)."""
+    """In a subprocess: peak memory of one call (printed as JSON).
+
+    ``rss`` is the process's peak resident memory during the call: the peak is
+    reset after the motion is made (its making, with the copies a
+    :class:`prp3.Motion` keeps, peaks above what it holds), so ``rss`` counts
+    the imports, the motion held and what the call adds; ``rss_before`` is the
+    resident memory just before the call.  Where the peak cannot be reset,
+    ``rss`` is the whole process's peak and ``reset`` is false.
+    """
     robot = prp3.Robot()
     prp3_only = method_name.startswith("prp3 ")
     peers = [] if prp3_only else load_peers(robot)[0]
@@ -379,12 +404,17 @@ def child_memory(method_name: str, samples: int, args: argparse.Namespace) -> No
     motion = batch(motion_of("rotation", samples))
     state = method.prepare(motion)
     gc.collect()
-    before = peak_rss_mib()
+    reset = reset_peak_rss()
+    before = _status_mib("VmRSS") or peak_rss_mib()
     tracemalloc.start()
     method.run(state)
     _, peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
-    print(json.dumps({"call": peak / 2**20, "rss": peak_rss_mib(), "rss_before": before}))
+    print(
+        json.dumps(
+            {"call": peak / 2**20, "rss": peak_rss_mib(), "rss_before": before, "reset": reset}
+        )
+    )
 
 
 def run_memory(
@@ -641,24 +671,29 @@ def targets(
             if ratio_target is not None:
                 line += f" (target ≥ {ratio_target:.0f}: {verdict(ratio >= ratio_target)})"
         out.append(line)
-    for call in (
-        CHECKED_CALL,
-        "prp3 fast sample_forces, numpy scalars",
-        "prp3 fast sample_forces, ndarray (3,)",
+    for call in (  # the target is f10's (the issue's "validated single call (f10)")
         "prp3 fast sample_actuator_forces (f10 alone), tuples",
         "prp3 fast sample_actuator_forces (f10 alone), numpy scalars",
         "prp3 fast sample_actuator_forces (f10 alone), ndarray (3,)",
+        CHECKED_CALL,
+        "prp3 fast sample_forces, numpy scalars",
+        "prp3 fast sample_forces, ndarray (3,)",
     ):
         checked = single.get(call)
         if checked is not None:
+            target = f" (target ≤ 2 µs: {verdict(checked <= 2)})" if "f10 alone" in call else ""
+            out.append(f"  single sample, {call}: {checked:.3g} µs{target}")
+    # the memory target is the batch f10's (the issue's targets are f10's but for the four
+    # forces' speed); the four forces' row holds three more (N, 3) outputs, 3 × 24 MB at 10⁶
+    for row, what in (("prp3 fast f10 alone", "f10"), ("prp3 fast", "f10, p10, f21y, f21z")):
+        big = memory.get((row, 10**6))
+        if big is not None:
+            peak = "peak RSS during the call" if big.get("reset") else "peak RSS of the process"
+            target = f"; target ≤ 300 MiB: {verdict(big['rss'] <= 300)}" if what == "f10" else ""
             out.append(
-                f"  single sample, {call}: {checked:.3g} µs (target ≤ 2 µs: {verdict(checked <= 2)})"
+                f"  memory N = 10⁶, {what}, {row}: {peak} {big['rss']:.0f} MiB "
+                f"({big['rss_before']:.0f} MiB before it{target})"
             )
-    big = memory.get(("prp3 fast", 10**6))
-    if big is not None:
-        out.append(
-            f"  memory N = 10⁶: prp3 fast peak RSS {big['rss']:.0f} MiB (target ≤ 300 MiB: {verdict(big['rss'] <= 300)})"
-        )
     for row in extra_rows:  # no speed lost: the same machine, the same run, the same samples
         for size in (10**3, n):
             old, new = rates.get((row, size)), rates.get(("prp3 fast", size))

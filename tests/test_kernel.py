@@ -25,6 +25,7 @@ from prp3.engines.sample_entries import sample_forces_unchecked
 from prp3.engines.select import ENGINES
 from prp3.engines.trace import array_function, broadcast_function
 from prp3.mechanics import kernel
+from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kernel import STATE_SYMBOLS, KernelSolution, solve, symbolic_solution
 from prp3.mechanics.ops import MATH, NUMPY
 from prp3.mechanics.parameters import (
@@ -125,6 +126,17 @@ def test_numba_engine_runs_the_same_operations() -> None:
     np.testing.assert_array_equal(chunked.f10, fast.f10)
     np.testing.assert_array_equal(actuator_forces(compiled, *args, engine="numba"), fast.f10)
     np.testing.assert_array_equal(paper_forces(compiled, *args, engine="numba").f21z, fast.f21z)
+    # the unchecked single-sample functions (their machine code): the 12 forces and, with a
+    # stroke, λ10 of eq. (10) after them, as the numpy engine and the inverse geometry give
+    lambda10 = inverse_geometry(robot, rows[:, :3]).lambda10
+    for n, row in enumerate(rows[:5].tolist()):
+        one = sample_forces_unchecked(compiled, *row)
+        assert one == compiled.sample_function("numba")(*row)
+        assert compiled.actuator_sample_function("numba")(*row) == one[:3]
+        plain_one = compiled.sample_function("numpy")(*row)
+        assert len(one) == len(plain_one) == 15
+        np.testing.assert_allclose(one, plain_one, rtol=1e-14, atol=1e-12)
+        np.testing.assert_allclose(one[12:], lambda10[n], rtol=1e-14, atol=1e-15)
     singular = rows[:, :3].copy()
     singular[30, 2] = math.pi / 3 + 1e-6
     with pytest.raises(SingularPoseError, match="sample 30"):

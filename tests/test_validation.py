@@ -316,3 +316,22 @@ def test_one_sample_is_accepted_and_refused_as_the_exact_checks_do() -> None:
         assert fast == exact
 
     agree()
+
+
+def test_one_sample_load_is_accepted_and_refused_as_check_load_does() -> None:
+    # the load's fast pass of the single-sample entries accepts only what check_load
+    # accepts, returns the same floats, and leaves every refusal to it (the same message)
+    from hypothesis import given, settings
+
+    from prp3.engines.entries import check_load
+    from prp3.engines.sample_entries import _check_load_sample
+
+    def exact(load: Any) -> tuple[float, ...]:
+        return tuple(check_load(load, (3,)).tolist())
+
+    @settings(max_examples=300)
+    @given(_three())
+    def agree(load: Any) -> None:
+        assert _outcome(lambda: _check_load_sample(load)) == _outcome(lambda: exact(load))
+
+    agree()

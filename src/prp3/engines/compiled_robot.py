@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from types import ModuleType
 from typing import Literal
 
 import numpy as np
@@ -111,20 +112,17 @@ def _unchecked(
 ) -> Callable[..., tuple[float, ...]]:
     array, params, stroke = compiled.array, compiled.parameters, compiled.stroke is not None
     numba = numba_module() if engine == "numba" else None
-    if numba is not None:
+    if numba is not None:  # called as their machine code once compiled (numba.machine_code)
         if f10_only:
-            f10 = numba.sample_f10
+            code, machine_code, f10 = numba.MACHINE_CODE, numba.machine_code, numba.sample_f10
 
             def numba_f10(*state: float) -> tuple[float, ...]:
-                return f10(array, *state)  # type: ignore[no-any-return]
+                return (code.get(f10) or machine_code(f10))(array, *state)  # type: ignore[no-any-return]
 
             return numba_f10
-        forces, lam = numba.sample_forces, numba.lambda10_sample
 
         def numba_forces(*state: float) -> tuple[float, ...]:
-            f = forces(array, *state)
-            extra = lam(array, *state[:3]) if stroke else ()
-            return (*f[0], *f[1], *f[2], *f[3], *extra)
+            return numba_sample_forces(numba, array, stroke, *state)
 
         return numba_forces
 
@@ -137,6 +135,23 @@ def _unchecked(
         return (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z, *(sol.lambda10 if stroke else ()))
 
     return floats
+
+
+def numba_sample_forces(
+    numba: ModuleType, array: ParameterArray, stroke: bool, *state: float
+) -> tuple[float, ...]:
+    """:meth:`CompiledRobot.sample_function` on the numba engine: the 12 floats (and ``λ10``).
+
+    ``numba`` is :mod:`prp3.engines.numba`, ``array`` the robot's parameter
+    record, ``stroke`` whether ``λ10`` follows; ``state`` nine Python floats.
+    """
+    code, machine_code = numba.MACHINE_CODE, numba.machine_code
+    forces = numba.sample_forces
+    f = (code.get(forces) or machine_code(forces))(array, *state)
+    if not stroke:
+        return (*f[0], *f[1], *f[2], *f[3])
+    lam = numba.lambda10_sample
+    return (*f[0], *f[1], *f[2], *f[3], *(code.get(lam) or machine_code(lam))(array, *state[:3]))
 
 
 def compile_robot(robot: Robot) -> CompiledRobot:

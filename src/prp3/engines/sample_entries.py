@@ -20,7 +20,7 @@ from typing import Any, NamedTuple, NoReturn
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.engines.compiled_robot import CompiledRobot, Engine
+from prp3.engines.compiled_robot import CompiledRobot, Engine, numba_sample_forces
 from prp3.engines.entries import FORCE_OUTPUTS, check_load, friction_lock
 from prp3.engines.select import default_engine, numba_module, resolve_engine
 from prp3.errors import Prp3Error
@@ -170,10 +170,7 @@ def _sample(
     if type(compiled) is not CompiledRobot:
         _not_compiled(compiled)
     state = check_state_sample(pose, velocity, acceleration, compiled.robot)
-    wrench = None
-    if load is not None:
-        fx, fy, mz = check_load(load, (3,)).tolist()
-        wrench = (fx, fy, mz)
+    wrench = None if load is None else _check_load_sample(load)
     name = default_engine() if engine is None else resolve_engine(engine)
     numba = numba_module() if name == "numba" and compiled.compiled_kernel else None
     if compiled.stroke is not None:
@@ -197,6 +194,29 @@ def _sample(
     if math.isfinite(a[0] + a[1] + a[2] + b[0] + b[1] + b[2] + c[0] + c[1] + c[2] + d[0] + d[1] + d[2]):  # fmt: skip
         return _new(SampleForces, f)
     _overflow(dict(zip(FORCE_OUTPUTS, f, strict=True)))
+
+
+def _check_load_sample(load: SampleInput) -> tuple[float, float, float]:
+    """One sample's load ``(f_x, f_y, m_z)`` as three Python floats, validated.
+
+    The common case in one pass (three Python floats or numpy float64 scalars,
+    in a tuple, a list or a ``(3,)`` array, finite); anything else by
+    :func:`~prp3.engines.entries.check_load`, which names what is wrong.
+    """
+    values = load.tolist() if type(load) is np.ndarray and load.dtype == np.float64 else load
+    if type(values) in _UNPACKED and len(values) == 3:
+        fx, fy, mz = values
+        if type(fx) in _FLOATS and type(fy) in _FLOATS and type(mz) in _FLOATS:
+            fx, fy, mz = float(fx), float(fy), float(mz)
+            if 0.0 * (fx + fy + mz) == 0.0:
+                return fx, fy, mz
+    fx, fy, mz = check_load(load, (3,)).tolist()
+    return fx, fy, mz
+
+
+#: What the load's one pass takes as it is (:func:`_check_load_sample`).
+_UNPACKED = frozenset((tuple, list))
+_FLOATS = frozenset((float, np.float64))
 
 
 def _check_stroke(compiled: CompiledRobot, state: tuple[float, ...], numba: Any) -> None:
@@ -271,5 +291,11 @@ def sample_forces_unchecked(
     >>> round(f[0], 4)
     31.8589
     """
-    state = (x, y, phi, dx, dy, dphi, ddx, ddy, ddphi)
-    return compiled.sample_function()(*(float(v) for v in state))
+    state = (
+        float(x), float(y), float(phi), float(dx), float(dy), float(dphi),
+        float(ddx), float(ddy), float(ddphi),
+    )  # fmt: skip
+    numba = numba_module() if compiled.compiled_kernel and default_engine() == "numba" else None
+    if numba is None:
+        return compiled.sample_function()(*state)
+    return numba_sample_forces(numba, compiled.array, compiled.stroke is not None, *state)
