@@ -77,7 +77,7 @@ def run_family(
 ) -> int:
     """Compute, write and summarise a family run; ``located`` places an error at its source."""
     try:
-        solution = family_inverse_dynamics(robot, motion, args.method)
+        solution = family_inverse_dynamics(robot, motion, args.method, args.engine)
     except Prp3Error as error:
         raise located(error) from None
     note()

@@ -3,9 +3,13 @@
 The command implements the data contract of ``docs/model.md``::
 
     prp3 simulate [--robot ROBOT.toml] (--motion vertical|rotation | --trajectory TRAJ.csv)
-                  [--samples N] [--method fast|paper|newton-euler] --output DIR
+                  [--samples N] [--method fast|paper|newton-euler]
+                  [--engine auto|numba|numpy] --output DIR
                   [--format csv|parquet] [--plots] [--animate] [--frames N]
                   [--html FILE.html]
+
+``--engine auto`` (the default) runs the fast route on numba only for runs
+long enough to repay its start-up (:mod:`prp3.cli._engine`).
 
 ``--format parquet`` writes ``DIR/results.parquet`` (the same columns, float64)
 instead of ``DIR/results.csv``.  Everything is computed before anything is written; the output files are
@@ -33,6 +37,7 @@ from prp3.apps.runs import (
     summarize,
     summary_text,
 )
+from prp3.cli._engine import add_engine_option, run_engine
 from prp3.cli._progress import Progress
 from prp3.cli._types import (
     add_output_directory,
@@ -144,6 +149,7 @@ def register(subparsers: Any) -> None:
         "paper: the paper's recursive 3x3 matrices as printed; "
         "newton-euler: the independent Newton-Euler solver",
     )
+    add_engine_option(parser)
     add_output_directory(parser)
     parser.add_argument(
         "--format",
@@ -296,9 +302,12 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         check_memory(f"--samples {samples}", BYTES_PER_RUN + BYTES_PER_SAMPLE * samples)
         motion = paper_motion(args.motion, samples)
         heading = f"prp3 simulate: {args.motion} motion (paper eq. 4)"
+    family = isinstance(loaded, FamilyRobot)
+    args.engine = run_engine(args.engine, motion.samples, "family" if family else "3-PRP")
     heading += (
         f", {motion.samples} samples over t = {float(motion.t[0]):g} .. "
         f"{float(motion.t[-1]):g} s, {args.method} method"
+        + (f" ({args.engine} engine)" if args.method == "fast" else "")
     )
 
     source = str(args.trajectory) if trajectory is not None else f"--motion {args.motion}"
@@ -322,7 +331,12 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
     near_lock: list[int] = []
     try:
         table = simulate_table(
-            robot, motion, args.method, progress=progress.stage("computing"), near_lock=near_lock
+            robot,
+            motion,
+            args.method,
+            progress=progress.stage("computing"),
+            near_lock=near_lock,
+            engine=args.engine,
         )
     except Prp3Error as error:
         raise _located(error, motion, source, trajectory) from None

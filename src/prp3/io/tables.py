@@ -122,10 +122,13 @@ def _write_csv_python(
 
 
 def _pyarrow() -> Any:
-    """The ``pyarrow`` module, or ``None`` when it is not installed (an optional extra)."""
+    """The ``pyarrow`` module with its CSV writer, or ``None`` when it is not installed (an optional extra).
+
+    Not ``pyarrow.compute`` (half of pyarrow's import time), which only
+    :func:`format_floats` uses.
+    """
     try:
         import pyarrow
-        import pyarrow.compute
         import pyarrow.csv
     except ImportError:
         return None
@@ -149,7 +152,9 @@ def format_floats(values: ArrayLike) -> list[str]:
     pa = _pyarrow()
     if column.size == 0 or pa is None:
         return [repr(value) for value in column.tolist()]
-    return list(pa.compute.cast(pa.array(column, type=pa.float64()), pa.string()).to_pylist())
+    import pyarrow.compute
+
+    return list(pyarrow.compute.cast(pa.array(column, type=pa.float64()), pa.string()).to_pylist())
 
 
 def _write_csv_arrow(
