@@ -5,9 +5,9 @@ in a program that runs the kernel many times its start-up is paid once.  A
 command runs once per process, and there numba's start-up — importing numba
 and loading its cached machine code, about 0.5 s on a 2-vCPU machine, whatever
 the run — costs more than it saves on a short run.  ``--engine auto`` (the
-command line's default) therefore runs the numba engine only from
-:data:`NUMBA_FROM` samples on, where its speed repays its start-up, and the
-numpy engine below; ``--engine numba`` or ``--engine numpy`` runs that engine.
+command line's default) therefore runs the numba engine only where a whole
+run was measured to be faster on it, start-up included (:data:`NUMBA_FROM`),
+and the numpy engine elsewhere; ``--engine numba`` or ``--engine numpy`` runs that engine.
 The summary names the engine that ran.  Both engines give the same numbers to
 round-off (``tests/test_kernel.py``, ``tests/test_family_compiled.py``).
 """
@@ -24,12 +24,14 @@ __all__ = ["ENGINE_CHOICES", "NUMBA_FROM", "add_engine_option", "run_engine"]
 #: The values of ``--engine``.
 ENGINE_CHOICES: tuple[str, ...] = ("auto", "numba", "numpy")
 
-#: Samples of a run from which ``--engine auto`` runs numba, per route: where the
-#: numba engine's start-up (~0.5 s) is repaid.  Measured in one process per run
-#: (``python benchmarks/bench_cli_engines.py``): the 3-PRP kernel on numpy arrays
-#: runs ~1.3·10⁶ samples/s of a whole run's table against ~5·10⁶ for numba (break-even
-#: ~7·10⁵); the family's fast route ~1.2·10⁵/s on numpy against ~1.5·10⁶ (~5·10⁴).
-NUMBA_FROM: dict[str, int] = {"3-PRP": 1_000_000, "family": 50_000}
+#: Samples of a run from which ``--engine auto`` runs numba, per route (``None``: never):
+#: where a whole ``prp3 simulate`` in a new process is faster on numba, start-up
+#: included (``python benchmarks/bench_cli_engines.py``, benchmarks/README.md).  The
+#: family's fast route on numpy arrays is ~10× slower than on numba, and numba is
+#: the faster from about 10⁵ samples.  The 3-PRP kernel on numpy arrays is fast enough
+#: that writing ``results.csv`` dominates a run: up to 3·10⁶ samples (the largest
+#: measured) the numpy engine was the faster by 0.5–1 s, so ``auto`` never starts numba.
+NUMBA_FROM: dict[str, int | None] = {"3-PRP": None, "family": 100_000}
 
 
 def add_engine_option(parser: argparse.ArgumentParser) -> None:
@@ -39,9 +41,9 @@ def add_engine_option(parser: argparse.ArgumentParser) -> None:
         choices=ENGINE_CHOICES,
         default="auto",
         help="the engine of the fast route: numba (compiled) or numpy; auto (default): "
-        f"numba from {NUMBA_FROM['3-PRP']:,} samples ({NUMBA_FROM['family']:,} for a "
-        "family-form robot), where its start-up of about 0.5 s per process is repaid, "
-        "numpy below (docs/cli.md)",
+        f"numba for a family-form robot from {NUMBA_FROM['family']:,} samples, where its "
+        "start-up of about 0.5 s per process is repaid, else numpy (for the 3-PRP the "
+        "numpy engine is the faster in a command; docs/cli.md)",
     )
 
 
@@ -49,16 +51,18 @@ def run_engine(choice: str, samples: int, route: str) -> str:
     """The engine a run of ``samples`` samples on ``route`` (``"3-PRP"``, ``"family"``) runs.
 
     ``choice`` is the value of ``--engine``.  ``"auto"`` gives ``"numba"``
-    from :data:`NUMBA_FROM` samples when numba is installed (else the numpy
-    engine, with the library's one warning that numba is missing), ``"numpy"``
-    below; ``"numba"`` without numba installed is refused (a Prp3Error).
+    from :data:`NUMBA_FROM` samples of the route when numba is installed (else
+    the numpy engine, with the library's one warning that numba is missing),
+    ``"numpy"`` below or where the route has no threshold; ``"numba"`` without
+    numba installed is refused (a Prp3Error).
 
     >>> run_engine("auto", 301, "3-PRP"), run_engine("numpy", 10**7, "family")
     ('numpy', 'numpy')
     """
     if choice != "auto":
         return resolve_engine(choice)
-    if samples < NUMBA_FROM[route]:
+    threshold = NUMBA_FROM[route]
+    if threshold is None or samples < threshold:
         return "numpy"
     if importlib.util.find_spec("numba") is None:
         return resolve_engine(None)  # the numpy engine, and the warning that says why
