@@ -51,6 +51,7 @@ import json
 import os
 import platform
 import resource
+import shutil
 import statistics
 import subprocess
 import sys
@@ -467,9 +468,9 @@ def run_paper_vs_newton_euler(args: argparse.Namespace) -> dict[str, Any]:
 
 
 # ------------------------------------------------------------- the command line
-def _simulate_seconds(env: dict[str, str], folder: Path) -> float:
+def _simulate_seconds(env: dict[str, str], folder: Path, *extra: str) -> float:
     """Wall time of one ``prp3 simulate --motion vertical`` in a fresh process (s)."""
-    command = [sys.executable, "-m", "prp3", "simulate", "--motion", "vertical"]
+    command = [sys.executable, "-m", "prp3", "simulate", "--motion", "vertical", *extra]
     command += ["--output", str(folder / "out")]
     start = timeit.default_timer()
     subprocess.run(command, check=True, env=env, capture_output=True)
@@ -479,16 +480,24 @@ def _simulate_seconds(env: dict[str, str], folder: Path) -> float:
 def run_cli(commit: str | None, repeats: int) -> dict[str, float]:
     """``prp3 simulate --motion vertical`` cold (a fresh numba cache) and warm (median), s.
 
-    With ``commit``: the same warm, by that commit's source (``git archive``).
+    As it runs by default (``--engine auto``: the numpy engine for this run,
+    docs/cli.md) and with ``--engine numba`` (numba's start-up, and its
+    compilation when cold).  With ``commit``: the same warm, by that commit's
+    source (``git archive``).  ``PYTHONDONTWRITEBYTECODE`` is removed from the
+    children's environment: a user's Python writes its bytecode once.
     """
     found: dict[str, float] = {}
     with tempfile.TemporaryDirectory(prefix="prp3-cli-") as name:
         folder = Path(name)
-        env = {**os.environ, "PYTHONPATH": str(HERE.parent / "src")}
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+        env["PYTHONPATH"] = str(HERE.parent / "src")
         env["NUMBA_CACHE_DIR"] = str(folder / "numba-cache")  # empty: cold
-        found["prp3 simulate, cold (fresh numba cache)"] = _simulate_seconds(env, folder)
-        warm = [_simulate_seconds(env, folder) for _ in range(repeats)]
-        found["prp3 simulate, warm"] = statistics.median(warm)
+        for label, extra in (("", ()), (" --engine numba", ("--engine", "numba"))):
+            cold = _simulate_seconds(env, folder, *extra)
+            found[f"prp3 simulate{label}, cold (fresh numba cache)"] = cold
+            warm = [_simulate_seconds(env, folder, *extra) for _ in range(repeats)]
+            found[f"prp3 simulate{label}, warm"] = statistics.median(warm)
+            shutil.rmtree(folder / "numba-cache", ignore_errors=True)
         if commit is not None:
             archive = subprocess.run(
                 ["git", "-C", str(HERE.parent), "archive", "--format=tar", commit, "src"],
