@@ -102,7 +102,7 @@ def _engine_warmups() -> list[Callable[[], object]]:
     still = ((0.0, 0.0, 0.0),) * 3
     load = (0.0, -1.0, 0.0)
     family = FamilyRobot.from_mapping({"architecture": "3-RRR"})
-    return [  # in an order that shares the compile time out evenly (about 5 s a loop)
+    return [  # the family's kernel first (about 26 s), then the 3-PRP's loops (18 s together)
         lambda: family_inverse_dynamics(family, paper_motion("vertical", 3), engine="numba"),
         lambda: solve_batch(compiled, *states, load=rest, engine="numba"),
         lambda: solve_batch(compiled, *states, engine="numba"),
@@ -123,9 +123,12 @@ def _engine_warmups() -> list[Callable[[], object]]:
 
 @pytest.fixture(scope="session", autouse=True)
 def _compiled_engines(request: pytest.FixtureRequest) -> Iterator[None]:
-    """Under xdist, worker ``k`` of ``n`` compiles every ``n``-th loop of the engines first.
+    """Under xdist, the workers share the compiling of the engines' loops out first.
 
-    Each worker then reads the others' machine code from numba's disk cache
+    The first worker compiles the family's kernel (the longest, as long as the
+    3-PRP's loops together); the others share the 3-PRP's loops, worker ``k``
+    of the other ``n - 1`` every ``(n - 1)``-th.  Each worker then reads the
+    others' machine code from numba's disk cache
     instead of compiling it again (with a warm cache this only loads it).
     Without xdist, or without numba, nothing is done: the tests compile what
     they call.  A warm-up that fails is left to the tests that call it.
@@ -134,7 +137,9 @@ def _compiled_engines(request: pytest.FixtureRequest) -> Iterator[None]:
     count = int(workerinput["workercount"]) if workerinput else 1
     if count > 1 and importlib_util.find_spec("numba") is not None:
         index = int(str(workerinput["workerid"]).removeprefix("gw"))  # type: ignore[index]
-        for warmup in _engine_warmups()[index::count]:  # a moved import fails here, loudly
+        warmups = _engine_warmups()  # a moved import fails here, loudly
+        share = warmups[:1] if index == 0 else warmups[1:][index - 1 :: count - 1]
+        for warmup in share:
             with contextlib.suppress(Exception):
                 warmup()
     yield
