@@ -256,10 +256,40 @@ def main(argv: Sequence[str] | None = None) -> int:
     Standard output is flushed before the status is returned, so that a
     failing one is reported too.
     """
+    guard = _SignalGuard()
+    guard.install()  # before anything else: a signal while the parser is built is one line too
+    try:
+        return _main(argv, guard)
+    except _Signalled as signalled:  # while the options were parsed
+        return _signalled(_program_of(build_parser(), _words(argv)), signalled.signum)
+    finally:
+        if argv is None:
+            # the process is ending with the command's status: its outputs are whole, so a
+            # signal now (interpreter shutdown, the threads of a library) changes nothing
+            for number in guard.SIGNALS:
+                with contextlib.suppress(ValueError):
+                    signal.signal(number, signal.SIG_IGN)
+        else:
+            guard.restore()
+
+
+def _words(argv: Sequence[str] | None) -> list[str]:
+    return list(argv) if argv is not None else sys.argv[1:]
+
+
+def _signalled(program: str, signum: int) -> int:
+    """One line for a command stopped by ``signum``; its exit status (130 or 143)."""
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        name = "interrupted" if signum == signal.SIGINT else "terminated"
+        print(f"{program}: {name}", file=sys.stderr)
+    return EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED
+
+
+def _main(argv: Sequence[str] | None, guard: _SignalGuard) -> int:
     if sys.stdout is None:  # started with standard output closed (`prp3 ... >&-`)
         sys.stdout = _ClosedStream()  # every write fails, as one error
     parser = build_parser()
-    words = list(argv) if argv is not None else sys.argv[1:]
+    words = _words(argv)
     try:
         args = parser.parse_args(words)
     except SystemExit as exit_:
@@ -279,18 +309,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     program = str(getattr(args, "program", "prp3"))
     args.command_line = ["prp3", *words]  # recorded in the manifest of the output folder
-    guard = _SignalGuard()
-    guard.install()
-    try:
-        return _run(args, program)
-    finally:
-        if argv is None and guard.received:
-            # the process is ending: signals of the burst still queued are swallowed
-            for number in guard.SIGNALS:
-                with contextlib.suppress(ValueError):
-                    signal.signal(number, signal.SIG_IGN)
-        else:
-            guard.restore()
+    return _run(args, program, guard)
 
 
 def _program_of(parser: argparse.ArgumentParser, words: Sequence[str]) -> str:
@@ -312,7 +331,7 @@ def _error(program: str, text: str) -> None:
         print(f"{program}: error: {text}", file=sys.stderr)
 
 
-def _run(args: argparse.Namespace, program: str) -> int:
+def _run(args: argparse.Namespace, program: str, guard: _SignalGuard) -> int:
     try:
         try:
             with warnings.catch_warnings():
@@ -322,11 +341,12 @@ def _run(args: argparse.Namespace, program: str) -> int:
             return status
         except KeyboardInterrupt:  # raised by a handler prp3 did not install
             raise _Signalled(signal.SIGINT) from None
+        except Exception:
+            if guard.received:  # the signal, wrapped by the code it stopped (an import's
+                raise _Signalled(guard.received[0]) from None  # "initialization failed")
+            raise
     except _Signalled as signalled:
-        with contextlib.suppress(OSError, ValueError, AttributeError):
-            name = "interrupted" if signalled.signum == signal.SIGINT else "terminated"
-            print(f"{program}: {name}", file=sys.stderr)
-        return EXIT_INTERRUPTED if signalled.signum == signal.SIGINT else EXIT_TERMINATED
+        return _signalled(program, signalled.signum)
     except Prp3Error as error:
         _error(program, str(error))
         if error.origin == "standard output":

@@ -1,0 +1,262 @@
+"""Real faults for every writing command: a full disk, a read-only folder, a kill at any moment.
+
+``tests/test_faults.py`` simulates a full disk by patching the writer; here the
+faults are real.  Each command runs in a mount namespace of its own
+(``unshare --map-root-user --mount``, see ``tests/fault_volume.py``) whose output
+folder is a small tmpfs: it succeeds once, then the volume is filled to its
+last byte (or remounted read-only) and the same command runs again, and once
+more into a folder that did not exist.  Every faulty run must end in one line
+on stderr naming the file it could not write, exit status 2, no traceback, the
+earlier run's files byte for byte as they were and no new file or folder.
+
+The kill test sends SIGTERM or SIGINT to a long command at a random moment
+(seeded; the seed is in the failure message) and checks the folder holds
+either the earlier run, byte for byte, or the whole new one, never a half file
+or a staging folder.
+
+The moment is drawn after the command line's handlers are installed: before
+that (the ~0.3 s of Python's start and of importing ``prp3.cli``) Python's own
+handlers act, which end the process with nothing written — SIGINT with
+Python's KeyboardInterrupt traceback.
+
+The tests skip, with one line, where user namespaces are not allowed.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import random
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import prp3
+
+HERE = Path(__file__).parent
+EXAMPLES = HERE.parent / "examples"
+ENV = {key: value for key, value in os.environ.items() if key != "PYTHONUNBUFFERED"}
+
+
+def _namespaces_allowed() -> bool:
+    if shutil.which("unshare") is None:
+        return False
+    try:
+        done = subprocess.run(
+            ["unshare", "--map-root-user", "--mount", "true"], capture_output=True, timeout=10
+        )
+    except (OSError, subprocess.SubprocessError):
+        return False
+    return done.returncode == 0
+
+
+pytestmark = pytest.mark.skipif(
+    not _namespaces_allowed(), reason="user and mount namespaces are not allowed here"
+)
+
+FAMILY_ROBOT = 'architecture = "3-RRR"\nactuated = 1\n'
+SWEEP_SPEC = """designs = 3
+sampling = "grid"
+seed = 1
+[parameters]
+"platform.mass" = [2.0, 4.0]
+[task]
+motions = ["vertical"]
+samples = 21
+[optimize]
+objective = "peak_f10"
+maxiter = 1
+popsize = 2
+"""
+
+
+def _inputs(folder: Path) -> None:
+    """The input files the commands read, in ``folder`` (outside the faulty volume)."""
+    shutil.copy(EXAMPLES / "robot.toml", folder / "robot.toml")
+    shutil.copy(EXAMPLES / "forces.csv", folder / "forces.csv")
+    (folder / "rrr.toml").write_text(FAMILY_ROBOT)
+    (folder / "sweep.toml").write_text(SWEEP_SPEC)
+    t = np.linspace(0.0, 2.0, 201)[:, None]  # a multi-sine that moves every coordinate
+    w = 2.0 * np.pi * np.array([1.0, 1.5, 2.5])
+    amplitude = np.array([0.02, 0.02, 0.2])
+    motion = prp3.Motion(
+        t[:, 0],
+        amplitude * np.sin(w * t),
+        amplitude * w * np.cos(w * t),
+        -amplitude * w**2 * np.sin(w * t),
+    )
+    _, dyn = prp3.inverse_dynamics(prp3.Robot(), motion)
+    rows = np.column_stack([motion.t, motion.pose, dyn.f10])
+    header = "t,x,y,phi,f10_A,f10_B,f10_C"
+    np.savetxt(folder / "m.csv", rows, delimiter=",", header=header, comments="", fmt="%.17g")
+
+
+#: Every command that writes files: its arguments with ``{out}`` for the output folder.
+COMMANDS: dict[str, str] = {
+    "simulate": "simulate --motion vertical --samples 40 --plots --output {out}",
+    "simulate-family": "simulate --robot rrr.toml --motion vertical --samples 40 --plots --output {out}",
+    "workspace": "workspace --robot robot.toml --points 9 --orientations 5 --output {out}",
+    "forward": "forward --robot robot.toml --forces forces.csv --samples 20 --output {out}",
+    "control": "control --motion vertical --plant prp3 --controller pd --rate 200 --output {out}",
+    "excite": "excite --samples 101 --iterations 2 --output {out}",
+    "identify": "identify --measurements m.csv --output {out}",
+    "export-c": "export c --output {out}",
+    "export-mjcf": "export mjcf --output {out}.xml",
+    "sweep": "sweep --spec sweep.toml --workers 1 --output {out}",
+    "explore-export": "explore --export {out}.html",
+}
+
+
+def _argv(name: str, out: str) -> list[str]:
+    return COMMANDS[name].format(out=out).split()
+
+
+def _faulty_runs(tmp_path: Path, name: str, fault: str) -> dict[str, object]:
+    _inputs(tmp_path)
+    volume = tmp_path / "vol"
+    volume.mkdir()
+    spec = {
+        "volume": str(volume),
+        "size": 48 * 2**20,
+        "fault": fault,
+        "cwd": str(tmp_path),
+        "argv": _argv(name, "vol/out"),
+        "fresh_argv": _argv(name, "vol/new"),
+    }
+    (tmp_path / "spec.json").write_text(json.dumps(spec))
+    done = subprocess.run(
+        [
+            "unshare",
+            "--map-root-user",
+            "--mount",
+            sys.executable,
+            str(HERE / "fault_volume.py"),
+            str(tmp_path / "spec.json"),
+        ],
+        capture_output=True,
+        text=True,
+        env=ENV,
+        timeout=300,
+        cwd=tmp_path,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    report: dict[str, object] = json.loads(done.stdout.strip().splitlines()[-1])
+    return report
+
+
+def _one_line_naming_a_file(run: dict[str, object], program: str) -> str:
+    assert run["raised"] is None, run
+    assert run["status"] == 2, run
+    stderr = str(run["stderr"])
+    assert stderr.endswith("\n") and "Traceback" not in stderr, stderr
+    *warnings, error = stderr.splitlines()  # a warning about the inputs may come first
+    assert all(line.startswith(f"prp3 {program}: warning: ") for line in warnings), stderr
+    assert error.startswith(f"prp3 {program}: error: "), stderr
+    assert "vol/" in error, stderr  # the file or folder it could not write
+    return error
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fault", ["full", "read-only"])
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_a_real_fault_is_one_line_and_loses_nothing(tmp_path: Path, name: str, fault: str) -> None:
+    report = _faulty_runs(tmp_path, name, fault)
+    first = report["first"]
+    assert first == {"status": 0, "stderr": first["stderr"], "raised": None}, first  # type: ignore[index]
+    before = report["before"]
+    assert isinstance(before, dict) and any(not key.endswith("/") for key in before), before
+    words = COMMANDS[name].split()
+    program = " ".join(words[:2]) if name.startswith("export") else words[0]
+    message = _one_line_naming_a_file(report["again"], program)  # type: ignore[arg-type]
+    if fault == "full":
+        assert "No space left on device" in message or "disk is full" in message, message
+    else:
+        assert "not writable" in message or "Read-only file system" in message, message
+    assert report["after_again"] == before  # the earlier run, byte for byte
+    _one_line_naming_a_file(report["fresh"], program)  # type: ignore[arg-type]
+    assert report["after_fresh"] == before  # no new folder, no half file
+
+
+#: The long commands and a size that keeps each busy for about a second or more.
+LONG_COMMANDS: dict[str, str] = {
+    "simulate": "simulate --motion rotation --samples 200000 --output {out}",
+    "simulate-plots": "simulate --motion vertical --samples 3000 --plots --output {out}",
+    "workspace": "workspace --robot robot.toml --points 101 --orientations 31 --output {out}",
+    "forward": "forward --robot robot.toml --forces forces.csv --samples 4000 --output {out}",
+    "excite": "excite --samples 401 --iterations 20 --output {out}",
+    "sweep": "sweep --spec sweep.toml --workers 1 --output {out}",
+}
+
+
+def _digests(folder: Path) -> dict[str, str]:
+    return {
+        str(path.relative_to(folder)) + ("/" if path.is_dir() else ""): (
+            "" if path.is_dir() else hashlib.sha256(path.read_bytes()).hexdigest()
+        )
+        for path in sorted(folder.rglob("*"))
+    }
+
+
+def _startup() -> float:
+    """Seconds until ``prp3.cli`` is imported and its handlers can be installed.
+
+    Before that moment Python's own handlers act (the known window, see the
+    module's docstring): SIGTERM ends the process with nothing written, SIGINT
+    with Python's KeyboardInterrupt traceback.
+    """
+    started = time.monotonic()
+    subprocess.run([sys.executable, "-c", "import prp3.cli"], check=True, env=ENV)
+    return time.monotonic() - started
+
+
+def _cli(argv: list[str], cwd: Path, **kwargs: object) -> subprocess.Popen[str]:
+    return subprocess.Popen(  # type: ignore[call-overload, no-any-return]
+        [sys.executable, "-m", "prp3", *argv],
+        cwd=cwd,
+        env=ENV,
+        text=True,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        **kwargs,
+    )
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(LONG_COMMANDS))
+def test_a_command_killed_at_a_random_moment_leaves_the_earlier_run_or_the_whole_new_one(
+    tmp_path: Path, name: str
+) -> None:
+    _inputs(tmp_path)
+    argv = LONG_COMMANDS[name].format(out="out").split()
+    started = time.monotonic()
+    first = _cli(argv, tmp_path)
+    _, stderr = first.communicate(timeout=600)
+    assert first.returncode == 0, stderr
+    duration = time.monotonic() - started
+    earlier = _digests(tmp_path / "out")
+    seed = int(os.environ.get("PRP3_FAULT_SEED", random.randrange(2**32)))
+    chooser = random.Random(seed)
+    number = chooser.choice([signal.SIGTERM, signal.SIGINT])
+    delay = chooser.uniform(_startup(), duration)
+    shutil.copy(EXAMPLES / "robot.toml", tmp_path / "robot.toml")  # same inputs, same outputs
+    run = _cli(argv, tmp_path)
+    time.sleep(delay)
+    run.send_signal(number)
+    _, stderr = run.communicate(timeout=600)
+    where = f"seed {seed}: {number.name} after {delay:.3f} s of a {duration:.3f} s run"
+    now = _digests(tmp_path / "out")
+    assert "Traceback" not in stderr, (where, stderr)
+    if run.returncode == 0:  # it finished before the signal: the whole new run
+        assert set(now) == set(earlier), (where, set(now) ^ set(earlier))
+    else:
+        assert run.returncode in (130, 143), (where, run.returncode, stderr)
+        assert stderr.count("\n") <= 1, (where, stderr)
+        assert now == earlier, (where, set(now) ^ set(earlier))
+    assert not [key for key in now if ".prp3-sweep-" in key or key.endswith(".tmp")], (where, now)
