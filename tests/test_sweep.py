@@ -326,7 +326,14 @@ def test_an_unreachable_scheduler_is_reported_within_10_s(tmp_path, capsys, monk
     assert time.monotonic() - start < 10.0
     assert status == 2 and len(err.strip().splitlines()) == 1
     assert "tcp://127.0.0.1:9" in err and "cannot reach the Dask scheduler" in err
-    assert not (tmp_path / "out" / "designs.parquet").exists()
+    assert not (tmp_path / "out").exists()  # no staging folder, no empty output folder
+    (tmp_path / "kept").mkdir()
+    (tmp_path / "kept" / "notes.txt").write_text("mine")
+    status, _out, err = cli(
+        capsys, "sweep", "--spec", spec, "-o", tmp_path / "kept", "--scheduler", "tcp://127.0.0.1:9"
+    )
+    assert status == 2
+    assert [p.name for p in (tmp_path / "kept").iterdir()] == ["notes.txt"]
 
 
 def test_optimize_writes_the_best_design_and_its_history(tmp_path, capsys, scheduler):

@@ -362,24 +362,51 @@ def run_sweep(
         A design that is not a valid robot; ``client`` neither a client nor a
         factory.
     """
+    output = Path(output)
+    staging = staging_folder(output, spec)
+    created_output = not output.exists()
+    created_staging = not staging.exists()
+    try:
+        check_output_directory(output)
+        check_sweep_folder(output, spec, force=force)
+        target = output / DESIGNS_FILE
+        if target.is_file():
+            with contextlib.suppress(InputFileError):
+                done = read_designs(target, ["status"])
+                if done.digest == spec.digest():  # finished: its staging leftovers go
+                    shutil.rmtree(staging, ignore_errors=True)
+                    removed = _remove_stale(output, spec)
+                    return _summary(target, done.columns, 0, spec, removed)
+        values = design_values(spec)
+        return _sweep_into(spec, output, staging, target, values, client, progress=progress)
+    except BaseException:
+        # A run that fails before its first chunk leaves the folder as it was:
+        # the staging folder it made goes, and the output folder if it made it
+        # and nothing else is in it.  Chunks already computed stay for a resume.
+        if created_staging and staging.is_dir() and not any(staging.glob("chunk-*")):
+            shutil.rmtree(staging, ignore_errors=True)
+        if created_output and output.is_dir() and not any(output.iterdir()):
+            with contextlib.suppress(OSError):
+                output.rmdir()
+        raise
+
+
+def _sweep_into(
+    spec: SweepSpec,
+    output: Path,
+    staging: Path,
+    target: Path,
+    values: Any,
+    client: ClientOrFactory,
+    *,
+    progress: Progress | None,
+) -> SweepRun:
+    """The body of :func:`run_sweep` once the folder is checked: chunks, then the file."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    output = Path(output)
-    check_output_directory(output)
-    check_sweep_folder(output, spec, force=force)
-    target = output / DESIGNS_FILE
     digest = spec.digest()
     names = spec.evaluator.columns
-    staging = staging_folder(output, spec)
-    if target.is_file():
-        with contextlib.suppress(InputFileError):
-            done = read_designs(target, ["status"])
-            if done.digest == digest:  # finished: what is left of its staging goes
-                shutil.rmtree(staging, ignore_errors=True)
-                removed = _remove_stale(output, spec)
-                return _summary(target, done.columns, 0, spec, removed)
-    values = design_values(spec)
     count = len(values)
     starts = list(range(0, count, spec.chunk))
     try:
