@@ -208,3 +208,67 @@ def test_random_designs_agree_with_the_kinematics(data: st.DataObject) -> None:
     assert ws.reachable[0, 0] and ws.regular[0, 0]
     np.testing.assert_allclose(ws.mu_leg[0, 0], kin.mu_leg, atol=1e-12)
     np.testing.assert_allclose(ws.mu_par[0, 0], kin.mu_par, atol=1e-12)
+
+
+# ---------------------------------------------------------------- statics maps
+from prp3 import Robot  # noqa: E402
+from prp3.analysis.workspace import workspace_statics  # noqa: E402
+from prp3.family import family_inverse_dynamics  # noqa: E402
+from prp3.family.workspace import family_workspace_statics  # noqa: E402
+
+
+def test_the_3prp_statics_map_is_the_model_forms() -> None:
+    """docs/family.md §8: tau = f10, here from the 3-PRP's own kernel (another code)."""
+    grid = np.linspace(-0.05, 0.05, 11)
+    family = family_workspace_statics(FamilyRobot.default("3-PRP"), 0.1, grid, grid)
+    model = workspace_statics(Robot(), 0.1, grid, grid)
+    assert family.workspace.regular.all()
+    np.testing.assert_allclose(family.tau, model.f10, rtol=0, atol=1e-11)
+    np.testing.assert_allclose(family.peak, model.peak, rtol=0, atol=1e-11)
+
+
+@settings(max_examples=20, deadline=None)
+@given(data=st.data())
+def test_statics_map_is_newton_euler_at_rest(data: st.DataObject) -> None:
+    """Near a random design's home, each grid point's tau is an independent Newton–Euler solve.
+
+    The Newton–Euler route (docs/family.md §7, every body's balance) at the
+    same pose with zero rates, reached along the path from home: near home
+    both judge the same branch.
+    """
+    from hypothesis import assume
+
+    robot = data.draw(designs())
+    centre = robot.home_poses[0]
+    phi = float(centre[2]) + data.draw(st.floats(-0.05, 0.05))
+    x = centre[0] + np.array([-0.01, 0.0, 0.008])
+    y = centre[1] + np.array([-0.006, 0.0, 0.01])
+    try:
+        statics = family_workspace_statics(robot, phi, x, y)
+    except Prp3Error:
+        assume(False)
+        raise
+    for i in range(3):
+        for j in range(3):
+            pose = [x[j], y[i], phi]
+            try:
+                solution = family_inverse_dynamics(
+                    robot, Motion.at_rest(pose), method="newton-euler"
+                )
+            except Prp3Error:
+                continue  # a singularity on the way from home: the map judges the point alone
+            if not statics.workspace.regular[i, j]:
+                continue
+            scale = 1.0 + float(np.abs(solution.tau).max())
+            np.testing.assert_allclose(statics.tau[i, j], solution.tau, rtol=0, atol=1e-10 * scale)
+
+
+def test_statics_map_is_nan_where_not_regular() -> None:
+    robot = FamilyRobot.default("3-RRR")
+    grid = np.linspace(-0.3, 0.3, 31)
+    statics = family_workspace_statics(robot, 0.0, grid, grid)
+    regular = statics.workspace.regular
+    assert 0 < regular.sum() < regular.size
+    assert np.isfinite(statics.tau[regular]).all() and np.isnan(statics.tau[~regular]).all()
+    assert np.isnan(statics.peak[~regular]).all()
+    np.testing.assert_array_equal(statics.peak[regular], np.abs(statics.tau[regular]).max(-1))

@@ -49,16 +49,20 @@ from prp3.family.chain import (
     transmitted_wrench,
 )
 from prp3.family.legs import LEG_GEOMETRY
+from prp3.family.mechanics import Geometry, fast_dynamics, joint_rates
 from prp3.family.model import FamilyRobot
+from prp3.model.motion import Motion
 from prp3.pose_validation import MAX_ORIENTATION
 from prp3.validation import check_instance, check_real, check_scalar
 
 __all__ = [
     "FamilyOrientationScan",
+    "FamilyStatics",
     "FamilyWorkspace",
     "family_measures_at",
     "family_orientation_scan",
     "family_workspace_slice",
+    "family_workspace_statics",
     "home_branch",
 ]
 
@@ -234,6 +238,91 @@ def family_workspace_slice(
         mu_leg=mu_leg.reshape(*shape, 3),
         mu_par=mu_par.reshape(shape),
     )
+
+
+@dataclass(frozen=True)
+class FamilyStatics:
+    """The actuator efforts holding a family robot at rest over a workspace slice (``(ny, nx)``).
+
+    Attributes
+    ----------
+    workspace : FamilyWorkspace
+        The slice (its ``regular`` points are those computed).
+    tau : ndarray, shape (ny, nx, 3)
+        ``tau_L`` of legs A, B, C (N for a P actuator, N·m for an R one) holding
+        the pose at rest on the home branch: the weights of every body and the
+        payload, and the constant ``[load]`` (docs/family.md §7 at zero rates);
+        NaN where the pose is not regular.
+    peak : ndarray, shape (ny, nx)
+        ``max_L |tau_L|`` (NaN where not regular).
+    """
+
+    workspace: FamilyWorkspace
+    tau: FloatArray
+    peak: FloatArray
+
+
+def family_workspace_statics(
+    robot: FamilyRobot, phi: float, x: ArrayLike, y: ArrayLike
+) -> FamilyStatics:
+    """The actuator efforts that hold the platform still at the regular points of a slice.
+
+    At each regular grid point the legs take their home-branch solution
+    (:func:`home_branch`, as :func:`family_workspace_slice` judges them) and the
+    inverse dynamics of docs/family.md §7 runs at zero velocity and
+    acceleration (:func:`~prp3.family.mechanics.fast_dynamics`): the body
+    wrenches are the weights and the load, and virtual work gives ``tau``.
+    A point is judged on its own, not along a path from home.
+
+    Parameters
+    ----------
+    robot : FamilyRobot
+    phi : float
+        Platform orientation (rad).
+    x, y : array_like, shapes (nx,), (ny,)
+        Strictly increasing grid values of ``G`` (m).
+
+    Examples
+    --------
+    The 3-PRP in family form at home holds the same forces as the model form
+    (docs/family.md §8; ``tests/test_family_workspace.py`` holds both against
+    an independent Newton–Euler solve):
+
+    >>> statics = family_workspace_statics(FamilyRobot.default("3-PRP"), 0.0, [0, 0.01], [0, 0.01])
+    >>> [round(float(v), 4) for v in statics.tau[0, 0]]
+    [31.8589, -8.4957, -23.3632]
+    """
+    ws = family_workspace_slice(robot, phi, x, y)
+    X, Y = np.meshgrid(ws.x, ws.y)
+    points = np.stack([X.reshape(-1), Y.reshape(-1)], axis=-1)[ws.regular.reshape(-1)]
+    tau = np.full((X.size, 3), np.nan)
+    rows = np.flatnonzero(ws.regular.reshape(-1))
+    for start in range(0, points.shape[0], _CHUNK):
+        part = points[start : start + _CHUNK]
+        tau[rows[start : start + _CHUNK]] = _rest_efforts(ws.robot, part, ws.phi)
+    tau = tau.reshape(*X.shape, 3)
+    with np.errstate(invalid="ignore"):
+        peak = np.abs(tau).max(axis=-1)
+    return FamilyStatics(workspace=ws, tau=tau, peak=peak)
+
+
+def _rest_efforts(robot: FamilyRobot, points: FloatArray, phi: float) -> FloatArray:
+    """``tau`` ``(n, 3)`` at rest at regular points ``G`` ``(n, 2)`` and orientation ``φ``."""
+    n = points.shape[0]
+    phis = np.full(n, phi)
+    q, _, _ = home_branch(robot, points, phis)
+    frames = leg_chain(robot.types, robot.leg.placements, SIGMA, q)
+    pose = np.column_stack([points, phis])
+    hat = leg_jacobian(robot.types, frames, pose[:, None, :2], robot.leg.scale)
+    geometry = Geometry(
+        q=q,
+        frames=frames,
+        mu_leg=leg_measure(hat),
+        mu_par=parallel_measure(transmitted_wrench(hat, robot.actuated)),
+    )
+    rest = np.zeros_like(pose)
+    motion = Motion(t=np.arange(n, dtype=np.float64), pose=pose, velocity=rest, acceleration=rest)
+    return fast_dynamics(joint_rates(robot, motion, geometry)).tau.reshape(n, 3)
 
 
 @dataclass(frozen=True)
