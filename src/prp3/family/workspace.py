@@ -295,12 +295,12 @@ def family_workspace_statics(
     ws = family_workspace_slice(robot, phi, x, y)
     X, Y = np.meshgrid(ws.x, ws.y)
     points = np.stack([X.reshape(-1), Y.reshape(-1)], axis=-1)[ws.regular.reshape(-1)]
-    tau = np.full((X.size, 3), np.nan)
+    flat = np.full((X.size, 3), np.nan)
     rows = np.flatnonzero(ws.regular.reshape(-1))
     for start in range(0, points.shape[0], _CHUNK):
         part = points[start : start + _CHUNK]
-        tau[rows[start : start + _CHUNK]] = _rest_efforts(ws.robot, part, ws.phi)
-    tau = tau.reshape(*X.shape, 3)
+        flat[rows[start : start + _CHUNK]] = _rest_efforts(ws.robot, part, ws.phi)
+    tau = flat.reshape(*X.shape, 3)
     with np.errstate(invalid="ignore"):
         peak = np.abs(tau).max(axis=-1)
     return FamilyStatics(workspace=ws, tau=tau, peak=peak)
