@@ -169,17 +169,50 @@ def test_cli_workspace_of_a_family_robot(
     assert scan["phi"].size == 5
 
 
-def test_cli_workspace_statics_refused_by_capability(
+@pytest.mark.parametrize(("architecture", "option"), [("3-RPP", "--statics"), ("3-RRR", None)])
+def test_cli_workspace_statics_of_a_family_robot(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, architecture: str, option: str | None
+) -> None:
+    """--statics (or a payload) writes statics.csv: the efforts of the library at rest."""
+    from prp3.family.workspace import family_workspace_statics
+
+    robot_file = tmp_path / "robot.toml"
+    payload = "" if option else "[payload]\nmass = 1.5\ncom = [0.01, 0.0]\n"
+    robot_file.write_text(f'architecture = "{architecture}"\n{payload}')
+    out = tmp_path / "ws"
+    words = ["workspace", "--robot", robot_file, "--points", "21", "--orientations", "3"]
+    status, text, err = cli(capsys, *words, *([option] if option else []), "--output", out)
+    assert status == 0, err
+    assert {"statics.csv", "statics.png"} <= {p.name for p in out.iterdir()}
+    table = _read(out / "statics.csv")
+    assert list(table) == ["x", "y", "regular", "tau_A", "tau_B", "tau_C", "tau_peak"]
+    robot = FamilyRobot.from_toml(robot_file)
+    x = np.unique(table["x"])
+    statics = family_workspace_statics(robot, 0.0, x, np.unique(table["y"]))
+    tau = np.stack([table[f"tau_{leg}"] for leg in "ABC"], axis=-1)
+    regular = table["regular"] == 1.0
+    assert regular.any() and np.isnan(tau[~regular]).all()
+    np.testing.assert_array_equal(tau[regular], statics.tau.reshape(-1, 3)[regular])
+    assert "statics (at rest): largest |tau|" in text
+    status, text, err = cli(capsys, *words, "--no-statics", "--output", tmp_path / "none")
+    assert status == 0 and not (tmp_path / "none" / "statics.csv").exists()
+
+
+def test_cli_family_statics_that_overflow_name_the_load_and_the_file(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
     robot_file = tmp_path / "robot.toml"
-    robot_file.write_text('architecture = "3-RPP"\n')
+    robot_file.write_text('architecture = "3-RPP"\n[load]\nforce = [1e308, 1e308]\n')
+    (tmp_path / "ws").mkdir()
+    (tmp_path / "ws" / "workspace.csv").write_text("earlier")
     status, out, err = cli(
-        capsys, "workspace", "--robot", robot_file, "--statics", "--output", tmp_path / "ws"
+        capsys, "workspace", "--robot", robot_file, "--points", "11", "--output", tmp_path / "ws"
     )
     line = one_line(err)
-    assert status == 2 and out == "" and "3-RPP" in line and "--statics" in line
-    assert not (tmp_path / "ws" / "workspace.csv").exists()
+    assert status == 2 and out == "" and "Traceback" not in err
+    assert "overflow" in line and "[load] force = [1e+308, 1e+308]" in line
+    assert str(robot_file) in line
+    assert (tmp_path / "ws" / "workspace.csv").read_text() == "earlier"
 
 
 # ---------------------------------------------------------------- random designs

@@ -62,20 +62,20 @@ BYTES_PER_RUN: int = 200 * 1024**2
 
 def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
     """``prp3 workspace`` of a family robot; return the exit status."""
-    from prp3.family.workspace import family_orientation_scan, family_workspace_slice
+    from prp3.family.workspace import (
+        family_orientation_scan,
+        family_workspace_slice,
+        family_workspace_statics,
+    )
 
-    if args.statics:
-        raise ParameterError(
-            f"--statics maps the 3-PRP of a model-form robot file (docs/model.md) only; not yet "
-            f"the {robot.architecture} of a family-form robot file: leave --statics out",
-            file=args.robot,
-        )
+    statics_wanted = family_wants_statics(robot, args.statics)
     if args.extent is not None:
         xmin, xmax, ymin, ymax = check_extent(args.extent)
     else:
         half = 2.0 * robot.leg.scale
         xmin, xmax, ymin, ymax = -half, half, -half, half
-    check_memory(f"--points {args.points}", BYTES_PER_RUN + args.points**2 * BYTES_PER_POINT)
+    per_point = BYTES_PER_POINT * (2 if statics_wanted else 1)
+    check_memory(f"--points {args.points}", BYTES_PER_RUN + args.points**2 * per_point)
     x = np.linspace(xmin, xmax, args.points)
     y = np.linspace(ymin, ymax, args.points)
     for axis, values in (("x", x), ("y", y)):
@@ -98,18 +98,40 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
     for j, leg in enumerate(LEGS):
         table[f"mu_leg_{leg}"] = ws.mu_leg[..., j].reshape(-1)
     table["mu_par"] = ws.mu_par.reshape(-1)
+    statics = None
+    if statics_wanted:
+        try:
+            statics = family_workspace_statics(robot, ws.phi, x, y)
+        except ParameterError as error:
+            raise error.located(file=args.robot) from None
     scan_table = {
         "phi": scan.phi,
         "area": scan.area,
         "regular_area": scan.regular_area,
         "min_mu_par": scan.min_mu_par,
     }
-    from prp3.plotting.family_workspace import save_family_workspace_map
+    from prp3.plotting.family_workspace import save_family_statics_map, save_family_workspace_map
 
     with staged_output(args.output) as staged:
         write_table_csv(staged.path("workspace.csv"), table)
         write_table_csv(staged.path("orientations.csv"), scan_table)
         save_family_workspace_map(staged.path("workspace.png"), ws, scan)
+        statics_lines: list[str] = []
+        if statics is not None:
+            statics_table = {key: table[key] for key in ("x", "y", "regular")}
+            for j, leg in enumerate(LEGS):
+                statics_table[f"tau_{leg}"] = statics.tau[..., j].reshape(-1)
+            statics_table["tau_peak"] = statics.peak.reshape(-1)
+            write_table_csv(staged.path("statics.csv"), statics_table)
+            save_family_statics_map(staged.path("statics.png"), statics)
+            unit = "N" if robot.types[robot.actuated - 1] == "P" else "N m"
+            held = statics.peak[ws.regular]
+            statics_lines.append(
+                f"  statics (at rest): largest |tau| over the legs {held.min():.6g} .. "
+                f"{held.max():.6g} {unit} over the regular points"
+                if held.size
+                else "  statics: no regular grid point"
+            )
         home_leg, home_par = robot.home_measures
         lines = [
             f"prp3 workspace: {robot.architecture} (joint {robot.actuated} driven), phi = "
@@ -121,10 +143,23 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
             + f"; mu_par {home_par:.6g}",
             f"  orientation scan: {phis.size} orientations over +-{SCAN_RANGE:.6g} rad on a "
             f"{x[::step].size} x {y[::step].size} grid",
+            *statics_lines,
             *files_report(staged),
         ]  # fmt: skip
         emit("\n".join(lines))
     return 0
+
+
+def family_wants_statics(robot: FamilyRobot, option: bool | None) -> bool:
+    """Whether ``prp3 workspace`` writes a family robot's statics map.
+
+    ``--statics``/``--no-statics``, else when the robot carries a ``[payload]``
+    or a ``[load]`` (as for the model form).
+    """
+    if option is not None:
+        return option
+    load = robot.load
+    return robot.payload.mass != 0.0 or any(v != 0.0 for v in (*load.force, load.moment))
 
 
 def _read_efforts(path: Path) -> tuple[dict[str, FloatArray], bool]:

@@ -119,7 +119,10 @@ with the columns x, y, reachable, regular (every singularity measure on its home
 side, |mu| >= 1e-4), mu_leg_A, mu_leg_B, mu_leg_C, mu_par (the signed measures of
 the home branch), orientations.csv with phi, area, regular_area, min_mu_par (over
 +-pi/2), and workspace.png (both measures as maps, their zero loci drawn); the
-default window is +-2 [leg] scale; --statics is for model-form files only.
+default window is +-2 [leg] scale.  Its statics map (--statics; by default with a
+[payload] or a [load]) is statics.csv with x, y, regular, tau_A, tau_B, tau_C,
+tau_peak (the actuator efforts at rest on the home branch, empty where not
+regular) and statics.png.
 
 Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
 """

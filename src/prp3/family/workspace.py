@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.errors import ParameterError
+from prp3.errors import ParameterError, TrajectoryError
 from prp3.family.chain import (
     SIGMA,
     SINGULAR,
@@ -299,11 +299,24 @@ def family_workspace_statics(
     rows = np.flatnonzero(ws.regular.reshape(-1))
     for start in range(0, points.shape[0], _CHUNK):
         part = points[start : start + _CHUNK]
-        flat[rows[start : start + _CHUNK]] = _rest_efforts(ws.robot, part, ws.phi)
+        with np.errstate(all="ignore"):  # an overflow is refused, naming the loads
+            flat[rows[start : start + _CHUNK]] = _rest_efforts(ws.robot, part, ws.phi)
     tau = flat.reshape(*X.shape, 3)
     with np.errstate(invalid="ignore"):
         peak = np.abs(tau).max(axis=-1)
     return FamilyStatics(workspace=ws, tau=tau, peak=peak)
+
+
+def _overflow(robot: FamilyRobot, point: FloatArray) -> ParameterError:
+    """The statics overflowed float64 at ``point``: name the loads that cause them."""
+    load, payload = robot.load, robot.payload
+    return ParameterError(
+        f"the statics overflow float64 at G = ({point[0]:.6g}, {point[1]:.6g}) m: the actuator "
+        f"efforts that hold [load] force = {list(load.force)} N, moment = {load.moment!r} N m, "
+        f"[payload] mass = {payload.mass!r} kg and gravity = {list(robot.gravity)} m/s^2 "
+        "are too large for double precision",
+        subject="robot",
+    )
 
 
 def _rest_efforts(robot: FamilyRobot, points: FloatArray, phi: float) -> FloatArray:
@@ -322,7 +335,10 @@ def _rest_efforts(robot: FamilyRobot, points: FloatArray, phi: float) -> FloatAr
     )
     rest = np.zeros_like(pose)
     motion = Motion(t=np.arange(n, dtype=np.float64), pose=pose, velocity=rest, acceleration=rest)
-    return fast_dynamics(joint_rates(robot, motion, geometry)).tau.reshape(n, 3)
+    try:
+        return fast_dynamics(joint_rates(robot, motion, geometry)).tau.reshape(n, 3)
+    except TrajectoryError as error:  # an effort or a joint force overflowed
+        raise _overflow(robot, points[error.sample or 0]) from None
 
 
 @dataclass(frozen=True)

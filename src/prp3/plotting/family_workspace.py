@@ -25,9 +25,14 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from prp3.family.workspace import FamilyOrientationScan, FamilyWorkspace
+    from prp3.family.workspace import FamilyOrientationScan, FamilyStatics, FamilyWorkspace
 
-__all__ = ["family_workspace_figure", "save_family_workspace_map"]
+__all__ = [
+    "family_statics_figure",
+    "family_workspace_figure",
+    "save_family_statics_map",
+    "save_family_workspace_map",
+]
 
 
 def _map_axes(ax: Axes, ws: FamilyWorkspace) -> None:
@@ -134,4 +139,58 @@ def save_family_workspace_map(
     path = Path(path)
     with atomic_path(path) as temporary:
         family_workspace_figure(ws, scan).savefig(temporary, format="png")
+    return path
+
+
+def family_statics_figure(statics: FamilyStatics) -> Figure:
+    """The statics map of a family robot: each actuator's ``tau_L`` at rest and the largest.
+
+    Four panels over the regular grid points (grey elsewhere): ``tau_A``,
+    ``tau_B``, ``tau_C`` on one diverging scale centred on 0, and
+    ``max_L |tau_L|``.
+
+    Parameters
+    ----------
+    statics : FamilyStatics
+        From :func:`prp3.family.workspace.family_workspace_statics`.
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+
+    ws = statics.workspace
+    robot = ws.robot
+    unit = "N" if robot.types[robot.actuated - 1] == "P" else "N·m"
+    figure = Figure(figsize=(11.0, 9.6), layout="constrained")
+    axes = figure.subplots(2, 2).ravel()
+    grey = ListedColormap([cm_grey()])
+    finite = statics.tau[np.isfinite(statics.tau)]
+    bound = float(np.abs(finite).max()) if finite.size else 1.0
+    bound = bound if bound > 0.0 else 1.0
+    panels = [(statics.tau[..., j], f"tau_{leg} at rest ({unit})") for j, leg in enumerate(LEGS)]
+    panels.append((statics.peak, f"largest |tau| over the legs ({unit})"))
+    for k, (ax, (values, title)) in enumerate(zip(axes, panels, strict=True)):
+        ax.pcolormesh(ws.x, ws.y, np.where(ws.regular, np.nan, 0.0), cmap=grey, shading="nearest")
+        shown = np.ma.masked_invalid(values)
+        if k < 3:
+            mesh = ax.pcolormesh(ws.x, ws.y, shown, cmap="RdBu", vmin=-bound, vmax=bound,
+                                 shading="nearest")  # fmt: skip
+        else:
+            mesh = ax.pcolormesh(ws.x, ws.y, shown, cmap="viridis", vmin=0.0, vmax=bound,
+                                 shading="nearest")  # fmt: skip
+        figure.colorbar(mesh, ax=ax, shrink=0.85, label=unit)
+        _map_axes(ax, ws)
+        ax.set_title(title, fontsize=9)
+    figure.suptitle(
+        f"{robot.architecture} (joint {robot.actuated} driven): actuator efforts holding the "
+        f"platform at rest, φ = {ws.phi:.4g} rad (grey: not regular)",
+        fontsize=11,
+    )
+    return figure
+
+
+def save_family_statics_map(path: str | Path, statics: FamilyStatics) -> Path:
+    """Write :func:`family_statics_figure` as a PNG, atomically."""
+    path = Path(path)
+    with atomic_path(path) as temporary:
+        family_statics_figure(statics).savefig(temporary, format="png")
     return path
