@@ -56,7 +56,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from prp3.apps.control_law import CONTROLLERS, Controller, Gains, control_force
 from prp3.apps.plants import (
-    _THIRD_PI,
     PLANTS,
     Plant,
     Status,
@@ -66,9 +65,19 @@ from prp3.apps.plants import (
     _without_limits,
     check_plant,
 )
-from prp3.engines.compiled_robot import compile_robot
+from prp3.engines.compiled_robot import CompiledRobot, compile_robot
 from prp3.engines.entries import paper_forces
-from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
+from prp3.errors import (
+    ParameterError,
+    Prp3Error,
+    SingularPoseError,
+    TrajectoryError,
+    UnreachablePoseError,
+)
+from prp3.family.forward import FamilyEffortModel, singularity_margin
+from prp3.family.mechanics import family_kinematics
+from prp3.family.model import FamilyRobot
+from prp3.family.outputs import family_inverse_dynamics
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
@@ -194,18 +203,23 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     return Motion(t=at, pose=pose, velocity=velocity, acceleration=acceleration)
 
 
-def check_model(robot: Robot, model: Robot) -> None:
+def check_model(robot: Robot | FamilyRobot, model: Robot | FamilyRobot) -> None:
     """Refuse a controller model whose geometry differs from the plant's robot.
 
     The controller computes the plant's kinematics from the measured pose
     with its model: ``l0`` must be the same (masses, inertias, centres of
-    mass and gravity may differ: that is what a model error is).
+    mass and gravity may differ: that is what a model error is).  A family
+    robot's model is a family robot of the same architecture, actuated joint
+    and ``[leg]`` (docs/family.md §2).
 
     >>> check_model(Robot(), Robot(l0=0.31))
     Traceback (most recent call last):
     ...
     prp3.errors.ParameterError: model: l0 = 0.31 m differs from the plant robot's l0 = 0.3 m (the controller's kinematics must match the robot's)
     """
+    if isinstance(robot, FamilyRobot) or isinstance(model, FamilyRobot):
+        _check_family_model(robot, model)
+        return
     check_robot(robot)
     check_robot(model, "model")
     if model.l0 != robot.l0:
@@ -213,6 +227,21 @@ def check_model(robot: Robot, model: Robot) -> None:
             f"model: l0 = {model.l0!r} m differs from the plant robot's l0 = {robot.l0!r} m "
             "(the controller's kinematics must match the robot's)"
         )
+
+
+def _check_family_model(robot: object, model: object) -> None:
+    """:func:`check_model` of a family robot: the same architecture, actuation and legs."""
+    robot = check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
+    model = check_instance("model", model, FamilyRobot, "a prp3.family.FamilyRobot like the robot")
+    for name in ("architecture", "actuated", "leg"):
+        if getattr(model, name) != getattr(robot, name):
+            raise ParameterError(
+                f"model: its {name} differs from the plant robot's ({getattr(model, name)!r} "
+                f"against {getattr(robot, name)!r}): the controller's kinematics must match "
+                "the robot's",
+                subject="model",
+                key=name,
+            )
 
 
 # ------------------------------------------------------------------ closed loop
@@ -284,8 +313,17 @@ class Tracking:
         return float(np.percentile(self.step_time, 99.0))
 
 
-def _refusal(robot: Robot, pose: list[float]) -> tuple[Status, str] | None:
+def _refusal(robot: Robot | FamilyRobot, pose: list[float]) -> tuple[Status, str] | None:
     """Why the plant's measured ``pose`` stops the run (singular, outside the stroke), if so."""
+    if isinstance(robot, FamilyRobot):
+        margin = singularity_margin(robot, pose)
+        if margin < SINGULARITY_THRESHOLD:
+            return "singular", (
+                f"the smallest signed singularity measure is {margin:.3g} at (x = {pose[0]:.6g} "
+                f"m, y = {pose[1]:.6g} m, phi = {pose[2]:.9g} rad), below "
+                f"{SINGULARITY_THRESHOLD:g} (docs/family.md §6)"
+            )
+        return None
     try:
         inverse_geometry(robot, pose)
     except SingularPoseError as error:
@@ -298,12 +336,12 @@ def _refusal(robot: Robot, pose: list[float]) -> tuple[Status, str] | None:
 
 
 def track(
-    robot: Robot,
+    robot: Robot | FamilyRobot,
     reference: Motion,
     *,
     controller: Controller = "computed-torque",
     plant: Plant = "prp3",
-    model: Robot | None = None,
+    model: Robot | FamilyRobot | None = None,
     gains: Gains | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Tracking:
@@ -316,14 +354,18 @@ def track(
 
     Parameters
     ----------
-    robot : Robot
+    robot : Robot or FamilyRobot
         The plant's robot (the "real" one); its ``limits.stroke`` stops the run.
+        A family robot of any architecture (docs/family.md) runs the same laws
+        on its actuator efforts ``tau`` (:attr:`Tracking.f10` holds them, N or
+        N·m), on the ``"prp3"`` plant (its ``τ = A·ẍ + b``,
+        :func:`prp3.family.forward.platform_dynamics`).
     reference : Motion
         ``N >= 2`` samples at the control instants (:func:`control_times`
         with :func:`prp3.model.motion.law_at` or :func:`hermite_reference`).
     controller : {"computed-torque", "pd", "feedforward"}
     plant : {"prp3", "mujoco"}
-    model : Robot, optional
+    model : Robot or FamilyRobot, optional
         The controller's model; same ``l0`` as ``robot`` (:func:`check_model`).
     gains : Gains, optional
         Default ``KP = 400 1/s²``, ``KD = 40 1/s`` on every axis.
@@ -343,7 +385,9 @@ def track(
     TrajectoryError, SingularPoseError, UnreachablePoseError
         A reference the robot or the model cannot follow (names the sample).
     """
-    check_robot(robot)
+    family = isinstance(robot, FamilyRobot)
+    if not family:
+        check_robot(robot)
     model = robot if model is None else model
     check_model(robot, model)
     gains = Gains() if gains is None else gains
@@ -361,24 +405,34 @@ def track(
         raise TrajectoryError("reference must be a Motion of at least 2 samples")
     if reference.load is not None:
         raise TrajectoryError(LOAD_REFUSAL, subject="reference")
-    check_path(reference.t, reference.pose, subject="reference")  # no singularity between
+    if not family:
+        check_path(reference.t, reference.pose, subject="reference")  # no singularity between
     if reference.samples > MAX_STEPS + 1:
         raise ParameterError(
             f"reference: {reference.samples} control instants, more than {MAX_STEPS + 1}"
         )
-    compiled = compile_robot(_without_limits(model))
+    compiled: CompiledRobot | FamilyEffortModel
     try:
-        inverse_geometry(robot, reference.pose)  # the plant must be able to follow it
-        # the model's inverse dynamics of the reference itself: validates it for the model
-        paper_forces(compiled, reference.pose, reference.velocity, reference.acceleration)
+        if isinstance(robot, FamilyRobot) and isinstance(model, FamilyRobot):
+            compiled = FamilyEffortModel(model)
+            # both follow the reference from home, every step in between checked (§5, §6)
+            family_kinematics(robot, reference)
+            family_inverse_dynamics(model, reference, engine="numpy")
+        elif isinstance(robot, Robot) and isinstance(model, Robot):
+            compiled = compile_robot(_without_limits(model))
+            inverse_geometry(robot, reference.pose)  # the plant must be able to follow it
+            # the model's inverse dynamics of the reference itself: validates it for the model
+            paper_forces(compiled, reference.pose, reference.velocity, reference.acceleration)
     except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
         index = error.sample
         when = None if index is None else float(reference.t[index])
         raise error.located(origin="reference", time=when) from None
     check_plant(robot, plant)
-    simulator: _Plant = (
-        _Prp3Plant(robot, reference) if plant == "prp3" else _MujocoPlant(robot, reference)
-    )
+    simulator: _Plant
+    if plant == "prp3" or isinstance(robot, FamilyRobot):  # check_plant: a family robot's is prp3
+        simulator = _Prp3Plant(robot, reference)
+    else:
+        simulator = _MujocoPlant(robot, reference)
     times = reference.t.tolist()
     rows = np.concatenate([reference.pose, reference.velocity, reference.acceleration], axis=1)
     targets = rows.tolist()
@@ -395,11 +449,14 @@ def track(
         if not math.isfinite(sum(state)):
             status, message = "failed", f"stopped at t = {times[k]!r} s: non-finite plant state"
             break
-        if abs(math.sin(state[2] - _THIRD_PI)) >= SINGULARITY_THRESHOLD:  # else refused below
+        refused = _refusal(robot, state[:3])  # the exact checks, before the timed step
+        if refused is None:
             start = clock()
-            f10 = control_force(controller, compiled, gains, targets[k], state)
+            try:
+                f10 = control_force(controller, compiled, gains, targets[k], state)
+            except Prp3Error as error:  # the model's own refusal of the measured state
+                refused = ("singular", str(error))
             stop = clock()
-        refused = _refusal(robot, state[:3])  # the exact checks, after the timed step
         if refused is not None:
             status, why = refused
             message = f"stopped at t = {times[k]!r} s: the plant's pose is refused: {why}"

@@ -25,6 +25,7 @@ import numpy as np
 
 from prp3.engines.compiled_robot import CompiledRobot
 from prp3.errors import ParameterError
+from prp3.family.forward import FamilyEffortModel
 from prp3.validation import check_scalar
 
 __all__ = [
@@ -120,7 +121,7 @@ class Gains:
 
 def control_force(
     controller: Controller,
-    model: CompiledRobot,
+    model: CompiledRobot | FamilyEffortModel,
     gains: Gains,
     reference: Sequence[float],
     measured: Sequence[float],
@@ -135,8 +136,10 @@ def control_force(
     Parameters
     ----------
     controller : {"computed-torque", "pd", "feedforward"}
-    model : CompiledRobot
-        The controller's model of the robot (:func:`prp3.engines.compiled_robot.compile_robot`).
+    model : CompiledRobot or FamilyEffortModel
+        The controller's model of the robot (:func:`prp3.engines.compiled_robot.compile_robot`
+        of a 3-PRP, :class:`prp3.family.forward.FamilyEffortModel` of any architecture:
+        the same laws on its actuator efforts ``tau``, N or N·m).
     gains : Gains
     reference : sequence of 9 floats
         ``(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈)`` of the reference at this instant.

@@ -17,6 +17,7 @@ from __future__ import annotations
 import importlib
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import replace
 from types import ModuleType
 from typing import Literal, Protocol
@@ -27,6 +28,9 @@ from numpy.typing import NDArray
 from prp3.analysis.forward import SINGULARITY_STOP
 from prp3.engines.compiled_robot import compile_robot
 from prp3.errors import ParameterError, Prp3Error
+from prp3.family.forward import SINGULARITY_STOP as FAMILY_SINGULARITY_STOP
+from prp3.family.forward import FamilyEffortModel, singularity_margin
+from prp3.family.model import FamilyRobot
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import Motion
 from prp3.model.parameters import Limits
@@ -55,7 +59,7 @@ PLANT_METHOD: str = "RK45"
 _THIRD_PI = math.pi / 3.0
 
 
-def check_plant(robot: Robot, plant: Plant) -> None:
+def check_plant(robot: Robot | FamilyRobot, plant: Plant) -> None:
     """Refuse a robot the plant would not simulate as it is.
 
     * ``"mujoco"``: the exported MJCF (:func:`prp3.apps.mjcf.mjcf_model`) carries
@@ -74,6 +78,13 @@ def check_plant(robot: Robot, plant: Plant) -> None:
     ...
     prp3.errors.ParameterError: plant 'mujoco': friction.sleeve.coulomb = 0.5: MuJoCo has no counterpart of prp3's Coulomb friction law (its frictionloss is its own dry friction): simulate it with plant 'prp3'
     """
+    if isinstance(robot, FamilyRobot):
+        if plant == "mujoco":
+            raise ParameterError(
+                f"plant 'mujoco' drives the 3-PRP's MJCF model only, not yet the "
+                f"{robot.architecture}: simulate it with plant 'prp3'"
+            )
+        return  # a family robot has no friction: its efforts are affine in the acceleration
     if plant == "mujoco":
         for element in robot.elements:  # each element says what MuJoCo simulates otherwise
             element.check_mujoco_plant(robot)
@@ -100,15 +111,30 @@ class _Prp3Plant:
     """prp3's equations of motion ``q̈ = A⁻¹·(f10 − b)``, integrated step by step.
 
     ``A`` and ``b`` from four single-sample inverse dynamics (``f10`` is
-    affine in ``q̈``, as in :func:`prp3.analysis.equations_of_motion.platform_dynamics`).
+    affine in ``q̈``, as in :func:`prp3.analysis.equations_of_motion.platform_dynamics`);
+    for a family robot ``τ = A·ẍ + b`` of :func:`prp3.family.forward.platform_dynamics`
+    and its singularity margin (docs/family.md §6).
     """
 
-    def __init__(self, robot: Robot, reference: Motion) -> None:
+    def __init__(self, robot: Robot | FamilyRobot, reference: Motion) -> None:
         from scipy.integrate import solve_ivp
 
         self._solve_ivp = solve_ivp
-        self.compiled = compile_robot(_without_limits(robot))
+        self.robot = robot
+        self.effort: Callable[..., tuple[float, ...]]
+        if isinstance(robot, FamilyRobot):
+            self.effort = FamilyEffortModel(robot).actuator_sample_function()
+        else:  # f10 alone, unchecked
+            self.effort = compile_robot(_without_limits(robot)).actuator_sample_function()
         self.state = np.concatenate([reference.pose[0], reference.velocity[0]])
+
+    def margin(self, pose: list[float]) -> tuple[float, float, str]:
+        """The singularity margin of ``pose``, the margin that stops the run, and its text."""
+        if isinstance(self.robot, FamilyRobot):
+            text = f"the smallest signed singularity measure < {FAMILY_SINGULARITY_STOP:g}"
+            return singularity_margin(self.robot, pose), FAMILY_SINGULARITY_STOP, text
+        value = abs(math.sin(pose[2] - _THIRD_PI))
+        return value, SINGULARITY_STOP, f"|sin(phi - pi/3)| < {SINGULARITY_STOP:g}"
 
     def measure(self) -> list[float]:
         values: list[float] = self.state.tolist()
@@ -116,15 +142,18 @@ class _Prp3Plant:
 
     def _rhs(self, force: FloatArray, state: FloatArray) -> FloatArray:
         x, y, p, vx, vy, vp = state.tolist()
-        if not math.isfinite(x + y + p + vx + vy + vp) or abs(math.sin(p - math.pi / 3.0)) < 1e-4:
+        if not math.isfinite(x + y + p + vx + vy + vp) or self.margin([x, y, p])[0] < 1e-4:
             return np.full(6, np.nan)  # rejects the trial step (see forward_dynamics)
-        f = self.compiled.actuator_sample_function()  # f10 alone, unchecked
-        b = f(x, y, p, vx, vy, vp, 0.0, 0.0, 0.0)
-        columns = [
-            f(x, y, p, vx, vy, vp, 1.0, 0.0, 0.0),
-            f(x, y, p, vx, vy, vp, 0.0, 1.0, 0.0),
-            f(x, y, p, vx, vy, vp, 0.0, 0.0, 1.0),
-        ]
+        f = self.effort
+        try:
+            b = f(x, y, p, vx, vy, vp, 0.0, 0.0, 0.0)
+            columns = [
+                f(x, y, p, vx, vy, vp, 1.0, 0.0, 0.0),
+                f(x, y, p, vx, vy, vp, 0.0, 1.0, 0.0),
+                f(x, y, p, vx, vy, vp, 0.0, 0.0, 1.0),
+            ]
+        except Prp3Error:  # a state the trial step wandered to: reject the trial step
+            return np.full(6, np.nan)
         bias = np.array(b)
         A = np.array(columns).T - bias[:, None]
         try:
@@ -151,13 +180,14 @@ class _Prp3Plant:
         if solution.status == 0 and np.isfinite(last).all():
             self.state = last
             return None
-        if np.isfinite(last).all() and abs(math.sin(last[2] - _THIRD_PI)) < SINGULARITY_STOP:
+        if np.isfinite(last).all():
             x, y, phi = last[:3].tolist()
-            return "singular", (
-                f"stopped at t = {float(solution.t[-1]):.9g} s: the plant reached the singularity "
-                f"(x = {x:.6g} m, y = {y:.6g} m, phi = {phi:.9g} rad, "
-                f"|sin(phi - pi/3)| < {SINGULARITY_STOP:g})"
-            )
+            margin, stop, text = self.margin([x, y, phi])
+            if margin < stop:
+                return "singular", (
+                    f"stopped at t = {float(solution.t[-1]):.9g} s: the plant reached the "
+                    f"singularity (x = {x:.6g} m, y = {y:.6g} m, phi = {phi:.9g} rad, {text})"
+                )
         return "failed", (
             f"stopped: the prp3 plant's integration failed after t = {start!r} s: "
             f"{solution.message}"

@@ -118,6 +118,7 @@ FAMILY_COMMANDS: tuple[str, ...] = (
     "simulate",
     "workspace",
     "forward",
+    "control",
     "export",
     "sweep",
     "optimize",

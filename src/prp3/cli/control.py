@@ -42,12 +42,13 @@ from prp3.cli._types import (
     emit,
     files_report,
     finite_float,
-    load_robot,
+    load_any_robot,
     output_folder,
     path_name,
     positive_float,
 )
-from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
+from prp3.family.model import FamilyRobot, read_robot_file
 from prp3.files import check_inputs_kept, check_output_directory
 from prp3.io.tables import write_table_csv
 from prp3.io.trajectory import read_trajectory
@@ -184,15 +185,16 @@ def register(subparsers: Any) -> None:
     parser.set_defaults(handler=run)
 
 
-def tracking_table(run: Tracking) -> dict[str, np.ndarray]:
-    """The columns of ``tracking.csv`` of a run."""
+def tracking_table(run: Tracking, effort: str = "f10") -> dict[str, np.ndarray]:
+    """The columns of ``tracking.csv`` of a run (``effort``: ``f10``, or ``tau`` of a family robot)."""
     columns = [
         run.t,
         *run.pose.T,
         *run.reference.pose.T,
         *run.f10.T,
     ]
-    return dict(zip(TRACKING_COLUMNS, columns, strict=True))
+    names = [*TRACKING_COLUMNS[:7], *(f"{effort}_{leg}" for leg in LEGS)]
+    return dict(zip(names, columns, strict=True))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -201,9 +203,21 @@ def run(args: argparse.Namespace) -> int:
     check_output_directory(output)
     names = ("tracking.csv", TRACKING_FIGURE)
     check_inputs_kept(output, names, (args.trajectory, args.robot, args.model))
-    robot = load_robot(args)
-    model = Robot.from_toml(args.model) if args.model is not None else robot
-    check_model(robot, model)
+    robot = load_any_robot(args)  # either form: docs/family.md for the other architectures
+    model: Robot | FamilyRobot = robot
+    if args.model is not None:
+        try:
+            model = read_robot_file(args.model)
+        except ParameterError as error:
+            raise error.located(file=args.model) from None
+    try:
+        check_model(robot, model)
+    except ParameterError as error:
+        raise error.located(file=args.model) from None
+    family = isinstance(robot, FamilyRobot)
+    effort, unit = ("tau", "N") if family else ("f10", "N")
+    if isinstance(robot, FamilyRobot) and robot.types[robot.actuated - 1] == "R":
+        unit = "N m"
     if args.model is not None:
         model_text = f"model {args.model}"
     else:
@@ -218,7 +232,8 @@ def run(args: argparse.Namespace) -> int:
         note = trajectory.note
         motion = trajectory.motion
         try:
-            inverse_geometry(robot, motion.pose)
+            if isinstance(robot, Robot):  # a family robot's: checked along its path by track
+                inverse_geometry(robot, motion.pose)
         except (SingularPoseError, UnreachablePoseError) as error:
             sample = error.sample
             line = int(trajectory.lines[sample]) if sample is not None else None
@@ -244,8 +259,10 @@ def run(args: argparse.Namespace) -> int:
         )
     if note is not None:  # only for a run that goes on: a refused input gets its one line
         print(f"{args.program}: warning: {note}", file=sys.stderr)
-    table = tracking_table(result)
+    table = tracking_table(result, effort)
     title = f"{args.controller} control, {args.plant} plant, {args.rate:g} Hz"
+    if isinstance(robot, FamilyRobot):
+        title = f"{robot.architecture}: {title}"
     subtitle = f"{what}; {model_text}" + (
         ""
         if args.controller == "feedforward"
@@ -268,8 +285,8 @@ def run(args: argparse.Namespace) -> int:
                 staged.path(TRACKING_FIGURE),
             )
         # printed before the files are moved in: a failing standard output keeps older results
-        emit(_summary(result, title, what, model_text, args, files_report(staged)))
-    limit = robot.limits.max_force
+        emit(_summary(result, title, what, model_text, args, files_report(staged), effort, unit))
+    limit = None if isinstance(robot, FamilyRobot) else robot.limits.max_force
     if limit is not None:  # the plant's actuators: the controller asked for more than they give
         peak = np.abs(result.f10).max(axis=0)
         for j, leg in enumerate(LEGS):
@@ -294,6 +311,8 @@ def _summary(
     model_text: str,
     args: argparse.Namespace,
     files: list[str],
+    effort: str = "f10",
+    unit: str = "N",
 ) -> str:
     def row(label: str, values: np.ndarray) -> str:
         return f"  {label:<18}" + "".join(f"{v:>14.4g}" for v in values.tolist())
@@ -316,7 +335,7 @@ def _summary(
         f"  controller step (inverse dynamics + control law, Python): median "
         f"{result.step_time_median * 1e6:.2f} us, 99th percentile "
         f"{result.step_time_p99 * 1e6:.2f} us",
-        "  peak |f10| (N):  "
+        f"  peak |{effort}| ({unit}):  "
         + ", ".join(f"{leg} {v:.6g}" for leg, v in zip(LEGS, peak.tolist(), strict=True)),
         *files,
     ]

@@ -61,10 +61,12 @@ from prp3.validation import check_instance, check_real, check_times
 
 __all__ = [
     "SINGULARITY_STOP",
+    "FamilyEffortModel",
     "FamilyForward",
     "family_energy",
     "family_forward_dynamics",
     "platform_dynamics",
+    "singularity_margin",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -157,6 +159,57 @@ def _margin(robot: FamilyRobot, x: FloatArray) -> float:
     values = [math.copysign(1.0, h) * float(m) for h, m in zip(home_leg, mu_leg[0], strict=True)]
     values.append(math.copysign(1.0, home_par) * float(mu_par[0]))
     return min(values)
+
+
+def singularity_margin(robot: FamilyRobot, pose: ArrayLike) -> float:
+    """``min_L(s_L·μ_leg,L, s_par·μ_par)`` at ``pose`` on the home branch (§6), −1 out of reach.
+
+    Positive on the working mode's side; a pose is regular when it is at least
+    ``1e-4``.
+
+    >>> round(singularity_margin(FamilyRobot.default("3-RPR"), [0.0, 0.0, 0.0]), 3)
+    0.943
+    """
+    robot = check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
+    return _margin(robot, _vector("pose", pose))
+
+
+@dataclass(frozen=True)
+class FamilyEffortModel:
+    """A family robot as the control loop's model: the efforts of one state, unchecked floats.
+
+    :meth:`actuator_sample_function` gives ``τ(x, y, φ, ẋ, ẏ, φ̇, ẍ, ÿ, φ̈) =
+    A(x)·ẍ + b(x, ẋ)`` (:func:`platform_dynamics`), the interface of
+    :meth:`prp3.engines.compiled_robot.CompiledRobot.actuator_sample_function`;
+    ``A`` and ``b`` of the last state are kept, so that the four calls of a
+    plant step at one state cost one evaluation.  A singular or unreachable
+    state raises :class:`~prp3.errors.SingularPoseError` or
+    :class:`~prp3.errors.UnreachablePoseError`.
+    """
+
+    robot: FamilyRobot
+
+    def __post_init__(self) -> None:
+        check_instance("robot", self.robot, FamilyRobot, "a prp3.family.FamilyRobot")
+
+    def actuator_sample_function(self) -> Callable[..., tuple[float, float, float]]:
+        """The function ``τ`` of one state (9 floats) as a tuple of 3 floats (N or N·m)."""
+        robot = self.robot
+        cache: dict[str, tuple[float, ...] | tuple[FloatArray, FloatArray]] = {}
+
+        def effort(
+            x: float, y: float, p: float, vx: float, vy: float, vp: float,
+            ax: float, ay: float, ap: float,
+        ) -> tuple[float, float, float]:  # fmt: skip
+            state = (x, y, p, vx, vy, vp)
+            if cache.get("state") != state:
+                cache["dynamics"] = _dynamics(robot, np.array(state[:3]), np.array(state[3:]))
+                cache["state"] = state
+            a, b = cache["dynamics"]
+            tau = np.asarray(a) @ np.array([ax, ay, ap]) + np.asarray(b)
+            return (float(tau[0]), float(tau[1]), float(tau[2]))
+
+        return effort
 
 
 def family_energy(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:

@@ -56,7 +56,8 @@ def tracking_figure(
     Parameters
     ----------
     table : mapping of str to ndarray (N,)
-        ``t, x, y, phi, x_ref, y_ref, phi_ref, f10_A, f10_B, f10_C``, ``N >= 2``.
+        ``t, x, y, phi, x_ref, y_ref, phi_ref, f10_A, f10_B, f10_C`` (``tau_A, tau_B,
+        tau_C`` of a family robot), ``N >= 2``.
     title, subtitle : str
         Figure title and a smaller line under it (controller, plant, model).
     stop : str, optional
@@ -102,17 +103,18 @@ def tracking_figure(
         label="$\\varphi_{ref} - \\varphi$",
     )
     orientation.set_ylabel(f"orientation error ({unit})")
+    family = "tau_A" in table  # a family robot's efforts (N or N·m: docs/family.md)
     for leg in LEGS:
         color, style = LEG_STYLES[leg]
         force.plot(
             t,
-            np.asarray(table[f"f10_{leg}"], dtype=np.float64),
+            np.asarray(table[f"tau_{leg}" if family else f"f10_{leg}"], dtype=np.float64),
             color=color,
             linestyle=style,
             linewidth=1.8,
-            label=f"leg {leg}  $f_{{10}}^{leg}$",
+            label=f"leg {leg}  " + (f"$\\tau_{leg}$" if family else f"$f_{{10}}^{leg}$"),
         )
-    force.set_ylabel("actuator force (N)")
+    force.set_ylabel("actuator effort tau (N or N·m)" if family else "actuator force (N)")
     force.set_xlabel("time $t$ (s)")
     force.set_xlim(float(t[0]), max(float(t[-1]), end if end is not None else float(t[-1])))
     for axes in (position, orientation, force):
