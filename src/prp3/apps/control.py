@@ -428,11 +428,9 @@ def track(
         when = None if index is None else float(reference.t[index])
         raise error.located(origin="reference", time=when) from None
     check_plant(robot, plant)
-    simulator: _Plant
-    if plant == "prp3" or isinstance(robot, FamilyRobot):  # check_plant: a family robot's is prp3
-        simulator = _Prp3Plant(robot, reference)
-    else:
-        simulator = _MujocoPlant(robot, reference)
+    simulator: _Plant = (
+        _Prp3Plant(robot, reference) if plant == "prp3" else _MujocoPlant(robot, reference)
+    )
     times = reference.t.tolist()
     rows = np.concatenate([reference.pose, reference.velocity, reference.acceleration], axis=1)
     targets = rows.tolist()

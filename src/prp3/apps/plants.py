@@ -30,6 +30,7 @@ from prp3.engines.compiled_robot import compile_robot
 from prp3.errors import ParameterError, Prp3Error
 from prp3.family.forward import SINGULARITY_STOP as FAMILY_SINGULARITY_STOP
 from prp3.family.forward import FamilyEffortModel, singularity_margin
+from prp3.family.mechanics import family_kinematics
 from prp3.family.model import FamilyRobot
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import Motion
@@ -79,12 +80,7 @@ def check_plant(robot: Robot | FamilyRobot, plant: Plant) -> None:
     prp3.errors.ParameterError: plant 'mujoco': friction.sleeve.coulomb = 0.5: MuJoCo has no counterpart of prp3's Coulomb friction law (its frictionloss is its own dry friction): simulate it with plant 'prp3'
     """
     if isinstance(robot, FamilyRobot):
-        if plant == "mujoco":
-            raise ParameterError(
-                f"plant 'mujoco' drives the 3-PRP's MJCF model only, not yet the "
-                f"{robot.architecture}: simulate it with plant 'prp3'"
-            )
-        return  # a family robot has no friction: its efforts are affine in the acceleration
+        return  # no friction: affine efforts, and its MJCF carries every body and the payload
     if plant == "mujoco":
         for element in robot.elements:  # each element says what MuJoCo simulates otherwise
             element.check_mujoco_plant(robot)
@@ -204,27 +200,44 @@ def _import_mujoco() -> ModuleType:
 
 
 class _MujocoPlant:
-    """MuJoCo running :func:`prp3.apps.mjcf.mjcf_model` of the robot, ``ctrl = f10`` held.
+    """MuJoCo running the robot's MJCF (:func:`prp3.apps.mjcf.mjcf_model`, a family robot's
+    :func:`prp3.family.mjcf.family_mjcf_model`), ``ctrl = f10`` (``tau``) held.
 
-    Measured: ``G`` = the position of body ``platform_A`` (origin ``G``),
+    Measured: ``G`` = the position of body ``platform_A`` (origin ``G``; of a family
+    robot its inertial frame, the platform frame ``(G, φ)``, and ``φ`` its angle),
     ``φ`` = the hinge ``phi_A`` (its angle is the platform's), ``Ġ`` by
     ``mj_objectVelocity`` and ``φ̇`` the hinge's velocity.
     """
 
-    def __init__(self, robot: Robot, reference: Motion) -> None:
+    def __init__(self, robot: Robot | FamilyRobot, reference: Motion) -> None:
         from prp3.apps.mjcf import TIMESTEP, MjcfWarning, mjcf_model
+        from prp3.family.mjcf import family_mjcf_model, joint_names
 
         mujoco = _import_mujoco()
         self.mujoco = mujoco
+        self.family = isinstance(robot, FamilyRobot)
         with warnings.catch_warnings():  # the constant [load]: applied below
             warnings.simplefilter("ignore", MjcfWarning)
-            self.model = mujoco.MjModel.from_xml_string(mjcf_model(robot))
+            text = family_mjcf_model(robot) if isinstance(robot, FamilyRobot) else mjcf_model(robot)
+            self.model = mujoco.MjModel.from_xml_string(text)
         self.data = mujoco.MjData(self.model)
         self.timestep = TIMESTEP
-        kin = inverse_kinematics(_without_limits(robot), reference[0])
-        geo = kin.geometry
-        self.data.qpos[:] = np.stack([geo.lambda10, geo.phi21, geo.lambda32], axis=-1).ravel()
-        self.data.qvel[:] = np.stack([kin.dlambda10, kin.dphi21, kin.dlambda32], axis=-1).ravel()
+        if isinstance(robot, FamilyRobot):  # every leg's joints from home to the first sample
+            kin = family_kinematics(robot, reference[0:1])
+            for name, q, dq in zip(
+                joint_names(robot), kin.q.reshape(9), kin.dq.reshape(9), strict=True
+            ):
+                joint = self.model.joint(name)
+                self.data.qpos[int(joint.qposadr[0])] = q
+                self.data.qvel[int(joint.dofadr[0])] = dq
+            self.phi = float(reference.pose[0, 2])
+        else:
+            kin3 = inverse_kinematics(_without_limits(robot), reference[0])
+            geo = kin3.geometry
+            self.data.qpos[:] = np.stack([geo.lambda10, geo.phi21, geo.lambda32], axis=-1).ravel()
+            self.data.qvel[:] = np.stack(
+                [kin3.dlambda10, kin3.dphi21, kin3.dlambda32], axis=-1
+            ).ravel()
         self.body = int(self.model.body("platform_A").id)
         fx, fy = robot.load.force  # at G, the centre of mass of platform_A
         self.data.xfrc_applied[self.body] = (fx, fy, 0.0, 0.0, 0.0, robot.load.moment)
@@ -236,8 +249,14 @@ class _MujocoPlant:
         mujoco.mj_objectVelocity(
             self.model, data, mujoco.mjtObj.mjOBJ_BODY, self.body, self.velocity, 0
         )
-        x, y = data.xpos[self.body, :2].tolist()
         vx, vy = self.velocity[3:5].tolist()
+        if self.family:  # the inertial frame of platform_A is the platform frame (G, φ)
+            x, y = data.xipos[self.body, :2].tolist()
+            frame = data.ximat[self.body]
+            turned = math.atan2(float(frame[3]), float(frame[0]))
+            self.phi += math.remainder(turned - self.phi, 2.0 * math.pi)  # continuous φ
+            return [x, y, self.phi, vx, vy, float(self.velocity[2])]
+        x, y = data.xpos[self.body, :2].tolist()
         return [x, y, float(data.qpos[1]), vx, vy, float(data.qvel[1])]
 
     def advance(
