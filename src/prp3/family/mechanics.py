@@ -585,8 +585,10 @@ def _solution(
     t = np.atleast_1d(kin.motion.t)
     a = kin.robot.actuated - 1
     tau = tau.reshape(-1, 3)
-    power = tau * dq.reshape(-1, 3, 3)[..., a]
-    require_finite({"tau": tau, "force": force, "moment": moment}, (t.size,), "motion", t)
+    with np.errstate(over="ignore"):  # p = τ·q̇a may overflow: refused below, named
+        power = tau * dq.reshape(-1, 3, 3)[..., a]
+    finite = {"tau": tau, "p": power, "force": force, "moment": moment}
+    require_finite(finite, (t.size,), "motion", t)
     return FamilySolution(
         kinematics=kin,
         q=kin.q,
