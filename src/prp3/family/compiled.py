@@ -81,6 +81,7 @@ from prp3.family.compiled_path import _follow
 from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
+    on_the_way,
     pose_bound_error,
     singular_error,
     unreachable_error,
@@ -443,7 +444,7 @@ def _refuse(
     if code == _OUT_OF_RANGE:
         raise pose_bound_error(robot, pose, t, k)
     if code == _UNREACHABLE:
-        note = "" if exact else f" on the way to sample {k}"
+        note = "" if exact else on_the_way(t, k)
         raise unreachable_error(robot, leg, info, note, k, t)
     if code in (_SINGULAR_LEG, _SINGULAR_PAR):
         home_leg, home_par = robot.home_measures
