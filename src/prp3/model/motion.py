@@ -367,7 +367,21 @@ def spline_derivatives(t: FloatArray, pose: FloatArray) -> tuple[FloatArray, Flo
 
     samples = t.size
     degree = 5 if samples >= 6 else 3 if samples >= 4 else 1
-    spline = make_interp_spline(t, pose, k=degree, axis=0)
-    velocity = np.asarray(spline(t, 1), dtype=np.float64)
-    acceleration = np.asarray(spline(t, 2), dtype=np.float64)
+    # on s = (t − t0)/T in [0, 1] and the moves from the first pose: a time step of
+    # 1e-300 s or a subnormal one, and a constant coordinate, lose no digit (q(t) =
+    # q(t0 + T·s) is the same spline; dq/dt = (dq/ds)/T, d²q/dt² = (d²q/ds²)/T/T)
+    duration = float(t[-1]) - float(t[0])  # Python floats: inf, no warning, on overflow
+    if math.isfinite(duration):
+        s = (t - t[0]) / duration
+    else:  # times of either sign near the float64 limit: halves do not overflow
+        half = float(t[-1] / 2.0 - t[0] / 2.0)
+        s, duration = (t / 2.0 - t[0] / 2.0) / half, math.inf
+    s[-1] = 1.0
+    spline = make_interp_spline(s, pose - pose[0], k=degree, axis=0)
+    if math.isinf(duration):
+        velocity = np.asarray(spline(s, 1), dtype=np.float64) / half / 2.0
+        acceleration = np.asarray(spline(s, 2), dtype=np.float64) / half / half / 4.0
+    else:
+        velocity = np.asarray(spline(s, 1), dtype=np.float64) / duration
+        acceleration = np.asarray(spline(s, 2), dtype=np.float64) / duration / duration
     return velocity, acceleration, degree
