@@ -22,7 +22,7 @@ from clitools import cli, listing, one_line
 from prp3 import Robot
 from prp3.analysis.inverse_dynamics import METHODS, inverse_dynamics
 from prp3.apps.runs import simulate_table
-from prp3.errors import SingularPoseError, TrajectoryError
+from prp3.errors import SingularPoseError
 from prp3.model.motion import Motion, law_motion, paper_motion
 from prp3.model.parameters import Friction, JointFriction
 from prp3.path_validation import RATE_TOLERANCE, check_path, rest_rates

@@ -20,9 +20,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.engines.compiled_robot import Engine
-from prp3.errors import Prp3Error
 from prp3.engines.entries import solve_batch
 from prp3.engines.select import resolve_engine
+from prp3.errors import Prp3Error
 from prp3.mechanics.forces import FORCE_NAMES, FRICTION_NAMES, InverseDynamics, checked
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
 from prp3.model.motion import Motion, name_overflow_input

@@ -197,15 +197,16 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     q0, q1 = motion.pose[k], motion.pose[k + 1]
     v0, v1 = motion.velocity[k], motion.velocity[k + 1]
     a0, a1 = motion.acceleration[k], motion.acceleration[k + 1]
-    step = q1 - q0
     basis = _hermite_basis(u)  # (3 orders, 5 functions, M, 1)
     b1, b2, b3, b4, b5 = basis[0]
-    d1, d2, d3, d4, d5 = basis[1]
-    e1, e2, e3, e4, e5 = basis[2]
+    d1, _, d3, d4, d5 = basis[1]  # d2 = 1 − d1 − d3
+    e1, _, e3, e4, e5 = basis[2]  # e2 = −e1 − e3
     with np.errstate(over="ignore", invalid="ignore"):  # a reference that overflows: refused
+        step = q1 - q0
+        slope = step / h  # the differences first: a straight line has no round-off/h
         pose = q0 + b1 * step + h * (b2 * v0 + b3 * v1) + h * (h * (b4 * a0 + b5 * a1))
-        velocity = d1 * step / h + d2 * v0 + d3 * v1 + h * (d4 * a0 + d5 * a1)
-        acceleration = e1 * step / h / h + (e2 * v0 + e3 * v1) / h + e4 * a0 + e5 * a1
+        velocity = v0 + d1 * (slope - v0) + d3 * (v1 - v0) + h * (d4 * a0 + d5 * a1)
+        acceleration = (e1 * (slope - v0) + e3 * (v1 - v0)) / h + e4 * a0 + e5 * a1
     knot = np.flatnonzero(np.isin(at, t))  # at the samples: the motion itself
     where = np.searchsorted(t, at[knot])
     pose[knot], velocity[knot] = motion.pose[where], motion.velocity[where]

@@ -146,9 +146,7 @@ def singular_error(
         what = "a singularity crossed"
     elif abs(measure) >= SINGULAR:
         start = "home" if k == 0 else f"sample {k - 1} (t = {float(t[k - 1]):.6g} s)"
-        what = (
-            f"a singularity crossed between {start} and sample {k} (t = {float(t[k]):.6g} s)"
-        )
+        what = f"a singularity crossed between {start} and sample {k} (t = {float(t[k]):.6g} s)"
     else:
         what = "a singular pose"
     return SingularPoseError(
