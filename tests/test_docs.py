@@ -372,7 +372,7 @@ _ERROR_CASES: dict[str, tuple[dict[str, str], list[str]]] = {
         {"file.txt": "x"},
         ["simulate", "--motion", "vertical", "-o", "file.txt/out"],
     ),
-    "results that overflow (absurd speeds)": (
+    "results that overflow (absurd speeds: the sample's largest input named)": (
         {
             "big.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,0,0,0,0,1e160,0,0,0\n1e-300,0,0,1e-140,0,0,1e160,0,0,0\n"
         },
@@ -411,13 +411,6 @@ _ERROR_CASES: dict[str, tuple[dict[str, str], list[str]]] = {
             "0.2,0.01,0,0.4,0,0,2,0,0,0\n0.4,0.01,0,0.8,0,0,2,0,0,0\n0.6,0.01,0,1.2,0,0,2,0,0,0\n"
         },
         ["simulate", "--trajectory", "traj.csv", "-o", "out"],
-    ),
-    "a step the given velocities do not explain": (
-        {
-            "still.csv": "t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n0,0,0,0,0,0,0,0,0,0\n"
-            "0.1,0,0,0,0,0,0,0,0,0\n0.2,0.05,0,0,0,0,0,0,0,0\n"
-        },
-        ["simulate", "--trajectory", "still.csv", "-o", "out"],
     ),
     "`--pareto` or `--sensitivity` without `--plots`": (
         {"spec.toml": "designs = 2\n[parameters]\nl0 = [0.25, 0.3]\n[task]\nsamples = 5\n"},

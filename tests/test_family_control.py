@@ -150,3 +150,25 @@ def test_cli_control_refusals_are_one_line(
             "--controller", "pd", "--model", model_file, "--output", tmp_path / "no",
         )[2]
     )  # fmt: skip
+
+
+def test_cli_control_of_a_family_robot_follows_a_trajectory_past_phi_pi_3(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """The 3-PRP's φ = π/3 rule is not a family robot's (the 3-RPR turns through it)."""
+    robot_file = tmp_path / "robot.toml"
+    robot_file.write_text('architecture = "3-RPR"\n')
+    t = np.linspace(0.0, 0.2, 21)
+    phi = np.pi / 3 - 0.021 + 0.2 * t  # through π/3 at t = 0.105 s, between two samples
+    rows = [
+        f"{a!r},0.0,0.0,{b!r},0.0,0.0,0.2,0.0,0.0,0.0"
+        for a, b in zip(t.tolist(), phi.tolist(), strict=True)
+    ]
+    trajectory = tmp_path / "traj.csv"
+    trajectory.write_text("t,x,y,phi,dx,dy,dphi,ddx,ddy,ddphi\n" + "\n".join(rows) + "\n")
+    status, text, err = cli(
+        capsys, "control", "--robot", robot_file, "--trajectory", trajectory, "--plant", "prp3",
+        "--controller", "computed-torque", "--rate", "200", "--output", tmp_path / "ctl",
+    )  # fmt: skip
+    assert status == 0, err
+    assert "completed" in text

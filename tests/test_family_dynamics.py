@@ -519,7 +519,8 @@ def test_unreachable_pose_is_named() -> None:
         family_inverse_dynamics(FamilyRobot.default("3-RRR"), motion)
     error = info.value
     assert error.sample == 1 and error.leg in tuple(LEGS) and error.time == 1.0
-    assert "on the way to sample 1" in str(error) and error.pose is not None
+    assert "on the way from sample 0 (t = 0 s) to sample 1 (t = 1 s)" in str(error)
+    assert error.pose is not None
     assert 0.0 < error.pose[0] < 0.6  # the straight path leaves the workspace before the sample
     single = Motion.at_rest([0.6, 0.0, 0.0])
     with pytest.raises(UnreachablePoseError, match="cannot reach"):
@@ -529,7 +530,8 @@ def test_unreachable_pose_is_named() -> None:
 def test_a_crossing_between_samples_is_refused() -> None:
     """Two samples on either side of the 3-PRR's parallel singularity at φ = atan(1/2)."""
     motion = Motion.at_rest([[0.0, 0.0, 0.0], [0.0, 0.0, 0.3], [0.0, 0.0, 0.7]], t=[0.0, 1.0, 2.0])
-    with pytest.raises(SingularPoseError, match="on the way to sample 2") as info:
+    between = r"on the way from sample 1 \(t = 1 s\) to sample 2 \(t = 2 s\)"  # both named
+    with pytest.raises(SingularPoseError, match=between) as info:
         family_inverse_dynamics(FamilyRobot.default("3-PRR", 2), motion)
     assert info.value.sample == 2 and "mu_par" in str(info.value)
     assert info.value.pose is not None and 0.3 < info.value.pose[2] < 0.7

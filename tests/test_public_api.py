@@ -138,6 +138,7 @@ EXEMPT: dict[str, str] = {
     "SweepSpec": "built by sweep_spec / read_sweep_spec",
     "Friction": "holds JointFriction values, each validated",
     "Spring": "holds SpringParameters values, each validated",
+    "name_overflow_input": "reads an error prp3 raised and a Motion (validated when built)",
     "InputFileError": "exception",
     "OutputFileError": "exception",
     "ParameterError": "exception",

@@ -247,7 +247,7 @@ def test_warnings_of_the_libraries_are_one_line(capsys, monkeypatch):
 def test_results_that_overflow_are_refused_and_nothing_is_written(tmp_path, capsys, earlier_run):
     # was: RuntimeWarnings on stderr, exit 0, and NaN in results.csv
     before = listing(earlier_run)
-    # (the positions move as the velocities say: a step they do not explain is refused first)
+    # (the samples are independent states: their rates need not explain the steps)
     rows = [
         [k * 1e-210, k * 1e-10, k * 1e-10, k * 1e-10, 1e200, 1e200, 1e200, 0.0, 0.0, 0.0]
         for k in range(3)

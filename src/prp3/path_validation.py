@@ -1,27 +1,30 @@
 """The checks between the samples of a motion, and the rates of a motion at rest (layer 0).
 
-:func:`check_path` refuses a motion that crosses a singular orientation or
-whose steps disagree with its rates (:data:`STEP_TOLERANCE`), whatever its
-sampling; :func:`rest_rates` and :func:`rest_joint_rates` set the round-off
-rates of a motion at rest to zero (:data:`RATE_TOLERANCE`), so that every
-method reads the same sign of friction.
+:func:`check_path` refuses a motion that crosses a singular orientation
+between two of its samples, whatever its sampling; :func:`rest_rates` and
+:func:`rest_joint_rates` set the round-off rates of a motion at rest to zero
+(:data:`RATE_TOLERANCE`), so that every method reads the same sign of
+friction.
+
+Each sample of a motion is a state of its own (its pose and rates at its
+time): nothing asks that the rates integrate to the steps between samples,
+so a static grid of poses with zero rates, or measured data, is a motion too.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+import warnings
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.errors import SingularPoseError, TrajectoryError
-from prp3.pose_validation import POSE_COMPONENTS, SINGULARITY_THRESHOLD, singularity_measure
+from prp3.errors import SingularPoseError
+from prp3.pose_validation import SINGULARITY_THRESHOLD, singularity_measure
 
 __all__ = [
     "RATE_TOLERANCE",
-    "STEP_TOLERANCE",
     "check_path",
     "joint_rate_floor",
     "rest_joint_rates",
@@ -30,21 +33,29 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: Largest relative misfit of a step between two samples of a motion and the
-#: step its rates give (:func:`check_path`): a step of a coordinate ``q`` from
-#: sample ``k − 1`` to ``k`` (time step ``h``) must satisfy
-#: ``|E| <= STEP_TOLERANCE·S + 1e-6·Q`` with the misfit of the corrected
-#: trapezoid ``E = Δq − h·(q̇₀ + q̇₁)/2 + h²·(q̈₁ − q̈₀)/12`` (exact for any
-#: polynomial of degree 4 in t), its size ``S = |Δq| + h·(|q̇₀| + |q̇₁|)/2 +
-#: h²·(|q̈₀| + |q̈₁|)/12`` (so ``|E| <= S`` always) and ``Q`` the coordinate's
-#: largest magnitude over the motion (digits lost in a file's text).
-STEP_TOLERANCE: float = 0.25
-
 #: Platform rates at most this fraction of the motion's largest rate of their
 #: kind are round-off and count as zero (:func:`rest_rates`): the translation
 #: ``(ẋ, ẏ)`` against the largest ``|(ẋ, ẏ)|`` over the motion, ``φ̇`` against
 #: the largest ``|φ̇|``.
 RATE_TOLERANCE: float = 1e-12
+
+#: The value ``STEP_TOLERANCE`` had while :func:`check_path` compared the steps
+#: with the rates (deprecated: read through the module, with a warning).
+_OLD_STEP_TOLERANCE: float = 0.25
+
+
+def __getattr__(name: str) -> Any:
+    """``STEP_TOLERANCE``, deprecated: the steps are no longer checked against the rates."""
+    if name == "STEP_TOLERANCE":
+        warnings.warn(
+            "prp3.path_validation.STEP_TOLERANCE is deprecated and unused: the samples of a "
+            "motion are independent states, their steps are no longer checked against their "
+            "rates; it will be removed in the next release",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return _OLD_STEP_TOLERANCE
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _crossing(t: FloatArray, phi: FloatArray) -> int | None:
@@ -64,30 +75,32 @@ def check_path(
     lines: ArrayLike | None = None,
     subject: str | None = "motion",
 ) -> None:
-    """Refuse a motion that crosses the singularity or jumps between two samples.
+    """Refuse a motion that crosses the singularity between two samples.
 
-    The pose check (:func:`~prp3.pose_validation.check_poses`) sees the samples only; this one sees
-    the steps between them, so that it holds whatever the sampling:
-
-    * the orientation ``φ`` of a motion may not pass a singular orientation
-      ``φ = π/3 mod π`` between two consecutive samples (where
-      ``sin(φ − π/3)``, the determinant of eq. 10, vanishes: the actuator
-      forces are infinite there, and the inverse geometry's joint
-      coordinates jump from one side to the other) — refused as a
-      :class:`~prp3.errors.SingularPoseError`;
-    * with ``velocity`` (and ``acceleration``, else zero), every coordinate
-      ``x, y, φ`` must move from one sample to the next as its rates say:
-      the corrected trapezoid of :data:`STEP_TOLERANCE`.  The joint
-      coordinates ``λ10, λ32`` are smooth single-valued functions of the pose
-      between the singular orientations (eq. 10), so with no crossing and
-      steps that agree with their rates they cannot jump either.
+    The pose check (:func:`~prp3.pose_validation.check_poses`) sees the samples
+    only; this one sees the straight path between two consecutive samples
+    (the poses ``(1 − s)·q_{k−1} + s·q_k``, ``0 <= s <= 1``), so that it holds
+    whatever the sampling: the orientation ``φ`` may not pass a singular
+    orientation ``φ = π/3 mod π`` on it (where ``sin(φ − π/3)``, the
+    determinant of eq. 10, vanishes: the actuator forces are infinite there,
+    and the inverse geometry's joint coordinates jump from one side to the
+    other).  ``φ`` is linear in ``s`` on that path, so it passes a singular
+    orientation exactly when the two samples lie on either side of one.
+    The judgement reads the poses only, never the rates: each sample is a
+    state of its own, and its rates need not integrate to the steps (a static
+    grid of poses with zero rates is a motion too).  Between the singular
+    orientations ``λ10, λ32`` are smooth single-valued functions of the pose
+    (eq. 10), so the 3-PRP has no branch to follow from sample to sample.
 
     Parameters
     ----------
     t : array_like, shape (N,)
         Strictly increasing times (s); a single sample (shape ``()``) has no step.
-    pose, velocity, acceleration : array_like, shape (N, 3)
-        ``(x, y, φ)`` and its rates (validated finite by the caller).
+    pose : array_like, shape (N, 3)
+        ``(x, y, φ)`` (validated finite by the caller).
+    velocity, acceleration : None
+        Deprecated and ignored (a :class:`DeprecationWarning` when given): the
+        steps were once checked against the rates.
     lines : array_like of int, shape (N,), optional
         The file line of each sample, to name the earlier sample by its line.
     subject : str or None
@@ -95,7 +108,7 @@ def check_path(
 
     Raises
     ------
-    SingularPoseError, TrajectoryError
+    SingularPoseError
         Naming both samples and their times (``sample`` and ``time`` fields:
         the later one).  A sample that is singular itself is left to
         :func:`~prp3.pose_validation.check_poses`, which names it.
@@ -108,11 +121,19 @@ def check_path(
     Traceback (most recent call last):
     ...
     prp3.errors.SingularPoseError: motion: sample 1, t = 0.6 s: the motion crosses the singular orientation phi = 1.0472 rad (pi/3 mod pi) between sample 0 (t = 0.4 s, phi = 0.8) and sample 1 (t = 0.6 s, phi = 1.2): sin(phi - pi/3) changes sign (-0.245 to 0.152); the actuator forces are infinite there
-    >>> check_path(t, np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]]), np.zeros((2, 3)))
-    Traceback (most recent call last):
-    ...
-    prp3.errors.TrajectoryError: motion: sample 1, t = 0.6 s: x jumps by 0.1 from sample 0 (t = 0.4 s) to sample 1 (t = 0.6 s), but its rates give a step of 0 (corrected trapezoid of dx, ddx): the velocities do not explain the step; give consistent derivatives (or none)
+
+    Two poses of a static grid (zero rates) are two independent states:
+
+    >>> check_path(t, np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.5]]))
     """
+    if velocity is not None or acceleration is not None:
+        warnings.warn(
+            "check_path's velocity and acceleration are deprecated and ignored: the samples "
+            "of a motion are independent states, their steps are no longer checked against "
+            "their rates; leave them out (they will be removed in the next release)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
     times = np.asarray(t, dtype=np.float64)
     if times.ndim != 1 or times.size < 2:
         return
@@ -124,67 +145,20 @@ def check_path(
         return f"{label} (t = {float(times[k]):.6g} s"
 
     k = _crossing(times, q[:, 2])
-    if k is not None:
-        phi0, phi1 = float(q[k - 1, 2]), float(q[k, 2])
-        band = math.floor((phi0 - math.pi / 3.0) / math.pi)
-        singular = math.pi / 3.0 + math.pi * (band + 1 if phi1 > phi0 else band)
-        d0, d1 = (float(v) for v in singularity_measure(np.array([phi0, phi1])))
-        change = f"changes sign ({d0:.3g} to {d1:.3g})" if d0 * d1 < 0 else "passes zero"
-        raise SingularPoseError(
-            f"the motion crosses the singular orientation phi = {singular:.6g} rad (pi/3 mod pi) "
-            f"between {sample(k - 1)}, phi = {phi0:.6g}) and {sample(k)}, phi = {phi1:.6g}): "
-            f"sin(phi - pi/3) {change}; the actuator forces are infinite there",
-            subject=subject,
-            sample=k,
-            time=float(times[k]),
-        )
-    if velocity is None:
+    if k is None:
         return
-    qd = np.asarray(velocity, dtype=np.float64).reshape(q.shape)
-    qdd = (
-        np.zeros_like(q)
-        if acceleration is None
-        else np.asarray(acceleration, dtype=np.float64).reshape(q.shape)
-    )
-    floor = 1e-6 * np.abs(q).max(axis=0)  # digits lost in a file's text
-    for first in range(0, times.size - 1, _STEP_BLOCK):  # bounded memory
-        last = min(first + _STEP_BLOCK, times.size - 1) + 1
-        _check_steps(times[first:last], q[first:last], qd[first:last], qdd[first:last],
-                     floor, first, sample, subject)  # fmt: skip
-
-
-#: Steps of a motion checked at a time by :func:`check_path` (bounds its memory).
-_STEP_BLOCK: int = 65_536
-
-
-def _check_steps(
-    t: FloatArray, q: FloatArray, qd: FloatArray, qdd: FloatArray, floor: FloatArray,
-    offset: int, sample: Callable[[int], str], subject: str | None,
-) -> None:  # fmt: skip
-    """The step test of :func:`check_path` on samples ``offset, offset + 1, ...``."""
-    h = np.diff(t)[:, None]
-    with np.errstate(over="ignore", invalid="ignore"):
-        trapezoid = h * (qd[1:] + qd[:-1]) / 2.0 - h * h * (qdd[1:] - qdd[:-1]) / 12.0
-        step = np.diff(q, axis=0)
-        size = (
-            np.abs(step)
-            + h * (np.abs(qd[1:]) + np.abs(qd[:-1])) / 2.0
-            + h * h * (np.abs(qdd[1:]) + np.abs(qdd[:-1])) / 12.0
-        )
-        bad = np.abs(step - trapezoid) > STEP_TOLERANCE * size + floor
-    if not bad.any():
-        return
-    index, axis = np.argwhere(bad)[0].tolist()
-    k = offset + index + 1
-    name = POSE_COMPONENTS[axis]
-    raise TrajectoryError(
-        f"{name} jumps by {float(step[index, axis]):.6g} from {sample(k - 1)}) to {sample(k)}), "
-        f"but its rates give a step of {float(trapezoid[index, axis]):.6g} (corrected trapezoid "
-        f"of d{name}, dd{name}): the velocities do not explain the step; give consistent "
-        "derivatives (or none)",
+    phi0, phi1 = float(q[k - 1, 2]), float(q[k, 2])
+    band = math.floor((phi0 - math.pi / 3.0) / math.pi)
+    singular = math.pi / 3.0 + math.pi * (band + 1 if phi1 > phi0 else band)
+    d0, d1 = (float(v) for v in singularity_measure(np.array([phi0, phi1])))
+    change = f"changes sign ({d0:.3g} to {d1:.3g})" if d0 * d1 < 0 else "passes zero"
+    raise SingularPoseError(
+        f"the motion crosses the singular orientation phi = {singular:.6g} rad (pi/3 mod pi) "
+        f"between {sample(k - 1)}, phi = {phi0:.6g}) and {sample(k)}, phi = {phi1:.6g}): "
+        f"sin(phi - pi/3) {change}; the actuator forces are infinite there",
         subject=subject,
         sample=k,
-        time=float(t[index + 1]),
+        time=float(times[k]),
     )
 
 

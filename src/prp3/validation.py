@@ -45,6 +45,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LEGS",
+    "OVERFLOW_REASON",
     "check_choice",
     "check_finite",
     "check_instance",
@@ -65,6 +66,9 @@ FloatArray = NDArray[np.float64]
 T = TypeVar("T")
 #: Leg names, in the order of the last axis of every per-leg array.
 LEGS: tuple[str, str, str] = ("A", "B", "C")
+
+#: How the reason of an error of results that overflowed begins (:func:`require_finite`).
+OVERFLOW_REASON: str = "the results overflow"
 
 _KINDS = {"b": "booleans", "c": "complex numbers", "U": "text", "S": "bytes", "V": "records"}
 
@@ -432,7 +436,7 @@ def require_finite(
     index, name = found
     time = float(np.asarray(times).reshape(-1)[index]) if times is not None else None
     raise TrajectoryError(
-        f"the results overflow: {name} is not finite; "
+        f"{OVERFLOW_REASON}: {name} is not finite; "
         "the motion or the robot's parameters are too large for double precision",
         subject=what,
         sample=index if batch else None,

@@ -22,9 +22,10 @@ from numpy.typing import NDArray
 from prp3.engines.compiled_robot import Engine
 from prp3.engines.entries import solve_batch
 from prp3.engines.select import resolve_engine
+from prp3.errors import Prp3Error
 from prp3.mechanics.forces import FORCE_NAMES, FRICTION_NAMES, InverseDynamics, checked
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
-from prp3.model.motion import Motion
+from prp3.model.motion import Motion, name_overflow_input
 from prp3.model.robot import Robot
 from prp3.path_validation import check_path
 from prp3.references.newton_euler import newton_euler
@@ -108,9 +109,12 @@ def inverse_dynamics(
     check_choice("method", method, METHODS)
     engine = resolve_engine(engine)  # type: ignore[assignment]
     check_path(motion.t, motion.pose)  # no singular orientation between two samples
-    if method == "paper":
-        return paper_method(robot, motion)
-    kin = inverse_kinematics(robot, motion)
-    if method == "fast":
-        return kin, kernel_method(robot, kin, engine=engine)
-    return kin, newton_euler(robot, motion)
+    try:
+        if method == "paper":
+            return paper_method(robot, motion)
+        kin = inverse_kinematics(robot, motion)
+        if method == "fast":
+            return kin, kernel_method(robot, kin, engine=engine)
+        return kin, newton_euler(robot, motion)
+    except Prp3Error as error:  # results that overflow: the input that made them is named
+        raise name_overflow_input(error, motion) from None

@@ -109,7 +109,8 @@ def control_times(start: float, stop: float, rate: float) -> FloatArray:
     """The control instants ``start, start + 1/rate, ...`` up to ``stop`` inclusive (s).
 
     When ``stop − start`` is not a whole number of periods, ``stop`` is added
-    as the last instant (the last step is then shorter).
+    as the last instant (the last step is then shorter; an interval shorter
+    than a period has its two ends).
 
     Raises
     ------
@@ -121,6 +122,8 @@ def control_times(start: float, stop: float, rate: float) -> FloatArray:
     [0.0, 0.0025, 0.005, 0.0075, 0.01]
     >>> control_times(0.0, 0.01, 300.0).round(6).tolist()
     [0.0, 0.003333, 0.006667, 0.01]
+    >>> control_times(0.0, 1e-300, 400.0).tolist()  # shorter than a period: its two ends
+    [0.0, 1e-300]
     """
     rate = check_scalar("rate", rate, positive=True, unit="Hz")
     start = check_scalar("start", start, error=TrajectoryError)
@@ -137,7 +140,7 @@ def control_times(start: float, stop: float, rate: float) -> FloatArray:
         )
     count = math.floor(periods + 1e-9)
     times = start + np.arange(count + 1, dtype=np.float64) / float(rate)
-    if stop - times[-1] > 1e-9 / float(rate):
+    if stop - times[-1] > 1e-9 / float(rate) or times.size == 1:  # shorter than a period: both
         times = np.append(times, stop)
     times[-1] = stop
     return times
@@ -151,14 +154,19 @@ LOAD_REFUSAL: str = (
 )
 
 
-def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
+def hermite_reference(motion: Motion, times: ArrayLike, *, crossing: bool = True) -> Motion:
     """The motion interpolated at ``times`` by quintic Hermite polynomials.
 
     Between two samples each of ``x, y, φ`` is the polynomial of degree 5 that
     matches the positions, velocities and accelerations of both samples
-    (``scipy.interpolate.BPoly.from_derivatives``); its derivatives give the
-    reference velocity and acceleration.  At the samples the reference is
-    the motion itself.
+    (what ``scipy.interpolate.BPoly.from_derivatives`` builds); its
+    derivatives give the reference velocity and acceleration.  At the samples
+    the reference is the motion itself.  The polynomial is evaluated on the
+    segment's own coordinate ``u = (t − t_k)/h`` in ``[0, 1]`` with the
+    quintic Hermite basis, each term divided by the power of ``h`` it needs,
+    so that a step ``h`` of ``1e-300`` s or a subnormal one overflows only
+    where the reference itself does (positions that move by ``Δq`` in ``h``
+    need an acceleration of order ``Δq/h²``).
 
     Parameters
     ----------
@@ -166,6 +174,10 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
         ``N >= 2`` samples with velocities and accelerations.
     times : array_like, shape (M,)
         Strictly increasing times within ``[t[0], t[-1]]`` (s).
+    crossing : bool
+        Refuse a motion that crosses the 3-PRP's singularity ``φ = π/3 mod π``
+        between two samples (the default); ``False`` for a family robot, whose
+        singularities :func:`track` checks along the path.
 
     Raises
     ------
@@ -181,26 +193,62 @@ def hermite_reference(motion: Motion, times: ArrayLike) -> Motion:
     >>> bool(np.abs(r.pose - law_at([0.01, 0.0, 0.0], [0.05, 1.55]).pose).max() < 1e-9)
     True
     """
-    from scipy.interpolate import BPoly
-
     check_instance("motion", motion, Motion, "a prp3.Motion")
     if motion.t.ndim != 1 or motion.samples < 2:
         raise TrajectoryError("reference: the motion needs at least 2 samples")
     if motion.load is not None:
         raise TrajectoryError(LOAD_REFUSAL, subject="reference")
-    check_path(motion.t, motion.pose)  # an interpolant across the singularity: refused
+    if crossing:  # the 3-PRP's: an interpolant across φ = π/3 (a family robot's: by track)
+        check_path(motion.t, motion.pose)
     at = check_times("times", times)
     first, last = float(motion.t[0]), float(motion.t[-1])
     if at.ndim != 1 or at.size == 0 or not (at.min() >= first and at.max() <= last):
         raise TrajectoryError(f"reference: times must lie within [{first!r}, {last!r}] s")
-    knots = np.stack([motion.pose, motion.velocity, motion.acceleration], axis=1)  # (N, 3, 3)
-    pose, velocity, acceleration = (np.empty((at.size, 3)) for _ in range(3))
-    for axis in range(3):
-        spline = BPoly.from_derivatives(motion.t, knots[:, :, axis])
-        pose[:, axis] = spline(at)
-        velocity[:, axis] = spline.derivative(1)(at)
-        acceleration[:, axis] = spline.derivative(2)(at)
+    t = motion.t
+    k = np.clip(np.searchsorted(t, at, side="right") - 1, 0, t.size - 2)  # segment of each
+    h = (t[k + 1] - t[k])[:, None]  # > 0, exact for subnormal steps
+    u = ((at - t[k]) / h[:, 0])[:, None]
+    q0, q1 = motion.pose[k], motion.pose[k + 1]
+    v0, v1 = motion.velocity[k], motion.velocity[k + 1]
+    a0, a1 = motion.acceleration[k], motion.acceleration[k + 1]
+    basis = _hermite_basis(u)  # (3 orders, 5 functions, M, 1)
+    b1, b2, b3, b4, b5 = basis[0]
+    d1, _, d3, d4, d5 = basis[1]  # d2 = 1 − d1 − d3
+    e1, _, e3, e4, e5 = basis[2]  # e2 = −e1 − e3
+    with np.errstate(over="ignore", invalid="ignore"):  # a reference that overflows: refused
+        step = q1 - q0
+        slope = step / h  # the differences first: a straight line has no round-off/h
+        pose = q0 + b1 * step + h * (b2 * v0 + b3 * v1) + h * (h * (b4 * a0 + b5 * a1))
+        velocity = v0 + d1 * (slope - v0) + d3 * (v1 - v0) + h * (d4 * a0 + d5 * a1)
+        acceleration = (e1 * (slope - v0) + e3 * (v1 - v0)) / h + e4 * a0 + e5 * a1
+    knot = np.flatnonzero(np.isin(at, t))  # at the samples: the motion itself
+    where = np.searchsorted(t, at[knot])
+    pose[knot], velocity[knot] = motion.pose[where], motion.velocity[where]
+    acceleration[knot] = motion.acceleration[where]
     return Motion(t=at, pose=pose, velocity=velocity, acceleration=acceleration)
+
+
+def _hermite_basis(u: FloatArray) -> FloatArray:
+    """The quintic Hermite basis on ``[0, 1]`` and its 1st and 2nd derivatives, ``(3, 5, ...)``.
+
+    The functions multiply ``q1 − q0, h·q̇0, h·q̇1, h²·q̈0, h²·q̈1`` (``q0`` itself has
+    the weight 1): ``10u³ − 15u⁴ + 6u⁵``, ``u − 6u³ + 8u⁴ − 3u⁵``,
+    ``−4u³ + 7u⁴ − 3u⁵``, ``(u² − 3u³ + 3u⁴ − u⁵)/2``, ``(u³ − 2u⁴ + u⁵)/2``.
+
+    >>> basis = _hermite_basis(np.array([0.0, 1.0]))
+    >>> basis[0, :, 1].tolist(), basis[1, :, 0].tolist(), basis[2, :, 0].tolist()
+    ([1.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0, 0.0])
+    """
+    u2, u3 = u * u, u * u * u
+    u4, u5 = u3 * u, u3 * u2
+    return np.array([
+        [10*u3 - 15*u4 + 6*u5, u - 6*u3 + 8*u4 - 3*u5, -4*u3 + 7*u4 - 3*u5,
+         (u2 - 3*u3 + 3*u4 - u5) / 2, (u3 - 2*u4 + u5) / 2],
+        [30*u2 - 60*u3 + 30*u4, 1 - 18*u2 + 32*u3 - 15*u4, -12*u2 + 28*u3 - 15*u4,
+         (2*u - 9*u2 + 12*u3 - 5*u4) / 2, (3*u2 - 8*u3 + 5*u4) / 2],
+        [60*u - 180*u2 + 120*u3, -36*u + 96*u2 - 60*u3, -24*u + 84*u2 - 60*u3,
+         (2 - 18*u + 36*u2 - 20*u3) / 2, (6*u - 24*u2 + 20*u3) / 2],
+    ])  # fmt: skip
 
 
 def check_model(robot: Robot | FamilyRobot, model: Robot | FamilyRobot) -> None:

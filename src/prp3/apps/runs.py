@@ -22,7 +22,7 @@ from prp3.engines.entries import solve_batch
 from prp3.engines.select import resolve_engine
 from prp3.errors import ParameterError, Prp3Error
 from prp3.io.results import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_columns, results_table
-from prp3.model.motion import Motion
+from prp3.model.motion import Motion, name_overflow_input
 from prp3.model.robot import Robot
 from prp3.path_validation import check_path
 from prp3.validation import LEGS, check_instance, check_integer, check_robot
@@ -95,8 +95,9 @@ def simulate_table(
                         load=piece.load, engine=engine,
                     ).get("near_lock")  # fmt: skip
         except Prp3Error as error:
+            error = name_overflow_input(error, piece)  # results that overflow: name the input
             if error.sample is None:
-                raise
+                raise error from None
             moved = error.located(sample=error.sample + start)
             if error.subject == "motion" and error.time is None:
                 moved = moved.located(time=float(piece.t[error.sample]))

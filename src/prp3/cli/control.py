@@ -223,7 +223,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         model_text = "model = the plant's robot"
     if args.trajectory is not None:
-        trajectory = read_trajectory(args.trajectory)
+        trajectory = read_trajectory(args.trajectory, crossing=not family)
         if trajectory.motion.load is not None:
             raise TrajectoryError(
                 f"prp3 control does not use the load columns: {LOAD_REFUSAL}",
@@ -240,7 +240,7 @@ def run(args: argparse.Namespace) -> int:
             when = float(motion.t[sample]) if sample is not None else None
             raise error.located(file=trajectory.path, line=line, time=when, subject=None) from None
         times = control_times(float(motion.t[0]), float(motion.t[-1]), args.rate)
-        reference = hermite_reference(motion, times)
+        reference = hermite_reference(motion, times, crossing=not family)
         what = f"trajectory {args.trajectory} (quintic Hermite reference)"
     else:
         note = None

@@ -294,7 +294,8 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
                 "--samples applies to --motion only (a trajectory file has its own samples), "
                 f"got --samples {args.samples} with --trajectory {args.trajectory}"
             )
-        trajectory = read_trajectory(args.trajectory)
+        # a family robot refuses its own crossings as its legs follow the path
+        trajectory = read_trajectory(args.trajectory, crossing=not isinstance(loaded, FamilyRobot))
         motion = trajectory.motion
         heading = f"prp3 simulate: trajectory {trajectory.path}"
     else:

@@ -81,6 +81,7 @@ from prp3.family.compiled_path import _follow
 from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
+    on_the_way,
     pose_bound_error,
     singular_error,
     unreachable_error,
@@ -232,7 +233,7 @@ def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatA
             t_j = minv[j, 0] * rhs[0] + minv[j, 1] * rhs[1] + minv[j, 2] * rhs[2]
             tau[k, j] = t_j
             power[k, j] = t_j * dq[k, j, a]
-            if not math.isfinite(t_j):
+            if not (math.isfinite(t_j) and math.isfinite(power[k, j])):
                 dyn_ok = False
             # every joint force: W_3 = K_Lᵀ·(τ_L·e_a − B_L), W_2 = N_2 + W_3, W_1 = N_1 + W_2
             e0 = (t_j if a == 0 else 0.0) - b[j, 0]
@@ -389,7 +390,7 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     at += 54 * n
     if status != _OK:
         t = motion.t.reshape(-1)
-        batch = [a.reshape(n, *a.shape[len(shape) :]) for a in (dq, ddq, tau, force, moment)]
+        batch = [a.reshape(n, *a.shape[len(shape) :]) for a in (dq, ddq, tau, power, force, moment)]
         _refuse(robot, buffer[at:], pose, t, *batch)
     end = angles[2]
     frames = ChainFrames(
@@ -433,6 +434,7 @@ def _refuse(
     dq: FloatArray,
     ddq: FloatArray,
     tau: FloatArray,
+    power: FloatArray,
     force: FloatArray,
     moment: FloatArray,
 ) -> None:
@@ -442,7 +444,7 @@ def _refuse(
     if code == _OUT_OF_RANGE:
         raise pose_bound_error(robot, pose, t, k)
     if code == _UNREACHABLE:
-        note = "" if exact else f" on the way to sample {k}"
+        note = "" if exact else on_the_way(t, k)
         raise unreachable_error(robot, leg, info, note, k, t)
     if code in (_SINGULAR_LEG, _SINGULAR_PAR):
         home_leg, home_par = robot.home_measures
@@ -455,4 +457,5 @@ def _refuse(
             LEGS[leg] if code == _SINGULAR_LEG else None, at_home,
         )  # fmt: skip
     require_finite({"dq": dq, "ddq": ddq}, (t.size,), "motion", t)
-    require_finite({"tau": tau, "force": force, "moment": moment}, (t.size,), "motion", t)
+    finite = {"tau": tau, "p": power, "force": force, "moment": moment}  # p = τ·q̇a: may overflow
+    require_finite(finite, (t.size,), "motion", t)

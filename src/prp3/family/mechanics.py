@@ -97,11 +97,23 @@ def pose_bound_error(
     )
 
 
+def on_the_way(t: FloatArray, k: int) -> str:
+    """`` on the way from sample k − 1 (t = … s) to sample k (t = … s)`` (from home for ``k = 0``).
+
+    A pose of the followed path (§5) between two samples, named by both.
+
+    >>> on_the_way(np.array([0.0, 0.5]), 1)
+    ' on the way from sample 0 (t = 0 s) to sample 1 (t = 0.5 s)'
+    """
+    start = "home" if k == 0 else f"sample {k - 1} (t = {float(t[k - 1]):.6g} s)"
+    return f" on the way from {start} to sample {k} (t = {float(t[k]):.6g} s)"
+
+
 def unreachable_error(
     robot: FamilyRobot, leg: int, where: FloatArray, note: str, k: int, t: FloatArray
 ) -> UnreachablePoseError:
     """The error of leg ``leg`` whose closure has no solution at the pose ``where``
-    (sample ``k``, or ``note`` says on the way to it)."""
+    (sample ``k``, or ``note`` says on the way to it: :func:`on_the_way`)."""
     return UnreachablePoseError(
         f"leg {LEGS[leg]} cannot reach the pose {_pose_tuple(where)}{note} "
         f"(the {robot.architecture}'s closure has no real solution)",
@@ -123,12 +135,23 @@ def singular_error(
     at_home: float,
 ) -> SingularPoseError:
     """The error of the measure ``name`` (``measure``, sign ``at_home`` at home) below
-    :data:`SINGULAR` at the pose ``where``: sample ``k`` of ``pose`` or on the way to it."""
-    between = "" if np.array_equal(where[:3], pose[k]) else f" on the way to sample {k}"
+    :data:`SINGULAR` at the pose ``where``: sample ``k`` of ``pose`` or on the way to it.
+
+    The samples before ``k`` passed, so a measure of the wrong sign (beyond
+    :data:`SINGULAR`) was crossed between sample ``k − 1`` (home for ``k = 0``)
+    and ``where``: the message names both samples.
+    """
+    between = "" if np.array_equal(where[:3], pose[k]) else on_the_way(t, k)
+    if abs(measure) >= SINGULAR and between:  # the wrong sign: a singularity crossed
+        what = "a singularity crossed"
+    elif abs(measure) >= SINGULAR:
+        start = "home" if k == 0 else f"sample {k - 1} (t = {float(t[k - 1]):.6g} s)"
+        what = f"a singularity crossed between {start} and sample {k} (t = {float(t[k]):.6g} s)"
+    else:
+        what = "a singular pose"
     return SingularPoseError(
-        f"{name} = {measure:.6g} at the pose {_pose_tuple(where)}{between}: a singular "
-        f"pose, or a singularity crossed since home (its sign at home is "
-        f"{'+' if at_home > 0 else '-'}; refused below {SINGULAR:g})",
+        f"{name} = {measure:.6g} at the pose {_pose_tuple(where)}{between}: {what} (its "
+        f"sign at home is {'+' if at_home > 0 else '-'}; refused below {SINGULAR:g})",
         sample=k,
         time=float(t[k]),
         leg=leg,
@@ -208,7 +231,7 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
     sub-steps (:func:`follow`): the branch keeps the sign of ``μ_leg`` it has at
     home, the R angles are unwrapped along the path, and the measures are
     checked at every sub-step too, so a singularity crossed between two
-    samples is refused (naming the sample after it).
+    samples is refused (naming both samples).
 
     Raises
     ------
@@ -253,7 +276,7 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
         if lost.any():
             i = int(np.argmax(lost))
             k = int(sample_of[i])
-            note = "" if i in at else f" on the way to sample {k}"
+            note = "" if i in at else on_the_way(t, k)
             raise unreachable_error(robot, j, path[i], note, k, t)
         if revolute:  # R angles: continuous from home along the path (docs/family.md §5)
             turns = home[revolute].sum() - (robot.home_poses[j, 2] - geometry.total)
@@ -585,8 +608,10 @@ def _solution(
     t = np.atleast_1d(kin.motion.t)
     a = kin.robot.actuated - 1
     tau = tau.reshape(-1, 3)
-    power = tau * dq.reshape(-1, 3, 3)[..., a]
-    require_finite({"tau": tau, "force": force, "moment": moment}, (t.size,), "motion", t)
+    with np.errstate(over="ignore"):  # p = τ·q̇a may overflow: refused below, named
+        power = tau * dq.reshape(-1, 3, 3)[..., a]
+    finite = {"tau": tau, "p": power, "force": force, "moment": moment}
+    require_finite(finite, (t.size,), "motion", t)
     return FamilySolution(
         kinematics=kin,
         q=kin.q,

@@ -18,7 +18,7 @@ from prp3.family.mechanics import FamilySolution, check_inputs, family_kinematic
 from prp3.family.model import FamilyRobot
 from prp3.family.newton_euler import newton_euler_dynamics
 from prp3.family.paper import paper_dynamics
-from prp3.model.motion import Motion
+from prp3.model.motion import Motion, name_overflow_input
 from prp3.validation import LEGS
 
 __all__ = [
@@ -97,13 +97,18 @@ def family_inverse_dynamics(
         raise Prp3Error(
             f"engine must be one of {', '.join(map(repr, FAMILY_ENGINES))}, got {engine!r}"
         )
-    if method == "paper":
-        return paper_dynamics(robot, motion)
-    if method == "newton-euler":
-        return newton_euler_dynamics(robot, motion)
-    if engine == "numba":
-        return _compiled()(*check_inputs(robot, motion))
-    return fast_dynamics(family_kinematics(robot, motion))
+    try:
+        if method == "paper":
+            return paper_dynamics(robot, motion)
+        if method == "newton-euler":
+            return newton_euler_dynamics(robot, motion)
+        if engine == "numba":
+            return _compiled()(*check_inputs(robot, motion))
+        return fast_dynamics(family_kinematics(robot, motion))
+    except Prp3Error as error:  # results that overflow: the input that made them is named
+        if isinstance(motion, Motion):
+            raise name_overflow_input(error, motion) from None
+        raise
 
 
 def _compiled() -> Callable[[FamilyRobot, Motion], FamilySolution]:

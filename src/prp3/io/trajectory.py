@@ -100,7 +100,7 @@ class Trajectory:
     note: str | None
 
 
-def read_trajectory(path: str | Path) -> Trajectory:
+def read_trajectory(path: str | Path, *, crossing: bool = True) -> Trajectory:
     r"""Read a trajectory file ``TRAJ.csv`` of the command line's data contract.
 
     The file has a header row naming its columns, in any order, then one row
@@ -113,6 +113,15 @@ def read_trajectory(path: str | Path) -> Trajectory:
     accelerations are computed by :func:`differentiate_positions` (a quintic
     interpolating spline) and :attr:`Trajectory.note` says so.
 
+    Each row is the state of the platform at its time: the rates given need
+    not integrate to the steps between samples (a static grid of poses with
+    zero rates, or measured data, is read as it is).  With ``crossing`` (the
+    default: the 3-PRP) a motion whose orientation passes a singular
+    orientation ``φ = π/3 mod π`` between two samples is refused
+    (:func:`prp3.path_validation.check_path`, naming both lines); a family
+    robot has singularities of its own, refused as its legs follow the path
+    from sample to sample (``crossing=False``: ``docs/family.md``).
+
     Raises
     ------
     InputFileError
@@ -123,6 +132,8 @@ def read_trajectory(path: str | Path) -> Trajectory:
     TrajectoryError
         Fewer than 2 samples, a time that does not increase, or derivatives
         computed from the positions that overflow (names the file and the line).
+    SingularPoseError
+        With ``crossing``: a singular orientation passed between two samples.
 
     Examples
     --------
@@ -139,15 +150,16 @@ def read_trajectory(path: str | Path) -> Trajectory:
     """
     path = Path(path)
     optional = DERIVATIVE_COLUMNS + LOAD_COLUMNS
-    return trajectory_of(path, read_table(path, POSITION_COLUMNS, optional, "trajectory"))
+    table = read_table(path, POSITION_COLUMNS, optional, "trajectory")
+    return trajectory_of(path, table, crossing=crossing)
 
 
-def trajectory_of(path: Path, table: Table) -> Trajectory:
+def trajectory_of(path: Path, table: Table, *, crossing: bool = True) -> Trajectory:
     """The motion of a table with the columns of a trajectory file (see :func:`read_trajectory`).
 
     ``table`` is the table :func:`prp3.io.tables.read_table` read from ``path``
-    (with the columns of a trajectory file, and maybe others); the refusals are
-    those of :func:`read_trajectory`.
+    (with the columns of a trajectory file, and maybe others); the refusals,
+    and ``crossing``, are those of :func:`read_trajectory`.
     """
     columns = table.columns
     loads = column_group(path, columns, LOAD_COLUMNS, "load", table.header_line)
@@ -194,9 +206,8 @@ def trajectory_of(path: Path, table: Table) -> Trajectory:
     try:
         load = np.stack([columns[name] for name in LOAD_COLUMNS], axis=-1) if loads else None
         motion = Motion(t=t, pose=pose, velocity=velocity, acceleration=acceleration, load=load)
-        # between the samples: no singular orientation crossed, no step the given rates deny
-        rates = (motion.velocity, motion.acceleration) if given else (None, None)
-        check_path(motion.t, motion.pose, *rates, lines=lines, subject=None)
+        if crossing:  # between two samples: no singular orientation of the 3-PRP crossed
+            check_path(motion.t, motion.pose, lines=lines, subject=None)
     except (TrajectoryError, SingularPoseError) as error:  # SingularPoseError: check_path's
         line = int(lines[error.sample]) if error.sample is not None else None
         raise error.located(file=path, line=line) from None

@@ -18,9 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.errors import TrajectoryError
+from prp3.errors import Prp3Error, TrajectoryError
 from prp3.path_validation import rest_rates
 from prp3.validation import (
+    OVERFLOW_REASON,
     check_finite,
     check_integer,
     check_real,
@@ -37,6 +38,7 @@ __all__ = [
     "differentiate_positions",
     "law_at",
     "law_motion",
+    "name_overflow_input",
     "paper_motion",
 ]
 
@@ -162,6 +164,56 @@ class Motion:
             acceleration=self.acceleration[index],
             load=None if self.load is None else self.load[index],
         )
+
+
+#: The inputs of a sample of a motion, as the columns of ``TRAJ.csv`` name them.
+INPUT_COLUMNS: tuple[str, ...] = (
+    "x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi", "fx", "fy", "mz",
+)  # fmt: skip
+
+
+def name_overflow_input(error: Prp3Error, motion: Motion) -> Prp3Error:
+    """``error`` naming the largest input of its sample when it is an overflow of results.
+
+    The inputs are validated finite, so results that overflow
+    (:func:`prp3.validation.require_finite`) come from values too large for
+    float64: a rate of ``1e200`` m/s gives ``p10 = f10·λ̇10`` or ``λ̈10``
+    (``φ̇²`` terms) beyond it.  The sample's input of largest magnitude among
+    :data:`INPUT_COLUMNS` (pose, rates, accelerations, load) is named in the
+    reason and in the ``key`` field (the ``TRAJ.csv`` column); other errors,
+    and errors that name one already, are returned as they are.
+
+    >>> from prp3.validation import require_finite
+    >>> motion = Motion(t=[0.0, 1.0], pose=np.zeros((2, 3)),
+    ...                 velocity=[[0.0, 0.0, 0.0], [0.0, 0.0, 1e200]], acceleration=np.zeros((2, 3)))
+    >>> try:
+    ...     require_finite({"p10": np.array([[0.0], [np.inf]])}, (2,), "motion")
+    ... except TrajectoryError as error:
+    ...     named = name_overflow_input(error, motion)
+    >>> named.key, named.reason.split("; ")[-1]
+    ('dphi', 'the largest input of the sample is dphi = 1e+200 (column dphi)')
+    """
+    overflow = isinstance(error, TrajectoryError) and error.reason.startswith(OVERFLOW_REASON)
+    single = motion.t.ndim == 0
+    if not overflow or error.key is not None or (error.sample is None and not single):
+        return error
+    k = 0 if single or error.sample is None else error.sample
+    if k >= motion.samples:
+        return error
+    parts = [motion.pose, motion.velocity, motion.acceleration]
+    if motion.load is not None:
+        parts.append(motion.load)
+    values = np.concatenate([np.reshape(part, (-1, 3))[k] for part in parts])
+    index = int(np.argmax(np.abs(values)))
+    column = INPUT_COLUMNS[index]
+    named = error.located()
+    named.reason = (
+        f"{error.reason}; the largest input of the sample is {column} = "
+        f"{float(values[index]):.6g} (column {column})"
+    )
+    named.key = column
+    named.args = (str(named),)
+    return named
 
 
 def _amplitude(amplitude: ArrayLike) -> FloatArray:
@@ -315,7 +367,21 @@ def spline_derivatives(t: FloatArray, pose: FloatArray) -> tuple[FloatArray, Flo
 
     samples = t.size
     degree = 5 if samples >= 6 else 3 if samples >= 4 else 1
-    spline = make_interp_spline(t, pose, k=degree, axis=0)
-    velocity = np.asarray(spline(t, 1), dtype=np.float64)
-    acceleration = np.asarray(spline(t, 2), dtype=np.float64)
+    # on s = (t − t0)/T in [0, 1] and the moves from the first pose: a time step of
+    # 1e-300 s or a subnormal one, and a constant coordinate, lose no digit (q(t) =
+    # q(t0 + T·s) is the same spline; dq/dt = (dq/ds)/T, d²q/dt² = (d²q/ds²)/T/T)
+    duration = float(t[-1]) - float(t[0])  # Python floats: inf, no warning, on overflow
+    if math.isfinite(duration):
+        s = (t - t[0]) / duration
+    else:  # times of either sign near the float64 limit: halves do not overflow
+        half = float(t[-1] / 2.0 - t[0] / 2.0)
+        s, duration = (t / 2.0 - t[0] / 2.0) / half, math.inf
+    s[-1] = 1.0
+    spline = make_interp_spline(s, pose - pose[0], k=degree, axis=0)
+    if math.isinf(duration):
+        velocity = np.asarray(spline(s, 1), dtype=np.float64) / half / 2.0
+        acceleration = np.asarray(spline(s, 2), dtype=np.float64) / half / half / 4.0
+    else:
+        velocity = np.asarray(spline(s, 1), dtype=np.float64) / duration
+        acceleration = np.asarray(spline(s, 2), dtype=np.float64) / duration / duration
     return velocity, acceleration, degree

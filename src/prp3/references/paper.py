@@ -69,7 +69,7 @@ from prp3.model.robot import Robot
 from prp3.pose_validation import check_poses
 from prp3.references.paper_evaluation import _evaluate_loaded
 from prp3.references.paper_kinematics import FixedFrameKinematics
-from prp3.validation import check_robot, first_non_finite
+from prp3.validation import OVERFLOW_REASON, check_robot, first_non_finite
 
 __all__ = [
     "FORCE_SETS",
@@ -271,7 +271,7 @@ def _require_finite(chunk: dict[str, FloatArray], first: int, motion: Motion) ->
         return
     index, name = found[0] + first, found[1]
     raise TrajectoryError(
-        f"the results overflow: {name} is not finite; "
+        f"{OVERFLOW_REASON}: {name} is not finite; "
         "the motion or the robot's parameters are too large for double precision",
         subject="motion",
         sample=index,
