@@ -58,6 +58,7 @@ from numba.core import caching
 from prp3.engines.compiled_robot import PARAMETER_RECORD
 from prp3.engines.select import EngineWarning
 from prp3.mechanics import joint_motion, parameters, virtual_work, wrenches
+from prp3.model import joint_elements
 
 __all__ = [
     "KERNEL_SOURCES",
@@ -86,7 +87,9 @@ __all__ = [
 
 # ------------------------------------------------------------------ the cache
 #: The modules whose functions :func:`_compiled_kernel` compiles (the kernel's stages).
-STAGE_MODULES: tuple[types.ModuleType, ...] = (joint_motion, wrenches, virtual_work)
+#: :mod:`prp3.model.joint_elements` gives the force of its elements that the kernel applies
+#: (:func:`~prp3.model.joint_elements.spring_force`).
+STAGE_MODULES: tuple[types.ModuleType, ...] = (joint_elements, joint_motion, wrenches, virtual_work)
 #: The source files the cached machine code depends on besides this one: the stages and
 #: :mod:`prp3.mechanics.parameters` (the fields, in order, of the record they read).
 KERNEL_SOURCES: tuple[str, ...] = tuple(

@@ -21,6 +21,7 @@ from prp3.mechanics.ops import Legs, Ops, Value
 from prp3.mechanics.parameters import KernelParameters
 from prp3.model.element_base import is_zero
 from prp3.model.elements import FRICTIONS
+from prp3.model.joint_elements import spring_force
 
 __all__ = ["BodyWrenches", "KernelFriction", "body_wrenches", "friction_forces"]
 
@@ -253,7 +254,7 @@ def _leg_spring(k: KernelParameters, w: _LegWrenches, lam: Value, rate: Value) -
     ``s_i = −k·(λ10_i − λ_rest) − c·λ̇10_i`` along ``e_i`` through ``P_i``; it helps
     the actuator, as the guide's friction does.
     """
-    force = -(k.spring_stiffness * (lam - k.spring_rest)) - k.spring_damping * rate
+    force = spring_force(k.spring_stiffness, k.spring_rest, k.spring_damping, lam, rate)
     return (w[0] - force, w[1], w[2], w[3], w[4], w[5], w[6], w[7])
 
 

@@ -22,7 +22,23 @@ import numpy as np
 from prp3.errors import ParameterError
 from prp3.model.element_base import Element, FloatArray, State, Value, is_zero, rate_sign
 
-__all__ = ["FrictionElement", "SpringElement", "friction_element"]
+__all__ = ["FrictionElement", "SpringElement", "friction_element", "spring_force"]
+
+
+def spring_force(
+    stiffness: Value, rest: Value, damping: Value, displacement: Value, rate: Value
+) -> Value:
+    """The force of a linear spring with damper on its joint: ``s = −k·(λ − λ_rest) − c·λ̇``.
+
+    Plain arithmetic, written once: the kernel applies it to each piston
+    (:func:`prp3.mechanics.wrenches.body_wrenches`, compiled by numba, traced
+    for C, run on sympy for the regressor) and :class:`SpringElement` takes its
+    power from it.
+
+    >>> spring_force(100.0, 0.01, 2.0, 0.03, 0.5)
+    -3.0
+    """
+    return -(stiffness * (displacement - rest)) - damping * rate
 
 
 def _law(
@@ -258,7 +274,7 @@ class SpringElement(Element):
 
     def _stretch(self, robot: Any, state: State) -> tuple[FloatArray, FloatArray]:
         s = robot.spring.actuator
-        force = -s.stiffness * (state.lambda10 - s.rest) - s.damping * state.dlambda10
+        force = spring_force(s.stiffness, s.rest, s.damping, state.lambda10, state.dlambda10)
         return force, state.lambda10 - s.rest
 
     def power(self, robot: Any, state: State) -> FloatArray:
