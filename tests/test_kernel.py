@@ -394,9 +394,10 @@ def test_the_numba_cache_is_keyed_on_the_kernel_sources_too() -> None:
     from numba.core import caching
 
     from prp3.mechanics import joint_motion, parameters, virtual_work, wrenches
+    from prp3.model import joint_elements
 
     sources = {os.path.abspath(path) for path in numba_engine.KERNEL_SOURCES}
-    for module in (joint_motion, wrenches, virtual_work, parameters):
+    for module in (joint_motion, wrenches, virtual_work, parameters, joint_elements):
         assert os.path.abspath(str(module.__file__)) in sources
     # every file a function compiled from the kernel comes from (its bytecode's) is keyed
     compiled = {
@@ -404,7 +405,8 @@ def test_the_numba_cache_is_keyed_on_the_kernel_sources_too() -> None:
         for name, value in vars(numba_engine._kernel).items()
         if hasattr(value, "py_func") and name != "_zero"
     }
-    assert len(compiled) == 3
+    # the three mechanics stages and the spring's force law (model.joint_elements)
+    assert len(compiled) == 4
     assert compiled <= sources
     for loop in (numba_engine.f10_loop, numba_engine.solve_loop, numba_engine.sample_f10):
         locator = loop._cache._impl.locator  # the dispatcher's own cache
