@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import IO
 
 from prp3.errors import InputFileError, OutputFileError
+from prp3.moved_paths import moved_attribute
 
 __all__ = [
     "MAX_INPUT_BYTES",
@@ -279,3 +280,8 @@ def check_inputs_kept(
                         "the output would replace this input file; choose another output directory",
                         file=target,
                     )
+
+
+def __getattr__(name: str) -> object:
+    """The names this module had in prp3 0.1, now elsewhere (a DeprecationWarning names where)."""
+    return moved_attribute(__name__, name)

@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import ParameterError, Prp3Error, TrajectoryError
+from prp3.moved_paths import moved_attribute
 
 if TYPE_CHECKING:
     from prp3.model.robot import Robot
@@ -442,3 +443,8 @@ def require_finite(
         sample=index if batch else None,
         time=time if batch else None,
     )
+
+
+def __getattr__(name: str) -> object:
+    """The names this module had in prp3 0.1, now elsewhere (a DeprecationWarning names where)."""
+    return moved_attribute(__name__, name)

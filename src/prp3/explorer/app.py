@@ -53,6 +53,7 @@ from prp3.explorer.scene import (
     workspace_overlay,
 )
 from prp3.model.robot import Robot
+from prp3.moved_paths import moved_attribute
 
 __all__ = ["PLOTTED", "explorer_document", "require_bokeh"]
 
@@ -381,3 +382,8 @@ def explorer_document(
         plots, scrubber = live.run_widgets(run.table, {q: f"{q} (N)" for q in PLOTTED}, motion)
         right.append(plots)
     live.start("prp3 explore", drawn.layout, [drawn.key], info, right, design, scrubber)
+
+
+def __getattr__(name: str) -> object:
+    """The names this module had in prp3 0.1, now elsewhere (a DeprecationWarning names where)."""
+    return moved_attribute(__name__, name)

@@ -16,6 +16,7 @@ from typing import Any
 
 from prp3.drawing import LEG_COLOURS
 from prp3.explorer.scene import ArrowStyle
+from prp3.moved_paths import moved_attribute
 from prp3.validation import LEGS
 
 __all__ = [
@@ -351,3 +352,8 @@ def slider_with_field(control: Any, low: float, high: float) -> tuple[Any, Any]:
     slider.js_on_change("value", CustomJS(args={"slider": slider, "field": field}, code=shown))
     field.js_link("value", slider, "value")
     return slider, row(slider, field)
+
+
+def __getattr__(name: str) -> object:
+    """The names this module had in prp3 0.1, now elsewhere (a DeprecationWarning names where)."""
+    return moved_attribute(__name__, name)

@@ -59,6 +59,7 @@ from prp3.mechanics.geometry import (
 from prp3.model.motion import Motion
 from prp3.model.parameters import Friction, JointFriction
 from prp3.model.robot import Robot
+from prp3.moved_paths import moved_attribute
 from prp3.pose_validation import SINGULARITY_THRESHOLD, singularity_measure
 from prp3.validation import LEGS
 
@@ -584,3 +585,8 @@ class _Prp3Scene:
 
 #: The 3-PRP robot as a :class:`Scene`.
 PRP3_SCENE: Scene = _Prp3Scene()
+
+
+def __getattr__(name: str) -> object:
+    """The names this module had in prp3 0.1, now elsewhere (a DeprecationWarning names where)."""
+    return moved_attribute(__name__, name)

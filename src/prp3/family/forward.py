@@ -57,7 +57,7 @@ from prp3.family.mechanics import (
 )
 from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
-from prp3.validation import check_instance, check_real, check_times
+from prp3.validation import check_finite, check_instance, check_real, check_scalar, check_times
 
 __all__ = [
     "SINGULARITY_STOP",
@@ -79,7 +79,7 @@ def _vector(name: str, value: ArrayLike) -> FloatArray:
     v = check_real(name, value, TrajectoryError)
     if v.shape != (3,):
         raise TrajectoryError(f"{name} must have 3 components, got shape {v.shape}")
-    return v
+    return check_finite(name, v, TrajectoryError, components=("x", "y", "phi"))
 
 
 def platform_dynamics(
@@ -348,9 +348,10 @@ def family_forward_dynamics(
                 f"{te[0]!r} .. {te[-1]!r} s"
             )
         effort = _effort_function(te, tau)
-    for name, value in (("rtol", rtol), ("atol", atol)):
-        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0.0):
-            raise ParameterError(f"{name} must be a positive number, got {value!r}")
+    rtol, atol = (
+        check_scalar("rtol", rtol, positive=True),
+        check_scalar("atol", atol, positive=True),
+    )
     x0, v0 = _vector("initial_pose", initial_pose), _vector("initial_velocity", initial_velocity)
     try:  # refuses a singular or unreachable initial pose
         a0, _ = _dynamics(robot, x0, v0)

@@ -53,7 +53,7 @@ from prp3.family.mechanics import Geometry, fast_dynamics, joint_rates
 from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
 from prp3.pose_validation import MAX_ORIENTATION
-from prp3.validation import check_instance, check_real, check_scalar
+from prp3.validation import check_finite, check_instance, check_real, check_scalar
 
 __all__ = [
     "FamilyOrientationScan",
@@ -142,6 +142,8 @@ def _regular(robot: FamilyRobot, mu_leg: FloatArray, mu_par: FloatArray) -> Bool
 
 def _grid(name: str, values: ArrayLike) -> FloatArray:
     grid = check_real(name, values, ParameterError)
+    if grid.ndim == 1:
+        check_finite(name, grid[None, :], ParameterError, components=(name,) * grid.size)
     if grid.ndim != 1 or grid.size < 2 or not (np.diff(grid) > 0).all():
         raise ParameterError(
             f"{name} must be a strictly increasing 1-D grid of at least 2 values, got shape "
@@ -364,7 +366,12 @@ def family_orientation_scan(
     robot: FamilyRobot, x: ArrayLike, y: ArrayLike, phi: ArrayLike
 ) -> FamilyOrientationScan:
     """The slice areas at every orientation of ``phi`` (rad) on the grid ``x``, ``y``."""
-    angles = check_real("phi", phi, ParameterError).reshape(-1)
+    robot = check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
+    angles = check_real("phi", phi, ParameterError)
+    if angles.ndim != 1 or angles.size == 0:
+        raise ParameterError(f"phi must be a 1-D array of orientations, got shape {angles.shape}")
+    for value in angles.tolist():
+        _phi(value)
     area, regular, margin = (np.empty(angles.size) for _ in range(3))
     sign = math.copysign(1.0, robot.home_measures[1])
     for k, value in enumerate(angles.tolist()):
