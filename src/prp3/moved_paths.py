@@ -195,7 +195,7 @@ def new_location(old_module: str, name: str) -> str | None:
     """Where ``old_module.name`` of prp3 0.1 lives now (``"prp3.x"`` or a module path), or None.
 
     >>> new_location("prp3.kernel", "Ops"), new_location("prp3.kernel", "PI_3")
-    ('prp3.Ops', 'prp3.mechanics.kernel.PI_3')
+    ('prp3.Ops', 'prp3.mechanics.joint_motion.PI_3')
     """
     home = _HOMES.get(old_module, {}).get(name)
     return None if home is None else f"{home}.{name}"
