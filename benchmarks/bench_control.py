@@ -9,7 +9,7 @@ Run from the repository root::
 Measured, in the same run (ratios are what travel between machines):
 
 * the controller step of ``prp3 control`` (inverse dynamics of the model +
-  control law, :func:`prp3.apps.control_law.control_force`): median and 99th
+  control law, :func:`prp3.control_force`): median and 99th
   percentile inside a closed-loop run (``track``, rotation motion, 1 s at
   1 kHz: the caches are cold after each plant step, as in a real loop) for
   the prp3 and the MuJoCo plant, and in a tight loop (warm caches);
@@ -18,7 +18,7 @@ Measured, in the same run (ratios are what travel between machines):
   ``--batches`` batches of 1000 calls over 1000 different samples with
   ``clock_gettime``: the median batch, in ns per call; and the same function
   called through ctypes from Python;
-* the Python single-sample calls ``prp3.engines.sample_entries.sample_forces`` (validated) and
+* the Python single-sample calls ``prp3.sample_forces`` (validated) and
   ``sample_forces_unchecked`` on the same samples.
 
 Exit status 1 if the C results differ from ``sample_forces`` by more than
@@ -41,12 +41,9 @@ from pathlib import Path
 import numpy as np
 
 import prp3
+from prp3 import PAPER_MOTIONS, Gains, compile_robot, control_force, control_times, law_at, track
 from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
-from prp3.apps.control import control_times, track
-from prp3.apps.control_law import Gains, control_force
-from prp3.engines.compiled_robot import compile_robot
 from prp3.engines.sample_entries import sample_forces, sample_forces_unchecked
-from prp3.model.motion import PAPER_MOTIONS, law_at
 
 HARNESS = r"""
 #define _POSIX_C_SOURCE 199309L /* clock_gettime */

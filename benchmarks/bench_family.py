@@ -8,10 +8,10 @@ Run from the repository root::
     python benchmarks/bench_family.py --engines  # the engines' table only (N = 10^5, single call)
 
 For each architecture's default design, on the paper's ``rotation`` motion
-resampled to N samples: ``fast`` (:func:`prp3.family.family_inverse_dynamics`,
+resampled to N samples: ``fast`` (:func:`prp3.family_inverse_dynamics`,
 kinematics included), ``paper`` and ``newton-euler`` (N ≤ 10^4), and one
 single-sample call (µs, median); beside them, in the same run, the 3-PRP of
-model form by :func:`prp3.engines.entries.paper_forces` with every reaction (the peer the
+model form by :func:`prp3.paper_forces` with every reaction (the peer the
 ratios are taken against) and by ``prp3.inverse_dynamics(..., "paper")``.
 
 Then the engines of the fast route side by side (the targets of issue 20:
@@ -33,9 +33,16 @@ import time
 import timeit
 import warnings
 
-from prp3 import Motion, Robot, inverse_dynamics, paper_motion
-from prp3.engines.entries import paper_forces
-from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
+from prp3 import (
+    ARCHITECTURES,
+    FamilyRobot,
+    Motion,
+    Robot,
+    family_inverse_dynamics,
+    inverse_dynamics,
+    paper_forces,
+    paper_motion,
+)
 
 
 def rate(call: object, samples: int, repeat: int = 3) -> float:
@@ -75,7 +82,7 @@ def cpu_single_call(call: object, number: int = 200) -> float:
 def mujoco_rate(robot: FamilyRobot, motion: Motion) -> tuple[float, float] | None:
     """MuJoCo's inverse dynamics of the same robot: ``(samples/s, single-call µs)``, or None.
 
-    The model of ``prp3 export mjcf`` (:func:`prp3.family.mjcf.family_mjcf_model`:
+    The model of ``prp3 export mjcf`` (:func:`prp3.family_mjcf_model`:
     the three legs as a tree, the platform's thirds welded), solved per sample in
     a Python loop as ``benchmarks/peers.py`` solves the 3-PRP: the family's
     ``q, q̇, q̈`` (untimed, from the fast route) set MuJoCo's state, then
@@ -92,7 +99,7 @@ def mujoco_rate(robot: FamilyRobot, motion: Motion) -> tuple[float, float] | Non
     import mujoco
     import numpy as np
 
-    from prp3.family.mjcf import family_mjcf_model, joint_names
+    from prp3 import family_mjcf_model, joint_names
 
     with warnings.catch_warnings():  # the MjcfWarning of a [load]: the defaults have none
         warnings.simplefilter("ignore")

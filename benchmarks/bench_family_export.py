@@ -10,20 +10,20 @@ For each architecture's default design, on the paper's ``rotation`` motion
 resampled to N samples (the design's own joint values, rates and
 accelerations from prp3, prepared untimed for MuJoCo):
 
-* ``prp3 batch``: :func:`prp3.family.family_inverse_dynamics` (the default
+* ``prp3 batch``: :func:`prp3.family_inverse_dynamics` (the default
   fast route, validation and kinematics included, every joint force) at
   ``N = 10⁵`` — samples/s, the best of 3;
 * ``prp3 single``: the same with a one-sample motion (validated), median µs;
-* ``numba batch`` / ``single``: :func:`prp3.family.family_inverse_dynamics` with ``engine="numba"``
+* ``numba batch`` / ``single``: :func:`prp3.family_inverse_dynamics` with ``engine="numba"``
   (validated; tau, joint wrenches, measures), the same samples, compiled
   before timing (``numba compile``: its first call, s);
 * ``mujoco batch`` / ``single``: the model of ``prp3 export mjcf``
-  (:func:`prp3.family.mjcf.family_mjcf_model`), per sample in a Python loop:
+  (:func:`prp3.family_mjcf_model`), per sample in a Python loop:
   ``mj_kinematics``, ``mj_comPos``, ``mj_comVel``, ``mj_rne`` (``M·q̈ + c``),
   ``mj_jac`` of the three platform thirds at ``G`` and the 9×9 solve
   ``S·tau + J_cᵀ·λ = M·q̈ + c`` (exact, no soft constraint); the actuator
   efforts only.  Checked against prp3 to 1e-8 relative (exit status 1 otherwise);
-* ``C``: the code of ``prp3 export c`` (:func:`prp3.family.codegen.family_c_inverse_dynamics`),
+* ``C``: the code of ``prp3 export c`` (:func:`prp3.family_c_inverse_dynamics`),
   compiled with ``-std=c99 -pedantic-errors -Wall -Werror -O2`` together with a C
   harness: the median over batches of 1000 calls on 1000 different samples,
   ns per call (tau and all 27 joint-wrench components).
@@ -44,11 +44,17 @@ from pathlib import Path
 
 import numpy as np
 
-from prp3 import Motion, paper_motion
+from prp3 import (
+    ARCHITECTURES,
+    FamilyRobot,
+    Motion,
+    family_c_inverse_dynamics,
+    family_inverse_dynamics,
+    family_mjcf_model,
+    joint_names,
+    paper_motion,
+)
 from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME
-from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
-from prp3.family.codegen import family_c_inverse_dynamics
-from prp3.family.mjcf import family_mjcf_model, joint_names
 
 HARNESS = r"""
 #define _POSIX_C_SOURCE 199309L /* clock_gettime */

@@ -9,14 +9,14 @@ Run from the repository root (``pip install -e ".[bench]"`` for the engines)::
 Methods, all on the same samples of the paper's ``vertical`` and ``rotation``
 motions (eq. 4) resampled to N samples:
 
-* ``prp3 fast`` — :func:`prp3.engines.entries.paper_forces` with the default engine
+* ``prp3 fast`` — :func:`prp3.paper_forces` with the default engine
   (``numba``: the kernel's own functions compiled by numba, :mod:`prp3.engines.select`);
-  ``prp3 fast f10 alone`` — :func:`prp3.engines.entries.actuator_forces`; from
+  ``prp3 fast f10 alone`` — :func:`prp3.actuator_forces`; from
   :data:`prp3.engines.numba.PARALLEL_MIN_SAMPLES` samples on every thread of
   numba's threading layer, and the ``1 thread`` rows the same with
   ``numba.set_num_threads(1)`` (in the same run, on the same samples); the ``numpy``
   rows — the same with ``engine="numpy"`` (the kernel on numpy arrays,
-  chunked); single sample: :func:`prp3.engines.sample_entries.sample_forces` (tuples of floats,
+  chunked); single sample: :func:`prp3.sample_forces` (tuples of floats,
   tuples of numpy scalars, ``(3,)`` ndarrays, a load) on both engines.
 * ``prp3 <commit>`` — ``--baseline``: that commit's fast path on the same
   samples (``benchmarks/baseline.py`` run on ``git archive`` of its ``src``;
@@ -66,8 +66,7 @@ from typing import Any
 import numpy as np
 
 import prp3
-from prp3.engines.compiled_robot import compile_robot
-from prp3.engines.entries import actuator_forces, paper_forces
+from prp3 import actuator_forces, compile_robot, paper_forces
 from prp3.engines.sample_entries import (
     sample_actuator_forces,
     sample_forces,

@@ -11,11 +11,11 @@ resampled to N samples (computed once, untimed):
 
 * ``csv, repr``: the CSV writer without pyarrow (``repr`` of every float, row
   by row: prp3's writer before Arrow made the text);
-* ``csv, arrow``: :func:`prp3.io.tables.write_table_csv` with pyarrow (Arrow's CSV
+* ``csv, arrow``: :func:`prp3.write_table_csv` with pyarrow (Arrow's CSV
   writer on the float64 columns: its shortest round-trip texts) — both files
-  read back (:func:`prp3.io.tables.read_table_csv`) to the same doubles bit for bit
+  read back (:func:`prp3.read_table_csv`) to the same doubles bit for bit
   (exit status 1 if they do not); the reading is timed too (``read csv``);
-* ``parquet``: :func:`prp3.io.tables.write_table_parquet`;
+* ``parquet``: :func:`prp3.write_table_parquet`;
 
 then the whole command ``prp3 simulate --motion rotation --samples N`` in a
 subprocess (start-up, computing, writing), with ``--format parquet`` and with
@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 import prp3
-from prp3.apps.runs import simulate_table
+from prp3 import simulate_table
 from prp3.io import tables as prp3_tables
 
 

@@ -10,7 +10,7 @@ Run from the repository root (``pip install -e ".[bench]"``)::
 Measured in the same run, on the same task (the paper's two motions, the
 designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
 
-* ``kernel`` — :func:`prp3.engines.entries.paper_forces` with the reactions on one core
+* ``kernel`` — :func:`prp3.paper_forces` with the reactions on one core
   (``numba.set_num_threads(1)``: a batch this large runs on every thread otherwise),
   the task repeated to ~10⁵ samples per call (its best rate: no per-call cost);
 * ``paper_forces, 1 call`` — one ``paper_forces`` call over the task (its
@@ -18,10 +18,10 @@ designs of a Latin hypercube over ``l0``, ``link.mass``, ``platform.mass``):
 * ``paper_forces per new robot`` — :func:`~prp3.engines.compiled_robot.compile_robot` + one
   call for a robot it has not seen (what a sweep would pay per design through
   ``paper_forces``: the batch path prepares its code per robot);
-* ``evaluate_designs`` — :func:`prp3.apps.design_evaluation.evaluate_designs` on one chunk in
+* ``evaluate_designs`` — :func:`prp3.evaluate_designs` on one chunk in
   this process: the kernel traced for blocks of designs × samples (the
   designs' parameters traced from their values), peaks and energy, no Dask;
-* ``sweep, 1 worker`` / ``2 workers`` — :func:`prp3.apps.sweep.run_sweep` on a
+* ``sweep, 1 worker`` / ``2 workers`` — :func:`prp3.run_sweep` on a
   LocalCluster of 1 or 2 worker processes (one thread each), Parquet files
   included; the cluster start is timed apart (it is paid once per command).
 
@@ -56,10 +56,7 @@ import numpy as np
 import prp3
 import prp3.apps.cluster
 import prp3.apps.sweep
-from prp3.apps.design_evaluation import evaluate_designs
-from prp3.apps.sweep_spec import design_values, sweep_spec
-from prp3.engines.compiled_robot import compile_robot
-from prp3.engines.entries import paper_forces
+from prp3 import compile_robot, design_values, evaluate_designs, paper_forces, sweep_spec
 
 
 def _median_time(function: Callable[[], Any], repeats: int) -> float:
@@ -205,7 +202,7 @@ def main() -> int:
             def sweep() -> None:
                 folder = Path(tempfile.mkdtemp(prefix="prp3-bench-sweep-"))
                 try:
-                    prp3.apps.sweep.run_sweep(spec, folder, existing)
+                    prp3.run_sweep(spec, folder, existing)
                 finally:
                     shutil.rmtree(folder, ignore_errors=True)
 

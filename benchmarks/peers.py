@@ -21,7 +21,7 @@ in a Python loop, as a user of the engine would:
 The tree is exact: the platform is split into three thirds (``m3/3`` each,
 centre at ``G``, ``I3/3``) welded together, one hanging on each leg.  The
 MuJoCo model is the one ``prp3 export mjcf`` writes
-(:func:`prp3.apps.mjcf.mjcf_model`), with its inertia floor for zero inertias;
+(:func:`prp3.mjcf_model`), with its inertia floor for zero inertias;
 the Pinocchio model is built in code with the same frames and the exact
 inertias (Pinocchio accepts zero inertias).
 
@@ -40,9 +40,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 import prp3
-from prp3.apps.mjcf import mjcf_model
+from prp3 import LEGS, mjcf_model
 from prp3.mechanics.geometry import ALPHA, LEG_AXIS, base_vertices
-from prp3.validation import LEGS
 
 __all__ = ["MujocoPeer", "PinocchioPeer", "TreeMotion", "available_peers", "tree_motion"]
 

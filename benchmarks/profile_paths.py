@@ -8,7 +8,7 @@ Needs ``line_profiler`` (``pip install line_profiler``)::
 
 Prints, for ``inverse_dynamics(robot, motion, "paper")`` (inverse geometry,
 inverse kinematics, body wrenches, paper method) and for
-:func:`prp3.engines.entries.paper_forces`, the share of time of each function and the
+:func:`prp3.paper_forces`, the share of time of each function and the
 lines that take the most time.
 """
 
@@ -75,10 +75,10 @@ def main() -> None:
         ],
         args.top,
     )
-    compiled = prp3.engines.compiled_robot.compile_robot(robot)
+    compiled = prp3.compile_robot(robot)
     print(f"\nFused path, numpy engine: prp3.engines.entries.paper_forces, N = {args.samples}")
     profile(
-        lambda: prp3.engines.entries.paper_forces(
+        lambda: prp3.paper_forces(
             compiled, motion.pose, motion.velocity, motion.acceleration, engine="numpy"
         ),
         [

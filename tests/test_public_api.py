@@ -903,6 +903,10 @@ CASES: dict[str, Case] = {
         tol=0.01,
     ),
     # ---------------------------------------------------------------- the family
+    "paper_steps": _case(
+        prp3.paper_steps, {"robot": OBJ, "motion": OBJ}, robot=_rrr, motion=_motion
+    ),
+    "joint_names": _case(prp3.joint_names, {"robot": OBJ}, robot=_rrr),
     "family_kinematics": _case(
         prp3.family_kinematics, {"robot": OBJ, "motion": OBJ}, robot=_rrr, motion=_motion
     ),

@@ -6,6 +6,7 @@
 __version__: str
 
 from .analysis.equations_of_motion import (
+    open_loop_growth_rate as open_loop_growth_rate,
     bias_forces as bias_forces,
     gravity_forces as gravity_forces,
     mass_matrix as mass_matrix,
@@ -54,6 +55,7 @@ from .apps.codegen import (
     c_inverse_dynamics as c_inverse_dynamics,
 )
 from .apps.control import (
+    control_times as control_times,
     Tracking as Tracking,
     check_model as check_model,
     hermite_reference as hermite_reference,
@@ -124,6 +126,7 @@ from .apps.sweep import (
     run_sweep as run_sweep,
 )
 from .apps.sweep_spec import (
+    design_values as design_values,
     Parameter as Parameter,
     SweepSpec as SweepSpec,
     read_sweep_spec as read_sweep_spec,
@@ -201,6 +204,7 @@ from .family.mechanics import (
     family_kinematics as family_kinematics,
 )
 from .family.mjcf import (
+    joint_names as joint_names,
     family_mjcf_model as family_mjcf_model,
 )
 from .family.model import (
@@ -344,4 +348,7 @@ from .staged_files import (
 from .validation import (
     LEGS as LEGS,
     check_robot as check_robot,
+)
+from .family.paper import (
+    paper_steps as paper_steps,
 )
