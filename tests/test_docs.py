@@ -509,3 +509,21 @@ def test_the_sweep_error_messages_of_cli_md_are_printed(
     assert status == 2 and len(err) == 1, err
     assert _same(_sweep_error_rows()[what] + "\n", err[0] + "\n"), err[0]
     assert not (tmp_path / "out").exists()  # nothing written
+
+
+#: Deep imports a document may show: the figures and the command line are public modules
+#: of their own; the explorer's and the paper's walkthroughs show internals as internals.
+_DEEP_IMPORTS_SHOWN = ("prp3.plotting", "prp3.cli", "prp3.explorer.", "prp3.references.")
+
+
+def test_the_docs_import_public_names_only() -> None:
+    deep = re.compile(
+        r"^\s*(?:>>> |\.\.\. )?(?:from (prp3\.[\w.]+) import|import (prp3\.[\w.]+))", re.M
+    )
+    shown = []
+    for path in _documents():
+        for match in deep.finditer(path.read_text(encoding="utf-8")):
+            module = match.group(1) or match.group(2)
+            if not module.startswith(_DEEP_IMPORTS_SHOWN):
+                shown.append(f"{path.name}: {module}")
+    assert shown == [], f"docs import from internal modules (use prp3.<name>): {shown}"

@@ -263,6 +263,7 @@ EXEMPT: dict[str, str] = {
     "family_energy": "energies of a FamilyKinematics built by family_kinematics",
     "singularity_margin": "the measures of a FamilyKinematics built by family_kinematics",
     "newton_euler_dynamics": "Newton-Euler on a FamilyKinematics built by family_kinematics",
+    "python_sample": "one sample of the C's steps on floats, for the docs (tests/test_family_codegen.py)",
     "leg_chain": "the chain of docs/family.md on joint values (internal numerics)",
     "leg_jacobian": "the chain of docs/family.md on joint values (internal numerics)",
     "leg_measure": "the chain of docs/family.md on joint values (internal numerics)",

@@ -180,6 +180,7 @@ from .family.chain import (
     transmitted_wrench as transmitted_wrench,
 )
 from .family.codegen import (
+    python_sample as python_sample,
     FamilyCSource as FamilyCSource,
     family_c_inverse_dynamics as family_c_inverse_dynamics,
 )
@@ -199,6 +200,8 @@ from .family.forward import (
     singularity_margin as singularity_margin,
 )
 from .family.mechanics import (
+    MAX_TURN as MAX_TURN,
+    MAX_MOVE as MAX_MOVE,
     FamilyKinematics as FamilyKinematics,
     FamilySolution as FamilySolution,
     family_kinematics as family_kinematics,
