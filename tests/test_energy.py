@@ -235,7 +235,7 @@ def payload_motion(robot: Robot, pose, velocity, acceleration) -> tuple[np.ndarr
 
 @st.composite
 def loaded_scenarios(draw: st.DrawFn) -> tuple[Robot, AnalyticMotion, np.ndarray]:
-    """A random robot with a payload, a load, smoothed friction and the actuator spring."""
+    """A random robot with a payload, a load, smoothed friction and a spring on every joint."""
     robot, analytic = draw(scenarios())
     number = st.floats(0.0, 1.0)
     l0 = robot.l0
@@ -257,7 +257,16 @@ def loaded_scenarios(draw: st.DrawFn) -> tuple[Robot, AnalyticMotion, np.ndarray
             SpringParameters(
                 stiffness=2e3 * draw(number), rest=0.1 * l0 * (draw(number) - 0.5),
                 damping=20.0 * draw(number),
-            )
+            ),
+            # the torsion spring of each revolute joint (on phi) and the sleeves' (on lambda32)
+            SpringParameters(
+                stiffness=50.0 * draw(number) + 0.5, rest=0.5 * (draw(number) - 0.5),
+                damping=2.0 * draw(number), kind="revolute",
+            ),
+            SpringParameters(
+                stiffness=1e3 * draw(number) + 1.0, rest=0.5 * l0 * draw(number),
+                damping=10.0 * draw(number), kind="sleeve",
+            ),
         ),
     )  # fmt: skip
     wrench = np.array(draw(st.tuples(number, number, number))) * (4.0, -4.0, 0.5)
@@ -268,7 +277,7 @@ def element_state(robot, motion, kin, dyn) -> State:  # type: ignore[no-untyped-
     friction = (dyn.fric10, dyn.fric21, dyn.fric32) if robot.friction is not None else None
     return State(
         motion.pose, motion.velocity, kin.geometry.lambda10, kin.dlambda10, kin.dlambda32,
-        wrench=motion.load, friction=friction,
+        wrench=motion.load, friction=friction, lambda32=kin.geometry.lambda32,
     )  # fmt: skip
 
 
@@ -282,7 +291,9 @@ def test_power_of_the_elements_balances_the_kinetic_energy(
     plain = analytic.motion(np.linspace(0.0, analytic.duration, 10))
     motion = Motion(plain.t, plain.pose, plain.velocity, plain.acceleration,
                     load=np.broadcast_to(wrench, (10, 3)).copy())  # fmt: skip
-    assert {e.name for e in robot.elements} >= {"spring.actuator", "friction.sleeve", "load"}
+    assert {e.name for e in robot.elements} >= {
+        "spring.actuator", "spring.revolute", "spring.sleeve", "friction.sleeve", "load"
+    }  # fmt: skip
     for method in METHODS:
         kin, dyn = inverse_dynamics(robot, motion, method=method)  # type: ignore[arg-type]
         bodies = body_states(
@@ -318,7 +329,9 @@ def test_input_power_is_the_derivative_of_the_energy_with_every_element(
     bodies = body_states(
         robot, geo.lambda10, rates.dlambda10, rates.ddlambda10, pose, velocity, acceleration
     )
-    state = State(pose, velocity, geo.lambda10, rates.dlambda10, rates.dlambda32)
+    state = State(
+        pose, velocity, geo.lambda10, rates.dlambda10, rates.dlambda32, lambda32=geo.lambda32
+    )
     potentials = [element.potential(robot, state) for element in robot.elements]
     assert SPRING.potential(robot, state) is not None
     payload_state = payload_motion(robot, pose, velocity, acceleration)

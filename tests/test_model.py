@@ -423,8 +423,8 @@ def test_the_spring_table_reads_validates_and_round_trips(tmp_path: Path) -> Non
         with pytest.raises(ParameterError, match=re.escape(message)) as caught:
             Robot.from_toml(path)
         assert caught.value.file == str(path) and caught.value.key.startswith("spring")
-    with pytest.raises(ParameterError, match=re.escape("unknown key 'spring.revolute'")):
-        Robot.from_mapping({"spring": {"revolute": {}}})
+    with pytest.raises(ParameterError, match=re.escape("unknown key 'spring.platform'")):
+        Robot.from_mapping({"spring": {"platform": {}}})
 
 
 def test_the_template_documents_the_spring_keys() -> None:

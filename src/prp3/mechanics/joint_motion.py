@@ -84,6 +84,7 @@ class KernelGeometry(NamedTuple):
     l1: Value
     lambda10: Legs
     lambda32: Legs
+    phi: Value  # the pose's φ (the revolute joints' coordinate: link 2 turns with the platform)
 
 
 class KernelKinematics(NamedTuple):
@@ -135,6 +136,7 @@ def kernel_geometry(
         l1=l1,
         lambda10=_legs(ax, ay, l1),
         lambda32=_legs(lx, ly, l1),
+        phi=phi,
     )
 
 

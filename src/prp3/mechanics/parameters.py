@@ -69,6 +69,10 @@ class KernelParameters:
         Friction of the sleeve of link 2 on the platform (``b_s, c_s, μ_s``, smoothing).
     spring_stiffness, spring_rest, spring_damping : Value
         The spring with damper of each actuated joint (``k``, ``λ_rest``, ``c``).
+    revolute_spring_stiffness, revolute_spring_rest, revolute_spring_damping : Value
+        The torsion spring with damper of each revolute joint, on ``φ`` (``k_r``, ``φ_rest``, ``c_r``).
+    sleeve_spring_stiffness, sleeve_spring_rest, sleeve_spring_damping : Value
+        The spring with damper of each sleeve, on ``λ32_i`` (``k_s``, ``λ32_rest``, ``c_s``).
 
     Every field after ``platform_inertia`` belongs to one element of
     :mod:`prp3.model.elements` (:data:`EFFECT_FIELDS`) and defaults to ``0.0``; a
@@ -109,6 +113,12 @@ class KernelParameters:
     spring_stiffness: Value = 0.0
     spring_rest: Value = 0.0
     spring_damping: Value = 0.0
+    revolute_spring_stiffness: Value = 0.0
+    revolute_spring_rest: Value = 0.0
+    revolute_spring_damping: Value = 0.0
+    sleeve_spring_stiffness: Value = 0.0
+    sleeve_spring_rest: Value = 0.0
+    sleeve_spring_damping: Value = 0.0
 
     @property
     def has_mu(self) -> bool:

@@ -4,7 +4,7 @@
 :mod:`prp3.mechanics.joint_motion`, the inertia wrench of each piston, each
 link 2 and the platform minus its weight (eq. 22), and subtracts the forces
 the elements of :mod:`prp3.model.elements` apply: the constant and the
-time-varying load on the platform, the actuators' spring (:func:`_leg_spring`)
+time-varying load on the platform, the springs with dampers of the joints (:func:`_joint_springs`)
 and the joint friction (:func:`_leg_friction`, whose laws
 :func:`friction_forces` evaluates).  A new effect on a body (a payload, an
 external load, a friction force, a spring) is an element; it is applied here,
@@ -131,11 +131,11 @@ def body_wrenches(
     the constant load of ``k`` (:class:`~prp3.model.elements.LoadElement`) and the
     time-varying ``load = (f_x, f_y, m_z)`` on the platform at ``G``
     (:class:`~prp3.model.elements.WrenchElement`), the spring of the actuators
-    (:func:`_leg_spring`, :class:`~prp3.model.elements.SpringElement`) and the joint
+    (:func:`_joint_springs`, :class:`~prp3.model.elements.SpringElement`) and the joint
     ``friction`` (:func:`_leg_friction`, :class:`~prp3.model.elements.FrictionElement`,
     whose laws :func:`friction_forces` evaluates).  ``inertia=False``
     leaves the inertia wrenches, the weights, the constant load and the
-    spring out (the wrenches of the friction forces alone: linear in them).
+    springs out (the wrenches of the friction forces alone: linear in them).
     """
     geo = kin.geometry
     c, s, D, C = geo.cos_phi, geo.sin_phi, geo.D, geo.C
@@ -174,12 +174,9 @@ def body_wrenches(
         platform_y = platform_y - ext_y
     if not _zero(ext_m):
         platform_moment = platform_moment - ext_m
-    if inertia and not (_zero(k.spring_stiffness) and _zero(k.spring_damping)):
-        geo_lambda10, rate = kin.geometry.lambda10, kin.dlambda10
-        legs = (
-            _leg_spring(k, legs[0], geo_lambda10[0], rate[0]),
-            _leg_spring(k, legs[1], geo_lambda10[1], rate[1]),
-            _leg_spring(k, legs[2], geo_lambda10[2], rate[2]),
+    if inertia:  # the springs with dampers of the joints (their elements: model.elements.SPRINGS)
+        legs, platform_x, platform_y, platform_moment = _joint_springs(
+            k, kin, dphi, legs, platform_x, platform_y, platform_moment
         )
     if friction is not None:
         half = 0.5 * k.l0
@@ -247,29 +244,90 @@ def _leg_wrenches(
     return (piston_e, piston_n, piston_moment, link_e, link_n, link_moment, dxl, dyl)
 
 
-def _leg_spring(k: KernelParameters, w: _LegWrenches, lam: Value, rate: Value) -> _LegWrenches:
-    """One leg's wrenches minus the force of the actuator's spring with damper on its piston.
+def _joint_springs(
+    k: KernelParameters,
+    kin: KernelKinematics,
+    dphi: Value,
+    legs: tuple[_LegWrenches, _LegWrenches, _LegWrenches],
+    platform_x: Value,
+    platform_y: Value,
+    platform_moment: Value,
+) -> tuple[tuple[_LegWrenches, _LegWrenches, _LegWrenches], Value, Value, Value]:
+    """The wrenches minus the forces of the springs with dampers of the joints.
 
-    The element :class:`prp3.model.elements.SpringElement` (``[spring.actuator]``):
-    ``s_i = −k·(λ10_i − λ_rest) − c·λ̇10_i`` along ``e_i`` through ``P_i``; it helps
-    the actuator, as the guide's friction does.
+    Each spring's force is :func:`~prp3.model.joint_elements.spring_force`
+    ``s = −k·(q − q_rest) − c·q̇`` on its joint's coordinate ``q``, acting where the
+    joint's friction acts (:func:`_leg_friction`): ``[spring.actuator]`` on piston i
+    along ``e_i`` (``q = λ10_i``; it helps the actuator); ``[spring.revolute]``, the
+    moment of piston i on link 2 about ``z0`` (``q = φ``); ``[spring.sleeve]``, the
+    force of link 2 on the platform along ``d_i`` at ``P_i`` (``q = λ32_i``).  A spring
+    whose stiffness and damping are the number zero adds no operation.
     """
-    force = spring_force(k.spring_stiffness, k.spring_rest, k.spring_damping, lam, rate)
-    return (w[0] - force, w[1], w[2], w[3], w[4], w[5], w[6], w[7])
+    geo = kin.geometry
+    if not (_zero(k.spring_stiffness) and _zero(k.spring_damping)):
+        stiffness, rest, damping = k.spring_stiffness, k.spring_rest, k.spring_damping
+        legs = (
+            _leg_forces(legs[0], spring_force(stiffness, rest, damping, geo.lambda10[0], kin.dlambda10[0]), 0.0, 0.0, geo.C, geo.D),
+            _leg_forces(legs[1], spring_force(stiffness, rest, damping, geo.lambda10[1], kin.dlambda10[1]), 0.0, 0.0, geo.C, geo.D),
+            _leg_forces(legs[2], spring_force(stiffness, rest, damping, geo.lambda10[2], kin.dlambda10[2]), 0.0, 0.0, geo.C, geo.D),
+        )  # fmt: skip
+    if not (_zero(k.revolute_spring_stiffness) and _zero(k.revolute_spring_damping)):
+        moment = spring_force(
+            k.revolute_spring_stiffness,
+            k.revolute_spring_rest,
+            k.revolute_spring_damping,
+            geo.phi,
+            dphi,
+        )
+        legs = (
+            _leg_forces(legs[0], 0.0, moment, 0.0, geo.C, geo.D),
+            _leg_forces(legs[1], 0.0, moment, 0.0, geo.C, geo.D),
+            _leg_forces(legs[2], 0.0, moment, 0.0, geo.C, geo.D),
+        )
+    if not (_zero(k.sleeve_spring_stiffness) and _zero(k.sleeve_spring_damping)):
+        stiffness, rest = k.sleeve_spring_stiffness, k.sleeve_spring_rest
+        damping, half = k.sleeve_spring_damping, 0.5 * k.l0
+        s32 = (
+            spring_force(stiffness, rest, damping, geo.lambda32[0], kin.dlambda32[0]),
+            spring_force(stiffness, rest, damping, geo.lambda32[1], kin.dlambda32[1]),
+            spring_force(stiffness, rest, damping, geo.lambda32[2], kin.dlambda32[2]),
+        )
+        for j in range(3):
+            platform_x = platform_x - s32[j] * legs[j][6]
+            platform_y = platform_y - s32[j] * legs[j][7]
+            platform_moment = platform_moment - half * s32[j]
+        legs = (
+            _leg_forces(legs[0], 0.0, 0.0, s32[0], geo.C, geo.D),
+            _leg_forces(legs[1], 0.0, 0.0, s32[1], geo.C, geo.D),
+            _leg_forces(legs[2], 0.0, 0.0, s32[2], geo.C, geo.D),
+        )
+    return legs, platform_x, platform_y, platform_moment
 
 
 def _leg_friction(
     w: _LegWrenches, friction: KernelFriction, j: int, C: Value, D: Value
 ) -> _LegWrenches:
     """One leg's wrenches of :func:`_leg_wrenches` minus the friction forces on them."""
-    f10, f21, f32 = friction.fric10[j], friction.fric21[j], friction.fric32[j]
+    return _leg_forces(w, friction.fric10[j], friction.fric21[j], friction.fric32[j], C, D)
+
+
+def _leg_forces(
+    w: _LegWrenches, f10: Value, f21: Value, f32: Value, C: Value, D: Value
+) -> _LegWrenches:
+    """One leg's wrenches minus the forces its joints apply (friction or a spring).
+
+    ``f10``: the guide's force on piston i along ``e_i``; ``f21``: the moment of piston
+    i on link 2 about ``z0``; ``f32``: the force of link 2 on the platform along ``d_i``
+    (its reaction on link 2 here; the platform's share is the caller's).  A term that is
+    the number zero adds no operation.
+    """
     return (
-        w[0] - f10,  # the guide's friction helps the actuator
+        w[0] if _zero(f10) else w[0] - f10,  # the guide's force helps the actuator
         w[1],
-        w[2] + f21,  # the piston receives −fric21
-        w[3] + f32 * C,  # link 2 receives −fric32·d_i, d_i·e_i = C
-        w[4] + f32 * D,  # d_i·n_i = D
-        w[5] - f21,
+        w[2] if _zero(f21) else w[2] + f21,  # the piston receives −f21
+        w[3] if _zero(f32) else w[3] + f32 * C,  # link 2 receives −f32·d_i, d_i·e_i = C
+        w[4] if _zero(f32) else w[4] + f32 * D,  # d_i·n_i = D
+        w[5] if _zero(f21) else w[5] - f21,
         w[6],
         w[7],
     )

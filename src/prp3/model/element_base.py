@@ -52,7 +52,8 @@ class State(NamedTuple):
     ``pose, velocity``: ``(x, y, φ)`` and its rate; ``lambda10, dlambda10``,
     ``dlambda32``: joint displacements and rates; ``wrench``: the motion's
     time-varying wrench ``(fx, fy, mz)`` or ``None``; ``friction``: the
-    friction forces ``(fric10, fric21, fric32)`` or ``None``.
+    friction forces ``(fric10, fric21, fric32)`` or ``None``; ``lambda32``: the sleeves'
+    displacements (the sleeve's spring needs them) or ``None``.
     """
 
     pose: FloatArray
@@ -62,6 +63,7 @@ class State(NamedTuple):
     dlambda32: FloatArray
     wrench: FloatArray | None = None
     friction: tuple[FloatArray, FloatArray, FloatArray] | None = None
+    lambda32: FloatArray | None = None
 
 
 @dataclass(frozen=True)

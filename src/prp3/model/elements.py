@@ -4,12 +4,12 @@ The paper's model (section 3) is the inertia of the seven bodies; everything
 that acts on them besides the actuators is an *element*: gravity, a payload
 fixed to the platform, the constant ``[load]``, the motion's time-varying
 wrench ``fx, fy, mz``, the friction of each kind of joint and the linear
-spring with damper of the actuators.  An element says, in one class,
+spring with damper of each kind of joint.  An element says, in one class,
 
 * which fields of :class:`prp3.mechanics.parameters.KernelParameters` it owns and their
   values for a robot (:meth:`Element.parameters`);
 * where its contribution to the wrench each body needs is written: in
-  :func:`prp3.mechanics.wrenches.body_wrenches` and its helpers (``_leg_spring``,
+  :func:`prp3.mechanics.wrenches.body_wrenches` and its helpers (``_joint_springs``,
   ``_leg_friction``, the load), in the kernel's ``+ − × ÷`` on tuples, so that
   the same code runs on floats, arrays, sympy and compiled by numba (which
   cannot call methods of these objects); the element owns its fields, and a
@@ -33,14 +33,14 @@ forward) asks the elements; none keeps its own list of effects.
 The interface is :class:`prp3.model.element_base.Element`; the classes are
 in :mod:`prp3.model.body_elements` (gravity, payload, load, the motion's
 wrench) and :mod:`prp3.model.joint_elements` (friction of each kind of joint,
-the actuators' spring); this module holds the one instance of each, in the
+the springs with dampers of each kind of joint); this module holds the one instance of each, in the
 order the kernel applies them.  These modules import nothing of prp3 but the
 errors and one another: the robot and the kernel's values are read by their
 attributes.
 
 >>> [element.name for element in ELEMENTS]  # doctest: +NORMALIZE_WHITESPACE
 ['gravity', 'payload', 'load', 'wrench', 'friction.actuator', 'friction.revolute',
- 'friction.sleeve', 'spring.actuator']
+ 'friction.sleeve', 'spring.actuator', 'spring.revolute', 'spring.sleeve']
 >>> SPRING.fields, SPRING.generated_c
 (('spring_stiffness', 'spring_rest', 'spring_damping'), True)
 """
@@ -49,7 +49,12 @@ from __future__ import annotations
 
 from prp3.model.body_elements import GravityElement, LoadElement, PayloadElement, WrenchElement
 from prp3.model.element_base import Element
-from prp3.model.joint_elements import FrictionElement, SpringElement, friction_element
+from prp3.model.joint_elements import (
+    FrictionElement,
+    SpringElement,
+    friction_element,
+    spring_element,
+)
 
 __all__ = [
     "ELEMENTS",
@@ -58,6 +63,7 @@ __all__ = [
     "LOAD",
     "PAYLOAD",
     "SPRING",
+    "SPRINGS",
     "WRENCH",
     "effect_fields",
 ]
@@ -72,8 +78,13 @@ FRICTIONS: tuple[FrictionElement, FrictionElement, FrictionElement] = (
     friction_element("revolute"),
     friction_element("sleeve"),
 )
-SPRING = SpringElement()
-ELEMENTS: tuple[Element, ...] = (GRAVITY, PAYLOAD, LOAD, WRENCH, *FRICTIONS, SPRING)
+SPRINGS: tuple[SpringElement, SpringElement, SpringElement] = (
+    spring_element("actuator"),
+    spring_element("revolute"),
+    spring_element("sleeve"),
+)
+SPRING = SPRINGS[0]
+ELEMENTS: tuple[Element, ...] = (GRAVITY, PAYLOAD, LOAD, WRENCH, *FRICTIONS, *SPRINGS)
 
 
 def effect_fields() -> tuple[str, ...]:

@@ -22,7 +22,13 @@ import numpy as np
 from prp3.errors import ParameterError
 from prp3.model.element_base import Element, FloatArray, State, Value, is_zero, rate_sign
 
-__all__ = ["FrictionElement", "SpringElement", "friction_element", "spring_force"]
+__all__ = [
+    "FrictionElement",
+    "SpringElement",
+    "friction_element",
+    "spring_element",
+    "spring_force",
+]
 
 
 def spring_force(
@@ -236,16 +242,26 @@ def friction_element(kind: str) -> FrictionElement:
 
 @dataclass(frozen=True)
 class SpringElement(Element):
-    """A linear spring with damper at each actuated joint (``[spring.actuator]``).
+    """A linear spring with damper on one kind of joint (``[spring.KIND]``), the three legs alike.
 
-    Its force on piston i along ``e_i``:
-    ``s_i = −k·(λ10_i − λ_rest) − c·λ̇10_i``; potential energy
-    ``½·k·Σ_i (λ10_i − λ_rest)²``; power ``Σ_i s_i·λ̇10_i`` (the damper
-    dissipates ``c·Σ_i λ̇10_i²``).  ``f10`` remains the whole force the actuator
-    supplies (the spring helps it).  Linear and homogeneous in ``k`` (for the
-    robot's ``λ_rest``) and ``c``: two regressor columns.  MuJoCo's own joint
-    ``stiffness``, ``springref`` and ``damping`` on the ``lambda10_i`` sliders
-    carry it exactly (their ``qpos`` is ``λ10_i``).
+    Its force on the joint's outer body, along the joint (a moment, on the revolute
+    joint): ``s_i = −k·(q_i − q_rest) − c·q̇_i`` (:func:`spring_force`), ``q_i`` the
+    joint's coordinate: ``λ10_i`` on piston i along ``e_i`` (``[spring.actuator]``);
+    ``φ`` of piston i on link 2 about ``z0`` (``[spring.revolute]``: link 2 turns with
+    the platform, eq. 7, so every leg's joint turns by ``φ``); ``λ32_i`` of link 2 on
+    the platform along ``d_i`` (``[spring.sleeve]``).  Potential energy
+    ``½·k·Σ_i (q_i − q_rest)²``; power ``Σ_i s_i·q̇_i`` (the damper dissipates
+    ``c·Σ_i q̇_i²``).  ``f10`` remains the whole force the actuator supplies (a spring
+    helps it).  Linear and homogeneous in ``k`` (for the robot's ``q_rest``) and ``c``:
+    two regressor columns.  MuJoCo's own joint ``stiffness``, ``springref`` and
+    ``damping`` carry it exactly (the ``qpos`` of the joints ``lambda10_i``, ``phi_i``,
+    ``lambda32_i`` are ``λ10_i``, ``φ``, ``λ32_i``).
+
+    Adding an effect is one element like this one: its fields in
+    :class:`~prp3.mechanics.parameters.KernelParameters`, its force in the kernel's
+    :func:`prp3.mechanics.wrenches.body_wrenches`, its power, potential and dissipation
+    here, and its instance in :mod:`prp3.model.elements` (ARCHITECTURE.md, "A new
+    element").
     """
 
     name: str = "spring.actuator"
@@ -259,60 +275,112 @@ class SpringElement(Element):
     )
     units: tuple[tuple[str, str], ...] = (("spring_stiffness", "N/m"), ("spring_damping", "N s/m"))
     generated_c: bool = True
+    kind: str = "actuator"
 
-    def present(self, robot: Any) -> bool:
-        return robot.spring is not None
-
-    def parameters(self, robot: Any) -> dict[str, float]:
-        if robot.spring is None:
-            return {}
-        s = robot.spring.actuator
-        return {"spring_stiffness": s.stiffness, "spring_rest": s.rest, "spring_damping": s.damping}
-
-    def changes_statics(self, robot: Any) -> bool:
-        return robot.spring is not None and robot.spring.actuator.stiffness != 0.0
-
-    def _stretch(self, robot: Any, state: State) -> tuple[FloatArray, FloatArray]:
-        s = robot.spring.actuator
-        force = spring_force(s.stiffness, s.rest, s.damping, state.lambda10, state.dlambda10)
-        return force, state.lambda10 - s.rest
-
-    def power(self, robot: Any, state: State) -> FloatArray:
-        if robot.spring is None:
-            return np.zeros(state.pose.shape[0])
-        force, _ = self._stretch(robot, state)
-        return np.asarray((force * state.dlambda10).sum(axis=-1))
-
-    def potential(self, robot: Any, state: State) -> FloatArray | None:
+    def _spring(self, robot: Any) -> Any:
+        """The robot's :class:`~prp3.model.parameters.SpringParameters` of this joint, or None."""
         if robot.spring is None:
             return None
-        _, stretch = self._stretch(robot, state)
-        return np.asarray(0.5 * robot.spring.actuator.stiffness * (stretch * stretch).sum(axis=-1))
+        spring = getattr(robot.spring, self.kind)
+        if self.kind != "actuator" and spring.is_zero:
+            return None  # a zero spring off the actuators adds no operation
+        return spring
+
+    def present(self, robot: Any) -> bool:
+        return self._spring(robot) is not None
+
+    def parameters(self, robot: Any) -> dict[str, float]:
+        s = self._spring(robot)
+        if s is None:
+            return {}
+        stiffness, rest, damping = self.fields
+        return {stiffness: s.stiffness, rest: s.rest, damping: s.damping}
+
+    def changes_statics(self, robot: Any) -> bool:
+        s = self._spring(robot)
+        return s is not None and s.stiffness != 0.0
+
+    def _coordinate(self, state: State) -> tuple[FloatArray, FloatArray]:
+        """The joint coordinates ``q`` and rates ``q̇`` of the three legs, ``(N, 3)``."""
+        if self.kind == "actuator":
+            return state.lambda10, state.dlambda10
+        if self.kind == "revolute":
+            phi, dphi = state.pose[:, 2:3], state.velocity[:, 2:3]
+            return np.repeat(phi, 3, axis=1), np.repeat(dphi, 3, axis=1)
+        if state.lambda32 is None:
+            raise ValueError("the sleeve's spring needs the state's lambda32")
+        return state.lambda32, state.dlambda32
+
+    def _stretch(self, robot: Any, state: State) -> tuple[FloatArray, FloatArray, FloatArray]:
+        s = self._spring(robot)
+        q, rate = self._coordinate(state)
+        force = spring_force(s.stiffness, s.rest, s.damping, q, rate)
+        return force, q - s.rest, rate
+
+    def power(self, robot: Any, state: State) -> FloatArray:
+        if self._spring(robot) is None:
+            return np.zeros(state.pose.shape[0])
+        force, _, rate = self._stretch(robot, state)
+        return np.asarray((force * rate).sum(axis=-1))
+
+    def potential(self, robot: Any, state: State) -> FloatArray | None:
+        s = self._spring(robot)
+        if s is None:
+            return None
+        _, stretch, _ = self._stretch(robot, state)
+        return np.asarray(0.5 * s.stiffness * (stretch * stretch).sum(axis=-1))
 
     def dissipation(self, robot: Any, state: State) -> FloatArray:
-        """The damper's ``c·Σ_i λ̇10_i²``."""
-        if robot.spring is None:
+        """The damper's ``c·Σ_i q̇_i²``."""
+        s = self._spring(robot)
+        if s is None:
             return np.zeros(state.pose.shape[0])
-        rate = state.dlambda10
-        return np.asarray(robot.spring.actuator.damping * (rate * rate).sum(axis=-1))
+        _, _, rate = self._stretch(robot, state)
+        return np.asarray(s.damping * (rate * rate).sum(axis=-1))
 
     def mjcf_joints(self, robot: Any) -> dict[str, dict[str, float]]:
-        if robot.spring is None:
+        s = self._spring(robot)
+        if s is None:
             return {}
-        s, attributes = robot.spring.actuator, {}
+        attributes: dict[str, float] = {}
         if s.stiffness != 0.0:
             attributes["stiffness"] = float(s.stiffness)
             if s.rest != 0.0:
                 attributes["springref"] = float(s.rest)
         if s.damping != 0.0:
             attributes["damping"] = float(s.damping)
-        return {"lambda10": attributes} if attributes else {}
+        joint = {"actuator": "lambda10", "revolute": "phi", "sleeve": "lambda32"}[self.kind]
+        return {joint: attributes} if attributes else {}
 
     def identified(self, robot: Any, values: dict[str, float]) -> Any:
-        stiffness, damping = values["spring_stiffness"], values["spring_damping"]
-        if robot.spring is None and stiffness == 0.0 and damping == 0.0:
+        stiffness_field, _, damping_field = self.fields
+        stiffness, damping = values[stiffness_field], values[damping_field]
+        if self._spring(robot) is None and stiffness == 0.0 and damping == 0.0:
             return robot
         _refuse_negative(self, values)
         return robot.with_keys(
             {f"{self.name}.stiffness": stiffness, f"{self.name}.damping": damping}
         )
+
+
+def spring_element(kind: str) -> SpringElement:
+    """The spring with damper of the joints of kind ``kind`` (``"actuator"``, ``"revolute"``, ``"sleeve"``).
+
+    >>> spring_element("sleeve").fields
+    ('sleeve_spring_stiffness', 'sleeve_spring_rest', 'sleeve_spring_damping')
+    """
+    if kind == "actuator":
+        return SpringElement()
+    prefix, letter = f"{kind}_spring", kind[0]
+    stiffness, rest, damping = (f"{prefix}_{n}" for n in ("stiffness", "rest", "damping"))
+    units = {"revolute": ("N m/rad", "N m s/rad"), "sleeve": ("N/m", "N s/m")}[kind]
+    return SpringElement(
+        name=f"spring.{kind}",
+        fields=(stiffness, rest, damping),
+        regressor=(stiffness, damping),
+        kept=(rest,),
+        broadcast=(stiffness, rest, damping),
+        symbols=((stiffness, f"k_s{letter}"), (damping, f"c_s{letter}")),
+        units=((stiffness, units[0]), (damping, units[1])),
+        kind=kind,
+    )

@@ -29,6 +29,7 @@ from prp3.errors import ParameterError
 from prp3.validation import check_scalar
 
 __all__ = [
+    "SPRING_UNITS",
     "Friction",
     "JointFriction",
     "Limits",
@@ -370,57 +371,102 @@ class Friction:
         return self.actuator.has_mu or self.revolute.has_mu or self.sleeve.has_mu
 
 
+#: The units of a spring on each kind of joint: (stiffness, rest, damping).
+SPRING_UNITS: dict[str, tuple[str, str, str]] = {
+    "actuator": ("N/m", "m", "N·s/m"),
+    "revolute": ("N·m/rad", "rad", "N·m·s/rad"),
+    "sleeve": ("N/m", "m", "N·s/m"),
+}
+
+
 @dataclass(frozen=True)
 class SpringParameters:
-    """A linear spring with damper along a joint; ``docs/loads_and_friction.md``.
+    """A linear spring with damper on a joint; ``docs/loads_and_friction.md``.
 
-    The force on the joint's body is ``−stiffness·(λ − rest) − damping·λ̇``
-    (its element: :data:`prp3.model.elements.SPRING`).
+    The force (or moment, on the revolute joint) on the joint's outer body is
+    ``−stiffness·(q − rest) − damping·q̇``, ``q`` the joint's coordinate
+    (``λ10_i``, ``φ`` or ``λ32_i``; its element: :func:`prp3.model.joint_elements.spring_element`).
 
     Attributes
     ----------
     stiffness : float
-        ``k`` (N/m), >= 0.
+        ``k`` (N/m; N·m/rad on the revolute joint), >= 0.
     rest : float
-        ``λ_rest``: the displacement at which the spring is relaxed (m).
+        ``q_rest``: the coordinate at which the spring is relaxed (m; rad).
     damping : float
-        ``c`` (N·s/m), >= 0.
+        ``c`` (N·s/m; N·m·s/rad), >= 0.
+    kind : str
+        The joint: ``"actuator"`` (``λ10_i``), ``"revolute"`` (``φ``), ``"sleeve"`` (``λ32_i``).
 
     >>> SpringParameters(stiffness=-1.0)
     Traceback (most recent call last):
     ...
     prp3.errors.ParameterError: robot: spring.actuator.stiffness must be a non-negative finite number (N/m), got -1.0
+    >>> SpringParameters(damping=-1.0, kind="revolute")
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: robot: spring.revolute.damping must be a non-negative finite number (N·m·s/rad), got -1.0
     """
 
     stiffness: float = 0.0
     rest: float = 0.0
     damping: float = 0.0
+    kind: str = "actuator"
 
     def __post_init__(self) -> None:
-        where = "spring.actuator"
+        if self.kind not in SPRING_UNITS:
+            raise ParameterError(
+                f"robot: a spring's joint must be one of {', '.join(SPRING_UNITS)}, got {self.kind!r}"[
+                    :200
+                ]
+            )
+        where, (stiffness, _, damping) = f"spring.{self.kind}", SPRING_UNITS[self.kind]
         object.__setattr__(
-            self, "stiffness", _non_negative(f"{where}.stiffness", self.stiffness, "N/m")
+            self, "stiffness", _non_negative(f"{where}.stiffness", self.stiffness, stiffness)
         )
         object.__setattr__(self, "rest", _number(f"{where}.rest", self.rest))
         object.__setattr__(
-            self, "damping", _non_negative(f"{where}.damping", self.damping, "N·s/m")
+            self, "damping", _non_negative(f"{where}.damping", self.damping, damping)
         )
+
+    @property
+    def is_zero(self) -> bool:
+        """Whether it applies no force at all (stiffness and damping zero)."""
+        return self.stiffness == 0.0 and self.damping == 0.0
 
 
 @dataclass(frozen=True)
 class Spring:
-    """Springs of the joints (TOML table ``[spring]``); ``Robot.spring`` is ``None`` without.
+    """Springs with dampers of the joints (TOML ``[spring.KIND]``); ``Robot.spring`` is ``None`` without.
 
     Attributes
     ----------
     actuator : SpringParameters
         Along the guide of piston i, on ``λ10_i`` (the three legs alike).
+    revolute : SpringParameters
+        A torsion spring of piston i on link 2 at ``P_i``, on ``φ`` (link 2 turns with
+        the platform, eq. 7).
+    sleeve : SpringParameters
+        Along the sleeve of link 2 on the platform, on ``λ32_i``.
+
+    >>> Spring(sleeve=SpringParameters(stiffness=20.0)).sleeve.kind
+    'sleeve'
     """
 
     actuator: SpringParameters = field(default_factory=SpringParameters)
+    revolute: SpringParameters = field(default_factory=lambda: SpringParameters(kind="revolute"))
+    sleeve: SpringParameters = field(default_factory=lambda: SpringParameters(kind="sleeve"))
 
     def __post_init__(self) -> None:
-        if not isinstance(self.actuator, SpringParameters):
-            raise ParameterError(
-                f"robot: spring.actuator must be a SpringParameters, got {self.actuator!r}"[:200]
-            )
+        for kind in SPRING_UNITS:
+            value = getattr(self, kind)
+            if not isinstance(value, SpringParameters):
+                raise ParameterError(
+                    f"robot: spring.{kind} must be a SpringParameters, got {value!r}"[:200]
+                )
+            if value.kind != kind:
+                object.__setattr__(
+                    self,
+                    kind,
+                    SpringParameters(value.stiffness, value.rest, value.damping, kind),
+                )

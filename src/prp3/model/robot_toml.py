@@ -31,6 +31,7 @@ from prp3.errors import InputFileError, ParameterError
 from prp3.files import read_text
 from prp3.model.parameters import (
     FRICTION_UNITS,
+    SPRING_UNITS,
     Friction,
     JointFriction,
     Limits,
@@ -85,7 +86,16 @@ _FRICTION_WHERE = {
 }
 
 #: Keys of each ``[spring.KIND]`` table.
-_SPRING_KEYS: dict[str, set[str]] = {"actuator": {"stiffness", "rest", "damping"}}
+_SPRING_KEYS: dict[str, set[str]] = {
+    kind: {"stiffness", "rest", "damping"} for kind in ("actuator", "revolute", "sleeve")
+}
+
+#: What each ``[spring.KIND]`` table's heading says of the joint.
+_SPRING_WHERE = {
+    "actuator": "linear spring with damper on each lambda10_i",
+    "revolute": "torsion spring with damper of piston i on link 2, on phi",
+    "sleeve": "linear spring with damper on each lambda32_i",
+}
 
 
 def read_toml(path: Path, what: str) -> dict[str, Any]:
@@ -262,7 +272,7 @@ def robot_arguments(data: Mapping[str, Any]) -> dict[str, Any]:
         kwargs["spring"] = Spring(
             **{
                 kind: SpringParameters(
-                    **toml_table(f"spring.{kind}", tables[kind], _SPRING_KEYS[kind])
+                    **toml_table(f"spring.{kind}", tables[kind], _SPRING_KEYS[kind]), kind=kind
                 )
                 for kind in tables
             }
@@ -346,20 +356,29 @@ def robot_text(robot: Robot, *, comments: bool) -> str:
             "# smoothing = 0.0",
         ]
     if robot.spring is not None:
-        spring = robot.spring.actuator
-        heading = "  # linear spring with damper on each lambda10_i" if comments else ""
-        out += ["", "[spring.actuator]" + heading]
-        out.append(line("stiffness", toml_float(spring.stiffness), "N/m, k"))
-        out.append(
-            line("rest", toml_float(spring.rest), "m, lambda10 at which the spring is relaxed")
-        )
-        out.append(line("damping", toml_float(spring.damping), "N s/m, c"))
+        for kind, units in SPRING_UNITS.items():
+            stiffness, rest, damping = (unit.replace("·", " ") for unit in units)
+            spring = getattr(robot.spring, kind)
+            if kind != "actuator" and spring.is_zero and spring.rest == 0.0:
+                continue  # the actuator's table is always written (the table [spring] exists)
+            heading = f"  # {_SPRING_WHERE[kind]}" if comments else ""
+            out += ["", f"[spring.{kind}]" + heading]
+            out.append(line("stiffness", toml_float(spring.stiffness), f"{stiffness}, k"))
+            coordinate = {"actuator": "lambda10", "revolute": "phi", "sleeve": "lambda32"}[kind]
+            out.append(
+                line(
+                    "rest",
+                    toml_float(spring.rest),
+                    f"{rest}, {coordinate} at which the spring is relaxed",
+                )
+            )
+            out.append(line("damping", toml_float(spring.damping), f"{damping}, c"))
     elif comments:
         out += [
             "",
             "# [spring.actuator]  # optional spring with damper on each lambda10_i: force on",
             "# stiffness = 0.0    # the piston -k*(lambda10 - rest) - c*dlambda10 along e_i, N/m",
-            "# rest = 0.0         # m",
-            "# damping = 0.0      # N s/m; docs/loads_and_friction.md",
+            "# rest = 0.0         # m (also [spring.revolute] on phi, N m/rad, and",
+            "# damping = 0.0      # [spring.sleeve] on lambda32_i); docs/loads_and_friction.md",
         ]
     return "\n".join(out) + "\n"

@@ -148,7 +148,7 @@ def _solve(
     )
     base = l0 * np.stack([np.sin(_ALPHA - math.pi / 3.0), -np.cos(_ALPHA - math.pi / 3.0)], -1)
     # closure G = B_i0 + s_i·e_i + λ32_i·d_i + Rot(α_i + φ)·c and its derivatives
-    s, _ = _leg_solve(d, G - base - Rc)
+    s, lam32 = _leg_solve(d, G - base - Rc)
     rho = G - base - s[..., None] * _E  # G − P_i
     sd, lam32d = _leg_solve(d, Gd - w * _perp(rho))
     sdd, _ = _leg_solve(
@@ -217,12 +217,29 @@ def _solve(
         ],
         axis=-1,
     )
-    if robot.spring is not None:  # the spring with damper of each actuator, on piston j along e_j
-        spring = robot.spring.actuator
+    if robot.spring is not None:  # the springs with dampers of the joints: −k·(q − q_rest) − c·q̇
+        actuator, revolute, sleeve = (
+            robot.spring.actuator,
+            robot.spring.revolute,
+            robot.spring.sleeve,
+        )
         lambda10 = s - l0 / math.sqrt(3.0)  # P_j = B_j0 + s_j·e_j, P_j(λ10 = 0) at l0/√3
-        force = -spring.stiffness * (lambda10 - spring.rest) - spring.damping * sd
+        force = -actuator.stiffness * (lambda10 - actuator.rest) - actuator.damping * sd
+        # the torsion spring of piston j on link j about z0 (q = φ, link j turns with the platform)
+        torque = (
+            -revolute.stiffness * (pose[:, 2] - revolute.rest) - revolute.damping * velocity[:, 2]
+        )
+        # the sleeve's spring: link j on the platform along d_j at P_j (q = λ32_j)
+        pull = -sleeve.stiffness * (lam32 - sleeve.rest) - sleeve.damping * lam32d
+        arm = _cross(-rho, d)  # (P_j − G) × d_j
+        b = b.copy()
         for j in range(3):
-            b[:, 3 * j : 3 * j + 2] -= force[:, j, None] * _E[j]
+            b[:, 3 * j : 3 * j + 2] -= force[:, j, None] * _E[j]  # on piston j along e_j
+            b[:, 3 * j + 2] += torque  # the piston receives −torque
+            b[:, 9 + 3 * j + 2] -= torque  # link j receives +torque
+            b[:, 9 + 3 * j : 9 + 3 * j + 2] += pull[:, j, None] * d[:, j]  # link j: −pull·d_j
+            b[:, 18:20] -= pull[:, j, None] * d[:, j]  # the platform: +pull·d_j at P_j
+            b[:, 20] -= pull[:, j] * arm[:, j]
     friction = robot.friction
     if friction is None:
         x = np.linalg.solve(A, b[..., None])[..., 0].reshape(n, 3, 7)

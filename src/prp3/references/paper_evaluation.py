@@ -5,8 +5,8 @@ it (:mod:`prp3.references.paper_kinematics`: frames and kinematics, eqs. 2–18;
 :mod:`prp3.references.paper_wrenches`: dynamics, eqs. 19–25), for ``n``
 samples at once and keeps every quantity.  The effects beyond the paper enter
 the applied wrenches ``F_k*, M_k*`` of eq. (19) as the weight does: the load on
-the platform and the joint friction (``_applied``), the actuators' spring
-(``_spring``); :func:`_evaluate_loaded` adds the friction's ``μ`` terms by a
+the platform and the joint friction (``_applied``), the springs with dampers of
+the joints (``_springs``), both through ``_joint_wrenches``; :func:`_evaluate_loaded` adds the friction's ``μ`` terms by a
 fixed point on the reactions.  :mod:`prp3.references.paper` runs them over a
 motion in chunks.
 """
@@ -14,6 +14,7 @@ motion in chunks.
 from __future__ import annotations
 
 from dataclasses import fields
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -139,7 +140,7 @@ def _applied(
     ``−fric21·a10·u3`` on body 1 (at ``A1``); ``−fric32·a32ᵀu3`` and ``fric21·u3``
     on body 2 (at ``A2``); ``fric32_j·d_j`` at ``A2`` of leg ``j`` on body 3.
     """
-    a10, a30 = a0[:, :, 0], a0[:, :, 2]
+    a30 = a0[:, :, 2]
     F_star, M_star = F_star.copy(), M_star.copy()
     external = np.zeros((F_star.shape[0], 3))
     external[:, :2] = robot.load.force
@@ -152,34 +153,68 @@ def _applied(
         F_star[:, :, 2] += F_ext
         M_star[:, :, 2] += np.cross(r3G, F_ext) + moment[:, None, None] * _mv(a30, U3)
     if friction is not None:
-        fric10, fric21, fric32 = friction
-        z0_in_1 = _mv(a10, U3)
-        F_star[:, :, 0] += fric10[..., None] * U3
-        M_star[:, :, 0] -= fric21[..., None] * z0_in_1
-        F_star[:, :, 1] -= fric32[..., None] * _mv(A32.T, U3)
-        M_star[:, :, 1] += fric21[..., None] * U3
-        d0 = _mv(_T(a30), U3)  # d_j in T0, (n, legs, 3)
-        for j in range(3):
-            force0 = fric32[:, j, None] * d0[:, j]  # on the platform at A2 of leg j, in T0
-            lever0 = position[:, j, 1][:, None, :] - position[:, :, 2]  # from A3 of each leg
-            F_star[:, :, 2] += _mv(a30, force0[:, None, :])
-            M_star[:, :, 2] += _mv(a30, np.cross(lever0, force0[:, None, :]))
+        F_star, M_star = _joint_wrenches(F_star, M_star, a0, position, friction)
     return F_star, M_star
 
 
-def _spring(robot: Robot, F_star: FloatArray, lambda10: FloatArray, v10: FloatArray) -> FloatArray:
-    """``F_1*`` with the spring with damper of the actuator added (``[spring.actuator]``).
+def _joint_wrenches(
+    F_star: FloatArray,
+    M_star: FloatArray,
+    a0: FloatArray,
+    position: FloatArray,
+    forces: tuple[FloatArray, FloatArray, FloatArray],
+) -> tuple[FloatArray, FloatArray]:
+    """``F_k*, M_k*`` with forces the joints apply added, each ``(n, 3)`` (friction, springs).
 
-    The force ``(−k·(λ10 − λ_rest) − c·v10)·u3`` on body 1 along its axis
-    ``z1 = e_i`` (``T1``), through ``A1`` (no moment), like ``fric10``.
+    ``fric10·u3`` and ``−fric21·a10·u3`` on body 1 (at ``A1``); ``−fric32·a32ᵀu3`` and
+    ``fric21·u3`` on body 2 (at ``A2``); ``fric32_j·d_j`` at ``A2`` of leg ``j`` on body 3.
+    """
+    a10, a30 = a0[:, :, 0], a0[:, :, 2]
+    F_star, M_star = F_star.copy(), M_star.copy()
+    fric10, fric21, fric32 = forces
+    z0_in_1 = _mv(a10, U3)
+    F_star[:, :, 0] += fric10[..., None] * U3
+    M_star[:, :, 0] -= fric21[..., None] * z0_in_1
+    F_star[:, :, 1] -= fric32[..., None] * _mv(A32.T, U3)
+    M_star[:, :, 1] += fric21[..., None] * U3
+    d0 = _mv(_T(a30), U3)  # d_j in T0, (n, legs, 3)
+    for j in range(3):
+        force0 = fric32[:, j, None] * d0[:, j]  # on the platform at A2 of leg j, in T0
+        lever0 = position[:, j, 1][:, None, :] - position[:, :, 2]  # from A3 of each leg
+        F_star[:, :, 2] += _mv(a30, force0[:, None, :])
+        M_star[:, :, 2] += _mv(a30, np.cross(lever0, force0[:, None, :]))
+    return F_star, M_star
+
+
+def _springs(
+    robot: Robot,
+    F_star: FloatArray,
+    M_star: FloatArray,
+    geo: Any,
+    vel: Any,
+    pose: FloatArray,
+    velocity: FloatArray,
+) -> tuple[FloatArray, FloatArray]:
+    """``F_k*, M_k*`` with the springs with dampers of the joints added (``[spring.KIND]``).
+
+    Each applies ``−k·(q − q_rest) − c·q̇`` where the joint's friction acts
+    (:func:`_joint_wrenches`): along ``z1 = e_i`` on body 1 (``q = λ10``), the moment
+    of body 1 on body 2 about ``z0`` (``q = φ21 = φ``), along the sleeve on the
+    platform (``q = λ32``).
     """
     if robot.spring is None:
-        return F_star
-    spring = robot.spring.actuator
-    force = -spring.stiffness * (lambda10 - spring.rest) - spring.damping * v10
-    F_star = F_star.copy()
-    F_star[:, :, 0] += force[..., None] * U3
-    return F_star
+        return F_star, M_star
+    n = pose.shape[0]
+    phi = np.broadcast_to(pose[:, 2, None], (n, 3))
+    dphi = np.broadcast_to(velocity[:, 2, None], (n, 3))
+    forces = []
+    for spring, q, rate in (
+        (robot.spring.actuator, geo.lambda10, vel.v10),
+        (robot.spring.revolute, phi, dphi),
+        (robot.spring.sleeve, geo.lambda32, vel.v32),
+    ):
+        forces.append(-spring.stiffness * (q - spring.rest) - spring.damping * rate)
+    return _joint_wrenches(F_star, M_star, geo.a0, geo.position, (forces[0], forces[1], forces[2]))
 
 
 def _evaluate(
@@ -204,7 +239,7 @@ def _evaluate(
     F_star, M_star = weight_wrenches(robot.gravity, geo, mass, r_C)  # eq. (19)
     # beyond the paper: the applied forces enter F_k*, M_k* as the weight does
     F_star, M_star = _applied(robot, F_star, M_star, geo.a0, geo.position, r3G, load, friction)
-    F_star = _spring(robot, F_star, geo.lambda10, vel.v10)
+    F_star, M_star = _springs(robot, F_star, M_star, geo, vel, pose, velocity)
     F_in, M_in = inertia_wrenches(mass, r_C, J, vel, acc)  # eq. (20)
     F0, M0 = -F_in - F_star, -M_in - M_star  # eq. (22)
     F, M = chain_wrenches(geo, F0, M0)  # eq. (21)
