@@ -269,3 +269,37 @@ def test_an_element_the_c_code_does_not_support_is_refused_by_name(
 ) -> None:
     with pytest.raises(ParameterError, match=re.escape(f"not {element}")):
         c_inverse_dynamics(robot)
+
+
+@settings(max_examples=3)
+@given(
+    robot=robots(),
+    revolute=st.tuples(st.floats(0.0, 20.0), st.floats(-0.5, 0.5), st.floats(0.0, 2.0)),
+    sleeve=st.tuples(st.floats(0.0, 500.0), st.floats(-0.1, 0.1), st.floats(0.0, 20.0)),
+    data=st.data(),
+)
+def test_the_passive_joints_springs_are_in_the_c_code(
+    tmp_path_factory: pytest.TempPathFactory,
+    robot: Robot,
+    revolute: tuple[float, float, float],
+    sleeve: tuple[float, float, float],
+    data: st.DataObject,
+) -> None:
+    # [spring.revolute] and [spring.sleeve] are compiled into the C code: its numbers are
+    # the independent Newton-Euler solver's, which applies both springs itself
+    spring = Spring(
+        revolute=SpringParameters(*revolute, kind="revolute"),
+        sleeve=SpringParameters(*sleeve, kind="sleeve"),
+    )
+    robot = replace(robot, spring=spring)
+    compiled = build(robot, tmp_path_factory.mktemp("passive_springs"))
+    pose = np.stack([data.draw(poses(robot.l0)) for _ in range(6)])
+    rates = st.lists(st.floats(-5.0, 5.0), min_size=18, max_size=18)
+    velocity = np.array(data.draw(rates)).reshape(6, 3)
+    acceleration = 10.0 * np.array(data.draw(rates)).reshape(6, 3)
+    motion = Motion(t=np.arange(6.0), pose=pose, velocity=velocity, acceleration=acceleration)
+    _, reference = inverse_dynamics(robot, motion, method="newton-euler")
+    for k in range(6):
+        status, got = compiled(pose[k], velocity[k], acceleration[k])
+        want = np.stack([reference.f10[k], reference.f21y[k], reference.f21z[k]])
+        assert status == 0 and np.abs(got - want).max() <= 1e-9 * (np.abs(want).max() + 1.0)

@@ -555,3 +555,32 @@ def test_identify_finds_the_stiffness_and_damping_of_the_spring(tmp_path, capsys
     other = exciting(true.l0, duration=2.0, samples=30, phase=0.5)
     expected = inverse_dynamics(true, other, method="newton-euler")[1].f10
     assert relative_error(inverse_dynamics(found, other)[1].f10, expected) <= 1e-8
+
+
+def test_the_springs_of_the_passive_joints_are_identified() -> None:
+    # [spring.revolute] and [spring.sleeve]: their stiffness and damping are regressor
+    # columns (forces linear in them); noiseless forces give them back to round-off
+    from prp3.model.parameters import Spring, SpringParameters
+
+    robot = Robot(
+        spring=Spring(
+            revolute=SpringParameters(3.0, 0.1, 0.4, kind="revolute"),
+            sleeve=SpringParameters(40.0, 0.02, 2.0, kind="sleeve"),
+        )
+    )
+    series = exciting_trajectory(robot, period=5.0, harmonics=3, reach=0.05, samples=400, seed=1)
+    motion = series.series.motion(np.linspace(0.0, 5.0, 400))
+    f10 = inverse_dynamics(robot, motion)[1].f10
+    names = (
+        "platform_mass",
+        "revolute_spring_stiffness",
+        "revolute_spring_damping",
+        "sleeve_spring_stiffness",
+        "sleeve_spring_damping",
+    )
+    result = identify(robot, motion, f10, parameters=names)
+    np.testing.assert_allclose(result.estimate, [3.0, 3.0, 0.4, 40.0, 2.0], rtol=1e-10)
+    spring = identified_robot(robot, result).robot.spring
+    assert spring is not None
+    assert math.isclose(spring.revolute.stiffness, 3.0, rel_tol=1e-10)
+    assert math.isclose(spring.sleeve.damping, 2.0, rel_tol=1e-10)

@@ -791,3 +791,52 @@ def test_the_spring_in_the_xml_and_nothing_left_out() -> None:
             continue
         spring = (joint.get("stiffness"), joint.get("springref"), joint.get("damping"))
         assert spring == (("250.0", "0.02", "1.5") if name.startswith("lambda10") else (None,) * 3)
+
+
+@settings(max_examples=10)
+@given(
+    scenario=scenarios(),
+    revolute=st.tuples(st.floats(0.0, 20.0), st.floats(-0.5, 0.5), st.floats(0.0, 2.0)),
+    sleeve=st.tuples(st.floats(0.0, 500.0), st.floats(-0.1, 0.1), st.floats(0.0, 20.0)),
+)
+def test_mujoco_carries_the_springs_of_the_passive_joints(
+    mujoco: ModuleType,
+    scenario: tuple[Robot, AnalyticMotion],
+    revolute: tuple[float, float, float],
+    sleeve: tuple[float, float, float],
+) -> None:
+    # [spring.revolute] on the phi_i hinges and [spring.sleeve] on the lambda32_i sliders:
+    # MuJoCo's own joint stiffness, springref and damping (qpos = phi, lambda32) act as
+    # prp3's springs, independently of prp3's kernel; every method gives MuJoCo's f10
+    robot, analytic = scenario
+    robot = replace(
+        robot,
+        spring=Spring(
+            revolute=SpringParameters(*revolute, kind="revolute"),
+            sleeve=SpringParameters(*sleeve, kind="sleeve"),
+        ),
+    )
+    motion = analytic.motion(np.linspace(0.0, analytic.duration, 7))
+    forces, worst_pos, _ = _mujoco_forces(mujoco, robot, motion)
+    assert worst_pos < 1e-13 * robot.l0
+    for method in ("fast", "paper", "newton-euler"):
+        _, dyn = inverse_dynamics(robot, motion, method=method)  # type: ignore[arg-type]
+        assert _relative_error(forces, dyn.f10, robot) < 1e-8, method
+
+
+def test_the_passive_springs_in_the_xml() -> None:
+    robot = Robot(
+        spring=Spring(
+            revolute=SpringParameters(3.0, 0.25, 0.5, kind="revolute"),
+            sleeve=SpringParameters(40.0, 0.01, 2.0, kind="sleeve"),
+        )
+    )
+    assert unrepresented(robot) == []
+    root = ET.fromstring(mjcf_model(robot))
+    expected = {"phi": ("3.0", "0.25", "0.5"), "lambda32": ("40.0", "0.01", "2.0")}
+    for joint in root.iter("joint"):
+        name = joint.get("name")
+        if name is None:
+            continue
+        spring = (joint.get("stiffness"), joint.get("springref"), joint.get("damping"))
+        assert spring == expected.get(name.rsplit("_", 1)[0], (None,) * 3), name
