@@ -172,6 +172,8 @@ EXEMPT: dict[str, str] = {
     "virtual_work": "stage of the paper's method (internal numerics)",
     "other_reactions": "stage of the paper's method (internal numerics)",
     "weighted_least_squares": "linear algebra on the validated regressor (internal)",
+    "excitation_refusal": "identify's criterion on the regressor it built (shared with excite)",
+    "samples_refusal": "identify's count of samples, of a validated motion or excite's option",
     "check_forward_friction": "a check itself (takes a validated Robot)",
     "check_stroke": "a check itself, called by inverse_geometry on validated arrays",
     "check_memory": "a check itself (tests/test_faults.py)",
