@@ -184,6 +184,7 @@ EXEMPT: dict[str, str] = {
     "design_columns": "names of columns from a validated sweep file",
     "design_mapping": "used by design_robot (covered)",
     "design_values": "takes a SweepSpec built by sweep_spec",
+    "parameter_paths": "a parsed [parameters] table of a sweep file (its key paths checked)",
     "evaluate_designs": "takes a DesignEvaluator built by sweep_spec",
     "nominal_value": "looks up a path of a validated sweep file",
     "penalized_objective": "takes columns computed by evaluate_designs",
