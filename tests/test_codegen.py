@@ -24,11 +24,22 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from prp3 import Limits, Motion, Robot, inverse_dynamics
-from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, c_inverse_dynamics
+from prp3.apps.codegen import (
+    C_NOT_FINITE,
+    C_OK,
+    C_OUTSIDE_STROKE,
+    C_OVERFLOW,
+    C_SINGULAR,
+    HEADER_NAME,
+    RETURN_CODES,
+    SOURCE_NAME,
+    c_inverse_dynamics,
+)
 from prp3.cli import main
 from prp3.engines.compiled_robot import compile_robot
 from prp3.engines.entries import paper_forces
-from prp3.errors import ParameterError
+from prp3.engines.sample_entries import sample_forces, sample_forces_unchecked
+from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.model.parameters import Friction, JointFriction, Load, Spring, SpringParameters
 from strategies import poses, robots
 
@@ -177,6 +188,98 @@ def test_outside_the_stroke_returns_3(tmp_path: Path) -> None:
     for pose in ([0.0, 0.05, 0.0], [0.0, -0.05, 0.0], [0.05, 0.0, 0.0], [0.0, 0.0, 0.3]):
         code, outputs = compiled(np.array(pose), np.zeros(3), np.zeros(3))
         assert code == 3 and np.isnan(outputs).all(), pose
+
+
+STROKE = (-0.01, 0.02)
+
+#: Inputs that prp3's Python entry refuses, the error it raises and the code the C must return.
+#: A 3-PRP's forces do not depend on (x, y): only the stroke bounds the position.
+REFUSED = [
+    # accelerations of 1e308: the forces overflow (f10 ~ m·ddx)
+    ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [1e308, 0.0, 0.0], TrajectoryError, C_OVERFLOW),
+    ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 1e308, 0.0], TrajectoryError, C_OVERFLOW),
+    ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [1e308, -1e308, 1e308], TrajectoryError, C_OVERFLOW),
+    ([0.002, 0.0, 0.1], [0.0, 0.0, 0.0], [-1e308, 1e308, 0.0], TrajectoryError, C_OVERFLOW),
+    # a rate of 1e160: its square overflows
+    ([0.0, 0.0, 0.0], [0.0, 0.0, 1e160], [0.0, 0.0, 0.0], TrajectoryError, C_OVERFLOW),
+    ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [math.nan, 0.0, 0.0], TrajectoryError, C_NOT_FINITE),
+    ([0.0, math.inf, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], TrajectoryError, C_NOT_FINITE),
+    ([0.0, 0.0, 0.0], [0.0, -math.inf, 0.0], [1e308, 0.0, 0.0], TrajectoryError, C_NOT_FINITE),
+    ([0.0, 0.0, math.pi / 3.0], [0.0, 0.0, 0.0], [1e308, 0.0, 0.0], SingularPoseError, C_SINGULAR),
+    # out of the stroke, with a pose so far that lambda10 overflows to inf - inf = NaN
+    ([0.0, 0.05, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], UnreachablePoseError, C_OUTSIDE_STROKE),
+    ([0.0, 0.05, 0.0], [0.0, 0.0, 0.0], [1e308, 0.0, 0.0], UnreachablePoseError, C_OUTSIDE_STROKE),
+]
+
+
+@pytest.fixture(scope="module")
+def stroke_robot(tmp_path_factory: pytest.TempPathFactory) -> Compiled:
+    return build(Robot(limits=Limits(stroke=STROKE)), tmp_path_factory.mktemp("stroke"))
+
+
+@pytest.mark.parametrize(("pose", "velocity", "acceleration", "error", "status"), REFUSED)
+def test_every_refusal_has_its_code_and_nan_outputs(
+    paper_robot: Compiled,
+    stroke_robot: Compiled,
+    pose: list[float],
+    velocity: list[float],
+    acceleration: list[float],
+    error: type[Exception],
+    status: int,
+) -> None:
+    robot = Robot(limits=Limits(stroke=STROKE))
+    # prp3's Python entry refuses the same sample, with the error of the same kind
+    with pytest.raises(error, match="overflow" if status == C_OVERFLOW else None):
+        sample_forces(compile_robot(robot), pose, velocity, acceleration)
+    code, outputs = stroke_robot(pose, velocity, acceleration)
+    assert code == status and np.isnan(outputs).all()
+    if status != C_OUTSIDE_STROKE:  # without a stroke: the same code
+        code, outputs = paper_robot(pose, velocity, acceleration)
+        assert code == status and np.isnan(outputs).all()
+
+
+def test_the_stroke_refuses_a_displacement_that_overflows(stroke_robot: Compiled) -> None:
+    # lambda10 = inf - inf = NaN, not a number inside the stroke; and inf itself
+    for pose in ([1e308, -1e308, 0.0], [-1e308, 1e308, 0.0], [1e308, 0.0, 0.0]):
+        code, outputs = stroke_robot(pose, np.zeros(3), np.zeros(3))
+        assert code == C_OUTSIDE_STROKE and np.isnan(outputs).all(), pose
+
+
+@settings(max_examples=40)
+@given(
+    pose=poses(0.3),
+    rates=st.lists(st.floats(-5.0, 5.0), min_size=3, max_size=3),
+    exponent=st.integers(300, 308),
+    signs=st.lists(st.sampled_from([-1.0, 0.0, 1.0]), min_size=2, max_size=2),
+)
+def test_ok_only_with_finite_outputs(
+    paper_robot: Compiled, pose, rates: list[float], exponent: int, signs: list[float]
+) -> None:
+    """Huge translational accelerations: the C returns OK exactly when the kernel's nine forces
+    (prp3 on Python floats, unchecked) are finite, and then their numbers; else the overflow
+    code, never OK with a non-finite output."""
+    acceleration = [signs[0] * 10.0**exponent, signs[1] * 10.0**exponent, 1.0]
+    code, outputs = paper_robot(pose, rates, acceleration)
+    f = sample_forces_unchecked(compile_robot(Robot()), *pose, *rates, *acceleration)
+    expected = np.array([f[0:3], f[6:9], f[9:12]])  # f10, f21y, f21z (p10 is not in the C)
+    if np.isfinite(expected).all():
+        assert code == C_OK and np.isfinite(outputs).all()
+        assert np.abs(outputs - expected).max() <= 1e-12 * np.abs(expected).max()
+    else:
+        assert code == C_OVERFLOW and np.isnan(outputs).all()
+
+
+def test_every_return_code_is_defined_and_explained_in_the_header() -> None:
+    header = c_inverse_dynamics(Robot()).header
+    values = [value for _, value, _ in RETURN_CODES]
+    assert values == list(range(len(values)))  # distinct, 0 = OK
+    for name, value, _ in RETURN_CODES:
+        line = next(line for line in header.splitlines() if line.startswith(f"#define {name} "))
+        assert re.fullmatch(rf"#define {name} {value} /\* \S.* \*/", line), line
+    assert "PRP3_OVERFLOW 5 /* the inputs are finite, an output is not" in header
+    assert "PRP3_OUTSIDE_STROKE 3 /* never returned" in header  # the paper's robot: no stroke
+    stroked = c_inverse_dynamics(Robot(limits=Limits(stroke=STROKE))).header
+    assert "PRP3_OUTSIDE_STROKE 3 /* an actuator displacement lambda10 is outside" in stroked
 
 
 def test_source_is_strict_c99_with_only_math_h() -> None:

@@ -482,6 +482,9 @@ _SWEEP_CASES = {
     "unknown sampling": 'sampling = "sobol"\n' + _SWEEP_SPEC + '"platform.mass" = [2.0, 4.0]\n',
     "missing trajectory file": _SWEEP_SPEC.replace('"vertical"', '"path.csv"')
     + '"platform.mass" = [2.0, 4.0]\n',
+    "a key quoted and bare": _SWEEP_SPEC + '"l0" = [0.25, 0.35]\nl0 = [0.2, 0.3]\n',
+    "a key path quoted and dotted": _SWEEP_SPEC
+    + '"platform.mass" = [2.0, 4.0]\nplatform.mass = [2.0, 5.0]\n',
 }
 #: Rows that need a machine on the network or an environment without the extra.
 _SWEEP_UNCHECKED = {"unreachable scheduler", "missing extra"}

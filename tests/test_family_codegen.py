@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import ctypes
 import math
+import re
 import shutil
 import subprocess
 from dataclasses import replace
@@ -26,9 +27,17 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME
+from prp3.apps.codegen import (
+    C_NOT_FINITE,
+    C_OK,
+    C_OVERFLOW,
+    C_SINGULAR,
+    HEADER_NAME,
+    RETURN_CODES,
+    SOURCE_NAME,
+)
 from prp3.cli import main
-from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
+from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody, family_inverse_dynamics
 from prp3.family.codegen import C_UNREACHABLE, family_c_inverse_dynamics, python_sample
 from prp3.model.motion import Motion, paper_motion
@@ -274,6 +283,117 @@ def test_a_parallel_singularity_returns_2(tmp_path: Path) -> None:
     assert code == 2 and np.isnan(outputs).all()
     code, _ = compiled([0.0, 0.0, 0.2], np.zeros(3), np.zeros(3))
     assert code == 0
+
+
+@pytest.fixture(scope="module")
+def defaults(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Compiled]:
+    """The C of the default robot of every architecture (its default actuation)."""
+    return {
+        arch: build(FamilyRobot.default(arch), tmp_path_factory.mktemp(arch))
+        for arch in ARCHITECTURES
+    }
+
+
+def _python_refusal(robot: FamilyRobot, pose, velocity, acceleration) -> Exception | None:
+    motion = Motion(t=[0.0], pose=[pose], velocity=[velocity], acceleration=[acceleration])
+    try:
+        family_inverse_dynamics(robot, motion)
+    except (TrajectoryError, SingularPoseError, UnreachablePoseError) as refused:
+        return refused
+    return None
+
+
+#: Rates and accelerations that overflow the dynamics of every architecture at home.
+OVERFLOWING = [
+    ([0.0, 0.0, 0.0], [1e308, 0.0, 0.0]),
+    ([0.0, 0.0, 0.0], [0.0, -1e308, 0.0]),
+    ([0.0, 0.0, 0.0], [1e308, 1e308, 1e308]),
+    ([0.0, 0.0, 0.0], [-1e308, 1e308, 0.0]),
+    ([1e200, 1e200, 1e200], [0.0, 0.0, 0.0]),  # their squares
+]
+
+
+@pytest.mark.parametrize("arch", ARCHITECTURES)
+@pytest.mark.parametrize(("velocity", "acceleration"), OVERFLOWING)
+def test_an_overflow_returns_5_never_ok(
+    defaults: dict[str, Compiled], arch: str, velocity: list[float], acceleration: list[float]
+) -> None:
+    robot = FamilyRobot.default(arch)
+    home = robot.home_poses.mean(axis=0)
+    refused = _python_refusal(robot, home, velocity, acceleration)
+    assert isinstance(refused, TrajectoryError) and "overflow" in str(refused)
+    code, outputs = defaults[arch](home, velocity, acceleration)
+    assert code == C_OVERFLOW == 5 and np.isnan(outputs).all()
+    assert python_sample(robot, home, velocity, acceleration)[0] == C_OVERFLOW
+
+
+@pytest.mark.parametrize("arch", ARCHITECTURES)
+def test_every_architecture_refuses_a_non_finite_input(
+    defaults: dict[str, Compiled], arch: str
+) -> None:
+    home = FamilyRobot.default(arch).home_poses.mean(axis=0)
+    for where in range(9):
+        for bad in (math.nan, math.inf):
+            values = np.concatenate([home, np.zeros(6)])
+            values[where] = bad
+            code, outputs = defaults[arch](values[:3], values[3:6], values[6:])
+            assert code == C_NOT_FINITE and np.isnan(outputs).all(), (where, bad)
+            inputs = (values[:3], values[3:6], values[6:])
+            assert python_sample(FamilyRobot.default(arch), *inputs)[0] == C_NOT_FINITE
+
+
+#: A pose out of reach of the architectures whose legs have no unbounded prismatic joint to
+#: reach everywhere (the other four, 3-PRP, 3-RPR, 3-PPR, 3-RPP, reach every position).
+OUT_OF_REACH = {"3-RRR": [0.15, 0.0, 0.0], "3-PRR": [0.25, 0.0, 0.0], "3-RRP": [0.1, 0.0, 0.0]}
+
+
+@pytest.mark.parametrize("arch", sorted(OUT_OF_REACH))
+def test_every_architecture_refuses_a_pose_out_of_reach(
+    defaults: dict[str, Compiled], arch: str
+) -> None:
+    pose = OUT_OF_REACH[arch]
+    refused = _python_refusal(FamilyRobot.default(arch), pose, [0.0] * 3, [1e308, 0.0, 0.0])
+    assert isinstance(refused, UnreachablePoseError)  # prp3's verdict, before the dynamics
+    for acceleration in ([0.0] * 3, [1e308, 0.0, 0.0]):
+        code, outputs = defaults[arch](pose, np.zeros(3), acceleration)
+        assert code == C_UNREACHABLE and np.isnan(outputs).all()
+
+
+@pytest.mark.parametrize("arch", ARCHITECTURES)
+def test_every_architecture_computes_a_good_sample(
+    defaults: dict[str, Compiled], arch: str
+) -> None:
+    # a sample near home, large but finite accelerations: OK and the family route's numbers
+    robot = FamilyRobot.default(arch)
+    home = robot.home_poses.mean(axis=0)
+    cases = [
+        (home + [0.01, -0.005, 0.02], [0.1, -0.2, 0.3], [2.0, -1.0, 5.0]),
+        (home, [0.0, 0.0, 0.0], [1e300, -1e300, 0.0]),
+    ]
+    for pose, velocity, acceleration in cases:
+        motion = Motion(t=[0.0], pose=[pose], velocity=[velocity], acceleration=[acceleration])
+        want = expected(robot, motion)[0]
+        code, got = defaults[arch](pose, velocity, acceleration)
+        assert code == C_OK and np.isfinite(got).all()
+        assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+
+
+def test_a_singular_pose_with_an_overflow_returns_2(defaults: dict[str, Compiled]) -> None:
+    # the singularity is found before the dynamics: its code, not the overflow's
+    pose = [0.0, 0.0, math.pi / 3.0 - 5e-5]  # the 3-PRP: sin(phi - pi/3) ~ 0 (family.md section 6)
+    refused = _python_refusal(FamilyRobot.default("3-PRP"), pose, [0.0] * 3, [1e308, 0.0, 0.0])
+    assert isinstance(refused, SingularPoseError)
+    code, outputs = defaults["3-PRP"](pose, np.zeros(3), [1e308, 0.0, 0.0])
+    assert code == C_SINGULAR and np.isnan(outputs).all()
+
+
+def test_every_return_code_is_in_the_header_with_its_meaning() -> None:
+    header = family_c_inverse_dynamics(FamilyRobot.default("3-RRR")).header
+    for name, value, _ in RETURN_CODES:
+        assert re.search(rf"^#define {name} {value} /\* \S.* \*/$", header, re.M), name
+    assert "#define PRP3_OVERFLOW 5 /* the inputs are finite, an output is not" in header
+    assert "#define PRP3_OUTSIDE_STROKE 3 /* never returned" in header
+    assert "#define PRP3_UNREACHABLE 4 /* a leg's closure has no real solution" in header
 
 
 def test_source_is_strict_c99_with_only_math_h() -> None:

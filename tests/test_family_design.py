@@ -108,6 +108,9 @@ def test_statuses_of_designs_that_cannot_carry_the_task() -> None:
     assert [str(s) for s in columns["status"]] == ["invalid", "ok"]
 
 
+TWICE = {"link1.mass": [1.0, 2.0], "link1": {"mass": [1.0, 3.0]}}
+
+
 @pytest.mark.parametrize(
     ("change", "message"),
     [
@@ -124,6 +127,10 @@ def test_statuses_of_designs_that_cannot_carry_the_task() -> None:
             "'leg.nothing' = 0.0",
         ),
         ({"optimize": {"objective": "peak_f10"}}, "unknown quantity 'peak_f10'"),
+        (  # TOML "link1.mass" = ... and link1.mass = ...: two keys, one parameter
+            {"study": [{"architecture": "3-RRR", "parameters": TWICE}]},
+            "study[0].parameters 'link1.mass' is given twice",
+        ),
     ],
 )
 def test_spec_errors_are_named(change: dict[str, object], message: str) -> None:

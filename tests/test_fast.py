@@ -517,6 +517,22 @@ def test_single_sample_refuses_what_the_batch_path_refuses(
         assert sample_actuator_forces(compiled, pose, velocity, zero) == one.f10  # type: ignore[arg-type]
 
 
+@pytest.mark.parametrize("engine", ENGINES)
+def test_finite_results_whose_sum_overflows_are_returned(engine: str) -> None:
+    # two actuator forces of about -3e307 and more: each finite, their sum -inf (the one-sample
+    # entries' quick test); was an AssertionError, now the numbers of the batch path
+    compiled = compile_robot(Robot())
+    velocity, acceleration = [0.0, 3.0, 0.0], [-1e307, -1e307, 1.0]
+    batch = paper_forces(compiled, [0.0, 0.0, 0.0], velocity, acceleration, engine=engine)
+    one = sample_forces(compiled, [0.0, 0.0, 0.0], velocity, acceleration, engine=engine)
+    values = [v for name in OUTPUTS for v in getattr(one, name)]
+    assert all(math.isfinite(v) for v in values) and not math.isfinite(sum(values))
+    for name in OUTPUTS:
+        np.testing.assert_allclose(getattr(one, name), getattr(batch, name), rtol=1e-14)
+    f10 = sample_actuator_forces(compiled, [0.0, 0.0, 0.0], velocity, acceleration, engine=engine)
+    np.testing.assert_allclose(f10, batch.f10, rtol=1e-14)
+
+
 def _with_effects(robot: Robot, friction: bool, mu: float) -> Robot:
     from prp3.model.parameters import Load
 

@@ -455,6 +455,71 @@ def test_excite_writes_a_trajectory_that_simulate_reads(tmp_path, capsys) -> Non
     assert status == 0 and err == ""
 
 
+def _identify_the_trajectory(tmp_path: Path, capsys, robot_file: Path, folder: Path) -> str:  # type: ignore[no-untyped-def]
+    """Drive the robot of ``robot_file`` along ``folder/trajectory.csv`` (its forces by
+    Newton-Euler), run prp3 identify on it; return its standard error ("" on success)."""
+    robot = Robot.from_toml(robot_file)
+    table = np.loadtxt(folder / "trajectory.csv", delimiter=",", skiprows=1)
+    motion = Motion(
+        t=table[:, 0], pose=table[:, 1:4], velocity=table[:, 4:7], acceleration=table[:, 7:10]
+    )
+    f10 = inverse_dynamics(robot, motion, method="newton-euler")[1].f10
+    measurements = write_measurements(tmp_path / "m.csv", motion, f10, derivatives=True)
+    status, _, err = cli(
+        capsys, "identify", "--robot", robot_file, "--measurements", measurements,
+        "--output", tmp_path / "id",
+    )  # fmt: skip
+    assert status == (0 if err == "" else 2), err
+    return err
+
+
+def test_excite_refuses_a_stroke_too_short_to_excite(tmp_path, capsys, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    robot_file = tmp_path / "robot.toml"
+    robot_file.write_text("[limits]\nstroke = [-0.0001, 0.0001]\n")
+    options = ("--harmonics", "2", "--iterations", "5", "--samples", "101")
+    status, out, err = cli(
+        capsys, "excite", "--robot", robot_file, "--output", tmp_path / "ex", *options
+    )
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith("prp3 excite: error: ")
+    assert "the limit that binds is the robot's [limits] stroke = [-0.0001, 0.0001] m" in err
+    assert "does not excite the base parameter(s)" in err and "condition number" in err
+    assert not (tmp_path / "ex").exists()
+    refused = err.split("base parameter(s) ")[1].split(" (regressor rank")[0]
+    # without the check (as before): exit 0, and prp3 identify refuses that trajectory for the
+    # same base parameters -- the one criterion
+    monkeypatch.setattr("prp3.apps.excitation.excitation_refusal", lambda base, stacked: None)
+    status, _, err = cli(
+        capsys, "excite", "--robot", robot_file, "--output", tmp_path / "ex", *options
+    )
+    assert status == 0, err
+    said = _identify_the_trajectory(tmp_path, capsys, robot_file, tmp_path / "ex")
+    assert f"does not excite the base parameter(s) {refused} (regressor rank" in said
+    monkeypatch.undo()
+    # a stroke of +-1 mm excites: excite writes, identify accepts
+    robot_file.write_text("[limits]\nstroke = [-0.001, 0.001]\n")
+    status, _, err = cli(
+        capsys, "excite", "--robot", robot_file, "--output", tmp_path / "wide", *options
+    )
+    assert status == 0, err
+    assert _identify_the_trajectory(tmp_path, capsys, robot_file, tmp_path / "wide") == ""
+
+
+def test_excite_refuses_too_few_samples_as_identify_does(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    status, out, err = cli(capsys, "excite", "--samples", "34", "--output", tmp_path / "ex")
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith("prp3 excite: error: --samples 34: 34 samples are too few to ")
+    assert "(at least 5 per parameter: 35)" in err and not (tmp_path / "ex").exists()
+    # the same words from prp3 identify on 34 samples, and 35 are enough for both
+    robot = Robot()
+    motion = exciting(robot.l0, samples=34)
+    with pytest.raises(TrajectoryError) as info:
+        identify(robot, motion, inverse_dynamics(robot, motion)[1].f10)
+    assert err.split("--samples 34: ")[1].split(", which")[0] in str(info.value)
+    motion = exciting(robot.l0, samples=35)
+    identify(robot, motion, inverse_dynamics(robot, motion)[1].f10)
+
+
 def test_identify_refusal_as_a_subprocess(tmp_path) -> None:
     path = tmp_path / "m.csv"
     path.write_text("t,x,y,phi\n0,0,0,0\n1,0,0,0\n")

@@ -304,6 +304,24 @@ def test_malformed_toml_names_file_line_and_column(
     assert message.startswith(f"{path}:{line}:{column}: invalid TOML") and "\n" not in message
 
 
+@pytest.mark.parametrize(
+    ("text", "named"),
+    [
+        ("l0 = 0.3\n'l0' = 0.4\n", "the key 'l0' is set twice"),
+        ('[platform]\n"mass" = 1.0\nmass = 2.0\n', "the key 'mass' of [platform] is set twice"),
+        ('platform.mass = 1.0\n"platform" . "mass" = 2.0\n', "the key 'platform.mass' is set"),
+        ("[limits]\nstroke = [-0.1, 0.1]\n[piston]\nmass = 1\n\tmass=2\n", "'mass' of [piston]"),
+    ],
+)
+def test_a_key_set_twice_is_named_with_its_table(tmp_path: Path, text: str, named: str) -> None:
+    # tomllib says only "Cannot overwrite a value"; the key is the one of the line it points at
+    path = _write(tmp_path, text)
+    with pytest.raises(InputFileError) as info:
+        Robot.from_toml(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}:") and named in message and "\n" not in message
+
+
 def test_unreadable_files_are_input_file_errors(tmp_path: Path) -> None:
     missing = tmp_path / "missing.toml"
     with pytest.raises(InputFileError, match=r"missing\.toml"):

@@ -762,6 +762,67 @@ def test_a_folder_of_another_spec_is_refused_unless_forced_and_stale_figures_go(
     assert (other / "designs.parquet").read_bytes() == b"mine"
 
 
+def test_a_truncated_designs_file_is_named_truncated(tmp_path, capsys, scheduler):
+    # was: "is not a designs file of prp3 sweep" for the designs of the same spec cut short
+    spec = write(tmp_path / "grid.toml", GRID)
+    out = tmp_path / "study"
+    run = ("sweep", "--spec", spec, "-o", out, "--scheduler", scheduler)
+    assert cli(capsys, *run)[0] == 0
+    target = out / "designs.parquet"
+    whole = target.read_bytes()
+    rows = prp3.apps.sweep.read_designs(target).columns
+    for size in (0, 3, 4, 100, len(whole) // 2, len(whole) - 1):
+        target.write_bytes(whole[:size])
+        with pytest.raises(prp3.InputFileError) as info:
+            prp3.apps.sweep.read_designs(target)
+        message = str(info.value)
+        assert message.startswith(f"{target}: truncated: a Parquet file cut short ({size} bytes")
+        assert "\n" not in message
+    status, out_text, err = cli(capsys, *run)
+    assert (status, out_text) == (2, "")
+    assert err.startswith(
+        f"prp3 sweep: error: {target}: truncated: a Parquet file cut short ({len(whole) - 1} bytes"
+    )
+    assert "cannot be told" in err and "--force" in err and err.count("\n") == 1
+    assert target.read_bytes() == whole[:-1]  # left as it was
+    # recomputed when forced: the same designs
+    assert cli(capsys, *run, "--force")[0] == 0
+    again = prp3.apps.sweep.read_designs(target).columns
+    assert again.keys() == rows.keys()
+    for name in rows:
+        assert np.array_equal(again[name], rows[name]), name
+    # a file that is not Parquet at all is still called so
+    target.write_bytes(b"mine, not a Parquet file")
+    status, _, err = cli(capsys, *run)
+    assert status == 2 and "is not a designs file of prp3 sweep" in err
+
+
+def test_a_parameter_given_twice_in_the_spec_is_refused(tmp_path, capsys):
+    # the same key quoted and bare: tomllib refuses it, named by prp3 with the key and its table
+    twice = write(
+        tmp_path / "quoted.toml",
+        'designs = 3\n[parameters]\n"l0" = [0.25, 0.35]\nl0 = [0.2, 0.3]\n',
+    )
+    status, _, err = cli(capsys, "sweep", "--spec", twice, "-o", tmp_path / "a", "--workers", "1")
+    assert status == 2 and err.count("\n") == 1
+    assert f"{twice}:4:" in err and "the key 'l0' of [parameters] is set twice" in err
+    # a quoted key with a dot and a dotted key (or a table): two TOML keys, one parameter
+    for text in (
+        '"platform.mass" = [2.0, 4.0]\nplatform.mass = [2.0, 5.0]\n',
+        'platform.mass = [2.0, 4.0]\n"platform.mass" = [2.0, 5.0]\n',
+        '"platform.mass" = [2.0, 4.0]\n[parameters.platform]\nmass = [2.0, 5.0]\n',
+    ):
+        spec = write(tmp_path / "dotted.toml", f"designs = 3\n[parameters]\n{text}")
+        status, _, err = cli(
+            capsys, "sweep", "--spec", spec, "-o", tmp_path / "b", "--workers", "1"
+        )
+        assert status == 2 and err.count("\n") == 1, text
+        assert f"{spec}: [parameters] 'platform.mass' is given twice" in err, err
+        assert not (tmp_path / "b").exists()
+        with pytest.raises(prp3.ParameterError, match=r"'platform\.mass' is given twice"):
+            read_sweep_spec(spec)
+
+
 def test_run_sweep_and_optimize_take_a_client_or_a_factory(tmp_path, scheduler):
     from dask.distributed import Client
 

@@ -15,11 +15,19 @@ of the input and the frame of the function::
                               const double acceleration[3],
                               double f10[3], double f21y[3], double f21z[3]);
 
-Return codes: :data:`C_OK` (0), :data:`C_NOT_FINITE` (1: an input is NaN or
-infinite), :data:`C_SINGULAR` (2: ``|sin(φ − π/3)| < 1e-4``, as prp3 refuses),
-:data:`C_OUTSIDE_STROKE` (3: some ``λ10`` outside ``limits.stroke``; only
-when the robot has one).  On a non-zero return every output is NaN.  The
-code needs only ``<math.h>`` and compiles with ``cc -std=c99
+Return codes, one per kind of failure (:data:`RETURN_CODES`, each defined
+and explained in the header): :data:`C_OK` (0: every output computed and
+finite), :data:`C_NOT_FINITE` (1: an input is NaN or infinite),
+:data:`C_SINGULAR` (2: ``|sin(φ − π/3)| < 1e-4``, as prp3 refuses),
+:data:`C_OUTSIDE_STROKE` (3: some ``λ10`` outside ``limits.stroke``, or not
+a number; only when the robot has one), :data:`C_UNREACHABLE` (4: a leg of a
+family robot cannot reach the pose; never returned by the 3-PRP's code, whose
+pistons reach every pose), :data:`C_OVERFLOW` (5: the inputs are finite but
+an output is not — they are too large for double precision, where prp3
+raises its overflow :class:`~prp3.errors.TrajectoryError`).  The last is one
+``isfinite`` pass over the outputs at the end, so the code never returns
+:data:`C_OK` with a non-finite output.  On a non-zero return every output is
+NaN.  The code needs only ``<math.h>`` and compiles with ``cc -std=c99
 -pedantic-errors -Wall -Wextra -Werror`` (no ``M_PI``: its own constants).
 
 >>> from prp3.model.robot import Robot
@@ -50,8 +58,11 @@ __all__ = [
     "C_NOT_FINITE",
     "C_OK",
     "C_OUTSIDE_STROKE",
+    "C_OVERFLOW",
     "C_SINGULAR",
+    "C_UNREACHABLE",
     "HEADER_NAME",
+    "RETURN_CODES",
     "SOURCE_NAME",
     "CSource",
     "c_inverse_dynamics",
@@ -61,11 +72,28 @@ __all__ = [
 HEADER_NAME: str = "prp3_inverse_dynamics.h"
 SOURCE_NAME: str = "prp3_inverse_dynamics.c"
 
-#: Return codes of ``prp3_inverse_dynamics``.
+#: Return codes of ``prp3_inverse_dynamics`` (the 3-PRP's and the family's alike).
 C_OK: int = 0
 C_NOT_FINITE: int = 1
 C_SINGULAR: int = 2
 C_OUTSIDE_STROKE: int = 3
+C_UNREACHABLE: int = 4
+C_OVERFLOW: int = 5
+
+#: Every return code: its C name, its value and what it means, the header's comment
+#: of its ``#define`` (the 3-PRP's and the family's headers say which they never return).
+RETURN_CODES: tuple[tuple[str, int, str], ...] = (
+    ("PRP3_OK", C_OK, "every output computed and finite"),
+    ("PRP3_NOT_FINITE", C_NOT_FINITE, "an input is NaN or infinite"),
+    ("PRP3_SINGULAR", C_SINGULAR, "the pose is singular (a measure below 1e-4)"),
+    ("PRP3_OUTSIDE_STROKE", C_OUTSIDE_STROKE, "an actuator displacement is outside the stroke"),
+    ("PRP3_UNREACHABLE", C_UNREACHABLE, "a leg cannot reach the pose"),
+    (
+        "PRP3_OVERFLOW",
+        C_OVERFLOW,
+        "the inputs are finite, an output is not: too large for double precision",
+    ),
+)
 
 #: The inputs, in the order of the C arrays.
 _INPUTS = ("x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
@@ -159,9 +187,10 @@ def _template(with_stroke: bool, scalars: tuple[str, ...]) -> _Template:
         for k, name in enumerate(("f10", "f21y", "f21z"))
         for leg in range(3)
     )
+    # negated, so that a displacement that is not a number (an overflow) is outside too
     test = " ||\n        ".join(
-        f"(lambda10_{leg} = {printer.doprint(reduced[9 + j])}) < PRP3_STROKE_LOWER"
-        f" || lambda10_{leg} > PRP3_STROKE_UPPER"
+        f"!((lambda10_{leg} = {printer.doprint(reduced[9 + j])}) >= PRP3_STROKE_LOWER"
+        f" && lambda10_{leg} <= PRP3_STROKE_UPPER)"
         for j, leg in enumerate("ABC")
     ) if with_stroke else ""  # fmt: skip
     return _Template(
@@ -262,6 +291,8 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
         "    return code;",
         "}",
         "",
+        *FINITE_FUNCTION,
+        "",
         *_signature("double f10[3], double f21y[3], double f21z[3]"),
         "{",
         *unpack,
@@ -273,12 +304,16 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
         "        const double cos_psi = cos(psi);",
         "        const double sin_psi = sin(psi);",
         "        /* sin(phi - pi/3), the determinant of every leg: singular below 1e-4 */",
-        "        if (fabs(sin_psi) < PRP3_SINGULARITY_THRESHOLD) {",
+        "        if (!(fabs(sin_psi) >= PRP3_SINGULARITY_THRESHOLD)) {",
         "            return prp3_refuse(f10, f21y, f21z, PRP3_SINGULAR);",
         "        }",
         *(f"        {line}" for line in template.body),
         *(f"        {line}" for line in stroke_lines),
         *(f"        {line}" for line in template.outputs),
+        "    }",
+        "    /* the inputs are finite: an output that is not has overflowed */",
+        "    if (!(prp3_finite(f10, 3) && prp3_finite(f21y, 3) && prp3_finite(f21z, 3))) {",
+        "        return prp3_refuse(f10, f21y, f21z, PRP3_OVERFLOW);",
         "    }",
         "    return PRP3_OK;",
         "}",
@@ -287,6 +322,21 @@ def c_inverse_dynamics(robot: Robot) -> CSource:
     if re.search(r"\bM_\w+", source):  # e.g. M_PI, M_SQRT2: POSIX, not C99
         raise AssertionError("the C printer used a non-C99 constant")  # pragma: no cover
     return CSource(header=_header(robot), source=source, robot=robot)
+
+
+#: The C function of the one check of the outputs: every one finite (a pass of ``isfinite``).
+FINITE_FUNCTION: tuple[str, ...] = (
+    "static int prp3_finite(const double values[], int count)",
+    "{",
+    "    int i;",
+    "    for (i = 0; i < count; ++i) {",
+    "        if (!isfinite(values[i])) {",
+    "            return 0;",
+    "        }",
+    "    }",
+    "    return 1;",
+    "}",
+)
 
 
 def _version() -> str:
@@ -313,13 +363,22 @@ def _header(robot: Robot) -> str:
         " *   velocity, acceleration: their first and second time derivatives (SI units).",
         " *   f10[i]: force of actuator i on its piston along +e_i (N), legs A, B, C;",
         " *   f21y[i], f21z[i]: force of piston i on link 2 along n_i and e_i (N).",
-        " * Returns PRP3_OK (0); PRP3_NOT_FINITE (1) if an input is NaN or infinite;",
-        " * PRP3_SINGULAR (2) if |sin(phi - pi/3)| < 1e-4; PRP3_OUTSIDE_STROKE (3) if an",
-        " * actuator displacement lambda10 is outside the robot's stroke. On a non-zero",
-        " * return every output is NaN. Reentrant, no allocation, only <math.h>.",
+        " * Returns one of the codes below: PRP3_OK (0) only when every output is finite.",
+        " * On a non-zero return every output is NaN. Reentrant, no allocation, only",
+        " * <math.h>. Do not compile with -ffast-math: it assumes no NaN and removes the checks.",
         " */",
     ]
-    return _header_text(lines, "double f10[3], double f21y[3], double f21z[3]")
+    stroke = (
+        "never returned: the robot has no [limits] stroke"
+        if robot.limits.stroke is None
+        else "an actuator displacement lambda10 is outside the robot's stroke"
+    )
+    codes = {
+        "PRP3_SINGULAR": "|sin(phi - pi/3)| < 1e-4: the pose is singular",
+        "PRP3_OUTSIDE_STROKE": stroke,
+        "PRP3_UNREACHABLE": "never returned: the 3-PRP reaches every pose but for its stroke",
+    }
+    return _header_text(lines, "double f10[3], double f21y[3], double f21z[3]", codes)
 
 
 def _input_lines() -> tuple[list[str], str]:
@@ -340,20 +399,21 @@ def _signature(outputs: str) -> list[str]:
     ]
 
 
-def _header_text(comment: list[str], outputs: str, codes: tuple[tuple[str, int], ...] = ()) -> str:
-    """The header: its ``comment`` lines, the return codes (the four of :mod:`prp3.apps.codegen`
-    and ``codes``), the declaration with the output arrays ``outputs``, the include guard."""
+def _header_text(comment: list[str], outputs: str, codes: dict[str, str]) -> str:
+    """The header: its ``comment`` lines, every return code of :data:`RETURN_CODES` with its
+    comment (``codes`` replaces the comments of the codes it names: what they mean for this
+    robot), the declaration with the output arrays ``outputs``, the include guard."""
     *declaration, last = _signature(outputs)
     lines = [
         *comment,
         "#ifndef PRP3_INVERSE_DYNAMICS_H",
         "#define PRP3_INVERSE_DYNAMICS_H",
         "",
-        f"#define PRP3_OK {C_OK}",
-        f"#define PRP3_NOT_FINITE {C_NOT_FINITE}",
-        f"#define PRP3_SINGULAR {C_SINGULAR}",
-        f"#define PRP3_OUTSIDE_STROKE {C_OUTSIDE_STROKE}",
-        *(f"#define {name} {value}" for name, value in codes),
+        "/* the return codes of prp3_inverse_dynamics, one per kind of failure */",
+        *(
+            f"#define {name} {value} /* {codes.get(name, meaning)} */"
+            for name, value, meaning in RETURN_CODES
+        ),
         "",
         "#ifdef __cplusplus",
         'extern "C" {',

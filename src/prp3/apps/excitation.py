@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.apps.base_parameters import base_parameters
+from prp3.apps.identification import excitation_refusal
 from prp3.apps.regressor import _regressor_rows, _state_rows, _unit_parameters, standard_parameters
 from prp3.errors import ParameterError
 from prp3.model.motion import Motion
@@ -141,10 +142,19 @@ def exciting_trajectory(
     max_iterations)`` is called after every SLSQP iteration (and with
     ``max_iterations`` at the end: the optimiser may stop earlier).
 
+    The motion found must excite every base parameter by the criterion of
+    :func:`prp3.apps.identification.identify`
+    (:func:`~prp3.apps.identification.excitation_refusal`, on the optimisation
+    samples): limits so tight that it does not (a stroke of ±0.1 mm) are
+    refused, naming the limit that binds, rather than a motion returned that
+    identification would refuse.
+
     Raises
     ------
     ParameterError
-        Bad options, or no feasible motion found (names the violated limit).
+        Bad options, no feasible motion found (names the violated limit), or
+        limits within which no motion found excites every base parameter (names
+        the limit that binds and the condition number).
     """
     from scipy.optimize import minimize
 
@@ -193,17 +203,33 @@ def exciting_trajectory(
             return 1e3
         return float(np.log(singular[0] / singular[-1]))
 
-    def constraints(z: FloatArray) -> FloatArray:
-        """Margins to the limits (>= 0 inside), 1 % kept for the instants between samples."""
+    def margins(z: FloatArray) -> list[tuple[str, FloatArray]]:
+        """Margins to each limit (>= 0 inside, relative), with the limit's name."""
         W, pose, lam, dlam = evaluate(z)
-        parts = [1.0 - np.abs(pose / bounds).reshape(-1)]
-        parts.append(1.0 - np.abs(dlam).reshape(-1) / max_velocity)
+        parts = [
+            (f"reach = {reach!r} l0 (--reach)", 1.0 - np.abs(pose[:, :2] / bounds[:2])),
+            (f"rotation = {rotation!r} rad (--rotation)", 1.0 - np.abs(pose[:, 2] / bounds[2])),
+            (
+                f"max_velocity = {max_velocity!r} m/s (--max-velocity)",
+                1.0 - np.abs(dlam) / max_velocity,
+            ),
+        ]
         if stroke is not None:
             lower, upper = stroke
-            parts += [(upper - lam).reshape(-1) / upper, (lam - lower).reshape(-1) / -lower]
+            margin = np.minimum((upper - lam) / upper, (lam - lower) / -lower)
+            parts.append((f"the robot's [limits] stroke = {list(stroke)!r} m", margin))
         if force_limit is not None:
-            parts.append(1.0 - np.abs(W @ nominal) / force_limit)
-        return np.concatenate(parts) - _LIMIT_MARGIN
+            parts.append(
+                (
+                    f"max_force = {force_limit!r} N (--max-force or [limits] max_force)",
+                    1.0 - np.abs(W @ nominal) / force_limit,
+                )
+            )
+        return parts
+
+    def constraints(z: FloatArray) -> FloatArray:
+        """Margins to the limits (>= 0 inside), 1 % kept for the instants between samples."""
+        return np.concatenate([part.reshape(-1) for _, part in margins(z)]) - _LIMIT_MARGIN
 
     rng = np.random.default_rng(seed)
     z0 = np.concatenate([np.zeros(3), rng.uniform(-1.0, 1.0, 6 * L) * 0.3 / L])
@@ -236,8 +262,16 @@ def exciting_trajectory(
         z[3:] *= 1.0 - max(0.01, 2.0 * -worst)  # a smaller oscillation about the offset
     else:  # pragma: no cover - the offset alone satisfies the limits
         z = z0
+    # on the fine instants: the limit that binds, and identification's criterion
+    binding = min(margins(z), key=lambda part: float(part[1].min()))[0]
     W, _, lam, dlam = evaluate(z)
     t = coarse
+    refused = excitation_refusal(base, W)
+    if refused is not None:
+        raise ParameterError(
+            f"no motion found within the limits excites every base parameter: the limit that "
+            f"binds is {binding}, and {refused}; widen it"
+        )
     return ExcitingTrajectory(
         series=unpack(z),
         condition=math.exp(objective(z)),

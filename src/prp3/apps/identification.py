@@ -43,9 +43,11 @@ __all__ = [
     "MIN_SAMPLES_PER_PARAMETER",
     "Identification",
     "IdentifiedRobot",
+    "excitation_refusal",
     "identified_robot",
     "identify",
     "robot_from_standard",
+    "samples_refusal",
     "weighted_least_squares",
 ]
 
@@ -172,25 +174,19 @@ def identify(
             f"{where}: f10 must have shape ({samples}, 3) to match the motion, got {measured.shape}"
         )
     base = base_parameters(robot, ("f10",), names)
-    needed = MIN_SAMPLES_PER_PARAMETER * base.count
-    if samples < needed:
-        raise TrajectoryError(
-            f"{where}: {samples} samples are too few to identify {base.count} base parameters "
-            f"(at least {MIN_SAMPLES_PER_PARAMETER} per parameter: {needed})"
-        )
+    too_few = samples_refusal(base, samples)
+    if too_few is not None:
+        raise TrajectoryError(f"{where}: {too_few}")
     fixed = tuple(name for name in PARAMETERS if name not in names)
     Y = regressor(robot, motion, names, progress=progress)
     known = known_forces(robot, motion, fixed)
     target = measured - known
     W = Y.f10[..., list(base.independent)]  # (N, 3, B)
     stacked = W.reshape(-1, base.count)
-    kept = _independent_columns(stacked, _EXCITATION_TOLERANCE)[0]
-    if len(kept) < base.count:
-        missing = [b for b in range(base.count) if b not in kept]
+    refused = excitation_refusal(base, stacked)
+    if refused is not None:
         raise TrajectoryError(
-            f"{where}: the motion does not excite the base parameter(s) "
-            f"{', '.join(repr(base.label(b)) for b in missing)} (regressor rank {len(kept)} < "
-            f"{base.count}); move every coordinate, e.g. along a trajectory of prp3 excite"
+            f"{where}: {refused}; move every coordinate, e.g. along a trajectory of prp3 excite"
         )
     estimate, std, sigma = weighted_least_squares(W, target)
     fitted = W @ estimate + known
@@ -205,6 +201,61 @@ def identify(
         measured=measured,
         fitted=fitted,
         fixed=fixed,
+    )
+
+
+def samples_refusal(base: BaseParameters, samples: int) -> str | None:
+    """Why :func:`identify` refuses ``samples`` samples for ``base``: too few; ``None`` if not.
+
+    At least :data:`MIN_SAMPLES_PER_PARAMETER` samples per base parameter.
+    ``prp3 excite`` asks the same of the trajectory it writes.
+
+    >>> from prp3.apps.base_parameters import base_parameters
+    >>> samples_refusal(base_parameters(Robot()), 20)
+    '20 samples are too few to identify 7 base parameters (at least 5 per parameter: 35)'
+    """
+    needed = MIN_SAMPLES_PER_PARAMETER * base.count
+    if samples >= needed:
+        return None
+    return (
+        f"{samples} samples are too few to identify {base.count} base parameters "
+        f"(at least {MIN_SAMPLES_PER_PARAMETER} per parameter: {needed})"
+    )
+
+
+def excitation_refusal(base: BaseParameters, stacked: FloatArray) -> str | None:
+    """Why :func:`identify` refuses a motion as not exciting; ``None`` if it excites ``base``.
+
+    The one criterion of identification, which ``prp3 excite``
+    (:func:`prp3.apps.excitation.exciting_trajectory`) applies to the motion
+    it designs: every base parameter is excited when the column of ``stacked``
+    that multiplies it, scaled to unit norm, is farther than 1e-6 from the
+    span of the columns before it (greedy Gram–Schmidt).
+
+    Parameters
+    ----------
+    base : BaseParameters
+        The base parameters, one column of ``stacked`` each, in their order.
+    stacked : ndarray, shape (3N, B)
+        The base regressor of ``f10`` of the ``N`` samples, stacked (SI units).
+
+    Returns
+    -------
+    str or None
+        ``"the motion does not excite the base parameter(s) ... (regressor rank
+        r < B: ... condition number c ...)"``, or ``None``.
+    """
+    kept = _independent_columns(stacked, _EXCITATION_TOLERANCE)[0]
+    if len(kept) >= base.count:
+        return None
+    missing = [b for b in range(base.count) if b not in kept]
+    norms = np.linalg.norm(stacked, axis=0)
+    condition = float(np.linalg.cond(stacked / np.where(norms > 0.0, norms, 1.0)))
+    return (
+        f"the motion does not excite the base parameter(s) "
+        f"{', '.join(repr(base.label(b)) for b in missing)} (regressor rank {len(kept)} < "
+        f"{base.count}: its unit columns have condition number {condition:.3g}; identification "
+        f"needs each one farther than 1e-6 from the span of the others)"
     )
 
 

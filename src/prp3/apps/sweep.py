@@ -120,13 +120,42 @@ class DesignTable:
         return len(self.columns["status"])
 
 
+#: The four bytes that begin and end every Parquet file.
+_PARQUET_MAGIC = b"PAR1"
+
+
+def _truncation(path: Path) -> str | None:
+    """What is wrong with ``path`` when it is a Parquet file cut short, else ``None``.
+
+    A Parquet file begins and ends with ``PAR1``; its footer, at the end,
+    describes the rows and holds prp3's metadata (the sweep's digest and spec),
+    so a file that begins as Parquet but has lost its end (a copy or a disk
+    that filled up) can be neither read nor told apart from another sweep's.
+    """
+    try:
+        with path.open("rb") as stream:
+            head = stream.read(4)
+            size = stream.seek(0, os.SEEK_END)
+            stream.seek(max(size - 4, 0))
+            tail = stream.read(4)
+    except OSError:
+        return None
+    if not _PARQUET_MAGIC.startswith(head) or (size >= 12 and tail == _PARQUET_MAGIC):
+        return None  # not Parquet at all (an empty file is one cut at 0 bytes), or whole
+    return (
+        f"truncated: a Parquet file cut short ({size} bytes, without the footer that ends "
+        "every Parquet file and holds the rows' layout and prp3's metadata)"
+    )
+
+
 def read_designs(path: str | Path, columns: Sequence[str] | None = None) -> DesignTable:
     """Read ``designs.parquet`` written by :func:`run_sweep` (only ``columns`` when given).
 
     Raises
     ------
     InputFileError
-        Unreadable file, not Parquet, or not written by ``prp3 sweep`` (names the file).
+        Unreadable file, not Parquet, a Parquet file cut short (``truncated``),
+        or not written by ``prp3 sweep`` (names the file).
     """
     import pyarrow.parquet as pq
 
@@ -134,6 +163,11 @@ def read_designs(path: str | Path, columns: Sequence[str] | None = None) -> Desi
     try:
         table = pq.read_table(path, columns=None if columns is None else list(columns))
     except (OSError, ValueError, KeyError) as error:
+        truncated = _truncation(path)
+        if truncated is not None:
+            raise InputFileError(
+                f"{truncated}; run the sweep again to rewrite it", file=path
+            ) from None
         reason = re.sub(r"\s+", " ", str(error)).strip()[:200]
         raise InputFileError(f"{path}: cannot read a Parquet file ({reason})") from None
     metadata = table.schema.metadata or {}
@@ -258,6 +292,13 @@ def check_sweep_folder(output: str | Path, spec: SweepSpec, *, force: bool = Fal
     held = sweep_of(target)
     if held is not None and held[0] == spec.digest():
         return
+    truncated = None if held is not None else _truncation(target)
+    if truncated is not None:  # its spec cannot be read: perhaps this one's, perhaps not
+        raise OutputFileError(
+            f"{truncated}, so the sweep it holds cannot be told; recompute it into this "
+            "directory (--force, force=True), or choose another output directory",
+            file=target,
+        )
     what = (
         f"holds the designs of another sweep ({held[1]})"
         if held is not None

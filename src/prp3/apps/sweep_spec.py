@@ -44,6 +44,7 @@ __all__ = [
     "Parameter",
     "SweepSpec",
     "design_values",
+    "parameter_paths",
     "read_sweep_spec",
     "sweep_spec",
 ]
@@ -224,11 +225,51 @@ def _flatten(table: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]
     return items
 
 
+def parameter_paths(table: Mapping[str, Any], where: str) -> list[tuple[str, Any]]:
+    """The key paths and values of a ``[parameters]`` table, each path given once.
+
+    TOML keeps ``"platform.mass"`` (one quoted key with a dot) and
+    ``platform.mass`` (a dotted key, or ``mass`` in ``[parameters.platform]``)
+    apart, but both are the key path ``platform.mass``; tomllib itself refuses
+    the same key twice (``"mass"`` and ``mass``).
+
+    Parameters
+    ----------
+    table : mapping
+        The parsed ``[parameters]`` table.
+    where : str
+        Names the table in messages (``"SWEEP.toml: [parameters]"``).
+
+    Raises
+    ------
+    ParameterError
+        A key path given twice, named with ``where``.
+
+    >>> parameter_paths({"platform.mass": [2, 4], "l0": [0.2, 0.3]}, "s.toml: [parameters]")
+    [('platform.mass', [2, 4]), ('l0', [0.2, 0.3])]
+    >>> twice = {"platform.mass": [2, 4], "platform": {"mass": [2, 5]}}
+    >>> parameter_paths(twice, "s.toml: [parameters]")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: s.toml: [parameters] 'platform.mass' is given twice: ...
+    """
+    items = _flatten(table)
+    seen: set[str] = set()
+    for path, _ in items:
+        if path in seen:
+            raise ParameterError(
+                f'{where} {path!r} is given twice: as the quoted key "{path}" and as the '
+                f"dotted key {path} (or a table), which name the same parameter: give it once"
+            )
+        seen.add(path)
+    return items
+
+
 def _parameters(
     source: str, table: Mapping[str, Any], nominal: dict[str, Any]
 ) -> tuple[Parameter, ...]:
     parameters: list[Parameter] = []
-    for path, value in _flatten(table):
+    for path, value in parameter_paths(table, f"{source}: [parameters]"):
         where = f"{source}: [parameters] {path!r}"
         if not _PATH.match(path):
             raise ParameterError(f"{where}: not a key path of ROBOT.toml (like 'platform.mass')")

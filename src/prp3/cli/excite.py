@@ -20,7 +20,9 @@ from typing import Any
 
 import numpy as np
 
+from prp3.apps.base_parameters import base_parameters
 from prp3.apps.excitation import exciting_trajectory
+from prp3.apps.identification import samples_refusal
 from prp3.cli._progress import progress_bar
 from prp3.cli._types import (
     add_output_directory,
@@ -32,6 +34,7 @@ from prp3.cli._types import (
     output_folder,
     positive_float,
 )
+from prp3.errors import ParameterError
 from prp3.files import check_output_directory
 from prp3.io.tables import write_table_csv
 
@@ -47,7 +50,9 @@ examples:
 
 Then drive the robot along DIR/trajectory.csv, record the actuator forces as
 f10_A, f10_B, f10_C next to t, x, y, phi, and run prp3 identify on that file.
-Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
+Exit status 0 on success, 2 on bad input (one line on stderr, nothing written),
+among it limits so tight that no motion within them excites every base
+parameter as prp3 identify requires (the limit that binds is named).
 """
 
 
@@ -123,6 +128,9 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 excite`` with parsed ``args``; return the exit status."""
     check_output_directory(args.output)
     robot = load_robot(args)
+    too_few = samples_refusal(base_parameters(robot), args.samples)
+    if too_few is not None:  # prp3 identify would refuse the trajectory written
+        raise ParameterError(f"--samples {args.samples}: {too_few}, which prp3 identify needs")
     with progress_bar() as bar:
         result = exciting_trajectory(
             robot,

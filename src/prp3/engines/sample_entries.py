@@ -187,13 +187,13 @@ def _sample(
     run = numba.MACHINE_CODE.get(function) or numba.machine_code(function)
     f = run(compiled.array, *state) if wrench is None else run(compiled.array, *state, *wrench)
     if f10_only:
-        if math.isfinite(f[0] + f[1] + f[2]):
-            return f
-        _overflow({"f10": f})
+        if not math.isfinite(f[0] + f[1] + f[2]):
+            _check_overflow({"f10": f})
+        return f
     a, b, c, d = f
-    if math.isfinite(a[0] + a[1] + a[2] + b[0] + b[1] + b[2] + c[0] + c[1] + c[2] + d[0] + d[1] + d[2]):  # fmt: skip
-        return _new(SampleForces, f)
-    _overflow(dict(zip(FORCE_OUTPUTS, f, strict=True)))
+    if not math.isfinite(a[0] + a[1] + a[2] + b[0] + b[1] + b[2] + c[0] + c[1] + c[2] + d[0] + d[1] + d[2]):  # fmt: skip
+        _check_overflow(dict(zip(FORCE_OUTPUTS, f, strict=True)))
+    return _new(SampleForces, f)
 
 
 def _check_load_sample(load: SampleInput) -> tuple[float, float, float]:
@@ -244,14 +244,15 @@ def _sample_floats(
         raise friction_lock(0)
     values = (*sol.f10, *sol.p10, *sol.f21y, *sol.f21z)
     if not math.isfinite(sum(values)):
-        _overflow({name: getattr(sol, name) for name in FORCE_OUTPUTS})
+        _check_overflow({name: getattr(sol, name) for name in FORCE_OUTPUTS})
     return sol
 
 
-def _overflow(values: dict[str, Any]) -> NoReturn:
-    """The error of :func:`~prp3.engines.entries.paper_forces` for one sample's results that are not finite."""
+def _check_overflow(values: dict[str, Any]) -> None:
+    """The error of :func:`~prp3.engines.entries.paper_forces` for one sample's results that are
+    not finite, after a sum of them that is not: the sum of finite results may overflow (two
+    forces of 1e308), so each one is checked and finite results pass."""
     require_finite({name: np.array([legs]) for name, legs in values.items()}, (1,), "motion")
-    raise AssertionError("results reported not finite are finite")  # pragma: no cover
 
 
 def _not_compiled(compiled: object) -> NoReturn:

@@ -11,11 +11,13 @@ wrench from the platform's pose, velocity and acceleration::
 ``tau[L]`` is ``tau_L`` of legs A, B, C (N along ``+u_a`` or N·m about ``+z0``);
 ``joint[9·L + 3·(k − 1) + c]`` is ``fx{k}_L`` (``c = 0``), ``fy{k}_L`` (1) and
 ``m{k}_L`` (2) of docs/family.md §7.  The return codes are those of the 3-PRP's
-C (:mod:`prp3.apps.codegen`): ``PRP3_OK`` (0), ``PRP3_NOT_FINITE`` (1: an input is NaN
-or infinite), ``PRP3_SINGULAR`` (2: ``s_L·μ_leg,L < 1e-4`` for a leg or
-``s_par·μ_par < 1e-4``, the refusals of docs/family.md §6 at the pose, with the
-signs ``s`` of the home configuration), and one more, ``PRP3_UNREACHABLE``
-(4: a leg's closure has no real solution); ``PRP3_OUTSIDE_STROKE`` (3) is
+C (:data:`prp3.apps.codegen.RETURN_CODES`): ``PRP3_OK`` (0: every output finite),
+``PRP3_NOT_FINITE`` (1: an input is NaN or infinite), ``PRP3_SINGULAR`` (2:
+``s_L·μ_leg,L < 1e-4`` for a leg or ``s_par·μ_par < 1e-4``, the refusals of
+docs/family.md §6 at the pose, with the signs ``s`` of the home configuration),
+``PRP3_UNREACHABLE`` (4: a leg's closure has no real solution) and
+``PRP3_OVERFLOW`` (5: the inputs are finite but an output is not, one
+``isfinite`` pass over the 30 outputs at the end); ``PRP3_OUTSIDE_STROKE`` (3) is
 defined but never returned (a family robot has no stroke).  On a non-zero
 return every output is NaN.  Only ``<math.h>``; strict C99.
 
@@ -59,8 +61,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from prp3.apps.codegen import (
+    C_NOT_FINITE,
     C_OK,
+    C_OVERFLOW,
     C_SINGULAR,
+    C_UNREACHABLE,
+    FINITE_FUNCTION,
     HEADER_NAME,
     SOURCE_NAME,
     _c_number,
@@ -82,9 +88,6 @@ __all__ = [
     "family_c_inverse_dynamics",
     "python_sample",
 ]
-
-#: Return code of a pose that a leg cannot reach.
-C_UNREACHABLE: int = 4
 
 
 # ------------------------------------------------------------------ C text
@@ -247,6 +250,12 @@ def family_c_inverse_dynamics(robot: FamilyRobot) -> FamilyCSource:
     ]
     body += [f"{ind}tau[{i}] = {outs[1 + i]};" for i in range(3)]
     body += [f"{ind}joint[{i}] = {outs[4 + i]};" for i in range(27)]
+    body += [
+        f"{ind}/* the inputs are finite: an output that is not has overflowed */",
+        f"{ind}if (!(prp3_finite(tau, 3) && prp3_finite(joint, 27))) {{",
+        f"{ind}    return prp3_refuse(tau, joint, PRP3_OVERFLOW);",
+        f"{ind}}}",
+    ]
     unpack, finite = _input_lines()
     source_lines = [
         f"/* {SOURCE_NAME}: inverse dynamics of a {robot.architecture} planar parallel robot.",
@@ -269,6 +278,8 @@ def family_c_inverse_dynamics(robot: FamilyRobot) -> FamilyCSource:
         "    }",
         "    return code;",
         "}",
+        "",
+        *FINITE_FUNCTION,
         "",
         *_signature("double tau[3], double joint[27]"),
         "{",
@@ -309,16 +320,18 @@ def _header(robot: FamilyRobot) -> str:
         " *   joint[9 L + 3 (k - 1) + c]: the wrench of the proximal on the distal body through",
         " *   joint k of leg L: c = 0, 1 its force fx, fy (N, fixed frame), c = 2 its moment about",
         " *   z0 taken about the joint origin O_k (N m) (docs/family.md section 7).",
-        " * Returns PRP3_OK (0); PRP3_NOT_FINITE (1) if an input is NaN or infinite;",
-        " * PRP3_SINGULAR (2) if a leg's measure mu_leg or the parallel measure mu_par, with",
-        " * the sign it has at home, is below 1e-4; PRP3_UNREACHABLE (4) if a leg cannot reach",
-        " * the pose (PRP3_OUTSIDE_STROKE (3) is never returned: no stroke). On a non-zero",
-        " * return every output is NaN. Reentrant, no allocation, only <math.h>.",
+        " * Returns one of the codes below: PRP3_OK (0) only when every output is finite.",
+        " * On a non-zero return every output is NaN. Reentrant, no allocation, only",
+        " * <math.h>. Do not compile with -ffast-math: it assumes no NaN and removes the checks.",
         " */",
     ]
-    return _header_text(
-        lines, "double tau[3], double joint[27]", (("PRP3_UNREACHABLE", C_UNREACHABLE),)
-    )
+    codes = {
+        "PRP3_SINGULAR": "mu_leg of a leg or mu_par, with its sign at home, is below 1e-4:"
+        " the pose is singular",
+        "PRP3_OUTSIDE_STROKE": "never returned: a family robot has no stroke",
+        "PRP3_UNREACHABLE": "a leg's closure has no real solution: it cannot reach the pose",
+    }
+    return _header_text(lines, "double tau[3], double joint[27]", codes)
 
 
 def python_sample(
@@ -333,6 +346,9 @@ def python_sample(
     for checks of the mechanics independent of a compiler.
     """
     design, inertia = _Design.of(robot), _Inertia.of(robot)
+    inputs = [float(v) for v in (*pose, *velocity, *acceleration)]
+    if not all(math.isfinite(v) for v in inputs):
+        return C_NOT_FINITE, [math.nan] * 30
     x, y, phi = (float(v) for v in pose)
     c, s = math.cos(phi), math.sin(phi)
     home_leg, home_par = robot.home_measures
@@ -357,7 +373,10 @@ def python_sample(
     out = sample_dynamics(ops, design.types, inertia, design.scale, state, legs)
     if not math.copysign(1.0, home_par) * out[0] >= SINGULAR:
         return C_SINGULAR, [math.nan] * 30
-    return C_OK, [float(v) for v in out[1:]]
+    values = [float(v) for v in out[1:]]
+    if not all(math.isfinite(v) for v in values):
+        return C_OVERFLOW, [math.nan] * 30
+    return C_OK, values
 
 
 def _safe_sqrt(value: float) -> float:

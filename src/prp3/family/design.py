@@ -57,12 +57,12 @@ from prp3.apps.design import design_mapping
 from prp3.apps.design_objective import OptimizeSpec, penalized_objective
 from prp3.apps.sweep_spec import (
     Parameter,
-    _flatten,
     _integer,
     _motions,
     _sampling,
     _table,
     _unknown,
+    parameter_paths,
 )
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
 from prp3.family.model import ARCHITECTURES, FamilyRobot
@@ -315,7 +315,8 @@ def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, An
     except ParameterError as error:
         raise ParameterError(f"{source}: {where}: {error}") from None
     parameters: list[Parameter] = []
-    for path, value in _flatten(_table(source, f"{where}.parameters", table.get("parameters", {}))):
+    given = _table(source, f"{where}.parameters", table.get("parameters", {}))
+    for path, value in parameter_paths(given, f"{source}: {where}.parameters"):
         key = f"{source}: {where}.parameters {path!r}"
         if not (isinstance(value, list) and len(value) == 2):
             raise ParameterError(f"{key}: the range must be [low, high], got {value!r}"[:300])

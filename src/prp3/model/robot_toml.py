@@ -137,6 +137,8 @@ def _parse_toml(path: Path, text: str) -> dict[str, Any]:
         if where is None:
             raise InputFileError(f"invalid TOML: {message}", file=path) from None
         reason = message[: where.start()].rstrip()
+        if reason == "Cannot overwrite a value":
+            reason = _overwritten(text, int(where.group(1))) or reason
         raise InputFileError(
             f"invalid TOML: {reason}",
             file=path,
@@ -149,6 +151,49 @@ def _parse_toml(path: Path, text: str) -> dict[str, Any]:
         ) from None
     except ValueError as error:  # a number tomllib cannot convert
         raise InputFileError(f"invalid TOML: {error}", file=path) from None
+
+
+#: One TOML key: bare, "basic" or 'literal'.
+_KEY_PART = r"""(?:[A-Za-z0-9_-]+|"(?:[^"\\]|\\.)*"|'[^']*')"""
+_KEY = re.compile(rf"\s*({_KEY_PART}(?:\s*\.\s*{_KEY_PART})*)\s*=")
+_HEADER = re.compile(rf"\s*\[\[?\s*({_KEY_PART}(?:\s*\.\s*{_KEY_PART})*)\s*\]")
+
+
+def _key_path(spelled: str) -> str:
+    """A TOML key as written (``"platform" . 'mass'``) as its dotted path (``platform.mass``)."""
+    parts = re.findall(_KEY_PART, spelled)
+    return ".".join(
+        part[1:-1] if part[0] in "'\"" else part for part in parts
+    )  # fmt: skip
+
+
+def _overwritten(text: str, line: int) -> str | None:
+    """tomllib's "Cannot overwrite a value" at ``line`` with the key it names.
+
+    The key at the start of that line, and the table it is in (the last
+    ``[header]`` above): ``the key 'mass' of [parameters] is set twice (a
+    quoted and a bare key, or a dotted key and a table, are one key)``;
+    ``None`` when the line does not start with a key.
+    """
+    lines = text.splitlines()
+    if not 1 <= line <= len(lines):
+        return None
+    found = _KEY.match(lines[line - 1])
+    if found is None:
+        return None
+    table = next(
+        (
+            _key_path(header.group(1))
+            for header in (_HEADER.match(above) for above in reversed(lines[: line - 1]))
+            if header is not None
+        ),
+        None,
+    )
+    where = f" of [{table}]" if table else ""
+    return (
+        f"the key {_key_path(found.group(1))!r}{where} is set twice (a quoted and a bare key, "
+        "or a dotted key and a table, are one key in TOML): give it once"
+    )
 
 
 def toml_table(
