@@ -16,7 +16,7 @@ import numpy as np
 from hypothesis import strategies as st
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.spatial.model import Body, SpatialRobot, hexapod
+from prp3.spatial.model import Body, SpatialRobot, hexapod, three_rps
 from prp3.spatial.motion import PlatformMotion, rpy_motion
 
 FloatArray = NDArray[np.float64]
@@ -69,6 +69,28 @@ def hexapods(draw: st.DrawFn) -> SpatialRobot:
         home_height=draw(st.floats(0.07, 0.1)),
         stroke=(0.03, 0.3),
         u_limit=1.4,
+        s_limit=1.4,
+        cylinder=draw(bodies("cylinder", 0.025, 0.12, 4e-5)),
+        rod=draw(bodies("rod", -0.03, 0.05, 1.5e-5)),
+        platform=draw(bodies("platform", 0.0, 1.0, 2e-3)),
+        gravity=gravity,
+    )
+
+
+@st.composite
+def rps_robots(draw: st.DrawFn) -> SpatialRobot:
+    """A random 3-RPS (docs/spatial.md §11 with random parameters), wide limits."""
+    gravity = (
+        draw(st.floats(-3.0, 3.0)),
+        draw(st.floats(-3.0, 3.0)),
+        -draw(st.floats(5.0, 12.0)),
+    )
+    return three_rps(
+        base_radius=draw(st.floats(0.08, 0.14)),
+        platform_radius=draw(st.floats(0.04, 0.08)),
+        home_height=draw(st.floats(0.08, 0.12)),
+        stroke=(0.03, 0.3),
+        r_limit=1.5,
         s_limit=1.4,
         cylinder=draw(bodies("cylinder", 0.025, 0.12, 4e-5)),
         rod=draw(bodies("rod", -0.03, 0.05, 1.5e-5)),

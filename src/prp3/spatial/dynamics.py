@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.spatial.geometry import CHUNK, coordinate_kinds
-from prp3.spatial.kinematics import ChunkKinematics, chunk_kinematics
+from prp3.spatial.kinematics import ChunkKinematics, chunk_kinematics, transpose_solve
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.rotations import cross
@@ -150,13 +150,20 @@ def chunk_efforts(
             else:  # (e, e × (c − o)):  e·M + (e × (c − o))·F
                 lever = cross(e, c - frames.origin[:, :, owner])
                 y[..., col] += np.einsum("nli,nli->nl", e, m) + np.einsum("nli,nli->nl", lever, f)
-    z = np.linalg.solve(np.swapaxes(kin.jacobian, -1, -2), y[..., None])[..., 0]
+    z = transpose_solve(kin.jacobian, y)
     r = frames.origin[:, :, -1] - motion.position[:, None, :]
     rhs = np.concatenate([z[..., :3] + cross(r, z[..., 3:]), z[..., 3:]], axis=-1).sum(axis=1)
     rg = wrenches.platform_centre - motion.position
     rhs[:, :3] += wrenches.platform_moment + cross(rg, wrenches.platform_force)
     rhs[:, 3:] += wrenches.platform_force
-    return np.linalg.solve(np.swapaxes(kin.parallel, -1, -2), rhs[..., None])[..., 0]
+    # Kᵀ·(τ, λ) = rhs with K = [J_p; C]: the constraints' multipliers λ (legs of 5 coordinates)
+    matrix = (
+        kin.parallel
+        if kin.constraint is None
+        else np.concatenate([kin.parallel, kin.constraint], 1)
+    )
+    solution = np.linalg.solve(np.swapaxes(matrix, -1, -2), rhs[..., None])[..., 0]
+    return np.asarray(solution[:, : len(robot.legs)])
 
 
 def virtual_work_efforts(robot: SpatialRobot, motion: PlatformMotion) -> FloatArray:

@@ -35,11 +35,15 @@ from prp3.validation import check_instance
 __all__ = [
     "CHUNK",
     "Frames",
+    "attachments",
     "chain_frames",
     "coordinate_kinds",
+    "end_frames",
     "inverse_geometry",
     "leg_coordinates",
     "leg_frames",
+    "placements",
+    "plane_offsets",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -83,7 +87,7 @@ def coordinate_kinds(robot: SpatialRobot) -> tuple[tuple[str, int], ...]:
     return tuple(kinds)
 
 
-def _placements(robot: SpatialRobot) -> tuple[list[FloatArray], list[FloatArray]]:
+def placements(robot: SpatialRobot) -> tuple[list[FloatArray], list[FloatArray]]:
     """Per joint ``k``: its placement position ``(legs, 3)`` and rotation ``(legs, 3, 3)``."""
     n = len(robot.legs[0].joints)
     positions = [np.array([leg.joints[k].position for leg in robot.legs]) for k in range(n)]
@@ -93,7 +97,7 @@ def _placements(robot: SpatialRobot) -> tuple[list[FloatArray], list[FloatArray]
 
 def chain_frames(robot: SpatialRobot, q: FloatArray) -> Frames:
     """The frames of every joint of every leg for joint values ``q (N, legs, dof)`` (§2)."""
-    positions, rotations = _placements(robot)
+    positions, rotations = placements(robot)
     n_samples, n_legs = q.shape[:2]
     origin = np.zeros((n_samples, n_legs, 3))
     rotation = np.broadcast_to(np.eye(3), (n_samples, n_legs, 3, 3))
@@ -151,23 +155,46 @@ def end_frames(
 def leg_coordinates(robot: SpatialRobot, position: FloatArray, rotation: FloatArray) -> Frames:
     """The closed-form inverse geometry of every leg on the branch of §5 (no limits checked).
 
-    ``position (N, 3)``, ``rotation (N, 3, 3)``; the legs' pattern is ``UPS``.  A leg
-    whose U-to-S distance is zero gets ``NaN`` (refused by :func:`check_reach`).
+    ``position (N, 3)``, ``rotation (N, 3, 3)``; the legs' pattern is ``UPS`` or ``RPS``
+    (the RPS's S centre is taken projected on its R joint's plane: :func:`plane_offsets`
+    says how far off it is).  A leg whose base-to-S distance is zero gets ``NaN``
+    (refused by :func:`check_reach`).
     """
-    positions, rotations = _placements(robot)
+    positions, rotations = placements(robot)
     c_end, r_end = end_frames(robot, position, rotation)
     n_samples, n_legs = c_end.shape[:2]
     q = np.zeros((n_samples, n_legs, robot.legs[0].dof))
     d = np.einsum("lji,nlj->nli", rotations[0], c_end - positions[0][None])
-    rho = np.sqrt(np.einsum("nli,nli->nl", d, d))
-    with np.errstate(invalid="ignore", divide="ignore"):
+    pattern = robot.legs[0].pattern
+    if pattern == "UPS":
+        rho = np.sqrt(np.einsum("nli,nli->nl", d, d))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            q[..., 0] = np.where(rho > 0.0, np.arctan2(d[..., 1], d[..., 0]), np.nan)
+            q[..., 1] = np.arctan2(-d[..., 2], np.hypot(d[..., 0], d[..., 1]))
+        slide = 2
+    else:  # RPS: the leg turns in the plane of the R's x and y
+        rho = np.hypot(d[..., 0], d[..., 1])
         q[..., 0] = np.where(rho > 0.0, np.arctan2(d[..., 1], d[..., 0]), np.nan)
-        q[..., 1] = np.arctan2(-d[..., 2], np.hypot(d[..., 0], d[..., 1]))
-    q[..., 2] = rho - positions[1][None, :, 0] - positions[2][None, :, 0]
+        slide = 1
+    q[..., slide] = rho - positions[1][None, :, 0] - positions[2][None, :, 0]
     frames = chain_frames(robot, q)
     s_rotation = frames.joint_rotation[:, :, 2]
-    q[..., 3:6] = log_rotation(np.swapaxes(s_rotation, -1, -2) @ r_end)
+    q[..., slide + 1 : slide + 4] = log_rotation(np.swapaxes(s_rotation, -1, -2) @ r_end)
     return chain_frames(robot, q)
+
+
+#: An RPS leg's S centre may be this far (times ``ℓ``) off its R joint's plane.
+PLANE_TOLERANCE: float = 1e-9
+
+
+def plane_offsets(robot: SpatialRobot, position: FloatArray, rotation: FloatArray) -> FloatArray:
+    """How far (m) each RPS leg's S centre is off the plane its R joint turns in, ``(N, legs)``
+    (zeros for other patterns)."""
+    if robot.legs[0].pattern != "RPS":
+        return np.zeros((position.shape[0], len(robot.legs)))
+    positions, rotations = placements(robot)
+    c_end, _ = end_frames(robot, position, rotation)
+    return np.asarray(np.einsum("li,nli->nl", rotations[0][..., 2], c_end - positions[0][None]))
 
 
 def _pose_text(position: FloatArray) -> str:
@@ -229,6 +256,19 @@ def leg_frames(robot: SpatialRobot, motion: PlatformMotion, offset: int = 0) -> 
     """The frames of one chunk of ``motion`` (its samples numbered from ``offset``), limits checked."""
     frames = leg_coordinates(robot, motion.position, motion.rotation)
     check_reach(robot, frames.q, motion.position, motion.t, offset)
+    off = np.abs(plane_offsets(robot, motion.position, motion.rotation))
+    bad = off > PLANE_TOLERANCE * robot.scale
+    if bad.any():
+        k = int(np.argmax(bad.any(axis=1)))
+        i = int(np.argmax(bad[k]))
+        raise UnreachablePoseError(
+            f"its S centre is {float(off[k, i]):.3g} m off the plane of its R joint at the pose "
+            f"{_pose_text(motion.position[k])}: not a pose of the {robot.name}'s "
+            f"{len(robot.legs)} degrees of freedom (complete_motion solves its parasitic {', '.join(robot.parasitic)})",
+            sample=offset + k,
+            time=float(motion.t[k]),
+            leg=str(i + 1),
+        )
     return frames
 
 

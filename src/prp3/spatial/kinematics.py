@@ -28,11 +28,20 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.errors import SingularPoseError
-from prp3.spatial.geometry import CHUNK, Frames, coordinate_kinds, leg_frames
+from prp3.errors import SingularPoseError, TrajectoryError
+from prp3.spatial.geometry import (
+    CHUNK,
+    PLANE_TOLERANCE,
+    Frames,
+    attachments,
+    coordinate_kinds,
+    leg_frames,
+    placements,
+    plane_offsets,
+)
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
-from prp3.spatial.rotations import cross
+from prp3.spatial.rotations import cross, exp_rotation
 from prp3.validation import check_instance
 
 __all__ = [
@@ -42,9 +51,12 @@ __all__ = [
     "SpatialKinematics",
     "chain_motion",
     "chunk_kinematics",
+    "complete_motion",
     "home_signs",
     "leg_jacobians",
+    "pseudo_solve",
     "spatial_kinematics",
+    "transpose_solve",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -150,6 +162,10 @@ class ChunkKinematics:
     parallel : (N, legs, 6), the parallel Jacobian ``J_p`` (columns ``ω``, then ``v``)
     bodies : BodyMotion
     leg_measure : (N, legs); parallel_measure : (N,)
+    constraint : (N, legs, 6) or None
+        Legs of 5 coordinates: the constraint rows ``C_i`` with ``C_i·(ω, v) = 0`` (§11).
+    null : (N, legs, 6) or None
+        Their left null vectors ``w_i`` (``w_iᵀ·J_i = 0``), pairing with ``(ω, v_end)``.
     """
 
     frames: Frames
@@ -160,35 +176,78 @@ class ChunkKinematics:
     bodies: BodyMotion
     leg_measure: FloatArray
     parallel_measure: FloatArray
+    constraint: FloatArray | None = None
+    null: FloatArray | None = None
+
+
+def _scaled_jacobian(robot: SpatialRobot, jacobian: FloatArray) -> FloatArray:
+    """``J̃_i``: the translation rows divided by ``ℓ``, the slide columns multiplied by ``ℓ``."""
+    scaled = jacobian.copy()
+    scaled[..., 3:, :] /= robot.scale
+    for c, (kind, _) in enumerate(coordinate_kinds(robot)):
+        if kind == "t":
+            scaled[..., c] *= robot.scale
+    return scaled
+
+
+def _left_null(matrix: FloatArray) -> FloatArray:
+    """The generalised cross product of the 5 columns of ``matrix (..., 6, 5)``: ``w`` with
+    ``wᵀ·matrix = 0`` and ``|w| = sqrt(det(matrixᵀ·matrix))``, ``(..., 6)``."""
+    rows = [(-1.0) ** j * np.linalg.det(np.delete(matrix, j, axis=-2)) for j in range(6)]
+    return np.stack(rows, axis=-1)
 
 
 def _measures(
-    robot: SpatialRobot, jacobian: FloatArray, parallel: FloatArray
+    robot: SpatialRobot, scaled: FloatArray, parallel: FloatArray, constraint: FloatArray | None
 ) -> tuple[FloatArray, FloatArray]:
-    """``μ_leg = det J̃_i`` and ``μ_par = det J̃_p`` (§6), every length in units of ``ℓ``.
+    """``μ_leg`` and ``μ_par`` (§6, §11), every length in units of ``ℓ``.
 
-    ``J̃_i``: the translation rows divided by ``ℓ``, the slide columns multiplied by
-    ``ℓ``; ``J̃_p``: for P actuators the ``ω`` columns divided by ``ℓ``, for R
-    actuators the ``v`` columns multiplied by ``ℓ``.
+    ``μ_leg = det J̃_i`` for a 6-coordinate leg, ``|w̃_i| = sqrt(det J̃_iᵀ·J̃_i)`` for a
+    5-coordinate one; ``μ_par = det [J̃_p; C̃]`` in the twist ``(ω, v/ℓ)``: for P
+    actuators the rows of ``J_p`` with their ``ω`` columns divided by ``ℓ``, for R
+    actuators their ``v`` columns multiplied by ``ℓ``; the constraint rows ``C`` with
+    their ``v`` columns multiplied by ``ℓ``.
     """
     kinds = coordinate_kinds(robot)
-    scaled = jacobian.copy()
-    scaled[..., 3:, :] /= robot.scale
-    for c, (kind, _) in enumerate(kinds):
-        if kind == "t":
-            scaled[..., c] *= robot.scale
-    leg = np.linalg.det(scaled)
+    if scaled.shape[-1] == 6:
+        leg = np.linalg.det(scaled)
+    else:
+        w = _left_null(scaled)
+        leg = np.sqrt(np.einsum("...i,...i->...", w, w))
     par = parallel.copy()
     if kinds[robot.legs[0].actuated_coordinate][0] == "t":
         par[..., :3] /= robot.scale
     else:
         par[..., 3:] *= robot.scale
+    if constraint is not None:
+        c = constraint.copy()
+        c[..., 3:] *= robot.scale
+        par = np.concatenate([par, c], axis=-2)
     return leg, np.linalg.det(par)
+
+
+def pseudo_solve(jacobian: FloatArray, rhs: FloatArray) -> FloatArray:
+    """``J⁻¹·rhs`` for square leg Jacobians, ``(JᵀJ)⁻¹Jᵀ·rhs`` otherwise; ``rhs (..., 6)``."""
+    if jacobian.shape[-1] == 6:
+        return np.asarray(np.linalg.solve(jacobian, rhs[..., None])[..., 0], dtype=np.float64)
+    jt = np.swapaxes(jacobian, -1, -2)
+    return np.asarray(np.linalg.solve(jt @ jacobian, jt @ rhs[..., None])[..., 0], dtype=np.float64)
+
+
+def transpose_solve(jacobian: FloatArray, y: FloatArray) -> FloatArray:
+    """``J⁻ᵀ·y`` for square leg Jacobians, ``J(JᵀJ)⁻¹·y`` otherwise; ``y (..., dof)``."""
+    if jacobian.shape[-1] == 6:
+        solved = np.linalg.solve(np.swapaxes(jacobian, -1, -2), y[..., None])[..., 0]
+        return np.asarray(solved, dtype=np.float64)
+    jt = np.swapaxes(jacobian, -1, -2)
+    return (jacobian @ np.linalg.solve(jt @ jacobian, y[..., None]))[..., 0]
 
 
 def _leg_geometry(
     robot: SpatialRobot, motion: PlatformMotion, offset: int
-) -> tuple[Frames, FloatArray, FloatArray, FloatArray]:
+) -> tuple[Frames, FloatArray, FloatArray, FloatArray | None, FloatArray, FloatArray | None]:
+    """Frames, leg Jacobians, ``J_p``, the constraint rows ``C`` (or None), ``r_i`` and the
+    leg's left null vectors ``w_i`` (or None)."""
     frames = leg_frames(robot, motion, offset)
     end = frames.origin[:, :, -1]
     jacobian = leg_jacobians(robot, frames, end)
@@ -196,21 +255,25 @@ def _leg_geometry(
     unit = np.zeros(jacobian.shape[-1])
     unit[actuated] = 1.0
     with np.errstate(all="ignore"):
-        x = np.linalg.solve(
-            np.swapaxes(jacobian, -1, -2),
-            np.broadcast_to(unit[:, None], jacobian.shape[:2] + (unit.shape[0], 1)),
-        )[..., 0]
+        x = transpose_solve(jacobian, np.broadcast_to(unit, jacobian.shape[:2] + unit.shape))
     r = end - motion.position[:, None, :]
     parallel = np.concatenate([x[..., :3] + cross(r, x[..., 3:]), x[..., 3:]], axis=-1)
-    return frames, jacobian, parallel, r
+    constraint = null = None
+    if jacobian.shape[-1] < 6:
+        scaled = _left_null(_scaled_jacobian(robot, jacobian))
+        null = np.concatenate([scaled[..., :3], scaled[..., 3:] / robot.scale], axis=-1)
+        constraint = np.concatenate(
+            [null[..., :3] + cross(r, null[..., 3:]), null[..., 3:]], axis=-1
+        )
+    return frames, jacobian, parallel, constraint, r, null
 
 
 @lru_cache(maxsize=32)
 def home_signs(robot: SpatialRobot) -> tuple[FloatArray, float]:
     """The signs of ``μ_leg`` (per leg) and ``μ_par`` at the robot's home pose."""
     home = PlatformMotion.at_rest(robot.home_position, robot.home_rotation)
-    _, jacobian, parallel, _ = _leg_geometry(robot, home, 0)
-    leg, par = _measures(robot, jacobian, parallel)
+    _, jacobian, parallel, constraint, _, _ = _leg_geometry(robot, home, 0)
+    leg, par = _measures(robot, _scaled_jacobian(robot, jacobian), parallel, constraint)
     return np.sign(leg[0]), float(np.sign(par[0]))
 
 
@@ -248,26 +311,143 @@ def _check_singular(
         )
 
 
+#: A twist or acceleration is refused when a leg's constraint is off by more than this
+#: fraction of it (docs/spatial.md §11).
+COMPATIBILITY: float = 1e-8
+
+
+def _check_compatible(
+    null: FloatArray | None,
+    target: FloatArray,
+    motion: PlatformMotion,
+    what: str,
+    offset: int,
+    scale: float,
+    reference: FloatArray | None = None,
+) -> None:
+    """Refuse a leg end's twist or acceleration ``target (N, legs, 6)`` outside the leg's reach.
+
+    The tolerance is relative to ``6·max|w̃|`` times the larger of ``max|target|`` and
+    ``max|reference|`` (the acceleration's terms before the bias is taken off), all in
+    units of ``ℓ``.
+    """
+    if null is None:
+        return
+
+    def norm(x: FloatArray) -> FloatArray:
+        scaled = np.concatenate([x[..., :3], x[..., 3:] / scale], axis=-1)
+        return np.asarray(np.abs(scaled).max(axis=-1), dtype=np.float64)  # no underflow
+
+    scaled = np.concatenate([target[..., :3], target[..., 3:] / scale], axis=-1)
+    w = np.concatenate([null[..., :3], null[..., 3:] * scale], axis=-1)
+    off = np.abs(np.einsum("nli,nli->nl", w, scaled))
+    magnitude = norm(target) if reference is None else np.maximum(norm(target), norm(reference))
+    size = 6.0 * np.abs(w).max(axis=-1) * magnitude  # bounds |w·target| (maximum norms)
+    bad = off > COMPATIBILITY * np.maximum(size, np.finfo(np.float64).tiny)
+    if bad.any():
+        k = int(np.argmax(bad.any(axis=1)))
+        i = int(np.argmax(bad[k]))
+        raise TrajectoryError(
+            f"the platform's {what} is not one the legs allow (off the leg's constraint by "
+            f"{float(off[k, i] / max(size[k, i], 1e-300)):.3g} of it; complete_motion gives the "
+            "parasitic components)",
+            subject="motion",
+            sample=offset + k,
+            time=float(motion.t[k]),
+            leg=str(i + 1),
+        )
+
+
 def chunk_kinematics(
     robot: SpatialRobot, motion: PlatformMotion, offset: int = 0
 ) -> ChunkKinematics:
     """The kinematics of one chunk (samples numbered from ``offset``), refusals included (§4, §6)."""
-    frames, jacobian, parallel, r = _leg_geometry(robot, motion, offset)
-    leg, par = _measures(robot, jacobian, parallel)
+    frames, jacobian, parallel, constraint, r, null = _leg_geometry(robot, motion, offset)
+    leg, par = _measures(robot, _scaled_jacobian(robot, jacobian), parallel, constraint)
     _check_singular(robot, motion, leg, par, offset)
     omega = np.broadcast_to(motion.omega[:, None, :], r.shape)
     alpha = np.broadcast_to(motion.alpha[:, None, :], r.shape)
     v_end, a_end = _transport(
         motion.velocity[:, None, :], motion.acceleration[:, None, :], omega, alpha, r
     )
-    dq = np.linalg.solve(jacobian, np.concatenate([omega, v_end], axis=-1)[..., None])[..., 0]
+    twist = np.concatenate([omega, v_end], axis=-1)
+    _check_compatible(null, twist, motion, "twist", offset, robot.scale)
+    dq = pseudo_solve(jacobian, twist)
     bias = chain_motion(robot, frames, dq, np.zeros_like(dq))
     rhs = np.concatenate(
         [alpha - bias.alpha[:, :, -1], a_end - bias.acceleration[:, :, -1]], axis=-1
     )
-    ddq = np.linalg.solve(jacobian, rhs[..., None])[..., 0]
+    reference = np.concatenate([bias.alpha[:, :, -1], bias.acceleration[:, :, -1]], axis=-1)
+    _check_compatible(null, rhs, motion, "acceleration", offset, robot.scale, reference)
+    ddq = pseudo_solve(jacobian, rhs)
     bodies = chain_motion(robot, frames, dq, ddq)
-    return ChunkKinematics(frames, dq, ddq, jacobian, parallel, bodies, leg, par)
+    return ChunkKinematics(frames, dq, ddq, jacobian, parallel, bodies, leg, par, constraint, null)
+
+
+def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMotion:
+    """``motion`` with its parasitic components solved so that every leg can follow it (§11).
+
+    For a robot of fewer than 6 degrees of freedom (``robot.parasitic``, e.g. the 3-RPS's
+    ``wz, vx, vy``): the pose's parasitic coordinates (the position's ``x, y`` and a turn
+    about the world ``z``) by Newton's method on the legs' closure, then the twist's and
+    the acceleration's parasitic components from the legs' constraints (linear).  The
+    other components are kept.  A robot of 6 degrees of freedom gets ``motion`` back.
+    """
+    check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
+    check_instance("motion", motion, PlatformMotion, "a PlatformMotion")
+    index = list(robot.parasitic_index)
+    if not index:
+        return motion
+    position, rotation = motion.position.copy(), motion.rotation.copy()
+    _, rotations = placements(robot)
+    normal = rotations[0][..., 2]
+    attach, _ = attachments(robot)
+    axes = np.eye(3)
+    for _ in range(30):
+        off = plane_offsets(robot, position, rotation)
+        if np.abs(off).max() <= 1e-3 * PLANE_TOLERANCE * robot.scale:
+            break
+        ra = np.einsum("nij,lj->nli", rotation, attach)
+        columns = []
+        for c in index:
+            if c < 3:  # a turn about the world axis c
+                columns.append(np.einsum("li,nli->nl", normal, cross(axes[c], ra)))
+            else:
+                columns.append(np.broadcast_to(normal[:, c - 3], off.shape))
+        step = np.linalg.solve(np.stack(columns, axis=-1), -off[..., None])[..., 0]
+        for j, c in enumerate(index):
+            if c < 3:
+                rotation = exp_rotation(step[:, j, None] * axes[c]) @ rotation
+            else:
+                position[:, c - 3] += step[:, j]
+    # the twist: C·ξ = 0 for the parasitic components
+    staged = PlatformMotion(motion.t, position, rotation, motion.omega, motion.velocity,
+                            motion.alpha, motion.acceleration)  # fmt: skip
+    frames, jacobian, _, constraint, r, null = _leg_geometry(robot, staged, 0)
+    assert constraint is not None and null is not None
+    free = [c for c in range(6) if c not in index]
+    twist = np.concatenate([motion.omega, motion.velocity], axis=1)
+    twist[:, index] = np.linalg.solve(
+        constraint[..., index],
+        -np.einsum("nlj,nj->nl", constraint[..., free], twist[:, free])[..., None],
+    )[..., 0]
+    # the acceleration: wᵀ·(end acceleration − bias) = 0
+    omega = np.broadcast_to(twist[:, None, :3], r.shape)
+    v_end = twist[:, None, 3:] + cross(omega, r)
+    dq = pseudo_solve(jacobian, np.concatenate([omega, v_end], axis=-1))
+    bias = chain_motion(robot, frames, dq, np.zeros_like(dq))
+    centripetal = cross(omega, cross(omega, r))
+    target = np.einsum("nli,nli->nl", null[..., :3], bias.alpha[:, :, -1]) + np.einsum(
+        "nli,nli->nl", null[..., 3:], bias.acceleration[:, :, -1] - centripetal
+    )
+    acc = np.concatenate([motion.alpha, motion.acceleration], axis=1)
+    acc[:, index] = np.linalg.solve(
+        constraint[..., index],
+        (target - np.einsum("nlj,nj->nl", constraint[..., free], acc[:, free]))[..., None],
+    )[..., 0]
+    return PlatformMotion.of(
+        motion.t, position, rotation, twist[:, :3], twist[:, 3:], acc[:, :3], acc[:, 3:]
+    )
 
 
 @dataclass(frozen=True)

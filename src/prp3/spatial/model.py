@@ -42,6 +42,7 @@ __all__ = [
     "check_rotation",
     "check_vector",
     "hexapod",
+    "three_rps",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -205,8 +206,11 @@ class Body:
         )  # fmt: skip
 
 
+#: The components of a twist ``(ω, v)``, in order.
+TWIST_COMPONENTS: tuple[str, ...] = ("wx", "wy", "wz", "vx", "vy", "vz")
+
 #: The leg patterns whose inverse geometry is written in closed form (spatial.geometry).
-PATTERNS: tuple[str, ...] = ("UPS",)
+PATTERNS: tuple[str, ...] = ("UPS", "RPS")
 
 
 @dataclass(frozen=True)
@@ -285,7 +289,8 @@ class Leg:
 
 
 def _check_ups(index: int, leg: Leg) -> None:
-    """The UPS leg's closed form needs the P's slide and the S centre on the cylinder's ``x`` axis."""
+    """The UPS and RPS legs' closed forms need the P's slide and the S centre on the
+    cylinder's ``x`` axis."""
     slide, sphere = leg.joints[1], leg.joints[2]
     if (
         slide.rotation != _IDENTITY
@@ -293,7 +298,7 @@ def _check_ups(index: int, leg: Leg) -> None:
         or sphere.position[1:] != (0.0, 0.0)
     ):
         raise ParameterError(
-            f"leg {index + 1}: a UPS leg needs the P joint's rotation to be the identity and "
+            f"leg {index + 1}: a {leg.pattern} leg needs the P joint's rotation to be the identity and "
             "the P and S positions on the x axis of their bodies (y = z = 0)",
             subject="robot",
             key="legs",
@@ -324,6 +329,7 @@ class SpatialRobot:
     home_position: Vector = (0.0, 0.0, 0.0)
     home_rotation: Matrix = _IDENTITY
     scale: float = 0.1
+    parasitic: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.legs:
@@ -352,6 +358,23 @@ class SpatialRobot:
         )
         scale = check_scalar("scale", self.scale, positive=True, unit="m", subject="robot")
         object.__setattr__(self, "scale", scale)
+        if (
+            len(self.parasitic) != 6 - len(self.legs)
+            or len(set(self.parasitic)) != len(self.parasitic)
+            or not set(self.parasitic) <= set(TWIST_COMPONENTS)
+        ):
+            raise ParameterError(
+                f"parasitic must name the {6 - len(self.legs)} twist components of "
+                f"{', '.join(TWIST_COMPONENTS)} that the legs' constraints determine, "
+                f"got {self.parasitic!r}"[:200],
+                subject="robot",
+                key="parasitic",
+            )
+
+    @property
+    def parasitic_index(self) -> tuple[int, ...]:
+        """Indices in the twist ``(ω, v)`` of the components the constraints determine."""
+        return tuple(TWIST_COMPONENTS.index(name) for name in self.parasitic)
 
     @property
     def dof(self) -> int:
@@ -441,4 +464,54 @@ def hexapod(
         legs.append(Leg(joints, (cylinder, rod), tuple(attach), u_rotation, actuated=1))
     return SpatialRobot(
         "6-UPS", tuple(legs), platform, gravity, (0.0, 0.0, h), _IDENTITY, scale,
+    )  # fmt: skip
+
+
+def three_rps(
+    *,
+    base_radius: float = 0.1,
+    platform_radius: float = 0.06,
+    home_height: float = 0.1,
+    stroke: tuple[float, float] = (0.06, 0.18),
+    r_limit: float = math.pi / 2,
+    s_limit: float = math.pi / 3,
+    cylinder: Body | None = None,
+    rod: Body | None = None,
+    platform: Body | None = None,
+    gravity: Vector = (0.0, 0.0, -9.81),
+    scale: float = 0.1,
+) -> SpatialRobot:
+    """The 3-RPS of docs/spatial.md §11: R at the base (axis tangent to the base circle), P
+    actuated, S at the platform; legs at ``90°, 210°, 330°``; 3 DOF (``v_z, ω_x, ω_y`` free,
+    ``ω_z, v_x, v_y`` parasitic).
+
+    Parameters as :func:`hexapod`; ``r_limit`` bounds each R angle (``±``, rad).
+    """
+    r_b = check_scalar("base_radius", base_radius, positive=True, unit="m", subject="robot")
+    r_p = check_scalar("platform_radius", platform_radius, positive=True, unit="m", subject="robot")
+    h = check_scalar("home_height", home_height, positive=True, unit="m", subject="robot")
+    cylinder = cylinder or Body(0.12, (0.025, 0.0, 0.0),
+                                ((8.64e-6, 0, 0), (0, 4.032e-5, 0), (0, 0, 4.032e-5)), "cylinder")  # fmt: skip
+    rod = rod or Body(0.05, (-0.03, 0.0, 0.0),
+                      ((6.25e-7, 0, 0), (0, 1.53125e-5, 0), (0, 0, 1.53125e-5)), "rod")  # fmt: skip
+    platform = platform or Body(1.0, (0.0, 0.0, 0.0),
+                                ((9e-4, 0, 0), (0, 9e-4, 0), (0, 0, 1.8e-3)), "platform")  # fmt: skip
+    legs = []
+    for i in range(3):
+        angle = math.pi / 2 + 2.0 * math.pi * i / 3.0
+        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
+        tangent = np.array([-math.sin(angle), math.cos(angle), 0.0])
+        base, attach = r_b * radial, r_p * radial
+        x = np.array([0.0, 0.0, h]) + attach - base
+        x = x / np.linalg.norm(x)
+        r_rotation = check_rotation("joint rotation", np.stack([x, cross(tangent, x), tangent], 1))
+        joints = (
+            Joint("R", tuple(base), r_rotation, ((-r_limit, r_limit),)),
+            Joint("P", (0.0, 0.0, 0.0), limits=(stroke,)),
+            Joint("S", (0.0, 0.0, 0.0), limits=((0.0, s_limit),)),
+        )
+        legs.append(Leg(joints, (cylinder, rod), tuple(attach), r_rotation, actuated=1))
+    return SpatialRobot(
+        "3-RPS", tuple(legs), platform, gravity, (0.0, 0.0, h), _IDENTITY, scale,
+        ("wz", "vx", "vy"),
     )  # fmt: skip
