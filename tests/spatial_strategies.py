@@ -16,7 +16,7 @@ import numpy as np
 from hypothesis import strategies as st
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.spatial.model import Body, SpatialRobot, hexapod, three_rps
+from prp3.spatial.model import Body, SpatialRobot, delta, hexapod, three_rps
 from prp3.spatial.motion import PlatformMotion, rpy_motion
 
 FloatArray = NDArray[np.float64]
@@ -95,6 +95,34 @@ def rps_robots(draw: st.DrawFn) -> SpatialRobot:
         cylinder=draw(bodies("cylinder", 0.025, 0.12, 4e-5)),
         rod=draw(bodies("rod", -0.03, 0.05, 1.5e-5)),
         platform=draw(bodies("platform", 0.0, 1.0, 2e-3)),
+        gravity=gravity,
+    )
+
+
+@st.composite
+def deltas(draw: st.DrawFn) -> SpatialRobot:
+    """A random Delta as a 3-RUU (docs/spatial.md §12 with random parameters), wide limits."""
+    gravity = (
+        draw(st.floats(-3.0, 3.0)),
+        draw(st.floats(-3.0, 3.0)),
+        -draw(st.floats(5.0, 12.0)),
+    )
+    arm = draw(st.floats(0.08, 0.14))
+    base = draw(st.floats(0.08, 0.14))
+    platform = draw(st.floats(0.02, 0.05))
+    forearm = (base + arm - platform) * draw(st.floats(1.3, 1.8))
+    level = math.sqrt(forearm**2 - (base + arm - platform) ** 2)  # the arm horizontal at home
+    return delta(
+        base_radius=base,
+        arm=arm,
+        forearm=forearm,
+        platform_radius=platform,
+        home_height=level * draw(st.floats(0.95, 1.05)),
+        r_limit=1.5,
+        u_limit=1.5,
+        arm_body=draw(bodies("arm", arm / 2, 0.1, 8e-5)),
+        forearm_body=draw(bodies("forearm", forearm / 2, 0.06, 3e-4)),
+        platform=draw(bodies("platform", 0.0, 0.2, 6e-5)),
         gravity=gravity,
     )
 

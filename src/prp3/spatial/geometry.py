@@ -166,6 +166,8 @@ def leg_coordinates(robot: SpatialRobot, position: FloatArray, rotation: FloatAr
     q = np.zeros((n_samples, n_legs, robot.legs[0].dof))
     d = np.einsum("lji,nlj->nli", rotations[0], c_end - positions[0][None])
     pattern = robot.legs[0].pattern
+    if pattern == "RUU":
+        return _ruu_coordinates(robot, q, d, c_end, r_end)
     if pattern == "UPS":
         rho = np.sqrt(np.einsum("nli,nli->nl", d, d))
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -183,15 +185,51 @@ def leg_coordinates(robot: SpatialRobot, position: FloatArray, rotation: FloatAr
     return chain_frames(robot, q)
 
 
+def _direction_angles(d: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The U angles ``(a, b)`` with ``Rot_z(a)·Rot_y(b)·e_x`` along ``d (..., 3)`` (``cos b > 0``)."""
+    return np.arctan2(d[..., 1], d[..., 0]), np.arctan2(-d[..., 2], np.hypot(d[..., 0], d[..., 1]))
+
+
+def _ruu_coordinates(
+    robot: SpatialRobot, q: FloatArray, d: FloatArray, c_end: FloatArray, r_end: FloatArray
+) -> Frames:
+    """RUU (docs/spatial.md §12): the arm's angle from ``d_x cos θ + d_y sin θ = K`` (the
+    elbow-out branch ``θ = atan2(d_y, d_x) − acos(K/ρ)``), the first U from the forearm's
+    direction, the second U from the end's orientation (its ``x`` column)."""
+    positions, _ = placements(robot)
+    arm = positions[1][None, :, 0]
+    forearm = positions[2][None, :, 0]
+    k = (np.einsum("nli,nli->nl", d, d) + arm * arm - forearm * forearm) / (2.0 * arm)
+    rho = np.hypot(d[..., 0], d[..., 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(np.abs(k) <= rho, k / rho, np.nan)  # NaN: out of reach
+        q[..., 0] = np.arctan2(d[..., 1], d[..., 0]) - np.arccos(ratio)
+    frames = chain_frames(robot, q)
+    u1 = frames.joint_rotation[:, :, 1]
+    f = np.einsum("nlji,nlj->nli", u1, c_end - frames.joint_origin[:, :, 1])
+    q[..., 1], q[..., 2] = _direction_angles(f)
+    frames = chain_frames(robot, q)
+    m = np.swapaxes(frames.joint_rotation[:, :, 2], -1, -2) @ r_end
+    q[..., 3], q[..., 4] = _direction_angles(m[..., :, 0])
+    return chain_frames(robot, q)
+
+
 #: An RPS leg's S centre may be this far (times ``ℓ``) off its R joint's plane.
 PLANE_TOLERANCE: float = 1e-9
 
 
 def plane_offsets(robot: SpatialRobot, position: FloatArray, rotation: FloatArray) -> FloatArray:
-    """How far (m) each RPS leg's S centre is off the plane its R joint turns in, ``(N, legs)``
-    (zeros for other patterns)."""
-    if robot.legs[0].pattern != "RPS":
+    """Each leg's closure residual (m), ``(N, legs)``: for RPS how far its S centre is off the
+    plane its R joint turns in; for RUU ``ℓ`` times the component ``M_zy`` of the end's
+    orientation in the second U's joint frame, which a U cannot turn (§12); zeros for UPS."""
+    pattern = robot.legs[0].pattern
+    if pattern == "UPS":
         return np.zeros((position.shape[0], len(robot.legs)))
+    if pattern == "RUU":
+        frames = leg_coordinates(robot, position, rotation)
+        _, r_end = end_frames(robot, position, rotation)
+        m = np.swapaxes(frames.joint_rotation[:, :, 2], -1, -2) @ r_end
+        return np.asarray(robot.scale * m[..., 2, 1])
     positions, rotations = placements(robot)
     c_end, _ = end_frames(robot, position, rotation)
     return np.asarray(np.einsum("li,nli->nl", rotations[0][..., 2], c_end - positions[0][None]))
@@ -217,7 +255,7 @@ def check_reach(
         unreachable = ~np.isfinite(q[:, i]).all(axis=1)
         if unreachable.any():
             k = int(np.argmax(unreachable))
-            refusals.append((k, i, "cannot reach: its U and S centres would coincide"))
+            refusals.append((k, i, "cannot reach: the leg's closure has no real solution"))
         for joint, label in zip(leg.joints, leg0.labels, strict=True):
             if joint.kind == "S":
                 angle = np.sqrt(np.einsum("ni,ni->n", q[:, i, column : column + 3],
@@ -261,8 +299,13 @@ def leg_frames(robot: SpatialRobot, motion: PlatformMotion, offset: int = 0) -> 
     if bad.any():
         k = int(np.argmax(bad.any(axis=1)))
         i = int(np.argmax(bad[k]))
+        what = (
+            "its S centre is off the plane of its R joint by"
+            if robot.legs[0].pattern == "RPS"
+            else "its second U cannot turn the platform to this orientation: off by"
+        )
         raise UnreachablePoseError(
-            f"its S centre is {float(off[k, i]):.3g} m off the plane of its R joint at the pose "
+            f"{what} {float(off[k, i]):.3g} m at the pose "
             f"{_pose_text(motion.position[k])}: not a pose of the {robot.name}'s "
             f"{len(robot.legs)} degrees of freedom (complete_motion solves its parasitic {', '.join(robot.parasitic)})",
             sample=offset + k,

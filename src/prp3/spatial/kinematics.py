@@ -33,10 +33,8 @@ from prp3.spatial.geometry import (
     CHUNK,
     PLANE_TOLERANCE,
     Frames,
-    attachments,
     coordinate_kinds,
     leg_frames,
-    placements,
     plane_offsets,
 )
 from prp3.spatial.model import SpatialRobot
@@ -388,8 +386,10 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
     """``motion`` with its parasitic components solved so that every leg can follow it (§11).
 
     For a robot of fewer than 6 degrees of freedom (``robot.parasitic``, e.g. the 3-RPS's
-    ``wz, vx, vy``): the pose's parasitic coordinates (the position's ``x, y`` and a turn
-    about the world ``z``) by Newton's method on the legs' closure, then the twist's and
+    ``wz, vx, vy``): the pose's parasitic coordinates (for ``vx, vy, vz`` the position's
+    ``x, y, z``; for ``wx, wy, wz`` turns about the world axes) by Newton's method on the
+    legs' closure residuals (:func:`~prp3.spatial.geometry.plane_offsets`, its Jacobian by
+    central differences), then the twist's and
     the acceleration's parasitic components from the legs' constraints (linear).  The
     other components are kept.  A robot of 6 degrees of freedom gets ``motion`` back.
     """
@@ -399,27 +399,34 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
     if not index:
         return motion
     position, rotation = motion.position.copy(), motion.rotation.copy()
-    _, rotations = placements(robot)
-    normal = rotations[0][..., 2]
-    attach, _ = attachments(robot)
     axes = np.eye(3)
+
+    def moved(steps: FloatArray) -> tuple[FloatArray, FloatArray]:
+        p, r = position.copy(), rotation
+        for j, c in enumerate(index):
+            if c < 3:  # a turn about the world axis c
+                r = exp_rotation(steps[:, j, None] * axes[c]) @ r
+            else:
+                p[:, c - 3] += steps[:, j]
+        return p, r
+
+    h = 1e-6
+    zero = np.zeros((len(motion), len(index)))
     for _ in range(30):
         off = plane_offsets(robot, position, rotation)
         if np.abs(off).max() <= 1e-3 * PLANE_TOLERANCE * robot.scale:
             break
-        ra = np.einsum("nij,lj->nli", rotation, attach)
         columns = []
-        for c in index:
-            if c < 3:  # a turn about the world axis c
-                columns.append(np.einsum("li,nli->nl", normal, cross(axes[c], ra)))
-            else:
-                columns.append(np.broadcast_to(normal[:, c - 3], off.shape))
-        step = np.linalg.solve(np.stack(columns, axis=-1), -off[..., None])[..., 0]
         for j, c in enumerate(index):
-            if c < 3:
-                rotation = exp_rotation(step[:, j, None] * axes[c]) @ rotation
-            else:
-                position[:, c - 3] += step[:, j]
+            step = zero.copy()
+            step[:, j] = h * (1.0 if c < 3 else robot.scale)
+            plus = plane_offsets(robot, *moved(step))
+            minus = plane_offsets(robot, *moved(np.asarray(-step, dtype=np.float64)))
+            columns.append((plus - minus) / (2.0 * step[:, j, None]))
+        newton = np.asarray(
+            np.linalg.solve(np.stack(columns, axis=-1), -off[..., None])[..., 0], dtype=np.float64
+        )
+        position, rotation = moved(newton)
     # the twist: C·ξ = 0 for the parasitic components
     staged = PlatformMotion(motion.t, position, rotation, motion.omega, motion.velocity,
                             motion.alpha, motion.acceleration)  # fmt: skip

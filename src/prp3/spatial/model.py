@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import ParameterError
-from prp3.spatial.rotations import cross
+from prp3.spatial.rotations import axis_rotation, cross
 from prp3.validation import check_finite, check_real, check_scalar
 
 __all__ = [
@@ -41,6 +41,7 @@ __all__ = [
     "SpatialRobot",
     "check_rotation",
     "check_vector",
+    "delta",
     "hexapod",
     "three_rps",
 ]
@@ -210,7 +211,7 @@ class Body:
 TWIST_COMPONENTS: tuple[str, ...] = ("wx", "wy", "wz", "vx", "vy", "vz")
 
 #: The leg patterns whose inverse geometry is written in closed form (spatial.geometry).
-PATTERNS: tuple[str, ...] = ("UPS", "RPS")
+PATTERNS: tuple[str, ...] = ("UPS", "RPS", "RUU")
 
 
 @dataclass(frozen=True)
@@ -305,6 +306,32 @@ def _check_ups(index: int, leg: Leg) -> None:
         )
 
 
+#: ``Rot_x(−π/2)``: the placement of a RUU leg's second U in the forearm (its ``z`` on the
+#: forearm's ``y``).
+_Z_TO_Y: Matrix = ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0))
+
+
+def _check_ruu(index: int, leg: Leg) -> None:
+    """The RUU leg's closed form: the first U on the arm's ``x`` axis with the arm's axes (its
+    first axis along the R's), the second U on the forearm's ``x`` axis placed by ``Rot_x(−π/2)``
+    (its first axis along the first U's second)."""
+    first, second = leg.joints[1], leg.joints[2]
+    if (
+        tuple(row[2] for row in first.rotation) != (0.0, 0.0, 1.0)
+        or first.position[1:] != (0.0, 0.0)
+        or second.rotation != _Z_TO_Y
+        or second.position[1:] != (0.0, 0.0)
+        or not second.position[0] > 0.0
+    ):
+        raise ParameterError(
+            f"leg {index + 1}: a RUU leg needs its first U at (a, 0, 0) of the arm turned "
+            "about the arm's z only (Rot_z(gamma)) and its second U at (l, 0, 0), l > 0, of the forearm with the "
+            "rotation Rot_x(-pi/2)",
+            subject="robot",
+            key="legs",
+        )
+
+
 @dataclass(frozen=True)
 class SpatialRobot:
     """A spatial parallel robot (docs/spatial.md §2): legs, platform, gravity, home pose, scale.
@@ -350,7 +377,10 @@ class SpatialRobot:
                     subject="robot",
                     key="legs",
                 )
-            _check_ups(i, leg)
+            if leg.pattern == "RUU":
+                _check_ruu(i, leg)
+            else:
+                _check_ups(i, leg)
         object.__setattr__(self, "gravity", check_vector("gravity", self.gravity))
         object.__setattr__(self, "home_position", check_vector("home", self.home_position))
         object.__setattr__(
@@ -514,4 +544,94 @@ def three_rps(
     return SpatialRobot(
         "3-RPS", tuple(legs), platform, gravity, (0.0, 0.0, h), _IDENTITY, scale,
         ("wz", "vx", "vy"),
+    )  # fmt: skip
+
+
+def delta(
+    *,
+    base_radius: float = 0.1,
+    arm: float = 0.1,
+    forearm: float = 0.25,
+    platform_radius: float = 0.03,
+    home_height: float = 0.2,
+    r_limit: float = math.pi / 2,
+    u_limit: float = math.pi / 2 - 0.1,
+    arm_body: Body | None = None,
+    forearm_body: Body | None = None,
+    platform: Body | None = None,
+    gravity: Vector = (0.0, 0.0, -9.81),
+    scale: float = 0.1,
+) -> SpatialRobot:
+    """The Delta as a 3-RUU (docs/spatial.md §12): R actuated at the base (axis tangent), the
+    parallelogram simplified to one forearm between two U joints; legs at ``−90°, 30°, 150°``;
+    the platform translates (``wx, wy, wz`` parasitic).
+
+    Parameters
+    ----------
+    base_radius, arm, forearm, platform_radius : float
+        The R centres' radius, the arm's and the forearm's lengths, the second U centres'
+        radius on the platform (m).
+    home_height : float
+        The platform origin is at ``(0, 0, −home_height)`` at home (m).
+    r_limit, u_limit : float
+        Limits of the R angle and of each U angle (``±``, rad).
+    arm_body, forearm_body, platform : Body, optional
+    gravity, scale
+    """
+    r_b = check_scalar("base_radius", base_radius, positive=True, unit="m", subject="robot")
+    l_a = check_scalar("arm", arm, positive=True, unit="m", subject="robot")
+    l_f = check_scalar("forearm", forearm, positive=True, unit="m", subject="robot")
+    r_p = check_scalar("platform_radius", platform_radius, positive=True, unit="m", subject="robot")
+    h = check_scalar("home_height", home_height, positive=True, unit="m", subject="robot")
+    arm_body = arm_body or Body(0.1, (l_a / 2, 0.0, 0.0),
+                                ((2e-6, 0, 0), (0, 8.5e-5, 0), (0, 0, 8.5e-5)), "arm")  # fmt: skip
+    forearm_body = forearm_body or Body(0.06, (l_f / 2, 0.0, 0.0),
+                                        ((1e-6, 0, 0), (0, 3.1e-4, 0), (0, 0, 3.1e-4)), "forearm")  # fmt: skip
+    platform = platform or Body(0.2, (0.0, 0.0, 0.0),
+                                ((4.5e-5, 0, 0), (0, 4.5e-5, 0), (0, 0, 9e-5)), "platform")  # fmt: skip
+    legs = []
+    for i in range(3):
+        angle = -math.pi / 2 + 2.0 * math.pi * i / 3.0
+        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
+        tangent = np.array([-math.sin(angle), math.cos(angle), 0.0])
+        r_rotation = check_rotation(
+            "joint rotation", np.stack([radial, cross(tangent, radial), tangent], axis=1)
+        )
+        # home: the arm's angle solves |c2 − c_R − l_a·u(θ)| = l_f in the leg's plane
+        d_x, d_z = r_p - r_b, -h  # c2 − c_R: radial and vertical parts
+        k = (d_x * d_x + d_z * d_z + l_a * l_a - l_f * l_f) / (2.0 * l_a)
+        a, b = d_x, -d_z  # D·u(θ) = a cos θ + b sin θ (u = cos θ·radial − sin θ·e_z)
+        if not abs(k) < math.hypot(a, b):
+            raise ParameterError(
+                f"the home pose (0, 0, -{h:g}) m is out of reach of an arm of {l_a:g} m and a "
+                f"forearm of {l_f:g} m from the base radius {r_b:g} m",
+                subject="robot",
+                key="home_height",
+            )
+        theta = math.atan2(b, a) - math.acos(k / math.hypot(a, b))
+        elbow = r_b * radial + l_a * (
+            math.cos(theta) * radial - math.sin(theta) * np.array([0, 0, 1.0])
+        )
+        f = (np.array([0.0, 0.0, -h]) + r_p * radial - elbow) / l_f
+        arm_x = math.cos(theta) * radial - math.sin(theta) * np.array([0.0, 0.0, 1.0])
+        gamma = math.atan2(float(f @ cross(tangent, arm_x)), float(f @ arm_x))
+        fore_x = f
+        fore_y = cross(tangent, fore_x)
+        # the second U's joint frame at home: the forearm's frame turned by Rot_x(−π/2)
+        forearm_frame = np.stack([fore_x, fore_y, tangent], axis=1)
+        attach_rotation = check_rotation("attachment rotation", forearm_frame @ np.array(_Z_TO_Y))
+        joints = (
+            Joint("R", tuple(r_b * radial), r_rotation, ((-r_limit, r_limit),)),
+            Joint(
+                "U",
+                (l_a, 0.0, 0.0),
+                check_rotation("joint rotation", axis_rotation(2, gamma)),
+                ((-u_limit, u_limit), (-u_limit, u_limit)),
+            ),
+            Joint("U", (l_f, 0.0, 0.0), _Z_TO_Y, ((-u_limit, u_limit), (-u_limit, u_limit))),
+        )
+        legs.append(Leg(joints, (arm_body, forearm_body), tuple(r_p * radial), attach_rotation, 0))
+    return SpatialRobot(
+        "3-RUU", tuple(legs), platform, gravity, (0.0, 0.0, -h), _IDENTITY, scale,
+        ("wx", "wy", "wz"),
     )  # fmt: skip
