@@ -29,8 +29,8 @@ import time
 import numpy as np
 
 from prp3.spatial.dynamics import body_wrenches, virtual_work_efforts
-from prp3.spatial.kinematics import chunk_kinematics, spatial_kinematics
-from prp3.spatial.model import Body, SpatialRobot, hexapod
+from prp3.spatial.kinematics import chunk_kinematics, complete_motion, spatial_kinematics
+from prp3.spatial.model import Body, SpatialRobot, delta, hexapod, three_rps
 from prp3.spatial.motion import PlatformMotion, rpy_motion
 from prp3.spatial.newton_euler import newton_euler_dynamics
 from prp3.spatial.rotations import rpy_matrix
@@ -67,10 +67,48 @@ def random_hexapod(rng: np.random.Generator) -> SpatialRobot:
     )
 
 
-def random_states(rng: np.random.Generator, robot: SpatialRobot, n: int) -> PlatformMotion:
-    """``n`` independent random states near home."""
-    position = np.array(robot.home_position) + rng.uniform(-0.006, 0.006, (n, 3))
-    return PlatformMotion.of(
+def random_rps(rng: np.random.Generator) -> SpatialRobot:
+    """A random 3-RPS (docs/spatial.md §11) with wide limits."""
+    return three_rps(
+        base_radius=rng.uniform(0.08, 0.14),
+        platform_radius=rng.uniform(0.04, 0.08),
+        home_height=rng.uniform(0.08, 0.12),
+        stroke=(0.03, 0.3),
+        r_limit=1.5,
+        s_limit=1.4,
+        cylinder=_body(rng, 0.025, 0.12, 4e-5, "cylinder"),
+        rod=_body(rng, -0.03, 0.05, 1.5e-5, "rod"),
+        platform=_body(rng, 0.0, 1.0, 2e-3, "platform"),
+        gravity=(*rng.uniform(-3, 3, 2), -rng.uniform(5, 12)),
+    )
+
+
+def random_delta(rng: np.random.Generator) -> SpatialRobot:
+    """A random Delta as a 3-RUU (docs/spatial.md §12), the arm about horizontal at home."""
+    arm, base, platform = rng.uniform(0.08, 0.14), rng.uniform(0.08, 0.14), rng.uniform(0.02, 0.05)
+    forearm = (base + arm - platform) * rng.uniform(1.3, 1.8)
+    level = math.sqrt(forearm**2 - (base + arm - platform) ** 2)
+    return delta(
+        base_radius=base,
+        arm=arm,
+        forearm=forearm,
+        platform_radius=platform,
+        home_height=level * rng.uniform(0.95, 1.05),
+        r_limit=1.5,
+        u_limit=1.5,
+        arm_body=_body(rng, arm / 2, 0.1, 8e-5, "arm"),
+        forearm_body=_body(rng, forearm / 2, 0.06, 3e-4, "forearm"),
+        platform=_body(rng, 0.0, 0.2, 6e-5, "platform"),
+        gravity=(*rng.uniform(-3, 3, 2), -rng.uniform(5, 12)),
+    )
+
+
+def random_states(
+    rng: np.random.Generator, robot: SpatialRobot, n: int, reach: float = 0.006
+) -> PlatformMotion:
+    """``n`` independent random states near home (completed for robots of fewer than 6 DOF)."""
+    position = np.array(robot.home_position) + rng.uniform(-reach, reach, (n, 3))
+    motion = PlatformMotion.of(
         np.arange(n, dtype=np.float64),
         position,
         rpy_matrix(rng.uniform(-0.1, 0.1, (n, 3))),
@@ -79,6 +117,7 @@ def random_states(rng: np.random.Generator, robot: SpatialRobot, n: int) -> Plat
         rng.uniform(-50, 50, (n, 3)),
         rng.uniform(-3, 3, (n, 3)),
     )
+    return complete_motion(robot, motion)
 
 
 def wave(rng: np.random.Generator, robot: SpatialRobot, t: np.ndarray) -> PlatformMotion:
@@ -173,6 +212,16 @@ def main() -> None:
     print(f"routes (a) and (b), max |tau_a - tau_b| / max |tau|:  {agreement:.2e}")
     print(f"energy balance, max |work - change| / int |power| dt: {energy_gap:.2e}")
     print(f"body balances, max residual / max |F|:              {residual:.2e}")
+    for name, build, reach in (("3-RPS", random_rps, 0.008), ("3-RUU", random_delta, 0.015)):
+        agreement = residual = 0.0
+        for _ in range(designs):
+            robot = build(rng)
+            states = random_states(rng, robot, 16, reach)
+            tau_a = virtual_work_efforts(robot, states)
+            tau_b = newton_euler_dynamics(robot, states).tau
+            agreement = max(agreement, float(np.abs(tau_a - tau_b).max() / np.abs(tau_a).max()))
+            residual = max(residual, balance_residual(robot, states))
+        print(f"{name}: routes (a) and (b) {agreement:.2e}, body balances {residual:.2e}")
     robot = hexapod()
     sizes = (1, 10**4) if options.quick else (1, 10**4, 10**6)
     for n in sizes:
