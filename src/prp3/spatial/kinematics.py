@@ -431,7 +431,8 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
     staged = PlatformMotion(motion.t, position, rotation, motion.omega, motion.velocity,
                             motion.alpha, motion.acceleration)  # fmt: skip
     frames, jacobian, _, constraint, r, null = _leg_geometry(robot, staged, 0)
-    assert constraint is not None and null is not None
+    if constraint is None or null is None:  # legs of 6 coordinates: nothing to complete
+        return staged
     free = [c for c in range(6) if c not in index]
     twist = np.concatenate([motion.omega, motion.velocity], axis=1)
     twist[:, index] = np.linalg.solve(
