@@ -266,6 +266,16 @@ EXEMPT: dict[str, str] = {
     "family_energy": "energies of a FamilyKinematics built by family_kinematics",
     "singularity_margin": "the measures of a FamilyKinematics built by family_kinematics",
     "newton_euler_dynamics": "Newton-Euler on a FamilyKinematics built by family_kinematics",
+    "SpatialRobot": "validated in __post_init__ (tests/test_spatial_kinematics.py)",
+    "Joint": "a SpatialRobot's joint, validated by SpatialRobot",
+    "Leg": "a SpatialRobot's leg, validated by SpatialRobot",
+    "PlatformMotion": "built by rpy_motion / quaternion_motion / at_rest (covered)",
+    "SpatialKinematics": "result type",
+    "SpatialSolution": "result type",
+    "spatial_results_table": "formats a SpatialSolution built by prp3",
+    "hexapod": "a default design (keyword design values, tests/test_spatial_kinematics.py)",
+    "delta": "a default design (keyword design values, tests/test_spatial_delta.py)",
+    "three_rps": "a default design (keyword design values, tests/test_spatial_rps.py)",
     "python_sample": "one sample of the C's steps on floats, for the docs (tests/test_family_codegen.py)",
     "leg_chain": "the chain of docs/family.md on joint values (internal numerics)",
     "leg_jacobian": "the chain of docs/family.md on joint values (internal numerics)",
@@ -283,6 +293,16 @@ ZERO = np.zeros(3)
 @cache
 def _motion() -> prp3.Motion:
     return prp3.paper_motion("vertical", 7)
+
+
+@cache
+def _hexapod() -> prp3.SpatialRobot:
+    return prp3.hexapod()
+
+
+@cache
+def _at_home() -> prp3.PlatformMotion:
+    return prp3.PlatformMotion.at_rest(prp3.hexapod().home_position)
 
 
 @cache
@@ -911,6 +931,34 @@ CASES: dict[str, Case] = {
         prp3.paper_steps, {"robot": OBJ, "motion": OBJ}, robot=_rrr, motion=_motion
     ),
     "joint_names": _case(prp3.joint_names, {"robot": OBJ}, robot=_rrr),
+    # ---------------------------------------------------------------- spatial robots
+    "spatial_kinematics": _case(
+        prp3.spatial_kinematics, {"robot": OBJ, "motion": OBJ}, robot=_hexapod, motion=_at_home
+    ),
+    "spatial_inverse_dynamics": _case(
+        prp3.spatial_inverse_dynamics,
+        {"robot": OBJ, "motion": OBJ, "method": C},
+        robot=_hexapod,
+        motion=_at_home,
+        method="newton-euler",
+    ),
+    "complete_motion": _case(
+        prp3.complete_motion, {"robot": OBJ, "motion": OBJ}, robot=_hexapod, motion=_at_home
+    ),
+    "rpy_motion": _case(
+        prp3.rpy_motion,
+        {"t": T + "*", "position": A, "rpy": A},
+        t=np.array([0.0]),
+        position=np.array([[0.0, 0.0, 0.08]]),
+        rpy=np.array([[0.0, 0.0, 0.0]]),
+    ),
+    "quaternion_motion": _case(
+        prp3.quaternion_motion,
+        {"t": T + "*", "position": A, "quaternion": A},
+        t=np.array([0.0]),
+        position=np.array([[0.0, 0.0, 0.08]]),
+        quaternion=np.array([[1.0, 0.0, 0.0, 0.0]]),
+    ),
     "family_kinematics": _case(
         prp3.family_kinematics, {"robot": OBJ, "motion": OBJ}, robot=_rrr, motion=_motion
     ),

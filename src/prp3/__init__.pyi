@@ -51,6 +51,7 @@ from .apps.cluster import (
     dask_client as dask_client,
 )
 from .apps.codegen import (
+    RETURN_CODES as RETURN_CODES,
     CSource as CSource,
     c_inverse_dynamics as c_inverse_dynamics,
 )
@@ -354,4 +355,29 @@ from .validation import (
 )
 from .family.paper import (
     paper_steps as paper_steps,
+)
+from .spatial.model import (
+    three_rps as three_rps,
+    hexapod as hexapod,
+    delta as delta,
+    SpatialRobot as SpatialRobot,
+    Leg as Leg,
+    Joint as Joint,
+    JOINT_KINDS as JOINT_KINDS,
+)
+from .spatial.motion import (
+    rpy_motion as rpy_motion,
+    quaternion_motion as quaternion_motion,
+    PlatformMotion as PlatformMotion,
+)
+from .spatial.kinematics import (
+    complete_motion as complete_motion,
+    spatial_kinematics as spatial_kinematics,
+    SpatialKinematics as SpatialKinematics,
+)
+from .spatial.outputs import (
+    spatial_results_table as spatial_results_table,
+    spatial_inverse_dynamics as spatial_inverse_dynamics,
+    SpatialSolution as SpatialSolution,
+    SPATIAL_METHODS as SPATIAL_METHODS,
 )

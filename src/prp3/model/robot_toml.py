@@ -401,8 +401,8 @@ def robot_text(robot: Robot, *, comments: bool) -> str:
             "# smoothing = 0.0",
         ]
     if robot.spring is not None:
-        for kind, units in SPRING_UNITS.items():
-            stiffness, rest, damping = (unit.replace("·", " ") for unit in units)
+        for kind, spring_units in SPRING_UNITS.items():
+            stiffness, rest, damping = (unit.replace("·", " ") for unit in spring_units)
             spring = getattr(robot.spring, kind)
             if kind != "actuator" and spring.is_zero and spring.rest == 0.0:
                 continue  # the actuator's table is always written (the table [spring] exists)
@@ -423,7 +423,7 @@ def robot_text(robot: Robot, *, comments: bool) -> str:
             "",
             "# [spring.actuator]  # optional spring with damper on each lambda10_i: force on",
             "# stiffness = 0.0    # the piston -k*(lambda10 - rest) - c*dlambda10 along e_i, N/m",
-            "# rest = 0.0         # m (also [spring.revolute] on phi, N m/rad, and",
-            "# damping = 0.0      # [spring.sleeve] on lambda32_i); docs/loads_and_friction.md",
+            "# rest = 0.0         # m",
+            "# damping = 0.0      # N s/m; docs/loads_and_friction.md",
         ]
     return "\n".join(out) + "\n"
