@@ -412,10 +412,13 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
 
     h = 1e-6
     zero = np.zeros((len(motion), len(index)))
+    polished = False  # one more step once within tolerance takes the residual to round-off
     for _ in range(30):
         off = plane_offsets(robot, position, rotation)
         if np.abs(off).max() <= 1e-3 * PLANE_TOLERANCE * robot.scale:
-            break
+            if polished:
+                break
+            polished = True
         columns = []
         for j, c in enumerate(index):
             step = zero.copy()
