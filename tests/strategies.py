@@ -29,13 +29,17 @@ each of which is a 2×2 linear system in the unknown rates.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
+from hypothesis import assume
 from hypothesis import strategies as st
 from numpy.typing import ArrayLike, NDArray
 
 from prp3 import LinkParameters, Motion, PistonParameters, PlatformParameters, Robot
+from prp3.errors import ParameterError
+from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody
+from prp3.model.parameters import Load, Payload
 
 FloatArray = NDArray[np.float64]
 
@@ -421,4 +425,94 @@ def poses(draw: st.DrawFn, l0: float = 0.3) -> FloatArray:
             draw(_floats(-0.4, 0.4)) * l0,
             draw(_floats(PHI_CENTRE[0] - PHI_SPAN, PHI_CENTRE[1] + PHI_SPAN)),
         ]
+    )
+
+
+# ---------------------------------------------------------------- family robots (docs/family.md)
+#: The actuations docs/family.md allows (two passive P joints refused; 3-RRP 2 singular at home).
+FAMILY_ALLOWED = [
+    (arch, act)
+    for arch in ARCHITECTURES
+    for act in (1, 2, 3)
+    if [arch[2 + k] for k in range(3) if k != act - 1] != ["P", "P"] and (arch, act) != ("3-RRP", 2)
+]
+
+
+def _family_float(low: float, high: float) -> st.SearchStrategy[float]:
+    return st.floats(low, high, allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def family_designs(draw: st.DrawFn) -> FamilyRobot:
+    """A random design near an architecture's default, random inertias, payload, load, gravity."""
+    arch, act = draw(st.sampled_from(FAMILY_ALLOWED))
+    base = FamilyRobot.default(arch, act)
+
+    def jitter(p: tuple[float, float, float], size: float) -> tuple[float, float, float]:
+        return (
+            p[0] + draw(_family_float(-size, size)),
+            p[1] + draw(_family_float(-size, size)),
+            p[2] + draw(_family_float(-3 * size, 3 * size)),
+        )
+
+    size = draw(st.sampled_from([0.0, 0.01, 0.03]))
+    leg = replace(
+        base.leg,
+        joint1=jitter(base.leg.joint1, size),
+        joint2=jitter(base.leg.joint2, size),
+        joint3=jitter(base.leg.joint3, size),
+        attachment=jitter(base.leg.attachment, size),
+        scale=draw(_family_float(0.1, 1.0)),
+    )
+
+    def body(name: str) -> Body:
+        return Body(
+            draw(_family_float(0.0, 3.0)),
+            (draw(_family_float(-0.2, 0.2)), draw(_family_float(-0.2, 0.2))),
+            draw(_family_float(0.0, 0.01)),
+            name=name,
+        )
+
+    try:
+        return FamilyRobot(
+            architecture=arch,
+            actuated=act,
+            leg=leg,
+            link1=body("link1"),
+            link2=body("link2"),
+            platform=PlatformBody(draw(_family_float(0.0, 5.0)), draw(_family_float(0.0, 0.1))),
+            payload=Payload(
+                draw(_family_float(0.0, 2.0)),
+                (draw(_family_float(-0.1, 0.1)), draw(_family_float(-0.1, 0.1))),
+                draw(_family_float(0.0, 0.01)),
+            ),
+            load=Load(
+                (draw(_family_float(-20, 20)), draw(_family_float(-20, 20))),
+                draw(_family_float(-2, 2)),
+            ),
+            gravity=(draw(_family_float(-10, 10)), draw(_family_float(-10, 10))),
+        )
+    except ParameterError:
+        assume(False)
+        raise
+
+
+@st.composite
+def family_motions(draw: st.DrawFn, centre: FloatArray, samples: int = 7) -> Motion:
+    """``pose(t) = centre + A·sin(ωt + c)`` with its exact derivatives, t in [0, 1]."""
+    amp = np.array(
+        [
+            draw(_family_float(0.0, 0.02)),
+            draw(_family_float(0.0, 0.02)),
+            draw(_family_float(0.0, 0.1)),
+        ]
+    )
+    w = np.array([draw(_family_float(0.5, 4.0)) for _ in range(3)])
+    c = np.array([draw(_family_float(-3.0, 3.0)) for _ in range(3)])
+    t = np.linspace(0.0, 1.0, samples)[:, None]
+    return Motion(
+        t=t[:, 0],
+        pose=centre + amp * np.sin(w * t + c),
+        velocity=amp * w * np.cos(w * t + c),
+        acceleration=-amp * w * w * np.sin(w * t + c),
     )

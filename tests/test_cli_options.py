@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from clitools import cli, one_line
-from prp3.cli import _one_line_warnings, build_parser
+from prp3.cli import build_parser, one_line_warnings
 
 
 def _parsers(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
@@ -95,7 +95,7 @@ def test_frames_says_why_it_makes_fewer(capsys: pytest.CaptureFixture[str], tmp_
 
 
 def test_warnings_name_no_internal_file(capsys: pytest.CaptureFixture[str]) -> None:
-    show = _one_line_warnings("prp3 workspace")
+    show = one_line_warnings("prp3 workspace")
     with warnings.catch_warnings():
         warnings.simplefilter("always")
         warnings.showwarning = show

@@ -35,7 +35,7 @@ from prp3 import (
 )
 from prp3.apps.control import check_model, control_times, hermite_reference, track
 from prp3.apps.control_law import DEFAULT_KD, DEFAULT_KP, Gains, control_force
-from prp3.apps.plants import _Prp3Plant
+from prp3.apps.plants import Prp3Plant
 from prp3.cli import main
 from prp3.engines.compiled_robot import compile_robot
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError
@@ -155,7 +155,7 @@ def test_prp3_plant_step_matches_forward_dynamics() -> None:
         velocity=np.array([[0.1, 0.05, -0.3]] * 2),
         acceleration=np.zeros((2, 3)),
     )
-    plant = _Prp3Plant(robot, start)
+    plant = Prp3Plant(robot, start)
     force = (40.0, -5.0, -20.0)
     assert plant.advance(0.0, 0.01, force) is None
     expected = forward_dynamics(

@@ -60,7 +60,7 @@ def test_consumers_follow_the_elements(monkeypatch: pytest.MonkeyPatch) -> None:
     assert prp3.apps.regressor.ELEMENT_PARAMETERS == tuple(n for e in ELEMENTS for n in e.regressor)
     assert {
         n for e in ELEMENTS for n in e.broadcast
-    } <= prp3.apps.design_evaluation._BROADCAST_FIELDS
+    } <= prp3.apps.design_evaluation.BROADCAST_FIELDS
     # the C code supports the spring because its element says so: declared otherwise, the
     # robot is refused by the element's name
     robot = Robot(spring=Spring(SpringParameters(stiffness=10.0)))

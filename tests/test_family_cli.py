@@ -146,26 +146,3 @@ def test_model_form_unchanged(capsys: pytest.CaptureFixture[str], tmp_path: Path
     assert status == 0, err
     header = (tmp_path / "o" / "results.csv").read_text().splitlines()[0].split(",")
     assert len(header) == 46 and header[4] == "lambda10_A"
-
-
-@pytest.mark.parametrize(
-    ("argv", "command"),
-    [
-        (["identify", "--measurements", "m.csv", "--output", "id"], "prp3 identify"),
-        (["excite", "--output", "ex"], "prp3 excite"),
-    ],
-)
-def test_other_commands_refuse_by_capability(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path, argv: list[str], command: str
-) -> None:
-    path = _robot_file(tmp_path, 'architecture = "3-RPP"\n')
-    argv = [*argv[:-1], str(tmp_path / argv[-1])]
-    status, out, err = cli(capsys, *argv, "--robot", path)
-    line = one_line(err)
-    assert status == 2 and out == ""
-    assert f"{command} computes the 3-PRP" in line and "3-RPP" in line and str(path) in line
-    # the commands that do take it, each of which other tests run on family robots
-    assert (
-        "prp3 simulate, workspace, forward, control, export, sweep, optimize, explore and robot "
-        "take it" in line
-    )

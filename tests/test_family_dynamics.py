@@ -35,19 +35,16 @@ from prp3.family import (
 )
 from prp3.io.results import results_table
 from prp3.model.parameters import Load, Payload
+from strategies import FAMILY_ALLOWED
+from strategies import family_designs as designs
+from strategies import family_motions as motions
 
 FloatArray = NDArray[np.float64]
 LEGS = "ABC"
 XI_R = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
 XI_P = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
 
-#: The actuations docs/family.md allows (two passive P joints refused; 3-RRP 2 singular at home).
-ALLOWED = [
-    (arch, act)
-    for arch in ARCHITECTURES
-    for act in (1, 2, 3)
-    if [arch[2 + k] for k in range(3) if k != act - 1] != ["P", "P"] and (arch, act) != ("3-RRP", 2)
-]
+ALLOWED = FAMILY_ALLOWED
 
 
 # ---------------------------------------------------------------- the reference
@@ -201,71 +198,6 @@ def check_sample(robot: FamilyRobot, row: dict[str, float], motion: Motion, k: i
 # ---------------------------------------------------------------- strategies
 def _f(low: float, high: float) -> st.SearchStrategy[float]:
     return st.floats(low, high, allow_nan=False, allow_infinity=False)
-
-
-@st.composite
-def designs(draw: st.DrawFn) -> FamilyRobot:
-    """A random design near an architecture's default, random inertias, payload, load, gravity."""
-    arch, act = draw(st.sampled_from(ALLOWED))
-    base = FamilyRobot.default(arch, act)
-
-    def jitter(p: tuple[float, float, float], size: float) -> tuple[float, float, float]:
-        return (
-            p[0] + draw(_f(-size, size)),
-            p[1] + draw(_f(-size, size)),
-            p[2] + draw(_f(-3 * size, 3 * size)),
-        )
-
-    size = draw(st.sampled_from([0.0, 0.01, 0.03]))
-    leg = replace(
-        base.leg,
-        joint1=jitter(base.leg.joint1, size),
-        joint2=jitter(base.leg.joint2, size),
-        joint3=jitter(base.leg.joint3, size),
-        attachment=jitter(base.leg.attachment, size),
-        scale=draw(_f(0.1, 1.0)),
-    )
-
-    def body(name: str) -> Body:
-        return Body(
-            draw(_f(0.0, 3.0)),
-            (draw(_f(-0.2, 0.2)), draw(_f(-0.2, 0.2))),
-            draw(_f(0.0, 0.01)),
-            name=name,
-        )
-
-    try:
-        return FamilyRobot(
-            architecture=arch,
-            actuated=act,
-            leg=leg,
-            link1=body("link1"),
-            link2=body("link2"),
-            platform=PlatformBody(draw(_f(0.0, 5.0)), draw(_f(0.0, 0.1))),
-            payload=Payload(
-                draw(_f(0.0, 2.0)), (draw(_f(-0.1, 0.1)), draw(_f(-0.1, 0.1))), draw(_f(0.0, 0.01))
-            ),
-            load=Load((draw(_f(-20, 20)), draw(_f(-20, 20))), draw(_f(-2, 2))),
-            gravity=(draw(_f(-10, 10)), draw(_f(-10, 10))),
-        )
-    except ParameterError:
-        assume(False)
-        raise
-
-
-@st.composite
-def motions(draw: st.DrawFn, centre: FloatArray, samples: int = 7) -> Motion:
-    """``pose(t) = centre + A·sin(ωt + c)`` with its exact derivatives, t in [0, 1]."""
-    amp = np.array([draw(_f(0.0, 0.02)), draw(_f(0.0, 0.02)), draw(_f(0.0, 0.1))])
-    w = np.array([draw(_f(0.5, 4.0)) for _ in range(3)])
-    c = np.array([draw(_f(-3.0, 3.0)) for _ in range(3)])
-    t = np.linspace(0.0, 1.0, samples)[:, None]
-    return Motion(
-        t=t[:, 0],
-        pose=centre + amp * np.sin(w * t + c),
-        velocity=amp * w * np.cos(w * t + c),
-        acceleration=-amp * w * w * np.sin(w * t + c),
-    )
 
 
 def solve_all(robot: FamilyRobot, motion: Motion) -> dict[str, dict[str, FloatArray]]:

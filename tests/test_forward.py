@@ -468,7 +468,7 @@ def test_forward_dynamics_stops_at_the_singularity() -> None:
     assert result.motion.pose[-1, 2] == pytest.approx(math.pi / 3.0 + psi_stop, abs=1e-9)
     # a trial stage in the refused zone gets NaN (scipy rejects the step), not an error
     refused = np.array([0.0, 0.0, math.pi / 3.0 + 0.25 * psi_stop, 0.0, 0.0, 0.0])
-    assert np.isnan(fw._state_derivative(robot, lambda t: np.zeros(3), 0.0, refused)).all()
+    assert np.isnan(fw.state_derivative(robot, lambda t: np.zeros(3), 0.0, refused)).all()
 
 
 def test_forward_dynamics_stops_at_the_stroke() -> None:

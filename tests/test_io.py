@@ -57,10 +57,10 @@ def test_write_table_csv_round_trips_every_float_exactly(tmp_path_factory, rows)
 def test_write_table_csv_streams_in_blocks_and_reports_progress(tmp_path, monkeypatch, arrow):
     if arrow:
         pytest.importorskip("pyarrow")
-        block = prp3_tables._ARROW_ROWS_PER_BLOCK
+        block = prp3_tables.ARROW_ROWS_PER_BLOCK
     else:
         monkeypatch.setattr(prp3_tables, "_pyarrow", lambda: None)
-        block = prp3_tables._ROWS_PER_BLOCK
+        block = prp3_tables.ROWS_PER_BLOCK
     rows = 2 * block + 5_000  # more than two blocks
     t = np.arange(rows) * 0.5
     reports: list[tuple[int, int]] = []

@@ -303,7 +303,7 @@ def test_write_table_csv_writes_the_shortest_round_trip_texts(tmp_path, monkeypa
         pytest.importorskip("pyarrow")
     else:
         monkeypatch.setattr(prp3_tables, "_pyarrow", lambda: None)
-    monkeypatch.setattr(prp3_tables, "_ARROW_ROWS_PER_BLOCK", 1000)  # three blocks, the last short
+    monkeypatch.setattr(prp3_tables, "ARROW_ROWS_PER_BLOCK", 1000)  # three blocks, the last short
     table = _random_table(2017)
     write_table_csv(tmp_path / "a.csv", table)
     text = (tmp_path / "a.csv").read_bytes().decode("ascii")

@@ -38,6 +38,7 @@ import prp3.apps.codegen
 import prp3.apps.control
 import prp3.apps.control_law
 import prp3.apps.design
+import prp3.apps.design_evaluation
 import prp3.apps.design_objective
 import prp3.apps.excitation
 import prp3.apps.identification
@@ -127,7 +128,6 @@ EXEMPT: dict[str, str] = {
     "RunSummary": "result type",
     "BaseParameters": "result type",
     "ExcitingTrajectory": "result type",
-    "FourierSeries": "result type",
     "Identification": "result type",
     "IdentifiedRobot": "result type",
     "Regressor": "result type",
@@ -171,7 +171,6 @@ EXEMPT: dict[str, str] = {
     "chain_wrenches": "stage of the paper's method (internal numerics)",
     "virtual_work": "stage of the paper's method (internal numerics)",
     "other_reactions": "stage of the paper's method (internal numerics)",
-    "weighted_least_squares": "linear algebra on the validated regressor (internal)",
     "excitation_refusal": "identify's criterion on the regressor it built (shared with excite)",
     "samples_refusal": "identify's count of samples, of a validated motion or excite's option",
     "check_forward_friction": "a check itself (takes a validated Robot)",
@@ -179,13 +178,10 @@ EXEMPT: dict[str, str] = {
     "check_memory": "a check itself (tests/test_faults.py)",
     "available_memory": "no arguments",
     "summary_text": "formats a RunSummary built by summarize",
-    "identified_robot": "takes an Identification built by identify",
-    "robot_from_standard": "takes parameters named by standard_parameters",
     "design_columns": "names of columns from a validated sweep file",
     "design_mapping": "used by design_robot (covered)",
     "design_values": "takes a SweepSpec built by sweep_spec",
     "parameter_paths": "a parsed [parameters] table of a sweep file (its key paths checked)",
-    "evaluate_designs": "takes a DesignEvaluator built by sweep_spec",
     "nominal_value": "looks up a path of a validated sweep file",
     "penalized_objective": "takes columns computed by evaluate_designs",
     "quantity": "takes columns computed by evaluate_designs",
@@ -234,6 +230,15 @@ EXEMPT: dict[str, str] = {
     "symbolic_solution": "sympy symbols, no user values",
     "spring_force": "the spring's law on the kernel's Ops values (internal numerics)",
     "read_trajectory": "reads a file (tests/test_faults.py, tests/test_io.py)",
+    "read_spatial_robot": "reads a file (tests/test_spatial_cli.py, a hypothesis test of its keys)",
+    "read_spatial_trajectory": "reads a file (tests/test_spatial_cli.py)",
+    "SpatialRobotFile": "result type (read_spatial_robot)",
+    "FamilyRegressor": "result type (family_regressor)",
+    "SpatialTrajectory": "result type (read_spatial_trajectory)",
+    "read_spatial_measurements": "reads a file (tests/test_spatial_identification.py)",
+    "SpatialMeasurements": "result type (read_spatial_measurements)",
+    "SpatialRegressor": "result type (spatial_regressor)",
+    "SpatialExcitation": "result type (spatial_exciting_trajectory)",
     "read_forces": "reads a file (tests/test_faults.py, tests/test_io.py)",
     "read_measurements": "reads a file (tests/test_faults.py, tests/test_io.py)",
     "read_table": "reads a file (tests/test_faults.py, tests/test_io.py)",
@@ -272,10 +277,14 @@ EXEMPT: dict[str, str] = {
     "PlatformMotion": "built by rpy_motion / quaternion_motion / at_rest (covered)",
     "SpatialKinematics": "result type",
     "SpatialSolution": "result type",
+    "SpatialForward": "result type (spatial_forward_dynamics)",
+    "SpatialPlatformDynamics": "result type (spatial_platform_dynamics)",
+    "SpatialEfforts": "result type (read_spatial_efforts)",
+    "read_spatial_efforts": "reads a file (tests/test_spatial_forward.py: prp3 forward's refusals)",
     "spatial_results_table": "formats a SpatialSolution built by prp3",
-    "hexapod": "a default design (keyword design values, tests/test_spatial_kinematics.py)",
-    "delta": "a default design (keyword design values, tests/test_spatial_delta.py)",
-    "three_rps": "a default design (keyword design values, tests/test_spatial_rps.py)",
+    "SpatialWorkspace": "result type (spatial_workspace)",
+    "spatial_workspace_table": "formats a SpatialWorkspace built by prp3",
+    "spatial_statics_table": "formats a SpatialWorkspace built by prp3 (refusal without statics: tests/test_spatial_workspace.py)",
     "python_sample": "one sample of the C's steps on floats, for the docs (tests/test_family_codegen.py)",
     "leg_chain": "the chain of docs/family.md on joint values (internal numerics)",
     "leg_jacobian": "the chain of docs/family.md on joint values (internal numerics)",
@@ -298,6 +307,21 @@ def _motion() -> prp3.Motion:
 @cache
 def _hexapod() -> prp3.SpatialRobot:
     return prp3.hexapod()
+
+
+@cache
+def _rps_motion() -> prp3.PlatformMotion:
+    return prp3.spatial_random_motion(prp3.three_rps(), 80, 0)
+
+
+@cache
+def _rps_efforts() -> np.ndarray:
+    return prp3.spatial_inverse_dynamics(prp3.three_rps(), _rps_motion()).tau
+
+
+@cache
+def _rps_identification() -> prp3.Identification:
+    return prp3.spatial_identify(prp3.three_rps(), _rps_motion(), _rps_efforts())
 
 
 @cache
@@ -328,6 +352,24 @@ def _forces() -> prp3.ActuatorForces:
 @cache
 def _measured() -> np.ndarray:
     return prp3.inverse_dynamics(ROBOT, _motion())[1].f10
+
+
+def _least_squares_regressor() -> np.ndarray:
+    return np.random.default_rng(1).normal(size=(10, 3, 2))
+
+
+def _noise() -> np.ndarray:
+    return 1e-3 * np.random.default_rng(2).normal(size=(10, 3))
+
+
+@cache
+def _identification() -> prp3.Identification:
+    return prp3.identify(ROBOT, _motion(), _measured(), ("platform_mass",))
+
+
+@cache
+def _design_evaluator() -> prp3.DesignEvaluator:
+    return prp3.DesignEvaluator(nominal={}, paths=("l0",), motions=(_motion(),), workspace=False)
 
 
 def _times_bad(good: np.ndarray) -> Iterator[tuple[str, Any]]:
@@ -463,6 +505,15 @@ def _case(
         return {k: (v() if callable(v) and not isinstance(v, type) else v) for k, v in good.items()}
 
     return Case(call, arguments, kinds, names or {})
+
+
+def _defaults(call: Callable[..., object]) -> dict[str, Any]:
+    """The keyword defaults of ``call``: the good values of a default design's case."""
+    return {
+        name: parameter.default
+        for name, parameter in inspect.signature(call).parameters.items()
+        if parameter.default is not inspect.Parameter.empty
+    }
 
 
 A, T, R, INT, OBJ, C, N = "array", "times", "real", "int", "object", "choice", "names"
@@ -860,16 +911,75 @@ CASES: dict[str, Case] = {
     ),
     "regressor": _case(
         prp3.apps.regressor.regressor,
-        {"robot": OBJ, "motion": OBJ, "parameters": N},
+        {"robot": OBJ, "motion": OBJ, "parameters": N, "chunk_size": INT},
         robot=ROBOT,
         motion=_motion,
         parameters=("platform_mass",),
+        chunk_size=64,
+    ),
+    "weighted_least_squares": _case(
+        prp3.apps.identification.weighted_least_squares,
+        # W's every shape (N, 3, B) is a regressor: "wrong shape" of the spoilers is a valid one
+        {"W": A + "*", "measured": A},
+        W=_least_squares_regressor,
+        measured=lambda: _least_squares_regressor() @ np.array([1.0, 2.0]) + _noise(),
+    ),
+    "robot_from_standard": _case(
+        prp3.apps.identification.robot_from_standard,
+        {"nominal": OBJ, "standard": OBJ},
+        names={"standard": ("standard", "parameter")},
+        nominal=ROBOT,
+        standard=lambda: {"platform_mass": 1.5},
+    ),
+    "identified_robot": _case(
+        prp3.apps.identification.identified_robot,
+        {"nominal": OBJ, "result": OBJ},
+        nominal=ROBOT,
+        result=_identification,
+    ),
+    "FourierSeries": _case(
+        prp3.apps.excitation.FourierSeries,
+        {"period": R, "offset": A, "sine": A, "cosine": A},
+        period=5.0,
+        offset=np.zeros(3),
+        sine=lambda: np.full((3, 2), 0.01),
+        cosine=lambda: np.zeros((3, 2)),
+    ),
+    "spring_element": _case(prp3.spring_element, {"kind": C}, kind="sleeve"),
+    "evaluate_designs": _case(
+        prp3.apps.design_evaluation.evaluate_designs,
+        {"evaluator": OBJ, "values": A},
+        evaluator=_design_evaluator,
+        values=lambda: np.array([[0.3], [0.25]]),
     ),
     "base_parameters": _case(
         prp3.apps.base_parameters.base_parameters,
-        {"robot": OBJ, "parameters": N},
+        {"robot": OBJ, "parameters": N + "?"},  # None: the robot's own parameters
         robot=ROBOT,
         parameters=("platform_mass", "piston_mass"),
+    ),
+    "family_regressor": _case(
+        prp3.family_regressor,
+        {"robot": OBJ, "motion": OBJ, "parameters": N},
+        robot=_rrr,
+        motion=_motion,
+        parameters=lambda: prp3.FAMILY_PARAMETERS[:2],
+    ),
+    "family_standard_parameters": _case(
+        prp3.family_standard_parameters,
+        {"robot": OBJ, "parameters": N},
+        robot=_rrr,
+        parameters=lambda: prp3.FAMILY_PARAMETERS[:2],
+    ),
+    "family_known_forces": _case(
+        prp3.family_known_forces, {"robot": OBJ, "motion": OBJ}, robot=_rrr, motion=_motion
+    ),
+    "family_random_motion": _case(
+        prp3.family_random_motion,
+        {"robot": OBJ, "samples": INT, "seed": INT},
+        robot=_rrr,
+        samples=5,
+        seed=0,
     ),
     "known_forces": _case(
         prp3.apps.regressor.known_forces,
@@ -880,7 +990,7 @@ CASES: dict[str, Case] = {
     ),
     "identify": _case(
         prp3.apps.identification.identify,
-        {"robot": OBJ, "motion": OBJ, "f10": A, "parameters": N},
+        {"robot": OBJ, "motion": OBJ, "f10": A, "parameters": N + "?"},  # None: the robot's own
         robot=ROBOT,
         motion=_motion,
         f10=_measured,
@@ -932,6 +1042,60 @@ CASES: dict[str, Case] = {
     ),
     "joint_names": _case(prp3.joint_names, {"robot": OBJ}, robot=_rrr),
     # ---------------------------------------------------------------- spatial robots
+    "hexapod": _case(
+        prp3.hexapod,
+        {
+            "base_radius": R,
+            "platform_radius": R,
+            "base_half_angle": R,
+            "platform_half_angle": R,
+            "home_height": R,
+            "stroke": A,
+            "u_limit": R,
+            "s_limit": R,
+            "cylinder": OBJ + "?",
+            "rod": OBJ + "?",
+            "platform": OBJ + "?",
+            "gravity": A,
+            "scale": R,
+        },
+        **_defaults(prp3.hexapod),
+    ),
+    "three_rps": _case(
+        prp3.three_rps,
+        {
+            "base_radius": R,
+            "platform_radius": R,
+            "home_height": R,
+            "stroke": A,
+            "r_limit": R,
+            "s_limit": R,
+            "cylinder": OBJ + "?",
+            "rod": OBJ + "?",
+            "platform": OBJ + "?",
+            "gravity": A,
+            "scale": R,
+        },
+        **_defaults(prp3.three_rps),
+    ),
+    "delta": _case(
+        prp3.delta,
+        {
+            "base_radius": R,
+            "arm": R,
+            "forearm": R,
+            "platform_radius": R,
+            "home_height": R,
+            "r_limit": R,
+            "u_limit": R,
+            "arm_body": OBJ + "?",
+            "forearm_body": OBJ + "?",
+            "platform": OBJ + "?",
+            "gravity": A,
+            "scale": R,
+        },
+        **_defaults(prp3.delta),
+    ),
     "spatial_kinematics": _case(
         prp3.spatial_kinematics, {"robot": OBJ, "motion": OBJ}, robot=_hexapod, motion=_at_home
     ),
@@ -942,6 +1106,130 @@ CASES: dict[str, Case] = {
         motion=_at_home,
         method="newton-euler",
     ),
+    "spatial_motion": _case(
+        prp3.spatial_motion,
+        {"robot": OBJ, "name": C, "samples": INT, "duration": R},
+        names={"name": ("name", "motion")},  # the command line's --motion
+        robot=_hexapod,
+        name="heave",
+        samples=5,
+        duration=1.0,
+    ),
+    "spatial_robot_from_mapping": _case(
+        prp3.spatial_robot_from_mapping,
+        {"data": OBJ},
+        names={"data": ("data", "mapping", "robot", "architecture")},
+        data=lambda: {"architecture": "6-UPS"},
+    ),
+    "spatial_forward_dynamics": _case(
+        prp3.spatial_forward_dynamics,
+        {"robot": OBJ, "efforts": A, "duration": R, "samples": INT, "rtol": R, "atol": R},
+        robot=_hexapod,
+        efforts=lambda: prp3.hold_efforts(prp3.hexapod()),
+        duration=0.01,
+        samples=2,
+        rtol=1e-8,
+        atol=1e-10,
+    ),
+    "spatial_platform_dynamics": _case(
+        prp3.spatial_platform_dynamics,
+        {"robot": OBJ, "motion": OBJ},
+        robot=_hexapod,
+        motion=_at_home,
+    ),
+    "hold_efforts": _case(prp3.hold_efforts, {"robot": OBJ}, robot=_hexapod),
+    "state_from_joints": _case(
+        prp3.state_from_joints,
+        {"robot": OBJ, "t": T, "q": A, "dq": A},
+        robot=_hexapod,
+        t=np.array([0.0]),
+        q=lambda: prp3.spatial_kinematics(prp3.hexapod(), _at_home()).q,
+        dq=np.zeros((1, 6, 6)),
+    ),
+    "base_parameters_of": _case(
+        prp3.apps.base_parameters.base_parameters_of,
+        {"stacked": A},
+        stacked=lambda: np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]),
+        parameters=("a", "b"),
+        forces=("tau",),
+    ),
+    "spatial_regressor": _case(
+        prp3.spatial_regressor, {"robot": OBJ, "motion": OBJ}, robot=_hexapod, motion=_at_home
+    ),
+    "spatial_standard_parameters": _case(
+        prp3.spatial_standard_parameters, {"robot": OBJ}, robot=_hexapod
+    ),
+    "spatial_parameter_names": _case(prp3.spatial_parameter_names, {"robot": OBJ}, robot=_hexapod),
+    "spatial_random_motion": _case(
+        prp3.spatial_random_motion,
+        {"robot": OBJ, "samples": INT, "seed": INT},
+        robot=prp3.three_rps,
+        samples=3,
+        seed=0,
+    ),
+    "spatial_base_parameters": _case(
+        prp3.spatial_base_parameters,
+        {"robot": OBJ, "samples": INT, "seed": INT},
+        robot=prp3.three_rps,
+        samples=20,
+        seed=0,
+    ),
+    "spatial_identify": _case(
+        prp3.spatial_identify,
+        {"robot": OBJ, "motion": OBJ, "tau": A},
+        robot=prp3.three_rps,
+        motion=_rps_motion,
+        tau=_rps_efforts,
+    ),
+    "spatial_identified_robot": _case(
+        prp3.spatial_identified_robot,
+        {"design": OBJ, "result": OBJ},
+        design=lambda: prp3.spatial_robot_from_mapping({"architecture": "3-RPS"}),
+        result=_rps_identification,
+    ),
+    "spatial_exciting_trajectory": _case(
+        prp3.spatial_exciting_trajectory,
+        {
+            "robot": OBJ,
+            "period": R,
+            "harmonics": INT,
+            "samples": INT,
+            "reach": R,
+            "rotation": R,
+            "max_velocity": R + "?",
+            "max_force": R + "?",
+            "candidates": INT,
+            "seed": INT,
+        },
+        robot=prp3.delta,
+        period=5.0,
+        harmonics=2,
+        samples=40,
+        reach=0.2,
+        rotation=0.2,
+        max_velocity=1.0,
+        max_force=100.0,
+        candidates=1,
+        seed=0,
+    ),
+    "spatial_workspace": _case(
+        prp3.spatial_workspace,
+        {
+            "robot": OBJ,
+            "plane": "choice?",
+            "offset": "real?",
+            "rpy": "array?",
+            "extent": "array?",
+            "points": INT,
+        },
+        robot=_hexapod,
+        plane="xy",
+        offset=0.08,
+        rpy=np.zeros(3),
+        extent=np.array([-0.01, 0.01, -0.01, 0.01]),
+        points=3,
+    ),
+    "spatial_planes": _case(prp3.spatial_planes, {"robot": OBJ}, robot=_hexapod),
     "complete_motion": _case(
         prp3.complete_motion, {"robot": OBJ, "motion": OBJ}, robot=_hexapod, motion=_at_home
     ),

@@ -239,3 +239,67 @@ def test_importing_prp3_does_not_import_matplotlib_or_scipy() -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     )
     assert result.stdout.split() == ["False", "False"]
+
+
+def _private_imports(path: Path, source: str | None = None) -> list[str]:
+    """Private names (``_x``, not dunders) a file takes from another module of prp3.
+
+    Both ``from prp3.m import _x`` and ``import prp3.m as m; m._x`` count.
+    """
+    tree = ast.parse(source if source is not None else path.read_text(encoding="utf-8"))
+    aliases: set[str] = set()
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and (
+            node.level or (node.module or "").startswith("prp3")
+        ):
+            found += [
+                f"{node.module}.{a.name}"
+                for a in node.names
+                if a.name.startswith("_") and not a.name.startswith("__")
+            ]
+        elif isinstance(node, ast.Import):
+            aliases |= {
+                a.asname or a.name.split(".")[0] for a in node.names if a.name.startswith("prp3")
+            }
+    for node in ast.walk(tree):
+        if (
+            isinstance(node, ast.Attribute)
+            and node.attr.startswith("_")
+            and not node.attr.startswith("__")
+            and isinstance(node.value, (ast.Name, ast.Attribute))
+            and ast.unparse(node.value).split(".")[0] in aliases
+            and not _is_module(ast.unparse(node))
+        ):
+            found.append(ast.unparse(node))
+    return found
+
+
+def _is_module(dotted: str) -> bool:
+    """Whether ``prp3.a._b`` names a module (a package's private module, as ``cli._progress``)."""
+    relative = Path(*dotted.split(".")[1:])
+    return dotted.startswith("prp3.") and (
+        (PACKAGE / relative).with_suffix(".py").exists() or (PACKAGE / relative).is_dir()
+    )
+
+
+_SOURCES = sorted(
+    [*PACKAGE.rglob("*.py"), *(ROOT / "tests").glob("*.py"), *(ROOT / "benchmarks").glob("*.py")]
+)
+
+
+@pytest.mark.parametrize("path", _SOURCES, ids=lambda p: str(p.relative_to(ROOT)))
+def test_no_private_name_is_imported_across_modules(path: Path) -> None:
+    # a name another module needs is public in its module (the structure rule);
+    # prp3's tests and benchmarks hold themselves to the same rule
+    assert _private_imports(path) == []
+
+
+def test_the_private_import_check_catches_both_forms() -> None:
+    here = PACKAGE / "mechanics" / "kernel.py"
+    assert _private_imports(here, "from prp3.family.chain import _x, __all__\n") == [
+        "prp3.family.chain._x"
+    ]
+    assert _private_imports(here, "from .chain import _y\n") == ["chain._y"]
+    assert _private_imports(here, "import prp3.family.chain as c\nc._z(1)\n") == ["c._z"]
+    assert _private_imports(here, "import numpy as np\nnp._w\nfrom os import _exit\n") == []

@@ -106,6 +106,47 @@ def test_the_parasitic_rates_and_joint_rates_are_those_of_a_path(
     assert np.allclose(derivative(q[..., :2], H), kin.dq[0, :, :2], rtol=1e-7, atol=1e-9)
 
 
+@given(rps_robots(), st.lists(st.floats(0.5, 5.0), min_size=6, max_size=6), st.floats(0, 2))
+def test_a_completed_motion_is_the_derivative_of_its_completed_poses(
+    robot: SpatialRobot, c: list[float], t0: float
+) -> None:
+    """Regression: completion turns the poses (a yaw), so the free ``ω`` turns with them.
+
+    A smooth roll–pitch path with its own exact rates (:func:`rpy_motion`), not yet
+    completed: the completed twist and its derivative must be the time derivatives
+    (five-point differences) of the completed poses and twist.  Before the fix the
+    kept ``ωx, ωy`` were those of the uncompleted poses (1.2e-3 rad/s off in the
+    default 3-RPS's tilt, 0.6 %).
+    """
+    from prp3.spatial.motion import rpy_motion
+
+    t = t0 + STEPS
+    a = np.array(c)
+    rpy = np.stack([0.1 * np.sin(a[2] * t + a[3]), 0.08 * np.sin(a[4] * t + a[5]), 0 * t], 1)
+    rate = np.stack(
+        [0.1 * a[2] * np.cos(a[2] * t + a[3]), 0.08 * a[4] * np.cos(a[4] * t + a[5]), 0 * t], 1
+    )
+    second = np.stack([-0.1 * a[2] ** 2 * np.sin(a[2] * t + a[3]),
+                       -0.08 * a[4] ** 2 * np.sin(a[4] * t + a[5]), 0 * t], 1)  # fmt: skip
+    z = robot.home_position[2] + 0.006 * np.sin(a[0] * t + a[1])
+    vz = 0.006 * a[0] * np.cos(a[0] * t + a[1])
+    az = -0.006 * a[0] ** 2 * np.sin(a[0] * t + a[1])
+    zero = 0 * t
+    motion = rpy_motion(
+        t, np.stack([zero, zero, z], 1), rpy,
+        velocity=np.stack([zero, zero, vz], 1), rpy_rate=rate,
+        acceleration=np.stack([zero, zero, az], 1), rpy_acceleration=second,
+    )  # fmt: skip
+    completed = complete_motion(robot, motion)
+    omega, velocity = _frame_rates(completed)
+    assert np.allclose(completed.omega[2], omega, rtol=1e-7, atol=1e-9)
+    assert np.allclose(completed.velocity[2], velocity, rtol=1e-7, atol=1e-9)
+    assert np.allclose(completed.alpha[2], derivative(completed.omega, H), rtol=1e-6, atol=1e-8)
+    assert np.allclose(
+        completed.acceleration[2], derivative(completed.velocity, H), rtol=1e-6, atol=1e-8
+    )
+
+
 def _rps_bodies(robot: SpatialRobot, motion: PlatformMotion):  # type: ignore[no-untyped-def]
     """Each leg body's (body, centre, velocity, ω, α, a_G, rotation) from ``q, dq, ddq``."""
     kin = spatial_kinematics(robot, motion)

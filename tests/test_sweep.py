@@ -141,7 +141,7 @@ def test_one_or_two_workers_and_an_interrupted_run_give_the_same_file(
 
     # interrupted after two chunks: the staging folder keeps them, no designs.parquet
     written = []
-    original = prp3.apps.sweep._arrow_table
+    original = prp3.apps.sweep.arrow_table
 
     def interrupt(columns, names):
         if len(written) == 2:
@@ -149,14 +149,14 @@ def test_one_or_two_workers_and_an_interrupted_run_give_the_same_file(
         written.append(len(columns["status"]))
         return original(columns, names)
 
-    monkeypatch.setattr(prp3.apps.sweep, "_arrow_table", interrupt)
+    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", interrupt)
     args = ("sweep", "--spec", spec, "-o", tmp_path / "cut", "--scheduler", scheduler)
     status, out, err = cli(capsys, *args)
     assert status == 130 and "interrupted" in err
     assert not (tmp_path / "cut" / "designs.parquet").exists()
     staged = sorted(p.name for p in (tmp_path / "cut").glob(".prp3-sweep-*/*.parquet"))
     assert len(staged) == 2
-    monkeypatch.setattr(prp3.apps.sweep, "_arrow_table", original)
+    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", original)
     status, out, err = cli(capsys, *args)
     assert status == 0, err
     assert "2 of 4 chunks computed, 2 found done" in out
@@ -621,13 +621,13 @@ def test_traced_parameters_of_designs_are_kernel_parameters_of_their_robots(tmp_
         base=tmp_path,
     )  # fmt: skip
     evaluator, values = spec.evaluator, design_values(spec)
-    fixed, columns, lower, upper = prp3.apps.design_evaluation._design_parameters(
+    fixed, columns, lower, upper = prp3.apps.design_evaluation.design_parameter_columns(
         evaluator, values, None
     )
     assert set(columns) and np.isneginf(lower).all() and np.isposinf(upper).all()
     for k, row in enumerate(values.tolist()):
         expected = kernel_parameters(design_robot(evaluator.nominal, spec.paths, row))
-        for name in prp3.apps.design_evaluation._PARAMETER_FIELDS:
+        for name in prp3.apps.design_evaluation.PARAMETER_FIELDS:
             got = fixed[name] if name in fixed else columns[name][k]
             assert got == getattr(expected, name), (name, k)
 
@@ -679,7 +679,7 @@ def test_a_finished_sweep_leaves_no_staging_folder_of_its_own_or_of_other_specs(
     mine = out / ".prp3-sweep-notes"  # not a staging folder: never touched
     mine.mkdir(parents=True)
     # the sweep of old.toml interrupted after two of its four chunks
-    original = prp3.apps.sweep._arrow_table
+    original = prp3.apps.sweep.arrow_table
     written = []
 
     def interrupt(columns, names):
@@ -688,9 +688,9 @@ def test_a_finished_sweep_leaves_no_staging_folder_of_its_own_or_of_other_specs(
         written.append(1)
         return original(columns, names)
 
-    monkeypatch.setattr(prp3.apps.sweep, "_arrow_table", interrupt)
+    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", interrupt)
     assert cli(capsys, "sweep", "--spec", old, "-o", out, "--scheduler", scheduler)[0] == 130
-    monkeypatch.setattr(prp3.apps.sweep, "_arrow_table", original)
+    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", original)
     (stale,) = [p for p in out.glob(".prp3-sweep-*") if p != mine]
     # its spec changed: a new sweep into the same folder says what it will remove, then does
     status, text, err = cli(capsys, "sweep", "--spec", new, "-o", out, "--scheduler", scheduler)

@@ -306,13 +306,13 @@ def test_one_sample_is_accepted_and_refused_as_the_exact_checks_do() -> None:
     from hypothesis import given, settings
     from hypothesis import strategies as st
 
-    from prp3.pose_validation import _exact_state, check_state_sample
+    from prp3.pose_validation import check_state_sample, exact_state
 
     @settings(max_examples=200)
     @given(_three(), _three(), _three(), st.sampled_from([None, ROBOT]))
     def agree(pose: Any, velocity: Any, acceleration: Any, robot: Robot | None) -> None:
         fast = _outcome(lambda: check_state_sample(pose, velocity, acceleration, robot))
-        exact = _outcome(lambda: _exact_state(pose, velocity, acceleration, robot))
+        exact = _outcome(lambda: exact_state(pose, velocity, acceleration, robot))
         assert fast == exact
 
     agree()
@@ -324,7 +324,7 @@ def test_one_sample_load_is_accepted_and_refused_as_check_load_does() -> None:
     from hypothesis import given, settings
 
     from prp3.engines.entries import check_load
-    from prp3.engines.sample_entries import _check_load_sample
+    from prp3.engines.sample_entries import check_load_sample
 
     def exact(load: Any) -> tuple[float, ...]:
         return tuple(check_load(load, (3,)).tolist())
@@ -332,6 +332,6 @@ def test_one_sample_load_is_accepted_and_refused_as_check_load_does() -> None:
     @settings(max_examples=300)
     @given(_three())
     def agree(load: Any) -> None:
-        assert _outcome(lambda: _check_load_sample(load)) == _outcome(lambda: exact(load))
+        assert _outcome(lambda: check_load_sample(load)) == _outcome(lambda: exact(load))
 
     agree()

@@ -16,6 +16,8 @@ from .analysis.force_histories import (
     ActuatorForces as ActuatorForces,
 )
 from .analysis.forward import (
+    MAX_EVALUATIONS as MAX_EVALUATIONS,
+    MAX_SECONDS as MAX_SECONDS,
     ForwardDynamics as ForwardDynamics,
     forward_dynamics as forward_dynamics,
 )
@@ -107,6 +109,16 @@ from .apps.plants import (
     PLANTS as PLANTS,
     Plant as Plant,
     check_plant as check_plant,
+)
+from .apps.family_regressor import (
+    FAMILY_PARAMETERS as FAMILY_PARAMETERS,
+    FAMILY_PARAMETER_SYMBOLS as FAMILY_PARAMETER_SYMBOLS,
+    FAMILY_PARAMETER_UNITS as FAMILY_PARAMETER_UNITS,
+    FamilyRegressor as FamilyRegressor,
+    family_known_forces as family_known_forces,
+    family_random_motion as family_random_motion,
+    family_regressor as family_regressor,
+    family_standard_parameters as family_standard_parameters,
 )
 from .apps.regressor import (
     STANDARD_PARAMETERS as STANDARD_PARAMETERS,
@@ -253,6 +265,16 @@ from .io.results import (
     result_columns as result_columns,
     results_table as results_table,
 )
+from .io.spatial_robot import (
+    SPATIAL_ARCHITECTURES as SPATIAL_ARCHITECTURES,
+    SpatialRobotFile as SpatialRobotFile,
+    read_spatial_robot as read_spatial_robot,
+    spatial_robot_from_mapping as spatial_robot_from_mapping,
+)
+from .io.spatial_trajectory import (
+    SpatialTrajectory as SpatialTrajectory,
+    read_spatial_trajectory as read_spatial_trajectory,
+)
 from .io.tables import (
     read_table as read_table,
     read_table_csv as read_table_csv,
@@ -301,8 +323,10 @@ from .model.elements import (
     ELEMENTS as ELEMENTS,
 )
 from .model.joint_elements import (
+    SMOOTHING_FLOOR as SMOOTHING_FLOOR,
     FrictionElement as FrictionElement,
     SpringElement as SpringElement,
+    spring_element as spring_element,
     spring_force as spring_force,
 )
 from .model.motion import (
@@ -366,6 +390,8 @@ from .spatial.model import (
     JOINT_KINDS as JOINT_KINDS,
 )
 from .spatial.motion import (
+    SPATIAL_MOTIONS as SPATIAL_MOTIONS,
+    spatial_motion as spatial_motion,
     rpy_motion as rpy_motion,
     quaternion_motion as quaternion_motion,
     PlatformMotion as PlatformMotion,
@@ -375,9 +401,47 @@ from .spatial.kinematics import (
     spatial_kinematics as spatial_kinematics,
     SpatialKinematics as SpatialKinematics,
 )
+from .spatial.forward import (
+    spatial_forward_dynamics as spatial_forward_dynamics,
+    spatial_platform_dynamics as spatial_platform_dynamics,
+    hold_efforts as hold_efforts,
+    state_from_joints as state_from_joints,
+    SpatialForward as SpatialForward,
+    SpatialPlatformDynamics as SpatialPlatformDynamics,
+)
+from .io.spatial_efforts import (
+    read_spatial_efforts as read_spatial_efforts,
+    SpatialEfforts as SpatialEfforts,
+)
+from .spatial.workspace import (
+    spatial_workspace as spatial_workspace,
+    spatial_planes as spatial_planes,
+    spatial_workspace_table as spatial_workspace_table,
+    spatial_statics_table as spatial_statics_table,
+    SpatialWorkspace as SpatialWorkspace,
+    SPATIAL_PLANES as SPATIAL_PLANES,
+    WORKSPACE_REASONS as WORKSPACE_REASONS,
+)
 from .spatial.outputs import (
     spatial_results_table as spatial_results_table,
     spatial_inverse_dynamics as spatial_inverse_dynamics,
     SpatialSolution as SpatialSolution,
     SPATIAL_METHODS as SPATIAL_METHODS,
+)
+from .apps.spatial_identification import (
+    BODY_PARAMETERS as BODY_PARAMETERS,
+    SpatialExcitation as SpatialExcitation,
+    SpatialRegressor as SpatialRegressor,
+    spatial_base_parameters as spatial_base_parameters,
+    spatial_exciting_trajectory as spatial_exciting_trajectory,
+    spatial_identified_robot as spatial_identified_robot,
+    spatial_identify as spatial_identify,
+    spatial_parameter_names as spatial_parameter_names,
+    spatial_random_motion as spatial_random_motion,
+    spatial_regressor as spatial_regressor,
+    spatial_standard_parameters as spatial_standard_parameters,
+)
+from .io.spatial_trajectory import (
+    SpatialMeasurements as SpatialMeasurements,
+    read_spatial_measurements as read_spatial_measurements,
 )

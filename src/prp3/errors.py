@@ -41,6 +41,22 @@ __all__ = [
 _UNSET: Any = object()
 
 
+def one_line(text: str) -> str:
+    r"""``text`` on one line: each line break and the indentation after it become one space.
+
+    A message quotes the user's values, and the ``repr`` of a 2-D array or of a
+    long mapping spans lines; the command line prints every error on one line.
+
+    >>> one_line("robot must be a prp3.Robot, got array([[0.],\n       [0.]])")
+    'robot must be a prp3.Robot, got array([[0.], [0.]])'
+    """
+    return (
+        " ".join(part.strip() for part in text.splitlines())
+        if "\n" in text or "\r" in text
+        else text
+    )
+
+
 class Prp3Error(ValueError):
     """Base class of every error prp3 raises for bad user input.
 
@@ -89,6 +105,7 @@ class Prp3Error(ValueError):
         leg: str | None = None,
         pose: tuple[float, float, float] | None = None,
     ) -> None:
+        reason = one_line(reason)
         super().__init__(reason)
         self.reason = reason
         self.file = None if file is None else str(file)

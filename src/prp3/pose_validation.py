@@ -230,7 +230,12 @@ def check_sample(
     items: Any
     if kind is tuple or kind is list:
         items = value
-    elif isinstance(value, np.ndarray) and kind is np.ndarray and value.dtype == np.float64:
+    elif (
+        isinstance(value, np.ndarray)
+        and kind is np.ndarray
+        and value.ndim == 1
+        and value.dtype == np.float64
+    ):
         items = value.tolist()
     else:
         items = None
@@ -292,7 +297,7 @@ def check_state_sample(
         try:
             (x, y, phi), (dx, dy, dphi), (ddx, ddy, ddphi) = three
         except (TypeError, ValueError):
-            return _exact_state(pose, velocity, acceleration, robot)  # not three values each
+            return exact_state(pose, velocity, acceleration, robot)  # not three values each
         if not (
             type(x) is float and type(y) is float and type(phi) is float
             and type(dx) is float and type(dy) is float and type(dphi) is float
@@ -304,13 +309,13 @@ def check_state_sample(
                 and type(dx) in numbers and type(dy) in numbers and type(dphi) in numbers
                 and type(ddx) in numbers and type(ddy) in numbers and type(ddphi) in numbers
             ):  # fmt: skip
-                return _exact_state(pose, velocity, acceleration, robot)
+                return exact_state(pose, velocity, acceleration, robot)
             try:
                 x, y, phi = float(x), float(y), float(phi)
                 dx, dy, dphi = float(dx), float(dy), float(dphi)
                 ddx, ddy, ddphi = float(ddx), float(ddy), float(ddphi)
             except OverflowError:  # an integer too large for float64
-                return _exact_state(pose, velocity, acceleration, robot)
+                return exact_state(pose, velocity, acceleration, robot)
         reach = _UNBOUNDED if robot is None else POSE_BOUND * robot.l0
         if (
             0.0 * (x + y + dx + dy + dphi + ddx + ddy + ddphi) == 0.0
@@ -325,10 +330,10 @@ def check_state_sample(
             )
         ):
             return x, y, phi, dx, dy, dphi, ddx, ddy, ddphi
-    return _exact_state(pose, velocity, acceleration, robot)
+    return exact_state(pose, velocity, acceleration, robot)
 
 
-def _exact_state(
+def exact_state(
     pose: object, velocity: object, acceleration: object, robot: Robot | None
 ) -> tuple[float, float, float, float, float, float, float, float, float]:
     """:func:`check_state_sample` by the exact checks, in their order, with their messages."""

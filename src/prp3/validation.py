@@ -46,6 +46,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LEGS",
+    "MIN_RTOL",
     "OVERFLOW_REASON",
     "check_choice",
     "check_finite",
@@ -58,6 +59,7 @@ __all__ = [
     "check_same_shape",
     "check_scalar",
     "check_times",
+    "check_tolerances",
     "first_non_finite",
     "first_not_increasing",
     "require_finite",
@@ -448,3 +450,29 @@ def require_finite(
 def __getattr__(name: str) -> object:
     """The names this module had in prp3 0.1, now elsewhere (a DeprecationWarning names where)."""
     return moved_attribute(__name__, name)
+
+
+#: The smallest relative tolerance of the forward integrations (100 machine epsilons:
+#: scipy's ``solve_ivp`` raises smaller ones to this with a warning).
+MIN_RTOL: float = 100.0 * float(np.finfo(np.float64).eps)
+
+
+def check_tolerances(rtol: object, atol: object) -> tuple[float, float]:
+    """The tolerances of a forward integration: finite, positive, ``rtol >= MIN_RTOL``.
+
+    >>> check_tolerances(1e-10, 1e-12)
+    (1e-10, 1e-12)
+    >>> check_tolerances(1e-20, 1e-12)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: rtol must be at least 2.22e-14 (100 machine epsilons, scipy's floor), got 1e-20
+    """
+    relative = check_scalar("rtol", rtol, positive=True)
+    absolute = check_scalar("atol", atol, positive=True)
+    if relative < MIN_RTOL:
+        raise ParameterError(
+            f"rtol must be at least {MIN_RTOL:.3g} (100 machine epsilons, scipy's floor), "
+            f"got {relative!r}",
+            key="rtol",
+        )
+    return relative, absolute

@@ -15,7 +15,7 @@ them.  Viscous and Coulomb friction depend on the velocities only: at a given
 ``(q, q̇)`` they are part of ``b`` and ``f10`` stays exactly affine in ``q̈``.
 The load-dependent ``μ`` terms make ``f10`` non-linear in ``q̈`` (the
 reaction magnitudes depend on ``q̈``): the acceleration is then solved by chord
-iterations on the kernel's ``f10`` (:func:`_accelerations`), and near a
+iterations on the kernel's ``f10`` (:func:`platform_accelerations`), and near a
 self-locking pose, where ``f10(q, q̇, q̈) = f_applied`` has several or no
 solutions, the step is rejected rather than a branch chosen.  Refused
 (:func:`check_forward_friction`): Coulomb or ``μ`` friction with the exact
@@ -57,7 +57,7 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 
-def _without_limits(robot: Robot) -> Robot:
+def without_limits(robot: Robot) -> Robot:
     """The same robot with no stroke or force limit (the dynamics do not use them)."""
     if robot.limits == Limits():
         return robot
@@ -170,10 +170,13 @@ def _platform_dynamics(
             compiled, motion.pose, motion.velocity, motion.acceleration, load=wrench
         )["f10"]
     if not np.isfinite(forces).all():
-        raise TrajectoryError("platform_dynamics: the actuator forces overflow at this state")
+        raise TrajectoryError(
+            "platform_dynamics: the actuator forces overflow at this state", subject=LOST_MEANING
+        )
     f10 = forces.reshape(-1, 4, 3)  # eq. (23)
     b = f10[:, 0, :]
     A = np.swapaxes(f10[:, 1:, :] - b[:, None, :], -1, -2)  # column k = f10(e_k) − b
+    _check_resolved(A, f10, robot.l0)
     J = jacobian(inverse_geometry(robot, q.reshape(-1, 3)))
     Jt = np.swapaxes(J, -1, -2)
     return PlatformDynamics(
@@ -183,6 +186,34 @@ def _platform_dynamics(
         bias=(Jt @ b[..., None])[..., 0].reshape(*batch, 3),
         jacobian=J.reshape(*batch, 3, 3),
     )
+
+
+#: ``A = f10(unit q̈) − b`` must keep this relative precision (its round-off
+#: ``ε·|f10|`` against its smallest singular value): beyond, the bias forces swamp the
+#: inertia and ``q̈ = A⁻¹·(f − b)`` has lost its meaning (a load of ``1e12 N`` on the
+#: paper's robot).
+MATRIX_PRECISION: float = 1e-4
+
+#: The subject of the error :func:`_check_resolved` raises (forward dynamics tells it).
+LOST_MEANING: str = "equations of motion"
+
+
+def _check_resolved(A: FloatArray, f10: FloatArray, l0: float) -> None:
+    """Refuse states whose ``A`` is round-off of the bias forces (``MATRIX_PRECISION``)."""
+    scale = np.array([1.0, 1.0, 1.0 / l0])  # the rotation's column in N per (m/s²)
+    noise = 16.0 * np.finfo(np.float64).eps * np.abs(f10).max(axis=(-1, -2))
+    with np.errstate(all="ignore"):
+        smallest = np.linalg.svd(A * scale, compute_uv=False)[..., -1]
+    lost = ~(noise <= MATRIX_PRECISION * smallest)
+    if lost.any():
+        k = int(np.argmax(lost))
+        raise TrajectoryError(
+            f"the actuator forces |f10| = {float(np.abs(f10[k]).max()):.3g} N swamp the inertia "
+            f"of the equations of motion (smallest singular value of A "
+            f"{float(smallest[k]):.3g} kg): float64 keeps fewer than "
+            f"{-math.log10(MATRIX_PRECISION):.0f} digits of A, q̈ = A⁻¹·(f10 − b) has no meaning",
+            subject=LOST_MEANING,
+        )
 
 
 #: The spaces of :func:`mass_matrix`, :func:`bias_forces`, :func:`gravity_forces`.
@@ -317,7 +348,7 @@ def open_loop_growth_rate(robot: Robot, pose: ArrayLike) -> float:
         raise TrajectoryError(f"pose must have shape (3,), got {q.shape}")
     # at rest every friction force of the model vanishes (s(0) = 0, no viscous force), so
     # A and b(q, 0) are those of the robot without friction, whatever its friction law
-    free = replace(_without_limits(robot), friction=None)
+    free = replace(without_limits(robot), friction=None)
     steps = np.array([_GROWTH_STEP * robot.l0, _GROWTH_STEP * robot.l0, _GROWTH_STEP])
     shifts = np.concatenate([np.diag(steps), -np.diag(steps)])  # (6, 3): +h e_k, then −h e_k
     poses = np.concatenate([q[None, :], q + shifts])
@@ -366,11 +397,11 @@ def _check_affine(compiled: CompiledRobot) -> None:
         )
 
 
-#: Largest number of chord iterations of :func:`_accelerations` (``μ`` terms).
+#: Largest number of chord iterations of :func:`platform_accelerations` (``μ`` terms).
 MU_CHORD_ITERATIONS: int = 60
 
 
-def _accelerations(
+def platform_accelerations(
     compiled: CompiledRobot,
     q: FloatArray,
     qdot: FloatArray,
@@ -394,7 +425,16 @@ def _accelerations(
         these forces: the friction cone swallows the drive).
     """
     eq = _platform_dynamics(compiled, q, qdot, load)
-    qddot = np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0]
+    try:
+        qddot = np.linalg.solve(eq.force_matrix, (applied - eq.force_bias)[..., None])[..., 0]
+    except np.linalg.LinAlgError:  # _check_resolved keeps this from happening
+        raise TrajectoryError(
+            "the matrix A of the equations of motion is singular", subject=LOST_MEANING
+        ) from None
+    if not np.isfinite(qddot).all():
+        raise TrajectoryError(
+            "the platform acceleration q̈ = A⁻¹·(f10 − b) overflows", subject=LOST_MEANING
+        )
     if not compiled.parameters.has_mu:
         return np.asarray(qddot, dtype=np.float64)
     scale = 1.0 + np.maximum(np.abs(applied).max(axis=-1), np.abs(eq.force_bias).max(axis=-1))

@@ -68,23 +68,11 @@ class ActuatorForces:
                 f"f10 must have shape ({t.size}, 3), got {f10.shape}", subject="forces"
             )
         check_finite("f10", f10, subject="forces")
-        from scipy.interpolate import CubicSpline
-
         t.flags.writeable = False
         f10.flags.writeable = False
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "f10", f10)
-        try:
-            with np.errstate(all="ignore"):
-                spline = CubicSpline(t, f10, axis=0)
-        except ValueError:  # the slopes overflow: huge forces or tiny time steps
-            with np.errstate(all="ignore"):
-                slopes = np.diff(f10, axis=0) / np.diff(t)[:, None]
-            index = int(np.argmax(~np.isfinite(slopes).all(axis=1)))
-            raise _not_interpolable(t, index, "their rate of change") from None
-        bad = ~np.isfinite(spline.c).all(axis=(0, 2))  # (4, N - 1, 3) coefficients per interval
-        if bad.any():  # steps so small (1e-300 s) that the cubic terms overflow
-            raise _not_interpolable(t, int(np.argmax(bad)), "the spline's coefficients")
+        spline = _spline(t, f10, tuple(f"f10_{leg}" for leg in LEGS), "force")
         object.__setattr__(self, "_spline", spline)
         if self.load is not None:
             load = check_real("load", self.load, subject="forces")
@@ -96,11 +84,7 @@ class ActuatorForces:
             check_finite("load", load, subject="forces")
             load.flags.writeable = False
             object.__setattr__(self, "load", load)
-            with np.errstate(all="ignore"):
-                load_spline = CubicSpline(t, load, axis=0)
-            bad = ~np.isfinite(load_spline.c).all(axis=(0, 2))
-            if bad.any():
-                raise _not_interpolable(t, int(np.argmax(bad)), "the load spline's coefficients")
+            load_spline = _spline(t, load, LOAD_NAMES, "load")
             object.__setattr__(self, "_load_spline", load_spline)
 
     def __call__(self, time: float) -> FloatArray:
@@ -120,16 +104,56 @@ class ActuatorForces:
         return np.asarray(self._load_spline(time), dtype=np.float64)
 
 
-def _not_interpolable(t: FloatArray, index: int, what: str) -> TrajectoryError:
+#: The names of the load's components (the columns of a force file).
+LOAD_NAMES: tuple[str, str, str] = ("fx", "fy", "mz")
+
+
+def _spline(t: FloatArray, values: FloatArray, names: tuple[str, ...], what: str) -> Any:
+    """The not-a-knot cubic spline through ``values (N, 3)``, refused where it overflows.
+
+    Its slopes or its coefficients overflow float64 when the samples are huge
+    (``±1e308``) or the time steps tiny (``1e-300 s``): the refusal names the
+    component (``names``, the columns of a force file) and the interval.
+    """
+    from scipy.interpolate import CubicSpline
+
+    with np.errstate(all="ignore"):
+        slopes = np.diff(values, axis=0) / np.diff(t)[:, None]
+    bad_slopes = ~np.isfinite(slopes)
+    if bad_slopes.any():
+        index, column = np.argwhere(bad_slopes)[0].tolist()
+        raise _not_interpolable(
+            t, index, f"the rate of change of {names[column]} overflows", what, names[column]
+        )
+    try:
+        with np.errstate(all="ignore"):
+            spline = CubicSpline(t, values, axis=0)
+    except ValueError:  # the spline's own slopes overflow (scipy's check)
+        raise _not_interpolable(
+            t, 0, f"the slopes of the {what} spline overflow", what, None
+        ) from None
+    bad = ~np.isfinite(spline.c).all(axis=0)  # (4, N - 1, 3) coefficients per interval
+    if bad.any():  # steps so small (1e-300 s) that the cubic terms overflow
+        index, column = np.argwhere(bad)[0].tolist()
+        raise _not_interpolable(
+            t, index, f"the spline coefficients of {names[column]} overflow", what, names[column]
+        )
+    return spline
+
+
+def _not_interpolable(
+    t: FloatArray, index: int, what: str, kind: str, column: str | None
+) -> TrajectoryError:
     return TrajectoryError(
-        f"the force samples cannot be interpolated: {what} overflow between t[{index}] = "
-        f"{float(t[index])!r} and t[{index + 1}] = {float(t[index + 1])!r} s (forces too "
+        f"the {kind} samples cannot be interpolated: {what} between t[{index}] = "
+        f"{float(t[index])!r} and t[{index + 1}] = {float(t[index + 1])!r} s ({kind} too "
         "large or time steps too small)",
         subject="forces",
+        key=column,
     )
 
 
-def _force_function(
+def force_function(
     robot: Robot, forces: ActuatorForces | ForceFunction, times: FloatArray
 ) -> Callable[[float], FloatArray]:
     """Validate the forces against the time span and ``max_force``; return ``f10(t)``."""
@@ -176,7 +200,7 @@ def _force_function(
     return force_of
 
 
-def _load_function(
+def load_function(
     forces: ActuatorForces | ForceFunction, load: ForceFunction | None, times: FloatArray
 ) -> Callable[[float], FloatArray] | None:
     """The time-varying load ``(f_x, f_y, m_z)(t)``: the forces' own or ``load``; validated."""

@@ -15,6 +15,7 @@ equations of motion cannot take is refused
 from __future__ import annotations
 
 import math
+import time as time_module
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -23,20 +24,20 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.analysis.equations_of_motion import (
-    _accelerations,
-    _without_limits,
+    LOST_MEANING,
     check_forward_friction,
+    platform_accelerations,
+    without_limits,
 )
 from prp3.analysis.force_histories import (
     ActuatorForces,
     ForceFunction,
-    _force_function,
-    _load_function,
+    force_function,
+    load_function,
 )
 from prp3.analysis.inverse_dynamics import kernel_method
 from prp3.engines.compiled_robot import CompiledRobot, compile_robot
 from prp3.errors import (
-    ParameterError,
     Prp3Error,
     SingularPoseError,
     TrajectoryError,
@@ -47,9 +48,20 @@ from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
 from prp3.pose_validation import SINGULARITY_THRESHOLD, check_poses, singularity_measure
-from prp3.validation import LEGS, check_per_leg, check_robot, check_scalar, check_times
+from prp3.validation import (
+    LEGS,
+    MIN_RTOL,
+    check_integer,
+    check_per_leg,
+    check_robot,
+    check_scalar,
+    check_times,
+    check_tolerances,
+)
 
 __all__ = [
+    "MAX_EVALUATIONS",
+    "MAX_SECONDS",
     "MIN_RTOL",
     "SINGULARITY_STOP",
     "ForwardDynamics",
@@ -59,13 +71,25 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 Status = Literal["completed", "singular", "stroke", "failed"]
 
-#: Smallest relative tolerance of :func:`forward_dynamics` (scipy raises smaller ones to it).
-MIN_RTOL: float = 100.0 * float(np.finfo(np.float64).eps)
 
 #: :func:`forward_dynamics` stops when ``|sin(φ − π/3)|`` falls to this value
 #: (twice :data:`~prp3.pose_validation.SINGULARITY_THRESHOLD`, so that the stop pose
 #: itself is still one prp3 computes with).
 SINGULARITY_STOP: float = 2.0 * SINGULARITY_THRESHOLD
+
+
+#: Default bound of :func:`forward_dynamics` on the evaluations of the equations of motion
+#: (``max_evaluations``): a stiff motion (friction smoothed over ``1e-12`` m/s, huge forces)
+#: that the explicit integrator would crawl through forever is stopped, and said so.  The
+#: paper's 3 s motions take about 10⁴.
+MAX_EVALUATIONS: int = 1_000_000
+
+#: Default wall-time bound of :func:`forward_dynamics` (s, ``max_seconds``).
+MAX_SECONDS: float = 600.0
+
+
+class _BoundReachedError(Exception):
+    """Raised inside the integrator's right-hand side when a bound of the run is reached."""
 
 
 @dataclass(frozen=True)
@@ -119,6 +143,8 @@ def forward_dynamics(
     atol: float = 1e-12,
     load: ForceFunction | None = None,
     progress: Callable[[int, int], None] | None = None,
+    max_evaluations: int = MAX_EVALUATIONS,
+    max_seconds: float = MAX_SECONDS,
 ) -> ForwardDynamics:
     """Integrate the platform motion driven by the actuator forces ``f10(t)``.
 
@@ -154,6 +180,11 @@ def forward_dynamics(
     progress : callable, optional
         ``progress(samples_reached, N)``: the output times the integration
         has reached (the furthest time evaluated), reported when it grows.
+    max_evaluations : int
+        Bound on the evaluations of the equations of motion (default
+        :data:`MAX_EVALUATIONS`, at least 1).
+    max_seconds : float
+        Wall-time bound of the integration (s; default :data:`MAX_SECONDS`).
 
     Returns
     -------
@@ -170,7 +201,13 @@ def forward_dynamics(
         ``limits.max_force``; a force function that returns anything but 3
         finite numbers; non-positive tolerances or ``rtol < MIN_RTOL``;
         Coulomb friction with ``smoothing = 0`` or ``μ`` terms
-        (:func:`check_forward_friction`).
+        (:func:`check_forward_friction`); non-positive bounds.
+    TrajectoryError
+        A bound (``max_evaluations`` or ``max_seconds``) stopped the integration
+        (the message names it and the time reached); the equations of motion
+        lost their meaning on the way (the bias forces swamp the inertia, or the
+        acceleration overflows: the message names the time, the state and the
+        inputs there) and the integrator gave up.
 
     Notes
     -----
@@ -198,21 +235,96 @@ def forward_dynamics(
     check_robot(robot)
     check_forward_friction(robot)
     times = check_times("t", t, minimum=2)
-    rtol, atol = _tolerances(rtol, atol)
-    q0, v0, aspect = _initial_state(robot, initial_pose, initial_velocity)
-    force_of = _force_function(robot, forces, times)
-    load_of = _load_function(forces, load, times)
-    free = _without_limits(robot)  # the stroke ends are events, not refusals
-    stroke = robot.limits.stroke
-    solution = _integrate(
-        free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of, progress
+    rtol, atol = check_tolerances(rtol, atol)
+    bounds = (
+        check_integer("max_evaluations", max_evaluations, 1, 10**12),
+        check_scalar("max_seconds", max_seconds, positive=True),
     )
+    q0, v0, aspect = _initial_state(robot, initial_pose, initial_velocity)
+    force_of = force_function(robot, forces, times)
+    load_of = load_function(forces, load, times)
+    free = without_limits(robot)  # the stroke ends are events, not refusals
+    stroke = robot.limits.stroke
+    lost: list[tuple[float, FloatArray, str]] = []  # states where the equations lost meaning
+    solution = _integrate(
+        free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of, progress,
+        bounds, lost,
+    )  # fmt: skip
     if progress is not None:
         progress(times.size, times.size)
     stop = _stop(free, stroke, solution, times, q0, v0)
+    if stop.status == "failed" and lost:
+        raise TrajectoryError(
+            _lost_meaning(robot, lost[-1], force_of, load_of), subject="forward dynamics"
+        )
     if stop.status == "failed" and stop.t_stop <= float(times[0]):
         raise TrajectoryError(_failed_start(stop, force_of, q0, v0, load_of))
     return _result(free, force_of, stop, int(solution.nfev), load_of)
+
+
+def _inputs(
+    robot: Robot,
+    time: float,
+    force_of: Callable[[float], FloatArray],
+    load_of: Callable[[float], FloatArray] | None,
+) -> str:
+    """The inputs of the equations of motion at ``time``: forces, load, the robot's effects."""
+    parts = [f"forces f10 = {np.asarray(force_of(time), dtype=np.float64).tolist()!r} N"]
+    if load_of is not None:
+        parts.append(f"load (fx, fy, mz) = {np.asarray(load_of(time)).tolist()!r}")
+    if robot.load.present:
+        parts.append(
+            f"the robot's [load] force = {list(robot.load.force)!r} N, "
+            f"moment = {robot.load.moment!r} N·m"
+        )
+    if robot.payload.present:
+        parts.append(
+            f"its [payload] mass = {robot.payload.mass!r} kg, com = "
+            f"{list(robot.payload.com)!r} m, inertia = {robot.payload.inertia!r} kg·m²"
+        )
+    if robot.friction is not None:
+        for kind in ("actuator", "revolute", "sleeve"):
+            joint = getattr(robot.friction, kind)
+            if joint.coulomb or joint.mu:
+                parts.append(
+                    f"[friction.{kind}] coulomb = {joint.coulomb!r}, mu = {joint.mu!r}, "
+                    f"smoothing = {joint.smoothing!r}"
+                )
+    return ", ".join(parts)
+
+
+def _lost_meaning(
+    robot: Robot,
+    lost: tuple[float, FloatArray, str],
+    force_of: Callable[[float], FloatArray],
+    load_of: Callable[[float], FloatArray] | None,
+) -> str:
+    """The refusal of a run whose state left what the equations of motion resolve."""
+    time, state, reason = lost
+    return (
+        f"the integration gave up at t = {time!r} s, where the state (pose "
+        f"{state[:3].tolist()!r}, velocity {state[3:].tolist()!r}) has lost its meaning: "
+        f"{reason}; the inputs there: {_inputs(robot, time, force_of, load_of)}; give forces "
+        "and loads of the robot's size"
+    )
+
+
+def _bound_message(
+    what: str,
+    time: float,
+    times: FloatArray,
+    evaluations: int,
+    robot: Robot,
+    force_of: Callable[[float], FloatArray],
+    load_of: Callable[[float], FloatArray] | None,
+) -> str:
+    return (
+        f"the integration was stopped by its bound {what} after {evaluations} evaluations "
+        f"of the equations of motion, at t = {time!r} s of [{float(times[0])!r}, "
+        f"{float(times[-1])!r}] s: the motion is too stiff for the explicit integrator "
+        "(friction smoothed over a tiny velocity, forces or springs far beyond the robot's "
+        f"size); the inputs there: {_inputs(robot, time, force_of, load_of)}"
+    )
 
 
 def _failed_start(
@@ -236,18 +348,6 @@ def _failed_start(
 
 
 # ------------------------------------------------------- steps of forward_dynamics
-def _tolerances(rtol: object, atol: object) -> tuple[float, float]:
-    """Step 1: the tolerances, finite and positive, ``rtol`` not below scipy's floor."""
-    relative = check_scalar("rtol", rtol, positive=True)
-    absolute = check_scalar("atol", atol, positive=True)
-    if relative < MIN_RTOL:
-        raise ParameterError(
-            f"rtol must be at least {MIN_RTOL:.3g} (100 machine epsilons, scipy's floor), "
-            f"got {relative!r}"
-        )
-    return relative, absolute
-
-
 def _initial_state(
     robot: Robot, initial_pose: ArrayLike, initial_velocity: ArrayLike
 ) -> tuple[FloatArray, FloatArray, float]:
@@ -291,20 +391,34 @@ def _integrate(
     tolerances: tuple[float, float],
     load_of: Callable[[float], FloatArray] | None = None,
     progress: Callable[[int, int], None] | None = None,
+    bounds: tuple[int, float] = (MAX_EVALUATIONS, MAX_SECONDS),
+    lost: list[tuple[float, FloatArray, str]] | None = None,
 ) -> Any:
-    """Step 3: ``solve_ivp`` (DOP853) of the state ``(q, q̇)``, with the terminal events."""
+    """Step 3: ``solve_ivp`` (DOP853) of the state ``(q, q̇)``, with the terminal events.
+
+    Stopped by :class:`_BoundReachedError` (a ``TrajectoryError`` naming the bound) when
+    ``bounds = (max_evaluations, max_seconds)`` is reached; the states where the
+    equations of motion lost their meaning are appended to ``lost``.
+    """
     from scipy.integrate import solve_ivp
 
     compiled = compile_robot(robot)
     reached = [0]
+    evaluations = [0]
+    start = time_module.monotonic()
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
+        evaluations[0] += 1
+        if evaluations[0] > bounds[0]:
+            raise _BoundReachedError(f"max_evaluations = {bounds[0]}", time)
+        if evaluations[0] % 64 == 0 and time_module.monotonic() - start > bounds[1]:
+            raise _BoundReachedError(f"max_seconds = {bounds[1]!r} s (wall time)", time)
         if progress is not None:
             done = int(np.searchsorted(times, time, side="right"))
             if done > reached[0]:
                 reached[0] = done
                 progress(min(done, times.size), times.size)
-        return _state_derivative(compiled, force_of, time, state, load_of)
+        return state_derivative(compiled, force_of, time, state, load_of, lost)
 
     def singular(_time: float, state: FloatArray) -> float:
         return aspect * math.sin(state[2] - math.pi / 3.0) - SINGULARITY_STOP
@@ -315,17 +429,26 @@ def _integrate(
     for event in events:
         event.terminal = True  # type: ignore[attr-defined]
         event.direction = -1.0  # type: ignore[attr-defined]
-    with np.errstate(all="ignore"):  # trial states may overflow: NaN rejects the step
-        return solve_ivp(
-            rhs,
-            (float(times[0]), float(times[-1])),
-            np.concatenate([q0, v0]),
-            method="DOP853",
-            t_eval=times,
-            events=events,
-            rtol=tolerances[0],
-            atol=tolerances[1],
-        )
+    try:
+        with np.errstate(all="ignore"):  # trial states may overflow: NaN rejects the step
+            return solve_ivp(
+                rhs,
+                (float(times[0]), float(times[-1])),
+                np.concatenate([q0, v0]),
+                method="DOP853",
+                t_eval=times,
+                events=events,
+                rtol=tolerances[0],
+                atol=tolerances[1],
+            )
+    except _BoundReachedError as bounded:
+        what, at = bounded.args
+        raise TrajectoryError(
+            _bound_message(
+                what, float(at), times, evaluations[0] - 1, compiled.robot, force_of, load_of
+            ),
+            subject="forward dynamics",
+        ) from None
 
 
 @dataclass(frozen=True)
@@ -349,7 +472,7 @@ def _stop(
 ) -> _Stop:
     """Step 4: the samples reached and the reason the integration ended."""
     sample_t = np.asarray(solution.t, dtype=np.float64)
-    states = np.asarray(solution.y, dtype=np.float64).T
+    states = np.asarray(solution.y, dtype=np.float64).reshape(q0.size + v0.size, -1).T
     status: Status
     if solution.status == 1:  # a terminal event: the singularity or a stroke end
         hit = next(k for k, found in enumerate(solution.t_events) if len(found))
@@ -384,7 +507,7 @@ def _result(
     loads = None if load_of is None else np.stack([load_of(float(time)) for time in stop.t])
     applied = np.stack([np.asarray(force_of(float(time)), dtype=np.float64) for time in stop.t])
     compiled = compile_robot(robot)
-    qddot = _accelerations(compiled, stop.states[:, :3], stop.states[:, 3:], applied, loads)
+    qddot = platform_accelerations(compiled, stop.states[:, :3], stop.states[:, 3:], applied, loads)
     motion = Motion(
         t=stop.t,
         pose=stop.states[:, :3],
@@ -406,12 +529,13 @@ def _result(
     )
 
 
-def _state_derivative(
+def state_derivative(
     compiled: CompiledRobot,
     force_of: Callable[[float], FloatArray],
     time: float,
     state: FloatArray,
     load_of: Callable[[float], FloatArray] | None = None,
+    lost: list[tuple[float, FloatArray, str]] | None = None,
 ) -> FloatArray:
     """``(q̇, q̈)`` of the state ``(q, q̇)`` at ``time``; NaN in the refused zone.
 
@@ -427,8 +551,10 @@ def _state_derivative(
         return np.full(6, np.nan)
     applied, load = force_of(time), None if load_of is None else load_of(time)
     try:
-        qddot = _accelerations(compiled, q, qdot, applied, load)
-    except Prp3Error:  # a trial state beyond the bounds of prp3 (or a lock): reject the step
+        qddot = platform_accelerations(compiled, q, qdot, applied, load)
+    except Prp3Error as error:  # a trial state beyond the bounds of prp3 (or a lock): rejected
+        if lost is not None and error.subject == LOST_MEANING:
+            lost[:] = [(float(time), np.array(state, dtype=np.float64), error.reason)]
         return np.full(6, np.nan)
     return np.concatenate([qdot, qddot])
 

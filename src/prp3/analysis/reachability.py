@@ -69,7 +69,7 @@ SINGULAR_ORIENTATIONS: tuple[float, float] = (-2.0 * math.pi / 3.0, math.pi / 3.
 _SQRT3 = math.sqrt(3.0)
 
 
-def _free(robot: Robot) -> Robot:
+def free(robot: Robot) -> Robot:
     check_robot(robot)
     return robot if robot.limits == Limits() else replace(robot, limits=Limits())
 
@@ -94,7 +94,7 @@ def _displacements(robot: Robot, pose: FloatArray) -> tuple[FloatArray, BoolArra
     regular = np.abs(singularity_measure(flat[:, 2])) >= SINGULARITY_THRESHOLD
     lam = np.full(flat.shape, np.nan)
     if regular.any():
-        lam[regular] = inverse_geometry(_free(robot), flat[regular]).lambda10
+        lam[regular] = inverse_geometry(free(robot), flat[regular]).lambda10
     return lam.reshape(*batch, 3), regular.reshape(batch)
 
 
@@ -118,7 +118,7 @@ def reachable(robot: Robot, pose: ArrayLike) -> BoolArray:
     """
     pose = _poses(robot, pose)
     lam, regular = _displacements(robot, pose)
-    stroke = _stroke(robot)
+    stroke = checked_stroke(robot)
     if stroke is None:
         return regular
     with np.errstate(invalid="ignore"):
@@ -154,11 +154,13 @@ def jacobian_condition(robot: Robot, pose: ArrayLike) -> FloatArray:
     regular = np.abs(singularity_measure(flat[:, 2])) >= SINGULARITY_THRESHOLD
     kappa = np.full(flat.shape[0], np.inf)
     if regular.any():
-        kappa[regular] = _condition(robot, inverse_geometry(_free(robot), flat[regular]))
+        kappa[regular] = condition_from_geometry(
+            robot, inverse_geometry(free(robot), flat[regular])
+        )
     return kappa.reshape(batch)
 
 
-def _condition(robot: Robot, geo: InverseGeometry) -> FloatArray:
+def condition_from_geometry(robot: Robot, geo: InverseGeometry) -> FloatArray:
     """κ of :func:`jacobian_condition` from an inverse geometry, shape ``geo.lambda10.shape[:-1]``."""
     c = (geo.lever * geo.slide).sum(axis=-1) / robot.l0  # ρ_i·d_i / l0
     v = -(c[..., None] * geo.slide_normal).sum(axis=-2)
@@ -184,7 +186,7 @@ def orientation_range(robot: Robot) -> tuple[float, float]:
     [-0.430175, 0.568518]
     """
     check_robot(robot)
-    stroke = _stroke(robot)
+    stroke = checked_stroke(robot)
     if stroke is None:
         return (-2.0 * math.pi / 3.0, 4.0 * math.pi / 3.0)
     lower, upper = stroke
@@ -216,13 +218,13 @@ def reachable_region(robot: Robot, phi: float) -> FloatArray:
     ((6, 2), 0.05)
     """
     check_robot(robot)
-    stroke = _stroke(robot)
+    stroke = checked_stroke(robot)
     if stroke is None:
         raise ParameterError(
             "robot: no [limits] stroke: the reachable region is the whole plane at every "
             "regular orientation"
         )
-    phi = _orientation(phi)
+    phi = checked_orientation(phi)
     lower, upper = stroke
     total = 1.5 * robot.l0 * (math.tan((phi - math.pi / 3.0) / 2.0) + 1.0 / _SQRT3)
     points = []
@@ -242,7 +244,7 @@ def reachable_region(robot: Robot, phi: float) -> FloatArray:
         return np.zeros((0, 2))
     lam = np.array(points)
     lam += (total - lam.sum(axis=1))[:, None] / 3.0  # exactly on the plane
-    xy = forward_geometry(_free(robot), lam).pose[:, :2]  # eq. (iii)
+    xy = forward_geometry(free(robot), lam).pose[:, :2]  # eq. (iii)
     centre = xy.mean(axis=0)
     order = np.argsort(np.arctan2(xy[:, 1] - centre[1], xy[:, 0] - centre[0]))
     xy = xy[order]
@@ -251,7 +253,7 @@ def reachable_region(robot: Robot, phi: float) -> FloatArray:
     return np.asarray(xy[keep])
 
 
-def _stroke(robot: Robot) -> tuple[float, float] | None:
+def checked_stroke(robot: Robot) -> tuple[float, float] | None:
     """``robot.limits.stroke``, refused when an end lies beyond ``POSE_BOUND·l0``.
 
     prp3 computes poses and displacements up to ``POSE_BOUND·l0``
@@ -272,7 +274,7 @@ def _stroke(robot: Robot) -> tuple[float, float] | None:
     return stroke
 
 
-def _orientation(phi: float) -> float:
+def checked_orientation(phi: float) -> float:
     phi = check_scalar("phi", phi, unit="rad")
     if abs(phi) > MAX_ORIENTATION:
         raise ParameterError(

@@ -22,14 +22,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.analysis.reachability import (
-    _condition,
-    _free,
-    _orientation,
-    _stroke,
+    checked_orientation,
+    checked_stroke,
+    condition_from_geometry,
+    free,
     reachable_region,
 )
 from prp3.engines.entries import paper_forces
-from prp3.errors import ParameterError
+from prp3.errors import ParameterError, Prp3Error
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.robot import Robot
 from prp3.pose_validation import SINGULARITY_THRESHOLD
@@ -139,14 +139,14 @@ def workspace_slice(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> Wor
     ((41, 41), True, 0.006495)
     """
     check_robot(robot)
-    phi = _orientation(phi)
+    phi = checked_orientation(phi)
     xs, ys = _grid("x", x), _grid("y", y)
     X, Y = np.meshgrid(xs, ys)
     pose = np.stack([X, Y, np.full_like(X, phi)], axis=-1)
-    geo = inverse_geometry(_free(robot), pose.reshape(-1, 3))  # φ is regular
+    geo = inverse_geometry(free(robot), pose.reshape(-1, 3))  # φ is regular
     lam = geo.lambda10.reshape(*X.shape, 3)
-    condition = _condition(robot, geo).reshape(X.shape)
-    stroke = _stroke(robot)
+    condition = condition_from_geometry(robot, geo).reshape(X.shape)
+    stroke = checked_stroke(robot)
     inside: BoolArray
     if stroke is None:
         inside = np.ones(X.shape, dtype=bool)
@@ -223,6 +223,21 @@ class WorkspaceStatics:
         return float(count - np.count_nonzero(self.held)) / count
 
 
+def _statics_overflow(robot: Robot, pose: FloatArray, error: Prp3Error) -> ParameterError:
+    """The statics left float64 at a grid point: name the loads that cause them."""
+    load, payload = robot.load, robot.payload
+    k = error.sample if error.sample is not None and error.sample < pose.shape[0] else 0
+    x, y, _ = pose[k].tolist()
+    return ParameterError(
+        f"the statics overflow float64 at G = ({x:.6g}, {y:.6g}) m (grid point {k}): the "
+        f"actuator forces that hold [load] force = {list(load.force)!r} N, moment = "
+        f"{load.moment!r} N·m, [payload] mass = {payload.mass!r} kg, com = "
+        f"{list(payload.com)!r} m and gravity = {list(robot.gravity)!r} m/s² are too large "
+        f"for double precision ({error.reason})",
+        subject="robot",
+    )
+
+
 def workspace_statics(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> WorkspaceStatics:
     """The actuator forces holding the platform at rest over a grid of ``(x, y)`` at ``phi``.
 
@@ -264,7 +279,10 @@ def workspace_statics(robot: Robot, phi: float, x: ArrayLike, y: ArrayLike) -> W
     X, Y = np.meshgrid(ws.x, ws.y)
     pose = np.stack([X, Y, np.full_like(X, ws.phi)], axis=-1).reshape(-1, 3)
     rest = np.zeros_like(pose)
-    f10 = paper_forces(_free(robot), pose, rest, rest).f10.reshape(*X.shape, 3)
+    try:
+        f10 = paper_forces(free(robot), pose, rest, rest).f10.reshape(*X.shape, 3)
+    except Prp3Error as error:  # the poses are validated: only the results can fail
+        raise _statics_overflow(robot, pose, error) from None
     return WorkspaceStatics(
         phi=ws.phi,
         x=ws.x,

@@ -19,6 +19,17 @@ parameters of the 11 standard ones are identifiable for the robot of any size:
 ('piston_moment_x', 'piston_moment_y')
 >>> base_parameters(Robot(), forces=("f10", "f21y", "f21z")).labels
 ('m3', 'h3x', 'h3y', 'J3 + 3·J2', 'm1', 'm2', 'h2x', 'h2y')
+
+A family robot (:class:`~prp3.family.model.FamilyRobot`, docs/family.md) has the
+standard parameters :data:`prp3.apps.family_regressor.FAMILY_PARAMETERS` and
+its actuator efforts ``tau`` only (:mod:`prp3.apps.family_regressor`):
+
+>>> from prp3.family import FamilyRobot
+>>> base = base_parameters(FamilyRobot.default("3-RPR"))
+>>> base.labels
+('m3 + 3·m2', 'h3x', 'h3y', 'J3 + 0.15·m2', 'h2x', 'h2y', 'J2 + J1', 'h1x', 'h1y')
+>>> base.forces, base.unidentifiable
+(('tau',), ('link1_mass',))
 """
 
 from __future__ import annotations
@@ -30,22 +41,38 @@ from fractions import Fraction
 import numpy as np
 from numpy.typing import NDArray
 
+from prp3.apps.family_regressor import (
+    FAMILY_PARAMETER_SYMBOLS,
+    FAMILY_PARAMETERS,
+    family_random_motion,
+    family_regressor,
+)
 from prp3.apps.regressor import (
     FORCES,
     PARAMETER_SYMBOLS,
     STANDARD_PARAMETERS,
-    _check_names,
+    check_parameter_names,
     regressor,
 )
 from prp3.errors import ParameterError
+from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
 from prp3.model.parameters import Limits
 from prp3.model.robot import Robot
-from prp3.validation import check_names, check_robot
+from prp3.validation import check_names, check_real, check_robot
+
+#: The symbol of every standard parameter, of the 3-PRP and of a family robot (the
+#: platform's are the same; the links' names differ).
+_SYMBOLS: dict[str, str] = {**PARAMETER_SYMBOLS, **FAMILY_PARAMETER_SYMBOLS}
+
+#: The effort a family robot's base parameters are of: its actuator efforts.
+FAMILY_FORCES: tuple[str, ...] = ("tau",)
 
 __all__ = [
+    "FAMILY_FORCES",
     "BaseParameters",
     "base_parameters",
+    "base_parameters_of",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -67,7 +94,7 @@ _REASONS: dict[str, str] = {
 _RANK_TOLERANCE: float = 1e-8
 
 
-def _independent_columns(matrix: FloatArray, tolerance: float) -> tuple[list[int], list[int]]:
+def independent_columns(matrix: FloatArray, tolerance: float) -> tuple[list[int], list[int]]:
     """Columns that raise the rank, in order (greedy Gram–Schmidt), and the zero columns.
 
     The columns are scaled to unit norm first; a column whose residual after
@@ -116,6 +143,9 @@ class BaseParameters:
         ``base = combination @ standard``; row ``b`` has 1 at ``independent[b]``.
     unidentifiable : tuple of str
         Standard parameters that enter none of the forces.
+    plain : bool
+        The labels spell the parameters' names (the spatial robots') rather than
+        their symbols (``m3``, ``J2``).
     """
 
     parameters: tuple[str, ...]
@@ -123,6 +153,7 @@ class BaseParameters:
     independent: tuple[int, ...]
     combination: FloatArray
     unidentifiable: tuple[str, ...]
+    plain: bool = False
 
     @property
     def count(self) -> int:
@@ -147,7 +178,8 @@ class BaseParameters:
         ]
         text = ""
         for j in order:
-            symbol = PARAMETER_SYMBOLS[self.parameters[j]]
+            name = self.parameters[j]
+            symbol = name if self.plain else _SYMBOLS.get(name, name)
             value = float(row[j])
             magnitude = abs(value)
             term = symbol if magnitude == 1.0 else f"{_coefficient(magnitude)}·{symbol}"
@@ -209,9 +241,9 @@ def _random_motion(robot: Robot, samples: int, seed: int) -> Motion:
 
 
 def base_parameters(
-    robot: Robot,
+    robot: Robot | FamilyRobot,
     forces: Sequence[str] = ("f10",),
-    parameters: Sequence[str] = STANDARD_PARAMETERS,
+    parameters: Sequence[str] | None = None,
     *,
     samples: int = 200,
     seed: int = 0,
@@ -228,12 +260,20 @@ def base_parameters(
 
     Parameters
     ----------
-    robot : Robot
-        Its ``l0`` and gravity (the stroke is ignored here).
+    robot : Robot or FamilyRobot
+        Its ``l0`` and gravity (the stroke is ignored here); of a family robot
+        (docs/family.md) its geometry, actuation and gravity, the regressor
+        :func:`prp3.apps.family_regressor.family_regressor` on
+        :func:`~prp3.apps.family_regressor.family_random_motion` (random
+        states about its home pose).
     forces : sequence of str
-        Which measured forces: ``("f10",)`` or any of :data:`FORCES`.
-    parameters : sequence of str
-        The standard parameters to consider, in order of preference.
+        Which measured forces: ``("f10",)`` or any of :data:`FORCES`; of a
+        family robot its actuator efforts, ``("tau",)`` (:data:`FAMILY_FORCES`;
+        the default ``("f10",)`` means them too).
+    parameters : sequence of str, optional
+        The standard parameters to consider, in order of preference (default
+        :data:`~prp3.apps.regressor.STANDARD_PARAMETERS`, of a family robot
+        :data:`~prp3.apps.family_regressor.FAMILY_PARAMETERS`).
     samples, seed : int
         The random states.
 
@@ -246,15 +286,72 @@ def base_parameters(
     >>> round(float(base.values(standard_parameters(Robot()))[3]), 12)  # J3 + 3·J2
     0.069375
     """
-    check_robot(robot)
-    names = _check_names(parameters)
-    chosen = check_names("forces", forces, FORCES, item="force")
-    if not chosen or any(f not in FORCES for f in chosen) or len(set(chosen)) != len(chosen):
-        raise ParameterError(f"forces must be distinct names from {FORCES}, got {chosen!r}")
-    free = replace(robot, limits=Limits())
-    Y = regressor(free, _random_motion(free, samples, seed), names)
-    W = np.concatenate([getattr(Y, f).reshape(-1, len(names)) for f in chosen])
-    kept, zero = _independent_columns(W, _RANK_TOLERANCE)
+    if isinstance(robot, FamilyRobot):
+        names = check_names(
+            "parameters", FAMILY_PARAMETERS if parameters is None else parameters,
+            FAMILY_PARAMETERS, item="parameter",
+        )  # fmt: skip
+        if tuple(forces) not in (("f10",), FAMILY_FORCES):
+            raise ParameterError(
+                f"forces must be {FAMILY_FORCES} for the {robot.architecture} of a family "
+                f"robot (its actuator efforts; no joint forces), got {forces!r}",
+                key="forces",
+            )
+        chosen: tuple[str, ...] = FAMILY_FORCES
+        motion = family_random_motion(robot, samples, seed)
+        W = family_regressor(robot, motion, names).tau.reshape(-1, len(names))
+    else:
+        check_robot(robot)
+        names = check_parameter_names(STANDARD_PARAMETERS if parameters is None else parameters)
+        chosen = check_names("forces", forces, FORCES, item="force")
+        if not chosen or any(f not in FORCES for f in chosen) or len(set(chosen)) != len(chosen):
+            raise ParameterError(f"forces must be distinct names from {FORCES}, got {chosen!r}")
+        free = replace(robot, limits=Limits())
+        Y = regressor(free, _random_motion(free, samples, seed), names)
+        W = np.concatenate([getattr(Y, f).reshape(-1, len(names)) for f in chosen])
+    return base_parameters_of(W, names, chosen)
+
+
+def base_parameters_of(
+    stacked: FloatArray, parameters: Sequence[str], forces: Sequence[str], *, plain: bool = False
+) -> BaseParameters:
+    """The base parameters of a stacked regressor ``stacked`` (rows: samples × efforts).
+
+    The step of :func:`base_parameters` after the regressor is built, for any
+    robot (the spatial robots' :func:`prp3.apps.spatial_identification.spatial_base_parameters`):
+    the columns scaled to unit norm and taken in order, a column independent when it
+    raises the rank (relative residual > 1e-8), the least-squares coefficients of a
+    dependent one snapped to a simple fraction within 1e-9.
+
+    Parameters
+    ----------
+    stacked : ndarray, shape (R, P)
+        The regressor of ``P`` standard parameters, every row one effort of one sample.
+    parameters : sequence of str
+        The ``P`` names, in order of preference.
+    forces : sequence of str
+        The efforts the rows are of (named in :meth:`BaseParameters.reason`).
+    plain : bool
+        Labels of the parameters' names, not their symbols (:attr:`BaseParameters.plain`).
+
+    >>> W = np.array([[1.0, 2.0, 0.0], [2.0, 4.0, 0.0], [0.0, 0.0, 0.0], [1.0, 2.0, 0.0]])
+    >>> base = base_parameters_of(np.c_[W[:, :2], [0, 1, 0, 0]], ("a", "b", "c"), ("tau",))
+    >>> base.labels, base.unidentifiable
+    (('a + 2·b', 'c'), ())
+    """
+    W = check_real("stacked", stacked, ParameterError)
+    if isinstance(parameters, str) or not all(isinstance(p, str) for p in parameters):
+        raise ParameterError(
+            f"parameters must be a sequence of names, got {parameters!r}"[:200], key="parameters"
+        )
+    names = tuple(parameters)
+    if W.ndim != 2 or W.shape[1] != len(names) or not np.isfinite(W).all():
+        raise ParameterError(
+            f"stacked must be a finite (rows, {len(names)}) regressor of the {len(names)} "
+            f"parameters, got shape {W.shape}",
+            key="stacked",
+        )
+    kept, zero = independent_columns(W, _RANK_TOLERANCE)
     combination = np.zeros((len(kept), len(names)))
     for b, j in enumerate(kept):
         combination[b, j] = 1.0
@@ -267,8 +364,9 @@ def base_parameters(
             combination[:, j] = [_snap(float(v)) for v in beta[:, d]]
     return BaseParameters(
         parameters=names,
-        forces=chosen,
+        forces=tuple(forces),
         independent=tuple(kept),
         combination=combination,
         unidentifiable=tuple(names[j] for j in zero),
+        plain=bool(plain),
     )

@@ -113,12 +113,12 @@ async def _probe(address: str) -> None:
         raise ValueError(f"it answered as {str(reply)[:80]!r}, not as a Dask scheduler")
 
 
-def _worker_count(client: Client) -> int:
+def worker_count(client: Client) -> int:
     return max(1, len(client.scheduler_info().get("workers", {})))
 
 
 @contextlib.contextmanager
-def _using(client: ClientOrFactory, name: str) -> Iterator[Client]:
+def using(client: ClientOrFactory, name: str) -> Iterator[Client]:
     """The Dask client of ``client``: a client itself (left open), or made by a factory.
 
     A factory is called with no argument; what it returns is a client (closed

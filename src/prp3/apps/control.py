@@ -57,13 +57,13 @@ from numpy.typing import ArrayLike, NDArray
 from prp3.apps.control_law import CONTROLLERS, Controller, Gains, control_force
 from prp3.apps.plants import (
     PLANTS,
+    MujocoPlant,
     Plant,
+    PlantProtocol,
+    Prp3Plant,
     Status,
-    _MujocoPlant,
-    _Plant,
-    _Prp3Plant,
-    _without_limits,
     check_plant,
+    without_limits,
 )
 from prp3.engines.compiled_robot import CompiledRobot, compile_robot
 from prp3.engines.entries import paper_forces
@@ -467,7 +467,7 @@ def track(
             family_kinematics(robot, reference)
             family_inverse_dynamics(model, reference, engine="numpy")
         elif isinstance(robot, Robot) and isinstance(model, Robot):
-            compiled = compile_robot(_without_limits(model))
+            compiled = compile_robot(without_limits(model))
             inverse_geometry(robot, reference.pose)  # the plant must be able to follow it
             # the model's inverse dynamics of the reference itself: validates it for the model
             paper_forces(compiled, reference.pose, reference.velocity, reference.acceleration)
@@ -476,8 +476,8 @@ def track(
         when = None if index is None else float(reference.t[index])
         raise error.located(origin="reference", time=when) from None
     check_plant(robot, plant)
-    simulator: _Plant = (
-        _Prp3Plant(robot, reference) if plant == "prp3" else _MujocoPlant(robot, reference)
+    simulator: PlantProtocol = (
+        Prp3Plant(robot, reference) if plant == "prp3" else MujocoPlant(robot, reference)
     )
     times = reference.t.tolist()
     rows = np.concatenate([reference.pose, reference.velocity, reference.acceleration], axis=1)
@@ -492,7 +492,7 @@ def track(
     done = 0
     for k in range(count):
         state = simulator.measure()
-        if not math.isfinite(sum(state)):
+        if not all(math.isfinite(value) for value in state):
             status, message = "failed", f"stopped at t = {times[k]!r} s: non-finite plant state"
             break
         refused = _refusal(robot, state[:3])  # the exact checks, before the timed step

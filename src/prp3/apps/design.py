@@ -57,7 +57,7 @@ AGGREGATES: tuple[str, ...] = ("peak_f10", "peak_p10", "peak_f21", "peak_n32")
 
 
 # ------------------------------------------------------------------ key paths
-def _components(path: str) -> list[str | int]:
+def path_components(path: str) -> list[str | int]:
     return [int(part) if part.isdigit() else part for part in path.split(".")]
 
 
@@ -82,7 +82,7 @@ def design_mapping(
     """
     mapping = dict(nominal)
     for path, value in zip(paths, values, strict=True):
-        parts = _components(path)
+        parts = path_components(path)
         node: Any = mapping
         for depth, part in enumerate(parts[:-1]):
             following = parts[depth + 1]
@@ -141,7 +141,7 @@ def nominal_value(nominal: Mapping[str, Any], path: str) -> float | None:
     (0.3, None)
     """
     node: Any = nominal
-    for part in _components(path):
+    for part in path_components(path):
         if isinstance(node, Mapping) and isinstance(part, str) and part in node:
             node = node[part]
         elif isinstance(node, list) and isinstance(part, int) and part < len(node):

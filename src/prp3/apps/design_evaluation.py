@@ -60,16 +60,21 @@ from numpy.typing import NDArray
 
 from prp3.analysis.reachability import jacobian_condition
 from prp3.analysis.workspace import workspace_slice
-from prp3.apps.design import AGGREGATES, DesignEvaluator, _components, design_columns, design_robot
-from prp3.engines.trace import array_function, broadcast_function, trace
-from prp3.errors import (
-    ParameterError,
+from prp3.apps.design import (
+    AGGREGATES,
+    DesignEvaluator,
+    design_columns,
+    design_robot,
+    path_components,
 )
+from prp3.engines.trace import array_function, broadcast_function, trace
+from prp3.errors import ParameterError
 from prp3.mechanics.kernel import STATE_SYMBOLS, solve
 from prp3.mechanics.ops import NUMPY, Ops
 from prp3.mechanics.parameters import INERTIAL_FIELDS, KernelParameters, kernel_parameters
 from prp3.model.elements import ELEMENTS
 from prp3.model.robot import Robot
+from prp3.validation import check_instance, check_real
 
 __all__ = [
     "STATUSES",
@@ -88,13 +93,13 @@ _RESULTS = len(AGGREGATES) * 3 + 1  # peaks and energy
 #: Designs × samples of one call of the design kernel: its work blocks stay in the CPU caches.
 _BLOCK = 8192
 
-_PARAMETER_FIELDS = tuple(f.name for f in fields(KernelParameters))
+PARAMETER_FIELDS = tuple(f.name for f in fields(KernelParameters))
 
 #: Fields of :class:`~prp3.mechanics.parameters.KernelParameters` that may differ between the designs of
 #: one kernel call: the kernel performs the same operations whatever their values (it
 #: branches on the others: a zero smoothing is a sign, the mu terms are implicit), as each
 #: element says (:attr:`prp3.model.element_base.Element.broadcast`).
-_BROADCAST_FIELDS: frozenset[str] = frozenset(INERTIAL_FIELDS) | {
+BROADCAST_FIELDS: frozenset[str] = frozenset(INERTIAL_FIELDS) | {
     name for element in ELEMENTS for name in element.broadcast
 }
 
@@ -336,11 +341,11 @@ def _parameter_function(
         def parameters(ops: Ops, *values: Any) -> tuple[Any, ...]:
             robot = base
             for path, value in zip(paths, values, strict=True):
-                robot = _with_value(robot, _components(path), value)
+                robot = _with_value(robot, path_components(path), value)
             k = kernel_parameters(robot)
             stroke = robot.limits.stroke
             lower, upper = stroke if stroke is not None else (-math.inf, math.inf)
-            return (*(getattr(k, n) for n in _PARAMETER_FIELDS), lower, upper)
+            return (*(getattr(k, n) for n in PARAMETER_FIELDS), lower, upper)
 
         names = tuple(f"v{j}" for j in range(len(paths)))
         try:
@@ -355,7 +360,7 @@ def _parameter_function(
     return _PARAMETERS[key]
 
 
-def _design_parameters(
+def design_parameter_columns(
     evaluator: DesignEvaluator, values: FloatArray, robots: Sequence[Robot] | None
 ) -> tuple[dict[str, float], dict[str, FloatArray], FloatArray, FloatArray] | None:
     """The kernel's parameters of designs: the fixed ones, the ``(k,)`` columns, the strokes.
@@ -369,16 +374,16 @@ def _design_parameters(
         function, outputs = traced
         out = np.empty((len(outputs), count))
         function(*(np.ascontiguousarray(values[:, j]) for j in range(values.shape[1])), out)
-        constant = dict(zip(_PARAMETER_FIELDS, outputs[: len(_PARAMETER_FIELDS)], strict=True))
+        constant = dict(zip(PARAMETER_FIELDS, outputs[: len(PARAMETER_FIELDS)], strict=True))
         given = {n: float(o) for n, o in constant.items() if not isinstance(o, int)}
-        traced_columns = {n: out[i] for i, n in enumerate(_PARAMETER_FIELDS) if n not in given}
+        traced_columns = {n: out[i] for i, n in enumerate(PARAMETER_FIELDS) if n not in given}
         return given, traced_columns, out[-2], out[-1]
     if robots is None:
         return None
     each = [kernel_parameters(robot) for robot in robots]
     fixed: dict[str, float] = {}
     columns: dict[str, FloatArray] = {}
-    for name in _PARAMETER_FIELDS:
+    for name in PARAMETER_FIELDS:
         per_design = [getattr(p, name) for p in each]
         if all(v == per_design[0] for v in per_design):
             fixed[name] = per_design[0]
@@ -405,17 +410,17 @@ def _block_results(
     result = np.full((count, _RESULTS), np.nan)
     if evaluator._singular:
         return ["singular"] * count, result
-    described = _design_parameters(evaluator, values, robots)
+    described = design_parameter_columns(evaluator, values, robots)
     if described is None:
         robots = _robots(evaluator, values)
-        described = _design_parameters(evaluator, values, robots)
+        described = design_parameter_columns(evaluator, values, robots)
         assert described is not None
     fixed, columns, lower, upper = described
     stroke = bool(np.isfinite(lower).any() or np.isfinite(upper).any())
     locked = np.zeros(count, dtype=bool)
     # the mu terms are implicit, a zero smoothing is a sign: the kernel branches on them
-    branching = KernelParameters(**{n: fixed.get(n, 1.0) for n in _PARAMETER_FIELDS}).has_mu
-    if branching or not _BROADCAST_FIELDS.issuperset(columns):
+    branching = KernelParameters(**{n: fixed.get(n, 1.0) for n in PARAMETER_FIELDS}).has_mu
+    if branching or not BROADCAST_FIELDS.issuperset(columns):
         robots = robots if robots is not None else _robots(evaluator, values)
         results = np.empty((count, _RESULTS))
         least, largest = np.empty(count), np.empty(count)
@@ -423,11 +428,11 @@ def _block_results(
             results[k : k + 1], lam, locked[k] = _one_design(evaluator, robot)
             least[k], largest[k] = np.fmin.reduce(lam, axis=None), np.fmax.reduce(lam, axis=None)
     else:
-        varying = tuple(n for n in _PARAMETER_FIELDS if n in columns)
+        varying = tuple(n for n in PARAMETER_FIELDS if n in columns)
         table = np.empty((count, len(varying)))
         for j, name in enumerate(varying):
             table[:, j] = columns[name]
-        constants = tuple((n, fixed[n]) for n in _PARAMETER_FIELDS if n in fixed)
+        constants = tuple((n, fixed[n]) for n in PARAMETER_FIELDS if n in fixed)
         results, least, largest = _kernel_results(evaluator, constants, varying, table, stroke)
     outside = (least < lower) | (largest > upper)
     finite = np.isfinite(results).all(axis=1) & ~locked
@@ -452,6 +457,30 @@ def _robots(evaluator: DesignEvaluator, values: FloatArray) -> list[Robot]:
     return robots
 
 
+def _design_values(evaluator: DesignEvaluator, values: object) -> FloatArray:
+    """``values`` as float64 ``(k, p)``, one column per path of ``evaluator``, all finite."""
+    width = len(evaluator.paths)
+    array = check_real("values", values, ParameterError)  # type: ignore[arg-type]
+    if array.ndim == 1 and width == 1:
+        array = array.reshape(-1, 1)
+    if array.ndim != 2 or array.shape[1] != width:
+        raise ParameterError(
+            f"values must have shape (k, {width}), one column per design path "
+            f"({', '.join(evaluator.paths)}), got shape {array.shape}",
+            key="values",
+        )
+    bad = np.argwhere(~np.isfinite(array))
+    if bad.size:
+        row, column = bad[0].tolist()
+        raise ParameterError(
+            f"{evaluator.paths[column]} = {float(array[row, column])!r} is not a finite number",
+            subject="values",
+            key="values",
+            sample=row,
+        )
+    return array
+
+
 def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str, Any]:
     """Evaluate designs ``values`` of shape ``(k, p)``: the columns of their rows.
 
@@ -472,9 +501,13 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
     Raises
     ------
     ParameterError
-        A design that is not a valid robot (names the design's values).
+        ``evaluator`` not a :class:`~prp3.apps.design.DesignEvaluator`; ``values`` not
+        real numbers (booleans and text are refused), not of shape ``(k, p)`` or not
+        finite (names the design and the path); a design that is not a valid robot
+        (names the design's values).
     """
-    values = np.asarray(values, dtype=np.float64).reshape(len(values), len(evaluator.paths))
+    evaluator = check_instance("evaluator", evaluator, DesignEvaluator, "a prp3 DesignEvaluator")
+    values = _design_values(evaluator, values)
     count = values.shape[0]
     results = np.full((count, _RESULTS), np.nan)
     status: list[str] = []

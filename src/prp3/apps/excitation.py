@@ -4,7 +4,9 @@
 :class:`FourierSeries`) that makes the base regressor of ``f10``
 (:mod:`prp3.apps.regressor`, :mod:`prp3.apps.base_parameters`) well
 conditioned within the robot's limits; ``prp3 excite`` writes it as a
-trajectory file.  ``docs/identification.md`` works through it.
+trajectory file.  A family robot (:class:`~prp3.family.model.FamilyRobot`,
+docs/family.md) gets the same, about its home pose, for the base regressor of
+its actuator efforts (:mod:`prp3.apps.family_regressor`).  ``docs/identification.md`` works through it.
 """
 
 from __future__ import annotations
@@ -18,13 +20,23 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.apps.base_parameters import base_parameters
+from prp3.apps.family_regressor import family_standard_parameters, unit_efforts
 from prp3.apps.identification import excitation_refusal
-from prp3.apps.regressor import _regressor_rows, _state_rows, _unit_parameters, standard_parameters
-from prp3.errors import ParameterError
+from prp3.apps.regressor import regressor_rows, standard_parameters, state_rows, unit_parameters
+from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
+from prp3.family.mechanics import family_kinematics, fast_dynamics
+from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
 from prp3.model.parameters import Limits
 from prp3.model.robot import Robot
-from prp3.validation import check_integer, check_robot, check_scalar
+from prp3.validation import (
+    check_integer,
+    check_real,
+    check_robot,
+    check_scalar,
+    check_times,
+    require_finite,
+)
 
 __all__ = [
     "ExcitingTrajectory",
@@ -63,17 +75,75 @@ class FourierSeries:
     sine: FloatArray
     cosine: FloatArray
 
+    def __post_init__(self) -> None:
+        """Refuse a bad field (:class:`~prp3.errors.ParameterError` naming it); store float64 copies.
+
+        >>> FourierSeries(0.0, np.zeros(3), np.zeros((3, 1)), np.zeros((3, 1)))
+        Traceback (most recent call last):
+        ...
+        prp3.errors.ParameterError: period must be a positive finite number (s), got 0.0
+        """
+        period = check_scalar("period", self.period, positive=True, unit="s")
+        offset = _field("offset", self.offset)
+        if offset.shape != (3,):
+            raise ParameterError(
+                f"offset must have shape (3,) (x, y, phi), got {offset.shape}", key="offset"
+            )
+        sine = _field("sine", self.sine)
+        if sine.ndim != 2 or sine.shape[0] != 3 or sine.shape[1] < 1:
+            raise ParameterError(
+                f"sine must have shape (3, L) with L >= 1 harmonics, got {sine.shape}", key="sine"
+            )
+        cosine = _field("cosine", self.cosine)
+        if cosine.shape != sine.shape:
+            raise ParameterError(
+                f"cosine must have the shape of sine {sine.shape}, got {cosine.shape}",
+                key="cosine",
+            )
+        for name, value in (
+            ("period", period),
+            ("offset", offset),
+            ("sine", sine),
+            ("cosine", cosine),
+        ):
+            object.__setattr__(self, name, value)
+
     def motion(self, t: FloatArray) -> Motion:
-        """Pose, velocity and acceleration at times ``t`` (analytic derivatives)."""
-        time = np.asarray(t, dtype=np.float64)
+        """Pose, velocity and acceleration at times ``t`` (s, shape ``(N,)``; analytic derivatives).
+
+        Raises
+        ------
+        TrajectoryError
+            ``t`` not finite, strictly increasing times of shape ``(N,)``, or a
+            motion too large for double precision.
+        """
+        time = check_times("t", t)
         harmonics = np.arange(1, self.sine.shape[1] + 1)
         w = 2.0 * math.pi / self.period * harmonics  # (L,)
-        arg = time[:, None] * w  # (N, L)
-        s, c = np.sin(arg), np.cos(arg)
-        pose = self.offset + s @ self.sine.T + c @ self.cosine.T
-        velocity = (c * w) @ self.sine.T - (s * w) @ self.cosine.T
-        acceleration = -(s * w**2) @ self.sine.T - (c * w**2) @ self.cosine.T
+        with np.errstate(all="ignore"):  # an overflow is refused below, naming the sample
+            arg = time[:, None] * w  # (N, L)
+            s, c = np.sin(arg), np.cos(arg)
+            pose = self.offset + s @ self.sine.T + c @ self.cosine.T
+            velocity = (c * w) @ self.sine.T - (s * w) @ self.cosine.T
+            acceleration = -(s * w**2) @ self.sine.T - (c * w**2) @ self.cosine.T
+        require_finite(
+            {"pose": pose, "velocity": velocity, "acceleration": acceleration},
+            time.shape,
+            "FourierSeries.motion",
+            time,
+        )
         return Motion(t=time, pose=pose, velocity=velocity, acceleration=acceleration)
+
+
+def _field(name: str, value: object) -> FloatArray:
+    """A finite float64 array of the field ``name`` of a :class:`FourierSeries`."""
+    array = check_real(name, value, ParameterError)  # type: ignore[arg-type]
+    bad = np.argwhere(~np.isfinite(array))
+    if bad.size:
+        index = tuple(bad[0].tolist())
+        where = ", ".join(str(i) for i in index)
+        raise ParameterError(f"{name}[{where}] is not finite ({float(array[index])!r})", key=name)
+    return array
 
 
 @dataclass(frozen=True)
@@ -90,7 +160,9 @@ class ExcitingTrajectory:
     initial_condition : float
         The same for the starting guess.
     peak_lambda10, peak_dlambda10, peak_f10 : float
-        Largest ``|λ10|`` (m), ``|λ̇10|`` (m/s) and ``|f10|`` (N) of the nominal robot.
+        Largest ``|λ10|`` (m), ``|λ̇10|`` (m/s) and ``|f10|`` (N) of the nominal robot;
+        of a family robot, of its actuated joints' ``q`` (m or rad, about 0),
+        ``q̇`` and efforts ``τ`` (N or N·m, with its ``[load]``).
     iterations : int
         Optimiser iterations.
     """
@@ -115,8 +187,13 @@ def _counter(progress: Callable[[int, int], None], total: int) -> Callable[..., 
     return step
 
 
+#: The singularity measures of a family robot's exciting motion stay above this fraction of
+#: their home values.
+_MEASURE_FRACTION: float = 0.25
+
+
 def exciting_trajectory(
-    robot: Robot,
+    robot: Robot | FamilyRobot,
     *,
     period: float = 5.0,
     harmonics: int = 4,
@@ -149,6 +226,14 @@ def exciting_trajectory(
     refused, naming the limit that binds, rather than a motion returned that
     identification would refuse.
 
+    A family robot (docs/family.md): the same about its home pose ``(x0, y0,
+    φ0)`` (``robot.home_poses``): ``|x − x0|, |y − y0| ≤ reach·ℓ`` (``ℓ =
+    robot.leg.scale``), ``|φ − φ0| ≤ rotation`` (``< π``), ``|q̇| ≤ max_velocity``
+    of the actuated joints (m/s or rad/s), ``|τ| ≤ max_force`` (N or N·m, none by
+    default) and the singularity measures ``|μ_leg|``, ``|μ_par|`` (docs/family.md
+    §6) above a quarter of their home values; the base regressor of its efforts
+    ``τ`` (:func:`prp3.apps.family_regressor.family_regressor`).
+
     Raises
     ------
     ParameterError
@@ -158,13 +243,17 @@ def exciting_trajectory(
     """
     from scipy.optimize import minimize
 
-    check_robot(robot)
+    family = isinstance(robot, FamilyRobot)
+    if not family:
+        check_robot(robot)
     period, reach, rotation, max_velocity = (
         check_scalar(name, value, positive=True)
         for name, value in (("period", period), ("reach", reach), ("rotation", rotation),
                             ("max_velocity", max_velocity))
     )  # fmt: skip
-    if not 0.0 < rotation < 1.0:
+    if family and not rotation < math.pi:
+        raise ParameterError(f"rotation must be in (0, pi) rad, got {rotation!r}")
+    if not family and not 0.0 < rotation < 1.0:
         raise ParameterError(f"rotation must be in (0, 1) rad (singular at pi/3), got {rotation!r}")
     harmonics = check_integer("harmonics", harmonics, 1, 20)
     samples = check_integer("samples", samples, 2, 10**7)
@@ -172,32 +261,72 @@ def exciting_trajectory(
     max_iterations = check_integer("max_iterations", max_iterations, 1, 10**6)
     if max_force is not None:
         max_force = check_scalar("max_force", max_force, positive=True)
-    force_limit = max_force if max_force is not None else robot.limits.max_force
     base = base_parameters(robot)
-    free = replace(robot, limits=Limits())
-    units = _unit_parameters(free, base.names)
-    nominal = base.values(standard_parameters(robot))
     coarse = t = np.linspace(0.0, period, samples, endpoint=False)
     L = harmonics
-    bounds = np.array([reach * robot.l0, reach * robot.l0, rotation])
-    stroke = robot.limits.stroke
+    stroke: tuple[float, float] | None
+    if isinstance(robot, FamilyRobot):
+        force_limit = max_force
+        length = robot.leg.scale
+        centre = robot.home_poses.mean(axis=0)
+        stroke = None
+        nominal = base.values(family_standard_parameters(robot, base.parameters))
+        home_leg, home_par = robot.home_measures
+        floors = _MEASURE_FRACTION * np.abs(np.array([*home_leg, home_par]))
+        family_robot = robot
+        actuated = robot.actuated - 1
+    else:
+        force_limit = max_force if max_force is not None else robot.limits.max_force
+        length = robot.l0
+        centre = np.zeros(3)
+        stroke = robot.limits.stroke
+        free = replace(robot, limits=Limits())
+        units = unit_parameters(free, base.names)
+        nominal = base.values(standard_parameters(robot))
+    bounds = np.array([reach * length, reach * length, rotation])
 
     def unpack(z: FloatArray) -> FourierSeries:
         return FourierSeries(
             period=period,
-            offset=z[:3] * bounds,
+            offset=centre + z[:3] * bounds,
             sine=z[3 : 3 + 3 * L].reshape(3, L) * bounds[:, None],
             cosine=z[3 + 3 * L :].reshape(3, L) * bounds[:, None],
         )
 
-    def evaluate(z: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    Evaluation = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
+    last: dict[bytes, Evaluation] = {}
+
+    def evaluate(z: FloatArray) -> Evaluation:
+        """``W`` (3N, B), poses, actuated joints' values and rates, the nominal efforts and
+        the margins to a family robot's singularities ``|μ|/floor − 1`` (N, 4; none for the
+        3-PRP); the last one kept (SLSQP asks the objective and the constraints at each point).
+        """
+        key = z.tobytes() + t.tobytes()
+        if key in last:
+            return last[key]
         motion = unpack(z).motion(t)
-        with np.errstate(all="ignore"):
-            forces, lam, dlam = _regressor_rows(units, _state_rows(motion))
-        return forces[0].reshape(-1, base.count), motion.pose, lam, dlam
+        if not family:
+            with np.errstate(all="ignore"):
+                forces, lam, dlam = regressor_rows(units, state_rows(motion))
+            W = forces[0].reshape(-1, base.count)
+            result = (W, motion.pose, lam, dlam, W @ nominal, np.zeros((0,)))
+        else:
+            with np.errstate(all="ignore"):
+                kin = family_kinematics(family_robot, motion)
+                W = unit_efforts(kin, base.names).reshape(-1, base.count)
+                tau = fast_dynamics(kin).tau
+            mu = np.concatenate([kin.mu_leg, kin.mu_par[:, None]], axis=-1)
+            margin = np.asarray(np.abs(mu) / floors - 1.0)
+            result = (W, motion.pose, kin.q[..., actuated], kin.dq[..., actuated], tau, margin)
+        last.clear()
+        last[key] = result
+        return result
 
     def objective(z: FloatArray) -> float:
-        W = evaluate(z)[0]
+        try:
+            W = evaluate(z)[0]
+        except (SingularPoseError, UnreachablePoseError):
+            return 1e3
         singular = np.linalg.svd(W, compute_uv=False)
         if not np.isfinite(singular).all() or singular[-1] <= 0.0:
             return 1e3
@@ -205,15 +334,27 @@ def exciting_trajectory(
 
     def margins(z: FloatArray) -> list[tuple[str, FloatArray]]:
         """Margins to each limit (>= 0 inside, relative), with the limit's name."""
-        W, pose, lam, dlam = evaluate(z)
+        _, pose, lam, dlam, effort, singular = evaluate(z)
+        offset = pose - centre
         parts = [
-            (f"reach = {reach!r} l0 (--reach)", 1.0 - np.abs(pose[:, :2] / bounds[:2])),
-            (f"rotation = {rotation!r} rad (--rotation)", 1.0 - np.abs(pose[:, 2] / bounds[2])),
             (
-                f"max_velocity = {max_velocity!r} m/s (--max-velocity)",
+                f"reach = {reach!r} {'leg.scale' if family else 'l0'} (--reach)",
+                1.0 - np.abs(offset[:, :2] / bounds[:2]),
+            ),
+            (f"rotation = {rotation!r} rad (--rotation)", 1.0 - np.abs(offset[:, 2] / bounds[2])),
+            (
+                f"max_velocity = {max_velocity!r} {'(m or rad)/s' if family else 'm/s'} "
+                "(--max-velocity)",
                 1.0 - np.abs(dlam) / max_velocity,
             ),
         ]
+        if family:
+            parts.append(
+                (
+                    f"the singularity measures (above {_MEASURE_FRACTION:g} of their home values)",
+                    singular,
+                )
+            )
         if stroke is not None:
             lower, upper = stroke
             margin = np.minimum((upper - lam) / upper, (lam - lower) / -lower)
@@ -221,15 +362,27 @@ def exciting_trajectory(
         if force_limit is not None:
             parts.append(
                 (
-                    f"max_force = {force_limit!r} N (--max-force or [limits] max_force)",
-                    1.0 - np.abs(W @ nominal) / force_limit,
+                    f"max_force = {force_limit!r} {'N or N m' if family else 'N'} (--max-force"
+                    + (")" if family else " or [limits] max_force)"),
+                    1.0 - np.abs(effort) / force_limit,
                 )
             )
         return parts
 
     def constraints(z: FloatArray) -> FloatArray:
-        """Margins to the limits (>= 0 inside), 1 % kept for the instants between samples."""
-        return np.concatenate([part.reshape(-1) for _, part in margins(z)]) - _LIMIT_MARGIN
+        """Margins to the limits (>= 0 inside), 1 % kept for the instants between samples.
+
+        A motion through a family robot's singularity or out of its reach: every margin -1.
+        """
+        try:
+            parts = margins(z)
+        except (SingularPoseError, UnreachablePoseError):
+            return np.full(width(), -1.0)
+        return np.concatenate([part.reshape(-1) for _, part in parts]) - _LIMIT_MARGIN
+
+    def width() -> int:
+        """The number of constraints at the current instants (the offset alone is regular)."""
+        return sum(part.size for _, part in margins(np.zeros(3 + 6 * L)))
 
     rng = np.random.default_rng(seed)
     z0 = np.concatenate([np.zeros(3), rng.uniform(-1.0, 1.0, 6 * L) * 0.3 / L])
@@ -252,7 +405,8 @@ def exciting_trajectory(
     if progress is not None:
         progress(max_iterations, max_iterations)
     z = np.asarray(solution.x, dtype=np.float64)
-    if constraints(z).min() < -1e-6 or objective(z) > objective(z0):
+    # (a family robot's: within 5 % of its limits, the smaller oscillation below repairs it)
+    if constraints(z).min() < (-0.05 if family else -1e-6) or objective(z) > objective(z0):
         z = z0  # the optimiser left the limits: keep the feasible guess
     t = np.linspace(0.0, period, _FINE_SAMPLES)  # the limits between the samples too
     for _ in range(40):
@@ -264,7 +418,7 @@ def exciting_trajectory(
         z = z0
     # on the fine instants: the limit that binds, and identification's criterion
     binding = min(margins(z), key=lambda part: float(part[1].min()))[0]
-    W, _, lam, dlam = evaluate(z)
+    W, _, lam, dlam, effort, _ = evaluate(z)
     t = coarse
     refused = excitation_refusal(base, W)
     if refused is not None:
@@ -278,6 +432,6 @@ def exciting_trajectory(
         initial_condition=initial,
         peak_lambda10=float(np.abs(lam).max()),
         peak_dlambda10=float(np.abs(dlam).max()),
-        peak_f10=float(np.abs(W @ nominal).max()),
+        peak_f10=float(np.abs(effort).max()),
         iterations=int(getattr(solution, "nit", 0)),
     )

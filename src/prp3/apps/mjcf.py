@@ -128,16 +128,16 @@ class MjcfWarning(UserWarning):
 #: The kinds of joint friction, in the order of the joints of a leg.
 
 
-_num = number_text
+num = number_text
 
 
-def _vec(*values: float) -> str:
-    return " ".join(_num(v) for v in values)
+def vec(*values: float) -> str:
+    return " ".join(num(v) for v in values)
 
 
-def _quat_z(angle: float) -> str:
+def quat_z(angle: float) -> str:
     """Quaternion ``(w, x, y, z)`` of a rotation by ``angle`` (rad) about ``z``."""
-    return _vec(math.cos(angle / 2.0), 0.0, 0.0, math.sin(angle / 2.0))
+    return vec(math.cos(angle / 2.0), 0.0, 0.0, math.sin(angle / 2.0))
 
 
 def _inertia(mass: float, izz: float, l0: float) -> tuple[float, float, float]:
@@ -146,27 +146,27 @@ def _inertia(mass: float, izz: float, l0: float) -> tuple[float, float, float]:
     return (izz, izz, izz)
 
 
-def _inertial(
+def inertial_element(
     mass: float, com: tuple[float, float], izz: float, l0: float, angle: float = 0.0
 ) -> str:
     """The ``<inertial>`` of a body: its mass centre ``com`` in the body frame, its
     principal axes turned by ``angle`` (rad) about ``z`` when it is not 0."""
-    turn = f' quat="{_quat_z(angle)}"' if angle != 0.0 else ""
+    turn = f' quat="{quat_z(angle)}"' if angle != 0.0 else ""
     return (
-        f'<inertial pos="{_vec(com[0], com[1], 0.0)}"{turn} mass="{_num(mass)}" '
-        f'diaginertia="{_vec(*_inertia(mass, izz, l0))}"/>'
+        f'<inertial pos="{vec(com[0], com[1], 0.0)}"{turn} mass="{num(mass)}" '
+        f'diaginertia="{vec(*_inertia(mass, izz, l0))}"/>'
     )
 
 
-def _preamble(comment: list[str], gravity: tuple[float, float]) -> list[str]:
+def preamble(comment: list[str], gravity: tuple[float, float]) -> list[str]:
     """The model's opening, from ``<mujoco>`` (with the ``comment`` lines) to the light of
     the ``<worldbody>``: compiler, RK4 at :data:`TIMESTEP`, no contact, no joint defaults."""
     return [
         '<mujoco model="prp3">',
         *comment,
         '  <compiler angle="radian" inertiafromgeom="false" autolimits="true"/>',
-        f'  <option timestep="{_num(TIMESTEP)}" integrator="RK4" '
-        f'gravity="{_vec(gravity[0], gravity[1], 0.0)}">',
+        f'  <option timestep="{num(TIMESTEP)}" integrator="RK4" '
+        f'gravity="{vec(gravity[0], gravity[1], 0.0)}">',
         '    <flag contact="disable"/>',
         "  </option>",
         "  <default>",
@@ -178,13 +178,13 @@ def _preamble(comment: list[str], gravity: tuple[float, float]) -> list[str]:
     ]
 
 
-def _welds_motors_load(
+def welds_motors_load(
     welds: list[tuple[str, str]], motor_joints: list[str], load: Load
 ) -> list[str]:
     """After the bodies: the welds of ``platform_A`` to ``platform_{leg}`` (``(leg, relpose)``
     each), a motor on each leg's joint of ``motor_joints`` (legs A, B, C) and the
     constant ``[load]`` as a custom numeric (MuJoCo does not apply it)."""
-    solref, solimp = _vec(*WELD_SOLREF), _vec(*WELD_SOLIMP)
+    solref, solimp = vec(*WELD_SOLREF), vec(*WELD_SOLIMP)
     lines = ["  </worldbody>", "  <equality>"]
     for leg, relpose in welds:
         lines.append(
@@ -203,14 +203,14 @@ def _welds_motors_load(
             "  <custom>",
             "    <!-- the constant [load] (N, N, N m): not applied by MuJoCo; set",
             "         data.xfrc_applied[platform_A] = (F_x, F_y, 0, 0, 0, M_z) -->",
-            f'    <numeric name="prp3_load" data="{_vec(fx, fy, load.moment)}"/>',
+            f'    <numeric name="prp3_load" data="{vec(fx, fy, load.moment)}"/>',
             "  </custom>",
         ]
     return lines
 
 
 #: The model's end: the platform's pose as sensors.
-_SENSORS: tuple[str, ...] = (
+SENSORS: tuple[str, ...] = (
     "  <sensor>",
     '    <framepos name="platform_position" objtype="body" objname="platform_A"/>',
     '    <framequat name="platform_orientation" objtype="body" objname="platform_A"/>',
@@ -233,7 +233,7 @@ def _joint_attributes(robot: Robot) -> dict[str, str]:
             for name, value in attributes.items():
                 merged[joint][name] = merged[joint].get(name, 0.0) + value
     return {
-        joint: "".join(f' {name}="{_num(value)}"' for name, value in attributes.items())
+        joint: "".join(f' {name}="{num(value)}"' for name, value in attributes.items())
         for joint, attributes in merged.items()
     }
 
@@ -262,15 +262,15 @@ def unrepresented(robot: Robot) -> list[str]:
     ]
 
 
-def _payload_body(payload: Payload, size: float, ind: str) -> list[str]:
+def payload_body(payload: Payload, size: float, ind: str) -> list[str]:
     """The payload as a body without joint (welded to its parent), drawn as a sphere."""
     com = payload.com
-    inertia = _num(payload.inertia)
+    inertia = num(payload.inertia)
     return [
-        f'{ind}<body name="payload" pos="{_vec(com[0], com[1], 0.0)}">',
-        f'{ind}  <inertial pos="0 0 0" mass="{_num(payload.mass)}" '
+        f'{ind}<body name="payload" pos="{vec(com[0], com[1], 0.0)}">',
+        f'{ind}  <inertial pos="0 0 0" mass="{num(payload.mass)}" '
         f'diaginertia="{inertia} {inertia} {inertia}"/>',
-        f'{ind}  <geom type="sphere" size="{_num(2 * size)}" rgba="0.8 0.2 0.2 1"/>',
+        f'{ind}  <geom type="sphere" size="{num(2 * size)}" rgba="0.8 0.2 0.2 1"/>',
         f"{ind}</body>",
     ]
 
@@ -348,7 +348,7 @@ def mjcf_model(robot: Robot) -> str:
     corners = platform_vertices(robot, [0.0, 0.0, 0.0])  # in the platform frame at G
 
     size = l0 / 30.0  # drawing thickness
-    lines = _preamble(
+    lines = preamble(
         [
             "  <!-- 3-PRP planar parallel robot (Staicu & Chablat), written by prp3.",
             "       Plane x-y, z out of the plane. Joints (qpos): lambda10_i (m), phi_i = platform",
@@ -361,8 +361,8 @@ def mjcf_model(robot: Robot) -> str:
     for k in range(3):  # the base triangle
         a, b = base[k], base[(k + 1) % 3]
         lines.append(
-            f'    <geom name="base_edge_{k}" type="capsule" size="{_num(size / 2)}" '
-            f'fromto="{_vec(a[0], a[1], 0.0, b[0], b[1], 0.0)}" rgba="0.5 0.5 0.5 1"/>'
+            f'    <geom name="base_edge_{k}" type="capsule" size="{num(size / 2)}" '
+            f'fromto="{vec(a[0], a[1], 0.0, b[0], b[1], 0.0)}" rgba="0.5 0.5 0.5 1"/>'
         )
     joints = _joint_attributes(robot)
     actuator, revolute, sleeve = joints["lambda10"], joints["phi"], joints["lambda32"]
@@ -374,29 +374,29 @@ def mjcf_model(robot: Robot) -> str:
         slide_axis = alpha - math.pi / 3.0  # d_i in the platform frame at φ
         ind = "    "
         lines += [
-            f'{ind}<body name="piston_{leg}" pos="{_vec(origin[0], origin[1], 0.0)}" '
-            f'quat="{_quat_z(alpha)}">',
+            f'{ind}<body name="piston_{leg}" pos="{vec(origin[0], origin[1], 0.0)}" '
+            f'quat="{quat_z(alpha)}">',
             f'{ind}  <joint name="lambda10_{leg}" type="slide" axis="1 0 0"{actuator}/>',
-            f"{ind}  " + _inertial(m1, robot.piston.com, robot.piston.inertia, l0),
-            f'{ind}  <geom type="box" size="{_vec(2 * size, size, size)}" rgba="0.2 0.4 0.8 1"/>',
-            f'{ind}  <body name="link_{leg}" quat="{_quat_z(-math.pi / 3.0)}">',
+            f"{ind}  " + inertial_element(m1, robot.piston.com, robot.piston.inertia, l0),
+            f'{ind}  <geom type="box" size="{vec(2 * size, size, size)}" rgba="0.2 0.4 0.8 1"/>',
+            f'{ind}  <body name="link_{leg}" quat="{quat_z(-math.pi / 3.0)}">',
             f'{ind}    <joint name="phi_{leg}" type="hinge" axis="0 0 1"{revolute}/>',
-            f"{ind}    " + _inertial(m2, robot.link.com, robot.link.inertia, l0),
-            f'{ind}    <geom type="cylinder" size="{_vec(size, size)}" rgba="0.9 0.6 0.1 1"/>',
-            f'{ind}    <body name="platform_{leg}" pos="{_vec(*third_in_link, 0.0)}" '
-            f'quat="{_quat_z(math.pi / 3.0 - alpha)}">',
+            f"{ind}    " + inertial_element(m2, robot.link.com, robot.link.inertia, l0),
+            f'{ind}    <geom type="cylinder" size="{vec(size, size)}" rgba="0.9 0.6 0.1 1"/>',
+            f'{ind}    <body name="platform_{leg}" pos="{vec(*third_in_link, 0.0)}" '
+            f'quat="{quat_z(math.pi / 3.0 - alpha)}">',
             f'{ind}      <joint name="lambda32_{leg}" type="slide" '
-            f'axis="{_vec(math.cos(slide_axis), math.sin(slide_axis), 0.0)}"{sleeve}/>',
-            f"{ind}      " + _inertial(m3 / 3.0, (0.0, 0.0), i3 / 3.0, l0),
-            f'{ind}      <geom type="capsule" size="{_num(size / 2)}" '
-            f'fromto="{_vec(start[0], start[1], 0.0, end[0], end[1], 0.0)}" '
+            f'axis="{vec(math.cos(slide_axis), math.sin(slide_axis), 0.0)}"{sleeve}/>',
+            f"{ind}      " + inertial_element(m3 / 3.0, (0.0, 0.0), i3 / 3.0, l0),
+            f'{ind}      <geom type="capsule" size="{num(size / 2)}" '
+            f'fromto="{vec(start[0], start[1], 0.0, end[0], end[1], 0.0)}" '
             f'rgba="0.3 0.7 0.3 1"/>',
-            *(_payload_body(payload, size, ind + "      ") if i == 0 and payload.present else []),
+            *(payload_body(payload, size, ind + "      ") if i == 0 and payload.present else []),
             f"{ind}    </body>",
             f"{ind}  </body>",
             f"{ind}</body>",
         ]
     welds = [(other, "0 0 0 1 0 0 0") for other in ("B", "C")]
-    lines += _welds_motors_load(welds, [f"lambda10_{leg}" for leg in LEGS], robot.load)
-    lines += _SENSORS
+    lines += welds_motors_load(welds, [f"lambda10_{leg}" for leg in LEGS], robot.load)
+    lines += SENSORS
     return "\n".join(lines) + "\n"

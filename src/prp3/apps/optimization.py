@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.cluster import ClientOrFactory, Progress, _using, _worker_count
+from prp3.apps.cluster import ClientOrFactory, Progress, using, worker_count
 from prp3.apps.design_evaluation import evaluate_designs
 from prp3.apps.design_objective import INFEASIBLE, DesignObjective
 from prp3.apps.sweep_spec import SweepSpec
@@ -72,7 +72,7 @@ class DaskMap:
     def __call__(self, func: Callable[[Any], float], iterable: Iterable[Any]) -> list[float]:
         """Evaluate ``func`` on every member of ``iterable`` on the workers, in order."""
         members = [np.asarray(x, dtype=np.float64) for x in iterable]
-        parts = max(1, min(len(members), _worker_count(self.client)))
+        parts = max(1, min(len(members), worker_count(self.client)))
         split = [list(part) for part in np.array_split(np.arange(len(members)), parts)]
         if self.batch is not None:
             shared = self._shared(self.batch)
@@ -160,7 +160,7 @@ def optimize_design(
     objective = DesignObjective(spec.evaluator, settings)
     total = settings.maxiter + 1
     report = None if progress is None else (lambda done: progress(min(done, total), total))
-    with _using(client, "client") as dask:
+    with using(client, "client") as dask:
         mapper = DaskMap(dask, batch=objective, progress=report)
         result = differential_evolution(
             objective,

@@ -84,7 +84,7 @@ def check_plant(robot: Robot | FamilyRobot, plant: Plant) -> None:
     if plant == "mujoco":
         for element in robot.elements:  # each element says what MuJoCo simulates otherwise
             element.check_mujoco_plant(robot)
-    elif compile_robot(_without_limits(robot)).parameters.has_mu:
+    elif compile_robot(without_limits(robot)).parameters.has_mu:
         raise ParameterError(
             "plant 'prp3': a friction proportional to the joint reactions (mu) makes the "
             "forces non-affine in the acceleration, which the plant's equations of motion "
@@ -92,18 +92,18 @@ def check_plant(robot: Robot | FamilyRobot, plant: Plant) -> None:
         )
 
 
-class _Plant(Protocol):
+class PlantProtocol(Protocol):
     def measure(self) -> list[float]: ...
     def advance(
         self, start: float, stop: float, f10: tuple[float, float, float]
     ) -> tuple[Status, str] | None: ...
 
 
-def _without_limits(robot: Robot) -> Robot:
+def without_limits(robot: Robot) -> Robot:
     return robot if robot.limits == Limits() else replace(robot, limits=Limits())
 
 
-class _Prp3Plant:
+class Prp3Plant:
     """prp3's equations of motion ``q̈ = A⁻¹·(f10 − b)``, integrated step by step.
 
     ``A`` and ``b`` from four single-sample inverse dynamics (``f10`` is
@@ -121,7 +121,7 @@ class _Prp3Plant:
         if isinstance(robot, FamilyRobot):
             self.effort = FamilyEffortModel(robot).actuator_sample_function()
         else:  # f10 alone, unchecked
-            self.effort = compile_robot(_without_limits(robot)).actuator_sample_function()
+            self.effort = compile_robot(without_limits(robot)).actuator_sample_function()
         self.state = np.concatenate([reference.pose[0], reference.velocity[0]])
 
     def margin(self, pose: list[float]) -> tuple[float, float, str]:
@@ -199,7 +199,7 @@ def _import_mujoco() -> ModuleType:
         ) from None
 
 
-class _MujocoPlant:
+class MujocoPlant:
     """MuJoCo running the robot's MJCF (:func:`prp3.apps.mjcf.mjcf_model`, a family robot's
     :func:`prp3.family.mjcf.family_mjcf_model`), ``ctrl = f10`` (``tau``) held.
 
@@ -232,7 +232,7 @@ class _MujocoPlant:
                 self.data.qvel[int(joint.dofadr[0])] = dq
             self.phi = float(reference.pose[0, 2])
         else:
-            kin3 = inverse_kinematics(_without_limits(robot), reference[0])
+            kin3 = inverse_kinematics(without_limits(robot), reference[0])
             geo = kin3.geometry
             self.data.qpos[:] = np.stack([geo.lambda10, geo.phi21, geo.lambda32], axis=-1).ravel()
             self.data.qvel[:] = np.stack(

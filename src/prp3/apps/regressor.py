@@ -32,7 +32,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.engines.entries import DEFAULT_CHUNK
+from prp3.engines.entries import DEFAULT_CHUNK, MAX_CHUNK
 from prp3.errors import ParameterError, TrajectoryError
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.joint_motion import (
@@ -49,7 +49,7 @@ from prp3.mechanics.wrenches import body_wrenches, friction_forces
 from prp3.model.elements import ELEMENTS, FRICTIONS, LOAD
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
-from prp3.validation import check_instance, check_names, check_robot
+from prp3.validation import check_instance, check_integer, check_names, check_robot
 
 __all__ = [
     "ELEMENT_PARAMETERS",
@@ -143,10 +143,10 @@ def standard_parameters(
     [1.0, 0.000625]
     """
     k = kernel_parameters(check_robot(robot))
-    return np.array([float(getattr(k, name)) for name in _check_names(parameters)])
+    return np.array([float(getattr(k, name)) for name in check_parameter_names(parameters)])
 
 
-def _check_names(parameters: Sequence[str], name: str = "parameters") -> tuple[str, ...]:
+def check_parameter_names(parameters: Sequence[str], name: str = "parameters") -> tuple[str, ...]:
     return check_names(name, parameters, PARAMETERS, item="parameter")
 
 
@@ -192,7 +192,7 @@ def _zero_parameters(robot: Robot, keep: Sequence[str] = ()) -> KernelParameters
     return replace(k, **dict.fromkeys(cleared, 0.0))
 
 
-def _unit_parameters(robot: Robot, names: Sequence[str]) -> list[KernelParameters]:
+def unit_parameters(robot: Robot, names: Sequence[str]) -> list[KernelParameters]:
     """One :class:`KernelParameters` per name: that parameter 1, every other one 0."""
     zero = _zero_parameters(robot)
     return [replace(zero, **{name: 1.0}) for name in names]
@@ -214,7 +214,7 @@ def _forces(
     return f10, f21y, f21z
 
 
-def _regressor_rows(
+def regressor_rows(
     units: Sequence[KernelParameters], rows: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Regressor of the states ``rows`` (9, n): ``(3 forces, n, 3, P)``, ``λ10``, ``λ̇10``."""
@@ -234,7 +234,7 @@ def _kinematics(k: KernelParameters, rows: FloatArray) -> KernelKinematics:
     return kernel_kinematics(k, geo, dx, dy, dphi, ddx, ddy, ddphi)
 
 
-def _state_rows(motion: Motion) -> FloatArray:
+def state_rows(motion: Motion) -> FloatArray:
     """The states of a motion as rows ``(9, N)``: x, y, φ, their rates, their accelerations."""
     return np.concatenate(
         [
@@ -276,12 +276,15 @@ def regressor(
         The columns, from :data:`PARAMETERS` (default: the inertial ones,
         :data:`STANDARD_PARAMETERS`, in that order).
     chunk_size : int
-        Samples per chunk (memory bounded for any ``N``).
+        Samples per chunk (memory bounded for any ``N``), an integer from 1 to
+        :data:`~prp3.engines.entries.MAX_CHUNK`.
     progress : callable, optional
         ``progress(samples_done, N)`` after every chunk.
 
     Raises
     ------
+    ParameterError
+        A bad ``robot``, ``parameters``, ``chunk_size`` or ``progress``.
     SingularPoseError, UnreachablePoseError
         A pose at a singularity or outside ``robot.limits.stroke``.
 
@@ -297,20 +300,27 @@ def regressor(
     >>> bool(np.allclose(Y.f10 @ standard_parameters(robot), forces, rtol=1e-13, atol=0))
     True
     """
-    names = _check_names(parameters)
+    check_robot(robot)
+    names = check_parameter_names(parameters)
     if not isinstance(motion, Motion):
         raise TrajectoryError(f"motion must be a prp3.Motion, got {type(motion).__name__}")
+    width = check_integer("chunk_size", chunk_size, 1, MAX_CHUNK)
+    if progress is not None and not callable(progress):
+        raise ParameterError(
+            f"progress must be a callable progress(done, total) or None, got {progress!r}",
+            key="progress",
+        )
     inverse_geometry(robot, motion.pose)  # refuses singular and unreachable poses
-    units = _unit_parameters(robot, names)
-    rows = _state_rows(motion)
+    units = unit_parameters(robot, names)
+    rows = state_rows(motion)
     samples = rows.shape[1]
-    width = max(1, min(int(chunk_size), samples))
+    width = max(1, min(width, samples))
     forces = np.empty((3, samples, 3, len(names)))
     lambda10 = np.empty((samples, 3))
     dlambda10 = np.empty((samples, 3))
     for start in range(0, samples, width):
         stop = min(start + width, samples)
-        block, lam, dlam = _regressor_rows(units, rows[:, start:stop])
+        block, lam, dlam = regressor_rows(units, rows[:, start:stop])
         forces[:, start:stop] = block
         lambda10[start:stop] = lam
         dlambda10[start:stop] = dlam
@@ -327,7 +337,7 @@ def regressor(
     )
 
 
-def _refuse_mu(robot: Robot) -> None:
+def refuse_mu(robot: Robot) -> None:
     """The load-dependent ``μ`` friction terms are not linear: refuse a robot with them."""
     if kernel_parameters(robot).has_mu:
         raise ParameterError(
@@ -351,11 +361,11 @@ def known_forces(robot: Robot, motion: Motion, fixed: Sequence[str]) -> FloatArr
     """
     check_robot(robot)
     check_instance("motion", motion, Motion, "a prp3.Motion")
-    _refuse_mu(robot)
+    refuse_mu(robot)
     names = check_names("fixed", fixed, PARAMETERS, item="parameter", empty=True)
     inverse_geometry(robot, motion.pose)
     k = _zero_parameters(robot, keep=(*names, *LOAD.fields))
-    rows = _state_rows(motion)
+    rows = state_rows(motion)
     load = None if motion.load is None else motion.load.reshape(-1, 3).T
     out = np.empty((rows.shape[1], 3))
     width = DEFAULT_CHUNK

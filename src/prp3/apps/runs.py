@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.analysis.inverse_dynamics import Method, inverse_dynamics
+from prp3.analysis.inverse_dynamics import METHODS, Method, inverse_dynamics
 from prp3.engines.compiled_robot import CompiledRobot, Engine, compile_robot
 from prp3.engines.entries import solve_batch
 from prp3.engines.select import resolve_engine
@@ -25,7 +25,7 @@ from prp3.io.results import LOAD_RESULT_COLUMNS, OUTPUT_QUANTITIES, result_colum
 from prp3.model.motion import Motion, name_overflow_input
 from prp3.model.robot import Robot
 from prp3.path_validation import check_path
-from prp3.validation import LEGS, check_instance, check_integer, check_robot
+from prp3.validation import LEGS, check_choice, check_instance, check_integer, check_robot
 
 __all__ = [
     "CHUNK_SAMPLES",
@@ -72,6 +72,7 @@ def simulate_table(
     """
     check_robot(robot)
     samples = check_instance("motion", motion, Motion, "a prp3.Motion").samples
+    method = check_choice("method", method, METHODS)  # type: ignore[assignment]
     chunk = check_integer("chunk", chunk, 1, 2**31)
     engine = resolve_engine(engine)  # type: ignore[assignment]
     check_path(motion.t, motion.pose)  # the whole motion: a crossing between two chunks too

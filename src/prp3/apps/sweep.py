@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.cluster import ClientOrFactory, Progress, _using, _worker_count
+from prp3.apps.cluster import ClientOrFactory, Progress, using, worker_count
 from prp3.apps.design import DesignEvaluator, nominal_value
 from prp3.apps.design_evaluation import evaluate_designs
 from prp3.apps.sweep_spec import SweepSpec, design_values
@@ -80,7 +80,7 @@ _MANIFEST = "sweep.json"
 
 
 # ------------------------------------------------------------------ Parquet
-def _arrow_table(columns: dict[str, Any], names: Sequence[str]) -> Any:
+def arrow_table(columns: dict[str, Any], names: Sequence[str]) -> Any:
     import pyarrow as pa
 
     arrays = [
@@ -468,7 +468,7 @@ def _sweep_into(
     if progress is not None:
         progress(finished, len(starts))
     if missing:
-        with _using(client, "client") as dask:
+        with using(client, "client") as dask:
             finished = _compute_chunks(
                 dask,
                 spec.chunk,
@@ -521,7 +521,7 @@ def _compute_chunks(
     from dask.distributed import as_completed
 
     shared = dask.scatter(evaluator, broadcast=True, hash=False)
-    window = 4 * _worker_count(dask) + 4
+    window = 4 * worker_count(dask) + 4
     pending = iter(missing)
     index_of: dict[Any, int] = {}
 
@@ -536,7 +536,7 @@ def _compute_chunks(
         index = index_of.pop(future.key)
         columns = future.result()
         with atomic_path(_chunk_file(staging, index)) as temporary:
-            pq.write_table(_arrow_table(columns, names), temporary)
+            pq.write_table(arrow_table(columns, names), temporary)
         finished += 1
         if progress is not None:
             progress(finished, len(starts))

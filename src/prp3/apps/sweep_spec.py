@@ -175,7 +175,7 @@ def read_sweep_spec(path: str | Path) -> SweepSpec:
     return sweep_spec(data, base=path.parent, source=str(path))
 
 
-def _integer(source: str, key: str, value: Any, low: int, high: int) -> int:
+def spec_integer(source: str, key: str, value: Any, low: int, high: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
         raise ParameterError(
             f"{source}: {key} must be an integer from {low} to {high}, got {value!r}"
@@ -189,13 +189,15 @@ def _number(source: str, key: str, value: Any) -> float:
     return float(value)
 
 
-def _table(source: str, name: str, value: Any) -> dict[str, Any]:
+def spec_table(source: str, name: str, value: Any) -> dict[str, Any]:
     if not isinstance(value, Mapping):
         raise ParameterError(f"{source}: [{name}] must be a table, got {value!r}"[:300])
     return dict(value)
 
 
-def _unknown(source: str, where: str, table: Mapping[str, Any], allowed: set[str]) -> None:
+def refuse_unknown_keys(
+    source: str, where: str, table: Mapping[str, Any], allowed: set[str]
+) -> None:
     for key in table:
         if key not in allowed:
             raise ParameterError(
@@ -203,7 +205,7 @@ def _unknown(source: str, where: str, table: Mapping[str, Any], allowed: set[str
             )
 
 
-def _sampling(source: str, data: Mapping[str, Any]) -> str:
+def spec_sampling(source: str, data: Mapping[str, Any]) -> str:
     """The ``sampling`` of a sweep file (default ``"lhs"``), one of :data:`SAMPLINGS`."""
     sampling = data.get("sampling", "lhs")
     if sampling not in SAMPLINGS:
@@ -307,17 +309,17 @@ def _parameters(
     return tuple(parameters)
 
 
-def _motions(
+def spec_motions(
     source: str, base: Path, task: Mapping[str, Any]
 ) -> tuple[tuple[str, ...], int, tuple[Motion, ...], tuple[str, ...]]:
-    _unknown(source, "task.", task, {"motions", "samples"})
+    refuse_unknown_keys(source, "task.", task, {"motions", "samples"})
     names = task.get("motions", ["vertical", "rotation"])
     if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
         raise ParameterError(
             f"{source}: task.motions must be a non-empty list of paper motions "
             f"({', '.join(PAPER_MOTIONS)}) or TRAJ.csv paths, got {names!r}"[:300]
         )
-    samples = _integer(source, "task.samples", task.get("samples", 301), 2, MAX_SAMPLES)
+    samples = spec_integer(source, "task.samples", task.get("samples", 301), 2, MAX_SAMPLES)
     motions: list[Motion] = []
     notes: list[str] = []
     for name in names:
@@ -335,8 +337,10 @@ def _motions(
     return tuple(names), samples, tuple(motions), tuple(notes)
 
 
-def _optimize(source: str, table: Mapping[str, Any], columns: Sequence[str]) -> OptimizeSpec:
-    _unknown(source, "optimize.", table, {"objective", "constraints", "maxiter", "popsize", "tol"})
+def spec_optimize(source: str, table: Mapping[str, Any], columns: Sequence[str]) -> OptimizeSpec:
+    refuse_unknown_keys(
+        source, "optimize.", table, {"objective", "constraints", "maxiter", "popsize", "tol"}
+    )
     known = {c for c in columns if c != "status"} | set(AGGREGATES)
 
     def name_of(key: str, value: Any) -> str:
@@ -348,11 +352,13 @@ def _optimize(source: str, table: Mapping[str, Any], columns: Sequence[str]) -> 
 
     objective = name_of("optimize.objective", table.get("objective", "peak_f10"))
     constraints: list[tuple[str, float, float]] = []
-    for key, bounds in _table(source, "optimize.constraints", table.get("constraints", {})).items():
+    for key, bounds in spec_table(
+        source, "optimize.constraints", table.get("constraints", {})
+    ).items():
         name = name_of("optimize.constraints", key)
         where = f"optimize.constraints.{key}"
-        bounds = _table(source, where, bounds)
-        _unknown(source, f"{where}.", bounds, {"min", "max"})
+        bounds = spec_table(source, where, bounds)
+        refuse_unknown_keys(source, f"{where}.", bounds, {"min", "max"})
         if not bounds:
             raise ParameterError(f"{source}: {where} must give min and/or max")
         low = _number(source, f"{where}.min", bounds["min"]) if "min" in bounds else -math.inf
@@ -366,8 +372,8 @@ def _optimize(source: str, table: Mapping[str, Any], columns: Sequence[str]) -> 
     return OptimizeSpec(
         objective=objective,
         constraints=tuple(constraints),
-        maxiter=_integer(source, "optimize.maxiter", table.get("maxiter", 30), 1, 100_000),
-        popsize=_integer(source, "optimize.popsize", table.get("popsize", 10), 1, 10_000),
+        maxiter=spec_integer(source, "optimize.maxiter", table.get("maxiter", 30), 1, 100_000),
+        popsize=spec_integer(source, "optimize.popsize", table.get("popsize", 10), 1, 10_000),
         tol=tol,
     )
 
@@ -386,7 +392,7 @@ def sweep_spec(
     """
     check_instance("data", data, Mapping, "a mapping (a parsed SWEEP.toml)")  # type: ignore[type-abstract]
     base = Path(base)
-    _unknown(source, "", data, _TOP_KEYS)
+    refuse_unknown_keys(source, "", data, _TOP_KEYS)
     robot_file = data.get("robot")
     if robot_file is None:
         robot = Robot()
@@ -402,7 +408,7 @@ def sweep_spec(
         )
     nominal: dict[str, Any] = tomllib.loads(robot.to_toml())
     if "limits" in data:
-        limits = _table(source, "limits", data["limits"])
+        limits = spec_table(source, "limits", data["limits"])
         nominal["limits"] = {**nominal.get("limits", {}), **limits}
         try:
             Robot.from_mapping(nominal)
@@ -410,21 +416,21 @@ def sweep_spec(
             raise ParameterError(
                 f"{source}: [limits]: {re.sub(r'^robot: ', '', str(error))}"
             ) from None
-    sampling = _sampling(source, data)
-    designs = _integer(
+    sampling = spec_sampling(source, data)
+    designs = spec_integer(
         source, "designs", data.get("designs", 100), 2 if sampling == "grid" else 1, MAX_DESIGNS
     )
-    seed = _integer(source, "seed", data.get("seed", 0), 0, 2**63 - 1)
+    seed = spec_integer(source, "seed", data.get("seed", 0), 0, 2**63 - 1)
     parameters = _parameters(
-        source, _table(source, "parameters", data.get("parameters", {})), nominal
+        source, spec_table(source, "parameters", data.get("parameters", {})), nominal
     )
     if sampling == "grid" and designs ** len(parameters) > MAX_DESIGNS:
         raise ParameterError(
             f"{source}: a grid of {designs} points per parameter over {len(parameters)} "
             f"parameters has {designs}^{len(parameters)} designs, more than {MAX_DESIGNS}"
         )
-    names, samples, motions, notes = _motions(
-        source, base, _table(source, "task", data.get("task", {}))
+    names, samples, motions, notes = spec_motions(
+        source, base, spec_table(source, "task", data.get("task", {}))
     )
     workspace = "stroke" in nominal.get("limits", {})
     paths = tuple(p.path for p in parameters)
@@ -435,8 +441,8 @@ def sweep_spec(
         workspace=workspace,
         bounds=tuple((p.low, p.high) for p in parameters),
     )
-    optimize = _optimize(
-        source, _table(source, "optimize", data.get("optimize", {})), evaluator.columns
+    optimize = spec_optimize(
+        source, spec_table(source, "optimize", data.get("optimize", {})), evaluator.columns
     )
     return SweepSpec(
         source=source,
@@ -444,7 +450,7 @@ def sweep_spec(
         designs=designs,
         sampling=sampling,
         seed=seed,
-        chunk=_integer(source, "chunk", data.get("chunk", CHUNK_DESIGNS), 1, 1_000_000),
+        chunk=spec_integer(source, "chunk", data.get("chunk", CHUNK_DESIGNS), 1, 1_000_000),
         motions=names,
         samples=samples,
         evaluator=evaluator,

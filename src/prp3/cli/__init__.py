@@ -22,6 +22,7 @@ import os
 import re
 import signal
 import sys
+import threading
 import warnings
 from collections.abc import Callable, Sequence
 from types import FrameType
@@ -164,20 +165,44 @@ class _SignalGuard:
     def __init__(self) -> None:
         self.received: list[int] = []
         self.previous: dict[int, Any] = {}
+        self.raised = False
+        self.previous_hook: Any = None
 
     def handle(self, signum: int, frame: FrameType | None) -> None:
         self.received.append(signum)
-        if len(self.received) == 1:
+        if not self.raised:
+            self.raised = True
             raise _Signalled(signum)
+
+    def unraisable(self, unraisable: Any) -> None:
+        """Deliver again a signal that a C library's callback swallowed.
+
+        A signal that arrives while C code runs a Python callback (numba's
+        compiler calls llvmlite's object-cache hook) raises inside the
+        callback, where Python can only print "Exception ignored" with a
+        traceback. The signal is sent again a moment later instead, to be
+        raised where the command can clean up.
+        """
+        if isinstance(unraisable.exc_value, _Signalled):
+            self.raised = False
+            again = threading.Timer(0.005, os.kill, (os.getpid(), unraisable.exc_value.signum))
+            again.daemon = True
+            again.start()
+        elif self.previous_hook is not None:
+            self.previous_hook(unraisable)
 
     def install(self) -> None:
         with contextlib.suppress(ValueError):  # signal handlers only in the main thread
             for number in self.SIGNALS:
                 self.previous[number] = signal.signal(number, self.handle)
+            self.previous_hook = sys.unraisablehook
+            sys.unraisablehook = self.unraisable
 
     def restore(self) -> None:
         for number, handler in self.previous.items():
             signal.signal(number, handler)
+        if self.previous_hook is not None:
+            sys.unraisablehook = self.previous_hook
 
 
 class _ClosedStream:
@@ -200,7 +225,7 @@ class _ClosedStream:
             raise OSError(errno.EBADF, "closed")
 
 
-def _one_line_warnings(program: str) -> Callable[..., None]:
+def one_line_warnings(program: str) -> Callable[..., None]:
     """A ``warnings.showwarning`` that shows a library's warning as one line on stderr."""
 
     def show(
@@ -335,7 +360,7 @@ def _run(args: argparse.Namespace, program: str, guard: _SignalGuard) -> int:
     try:
         try:
             with warnings.catch_warnings():
-                warnings.showwarning = _one_line_warnings(program)
+                warnings.showwarning = one_line_warnings(program)
                 status = int(args.handler(args))
             _flush_stdout()
             return status

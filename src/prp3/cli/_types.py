@@ -25,6 +25,7 @@ from prp3.staged_files import MANIFEST_NAME, StagedOutput, staged_output
 
 if TYPE_CHECKING:
     from prp3.family import FamilyRobot
+    from prp3.io.spatial_robot import SpatialRobotFile
 
 __all__ = [
     "add_output_directory",
@@ -36,9 +37,11 @@ __all__ = [
     "integer_at_least",
     "load_any_robot",
     "load_robot",
+    "load_robot_or_spatial",
     "output_folder",
     "path_name",
     "positive_float",
+    "spatial_refusal",
 ]
 
 
@@ -123,6 +126,8 @@ FAMILY_COMMANDS: tuple[str, ...] = (
     "sweep",
     "optimize",
     "explore",
+    "identify",
+    "excite",
     "robot",
 )
 """The commands that take a family-form robot (``tests/test_family_cli.py`` runs each)."""
@@ -134,6 +139,23 @@ FAMILY_COMMANDS_NOTE = (
 )
 
 
+#: What a command that runs planar robots only says of a spatial robot file.
+SPATIAL_COMMANDS_NOTE = (
+    "docs/spatial.md §13: prp3 simulate, forward, workspace, identify, excite and robot --check "
+    "take it"
+)
+
+
+def spatial_refusal(args: argparse.Namespace, robot: SpatialRobotFile) -> ParameterError:
+    """The refusal, by capability, of a spatial robot file in a command that runs the planar
+    robots only."""
+    return ParameterError(
+        f"{args.program} computes the planar robots only, not yet the {robot.architecture} "
+        f"of a spatial robot file ({SPATIAL_COMMANDS_NOTE})",
+        file=args.robot,
+    )
+
+
 def load_robot(args: argparse.Namespace) -> Robot:
     """The robot of ``--robot``, or the paper's robot.
 
@@ -143,9 +165,12 @@ def load_robot(args: argparse.Namespace) -> Robot:
     """
     if args.robot is None:
         return Robot()
-    from prp3.family import FamilyRobot, read_robot_file
+    from prp3.family import FamilyRobot
+    from prp3.io.spatial_robot import SpatialRobotFile, read_any_robot
 
-    robot = read_robot_file(args.robot)
+    robot = read_any_robot(args.robot)
+    if isinstance(robot, SpatialRobotFile):
+        raise spatial_refusal(args, robot)
     if isinstance(robot, FamilyRobot):
         command = " ".join(
             str(part)
@@ -168,10 +193,26 @@ def load_any_robot(args: argparse.Namespace) -> Robot | FamilyRobot:
     """
     if args.robot is None:
         return Robot()
-    from prp3.family import read_robot_file
+    from prp3.io.spatial_robot import SpatialRobotFile, read_any_robot
 
     try:
-        return read_robot_file(args.robot)
+        robot = read_any_robot(args.robot)
+    except ParameterError as error:
+        raise error.located(file=args.robot) from None
+    if isinstance(robot, SpatialRobotFile):
+        raise spatial_refusal(args, robot)
+    return robot
+
+
+def load_robot_or_spatial(args: argparse.Namespace) -> Robot | FamilyRobot | SpatialRobotFile:
+    """The robot of ``--robot`` in any form, spatial included (``prp3 simulate``), or the
+    paper's robot."""
+    if args.robot is None:
+        return Robot()
+    from prp3.io.spatial_robot import read_any_robot
+
+    try:
+        return read_any_robot(args.robot)
     except ParameterError as error:
         raise error.located(file=args.robot) from None
 

@@ -10,7 +10,15 @@ Writes ``DIR/trajectory.csv`` (columns ``t, x, y, phi, dx, dy, dphi, ddx, ddy,
 ddphi``, the analytic derivatives of the series): one period of the finite
 Fourier series of :func:`prp3.apps.excitation.exciting_trajectory`, which
 minimises the condition number of the stacked base regressor within the
-limits.  This module only parses and prints.
+limits.  A family-form ROBOT.toml (docs/family.md) gets the same about its home
+pose, for the base regressor of its actuator efforts (``--reach`` a fraction
+of its ``leg.scale``, ``--max-velocity`` of its actuated joints' rates,
+``--max-force`` of their efforts).  A spatial robot file (docs/spatial.md §13)
+gets the best of random Fourier series of its platform about home
+(:func:`prp3.apps.spatial_identification.spatial_exciting_trajectory`; ``--reach``
+a fraction of its ``scale``, ``--iterations`` the series tried), written as a
+spatial trajectory file (§14: ``t, x, y, z, qw, qx, qy, qz`` and the twist
+and its derivative).  This module only parses and prints.
 """
 
 from __future__ import annotations
@@ -21,21 +29,25 @@ from typing import Any
 import numpy as np
 
 from prp3.apps.base_parameters import base_parameters
-from prp3.apps.excitation import exciting_trajectory
+from prp3.apps.excitation import ExcitingTrajectory, exciting_trajectory
 from prp3.apps.identification import samples_refusal
+from prp3.apps.spatial_identification import spatial_base_parameters
 from prp3.cli._progress import progress_bar
+from prp3.cli._spatial_identify import run_spatial_excite
 from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     emit,
     files_report,
     integer_at_least,
-    load_robot,
+    load_robot_or_spatial,
     output_folder,
     positive_float,
 )
 from prp3.errors import ParameterError
+from prp3.family.model import FamilyRobot
 from prp3.files import check_output_directory
+from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.tables import write_table_csv
 
 __all__ = ["TRAJECTORY_NAME", "register", "run"]
@@ -69,7 +81,9 @@ def register(subparsers: Any) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    add_robot_option(parser, "; its [limits] stroke and max_force are obeyed")
+    add_robot_option(
+        parser, "; its [limits] stroke and max_force are obeyed; a family-form file: docs/family.md"
+    )
     add_output_directory(parser)
     parser.add_argument(
         "--period", type=positive_float, default=5.0, help="period of the series (s, default 5)"
@@ -118,8 +132,9 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--iterations",
         type=integer_at_least(1, 10_000),
-        default=150,
-        help="most SLSQP iterations (default 150)",
+        default=None,
+        help="most SLSQP iterations (default 150); of a spatial robot file the random "
+        "series tried (default 10)",
     )
     parser.set_defaults(handler=run)
 
@@ -127,7 +142,14 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run ``prp3 excite`` with parsed ``args``; return the exit status."""
     check_output_directory(args.output)
-    robot = load_robot(args)
+    loaded = load_robot_or_spatial(args)
+    if isinstance(loaded, SpatialRobotFile):
+        base = spatial_base_parameters(loaded.robot)
+        too_few = samples_refusal(base, args.samples)
+        if too_few is not None:
+            raise ParameterError(f"--samples {args.samples}: {too_few}, which prp3 identify needs")
+        return run_spatial_excite(args, loaded, TRAJECTORY_NAME)
+    robot = loaded
     too_few = samples_refusal(base_parameters(robot), args.samples)
     if too_few is not None:  # prp3 identify would refuse the trajectory written
         raise ParameterError(f"--samples {args.samples}: {too_few}, which prp3 identify needs")
@@ -141,12 +163,14 @@ def run(args: argparse.Namespace) -> int:
             max_velocity=args.max_velocity,
             max_force=args.max_force,
             seed=args.seed,
-            max_iterations=args.iterations,
+            max_iterations=args.iterations if args.iterations is not None else 150,
             progress=bar.stage("optimising", "iterations"),
         )
     motion = result.series.motion(np.linspace(0.0, args.period, args.samples))
     names = ("t", "x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
     columns = [motion.t, *motion.pose.T, *motion.velocity.T, *motion.acceleration.T]
+    if isinstance(robot, FamilyRobot):
+        return _write_family(args, robot, result, names, columns)
     force = args.max_force if args.max_force is not None else robot.limits.max_force
     with output_folder(args, args.output) as staged:
         write_table_csv(staged.path(TRAJECTORY_NAME), dict(zip(names, columns, strict=True)))
@@ -162,6 +186,38 @@ def run(args: argparse.Namespace) -> int:
             ),
             f"  peaks (nominal robot): |lambda10| {result.peak_lambda10:.4g} m, "
             f"|dlambda10| {result.peak_dlambda10:.4g} m/s, |f10| {result.peak_f10:.4g} N",
+            *files_report(staged),
+        ]
+        # printed before the files are moved in: a failing standard output keeps older results
+        emit("\n".join(lines))
+    return 0
+
+
+def _write_family(
+    args: argparse.Namespace,
+    robot: FamilyRobot,
+    result: ExcitingTrajectory,
+    names: tuple[str, ...],
+    columns: list[np.ndarray],
+) -> int:
+    """Write and summarise the exciting trajectory of a family robot."""
+    prismatic = robot.types[robot.actuated - 1] == "P"
+    value, rate, effort = ("m", "m/s", "N") if prismatic else ("rad", "rad/s", "N m")
+    x0, y0, phi0 = (round(float(v), 12) + 0.0 for v in robot.home_poses.mean(axis=0))
+    with output_folder(args, args.output) as staged:
+        write_table_csv(staged.path(TRAJECTORY_NAME), dict(zip(names, columns, strict=True)))
+        lines = [
+            f"prp3 excite: {robot.architecture} (actuated joint {robot.actuated}), Fourier "
+            f"series, {args.harmonics} harmonics, period {args.period:g} s",
+            f"  condition number of the base regressor of tau: {result.condition:.4g} "
+            f"(starting guess {result.initial_condition:.4g}, {result.iterations} SLSQP iterations)",
+            f"  limits about the home pose ({x0:.6g}, {y0:.6g}, {phi0:.6g}): |x - x0|, |y - y0| "
+            f"<= {args.reach:g} leg.scale, |phi - phi0| <= {args.rotation:g} rad, |dq| <= "
+            f"{args.max_velocity:g} {rate}"
+            + (f", |tau| <= {args.max_force:g} {effort}" if args.max_force is not None else "")
+            + ", singularity measures above a quarter of their home values",
+            f"  peaks (nominal robot): |q| {result.peak_lambda10:.4g} {value}, "
+            f"|dq| {result.peak_dlambda10:.4g} {rate}, |tau| {result.peak_f10:.4g} {effort}",
             *files_report(staged),
         ]
         # printed before the files are moved in: a failing standard output keeps older results

@@ -41,7 +41,7 @@ from prp3.cli._types import (
     files_report,
     finite_float,
     integer_at_least,
-    load_any_robot,
+    load_robot_or_spatial,
     output_folder,
     path_name,
     positive_float,
@@ -51,6 +51,7 @@ from prp3.family import FamilyRobot
 from prp3.files import check_inputs_kept, check_output_directory
 from prp3.io.forces import ForceInput, read_forces
 from prp3.io.results import results_table
+from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.tables import write_table_csv
 from prp3.io.trajectory import trajectory_table
 
@@ -89,6 +90,15 @@ t,tau_A,tau_B,tau_C (N or N*m) or the results.csv of its prp3 simulate, and
 writes its 64 columns; it starts at its home pose at rest (or the first row of
 a results.csv) and stops when a singularity measure falls to 1e-3
 (docs/family.md).
+
+A spatial robot file (6-UPS, 3-RPS, 3-RUU: docs/spatial.md §18) takes
+--efforts hold (the efforts that hold its home pose at rest) or a table
+t,tau_1..tau_L or its results.csv (which also gives the initial state), and
+--duration T; it writes DIR/results.csv (the columns of its prp3 simulate) and
+DIR/trajectory.csv (readable by prp3 simulate --trajectory), --plots the figures;
+reaching a singularity or a joint limit, or a bound of the integration, is
+refused (exit 2, nothing written):
+  prp3 forward --robot hexapod.toml --efforts hold --duration 0.5 --output still
 Exit status 0 when the motion reached the last time; 1 when it stopped early at a
 singularity (|sin(phi - pi/3)| = 2e-4) or at a stroke limit, or the integrator gave
 up (the files hold the motion up to the stop; the reason is on stderr); 2 on bad
@@ -112,7 +122,8 @@ def register(subparsers: Any) -> None:
         description=(
             "Integrate the platform motion of the 3-PRP robot driven by given actuator forces\n"
             "(scipy solve_ivp, DOP853) and write DIR/results.csv (the columns of prp3 simulate)\n"
-            "and DIR/trajectory.csv. See docs/forward_and_workspace.md."
+            "and DIR/trajectory.csv. See docs/forward_and_workspace.md; a spatial robot file:\n"
+            "--efforts hold|FILE --duration T (docs/spatial.md §18)."
         ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -120,11 +131,14 @@ def register(subparsers: Any) -> None:
     add_robot_option(parser)
     parser.add_argument(
         "--forces",
+        "--efforts",
+        dest="forces",
         metavar="FORCES.csv",
         type=path_name,
-        required=True,
         help="actuator forces: header t,f10_A,f10_B,f10_C (s, N), or a results.csv of "
-        "prp3 simulate; optionally fx, fy, mz: a time-varying load on the platform",
+        "prp3 simulate; optionally fx, fy, mz: a time-varying load on the platform "
+        "(required). A spatial robot file: t,tau_1..tau_L or its results.csv, or "
+        "'hold' (the efforts that hold the home pose at rest)",
     )
     parser.add_argument(
         "--initial-pose",
@@ -164,6 +178,18 @@ def register(subparsers: Any) -> None:
         default=1e-12,
         help="absolute tolerance on m, rad, m/s, rad/s (1e-12)",
     )
+    parser.add_argument(
+        "--duration",
+        metavar="T",
+        type=positive_float,
+        help="a spatial robot file: the time integrated (s; default: the span of the efforts "
+        "file, 1 s for hold)",
+    )
+    parser.add_argument(
+        "--plots",
+        action="store_true",
+        help="a spatial robot file: also write platform.png, efforts.png, joint_reactions.png",
+    )
     add_output_directory(parser)
     parser.set_defaults(handler=run)
 
@@ -172,7 +198,25 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 forward`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
-    robot = load_any_robot(args)
+    loaded = load_robot_or_spatial(args)
+    if isinstance(loaded, SpatialRobotFile):  # docs/spatial.md §18
+        from prp3.cli._spatial_forward import run_spatial_forward
+
+        return run_spatial_forward(args, loaded)
+    for option, given in (("--duration", args.duration is not None), ("--plots", args.plots)):
+        if given:
+            raise Prp3Error(
+                f"{option} applies to a spatial robot file (docs/spatial.md §18); the planar "
+                "robots integrate over the times of --forces"
+            )
+    if args.forces is None:
+        raise Prp3Error("--forces FORCES.csv is required (the actuator forces over time)")
+    if str(args.forces) == "hold":
+        raise Prp3Error(
+            "--forces hold applies to a spatial robot file (docs/spatial.md §18); give a "
+            "table of forces t,f10_A,f10_B,f10_C"
+        )
+    robot = loaded
     if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
         from prp3.cli._family_analysis import run_family_forward
 
@@ -224,6 +268,8 @@ def run(args: argparse.Namespace) -> int:
             ) from None
         if error.subject == "forces":  # a force above limits.max_force
             raise error.located(file=given.path) from None
+        if error.subject == "forward dynamics":  # a bound, or the equations lost meaning
+            raise error.located(file=_cause_file(args, robot, given)) from None
         raise
     table = results_table(result.kinematics, result.dynamics)
     with output_folder(args, output) as staged:
@@ -237,6 +283,12 @@ def run(args: argparse.Namespace) -> int:
         print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED
     return 0
+
+
+def _cause_file(args: argparse.Namespace, robot: Any, given: ForceInput) -> Path:
+    """The file a run's failure is laid to: the robot file when it has effects, else the forces."""
+    effects = robot.load.present or robot.payload.present or robot.friction or robot.spring
+    return Path(args.robot) if args.robot is not None and effects else given.path
 
 
 @dataclass(frozen=True)

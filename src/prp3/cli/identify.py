@@ -12,6 +12,12 @@ Writes, together (:func:`prp3.staged_files.staged_output`), ``DIR/robot.toml`` (
 nominal robot with physical parameters that reproduce the identified base
 parameters), ``DIR/parameters.csv`` (``name, combination, estimate, std``) and
 ``DIR/identification.png`` (measured and fitted forces), and prints a summary.
+A family-form NOMINAL.toml (docs/family.md) is identified from its actuator
+efforts, the columns ``tau_A, tau_B, tau_C`` in place of ``f10_*`` (no
+friction: ``--friction none`` only), and ``DIR/robot.toml`` is in family form.
+A spatial robot file (docs/spatial.md §13) is identified from the columns of a
+spatial trajectory file (§14) and ``tau_1 .. tau_n`` (:mod:`prp3.cli._spatial_identify`;
+no figure).
 The computation is :mod:`prp3.apps.identification`; this module only parses and prints.
 """
 
@@ -23,6 +29,12 @@ import sys
 from typing import Any
 
 from prp3.apps.base_parameters import base_parameters
+from prp3.apps.family_regressor import (
+    FAMILY_PARAMETER_SYMBOLS,
+    FAMILY_PARAMETER_UNITS,
+    FAMILY_PARAMETERS,
+    family_standard_parameters,
+)
 from prp3.apps.identification import (
     FRICTION_MODELS,
     Identification,
@@ -38,17 +50,26 @@ from prp3.apps.regressor import (
     standard_parameters,
 )
 from prp3.cli._progress import progress_bar
+from prp3.cli._spatial_identify import run_spatial_identify
 from prp3.cli._types import (
     add_output_directory,
     emit,
     files_report,
-    load_robot,
+    load_robot_or_spatial,
     output_folder,
     path_name,
 )
-from prp3.errors import SingularPoseError, UnreachablePoseError
+from prp3.errors import (
+    ParameterError,
+    SingularPoseError,
+    TrajectoryError,
+    UnreachablePoseError,
+)
+from prp3.family.mechanics import family_kinematics
+from prp3.family.model import FamilyRobot
 from prp3.files import atomic_writer, check_inputs_kept, check_output_directory
-from prp3.io.measurements import read_measurements
+from prp3.io.measurements import MEASURED_EFFORT_COLUMNS, read_measurements
+from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.tables import format_float
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.elements import FRICTIONS
@@ -66,14 +87,21 @@ PARAMETERS_NAME: str = "parameters.csv"
 FRICTION_CHOICES: tuple[str, ...] = tuple(FRICTION_MODELS)
 
 
-def estimated_parameters(nominal: Robot, friction: str) -> tuple[str, ...]:
+def estimated_parameters(nominal: Robot | FamilyRobot, friction: str) -> tuple[str, ...]:
     """The parameters ``prp3 identify`` estimates.
 
     The inertial ones — the platform's first moment only when NOMINAL has a
     payload to carry it —, the friction coefficients of ``--friction`` and
     the regressor fields of NOMINAL's other elements (a ``[spring.actuator]``:
-    its stiffness and damping).
+    its stiffness and damping).  A family robot: its inertial ones
+    (:data:`~prp3.apps.family_regressor.FAMILY_PARAMETERS`), likewise.
     """
+    if isinstance(nominal, FamilyRobot):
+        return tuple(
+            name
+            for name in FAMILY_PARAMETERS
+            if nominal.payload.mass > 0.0 or not name.startswith("platform_moment")
+        )
     inertial = tuple(
         name
         for name in STANDARD_PARAMETERS
@@ -94,7 +122,11 @@ examples:
   prp3 simulate --robot ident/robot.toml --trajectory other.csv --output check
 
 M.csv: header t,x,y,phi[,dx,dy,dphi,ddx,ddy,ddphi][,fx,fy,mz],f10_A,f10_B,f10_C
-(SI units, rad, N; fx, fy, mz: a known wrench on the platform at G).
+(SI units, rad, N; fx, fy, mz: a known wrench on the platform at G); of a
+family-form NOMINAL.toml (docs/family.md): t,x,y,phi[,...],tau_A,tau_B,tau_C
+(its actuator efforts, N or N m; no fx, fy, mz: its [load] is constant); of a
+spatial robot file (docs/spatial.md): t,x,y,z, qw,qx,qy,qz or roll,pitch,yaw
+[,wx,...,az],tau_1..tau_n (docs/identification.md, "Spatial robots").
 Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
 """
 
@@ -117,7 +149,7 @@ def register(subparsers: Any) -> None:
         metavar="NOMINAL.toml",
         type=path_name,
         help="the nominal robot: geometry, gravity, the parameters that cannot be "
-        "identified (default: the paper's robot)",
+        "identified (default: the paper's robot; a family-form file: docs/family.md)",
     )
     parser.add_argument(
         "--measurements",
@@ -142,11 +174,33 @@ def run(args: argparse.Namespace) -> int:
     check_output_directory(args.output)
     names = (ROBOT_NAME, PARAMETERS_NAME, IDENTIFICATION_FIGURE)
     check_inputs_kept(args.output, names, (args.robot, args.measurements))
-    nominal = load_robot(args)
-    data = read_measurements(args.measurements)
+    loaded = load_robot_or_spatial(args)
+    if isinstance(loaded, SpatialRobotFile):
+        return run_spatial_identify(args, loaded, ROBOT_NAME, PARAMETERS_NAME)
+    nominal = loaded
+    family = isinstance(nominal, FamilyRobot)
+    if family and args.friction != "none":
+        raise ParameterError(
+            f"--friction {args.friction}: a family robot has no friction model (docs/family.md "
+            "§1); identify its inertial parameters with --friction none",
+            key="friction",
+        )
+    if family:
+        data = read_measurements(args.measurements, MEASURED_EFFORT_COLUMNS, crossing=False)
+    else:
+        data = read_measurements(args.measurements)
     trajectory = data.trajectory
+    if isinstance(nominal, FamilyRobot) and trajectory.motion.load is not None:
+        raise TrajectoryError(
+            "the load columns fx, fy, mz belong to a model-form NOMINAL.toml (docs/model.md); "
+            f"the {nominal.architecture}'s load is its constant [load] table",
+            file=trajectory.path,
+        )
     try:
-        inverse_geometry(nominal, trajectory.motion.pose)
+        if isinstance(nominal, FamilyRobot):
+            family_kinematics(nominal, trajectory.motion)
+        else:
+            inverse_geometry(nominal, trajectory.motion.pose)
     except (SingularPoseError, UnreachablePoseError) as error:
         sample = error.sample
         line = int(trajectory.lines[sample]) if sample is not None else None
@@ -168,9 +222,10 @@ def run(args: argparse.Namespace) -> int:
         result.t,
         result.measured,
         result.fitted,
-        title="identification: measured and fitted actuator forces",
+        title=f"identification: measured and fitted actuator {'efforts' if family else 'forces'}",
         subtitle=f"{args.measurements}: {result.t.size} samples, {result.base.count} base "
-        f"parameters, residual RMS {', '.join(f'{v:.3g}' for v in result.residual_rms)} N",
+        f"parameters, residual RMS {', '.join(f'{v:.3g}' for v in result.residual_rms)} "
+        f"{_effort_unit(nominal)}",
     )
     with output_folder(args, args.output) as staged:
         with atomic_writer(staged.path(ROBOT_NAME)) as stream:
@@ -182,8 +237,19 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _symbol(name: str) -> str:
+    return FAMILY_PARAMETER_SYMBOLS.get(name) or PARAMETER_SYMBOLS[name]
+
+
+def _effort_unit(robot: Robot | FamilyRobot) -> str:
+    """``N`` of the 3-PRP's forces; a family robot's effort unit (``N m`` for an R joint)."""
+    if isinstance(robot, FamilyRobot) and robot.types[robot.actuated - 1] == "R":
+        return "N m"
+    return "N"
+
+
 def _robot_text(robot: IdentifiedRobot, args: argparse.Namespace) -> str:
-    solved = ", ".join(PARAMETER_SYMBOLS[name] for name in robot.solved)
+    solved = ", ".join(_symbol(name) for name in robot.solved)
     return (
         f"# identified by prp3 identify from {args.measurements}\n"
         f"# solved from the base parameters: {solved}; every other parameter is the\n"
@@ -209,10 +275,12 @@ def _write_parameters(path: Any, result: Identification) -> None:
 def _summary(
     result: Identification,
     robot: IdentifiedRobot,
-    nominal: Robot,
+    nominal: Robot | FamilyRobot,
     args: argparse.Namespace,
     files: list[str],
 ) -> str:
+    if isinstance(nominal, FamilyRobot):
+        return _family_summary(result, robot, nominal, args, files)
     base = result.base
     width = max(len(label) for label in base.labels)
     lines = [
@@ -277,5 +345,63 @@ def _summary(
             else "estimated below 0, within 3 standard deviations of 0"
         )
         lines.append(f"  {PARAMETER_SYMBOLS[name]} {why}: written as 0")
+    lines += files
+    return "\n".join(lines)
+
+
+def _family_summary(
+    result: Identification,
+    robot: IdentifiedRobot,
+    nominal: FamilyRobot,
+    args: argparse.Namespace,
+    files: list[str],
+) -> str:
+    """:func:`_summary` of a family robot: its efforts ``tau``, no friction, no joint forces."""
+    base = result.base
+    unit = _effort_unit(nominal)
+    width = max(len(label) for label in base.labels)
+    lines = [
+        f"prp3 identify: {nominal.architecture} (actuated joint {nominal.actuated}), "
+        f"{args.measurements}, {result.t.size} samples, {base.count} base parameters of tau "
+        "(weighted least squares, 2 passes)",
+        f"  {'base parameter':<{width}}  {'estimate':>14}  {'std':>10}  unit",
+    ]
+    for b in range(base.count):
+        lines.append(
+            f"  {base.label(b):<{width}}  {result.estimate[b]:>14.6g}  {result.std[b]:>10.3g}  "
+            f"{FAMILY_PARAMETER_UNITS[base.names[b]]}"
+        )
+    lines += [
+        f"  condition number of the base regressor: {result.condition:.4g}",
+        f"  residual RMS per actuator ({unit}): "
+        + ", ".join(
+            f"{leg} {v:.4g}" for leg, v in zip(LEGS, result.residual_rms.tolist(), strict=True)
+        ),
+        f"  weights, first-pass residual std ({unit}): "
+        + ", ".join(f"{leg} {v:.4g}" for leg, v in zip(LEGS, result.sigma.tolist(), strict=True)),
+        "  not identifiable from tau (kept at the nominal values):",
+    ]
+    for name in base.unidentifiable:
+        lines.append(f"    {_symbol(name)} ({name}): {base.reason(name)}")
+    if result.fixed:
+        nominal_values = family_standard_parameters(nominal, result.fixed).tolist()
+        for name, value in zip(result.fixed, nominal_values, strict=True):
+            lines.append(
+                f"    {_symbol(name)} ({name}): not estimated: NOMINAL has no [payload] to carry "
+                f"a first moment of the platform, {value!r} kept"
+            )
+    lines.append("  identifiable only in a combination:")
+    for name in base.dependent():
+        lines.append(f"    {_symbol(name)} ({name}): {base.reason(name)}")
+    lines.append(
+        "  robot.toml: solved "
+        + ", ".join(f"{_symbol(name)} from {base.label(b)}" for b, name in enumerate(robot.solved))
+        + "; every other parameter is NOMINAL's"
+    )
+    for name in robot.clamped:
+        lines.append(
+            f"  {_symbol(name)} estimated within 3 standard deviations of 0 (the nominal robot "
+            "has no payload): written as 0"
+        )
     lines += files
     return "\n".join(lines)

@@ -13,7 +13,13 @@ from typing import Any
 
 from prp3.cli._types import emit, path_name
 from prp3.errors import Prp3Error
-from prp3.family import ARCHITECTURES, FamilyRobot, family_template, read_robot_file
+from prp3.family import ARCHITECTURES, FamilyRobot, family_template
+from prp3.io.spatial_robot import (
+    SPATIAL_ARCHITECTURES,
+    SpatialRobotFile,
+    read_any_robot,
+    spatial_robot_text,
+)
 from prp3.model.robot import robot_template
 
 __all__ = ["register", "run"]
@@ -24,6 +30,8 @@ examples:
   prp3 robot --check robot.toml           validate it, print the parameters it gives
   prp3 simulate --robot robot.toml --motion vertical --output out
   prp3 robot --template --architecture 3-RRR > rrr.toml   a family-form file (docs/family.md)
+  prp3 robot --template --architecture 6-UPS > hexapod.toml   a spatial robot (docs/spatial.md)
+  prp3 robot --check hexapod.toml         validate a spatial robot file too
 """
 
 
@@ -53,9 +61,10 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument(
         "--architecture",
-        choices=ARCHITECTURES,
+        choices=(*ARCHITECTURES, *SPATIAL_ARCHITECTURES),
         help="with --template: a family-form ROBOT.toml of this architecture and its "
-        "default design (docs/family.md)",
+        "default design (docs/family.md), or a spatial robot file of the 6-UPS hexapod, "
+        "the 3-RPS or the Delta as a 3-RUU (docs/spatial.md §13)",
     )
     parser.set_defaults(handler=run)
 
@@ -64,16 +73,23 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 robot`` with parsed ``args``; return the exit status."""
     architecture = getattr(args, "architecture", None)
     if args.template:
-        emit(robot_template() if architecture is None else family_template(architecture), end="")
+        if architecture is None:
+            emit(robot_template(), end="")
+        elif architecture in SPATIAL_ARCHITECTURES:
+            emit(spatial_robot_text(architecture), end="")
+        else:
+            emit(family_template(architecture), end="")
         return 0
     if architecture is not None:
         raise Prp3Error(
             f"--architecture {architecture} applies to --template only (a checked file "
             "names its own architecture)"
         )
-    robot = read_robot_file(args.check)
+    robot = read_any_robot(args.check)
     emit(f"# {args.check}: valid; the parameters it gives, defaults filled in:")
-    if isinstance(robot, FamilyRobot):
+    if isinstance(robot, SpatialRobotFile):
+        emit(spatial_robot_text(robot), end="")
+    elif isinstance(robot, FamilyRobot):
         emit(family_template(robot), end="")
     else:
         emit(robot_template(robot), end="")

@@ -45,19 +45,21 @@ from prp3.cli._types import (
     emit,
     files_report,
     integer_at_least,
-    load_any_robot,
+    load_robot_or_spatial,
     output_folder,
     path_name,
 )
 from prp3.errors import Prp3Error
 from prp3.family import FamilyRobot
 from prp3.files import check_inputs_kept, check_output_directory
+from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.tables import parquet_available, write_table_csv, write_table_parquet
 from prp3.io.trajectory import Trajectory, read_trajectory
 from prp3.mechanics.implicit_friction import NEAR_LOCK_MU
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import PAPER_MOTIONS, Motion, paper_motion
 from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
+from prp3.spatial.motion import SPATIAL_MOTIONS
 from prp3.validation import LEGS
 
 __all__ = [
@@ -124,9 +126,10 @@ def register(subparsers: Any) -> None:
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument(
         "--motion",
-        choices=tuple(PAPER_MOTIONS),
+        choices=(*PAPER_MOTIONS, *SPATIAL_MOTIONS),
         help="one of the paper's motions (eq. 4, t = 0..3 s): vertical (Figs. 3-5) or "
-        "rotation (Figs. 6-8)",
+        "rotation (Figs. 6-8); for a spatial robot file (docs/spatial.md §15): heave, "
+        "circle or tilt about its home pose",
     )
     source.add_argument(
         "--trajectory",
@@ -144,10 +147,11 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--method",
         choices=METHODS,
-        default="fast",
+        default=None,
         help="fast: the kernel's closed form of the paper's method (eqs. 10-25, default); "
         "paper: the paper's recursive 3x3 matrices as printed; "
-        "newton-euler: the independent Newton-Euler solver",
+        "newton-euler: the independent Newton-Euler solver (a spatial robot file runs it "
+        "always: docs/spatial.md §8)",
     )
     add_engine_option(parser)
     add_output_directory(parser)
@@ -168,7 +172,8 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--animate",
         action="store_true",
-        help=f"also write {ANIMATION_NAME}, an animated GIF of the mechanism",
+        help=f"also write {ANIMATION_NAME}, an animated GIF of the mechanism (a spatial robot: "
+        "in 3-D with every joint's reaction force, docs/spatial.md §15)",
     )
     parser.add_argument(
         "--frames",
@@ -176,7 +181,7 @@ def register(subparsers: Any) -> None:
         type=integer_at_least(2),
         help=f"largest number of frames of the animation (default {MAX_FRAMES}); fewer when "
         "the motion has fewer samples or frames would last under 30 ms (real time; a warning "
-        "says so); only with --animate",
+        "says so; a spatial robot refuses more frames than samples); only with --animate",
     )
     parser.add_argument(
         "--html",
@@ -286,7 +291,19 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         require_bokeh("--html")
     check_output_directory(output)
     check_inputs_kept(output, (results_name,), (args.trajectory, args.robot))
-    loaded = load_any_robot(args)
+    spatial_or_planar = load_robot_or_spatial(args)
+    if isinstance(spatial_or_planar, SpatialRobotFile):  # docs/spatial.md §13
+        from prp3.cli._spatial import run_spatial
+
+        return run_spatial(args, spatial_or_planar, progress, stderr, DEFAULT_SAMPLES)
+    loaded = spatial_or_planar
+    if args.method is None:
+        args.method = "fast"
+    if args.motion is not None and args.motion not in PAPER_MOTIONS:
+        raise Prp3Error(
+            f"--motion {args.motion} is a motion of the spatial robots (docs/spatial.md §15); "
+            f"the planar robots take --motion {' | '.join(PAPER_MOTIONS)} or --trajectory"
+        )
     trajectory: Trajectory | None = None
     if args.trajectory is not None:
         if args.samples is not None:

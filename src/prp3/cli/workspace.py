@@ -42,15 +42,18 @@ from prp3.cli._types import (
     files_report,
     finite_float,
     integer_at_least,
-    load_any_robot,
+    load_robot_or_spatial,
     output_folder,
 )
 from prp3.errors import ParameterError
 from prp3.family import FamilyRobot
 from prp3.files import check_output_directory
+from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.tables import write_table_csv
 from prp3.model.robot import Robot
 from prp3.pose_validation import POSE_BOUND, SINGULARITY_THRESHOLD
+from prp3.spatial.workspace import DEFAULT_POINTS as SPATIAL_DEFAULT_POINTS
+from prp3.spatial.workspace import MAX_POINTS as SPATIAL_MAX_POINTS
 
 __all__ = [
     "DEFAULT_ORIENTATIONS",
@@ -176,7 +179,7 @@ def register(subparsers: Any) -> None:
         "--phi",
         metavar="VALUE",
         type=finite_float,
-        default=0.0,
+        default=None,
         help="platform orientation of the map (rad, default 0: the central orientation)",
     )
     parser.add_argument(
@@ -191,14 +194,15 @@ def register(subparsers: Any) -> None:
         "--points",
         metavar="N",
         type=integer_at_least(2, 100_000),
-        default=DEFAULT_POINTS,
-        help=f"grid points per axis (default {DEFAULT_POINTS})",
+        default=None,
+        help=f"grid points per axis (default {DEFAULT_POINTS}; a spatial robot: "
+        f"{SPATIAL_DEFAULT_POINTS}, at most {SPATIAL_MAX_POINTS})",
     )
     parser.add_argument(
         "--orientations",
         metavar="M",
         type=integer_at_least(2, 100_000),
-        default=DEFAULT_ORIENTATIONS,
+        default=None,
         help="orientations of the scan of phi, evenly over the reachable orientation range "
         f"(over -pi..pi without stroke limits; default {DEFAULT_ORIENTATIONS})",
     )
@@ -209,6 +213,29 @@ def register(subparsers: Any) -> None:
         help="also write the statics map (statics.csv, statics.png): the actuator forces "
         "that hold the platform at rest at every grid point, against [limits] max_force; "
         "default: when the robot has a [payload], a [load] or [limits] max_force",
+    )
+    spatial = parser.add_argument_group(
+        "a spatial robot file (6-UPS, 3-RPS, 3-RUU: docs/spatial.md §17)"
+    )
+    spatial.add_argument(
+        "--plane",
+        metavar="PLANE",
+        help="the plane of the slice: xy, xz, yz (positions) or rp (roll and pitch); default xy, "
+        "or rp for the 3-RPS (its x, y and yaw are parasitic)",
+    )
+    spatial.add_argument(
+        "--offset",
+        metavar="VALUE",
+        type=finite_float,
+        help="the plane's third coordinate (m: z of xy and rp, y of xz, x of yz); default: the "
+        "home pose's",
+    )
+    spatial.add_argument(
+        "--rpy",
+        metavar=("ROLL", "PITCH", "YAW"),
+        type=finite_float,
+        nargs=3,
+        help="the fixed orientation (rad, default 0 0 0; for --plane rp the yaw only)",
     )
     add_output_directory(parser)
     parser.set_defaults(handler=run)
@@ -276,7 +303,20 @@ def run(args: argparse.Namespace) -> int:
     """Run ``prp3 workspace`` with parsed ``args``; return the exit status."""
     output: Path = args.output
     check_output_directory(output)
-    robot = load_any_robot(args)
+    robot = load_robot_or_spatial(args)
+    if isinstance(robot, SpatialRobotFile):  # docs/spatial.md §17
+        from prp3.cli._spatial_workspace import run_spatial_workspace
+
+        return run_spatial_workspace(args, robot)
+    for option, given in (("--plane", args.plane), ("--offset", args.offset), ("--rpy", args.rpy)):
+        if given is not None:
+            raise ParameterError(
+                f"{option} applies to a spatial robot file (docs/spatial.md §17); the planar "
+                "robots' slice is given by --phi"
+            )
+    args.phi = 0.0 if args.phi is None else args.phi
+    args.points = DEFAULT_POINTS if args.points is None else args.points
+    args.orientations = DEFAULT_ORIENTATIONS if args.orientations is None else args.orientations
     if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
         from prp3.cli._family_analysis import run_family_workspace
 
@@ -326,7 +366,12 @@ def run(args: argparse.Namespace) -> int:
         statics = None
         if statics_wanted:
             bar.update("statics", 0, 1)
-            statics = workspace_statics(robot, ws.phi, x, y)
+            try:
+                statics = workspace_statics(robot, ws.phi, x, y)
+            except ParameterError as error:  # forces that overflow: laid to the robot file
+                if args.robot is None:
+                    raise
+                raise error.located(file=args.robot) from None
 
         from prp3.plotting.workspace import save_statics_map, save_workspace_map
 

@@ -170,7 +170,7 @@ def _sample(
     if type(compiled) is not CompiledRobot:
         _not_compiled(compiled)
     state = check_state_sample(pose, velocity, acceleration, compiled.robot)
-    wrench = None if load is None else _check_load_sample(load)
+    wrench = None if load is None else check_load_sample(load)
     name = default_engine() if engine is None else resolve_engine(engine)
     numba = numba_module() if name == "numba" and compiled.compiled_kernel else None
     if compiled.stroke is not None:
@@ -196,7 +196,7 @@ def _sample(
     return _new(SampleForces, f)
 
 
-def _check_load_sample(load: SampleInput) -> tuple[float, float, float]:
+def check_load_sample(load: SampleInput) -> tuple[float, float, float]:
     """One sample's load ``(f_x, f_y, m_z)`` as three Python floats, validated.
 
     The common case in one pass (three Python floats or numpy float64 scalars,
@@ -214,7 +214,7 @@ def _check_load_sample(load: SampleInput) -> tuple[float, float, float]:
     return fx, fy, mz
 
 
-#: What the load's one pass takes as it is (:func:`_check_load_sample`).
+#: What the load's one pass takes as it is (:func:`check_load_sample`).
 _UNPACKED = frozenset((tuple, list))
 _FLOATS = frozenset((float, np.float64))
 

@@ -30,9 +30,9 @@ from prp3.explorer.page import (
     LEVEL,
     Glyph,
     Key,
-    _table,
     arrow_layers,
     clip_overlays,
+    results_table,
     robot_figure,
 )
 from prp3.explorer.run_folder import Run, run_motion
@@ -77,7 +77,7 @@ def _limits(robot: Robot) -> float:
 
 
 class RobotFigure(NamedTuple):
-    """The robot's figure of a page (:func:`_robot_figure`)."""
+    """The robot's figure of a page (:func:`build_robot_figure`)."""
 
     #: The figure (with the map, in a row with its colour bar).
     layout: Any
@@ -136,7 +136,7 @@ _GLYPHS: tuple[Glyph, ...] = (
 )
 
 
-def _robot_figure(
+def build_robot_figure(
     robot: Robot, sources: Mapping[str, Any], overlay: bool, peak: float = 1.0
 ) -> RobotFigure:
     """The robot to scale, its stroke bands, the force arrows and (optionally) the statics map.
@@ -255,7 +255,9 @@ def _empty_overlay() -> dict[str, Columns]:
     }
 
 
-def _sources(view: View, overlay: Mapping[str, Columns] | None, strokes: Columns) -> dict[str, Any]:
+def figure_sources(
+    view: View, overlay: Mapping[str, Columns] | None, strokes: Columns
+) -> dict[str, Any]:
     from bokeh.models import ColumnDataSource
 
     sources: dict[str, Any] = {
@@ -299,7 +301,7 @@ def explorer_document(
         overlay0: dict[str, Columns] | None = workspace_overlay(robot, 0.0)
     except Prp3Error:
         overlay0 = None
-    sources = _sources(first, overlay0, stroke_bands(robot))
+    sources = figure_sources(first, overlay0, stroke_bands(robot))
     overlay_box = Checkbox(
         label="statics map of the workspace at φ",
         active=overlay0 is not None,
@@ -308,9 +310,9 @@ def explorer_document(
     phi_range = (live.sliders["phi"].start, live.sliders["phi"].end)
     singularity, sources["singularity_marker"] = _singularity_figure(phi_range, scene)
     peak0 = float(np.nanmax(overlay0["image"]["image"][0])) if overlay0 is not None else 1.0
-    drawn = _robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
+    drawn = build_robot_figure(robot, sources, overlay=True, peak=peak0 if peak0 > 0 else 1.0)
     clip_overlays(doc, [drawn.plot, singularity])
-    values_table = _table(sources["values"])
+    values_table = results_table(sources["values"])
     models = {"overlay_colours": drawn.colours, "message": live.message}
     # the colour scale reaches the browser with the map's image, which is coloured with it
     bundle = Bundle(sources, models, [values_table], quiet=["overlay_colours"])

@@ -40,10 +40,10 @@ from prp3.explorer.live import Bundle, Changes, LivePage, refused
 from prp3.explorer.page import (
     Glyph,
     Key,
-    _escape,
-    _table,
     arrow_layers,
     clip_overlays,
+    escape,
+    results_table,
     robot_figure,
 )
 from prp3.explorer.run_folder import Run, family_run_motion
@@ -188,7 +188,7 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
     sources = _sources(first)
     figure_, key = _figure(robot, sources)
     clip_overlays(doc, [figure_])
-    values_table = _table(sources["values"])
+    values_table = results_table(sources["values"])
     values_table.height = 420
     measures_table = _measures_table(sources["measures"])
     bundle = Bundle(sources, {"message": live.message}, [values_table, measures_table])
@@ -233,7 +233,7 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
     def draw(first: View) -> tuple[dict[str, Any], tuple[Any, Any, Any], list[Any]]:
         sources = _sources(first)
         fig, key = _figure(robot, sources)
-        values = _table(sources["values"])
+        values = results_table(sources["values"])
         values.height = 420
         return sources, (fig, key, fig), [values, _measures_table(sources["measures"])]
 
@@ -245,7 +245,7 @@ def family_run_html(robot: FamilyRobot, table: Mapping[str, FloatArray], title: 
         draw,
         {q: q for q in FAMILY_PLOTTED},
         lambda frames: (
-            f"<b>{_escape(title)}</b>; {frames} frames of {samples} samples; forces by prp3.family"
+            f"<b>{escape(title)}</b>; {frames} frames of {samples} samples; forces by prp3.family"
         ),
         beside=True,
     )

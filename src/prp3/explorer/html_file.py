@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.explorer.app import PLOTTED, _robot_figure, _sources
-from prp3.explorer.page import _escape, _table
+from prp3.explorer.app import PLOTTED, build_robot_figure, figure_sources
+from prp3.explorer.page import escape, results_table
 from prp3.explorer.scene import PRP3_SCENE, View, arrow_scale, stroke_bands
 from prp3.explorer.scrubber import run_page
 from prp3.family import FamilyRobot
@@ -60,9 +60,9 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
     scale = arrow_scale(robot)
 
     def draw(first: View) -> tuple[dict[str, Any], tuple[Any, Any, Any], list[Any]]:
-        sources = _sources(first, None, stroke_bands(robot))
-        drawn = _robot_figure(robot, sources, overlay=False)
-        return sources, (drawn.layout, drawn.key, drawn.plot), [_table(sources["values"])]
+        sources = figure_sources(first, None, stroke_bands(robot))
+        drawn = build_robot_figure(robot, sources, overlay=False)
+        return sources, (drawn.layout, drawn.key, drawn.plot), [results_table(sources["values"])]
 
     t = np.asarray(table["t"], dtype=np.float64)
     return run_page(
@@ -72,7 +72,7 @@ def run_html(robot: Robot | FamilyRobot, table: Mapping[str, FloatArray], title:
         draw,
         {q: f"{q} (N)" for q in PLOTTED},
         lambda frames: (
-            f"<b>{_escape(title)}</b>: {t.size} samples over t = {t[0]:g} .. "
+            f"<b>{escape(title)}</b>: {t.size} samples over t = {t[0]:g} .. "
             f"{t[-1]:g} s, {frames} frames; forces by prp3 (the kernel, eqs. 10-25)"
         ),
     )

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from prp3.errors import Prp3Error
-from prp3.explorer.page import REDRAW_TABLES, _escape, slider_with_field
+from prp3.explorer.page import REDRAW_TABLES, escape, slider_with_field
 from prp3.explorer.scene import MOTION_CONTROLS, MotionControl, State, View, empty_view
 from prp3.explorer.scrubber import server_scrubber, time_plots
 from prp3.model.motion import Motion
@@ -304,7 +304,7 @@ class LivePage:
         """Draw nothing that belongs to the refused pose, and say why (the library's line)."""
         assert self.bundle is not None
         blank = self._blank(self.state() if state is None else state)
-        self.bundle.send({**blank, "message": {"text": _escape(str(error))}})
+        self.bundle.send({**blank, "message": {"text": escape(str(error))}})
 
     def show_sample(self, motion: Motion, k: int) -> None:
         """Set the nine motion sliders (and the load) to sample ``k`` of a run, then update once."""

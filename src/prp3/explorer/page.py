@@ -100,7 +100,7 @@ def clip_overlays(doc: Any, figures: Sequence[Any]) -> None:
     doc.js_on_event(DocumentReady, CustomJS(args={"figures": list(figures)}, code=_CLIP_OVERLAYS))
 
 
-def _table(source: Any) -> Any:
+def results_table(source: Any) -> Any:
     from bokeh.models import DataTable, NumberFormatter, TableColumn
 
     number = NumberFormatter(format="0.0000")
@@ -123,7 +123,7 @@ def _table(source: Any) -> Any:
     )
 
 
-def _escape(text: str) -> str:
+def escape(text: str) -> str:
     import html
 
     return html.escape(text)
@@ -231,7 +231,7 @@ class Key:
         from bokeh.models import Div
 
         items = "".join(
-            f'<div style="white-space:nowrap">{symbol} {_escape(label)}</div>'
+            f'<div style="white-space:nowrap">{symbol} {escape(label)}</div>'
             for symbol, label in self.entries
         )
         rows = (len(self.entries) + 1) // 2  # down the first column, then the second

@@ -220,7 +220,7 @@ def family_run_motion(robot: FamilyRobot, run: Run) -> Motion:
     names the sample.
     """
     from prp3.family import family_kinematics
-    from prp3.family.mechanics import _jacobian_rate
+    from prp3.family.mechanics import jacobian_rate
 
     table = run.table
     t = table["t"]
@@ -252,7 +252,7 @@ def family_run_motion(robot: FamilyRobot, run: Run) -> Motion:
     dq, ddq = joints("dq"), joints("ddq")
     jac = kin.jacobian  # (N, legs, 3, 3)
     velocity = np.einsum("nij,nj->ni", jac[:, 0], dq[:, 0])
-    bias = _jacobian_rate(robot.types, kin.frames, jac, dq, velocity)
+    bias = jacobian_rate(robot.types, kin.frames, jac, dq, velocity)
     acceleration = np.einsum("nij,nj->ni", jac[:, 0], ddq[:, 0]) + np.einsum(
         "nij,nj->ni", bias[:, 0], dq[:, 0]
     )

@@ -43,41 +43,41 @@ from numpy.typing import NDArray
 from prp3.errors import Prp3Error
 from prp3.family.chain import ChainFrames
 from prp3.family.compiled_legs import (
-    _AX,
-    _COS,
-    _END,
-    _FA,
-    _FCS,
-    _FO,
-    _GRAVITY,
-    _JA,
-    _JO,
-    _LINK1,
-    _LINK2,
-    _LOAD,
-    _NOT_FINITE_DYN,
-    _NOT_FINITE_KIN,
-    _OK,
-    _OUT_OF_RANGE,
-    _PAYLOAD,
-    _PLATFORM,
-    _SIGMA,
-    _SIN,
-    _SINGULAR_LEG,
-    _SINGULAR_PAR,
-    _UNREACHABLE,
-    _acceleration,
-    _chain,
-    _compile,
-    _inv3,
-    _inv3j,
-    _jacobian,
-    _omega,
-    _velocity,
+    FRAME_AX,
+    FRAME_END,
+    FRAME_FA,
+    FRAME_FCS,
+    FRAME_FO,
+    FRAME_JA,
+    FRAME_JO,
+    PAR_COS,
+    PAR_GRAVITY,
+    PAR_LINK1,
+    PAR_LINK2,
+    PAR_LOAD,
+    PAR_PAYLOAD,
+    PAR_PLATFORM,
+    PAR_SIGMA,
+    PAR_SIN,
+    STATUS_NOT_FINITE_DYN,
+    STATUS_NOT_FINITE_KIN,
+    STATUS_OK,
+    STATUS_OUT_OF_RANGE,
+    STATUS_SINGULAR_LEG,
+    STATUS_SINGULAR_PAR,
+    STATUS_UNREACHABLE,
+    body_rate,
+    inv3,
+    inv3j,
+    njit_compiled,
     numba,
     pack,
+    point_acceleration,
+    point_velocity,
+    scalar_leg_chain,
+    scalar_leg_jacobian,
 )
-from prp3.family.compiled_path import _follow
+from prp3.family.compiled_path import follow_path
 from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
@@ -116,16 +116,16 @@ _WIDTH = sum(size * count for size, count in _GROUPS)
 _TAIL = 8
 
 
-@_compile
+@njit_compiled
 def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatArray,
              acceleration: FloatArray, q: FloatArray, dq: FloatArray, ddq: FloatArray,
              jo: FloatArray, ja: FloatArray, fo: FloatArray, fa: FloatArray, ax: FloatArray,
              end: FloatArray, jac: FloatArray, inv: FloatArray, tau: FloatArray,
              power: FloatArray, force: FloatArray, moment: FloatArray, start: int,
              stop: int) -> int:  # fmt: skip
-    """Steps 2 and 3 at the samples ``start:stop`` (``q`` given): the status ``_OK`` or not finite."""
+    """Steps 2 and 3 at the samples ``start:stop`` (``q`` given): the status ``STATUS_OK`` or not finite."""
     a = ints[4]
-    gvx, gvy = par[_GRAVITY], par[_GRAVITY + 1]
+    gvx, gvy = par[PAR_GRAVITY], par[PAR_GRAVITY + 1]
     work = np.zeros(144)  # every small array, in one allocation
     fr = work[0:33]
     one = work[33:36]
@@ -147,32 +147,34 @@ def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatA
         vgx, vgy, omega = velocity[k, 0], velocity[k, 1], velocity[k, 2]
         agx, agy, alpha = acceleration[k, 0], acceleration[k, 1], acceleration[k, 2]
         for j in range(3):
-            _chain(ints, par, par[_COS + j], par[_SIN + j], par[_SIGMA + j], q[k, j, 0],
+            scalar_leg_chain(ints, par, par[PAR_COS + j], par[PAR_SIN + j], par[PAR_SIGMA + j], q[k, j, 0],
                    q[k, j, 1], q[k, j, 2], fr)  # fmt: skip
             for c in range(3):
-                jo[k, j, c, 0] = fr[_JO + 2 * c]
-                jo[k, j, c, 1] = fr[_JO + 2 * c + 1]
-                ja[k, j, c] = fr[_JA + c]
-                fo[k, j, c, 0] = fr[_FO + 2 * c]
-                fo[k, j, c, 1] = fr[_FO + 2 * c + 1]
-                fa[k, j, c] = fr[_FA + c]
-                ax[k, j, c, 0] = fr[_AX + 2 * c]
-                ax[k, j, c, 1] = fr[_AX + 2 * c + 1]
-                end[k, j, c] = fr[_END + c]
-            _jacobian(ints, fr, gx, gy, 1.0, jm)
-            _inv3j(jm, km, j)
+                jo[k, j, c, 0] = fr[FRAME_JO + 2 * c]
+                jo[k, j, c, 1] = fr[FRAME_JO + 2 * c + 1]
+                ja[k, j, c] = fr[FRAME_JA + c]
+                fo[k, j, c, 0] = fr[FRAME_FO + 2 * c]
+                fo[k, j, c, 1] = fr[FRAME_FO + 2 * c + 1]
+                fa[k, j, c] = fr[FRAME_FA + c]
+                ax[k, j, c, 0] = fr[FRAME_AX + 2 * c]
+                ax[k, j, c, 1] = fr[FRAME_AX + 2 * c + 1]
+                end[k, j, c] = fr[FRAME_END + c]
+            scalar_leg_jacobian(ints, fr, gx, gy, 1.0, jm)
+            inv3j(jm, km, j)
             for i in range(3):
                 v[i] = km[j, i, 0] * vgx + km[j, i, 1] * vgy + km[j, i, 2] * omega
             # J̇: R columns perp(Ġ − Ȯ_c), P columns ω_{J_c}·perp(u_c)
             for c in range(3):
                 if ints[c] == 0:
-                    ovx, ovy = _velocity(ints, fr, v, c + 1, fr[_FO + 2 * c], fr[_FO + 2 * c + 1])
+                    ovx, ovy = point_velocity(
+                        ints, fr, v, c + 1, fr[FRAME_FO + 2 * c], fr[FRAME_FO + 2 * c + 1]
+                    )
                     bias[0, c] = -(vgy - ovy)
                     bias[1, c] = vgx - ovx
                 else:
-                    w = _omega(ints, v, c)
-                    bias[0, c] = w * -fr[_AX + 2 * c + 1]
-                    bias[1, c] = w * fr[_AX + 2 * c]
+                    w = body_rate(ints, v, c)
+                    bias[0, c] = w * -fr[FRAME_AX + 2 * c + 1]
+                    bias[1, c] = w * fr[FRAME_AX + 2 * c]
             rhs[0] = agx - (bias[0, 0] * v[0] + bias[0, 1] * v[1] + bias[0, 2] * v[2])
             rhs[1] = agy - (bias[1, 0] * v[0] + bias[1, 1] * v[1] + bias[1, 2] * v[2])
             rhs[2] = alpha
@@ -188,17 +190,17 @@ def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatA
                     inv[k, j, i, c] = km[j, i, c]
             # the wrench each link needs, about G
             for body in range(1, 3):
-                at = _LINK1 if body == 1 else _LINK2
+                at = PAR_LINK1 if body == 1 else PAR_LINK2
                 mass, comx, comy, inertia = par[at], par[at + 1], par[at + 2], par[at + 3]
-                ca, sa = fr[_FCS + 2 * (body - 1)], fr[_FCS + 2 * (body - 1) + 1]
-                cx = fr[_FO + 2 * (body - 1)] + (ca * comx - sa * comy)
-                cy = fr[_FO + 2 * (body - 1) + 1] + (sa * comx + ca * comy)
-                lax, lay = _acceleration(ints, fr, v, acc, body, cx, cy)
+                ca, sa = fr[FRAME_FCS + 2 * (body - 1)], fr[FRAME_FCS + 2 * (body - 1) + 1]
+                cx = fr[FRAME_FO + 2 * (body - 1)] + (ca * comx - sa * comy)
+                cy = fr[FRAME_FO + 2 * (body - 1) + 1] + (sa * comx + ca * comy)
+                lax, lay = point_acceleration(ints, fr, v, acc, body, cx, cy)
                 fx = mass * (lax - gvx)
                 fy = mass * (lay - gvy)
                 links[j, body - 1, 0] = fx
                 links[j, body - 1, 1] = fy
-                links[j, body - 1, 2] = (inertia * _omega(ints, acc, body)
+                links[j, body - 1, 2] = (inertia * body_rate(ints, acc, body)
                                          + ((cx - gx) * fy - (cy - gy) * fx))  # fmt: skip
             # B_L[c] = J[:, c]·Σ_{links i ≥ c} N_i
             for c in range(3):
@@ -213,22 +215,27 @@ def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatA
                     total += jm[i, c] * distal
                 b[j, c] = total
         # the platform's need minus the load (with the payload)
-        pm, pi_ = par[_PLATFORM], par[_PLATFORM + 1]
-        lm, lcx, lcy, li = par[_PAYLOAD], par[_PAYLOAD + 1], par[_PAYLOAD + 2], par[_PAYLOAD + 3]
+        pm, pi_ = par[PAR_PLATFORM], par[PAR_PLATFORM + 1]
+        lm, lcx, lcy, li = (
+            par[PAR_PAYLOAD],
+            par[PAR_PAYLOAD + 1],
+            par[PAR_PAYLOAD + 2],
+            par[PAR_PAYLOAD + 3],
+        )
         cp, sp = math.cos(phi), math.sin(phi)
         rx = cp * lcx - sp * lcy
         ry = sp * lcx + cp * lcy
         plx = lm * (agx + alpha * -ry - (omega * omega) * rx - gvx)
         ply = lm * (agy + alpha * rx - (omega * omega) * ry - gvy)
-        rhs[0] = pm * (agx - gvx) + plx - par[_LOAD]
-        rhs[1] = pm * (agy - gvy) + ply - par[_LOAD + 1]
-        rhs[2] = pi_ * alpha + li * alpha + (rx * ply - ry * plx) - par[_LOAD + 2]
+        rhs[0] = pm * (agx - gvx) + plx - par[PAR_LOAD]
+        rhs[1] = pm * (agy - gvy) + ply - par[PAR_LOAD + 1]
+        rhs[2] = pi_ * alpha + li * alpha + (rx * ply - ry * plx) - par[PAR_LOAD + 2]
         # virtual work: Σ_L τ_L·K_L[a, :] = w_platform + Σ_L K_Lᵀ·B_L
         for i in range(3):
             for j in range(3):
                 rhs[i] += km[j, 0, i] * b[j, 0] + km[j, 1, i] * b[j, 1] + km[j, 2, i] * b[j, 2]
                 matrix[i, j] = km[j, a, i]
-        _inv3(matrix, minv)
+        inv3(matrix, minv)
         for j in range(3):
             t_j = minv[j, 0] * rhs[0] + minv[j, 1] * rhs[1] + minv[j, 2] * rhs[2]
             tau[k, j] = t_j
@@ -258,10 +265,10 @@ def _samples(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatA
                         and math.isfinite(m_c)):  # fmt: skip
                     dyn_ok = False
     if not kin_ok:
-        return _NOT_FINITE_KIN
+        return STATUS_NOT_FINITE_KIN
     if not dyn_ok:
-        return _NOT_FINITE_DYN
-    return _OK
+        return STATUS_NOT_FINITE_DYN
+    return STATUS_OK
 
 
 def _blocks(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatArray,
@@ -284,11 +291,11 @@ def _blocks(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatAr
         last = min(stop, first + BLOCK)
         status[b] = _samples(ints, par, pose, velocity, acceleration, q, dq, ddq, jo, ja, fo,
                              fa, ax, end, jac, inv, tau, power, force, moment, first, last)  # fmt: skip
-    worst = _OK
+    worst = STATUS_OK
     for b in range(blocks):
-        if status[b] == _NOT_FINITE_KIN:
-            return _NOT_FINITE_KIN
-        if status[b] != _OK:
+        if status[b] == STATUS_NOT_FINITE_KIN:
+            return STATUS_NOT_FINITE_KIN
+        if status[b] != STATUS_OK:
             worst = status[b]
     return worst
 
@@ -301,8 +308,8 @@ _samples_parallel = (
 )
 
 
-@_compile
-def _kernel(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatArray,
+@njit_compiled
+def family_kernel(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatArray,
             acceleration: FloatArray, buffer: FloatArray, threads: bool) -> int:  # fmt: skip
     """Every output at the samples into ``buffer`` (``n·_WIDTH + _TAIL``, from numpy); the status.
 
@@ -331,8 +338,8 @@ def _kernel(ints: IntArray, par: FloatArray, pose: FloatArray, velocity: FloatAr
     jo, fo, ax = points[0], points[1], points[2]
     status = np.zeros(4, dtype=np.int64)
     info = np.zeros(4)
-    _follow(ints, par, pose, q, mu_leg, mu_par, status, info)
-    if status[0] == _OK:
+    follow_path(ints, par, pose, q, mu_leg, mu_par, status, info)
+    if status[0] == STATUS_OK:
         if threads:
             status[0] = _samples_parallel(ints, par, pose, velocity, acceleration, q, dq, ddq, jo,
                                           ja, fo, fa, ax, end, block27[0], block27[1], tau, power,
@@ -367,7 +374,7 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     pose = motion.pose.reshape(-1, 3)
     n = pose.shape[0]
     buffer = np.empty(_WIDTH * n + _TAIL)  # allocated by numpy: huge pages for a large N
-    status = _kernel(
+    status = family_kernel(
         ints, par, _c(pose), _c(motion.velocity.reshape(-1, 3)),
         _c(motion.acceleration.reshape(-1, 3)), buffer, uses_threads(n),
     )  # fmt: skip
@@ -388,7 +395,7 @@ def compiled_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     at += 54 * n
     jacobians = buffer[at : at + 54 * n].reshape(2, n, 3, 3, 3)
     at += 54 * n
-    if status != _OK:
+    if status != STATUS_OK:
         t = motion.t.reshape(-1)
         batch = [a.reshape(n, *a.shape[len(shape) :]) for a in (dq, ddq, tau, power, force, moment)]
         _refuse(robot, buffer[at:], pose, t, *batch)
@@ -441,20 +448,20 @@ def _refuse(
     """Raise the numpy engine's error for the kernel's status (docs/family.md §5, §6)."""
     code, k, leg, exact = (int(v) for v in tail[:4])
     info = tail[4:8]
-    if code == _OUT_OF_RANGE:
+    if code == STATUS_OUT_OF_RANGE:
         raise pose_bound_error(robot, pose, t, k)
-    if code == _UNREACHABLE:
+    if code == STATUS_UNREACHABLE:
         note = "" if exact else on_the_way(t, k)
         raise unreachable_error(robot, leg, info, note, k, t)
-    if code in (_SINGULAR_LEG, _SINGULAR_PAR):
+    if code in (STATUS_SINGULAR_LEG, STATUS_SINGULAR_PAR):
         home_leg, home_par = robot.home_measures
         name, at_home = (
-            (f"mu_leg of leg {LEGS[leg]}", home_leg[leg]) if code == _SINGULAR_LEG
+            (f"mu_leg of leg {LEGS[leg]}", home_leg[leg]) if code == STATUS_SINGULAR_LEG
             else ("mu_par", home_par)
         )  # fmt: skip
         raise singular_error(
             name, float(info[3]), info, pose, t, k,
-            LEGS[leg] if code == _SINGULAR_LEG else None, at_home,
+            LEGS[leg] if code == STATUS_SINGULAR_LEG else None, at_home,
         )  # fmt: skip
     require_finite({"dq": dq, "ddq": ddq}, (t.size,), "motion", t)
     finite = {"tau": tau, "p": power, "force": force, "moment": moment}  # p = τ·q̇a: may overflow

@@ -57,18 +57,17 @@ from prp3.apps.design import design_mapping
 from prp3.apps.design_objective import OptimizeSpec, penalized_objective
 from prp3.apps.sweep_spec import (
     Parameter,
-    _integer,
-    _motions,
-    _sampling,
-    _table,
-    _unknown,
     parameter_paths,
+    refuse_unknown_keys,
+    spec_integer,
+    spec_motions,
+    spec_sampling,
+    spec_table,
 )
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
 from prp3.family.model import ARCHITECTURES, FamilyRobot
 from prp3.family.outputs import family_inverse_dynamics
 from prp3.model.motion import Motion
-from prp3.model.robot_toml import read_toml
 from prp3.validation import LEGS
 
 __all__ = [
@@ -87,7 +86,6 @@ __all__ = [
     "family_sweep_spec",
     "is_family_spec",
     "optimize_family",
-    "read_family_sweep_spec",
     "run_family_sweep",
 ]
 
@@ -283,8 +281,8 @@ class FamilySweepSpec:
 
 def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, Any]) -> Study:
     where = f"study[{index}]"
-    table = _table(source, where, table)
-    _unknown(source, f"{where}.", table, _STUDY_KEYS)
+    table = spec_table(source, where, table)
+    refuse_unknown_keys(source, f"{where}.", table, _STUDY_KEYS)
     if "robot" in table:
         file = Path(str(table["robot"]))
         file = file if file.is_absolute() else base / file
@@ -315,7 +313,7 @@ def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, An
     except ParameterError as error:
         raise ParameterError(f"{source}: {where}: {error}") from None
     parameters: list[Parameter] = []
-    given = _table(source, f"{where}.parameters", table.get("parameters", {}))
+    given = spec_table(source, f"{where}.parameters", table.get("parameters", {}))
     for path, value in parameter_paths(given, f"{source}: {where}.parameters"):
         key = f"{source}: {where}.parameters {path!r}"
         if not (isinstance(value, list) and len(value) == 2):
@@ -344,26 +342,28 @@ def family_sweep_spec(
     ParameterError, InputFileError, TrajectoryError
         One line naming ``source`` and the key.
     """
-    from prp3.apps.sweep_spec import _optimize
+    from prp3.apps.sweep_spec import spec_optimize
 
     base = Path(base)
-    _unknown(source, "", data, _TOP_KEYS)
+    refuse_unknown_keys(source, "", data, _TOP_KEYS)
     shared = {key: data[key] for key in _SHARED if key in data}
     studies_table = data["study"]
     if not isinstance(studies_table, list) or not studies_table:
         raise ParameterError(f"{source}: [[study]] must be a non-empty array of tables")
     studies = tuple(_study(source, base, i, t, shared) for i, t in enumerate(studies_table))
-    sampling = _sampling(source, data)
-    designs = _integer(source, "designs", data.get("designs", 20), 2 if sampling == "grid" else 1,
+    sampling = spec_sampling(source, data)
+    designs = spec_integer(source, "designs", data.get("designs", 20), 2 if sampling == "grid" else 1,
                        100_000)  # fmt: skip
     paths: list[str] = []
     for study in studies:
         paths += [p for p in study.paths if p not in paths]
-    names, _, motions, _ = _motions(source, base, _table(source, "task", data.get("task", {})))
+    names, _, motions, _ = spec_motions(
+        source, base, spec_table(source, "task", data.get("task", {}))
+    )
     evaluator = FamilyEvaluator(studies=studies, paths=tuple(paths), motions=motions)
-    optimize_table = _table(source, "optimize", data.get("optimize", {}))
+    optimize_table = spec_table(source, "optimize", data.get("optimize", {}))
     optimize_table.setdefault("objective", "peak_joint_force")
-    optimize = _optimize(source, optimize_table, evaluator.columns)
+    optimize = spec_optimize(source, optimize_table, evaluator.columns)
     known = [c for c in evaluator.columns if c not in ("architecture", "status")]
     for name in (optimize.objective, *(c for c, _, _ in optimize.constraints)):
         if name not in known:  # the 3-PRP's aggregates (peak_f10, ...) are not columns here
@@ -375,18 +375,12 @@ def family_sweep_spec(
         source=source,
         designs=designs,
         sampling=str(sampling),
-        seed=_integer(source, "seed", data.get("seed", 0), 0, 2**63 - 1),
-        chunk=_integer(source, "chunk", data.get("chunk", 20), 1, 100_000),
+        seed=spec_integer(source, "seed", data.get("seed", 0), 0, 2**63 - 1),
+        chunk=spec_integer(source, "chunk", data.get("chunk", 20), 1, 100_000),
         motions=names,
         evaluator=evaluator,
         optimize=optimize,
     )
-
-
-def read_family_sweep_spec(path: str | Path) -> FamilySweepSpec:
-    """Read and validate a family ``SWEEP.toml`` (errors name the file)."""
-    path = Path(path)
-    return family_sweep_spec(read_toml(path, "sweep"), base=path.parent, source=str(path))
 
 
 def family_design_rows(spec: FamilySweepSpec) -> list[tuple[int, list[float]]]:

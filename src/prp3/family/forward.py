@@ -49,15 +49,21 @@ from prp3.family.chain import (
 from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
-    _jacobian_rate,
-    _omega,
-    _point_velocity,
+    body_rates_before,
     family_kinematics,
     fast_dynamics,
+    jacobian_rate,
+    point_velocity,
 )
 from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
-from prp3.validation import check_finite, check_instance, check_real, check_scalar, check_times
+from prp3.validation import (
+    check_finite,
+    check_instance,
+    check_real,
+    check_times,
+    check_tolerances,
+)
 
 __all__ = [
     "SINGULARITY_STOP",
@@ -132,7 +138,7 @@ def _state_kinematics(robot: FamilyRobot, x: FloatArray, v: FloatArray) -> Famil
     inverse = inv3(jac)
     twist = np.broadcast_to(motion.velocity[:, None, :], (4, 3, 3))
     dq = np.einsum("nlij,nlj->nli", inverse, twist)
-    bias = _jacobian_rate(robot.types, frames, jac, dq, motion.velocity)
+    bias = jacobian_rate(robot.types, frames, jac, dq, motion.velocity)
     rhs = motion.acceleration[:, None, :] - np.einsum("nlij,nlj->nli", bias, dq)
     ddq = np.einsum("nlij,nlj->nli", inverse, rhs)
     return FamilyKinematics(
@@ -230,8 +236,8 @@ def family_energy(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:
     for body in (1, 2):
         params = robot.link1 if body == 1 else robot.link2
         c = frames.origin[..., body - 1, :] + rotate(frames.angle[..., body - 1], params.com)
-        v = _point_velocity(types, frames, dq, body, c)
-        w = _omega(types, dq, body)
+        v = point_velocity(types, frames, dq, body, c)
+        w = body_rates_before(types, dq, body)
         kinetic += (0.5 * params.mass * (v * v).sum(-1) + 0.5 * params.inertia * w * w).sum(-1)
         potential -= params.mass * (c @ g).sum(-1)
     omega = velocity[:, 2]
@@ -348,13 +354,11 @@ def family_forward_dynamics(
                 f"{te[0]!r} .. {te[-1]!r} s"
             )
         effort = _effort_function(te, tau)
-    rtol, atol = (
-        check_scalar("rtol", rtol, positive=True),
-        check_scalar("atol", atol, positive=True),
-    )
+    rtol, atol = check_tolerances(rtol, atol)
     x0, v0 = _vector("initial_pose", initial_pose), _vector("initial_velocity", initial_velocity)
     try:  # refuses a singular or unreachable initial pose
-        a0, _ = _dynamics(robot, x0, v0)
+        with np.errstate(all="ignore"):  # an overflow: the results' own refusal, located
+            a0, _ = _dynamics(robot, x0, v0)
     except Prp3Error as error:
         raise error.located(subject="initial pose") from None
     if not np.linalg.cond(a0) < 1e12:
@@ -393,7 +397,7 @@ def family_forward_dynamics(
             rtol=rtol,
             atol=atol,
         )
-    states = np.asarray(solution.y, dtype=np.float64).T
+    states = np.asarray(solution.y, dtype=np.float64).reshape(x0.size + v0.size, -1).T
     reached = np.asarray(solution.t, dtype=np.float64)
     if solution.status == 1:
         status, message = (

@@ -352,7 +352,7 @@ class FamilyKinematics:
     jacobian_inverse: FloatArray
 
 
-def _batch(motion: Motion) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+def motion_batch(motion: Motion) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     t = np.atleast_1d(motion.t)
     return (
         t,
@@ -382,19 +382,19 @@ def family_kinematics(robot: FamilyRobot, motion: Motion) -> FamilyKinematics:
     ``(perp(Ġ − Ȯ_k), 0)`` (R) and ``(ω_{J_k}·perp(u_k), 0)`` (P).
     """
     robot, motion = check_inputs(robot, motion)
-    t, pose, _, _ = _batch(motion)
+    t, pose, _, _ = motion_batch(motion)
     return joint_rates(robot, motion, inverse_geometry(robot, pose, t))
 
 
 def joint_rates(robot: FamilyRobot, motion: Motion, geo: Geometry) -> FamilyKinematics:
     """:func:`family_kinematics` after the inverse geometry ``geo`` of ``motion``'s poses."""
-    t, pose, velocity, acceleration = _batch(motion)
+    t, pose, velocity, acceleration = motion_batch(motion)
     frames = geo.frames
     jac = leg_jacobian(robot.types, frames, pose[:, None, :2])
     twist = np.broadcast_to(velocity[:, None, :], (t.size, 3, 3))
     inverse = inv3(jac)
     dq = np.einsum("nlij,nlj->nli", inverse, twist)
-    bias = _jacobian_rate(robot.types, frames, jac, dq, velocity)
+    bias = jacobian_rate(robot.types, frames, jac, dq, velocity)
     rhs = acceleration[:, None, :] - np.einsum("nlij,nlj->nli", bias, dq)
     ddq = np.einsum("nlij,nlj->nli", inverse, rhs)
     require_finite({"dq": dq, "ddq": ddq}, (t.size,), "motion", t)
@@ -413,7 +413,7 @@ def joint_rates(robot: FamilyRobot, motion: Motion, geo: Geometry) -> FamilyKine
     )
 
 
-def _omega(types: str, dq: FloatArray, upto: int) -> FloatArray:
+def body_rates_before(types: str, dq: FloatArray, upto: int) -> FloatArray:
     """``Σ_{i < upto, R} q̇_i``: the angular rate of the body before joint ``upto``."""
     out = np.zeros(dq.shape[:-1])
     for i in range(upto):
@@ -422,7 +422,7 @@ def _omega(types: str, dq: FloatArray, upto: int) -> FloatArray:
     return out
 
 
-def _point_velocity(
+def point_velocity(
     types: str, frames: ChainFrames, dq: FloatArray, body: int, point: FloatArray
 ) -> FloatArray:
     """Velocity of the point ``point`` fixed in body ``body`` (1..3: link 1, link 2, platform)."""
@@ -435,7 +435,7 @@ def _point_velocity(
     return v
 
 
-def _jacobian_rate(
+def jacobian_rate(
     types: str, frames: ChainFrames, jac: FloatArray, dq: FloatArray, velocity: FloatArray
 ) -> FloatArray:
     """``J̇`` of every leg, shape ``(N, 3, 3, 3)``."""
@@ -443,10 +443,12 @@ def _jacobian_rate(
     vg = velocity[:, None, :2]
     for k in range(3):
         if types[k] == "R":
-            o_dot = _point_velocity(types, frames, dq, k + 1, frames.origin[..., k, :])
+            o_dot = point_velocity(types, frames, dq, k + 1, frames.origin[..., k, :])
             out[..., :2, k] = perp(vg - o_dot)
         else:
-            out[..., :2, k] = _omega(types, dq, k)[..., None] * perp(frames.axis[..., k, :])
+            out[..., :2, k] = body_rates_before(types, dq, k)[..., None] * perp(
+                frames.axis[..., k, :]
+            )
     return out
 
 
@@ -459,16 +461,20 @@ def _point_acceleration(
     point: FloatArray,
 ) -> FloatArray:
     """Acceleration of a point fixed in body ``body``: ``Σ_i q̈_i·s_i + q̇_i·ṡ_i``."""
-    v = _point_velocity(types, frames, dq, body, point)
+    v = point_velocity(types, frames, dq, body, point)
     a = np.zeros(point.shape)
     for i in range(body):
         if types[i] == "R":
-            o_dot = _point_velocity(types, frames, dq, i + 1, frames.origin[..., i, :])
+            o_dot = point_velocity(types, frames, dq, i + 1, frames.origin[..., i, :])
             a = a + ddq[..., i, None] * perp(point - frames.origin[..., i, :])
             a = a + dq[..., i, None] * perp(v - o_dot)
         else:
             u = frames.axis[..., i, :]
-            a = a + ddq[..., i, None] * u + (dq[..., i] * _omega(types, dq, i))[..., None] * perp(u)
+            a = (
+                a
+                + ddq[..., i, None] * u
+                + (dq[..., i] * body_rates_before(types, dq, i))[..., None] * perp(u)
+            )
     return a
 
 
@@ -485,7 +491,7 @@ def body_wrenches(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:
     """
     robot = kin.robot
     types, frames = robot.types, kin.frames
-    _, pose, velocity, acceleration = _batch(kin.motion)
+    _, pose, velocity, acceleration = motion_batch(kin.motion)
     dq, ddq = kin.dq.reshape(-1, 3, 3), kin.ddq.reshape(-1, 3, 3)
     g = np.asarray(robot.gravity)
     centre = pose[:, None, :2]
@@ -494,7 +500,7 @@ def body_wrenches(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:
         params = robot.link1 if body == 1 else robot.link2
         c = frames.origin[..., body - 1, :] + rotate(frames.angle[..., body - 1], params.com)
         a = _point_acceleration(types, frames, dq, ddq, body, c)
-        alpha = _omega(types, ddq, body)
+        alpha = body_rates_before(types, ddq, body)
         force = params.mass * (a - g)
         links[..., body - 1, :2] = force
         links[..., body - 1, 2] = params.inertia * alpha + cross(c - centre, force)
@@ -592,10 +598,10 @@ def virtual_work(kin: FamilyKinematics, links: FloatArray, platform: FloatArray)
     matrix = np.swapaxes(inverse[:, :, a, :], -1, -2)  # columns K_L[a, :]
     tau = solve3(matrix, rhs)
     force, moment = joint_forces(kin, tau, links)
-    return _solution(kin, kin.dq, kin.ddq, tau, force, moment, "fast")
+    return joint_solution(kin, kin.dq, kin.ddq, tau, force, moment, "fast")
 
 
-def _solution(
+def joint_solution(
     kin: FamilyKinematics,
     dq: FloatArray,
     ddq: FloatArray,

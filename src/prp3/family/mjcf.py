@@ -61,16 +61,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.apps.mjcf import (
-    _SENSORS,
     MUJOCO_MIN_VALUE,
+    SENSORS,
     MjcfWarning,
-    _inertial,
-    _num,
-    _payload_body,
-    _preamble,
-    _quat_z,
-    _vec,
-    _welds_motors_load,
+    inertial_element,
+    num,
+    payload_body,
+    preamble,
+    quat_z,
+    vec,
+    welds_motors_load,
 )
 from prp3.errors import ParameterError, Prp3Error
 from prp3.family.chain import SIGMA
@@ -145,10 +145,10 @@ def _joint(robot: FamilyRobot, k: int, leg: str) -> str:
 def _drawing(a: float, b: float, size: float, rgba: str) -> str:
     """A capsule from the body origin to ``(a, b)`` (a sphere when they nearly coincide)."""
     if math.hypot(a, b) < 10.0 * size:
-        return f'<geom type="sphere" size="{_num(size)}" rgba="{rgba}"/>'
+        return f'<geom type="sphere" size="{num(size)}" rgba="{rgba}"/>'
     return (
-        f'<geom type="capsule" size="{_num(size / 2)}" '
-        f'fromto="{_vec(0.0, 0.0, 0.0, a, b, 0.0)}" rgba="{rgba}"/>'
+        f'<geom type="capsule" size="{num(size / 2)}" '
+        f'fromto="{vec(0.0, 0.0, 0.0, a, b, 0.0)}" rgba="{rgba}"/>'
     )
 
 
@@ -164,7 +164,7 @@ def unrepresented(robot: FamilyRobot) -> list[str]:
     fx, fy = robot.load.force
     return [
         "the constant [load]: apply it as data.xfrc_applied[platform_A] = "
-        f"({_num(fx)}, {_num(fy)}, 0, 0, 0, {_num(robot.load.moment)}) (numeric prp3_load)"
+        f"({num(fx)}, {num(fy)}, 0, 0, 0, {num(robot.load.moment)}) (numeric prp3_load)"
     ]
 
 
@@ -220,7 +220,7 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
     size = scale / 60.0
     gx, gy = robot.gravity
     a_p, b_p, gamma_p = robot.leg.attachment
-    lines = _preamble(
+    lines = preamble(
         [
             f"  <!-- {robot.architecture} planar parallel robot (actuated joint {robot.actuated}),",
             "       written by prp3 (docs/family.md). Plane x-y, z out of the plane. Joints (qpos):",
@@ -246,9 +246,9 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
             ind = "    " + "  " * k
             nxt = placements[k + 1]
             lines += [
-                f'{ind}<body name="{name}_{leg}" pos="{_vec(a, b, 0.0)}" quat="{_quat_z(gamma)}">',
+                f'{ind}<body name="{name}_{leg}" pos="{vec(a, b, 0.0)}" quat="{quat_z(gamma)}">',
                 f"{ind}  " + _joint(robot, k, leg),
-                f"{ind}  " + _inertial(mass, com, izz, scale, gamma_p if k == 2 else 0.0),
+                f"{ind}  " + inertial_element(mass, com, izz, scale, gamma_p if k == 2 else 0.0),
                 f"{ind}  " + _drawing(float(nxt[0]), float(nxt[1]), size, rgba),
             ]
             opened.append(f"{ind}</body>")
@@ -257,24 +257,24 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
             cg, sg = math.cos(gamma_p), math.sin(gamma_p)
             px, py = payload.com
             inner = "        "
-            body = _payload_body(payload, size, inner)
+            body = payload_body(payload, size, inner)
             # the payload's com is given in the platform frame E_A = T_P in F_3
             at = (a_p + cg * px - sg * py, b_p + sg * px + cg * py)
-            body[0] = f'{inner}<body name="payload" pos="{_vec(at[0], at[1], 0.0)}">'
+            body[0] = f'{inner}<body name="payload" pos="{vec(at[0], at[1], 0.0)}">'
             lines += body
         lines += opened[::-1]
     welds = []
     for j in (1, 2):
         x, y, angle = weld_relpose(robot, j)
-        welds.append((LEGS[j], f"{_vec(x, y, 0.0)} {_quat_z(angle)}"))
+        welds.append((LEGS[j], f"{vec(x, y, 0.0)} {quat_z(angle)}"))
     motors = [f"q{robot.actuated}_{leg}" for leg in LEGS]
-    lines += _welds_motors_load(welds, motors, robot.load)
+    lines += welds_motors_load(welds, motors, robot.load)
     closed = closed_configuration(robot)
     if closed is not None:
         lines += [
             "  <keyframe>",
-            f'    <key name="closed" qpos="{_vec(*closed)}"/>',
+            f'    <key name="closed" qpos="{vec(*closed)}"/>',
             "  </keyframe>",
         ]
-    lines += _SENSORS
+    lines += SENSORS
     return "\n".join(lines) + "\n"

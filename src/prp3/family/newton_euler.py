@@ -29,9 +29,9 @@ from prp3.family.chain import cross, perp, rotate
 from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
-    _batch,
-    _solution,
     family_kinematics,
+    joint_solution,
+    motion_batch,
 )
 from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
@@ -81,7 +81,7 @@ def newton_euler_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     kin = family_kinematics(robot, motion)
     robot = kin.robot
     frames = kin.frames
-    _, pose, _, acceleration = _batch(kin.motion)
+    _, pose, _, acceleration = motion_batch(kin.motion)
     n = pose.shape[0]
     types, act = robot.types, robot.actuated - 1
     centres, accs, alphas = link_accelerations(kin)
@@ -157,4 +157,4 @@ def newton_euler_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
             force[:, leg, k, 1] = np.einsum("ni,ni->n", fy, x)
             moment[:, leg, k] = np.einsum("ni,ni->n", m, x)
     tau = x[:, 6::7]
-    return _solution(kin, kin.dq, kin.ddq, tau, force, moment, "newton-euler")
+    return joint_solution(kin, kin.dq, kin.ddq, tau, force, moment, "newton-euler")

@@ -19,7 +19,7 @@ from prp3.family.model import FamilyRobot
 from prp3.family.newton_euler import newton_euler_dynamics
 from prp3.family.paper import paper_dynamics
 from prp3.model.motion import Motion, name_overflow_input
-from prp3.validation import LEGS
+from prp3.validation import LEGS, check_choice
 
 __all__ = [
     "DEFAULT_ENGINE",
@@ -89,14 +89,8 @@ def family_inverse_dynamics(
     >>> solution.tau.shape, solution.force.shape
     ((5, 3), (5, 3, 3, 2))
     """
-    if method not in FAMILY_METHODS:
-        raise Prp3Error(
-            f"method must be one of {', '.join(map(repr, FAMILY_METHODS))}, got {method!r}"
-        )
-    if engine not in FAMILY_ENGINES:
-        raise Prp3Error(
-            f"engine must be one of {', '.join(map(repr, FAMILY_ENGINES))}, got {engine!r}"
-        )
+    check_choice("method", method, FAMILY_METHODS)
+    check_choice("engine", engine, FAMILY_ENGINES)
     try:
         if method == "paper":
             return paper_dynamics(robot, motion)

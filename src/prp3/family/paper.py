@@ -44,9 +44,9 @@ from prp3.family.chain import SIGMA
 from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
-    _batch,
-    _solution,
     family_kinematics,
+    joint_solution,
+    motion_batch,
 )
 from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
@@ -227,7 +227,7 @@ def paper_steps(
     if kin is None:
         kin = family_kinematics(robot, motion)
     robot = kin.robot
-    _, pose, velocity, acceleration = _batch(kin.motion)
+    _, pose, velocity, acceleration = motion_batch(kin.motion)
     n = pose.shape[0]
     q = kin.q.reshape(n, 3, 3)
     chain = Chain(robot, q)
@@ -352,4 +352,4 @@ def paper_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
     force = np.stack(
         [_mtv(steps.rotation[k], steps.joint_force[:, :, k])[..., :2] for k in range(3)], 2
     )
-    return _solution(kin, steps.dq, steps.ddq, steps.tau, force, steps.joint_moment, "paper")
+    return joint_solution(kin, steps.dq, steps.ddq, steps.tau, force, steps.joint_moment, "paper")

@@ -16,7 +16,7 @@ the C of :mod:`prp3.family.codegen`, on Python floats it is
 
 >>> from prp3.mechanics.ops import MATH
 >>> from prp3.family.model import FamilyRobot
->>> design = _Design.of(FamilyRobot.default("3-RRR"))
+>>> design = Design.of(FamilyRobot.default("3-RRR"))
 >>> len(list(leg_candidates(MATH, design, (0.0, 0.0), (1.0, 0.0))))
 2
 """
@@ -61,7 +61,7 @@ def _perp(a: Pair) -> Pair:
     return (-a[1], a[0])
 
 
-def _turn(r: Pair, v: Pair) -> Pair:
+def turn(r: Pair, v: Pair) -> Pair:
     """``Rot·v`` for a rotation given as ``(cos, sin)`` (a complex product)."""
     return (r[0] * v[0] - r[1] * v[1], r[1] * v[0] + r[0] * v[1])
 
@@ -78,7 +78,7 @@ def _over(v: Pair, c: tuple[float, float]) -> Pair:
 
 # ------------------------------------------------------------------ stage 1: geometry
 @dataclass(frozen=True)
-class _Design:
+class Design:
     """Leg A's constants as plain floats."""
 
     types: str
@@ -87,7 +87,7 @@ class _Design:
     scale: float
 
     @classmethod
-    def of(cls, robot: FamilyRobot) -> _Design:
+    def of(cls, robot: FamilyRobot) -> Design:
         p = robot.leg.placements
         return cls(
             types=robot.types,
@@ -97,28 +97,28 @@ class _Design:
         )
 
 
-def _chain(design: _Design, rotations: Sequence[Pair], slides: dict[int, Any]) -> list[Pair]:
+def _chain(design: Design, rotations: Sequence[Pair], slides: dict[int, Any]) -> list[Pair]:
     """Joint origins ``O_k`` from the frame rotations ``R_{F_k}`` and the P values (§2)."""
     prev_r: Pair = (1.0, 0.0)
     prev_o: Pair = (0.0, 0.0)
     origins = []
     for k in range(3):
-        origin = _add(prev_o, _turn(prev_r, design.c[k]))
+        origin = _add(prev_o, turn(prev_r, design.c[k]))
         if design.types[k] == "P":
-            origin = _add(origin, _scale(slides[k], _turn(prev_r, _unit(design.gamma[k]))))
+            origin = _add(origin, _scale(slides[k], turn(prev_r, _unit(design.gamma[k]))))
         origins.append(origin)
         prev_r, prev_o = rotations[k], origin
     return origins
 
 
-def _measure(design: _Design, g: Pair, origins: Sequence[Pair], rotations: Sequence[Pair]) -> Any:
+def _measure(design: Design, g: Pair, origins: Sequence[Pair], rotations: Sequence[Pair]) -> Any:
     """``μ_leg = det Ĵ``: columns ``(perp(G − O_k)/ℓ, 1)`` (R), ``(u_k, 0)`` (P)."""
     cols = _scaled_columns(design, g, origins, rotations)
     return _det(cols)
 
 
 def _scaled_columns(
-    design: _Design, g: Pair, origins: Sequence[Pair], rotations: Sequence[Pair]
+    design: Design, g: Pair, origins: Sequence[Pair], rotations: Sequence[Pair]
 ) -> list[tuple[Any, Any, Any]]:
     cols = []
     for k in range(3):
@@ -144,7 +144,7 @@ def _roots(ops: Ops, b: Any, c: Any) -> tuple[Any, Any]:
 
 
 def leg_candidates(
-    ops: Ops, design: _Design, g: Pair, rphi: Pair
+    ops: Ops, design: Design, g: Pair, rphi: Pair
 ) -> list[tuple[list[Pair], list[Pair], Any]]:
     """The closure solutions of a leg in its own frame: ``(origins, rotations, μ_leg)`` each.
 
@@ -154,8 +154,8 @@ def leg_candidates(
     pair, ...) instead of from angles.
     """
     types, c, gamma = design.types, design.c, design.gamma
-    r3 = _turn(rphi, _unit(-gamma[3]))  # R_{F_3}: the attachment frame's angle is φ
-    wrist = _sub(g, _turn(r3, c[3]))  # O_3 = origin of F_3
+    r3 = turn(rphi, _unit(-gamma[3]))  # R_{F_3}: the attachment frame's angle is φ
+    wrist = _sub(g, turn(r3, c[3]))  # O_3 = origin of F_3
     solutions: list[tuple[list[Pair], dict[int, Any]]] = []
     if types.count("R") == 1:
         r = types.index("R")
@@ -164,10 +164,10 @@ def leg_candidates(
             if k < r:
                 rotations.append(_unit(sum(gamma[: k + 1])))
             else:
-                rotations.append(_turn(r3, _unit(-sum(gamma[k + 1 : 3]))))
+                rotations.append(turn(r3, _unit(-sum(gamma[k + 1 : 3]))))
         a, b = (k for k in range(3) if types[k] == "P")
         zero = _chain(design, rotations, {a: 0.0, b: 0.0})
-        rhs = _sub(g, _add(zero[2], _turn(r3, c[3])))
+        rhs = _sub(g, _add(zero[2], turn(r3, c[3])))
         ua, ub = rotations[a], rotations[b]
         det = _cross(ua, ub)
         solutions.append((rotations, {a: _cross(rhs, ub) / det, b: _cross(ua, rhs) / det}))
@@ -184,22 +184,22 @@ def leg_candidates(
     elif types == "RPR":
         d = _sub(wrist, c[0])
         v = _unit(gamma[1])
-        w0 = _add(c[1], _turn(v, c[2]))
+        w0 = _add(c[1], turn(v, c[2]))
         b = _dot(w0, v)
         for q2 in _roots(ops, b, _dot(w0, w0) - _dot(d, d)):
             w = _add(w0, _scale(q2, v))
             n = _dot(w, w)
             r1 = ((d[0] * w[0] + d[1] * w[1]) / n, (d[1] * w[0] - d[0] * w[1]) / n)
-            solutions.append(([r1, _turn(r1, v), r3], {1: q2}))
+            solutions.append(([r1, turn(r1, v), r3], {1: q2}))
     elif types == "PRR":
         u1 = _unit(gamma[0])
-        d = _sub(_sub(wrist, c[0]), _turn(u1, c[1]))
+        d = _sub(_sub(wrist, c[0]), turn(u1, c[1]))
         b = -_dot(d, u1)
         for q1 in _roots(ops, b, _dot(d, d) - _dot(c[2], c[2])):
             solutions.append(([u1, _over(_sub(d, _scale(q1, u1)), c[2]), r3], {0: q1}))
     elif types == "RRP":
-        r2 = _turn(r3, _unit(-gamma[2]))
-        reach = _sub(_sub(_sub(g, c[0]), _turn(r2, c[2])), _turn(r3, c[3]))
+        r2 = turn(r3, _unit(-gamma[2]))
+        reach = _sub(_sub(_sub(g, c[0]), turn(r2, c[2])), turn(r3, c[3]))
         b = -_dot(reach, r3)
         for q3 in _roots(ops, b, _dot(reach, reach) - _dot(c[1], c[1])):
             solutions.append(([_over(_sub(reach, _scale(q3, r3)), c[1]), r2, r3], {2: q3}))
@@ -214,7 +214,7 @@ def leg_candidates(
 
 # ------------------------------------------------------------------ stage 3: dynamics
 @dataclass(frozen=True)
-class _Inertia:
+class Inertia:
     """The robot's inertial constants as plain floats."""
 
     links: tuple[tuple[float, tuple[float, float], float], ...]  # (mass, com, I) of link 1, 2
@@ -225,7 +225,7 @@ class _Inertia:
     actuated: int
 
     @classmethod
-    def of(cls, robot: FamilyRobot) -> _Inertia:
+    def of(cls, robot: FamilyRobot) -> Inertia:
         return cls(
             links=tuple((b.mass, b.com, b.inertia) for b in (robot.link1, robot.link2)),
             platform=(robot.platform.mass, robot.platform.inertia),
@@ -312,7 +312,7 @@ def _sums_before(types: str, rates: Sequence[Any]) -> list[Any]:
 def sample_dynamics(
     ops: Ops,
     types: str,
-    inertia: _Inertia,
+    inertia: Inertia,
     scale: float,
     state: Sequence[Any],
     legs: Sequence[tuple[Sequence[Pair], Sequence[Pair]]],
@@ -364,7 +364,7 @@ def sample_dynamics(
         links = []
         for body in (1, 2):
             mass, com, izz = inertia.links[body - 1]
-            centre = _add(origins[body - 1], _turn(rotations[body - 1], com))
+            centre = _add(origins[body - 1], turn(rotations[body - 1], com))
             acc = chain.acceleration(centre, body, ddq, o_dot, omega_before)
             force = _scale(mass, _sub(acc, grav))
             moment = izz * alpha_before[body] + _cross(_sub(centre, g), force)
@@ -380,7 +380,7 @@ def sample_dynamics(
     # the platform's need (with the payload) minus the load, docs/family.md §4
     mp, ip = inertia.platform
     mpl, compl, ipl = inertia.payload
-    r = _turn((cphi, sphi), compl)
+    r = turn((cphi, sphi), compl)
     a_pl = _sub(_add((ddx, ddy), _scale(ddphi, _perp(r))), _scale(dphi * dphi, r))
     f_pl = _scale(mpl, _sub(a_pl, grav))
     platform = [
@@ -402,7 +402,7 @@ def sample_dynamics(
     # μ_par: the passive columns' cross products, normalised (docs/family.md §6)
     rows = []
     for origins, rotations in legs:
-        cols_hat = _scaled_columns(_Design(types, (), (), scale), g, origins, rotations)
+        cols_hat = _scaled_columns(Design(types, (), (), scale), g, origins, rotations)
         p, q = (cols_hat[k] for k in range(3) if k != a_idx)
         rows.append(
             (p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0])

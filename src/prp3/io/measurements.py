@@ -8,6 +8,7 @@ the derivatives and the load) plus the measured forces
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,12 +24,15 @@ from prp3.io.trajectory import (
     trajectory_of,
 )
 
-__all__ = ["MEASURED_FORCE_COLUMNS", "Measurements", "read_measurements"]
+__all__ = ["MEASURED_EFFORT_COLUMNS", "MEASURED_FORCE_COLUMNS", "Measurements", "read_measurements"]
 
 FloatArray = NDArray[np.float64]
 
 #: Measured actuator forces of a measurement file (N).
 MEASURED_FORCE_COLUMNS: tuple[str, ...] = ("f10_A", "f10_B", "f10_C")
+
+#: Measured actuator efforts of a family robot's measurement file (N or N·m, docs/family.md).
+MEASURED_EFFORT_COLUMNS: tuple[str, ...] = ("tau_A", "tau_B", "tau_C")
 
 
 @dataclass(frozen=True)
@@ -40,19 +44,28 @@ class Measurements:
     trajectory : Trajectory
         The motion (columns as a trajectory file's; derivatives computed when absent).
     f10 : ndarray, shape (N, 3)
-        The measured forces ``f10_A, f10_B, f10_C`` (N).
+        The measured forces ``f10_A, f10_B, f10_C`` (N), or the columns read
+        in their place (a family robot's efforts ``tau_A, tau_B, tau_C``).
     """
 
     trajectory: Trajectory
     f10: FloatArray
 
 
-def read_measurements(path: str | Path) -> Measurements:
+def read_measurements(
+    path: str | Path,
+    efforts: Sequence[str] = MEASURED_FORCE_COLUMNS,
+    *,
+    crossing: bool = True,
+) -> Measurements:
     r"""Read a measurement file: a trajectory file's columns plus ``f10_A, f10_B, f10_C``.
 
     The same strict reader and conventions as :func:`read_trajectory`
     (derivative columns optional, all six or none; load columns ``fx, fy, mz``
-    optional, all three or none; time strictly increasing).
+    optional, all three or none; time strictly increasing).  ``efforts`` are
+    the measured columns (:data:`MEASURED_EFFORT_COLUMNS` for a family robot,
+    which reads with ``crossing=False``: its own singularities are refused
+    along its path, as :func:`prp3.io.trajectory.read_trajectory`'s ``crossing``).
 
     Raises
     ------
@@ -78,9 +91,9 @@ def read_measurements(path: str | Path) -> Measurements:
     path = Path(path)
     table = read_table(
         path,
-        POSITION_COLUMNS + MEASURED_FORCE_COLUMNS,
+        POSITION_COLUMNS + tuple(efforts),
         DERIVATIVE_COLUMNS + LOAD_COLUMNS,
         "measurement",
     )
-    f10 = np.stack([table.columns[name] for name in MEASURED_FORCE_COLUMNS], axis=-1)
-    return Measurements(trajectory=trajectory_of(path, table), f10=f10)
+    f10 = np.stack([table.columns[name] for name in efforts], axis=-1)
+    return Measurements(trajectory=trajectory_of(path, table, crossing=crossing), f10=f10)

@@ -54,10 +54,10 @@ __all__ = [
 ]
 
 #: Rows written per block by :func:`write_table_csv` (and per progress report).
-_ROWS_PER_BLOCK = 20_000
+ROWS_PER_BLOCK = 20_000
 
 #: Rows per block when Arrow makes the text (bounds the memory of the texts).
-_ARROW_ROWS_PER_BLOCK = 100_000
+ARROW_ROWS_PER_BLOCK = 100_000
 
 #: Data lines read per ``numpy.loadtxt`` call by :func:`read_table_csv` (bounds the texts held).
 _READ_BLOCK = 4096
@@ -113,8 +113,8 @@ def _write_csv_python(
     row_format = ",".join(["%r"] * len(names)) + "\n"  # %r is repr(float), as format_float
     with atomic_writer(path) as stream:
         stream.write(",".join(names) + "\n")
-        for start in range(0, rows if columns else 0, _ROWS_PER_BLOCK):
-            stop = min(start + _ROWS_PER_BLOCK, rows)
+        for start in range(0, rows if columns else 0, ROWS_PER_BLOCK):
+            stop = min(start + ROWS_PER_BLOCK, rows)
             block = np.column_stack([column[start:stop] for column in columns]).tolist()
             stream.write("".join(row_format % tuple(row) for row in block))
             if progress is not None:
@@ -171,8 +171,8 @@ def _write_csv_arrow(
     with pa.OSFile(str(path), "wb") as sink:
         sink.write((",".join(names) + "\n").encode("utf-8"))
         with pa.csv.CSVWriter(sink, schema, write_options=options) as writer:
-            for start in range(0, rows, _ARROW_ROWS_PER_BLOCK):
-                stop = min(start + _ARROW_ROWS_PER_BLOCK, rows)
+            for start in range(0, rows, ARROW_ROWS_PER_BLOCK):
+                stop = min(start + ARROW_ROWS_PER_BLOCK, rows)
                 arrays = [pa.array(column[start:stop], type=pa.float64()) for column in columns]
                 writer.write_batch(pa.record_batch(arrays, schema=schema))
                 if progress is not None:

@@ -292,7 +292,8 @@ def check_stroke(robot: Robot, lambda10: FloatArray, pose: FloatArray | None = N
     """Refuse actuator displacements ``(..., 3)`` outside ``robot.limits.stroke``.
 
     The message names the first sample, the leg and the value, and the pose
-    when ``pose`` is given.
+    when ``pose`` is given.  A NaN displacement lies in no stroke: it is refused
+    too (``not lower <= λ <= upper``), never let through by a comparison.
 
     >>> from prp3.model.parameters import Limits
     >>> check_stroke(Robot(limits=Limits(stroke=(-0.1, 0.1))), np.array([0.0, 0.2, 0.0]))
@@ -305,12 +306,15 @@ def check_stroke(robot: Robot, lambda10: FloatArray, pose: FloatArray | None = N
         return
     lower, upper = stroke
     flat = lambda10.reshape(-1, 3)
-    outside = (flat < lower) | (flat > upper)
+    outside = ~((flat >= lower) & (flat <= upper))
     if not outside.any():
         return
     index, leg = np.argwhere(outside)[0].tolist()
+    found = float(flat[index, leg])
     value = (
-        f"lambda10_{LEGS[leg]} = {float(flat[index, leg])!r} m is outside the stroke "
+        f"lambda10_{LEGS[leg]} = {found!r} m is outside the stroke [{lower!r}, {upper!r}] m"
+        if not math.isnan(found)
+        else f"lambda10_{LEGS[leg]} is not a number, so not within the stroke "
         f"[{lower!r}, {upper!r}] m"
     )
     sample = index if lambda10.ndim >= 2 else None
@@ -363,7 +367,8 @@ def orientation_from_sum(l0: float, sum_lambda10: ArrayLike) -> FloatArray:
     l0 = check_scalar("l0", l0, positive=True)
     total = check_real("sum_lambda10", sum_lambda10)
     check_finite("sum_lambda10", total.reshape(-1, 1), components=("sum_lambda10",))
-    psi = 2.0 * np.arctan(2.0 * total / (3.0 * l0) - 1.0 / _SQRT3)  # (ii), ψ in (−π, π)
+    with np.errstate(over="ignore"):  # a huge sum: atan(±inf) = ±π/2, the exact limit
+        psi = 2.0 * np.arctan(2.0 * total / (3.0 * l0) - 1.0 / _SQRT3)  # (ii), ψ in (−π, π)
     phi = math.pi / 3.0 + psi  # in (−2π/3, 4π/3)
     return np.asarray(np.where(phi > math.pi, phi - 2.0 * math.pi, phi))
 

@@ -64,8 +64,8 @@ __all__ = [
     "rest_kinematics",
 ]
 
-_H = math.sqrt(3.0) / 2.0  # sin(π/3)
-_INV_SQRT3 = 1.0 / math.sqrt(3.0)
+H = math.sqrt(3.0) / 2.0  # sin(π/3)
+INV_SQRT3 = 1.0 / math.sqrt(3.0)
 #: ``π/3``: the singular orientation of every leg (``φ ≡ π/3 mod π``), rad.
 PI_3 = math.pi / 3.0
 
@@ -99,7 +99,7 @@ class KernelKinematics(NamedTuple):
 
 def _legs(ux: Value, uy: Value, u1: Value) -> Legs:
     """``u_x·n_ix + u_y·n_iy + u_1`` for legs A, B, C (``n_B = (0, −1)``)."""
-    hx = _H * ux
+    hx = H * ux
     half = 0.5 * uy + u1
     return (half - hx, u1 - uy, half + hx)
 
@@ -108,12 +108,12 @@ def kernel_geometry(
     ops: Ops, k: KernelParameters, x: Value, y: Value, phi: Value
 ) -> KernelGeometry:
     """Joint displacements of a pose: eqs. (7)–(10) in closed form."""
-    cx, cy = k.l0 * (0.5 * _INV_SQRT3), k.l0 * 0.5
+    cx, cy = k.l0 * (0.5 * INV_SQRT3), k.l0 * 0.5
     psi = phi - PI_3  # φ − π/3: d_i = C·e_i + D·n_i for every leg
     D = ops.sin(psi)  # e_i × d_i = sin(φ − π/3), eq. (10)'s determinant
     C = ops.cos(psi)  # e_i·d_i = cos(φ − π/3)
-    c = 0.5 * C - _H * D  # cos φ = cos(ψ + π/3) (the directions d_i, the platform's offsets)
-    s = _H * C + 0.5 * D  # sin φ
+    c = 0.5 * C - H * D  # cos φ = cos(ψ + π/3) (the directions d_i, the platform's offsets)
+    s = H * C + 0.5 * D  # sin φ
     inv = 1 / D
     # eq. (10): λ32_i = (n_i·G + l0/2 − q)/D, (p, q) = Rot(φ)·c (eq. 8), l0/2 − q = c_y·(1 − C) + c_x·D
     E = cy * (1 - C) * inv

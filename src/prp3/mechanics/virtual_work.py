@@ -47,7 +47,7 @@ Examples
 
 from __future__ import annotations
 
-from prp3.mechanics.joint_motion import _INV_SQRT3, KernelKinematics
+from prp3.mechanics.joint_motion import INV_SQRT3, KernelKinematics
 from prp3.mechanics.ops import Legs
 from prp3.mechanics.parameters import KernelParameters
 from prp3.mechanics.wrenches import BodyWrenches
@@ -75,7 +75,7 @@ def joint_forces(
     Q = C * F3y - D * F3x
     common = (M + (lx * P + ly * Q)) / (3 * geo.E)  # ν₀, Σ_i r_i = 3·E (Σ n_i = 0)
     third = common - Q * (1.0 / 3.0)
-    tilt = P * _INV_SQRT3
+    tilt = P * INV_SQRT3
     # ν_i = −n32_i: (ν₀ + P/√3 − Q/3, ν₀ + 2Q/3, ν₀ − P/√3 − Q/3), n_A, n_B, n_C as _LEGS
     normal = (third + tilt, common + Q * (2.0 / 3.0), third - tilt)
     # eq. (25): f21z_j = F20_j·e_j + z_j; eq. (24): f21y_j = F20_j·n_j − C·ν_j

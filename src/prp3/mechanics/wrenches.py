@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from prp3.mechanics.joint_motion import _H, KernelKinematics
+from prp3.mechanics.joint_motion import H, KernelKinematics
 from prp3.mechanics.ops import Legs, Ops, Value
 from prp3.mechanics.parameters import KernelParameters
 from prp3.model.element_base import is_zero
@@ -37,9 +37,9 @@ class _Leg(NamedTuple):
 
 #: Exact constants of the three legs (the legs are turned by 120°).
 _LEGS: tuple[_Leg, _Leg, _Leg] = (
-    _Leg(0.5, _H, -_H, 0.5, 1.0, 0.0),
-    _Leg(-1.0, 0.0, 0.0, -1.0, -0.5, _H),
-    _Leg(0.5, -_H, _H, 0.5, -0.5, -_H),
+    _Leg(0.5, H, -H, 0.5, 1.0, 0.0),
+    _Leg(-1.0, 0.0, 0.0, -1.0, -0.5, H),
+    _Leg(0.5, -H, H, 0.5, -0.5, -H),
 )
 
 

@@ -23,12 +23,20 @@ from prp3.errors import ParameterError
 from prp3.model.element_base import Element, FloatArray, State, Value, is_zero, rate_sign
 
 __all__ = [
+    "SMOOTHING_FLOOR",
+    "SPRING_KINDS",
     "FrictionElement",
     "SpringElement",
     "friction_element",
     "spring_element",
     "spring_force",
 ]
+
+#: Forward dynamics refuses a Coulomb or ``μ`` smoothing below this fraction of the
+#: robot's size per second (``l0`` m/s; rad/s for the revolute joints): the round-off of
+#: the joint rates (``prp3.path_validation.RATE_TOLERANCE``), which float64 cannot
+#: tell from the exact sign.
+SMOOTHING_FLOOR: float = 1e-12
 
 
 def spring_force(
@@ -179,6 +187,18 @@ class FrictionElement(Element):
             ("coulomb", joint.coulomb, f"{joint.coulomb!r} {unit}"),
             ("mu", joint.mu, f"{joint.mu!r}"),
         ):
+            floor = SMOOTHING_FLOOR * (1.0 if self.kind == "revolute" else robot.l0)
+            if value > 0.0 and 0.0 < joint.smoothing < floor:
+                speed = "rad/s" if self.kind == "revolute" else "m/s"
+                raise ParameterError(
+                    f"{self.name}.smoothing = {joint.smoothing!r} {speed} with {key} = {shown}: "
+                    f"below the round-off of the joint rates ({floor:.3g} {speed}, "
+                    f"{SMOOTHING_FLOOR:g} of the robot's size per second), float64 cannot "
+                    "resolve it from the exact sign; forward dynamics needs "
+                    f"{self.name}.smoothing >= {floor:.3g}",
+                    subject="robot",
+                    key=f"{self.name}.smoothing",
+                )
             if value > 0.0 and joint.smoothing == 0.0:
                 raise ParameterError(
                     f"{self.name}.{key} = {shown} with smoothing = 0 (the exact sign): "
@@ -363,12 +383,20 @@ class SpringElement(Element):
         )
 
 
+#: The joints a spring can act on (``[spring.<kind>]`` of a robot file).
+SPRING_KINDS: tuple[str, ...] = ("actuator", "revolute", "sleeve")
+
+
 def spring_element(kind: str) -> SpringElement:
     """The spring with damper of the joints of kind ``kind`` (``"actuator"``, ``"revolute"``, ``"sleeve"``).
 
     >>> spring_element("sleeve").fields
     ('sleeve_spring_stiffness', 'sleeve_spring_rest', 'sleeve_spring_damping')
     """
+    if not isinstance(kind, str) or kind not in SPRING_KINDS:
+        raise ParameterError(
+            f"kind must be one of {', '.join(SPRING_KINDS)}, got {kind!r}", key="kind"
+        )
     if kind == "actuator":
         return SpringElement()
     prefix, letter = f"{kind}_spring", kind[0]

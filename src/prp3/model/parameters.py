@@ -69,7 +69,11 @@ def check_parts(robot: object, parts: tuple[tuple[str, type], ...]) -> None:
 
 def check_pair(where: str, value: Any) -> tuple[float, float]:
     """``value`` as a pair of finite floats ``(a, b)``, or a ParameterError naming ``where``."""
-    if not isinstance(value, list | tuple | np.ndarray) or len(value) != 2:
+    if (
+        not isinstance(value, list | tuple | np.ndarray)
+        or (isinstance(value, np.ndarray) and value.ndim != 1)
+        or len(value) != 2
+    ):
         raise ParameterError(
             f"{where} must be a pair of numbers [a, b], got {value!r}"[:200],
             subject="robot",

@@ -144,6 +144,85 @@ class Robot:
                     subject="robot",
                     key="l0",
                 )
+        self._check_effects_scale(g)
+
+    def _check_effects_scale(self, g: float) -> None:
+        """Refuse a payload, load, spring or friction whose effects overflow float64.
+
+        Each effect's derived quantities as the kernel forms them, with the
+        margin of three legs: the payload's weight ``m·g``, its inertia about
+        the far end of a leg ``I + m·(l0 + |c|)²`` and the moment of its weight
+        ``m·g·(l0 + |c|)``; the load's ``|F|·l0 + |M|``; the spring's force
+        ``k·(|λ_rest| + l0)`` and damping ``b·l0``; the friction's viscous
+        ``b·l0`` and ``μ``-scaled reactions ``μ·(1 + r)``.  A refusal names the key.
+        """
+        l0 = np.float64(self.l0)
+        payload, load = self.payload, self.load
+        arm = l0 + np.hypot(np.float64(payload.com[0]), np.float64(payload.com[1]))
+        checks: list[tuple[str, str, object]] = [
+            (
+                "payload.mass",
+                f"payload.mass = {payload.mass!r} kg with com = "
+                f"{list(payload.com)!r} m: its weight and inertia overflow",
+                lambda: np.float64(payload.mass) * (arm**2 + arm * g + g),
+            ),
+            (
+                "payload.inertia",
+                f"payload.inertia = {payload.inertia!r} kg·m²: its inertia overflows",
+                lambda: np.float64(payload.inertia) + np.float64(payload.mass) * arm**2,
+            ),
+            (
+                "load.force",
+                f"load.force = {list(load.force)!r} N and load.moment = "
+                f"{load.moment!r} N·m: the load's wrench overflows",
+                lambda: (
+                    (abs(np.float64(load.force[0])) + abs(np.float64(load.force[1]))) * (l0 + 1.0)
+                    + abs(np.float64(load.moment))
+                ),
+            ),
+        ]
+        if self.spring is not None:
+            for name in ("actuator",):
+                spring = getattr(self.spring, name, None)
+                if spring is None:
+                    continue
+                checks.append(
+                    (
+                        f"spring.{name}.stiffness",
+                        f"spring.{name}: stiffness = {spring.stiffness!r} N/m, rest = "
+                        f"{spring.rest!r} m, damping = {spring.damping!r} N·s/m: its force overflows",
+                        lambda s=spring: (
+                            np.float64(s.stiffness) * (abs(np.float64(s.rest)) + l0)
+                            + np.float64(s.damping) * l0
+                        ),
+                    )
+                )
+        if self.friction is not None:
+            for name in ("actuator", "revolute", "sleeve"):
+                joint = getattr(self.friction, name, None)
+                if joint is None:
+                    continue
+                checks.append(
+                    (
+                        f"friction.{name}",
+                        f"friction.{name}: viscous = {joint.viscous!r}, coulomb = "
+                        f"{joint.coulomb!r}, mu = {joint.mu!r}, pin_radius = {joint.pin_radius!r}: "
+                        "its forces overflow",
+                        lambda j=joint: (
+                            (np.float64(j.viscous) * l0 + np.float64(j.coulomb)) * 3.0
+                            + np.float64(j.mu) * (1.0 + np.float64(j.pin_radius)) * 3.0
+                        ),
+                    )
+                )
+        for key, what, quantity in checks:
+            with np.errstate(over="ignore", invalid="ignore"):
+                value = 3.0 * quantity()  # type: ignore[operator]
+            if not np.isfinite(value):
+                raise ParameterError(
+                    f"{what} float64 (l0 = {self.l0!r} m, gravity = {list(self.gravity)!r} m/s²)",
+                    subject="robot",
+                    key=key,
+                )
 
     @property
     def elements(self) -> tuple[Element, ...]:

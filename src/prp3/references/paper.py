@@ -67,7 +67,7 @@ from prp3.mechanics.kinematics import Kinematics
 from prp3.model.motion import Motion
 from prp3.model.robot import Robot
 from prp3.pose_validation import check_poses
-from prp3.references.paper_evaluation import _evaluate_loaded
+from prp3.references.paper_evaluation import evaluate_loaded
 from prp3.references.paper_kinematics import FixedFrameKinematics
 from prp3.validation import OVERFLOW_REASON, check_robot, first_non_finite
 
@@ -292,7 +292,7 @@ def _run(robot: Robot, motion: Motion, names: tuple[str, ...]) -> dict[str, Floa
     for first in range(0, total, PAPER_CHUNK):
         rows = slice(first, first + PAPER_CHUNK)
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            chunk = _evaluate_loaded(
+            chunk = evaluate_loaded(
                 robot, pose[rows], velocity[rows], acceleration[rows],
                 None if load is None else load[rows], first, motion, fixed_frame,
             )  # fmt: skip

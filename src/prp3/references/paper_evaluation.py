@@ -6,7 +6,7 @@ it (:mod:`prp3.references.paper_kinematics`: frames and kinematics, eqs. 2–18;
 samples at once and keeps every quantity.  The effects beyond the paper enter
 the applied wrenches ``F_k*, M_k*`` of eq. (19) as the weight does: the load on
 the platform and the joint friction (``_applied``), the springs with dampers of
-the joints (``_springs``), both through ``_joint_wrenches``; :func:`_evaluate_loaded` adds the friction's ``μ`` terms by a
+the joints (``_springs``), both through ``_joint_wrenches``; :func:`evaluate_loaded` adds the friction's ``μ`` terms by a
 fixed point on the reactions.  :mod:`prp3.references.paper` runs them over a
 motion in chunks.
 """
@@ -53,7 +53,7 @@ _mv, _T = mv, tr  # ``matrix·vector`` and ``matrixᵀ`` over the last axes
 MU_MAX_ITERATIONS: int = 500
 
 
-def _evaluate_loaded(
+def evaluate_loaded(
     robot: Robot,
     pose: FloatArray,
     velocity: FloatArray,

@@ -22,7 +22,7 @@ measure).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import lru_cache
 
 import numpy as np
@@ -50,6 +50,7 @@ __all__ = [
     "chain_motion",
     "chunk_kinematics",
     "complete_motion",
+    "frame_measures",
     "home_signs",
     "leg_jacobians",
     "pseudo_solve",
@@ -247,6 +248,14 @@ def _leg_geometry(
     """Frames, leg Jacobians, ``J_p``, the constraint rows ``C`` (or None), ``r_i`` and the
     leg's left null vectors ``w_i`` (or None)."""
     frames = leg_frames(robot, motion, offset)
+    return (frames, *_frames_geometry(robot, frames, motion.position))
+
+
+def _frames_geometry(
+    robot: SpatialRobot, frames: Frames, position: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray | None, FloatArray, FloatArray | None]:
+    """:func:`_leg_geometry` of frames already solved (no refusal): ``J_i``, ``J_p``, ``C``,
+    ``r_i``, ``w_i``."""
     end = frames.origin[:, :, -1]
     jacobian = leg_jacobians(robot, frames, end)
     actuated = robot.legs[0].actuated_coordinate
@@ -254,7 +263,7 @@ def _leg_geometry(
     unit[actuated] = 1.0
     with np.errstate(all="ignore"):
         x = transpose_solve(jacobian, np.broadcast_to(unit, jacobian.shape[:2] + unit.shape))
-    r = end - motion.position[:, None, :]
+    r = end - position[:, None, :]
     parallel = np.concatenate([x[..., :3] + cross(r, x[..., 3:]), x[..., 3:]], axis=-1)
     constraint = null = None
     if jacobian.shape[-1] < 6:
@@ -263,7 +272,57 @@ def _leg_geometry(
         constraint = np.concatenate(
             [null[..., :3] + cross(r, null[..., 3:]), null[..., 3:]], axis=-1
         )
-    return frames, jacobian, parallel, constraint, r, null
+    return jacobian, parallel, constraint, r, null
+
+
+def frame_measures(
+    robot: SpatialRobot, frames: Frames, position: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """The signed measures ``μ_leg (N, legs)`` and ``μ_par (N,)`` of solved frames, no refusal.
+
+    ``frames`` from :func:`~prp3.spatial.geometry.leg_coordinates` at the platform origins
+    ``position (N, 3)`` (limits and closure not checked); the measures are those of §6 and
+    §11 that :func:`spatial_kinematics` refuses below :data:`SINGULAR` times their sign at
+    home (:func:`home_signs`).  A leg whose closure has no real solution (``NaN`` joint
+    values) gives ``NaN``; a singular leg Jacobian gives a measure of 0 or ``NaN``, never
+    a warning.
+
+    >>> from prp3.spatial.geometry import leg_coordinates
+    >>> from prp3.spatial.model import hexapod
+    >>> robot = hexapod()
+    >>> p = np.array([robot.home_position])
+    >>> leg, par = frame_measures(robot, leg_coordinates(robot, p, np.eye(3)[None]), p)
+    >>> leg.shape, round(float(par[0]), 6)
+    ((1, 6), 2.129476)
+    """
+    n, legs = frames.q.shape[:2]
+    leg, par = np.full((n, legs), np.nan), np.full(n, np.nan)
+    solved = np.asarray(np.isfinite(frames.q).all(axis=(1, 2)), dtype=bool)
+    with np.errstate(all="ignore"):
+        try:
+            some = _frame_subset(frames, solved)
+            leg[solved], par[solved] = _subset_measures(robot, some, position[solved])
+        except np.linalg.LinAlgError:  # an exactly singular leg Jacobian: point by point
+            for k in np.flatnonzero(solved).tolist():
+                try:
+                    one = _frame_subset(frames, np.asarray(np.arange(n) == k))
+                    leg[k], par[k] = (
+                        v[0] for v in _subset_measures(robot, one, position[k : k + 1])
+                    )
+                except np.linalg.LinAlgError:
+                    leg[k], par[k] = 0.0, 0.0  # singular: the measure vanishes
+    return leg, par
+
+
+def _frame_subset(frames: Frames, mask: NDArray[np.bool_]) -> Frames:
+    return Frames(*(np.asarray(getattr(frames, f.name))[mask] for f in fields(Frames)))
+
+
+def _subset_measures(
+    robot: SpatialRobot, frames: Frames, position: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    jacobian, parallel, constraint, _, _ = _frames_geometry(robot, frames, position)
+    return _measures(robot, _scaled_jacobian(robot, jacobian), parallel, constraint)
 
 
 @lru_cache(maxsize=32)
@@ -437,7 +496,12 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
     if constraint is None or null is None:  # legs of 6 coordinates: nothing to complete
         return staged
     free = [c for c in range(6) if c not in index]
-    twist = np.concatenate([motion.omega, motion.velocity], axis=1)
+    # the completed rotation is E·R0 (E: the parasitic turns): its angular velocity is
+    # E·ω0 + ω_E with ω_E along the parasitic axes (one or all three of them), so its
+    # free components are E·ω0's, not ω0's; the position only moves along parasitic axes
+    turn = rotation @ np.swapaxes(motion.rotation, -1, -2)
+    turned = np.einsum("nij,nj->ni", turn, motion.omega)
+    twist = np.concatenate([turned, motion.velocity], axis=1)
     twist[:, index] = np.linalg.solve(
         constraint[..., index],
         -np.einsum("nlj,nj->nl", constraint[..., free], twist[:, free])[..., None],
@@ -451,7 +515,12 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
     target = np.einsum("nli,nli->nl", null[..., :3], bias.alpha[:, :, -1]) + np.einsum(
         "nli,nli->nl", null[..., 3:], bias.acceleration[:, :, -1] - centripetal
     )
-    acc = np.concatenate([motion.alpha, motion.acceleration], axis=1)
+    # α = E·α0 + ω_E × E·ω0 + (ω_E)˙, the last along the parasitic axes
+    turn_rate = np.zeros_like(turned)
+    rotations = [c for c in index if c < 3]
+    turn_rate[:, rotations] = twist[:, rotations] - turned[:, rotations]
+    turned_alpha = np.einsum("nij,nj->ni", turn, motion.alpha) + cross(turn_rate, turned)
+    acc = np.concatenate([turned_alpha, motion.acceleration], axis=1)
     acc[:, index] = np.linalg.solve(
         constraint[..., index],
         (target - np.einsum("nlj,nj->nl", constraint[..., free], acc[:, free]))[..., None],

@@ -35,6 +35,7 @@ from prp3.validation import check_finite, check_real, check_scalar
 __all__ = [
     "JOINT_DOF",
     "JOINT_KINDS",
+    "MAX_DESIGN_LENGTH",
     "Body",
     "Joint",
     "Leg",
@@ -42,6 +43,7 @@ __all__ = [
     "check_rotation",
     "check_vector",
     "delta",
+    "design_length",
     "hexapod",
     "three_rps",
 ]
@@ -386,7 +388,7 @@ class SpatialRobot:
         object.__setattr__(
             self, "home_rotation", check_rotation("home rotation", self.home_rotation)
         )
-        scale = check_scalar("scale", self.scale, positive=True, unit="m", subject="robot")
+        scale = design_length("scale", self.scale)
         object.__setattr__(self, "scale", scale)
         if (
             len(self.parasitic) != 6 - len(self.legs)
@@ -426,6 +428,79 @@ def _frame(x_axis: FloatArray, up: FloatArray) -> Matrix:
     return check_rotation("joint rotation", np.stack([x, y, z], axis=1))
 
 
+#: The largest length a default design takes (m): the squares of its lengths stay far from
+#: float64's overflow and their round-off far below a micrometre's.
+MAX_DESIGN_LENGTH: float = 1e6
+
+
+def design_length(name: str, value: object) -> float:
+    """A design length (a default design's, the scale): positive, finite, at most MAX_DESIGN_LENGTH (m)."""
+    number = check_scalar(name, value, positive=True, unit="m", subject="robot")
+    if number > MAX_DESIGN_LENGTH:
+        raise ParameterError(
+            f"{name} must be at most {MAX_DESIGN_LENGTH:g} m, got {number!r}",
+            subject="robot",
+            key=name,
+        )
+    return number
+
+
+def _angle(name: str, value: object, *, limit: bool = False) -> float:
+    """An angle of a default design (rad): within ``[-π, π]``, or in ``(0, π]`` for a limit."""
+    number = check_scalar(name, value, positive=limit, unit="rad", subject="robot")
+    if abs(number) > math.pi:
+        raise ParameterError(
+            f"{name} must be at most pi rad in magnitude, got {number!r}",
+            subject="robot",
+            key=name,
+        )
+    return number
+
+
+def _stroke(value: ArrayLike) -> tuple[float, float]:
+    """The P stroke of a default design: two lengths (m), the first below the second."""
+    array = check_real("stroke", value, ParameterError, "robot")
+    if array.shape != (2,):
+        raise ParameterError(
+            f"stroke must be two lengths (shortest, longest) in m, got shape {array.shape}",
+            subject="robot",
+            key="stroke",
+        )
+    low, high = (design_length(f"stroke[{i}]", float(v)) for i, v in enumerate(array))
+    if not low < high:
+        raise ParameterError(
+            f"stroke must be (shortest, longest) with shortest < longest, got ({low!r}, {high!r})",
+            subject="robot",
+            key="stroke",
+        )
+    return (low, high)
+
+
+def _body(name: str, value: object, default: Body) -> Body:
+    """A body of a default design: a :class:`Body`, or ``None`` for the default."""
+    if value is None:
+        return default
+    if not isinstance(value, Body):
+        raise ParameterError(
+            f"{name} must be a prp3 spatial Body or None, got {value!r} ({type(value).__name__})",
+            subject="robot",
+            key=name,
+        )
+    return value
+
+
+def _cylinder() -> Body:
+    """The default cylinder of a UPS or RPS leg (docs/spatial.md §7)."""
+    return Body(0.12, (0.025, 0.0, 0.0),
+                ((8.64e-6, 0, 0), (0, 4.032e-5, 0), (0, 0, 4.032e-5)), "cylinder")  # fmt: skip
+
+
+def _rod() -> Body:
+    """The default rod of a UPS or RPS leg (docs/spatial.md §7)."""
+    return Body(0.05, (-0.03, 0.0, 0.0),
+                ((6.25e-7, 0, 0), (0, 1.53125e-5, 0), (0, 0, 1.53125e-5)), "rod")  # fmt: skip
+
+
 def hexapod(
     *,
     base_radius: float = 0.1,
@@ -463,17 +538,18 @@ def hexapod(
     scale : float
         ``ℓ`` of the measures (m).
     """
-    r_b = check_scalar("base_radius", base_radius, positive=True, unit="m", subject="robot")
-    r_p = check_scalar("platform_radius", platform_radius, positive=True, unit="m", subject="robot")
-    h = check_scalar("home_height", home_height, positive=True, unit="m", subject="robot")
-    half_b = check_scalar("base_half_angle", base_half_angle, subject="robot")
-    half_p = check_scalar("platform_half_angle", platform_half_angle, subject="robot")
-    cylinder = cylinder or Body(0.12, (0.025, 0.0, 0.0),
-                                ((8.64e-6, 0, 0), (0, 4.032e-5, 0), (0, 0, 4.032e-5)), "cylinder")  # fmt: skip
-    rod = rod or Body(0.05, (-0.03, 0.0, 0.0),
-                      ((6.25e-7, 0, 0), (0, 1.53125e-5, 0), (0, 0, 1.53125e-5)), "rod")  # fmt: skip
-    platform = platform or Body(1.0, (0.0, 0.0, 0.0),
-                                ((1.225e-3, 0, 0), (0, 1.225e-3, 0), (0, 0, 2.45e-3)), "platform")  # fmt: skip
+    r_b = design_length("base_radius", base_radius)
+    r_p = design_length("platform_radius", platform_radius)
+    h = design_length("home_height", home_height)
+    half_b = _angle("base_half_angle", base_half_angle)
+    half_p = _angle("platform_half_angle", platform_half_angle)
+    stroke = _stroke(stroke)
+    u_limit = _angle("u_limit", u_limit, limit=True)
+    s_limit = _angle("s_limit", s_limit, limit=True)
+    cylinder = _body("cylinder", cylinder, _cylinder())
+    rod = _body("rod", rod, _rod())
+    platform = _body("platform", platform, Body(1.0, (0.0, 0.0, 0.0),
+                                ((1.225e-3, 0, 0), (0, 1.225e-3, 0), (0, 0, 2.45e-3)), "platform"))  # fmt: skip
     legs = []
     up = np.array([0.0, 0.0, 1.0])
     home = np.array([0.0, 0.0, h])
@@ -517,15 +593,16 @@ def three_rps(
 
     Parameters as :func:`hexapod`; ``r_limit`` bounds each R angle (``±``, rad).
     """
-    r_b = check_scalar("base_radius", base_radius, positive=True, unit="m", subject="robot")
-    r_p = check_scalar("platform_radius", platform_radius, positive=True, unit="m", subject="robot")
-    h = check_scalar("home_height", home_height, positive=True, unit="m", subject="robot")
-    cylinder = cylinder or Body(0.12, (0.025, 0.0, 0.0),
-                                ((8.64e-6, 0, 0), (0, 4.032e-5, 0), (0, 0, 4.032e-5)), "cylinder")  # fmt: skip
-    rod = rod or Body(0.05, (-0.03, 0.0, 0.0),
-                      ((6.25e-7, 0, 0), (0, 1.53125e-5, 0), (0, 0, 1.53125e-5)), "rod")  # fmt: skip
-    platform = platform or Body(1.0, (0.0, 0.0, 0.0),
-                                ((9e-4, 0, 0), (0, 9e-4, 0), (0, 0, 1.8e-3)), "platform")  # fmt: skip
+    r_b = design_length("base_radius", base_radius)
+    r_p = design_length("platform_radius", platform_radius)
+    h = design_length("home_height", home_height)
+    stroke = _stroke(stroke)
+    r_limit = _angle("r_limit", r_limit, limit=True)
+    s_limit = _angle("s_limit", s_limit, limit=True)
+    cylinder = _body("cylinder", cylinder, _cylinder())
+    rod = _body("rod", rod, _rod())
+    platform = _body("platform", platform, Body(1.0, (0.0, 0.0, 0.0),
+                                ((9e-4, 0, 0), (0, 9e-4, 0), (0, 0, 1.8e-3)), "platform"))  # fmt: skip
     legs = []
     for i in range(3):
         angle = math.pi / 2 + 2.0 * math.pi * i / 3.0
@@ -578,17 +655,19 @@ def delta(
     arm_body, forearm_body, platform : Body, optional
     gravity, scale
     """
-    r_b = check_scalar("base_radius", base_radius, positive=True, unit="m", subject="robot")
-    l_a = check_scalar("arm", arm, positive=True, unit="m", subject="robot")
-    l_f = check_scalar("forearm", forearm, positive=True, unit="m", subject="robot")
-    r_p = check_scalar("platform_radius", platform_radius, positive=True, unit="m", subject="robot")
-    h = check_scalar("home_height", home_height, positive=True, unit="m", subject="robot")
-    arm_body = arm_body or Body(0.1, (l_a / 2, 0.0, 0.0),
-                                ((2e-6, 0, 0), (0, 8.5e-5, 0), (0, 0, 8.5e-5)), "arm")  # fmt: skip
-    forearm_body = forearm_body or Body(0.06, (l_f / 2, 0.0, 0.0),
-                                        ((1e-6, 0, 0), (0, 3.1e-4, 0), (0, 0, 3.1e-4)), "forearm")  # fmt: skip
-    platform = platform or Body(0.2, (0.0, 0.0, 0.0),
-                                ((4.5e-5, 0, 0), (0, 4.5e-5, 0), (0, 0, 9e-5)), "platform")  # fmt: skip
+    r_b = design_length("base_radius", base_radius)
+    l_a = design_length("arm", arm)
+    l_f = design_length("forearm", forearm)
+    r_p = design_length("platform_radius", platform_radius)
+    h = design_length("home_height", home_height)
+    r_limit = _angle("r_limit", r_limit, limit=True)
+    u_limit = _angle("u_limit", u_limit, limit=True)
+    arm_body = _body("arm_body", arm_body, Body(0.1, (l_a / 2, 0.0, 0.0),
+                                ((2e-6, 0, 0), (0, 8.5e-5, 0), (0, 0, 8.5e-5)), "arm"))  # fmt: skip
+    forearm_body = _body("forearm_body", forearm_body, Body(0.06, (l_f / 2, 0.0, 0.0),
+                                        ((1e-6, 0, 0), (0, 3.1e-4, 0), (0, 0, 3.1e-4)), "forearm"))  # fmt: skip
+    platform = _body("platform", platform, Body(0.2, (0.0, 0.0, 0.0),
+                                ((4.5e-5, 0, 0), (0, 4.5e-5, 0), (0, 0, 9e-5)), "platform"))  # fmt: skip
     legs = []
     for i in range(3):
         angle = -math.pi / 2 + 2.0 * math.pi * i / 3.0

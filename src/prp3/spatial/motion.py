@@ -20,17 +20,35 @@ prp3.errors.TrajectoryError: motion: sample 0: z of position is not finite (nan)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from prp3.errors import TrajectoryError
-from prp3.spatial.model import ORTHONORMAL_TOLERANCE
+from prp3.errors import ParameterError, TrajectoryError
+from prp3.spatial.model import ORTHONORMAL_TOLERANCE, SpatialRobot
 from prp3.spatial.rotations import axis_rotation, cross, quaternion_matrix, rpy_matrix
-from prp3.validation import check_finite, check_real, check_times
+from prp3.validation import (
+    check_choice,
+    check_finite,
+    check_instance,
+    check_integer,
+    check_real,
+    check_scalar,
+    check_times,
+)
 
-__all__ = ["PlatformMotion", "quaternion_motion", "rpy_motion", "rpy_rates"]
+__all__ = [
+    "MAX_ANGLE",
+    "SPATIAL_MOTIONS",
+    "PlatformMotion",
+    "check_rpy",
+    "quaternion_motion",
+    "rpy_motion",
+    "rpy_rates",
+    "spatial_motion",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -150,6 +168,33 @@ class PlatformMotion:
         )  # fmt: skip
 
 
+#: The largest roll, pitch or yaw taken (rad): beyond it float64 holds an angle to worse
+#: than ``1e-10`` rad, and the rotation it names has lost its meaning.
+MAX_ANGLE: float = 1e6
+
+
+def check_rpy(rpy: FloatArray) -> FloatArray:
+    """``rpy`` ``(N, 3)`` (rad) if every angle is within ``±MAX_ANGLE``, else refused naming it.
+
+    >>> check_rpy(np.array([[0.0, 0.0, 1e300]]))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.TrajectoryError: motion: sample 0: yaw = 1e+300 rad is beyond +-1e+06 rad, where float64 no longer holds the angle to 1e-10 rad: give it modulo 2 pi
+    """
+    beyond = ~(np.abs(rpy) <= MAX_ANGLE)
+    if beyond.any():
+        k, i = (int(v) for v in np.argwhere(beyond)[0])
+        name = ("roll", "pitch", "yaw")[i]
+        raise TrajectoryError(
+            f"{name} = {float(rpy[k, i])!r} rad is beyond +-{MAX_ANGLE:g} rad, where float64 "
+            "no longer holds the angle to 1e-10 rad: give it modulo 2 pi",
+            subject="motion",
+            key=name,
+            sample=k,
+        )
+    return rpy
+
+
 def rpy_rates(
     rpy: FloatArray, rpy_rate: FloatArray, rpy_acceleration: FloatArray
 ) -> tuple[FloatArray, FloatArray]:
@@ -186,7 +231,7 @@ def rpy_motion(
     """
     times = check_real("t", t, TrajectoryError, "motion").reshape(-1)
     n = times.shape[0]
-    angles = _vectors("rpy", rpy, n, ("roll", "pitch", "yaw"))
+    angles = check_rpy(_vectors("rpy", rpy, n, ("roll", "pitch", "yaw")))
     zero = np.zeros((n, 3))
     rate = zero if rpy_rate is None else _vectors("rpy_rate", rpy_rate, n, ("roll", "pitch", "yaw"))
     acc = (
@@ -225,3 +270,87 @@ def quaternion_motion(
     return PlatformMotion.of(
         times, position, quaternion_matrix(q), omega, velocity, alpha, acceleration
     )
+
+
+#: The built-in motions of a spatial robot (``prp3 simulate --motion``, docs/spatial.md §15):
+#: what each does, over ``t = 0 .. T`` with ``θ = 2π·t/T`` and ``ℓ`` the robot's scale.
+SPATIAL_MOTIONS: dict[str, str] = {
+    "heave": "p = home + (0, 0, 0.1·ℓ·sin θ)",
+    "circle": "p = home + 0.1·ℓ·(cos θ − 1, sin θ, 0): a horizontal circle through home",
+    "tilt": "roll = 0.1·sin θ, pitch = 0.1·(1 − cos θ) rad about home",
+}
+
+#: The twist components each built-in motion drives (refused where they are parasitic).
+_DRIVES: dict[str, tuple[str, ...]] = {
+    "heave": ("vz",),
+    "circle": ("vx", "vy"),
+    "tilt": ("wx", "wy"),
+}
+
+
+def spatial_motion(
+    robot: SpatialRobot, name: str, samples: int = 301, duration: float = 3.0
+) -> PlatformMotion:
+    """A built-in motion of :data:`SPATIAL_MOTIONS` about ``robot``'s home, its exact rates.
+
+    ``samples`` equally spaced times over ``0 .. duration`` (s).  A motion that drives a
+    component ``robot`` determines (``robot.parasitic``: the 3-RPS's circle, the Delta's
+    tilt) is refused; the other parasitic components are left at home's (zero), for
+    :func:`~prp3.spatial.kinematics.complete_motion` to solve.
+
+    >>> from prp3.spatial.model import hexapod, delta
+    >>> motion = spatial_motion(hexapod(), "heave", 5)
+    >>> motion.position[:, 2].round(6).tolist(), motion.velocity[0].round(6).tolist()
+    ([0.08, 0.09, 0.08, 0.07, 0.08], [0.0, 0.0, 0.020944])
+    >>> spatial_motion(delta(), "tilt")
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: motion: the tilt motion drives wx, wy, which the 3-RUU determines itself (its parasitic components wx, wy, wz); choose one of heave, circle
+    """
+    check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
+    check_choice("motion", name, tuple(SPATIAL_MOTIONS))
+    n = check_integer("samples", samples, 2, 10**9)
+    period = check_scalar("duration", duration, positive=True, unit="s")
+    driven = [c for c in _DRIVES[name] if c in robot.parasitic]
+    if driven:
+        allowed = [m for m, drives in _DRIVES.items() if not set(drives) & set(robot.parasitic)]
+        raise ParameterError(
+            f"the {name} motion drives {', '.join(_DRIVES[name])}, which the {robot.name} "
+            f"determines itself (its parasitic components {', '.join(robot.parasitic)}); "
+            f"choose one of {', '.join(allowed)}",
+            subject="motion",
+            key="motion",
+        )
+    t = np.linspace(0.0, period, n)
+    w = 2.0 * np.pi / period
+    if not math.isfinite(w * w * max(0.1 * robot.scale, 0.1)):
+        raise ParameterError(
+            f"duration = {period!r} s is too short: the motion's accelerations overflow float64",
+            key="duration",
+        )
+    theta = w * t
+    sin, cos, zero = np.sin(theta), np.cos(theta), np.zeros(n)
+    home = np.broadcast_to(np.asarray(robot.home_position), (n, 3))
+    r = 0.1 * robot.scale
+    rpy = np.zeros((n, 3))
+    rpy_rate, rpy_acc = np.zeros((n, 3)), np.zeros((n, 3))
+    velocity, acceleration = np.zeros((n, 3)), np.zeros((n, 3))
+    offset = np.zeros((n, 3))
+    if name == "heave":
+        offset = np.stack([zero, zero, r * sin], axis=-1)
+        velocity = np.stack([zero, zero, r * w * cos], axis=-1)
+        acceleration = np.stack([zero, zero, -r * w * w * sin], axis=-1)
+    elif name == "circle":
+        offset = r * np.stack([cos - 1.0, sin, zero], axis=-1)
+        velocity = r * w * np.stack([-sin, cos, zero], axis=-1)
+        acceleration = -r * w * w * np.stack([cos, sin, zero], axis=-1)
+    else:
+        a = 0.1
+        rpy = a * np.stack([sin, 1.0 - cos, zero], axis=-1)
+        rpy_rate = a * w * np.stack([cos, sin, zero], axis=-1)
+        rpy_acc = a * w * w * np.stack([-sin, cos, zero], axis=-1)
+    omega, alpha = rpy_rates(rpy, rpy_rate, rpy_acc)
+    rotation = np.asarray(robot.home_rotation) @ rpy_matrix(rpy)
+    omega = omega @ np.asarray(robot.home_rotation).T
+    alpha = alpha @ np.asarray(robot.home_rotation).T
+    return PlatformMotion.of(t, home + offset, rotation, omega, velocity, alpha, acceleration)
