@@ -514,19 +514,21 @@ def test_the_sweep_error_messages_of_cli_md_are_printed(
     assert not (tmp_path / "out").exists()  # nothing written
 
 
-#: Deep imports a document may show: the figures and the command line are public modules
-#: of their own; the explorer's and the paper's walkthroughs show internals as internals.
-_DEEP_IMPORTS_SHOWN = ("prp3.plotting", "prp3.cli", "prp3.explorer.", "prp3.references.")
+#: The packages a user imports besides ``prp3``: the figures (``prp3.plotting.<name>``), the
+#: explorer's scenes (``prp3.explorer.<name>``), the paper's matrices as printed
+#: (``prp3.references.<name>``) and the command line's ``main``.
+_PUBLIC_PACKAGES = ("prp3.plotting", "prp3.explorer", "prp3.references", "prp3.cli")
 
 
 def test_the_docs_import_public_names_only() -> None:
+    # the documents, their doctests and the scripts of docs/examples: prp3.<name> only
     deep = re.compile(
         r"^\s*(?:>>> |\.\.\. )?(?:from (prp3\.[\w.]+) import|import (prp3\.[\w.]+))", re.M
     )
     shown = []
-    for path in _documents():
+    for path in [*_documents(), *sorted((ROOT / "docs" / "examples").glob("*.py"))]:
         for match in deep.finditer(path.read_text(encoding="utf-8")):
             module = match.group(1) or match.group(2)
-            if not module.startswith(_DEEP_IMPORTS_SHOWN):
+            if module not in _PUBLIC_PACKAGES:
                 shown.append(f"{path.name}: {module}")
     assert shown == [], f"docs import from internal modules (use prp3.<name>): {shown}"

@@ -116,3 +116,28 @@ def test_the_stub_lists_what_prp3_exports() -> None:
     for name in prp3.__all__:
         assert getattr(prp3, name) is not None, name
     assert sorted(dir(prp3)) == sorted(n for n in prp3.__all__ if n != "__version__")
+
+
+def test_the_plotting_stub_lists_what_prp3_plotting_exports() -> None:
+    import prp3.plotting
+
+    assert prp3.plotting.__all__, "prp3.plotting exports nothing"
+    for name in prp3.plotting.__all__:
+        value = getattr(prp3.plotting, name)
+        assert value.__module__.startswith("prp3.plotting."), name
+
+
+def test_every_stub_is_installed_with_the_package() -> None:
+    # a stub missing from package-data breaks `pip install .` (not the editable install)
+    import tomllib
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    listed = tomllib.loads((root / "pyproject.toml").read_text(encoding="utf-8"))["tool"][
+        "setuptools"
+    ]["package-data"]["prp3"]
+    stubs = sorted(
+        p.relative_to(root / "src" / "prp3").as_posix()
+        for p in (root / "src" / "prp3").rglob("*.pyi")
+    )
+    assert stubs and set(stubs) <= set(listed), (stubs, listed)

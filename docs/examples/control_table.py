@@ -38,10 +38,20 @@ import argparse
 import numpy as np
 
 import prp3
-from prp3 import Limits, LinkParameters, PistonParameters, PlatformParameters, Robot
-from prp3.analysis.equations_of_motion import open_loop_growth_rate
-from prp3.apps.control import Tracking, control_times, track
-from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
+from prp3 import (
+    PAPER_DURATION,
+    PAPER_MOTIONS,
+    Limits,
+    LinkParameters,
+    PistonParameters,
+    PlatformParameters,
+    Robot,
+    Tracking,
+    control_times,
+    law_at,
+    open_loop_growth_rate,
+    track,
+)
 
 PAPER = Robot()
 #: Actuator strokes of every plant (m): twice what the motions need; a run that

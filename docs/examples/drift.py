@@ -17,11 +17,14 @@ from collections.abc import Callable
 import numpy as np
 
 import prp3
-from prp3.analysis.force_histories import ActuatorForces
-from prp3.analysis.forward import forward_dynamics
-from prp3.engines.compiled_robot import compile_robot
-from prp3.engines.sample_entries import sample_actuator_forces
-from prp3.model.motion import PAPER_MOTIONS, law_at
+from prp3 import (
+    PAPER_MOTIONS,
+    ActuatorForces,
+    compile_robot,
+    forward_dynamics,
+    law_at,
+    sample_actuator_forces,
+)
 
 T = np.linspace(0.0, 3.0, 301)
 

@@ -86,7 +86,7 @@ def shoot(chromium: str, robot_text: str, settings: dict[str, float], target: Pa
 
 
 def main() -> None:
-    from prp3.family import FamilyRobot
+    from prp3 import FamilyRobot
 
     chromium = os.environ.get("PRP3_CHROMIUM") or shutil.which("chromium")
     if chromium is None:

@@ -28,10 +28,14 @@ from pathlib import Path
 
 import numpy as np
 
-from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
-from prp3.family.workspace import family_workspace_slice
-from prp3.model.motion import paper_motion
-from prp3.model.parameters import Payload
+from prp3 import (
+    ARCHITECTURES,
+    FamilyRobot,
+    Payload,
+    family_inverse_dynamics,
+    family_workspace_slice,
+    paper_motion,
+)
 
 PAYLOAD = Payload(1.5, (0.02, 0.0), 2e-3)
 MOTIONS = ("vertical", "rotation")
@@ -125,8 +129,7 @@ def main() -> None:
     found = rows()
     print(table(found))
     if args.figures is not None:
-        from prp3.plotting.family_design import comparison_figure
-        from prp3.plotting.figures import save_figure
+        from prp3.plotting import comparison_figure, save_figure
 
         save_figure(comparison_figure(found, areas()), args.figures / "family_comparison.png")
 

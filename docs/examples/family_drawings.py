@@ -14,9 +14,8 @@ FIGURE = Path(__file__).resolve().parents[1] / "figures" / "family_designs.png"
 
 def draw(path: Path = FIGURE) -> Path:
     """Write the figure to ``path`` (atomically) and return it."""
-    from prp3.family import ARCHITECTURES, FamilyRobot
-    from prp3.plotting.family import designs_figure
-    from prp3.plotting.figures import save_figure
+    from prp3 import ARCHITECTURES, FamilyRobot
+    from prp3.plotting import designs_figure, save_figure
 
     robots = [FamilyRobot.default(name) for name in ARCHITECTURES]
     return save_figure(designs_figure(robots), path)

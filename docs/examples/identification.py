@@ -26,11 +26,8 @@ from pathlib import Path
 import numpy as np
 
 import prp3
-from prp3.apps.base_parameters import base_parameters
-from prp3.apps.regressor import standard_parameters
+from prp3 import base_parameters, read_trajectory, standard_parameters, write_table_csv
 from prp3.cli import main as prp3_main
-from prp3.io.tables import write_table_csv
-from prp3.io.trajectory import read_trajectory
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = 7

@@ -1,7 +1,7 @@
 """The "measured" column of docs/mujoco.md: the exported model driven by prp3's forces.
 
-The MJCF model of ``prp3.apps.mjcf.mjcf_model`` is stepped by MuJoCo (RK4,
-timestep ``prp3.apps.mjcf.TIMESTEP``) from the planned state, its motors given
+The MJCF model of ``prp3.mjcf_model`` is stepped by MuJoCo (RK4,
+the timestep written in the model) from the planned state, its motors given
 prp3's ``f10`` at the middle of each step, open loop; the error is
 ``|planned − simulated|`` of ``x, y`` (m) and ``φ`` (rad) after every step.
 The runs are those ``tests/test_mjcf.py`` holds to its tolerances: the
@@ -22,11 +22,22 @@ import warnings
 import mujoco
 import numpy as np
 
-from prp3 import LinkParameters, PistonParameters, PlatformParameters, Robot, inverse_dynamics
-from prp3.apps.mjcf import TIMESTEP, MjcfWarning, mjcf_model
-from prp3.model.motion import PAPER_MOTIONS, law_motion
-from prp3.model.parameters import Friction, JointFriction, Load, Payload
-from prp3.validation import LEGS
+from prp3 import (
+    LEGS,
+    PAPER_MOTIONS,
+    Friction,
+    JointFriction,
+    LinkParameters,
+    Load,
+    MjcfWarning,
+    Payload,
+    PistonParameters,
+    PlatformParameters,
+    Robot,
+    inverse_dynamics,
+    law_motion,
+    mjcf_model,
+)
 
 #: The robots of the runs: the paper's, and one with offsets and another gravity.
 ROBOTS = {
@@ -40,11 +51,20 @@ ROBOTS = {
 }
 
 
-def drive(robot: Robot, motion_name: str, starts: list[float], duration: float) -> list[np.ndarray]:
-    """Per start time, the pose error after every step, ``(steps, 3)``."""
+def mujoco_model(robot: Robot) -> mujoco.MjModel:
+    """The MuJoCo model of ``robot`` (prp3's MJCF, its warnings of unrepresented terms muted)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", MjcfWarning)
-        model = mujoco.MjModel.from_xml_string(mjcf_model(robot))
+        return mujoco.MjModel.from_xml_string(mjcf_model(robot))
+
+
+#: MuJoCo's timestep as prp3 writes it in the model (s).
+TIMESTEP: float = float(mujoco_model(Robot()).opt.timestep)
+
+
+def drive(robot: Robot, motion_name: str, starts: list[float], duration: float) -> list[np.ndarray]:
+    """Per start time, the pose error after every step, ``(steps, 3)``."""
+    model = mujoco_model(robot)
     data = mujoco.MjData(model)
     names = [f"{kind}_{leg}" for leg in LEGS for kind in ("lambda10", "phi", "lambda32")]
     order = np.array([model.jnt_dofadr[model.joint(name).id] for name in names])

@@ -1,7 +1,7 @@
 """Draw the default hexapod during its tilt, with its joint forces: ``docs/figures/spatial_pose.png``.
 
 The figure of docs/spatial.md §15: the robot at ``t = 0.75 s`` of ``prp3 simulate --motion
-tilt`` (:func:`prp3.plotting.spatial_animation.spatial_pose_figure` of sample 75 of 301, drawn
+tilt`` (:func:`prp3.plotting.spatial_pose_figure` of sample 75 of 301, drawn
 as a frame of ``--animate`` is), and the numbers its legend states.  Run ``python docs/examples/spatial_pose.py [--figures DIR]``
 (default ``docs/figures``); ``tests/test_docs.py`` runs it and compares what it prints with
 docs/spatial.md, ``tests/test_spatial_animation.py`` checks that the committed figure is the one
@@ -22,23 +22,21 @@ SAMPLES, INDEX = 301, 75
 
 def draw(folder: Path) -> tuple[Path, str]:
     """Write the figure into ``folder`` (atomically); return its path and the report."""
-    from prp3.plotting.figures import save_figure
-    from prp3.plotting.spatial_animation import (
-        VIEW,
+    from prp3 import hexapod, spatial_inverse_dynamics, spatial_motion, spatial_results_table
+    from prp3.plotting import (
         force_scale,
         robot_size,
+        save_figure,
         spatial_frame,
         spatial_pose_figure,
         spatial_samples,
     )
-    from prp3.spatial.model import hexapod
-    from prp3.spatial.motion import spatial_motion
-    from prp3.spatial.outputs import spatial_inverse_dynamics, spatial_results_table
 
     robot = hexapod()
     motion = spatial_motion(robot, "tilt", SAMPLES)
     table = spatial_results_table(spatial_inverse_dynamics(robot, motion, "newton-euler"))
     figure = spatial_pose_figure(robot, table, index=INDEX, what="tilt motion")
+    view = figure.axes[0]  # the 3-D axes: the view the figure is drawn from
     folder.mkdir(parents=True, exist_ok=True)
     path = save_figure(figure, folder / NAME)
     t, q, force = spatial_samples(robot, table)
@@ -54,7 +52,7 @@ def draw(folder: Path) -> tuple[Path, str]:
     report = "\n".join(
         [
             f"{NAME}: the {robot.name} at t = {t[INDEX]:g} s of the tilt motion "
-            f"({SAMPLES} samples), seen from elevation {VIEW[0]:g}°, azimuth {VIEW[1]:g}°",
+            f"({SAMPLES} samples), seen from elevation {view.elev:g}°, azimuth {view.azim:g}°",
             f"robot size {size:.3g} m; force arrows {force_scale(force, size):g} N per m",
             f"largest joint force of the run: {magnitude.max():.3g} N at {labels[joint]} of leg "
             f"{leg + 1}, t = {t[k]:g} s",

@@ -15,7 +15,7 @@ FIGURE = Path(__file__).resolve().parents[1] / "figures" / "spatial_workspace.pn
 def draw(path: Path = FIGURE) -> Path:
     """Write the figure to ``path`` (atomically) and return it."""
     from prp3 import spatial_workspace, three_rps
-    from prp3.plotting.spatial_workspace import save_spatial_workspace_map
+    from prp3.plotting import save_spatial_workspace_map
 
     return save_spatial_workspace_map(path, spatial_workspace(three_rps()))
 

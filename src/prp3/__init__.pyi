@@ -330,6 +330,7 @@ from .model.joint_elements import (
     spring_force as spring_force,
 )
 from .model.motion import (
+    PAPER_DURATION as PAPER_DURATION,
     PAPER_MOTIONS as PAPER_MOTIONS,
     Motion as Motion,
     differentiate_positions as differentiate_positions,

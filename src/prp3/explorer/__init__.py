@@ -26,6 +26,7 @@
 
 from __future__ import annotations
 
+from prp3.explorer.family_scene import family_pose_table, family_view
 from prp3.explorer.run_folder import Run, read_run, run_motion
 from prp3.explorer.scene import (
     PRP3_SCENE,
@@ -45,6 +46,8 @@ __all__ = [
     "State",
     "View",
     "design_robot",
+    "family_pose_table",
+    "family_view",
     "pose_table",
     "read_run",
     "run_motion",

@@ -75,6 +75,7 @@ __all__ = [
     "SpatialFrame",
     "draw_spatial_frame",
     "force_scale",
+    "robot_size",
     "save_spatial_animation",
     "spatial_frame",
     "spatial_pose_figure",
