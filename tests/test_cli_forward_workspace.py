@@ -272,3 +272,23 @@ def test_forward_refuses_forces_beyond_max_force(
 def test_forward_help_has_an_example(capsys: pytest.CaptureFixture[str]) -> None:
     status, out, _ = cli(capsys, "forward", "--help")
     assert status == 0 and "prp3 forward --forces inv/results.csv --output fwd" in out
+
+
+def test_the_spatial_example_of_workspace_help_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the two lines of `prp3 workspace --help` for a spatial robot, run as written (a
+    # coarser grid added to keep it short): the template, then its roll-pitch slice
+    status, out, _ = cli(capsys, "workspace", "--help")
+    lines = [line.strip() for line in out.splitlines() if "hexapod.toml" in line]
+    assert lines[0] == "prp3 robot --template --architecture 6-UPS > hexapod.toml"
+    monkeypatch.chdir(tmp_path)
+    status, template, _ = cli(capsys, *lines[0].split()[1:-2])
+    assert status == 0
+    (tmp_path / "hexapod.toml").write_text(template, encoding="utf-8")
+    status, report, stderr = cli(capsys, *lines[1].split()[1:], "--points", "11")
+    assert status == 0, stderr
+    assert "6-UPS" in report and "plane rp" in report
+    header = (tmp_path / "ws_hexapod" / "statics.csv").read_text().splitlines()[0].split(",")
+    assert header[:7] == ["x", "y", "z", "roll", "pitch", "yaw", "regular"]
+    assert "tau_peak" in header

@@ -156,7 +156,8 @@ def register(subparsers: Any) -> None:
         metavar="M.csv",
         type=path_name,
         required=True,
-        help="the measured motion and actuator forces f10_A, f10_B, f10_C",
+        help="the measured motion and actuator efforts (f10_A, f10_B, f10_C of the 3-PRP; "
+        "tau_A, tau_B, tau_C of a family robot; tau_1 .. tau_n of a spatial robot)",
     )
     add_output_directory(parser)
     parser.add_argument(

@@ -90,6 +90,10 @@ examples:
       robot.toml with [limits] stroke = [-0.05, 0.05]: the region at phi = 0, its
       conditioning, the reachable orientations; ws/workspace.png is the map
   prp3 workspace --phi 0.3 --extent -0.2 0.2 -0.2 0.2 --points 101 --output ws03
+  prp3 robot --template --architecture 6-UPS > hexapod.toml
+  prp3 workspace --robot hexapod.toml --plane rp --statics --output ws_hexapod
+      a spatial robot file: the roll-pitch slice at the home height, with the
+      efforts that hold the robot's own weight
 
 output files:
   workspace.csv     one row per grid point (x, y) at phi: x, y, reachable (1/0),
@@ -126,6 +130,14 @@ default window is +-2 [leg] scale.  Its statics map (--statics; by default with 
 [payload] or a [load]) is statics.csv with x, y, regular, tau_A, tau_B, tau_C,
 tau_peak (the actuator efforts at rest on the home branch, empty where not
 regular) and statics.png.
+
+A spatial robot file (6-UPS, 3-RPS, 3-RUU Delta: docs/spatial.md §17) takes
+--plane xy|xz|yz|rp (the planes its free coordinates span; the first is the
+default), --offset, --rpy ROLL PITCH YAW, --extent and --points (default 101)
+instead of --phi, and writes workspace.csv with x, y, z, roll, pitch, yaw (the
+pose, completed for fewer than 6 DOF), reachable, regular, reason, reason_leg,
+mu_leg_<leg>, mu_par and workspace.png; with --statics, statics.csv with the pose,
+regular, tau_<leg>, tau_peak (the efforts at rest) and statics.png.
 
 Exit status 0 on success, 2 on bad input (one line on stderr, nothing written).
 """
