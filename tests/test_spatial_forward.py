@@ -32,7 +32,7 @@ from prp3.spatial.forward import (
     spatial_platform_dynamics,
     state_from_joints,
 )
-from prp3.spatial.geometry import inverse_geometry
+from prp3.spatial.geometry import inverse_geometry, leg_coordinates
 from prp3.spatial.kinematics import chunk_kinematics, complete_motion, spatial_kinematics
 from prp3.spatial.model import Body, SpatialRobot, delta, hexapod, three_rps
 from prp3.spatial.motion import PlatformMotion, spatial_motion
@@ -251,7 +251,10 @@ def test_a_massless_robot_is_refused():
 
 def test_a_stroke_end_and_a_singularity_are_refused_naming_the_time():
     robot = hexapod()
-    with pytest.raises(UnreachablePoseError, match=r"near t = 0\.\d+ s: P2 = .* outside") as error:
+    with pytest.raises(
+        UnreachablePoseError,
+        match=r"reaches a joint limit at t = 0\.\d+ s: P2 of leg 1 = 0.12 m reaches its limit 0.12 m",
+    ) as error:
         spatial_forward_dynamics(robot, 1.5 * hold_efforts(robot), duration=0.4, samples=3)
     assert error.value.time is not None and 0.05 < error.value.time < 0.4
     wide = three_rps(stroke=(0.01, 0.5), r_limit=1.5, s_limit=1.5)
@@ -399,7 +402,7 @@ def test_a_refused_run_keeps_the_earlier_results(capsys, tmp_path):
     status, _, err = cli(capsys, "forward", "--robot", robot_file, "--efforts", table,
                          "--output", out)  # fmt: skip
     assert status == 2
-    assert "P2 = " in one_line(err) and "outside its limits" in one_line(err)
+    assert "reaches a joint limit" in one_line(err) and "P2 of leg " in one_line(err)
     assert (out / "results.csv").read_bytes() == before
 
 
@@ -408,3 +411,26 @@ def test_the_planar_forward_refuses_the_spatial_options(capsys, tmp_path):
     assert status == 2 and "applies to a spatial robot file" in one_line(err)
     status, _, err = cli(capsys, "forward", "--output", tmp_path / "o")
     assert status == 2 and "--forces FORCES.csv is required" in one_line(err)
+
+
+def test_a_joint_limit_stops_the_motion_at_its_crossing():
+    # The Delta falls with its motors idle until a forearm's U reaches its limit: the
+    # terminal event of the limit margin finds the crossing in a few hundred evaluations
+    # (it was an integrator shrinking its step onto the limit, tens of thousands); the
+    # motion integrated to just before the reported time ends at the limit, and stays
+    # within every limit on the way (checked by the inverse geometry of the reported
+    # poses, independently of the event).
+    robot = delta()
+    with pytest.raises(UnreachablePoseError) as caught:
+        spatial_forward_dynamics(robot, np.zeros(3), duration=1.0, max_evaluations=1500)
+    message = str(caught.value)
+    assert "reaches a joint limit" in message and "U2_a of leg 1" in message
+    t_stop = caught.value.time
+    assert t_stop is not None and 0.0 < t_stop < 1.0
+    before = spatial_forward_dynamics(robot, np.zeros(3), duration=t_stop * (1 - 1e-6))
+    motion = before.motion
+    q = leg_coordinates(robot, motion.position, motion.rotation).q
+    low, high = robot.legs[0].joints[1].limits[0]
+    u2a = q[:, :, 1]  # the U2's first angle (after R1)
+    assert ((u2a >= low) & (u2a <= high)).all()
+    assert abs(float(np.abs(u2a[-1]).max()) - high) < 1e-4

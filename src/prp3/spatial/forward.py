@@ -37,15 +37,27 @@ from __future__ import annotations
 import math
 import time as time_module
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.analysis.forward import MAX_EVALUATIONS, MAX_SECONDS, MIN_RTOL
-from prp3.errors import ParameterError, Prp3Error, SingularPoseError, TrajectoryError
+from prp3.errors import (
+    ParameterError,
+    Prp3Error,
+    SingularPoseError,
+    TrajectoryError,
+    UnreachablePoseError,
+)
 from prp3.spatial.dynamics import body_wrenches, chunk_efforts, virtual_work_efforts
-from prp3.spatial.geometry import attachments, chain_frames
+from prp3.spatial.geometry import (
+    JointLimit,
+    attachments,
+    chain_frames,
+    leg_coordinates,
+    limit_margin,
+)
 from prp3.spatial.kinematics import (
     chunk_kinematics,
     complete_motion,
@@ -375,6 +387,48 @@ def _effort_function(
     return (lambda time: np.asarray(spline(time), dtype=np.float64)), (float(te[0]), float(te[-1]))
 
 
+def _without_limits(robot: SpatialRobot) -> SpatialRobot:
+    """``robot`` with every joint unbounded: the equations of motion a little beyond a limit.
+
+    The integrator's trial states may overshoot a limit; their equations of motion stay
+    defined there (the limits are the user's, not the geometry's), so that the terminal
+    event of the limit margin finds the crossing instead of the step shrinking onto it.
+    """
+    legs = tuple(
+        replace(leg, joints=tuple(replace(joint, limits=()) for joint in leg.joints))
+        for leg in robot.legs
+    )
+    return replace(robot, legs=legs)
+
+
+def _limit_reached(robot: SpatialRobot, time: float, state: PlatformMotion) -> UnreachablePoseError:
+    """The refusal of a motion that reaches a joint limit at ``time`` (the closest limit named)."""
+    q = leg_coordinates(robot, state.position, state.rotation).q
+    _, bounded = limit_margin(robot, q)
+
+    def distance(limit: JointLimit) -> float:
+        unit = robot.scale if limit.unit == "m" else 1.0
+        value = float(limit.values[0])
+        low = -math.inf if limit.kind == "S" else limit.low
+        return min(value - low, limit.high - value) / unit
+
+    distances = [distance(limit) for limit in bounded]
+    nearest = min(distances)  # legs at a limit together (a symmetric push): the first named
+    closest = next(lim for lim, d in zip(bounded, distances, strict=True) if d <= nearest + 1e-9)
+    value = float(closest.values[0])
+    bound = closest.high if abs(closest.high - value) <= abs(value - closest.low) else closest.low
+    p = ", ".join(f"{v:.6g}" for v in state.position[0])
+    return UnreachablePoseError(
+        f"the motion reaches a joint limit at t = {time!r} s: {closest.name} of leg "
+        f"{closest.leg + 1} = {value:.6g} {closest.unit} reaches its limit {bound:.6g} "
+        f"{closest.unit} (limits [{closest.low:.6g}, {closest.high:.6g}]) at the pose "
+        f"p = ({p}) m; the efforts drive the platform there",
+        subject="forward dynamics",
+        time=time,
+        leg=str(closest.leg + 1),
+    )
+
+
 def _initial(robot: SpatialRobot, initial: PlatformMotion | None, t0: float) -> PlatformMotion:
     if initial is None:
         return PlatformMotion.of([t0], robot.home_position, robot.home_rotation)
@@ -450,7 +504,9 @@ def spatial_forward_dynamics(
         The motion reaches a singularity: a measure of §6 falls to
         :data:`SINGULARITY_STOP` (the message names the time and the measure).
     UnreachablePoseError
-        The motion leaves the reachable poses (a stroke or joint limit; names the time).
+        The motion reaches a stroke or joint limit (a terminal event on the limit margin
+        of :func:`~prp3.spatial.geometry.limit_margin`: names the time, the joint and the
+        limit), or leaves the poses a leg can close (names the time).
     TrajectoryError
         A bound (``max_evaluations`` or ``max_seconds``) stopped the integration (the
         message names it and the time reached), or the integrator failed.
@@ -511,10 +567,11 @@ def spatial_forward_dynamics(
     furthest = [t0]
     clock = time_module.monotonic()
     failures: list[tuple[float, Prp3Error]] = []
-    cache: dict[bytes, tuple[PlatformMotion, FloatArray, float]] = {}
+    cache: dict[bytes, tuple[PlatformMotion, FloatArray, float, float]] = {}
+    unlimited = _without_limits(robot)
 
-    def evaluate(time: float, y: FloatArray) -> tuple[PlatformMotion, FloatArray, float]:
-        """The completed state with its acceleration, the full ``(α, a)`` (6,), its margin."""
+    def evaluate(time: float, y: FloatArray) -> tuple[PlatformMotion, FloatArray, float, float]:
+        """The completed state, its full ``(α, a)`` (6,), its singularity and limit margins."""
         key = y.tobytes() + np.float64(time).tobytes()
         if key in cache:
             return cache[key]
@@ -525,8 +582,9 @@ def spatial_forward_dynamics(
             y[None, 7:10].copy(), y[None, 10:13].copy(), zero, zero,
         )  # fmt: skip
         if robot.parasitic:
-            motion = complete_motion(robot, motion)
-        done = _evaluate(robot, motion)
+            motion = complete_motion(unlimited, motion)
+        done = _evaluate(unlimited, motion)
+        reach = limit_margin(robot, leg_coordinates(robot, motion.position, motion.rotation).q)
         dyn = done.dynamics
         a_free = np.linalg.solve(dyn.effort_matrix[0], effort_of(time) - dyn.effort_bias[0])
         base = done.accelerations[0, 0]
@@ -535,7 +593,7 @@ def spatial_forward_dynamics(
             motion.t, motion.position, motion.rotation, motion.omega, motion.velocity,
             full[None, :3], full[None, 3:],
         )  # fmt: skip
-        result = (moved, full, float(done.margin[0]))
+        result = (moved, full, float(done.margin[0]), float(reach[0][0]))
         if len(cache) > 64:
             cache.clear()
         cache[key] = result
@@ -550,7 +608,7 @@ def spatial_forward_dynamics(
             raise _BoundReachedError(f"max_seconds = {bound_seconds!r} s")
         try:
             with np.errstate(all="ignore"):
-                moved, acc, _ = evaluate(time, y)
+                moved, acc, _, _ = evaluate(time, y)
         except Prp3Error as error:  # a trial state out of reach: NaN rejects the step
             if np.isfinite(y).all():
                 failures.append((time, error))
@@ -580,15 +638,23 @@ def spatial_forward_dynamics(
         except (Prp3Error, np.linalg.LinAlgError):
             return 1.0  # out of reach: said by the right-hand side
 
-    singular.terminal = True  # type: ignore[attr-defined]
-    singular.direction = -1.0  # type: ignore[attr-defined]
+    def beyond(time: float, y: FloatArray) -> float:
+        try:
+            with np.errstate(all="ignore"):
+                return evaluate(time, y)[3]
+        except (Prp3Error, np.linalg.LinAlgError):
+            return 1.0  # out of reach: said by the right-hand side
+
+    for event in (singular, beyond):
+        event.terminal = True  # type: ignore[attr-defined]
+        event.direction = -1.0  # type: ignore[attr-defined]
     from scipy.integrate import solve_ivp
 
     try:
         with np.errstate(all="ignore"):
             solution = solve_ivp(
                 rhs, (float(times[0]), float(times[-1])), y0, method="DOP853", t_eval=times,
-                events=[singular], rtol=relative, atol=absolute,
+                events=[singular, beyond], rtol=relative, atol=absolute,
             )  # fmt: skip
     except _BoundReachedError as bound:
         raise TrajectoryError(
@@ -598,6 +664,14 @@ def spatial_forward_dynamics(
             subject="forward dynamics",
             time=furthest[0],
         ) from None
+    if (
+        solution.status == 1
+        and solution.t_events[1].size
+        and not (solution.t_events[0].size and solution.t_events[0][0] <= solution.t_events[1][0])
+    ):
+        t_limit = float(solution.t_events[1][0])
+        state = evaluate(t_limit, np.asarray(solution.y_events[1][0], dtype=np.float64))[0]
+        raise _limit_reached(robot, t_limit, state)
     if solution.status == 1:
         t_stop = float(solution.t_events[0][0])
         y_stop = np.asarray(solution.y_events[0][0], dtype=np.float64)

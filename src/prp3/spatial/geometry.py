@@ -21,6 +21,7 @@ prp3.errors.UnreachablePoseError: sample 0, t = 0 s, leg 1: P2 = 0.210179 m is o
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,13 +36,16 @@ from prp3.validation import check_instance
 __all__ = [
     "CHUNK",
     "Frames",
+    "JointLimit",
     "attachments",
     "chain_frames",
     "coordinate_kinds",
     "end_frames",
     "inverse_geometry",
+    "joint_limits",
     "leg_coordinates",
     "leg_frames",
+    "limit_margin",
     "placements",
     "plane_offsets",
 ]
@@ -239,23 +243,29 @@ def _pose_text(position: FloatArray) -> str:
     return "p = (" + ", ".join(f"{float(v):.6g}" for v in position) + ") m"
 
 
-def check_reach(
-    robot: SpatialRobot, frames: FloatArray, position: FloatArray, t: FloatArray, offset: int = 0
-) -> None:
-    """Refuse the first sample where a leg cannot reach or a joint is beyond its limits (§6).
+@dataclass(frozen=True)
+class JointLimit:
+    """One bounded coordinate of one leg, over the samples of ``q`` (§6).
 
-    ``frames`` is :attr:`Frames.q` ``(N, legs, dof)``; ``offset`` is the index of the
-    chunk's first sample in the motion.
+    ``values (N,)`` are the coordinate (rad, m; for an S joint its angle ``|φ|``, which
+    its ``low = 0`` bounds only in form), ``low < high`` its limits, ``unit`` ``"m"`` or
+    ``"rad"``, ``kind`` the joint's.
     """
-    q = frames
-    refusals: list[tuple[int, int, str]] = []
+
+    kind: str
+    leg: int
+    name: str
+    unit: str
+    values: FloatArray
+    low: float
+    high: float
+
+
+def joint_limits(robot: SpatialRobot, q: FloatArray) -> Iterator[JointLimit]:
+    """Every coordinate of every leg with its limits, for the joint values ``q (N, legs, dof)``."""
     leg0 = robot.legs[0]
     for i, leg in enumerate(robot.legs):
         column = 0
-        unreachable = ~np.isfinite(q[:, i]).all(axis=1)
-        if unreachable.any():
-            k = int(np.argmax(unreachable))
-            refusals.append((k, i, "cannot reach: the leg's closure has no real solution"))
         for joint, label in zip(leg.joints, leg0.labels, strict=True):
             if joint.kind == "S":
                 angle = np.sqrt(np.einsum("ni,ni->n", q[:, i, column : column + 3],
@@ -268,18 +278,65 @@ def check_reach(
             for value, name, unit, (low, high) in zip(
                 values, names, units, joint.limits, strict=True
             ):
-                bad = (value < low) | (value > high)
-                if bad.any():
-                    k = int(np.argmax(bad))
-                    refusals.append(
-                        (
-                            k,
-                            i,
-                            f"{name} = {float(value[k]):.6g} {unit} is outside its limits "
-                            f"[{low:.6g}, {high:.6g}]",
-                        )
-                    )
+                yield JointLimit(joint.kind, i, name, unit, value, low, high)
             column += joint.dof
+
+
+def limit_margin(robot: SpatialRobot, q: FloatArray) -> tuple[FloatArray, list[JointLimit]]:
+    """How far each sample of ``q (N, legs, dof)`` stays within the joints' limits (§6).
+
+    The margin of a coordinate is ``min(value − low, high − value)`` (an S joint's angle:
+    ``high − |φ|``), in rad, and in units of the robot's scale for a length; negative
+    beyond a limit, ``inf`` for an unbounded coordinate.  Returns the smallest over every coordinate of every leg,
+    ``(N,)``, and the bounded coordinates (:class:`JointLimit`).
+
+    >>> from prp3.spatial.model import hexapod
+    >>> robot = hexapod()
+    >>> margin, bounded = limit_margin(robot, inverse_geometry(robot, PlatformMotion.of(
+    ...     [0.0], robot.home_position, robot.home_rotation)))
+    >>> bool(margin[0] > 0), sorted({limit.name for limit in bounded})
+    (True, ['P2', 'U1_a', 'U1_b', '|S3|'])
+    """
+    margin = np.full(q.shape[0], np.inf)
+    bounded = []
+    for limit in joint_limits(robot, q):
+        low = -np.inf if limit.kind == "S" else limit.low
+        if not (np.isfinite(low) or np.isfinite(limit.high)):
+            continue
+        bounded.append(limit)
+        unit = robot.scale if limit.unit == "m" else 1.0
+        distance = np.minimum(limit.values - low, limit.high - limit.values) / unit
+        margin = np.minimum(margin, np.where(np.isnan(distance), -np.inf, distance))
+    return margin, bounded
+
+
+def check_reach(
+    robot: SpatialRobot, frames: FloatArray, position: FloatArray, t: FloatArray, offset: int = 0
+) -> None:
+    """Refuse the first sample where a leg cannot reach or a joint is beyond its limits (§6).
+
+    ``frames`` is :attr:`Frames.q` ``(N, legs, dof)``; ``offset`` is the index of the
+    chunk's first sample in the motion.
+    """
+    q = frames
+    refusals: list[tuple[int, int, str]] = []
+    for i in range(len(robot.legs)):
+        unreachable = ~np.isfinite(q[:, i]).all(axis=1)
+        if unreachable.any():
+            k = int(np.argmax(unreachable))
+            refusals.append((k, i, "cannot reach: the leg's closure has no real solution"))
+    for limit in joint_limits(robot, q):
+        bad = (limit.values < limit.low) | (limit.values > limit.high)
+        if bad.any():
+            k = int(np.argmax(bad))
+            refusals.append(
+                (
+                    k,
+                    limit.leg,
+                    f"{limit.name} = {float(limit.values[k]):.6g} {limit.unit} is outside its "
+                    f"limits [{limit.low:.6g}, {limit.high:.6g}]",
+                )
+            )
     if refusals:
         k, i, reason = min(refusals, key=lambda r: (r[0], r[1]))
         raise UnreachablePoseError(
