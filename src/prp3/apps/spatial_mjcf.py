@@ -71,7 +71,7 @@ from prp3.apps.mjcf import MUJOCO_MIN_VALUE, TIMESTEP, num, vec
 from prp3.errors import InputFileError, ParameterError, Prp3Error
 from prp3.files import read_text
 from prp3.spatial.kinematics import spatial_kinematics
-from prp3.spatial.model import Body, Joint, Leg, SpatialRobot
+from prp3.spatial.model import Body, Joint, Leg, Matrix, SpatialRobot, check_rotation, check_vector
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.rotations import matrix_quaternion
 from prp3.validation import check_instance
@@ -109,13 +109,14 @@ def _orientation(rotation: tuple[tuple[float, float, float], ...]) -> str:
 
 
 def _check_body(name: str, body: Body) -> None:
-    """MuJoCo's bounds on a moving body: mass and principal moments above ``mjMINVAL``."""
+    """MuJoCo's bounds on a moving body: mass and principal moments above ``mjMINVAL``
+    (the error's key is ``<body name>.mass`` or ``.inertia``)."""
     if body.mass < MUJOCO_MIN_VALUE:
         raise ParameterError(
             f"{name}.mass = {body.mass!r} kg is below MuJoCo's smallest mass of a moving body "
             f"{MUJOCO_MIN_VALUE!r} kg (the MJCF model cannot carry it)",
             subject="robot",
-            key=f"{name}.mass",
+            key=f"{body.name}.mass",
         )
     smallest = float(np.linalg.eigvalsh(np.asarray(body.inertia)).min())
     if smallest < MUJOCO_MIN_VALUE:
@@ -123,7 +124,7 @@ def _check_body(name: str, body: Body) -> None:
             f"{name}.inertia has the principal moment {smallest:.6g} kg m^2, below MuJoCo's "
             f"smallest {MUJOCO_MIN_VALUE!r} kg m^2 (the MJCF model cannot carry it)",
             subject="robot",
-            key=f"{name}.inertia",
+            key=f"{body.name}.inertia",
         )
 
 
@@ -155,9 +156,7 @@ def spatial_mjcf_joint_names(robot: SpatialRobot) -> list[str]:
     return names
 
 
-def _joint_elements(
-    joint: Joint, label: str, leg: int, ind: str, numerics: list[str]
-) -> list[str]:
+def _joint_elements(joint: Joint, label: str, leg: int, ind: str, numerics: list[str]) -> list[str]:
     """The hinges or slide of an R, P or U joint (``range`` when both limits are finite)."""
     axes = {"R": ["0 0 1"], "P": ["1 0 0"], "U": ["0 0 1", "0 1 0"]}[joint.kind]
     kind = "slide" if joint.kind == "P" else "hinge"
@@ -237,8 +236,8 @@ def spatial_mjcf_model(robot: SpatialRobot) -> str:
     numerics: list[str] = []
     texts: list[str] = [
         f'    <text name="{SPATIAL_MJCF_MARK}" data="prp3 spatial robot, docs/spatial.md 16"/>',
-        f"    <text name=\"prp3_name\" data={quoteattr(robot.name or ' ')}/>",
-        f"    <text name=\"prp3_parasitic\" data={quoteattr(' '.join(robot.parasitic) or 'none')}/>",
+        f'    <text name="prp3_name" data={quoteattr(robot.name or " ")}/>',
+        f'    <text name="prp3_parasitic" data={quoteattr(" ".join(robot.parasitic) or "none")}/>',
     ]
     numerics.append(
         f'    <numeric name="prp3_home" '
@@ -270,7 +269,9 @@ def spatial_mjcf_model(robot: SpatialRobot) -> str:
         for k in range(n - 1):
             joint, label, body = leg.joints[k], leg.labels[k], leg.bodies[k]
             ind = "    " + "  " * k
-            texts.append(f"    <text name=\"prp3_body_leg{i}_{k + 1}\" data={quoteattr(body.name or ' ')}/>")
+            texts.append(
+                f'    <text name="prp3_body_leg{i}_{k + 1}" data={quoteattr(body.name or " ")}/>'
+            )
             lines.append(
                 f'{ind}<body name="leg{i}_body{k + 1}" pos="{vec(*joint.position)}"'
                 f"{_orientation(joint.rotation)}>"
@@ -313,7 +314,9 @@ def spatial_mjcf_model(robot: SpatialRobot) -> str:
                 f'    <weld name="leg{i}_{label}" site1="leg{i}_end" site2="platform_leg{i}"/>'
             )
         lines += opened[::-1]
-    texts.append(f"    <text name=\"prp3_body_platform\" data={quoteattr(robot.platform.name or ' ')}/>")
+    texts.append(
+        f'    <text name="prp3_body_platform" data={quoteattr(robot.platform.name or " ")}/>'
+    )
     lines += [
         '    <body name="platform">',
         '      <freejoint name="platform"/>',
@@ -348,20 +351,20 @@ def spatial_mjcf_model(robot: SpatialRobot) -> str:
 
 
 # ---------------------------------------------------------------- reading back
-class _Foreign(Exception):
+class _ForeignError(Exception):
     """A model that is not one :func:`spatial_mjcf_model` writes (the reason)."""
 
 
 def _numbers(element: ET.Element, attribute: str, count: int) -> tuple[float, ...]:
     text = element.get(attribute)
     if text is None:
-        raise _Foreign(f"<{element.tag} name={element.get('name')!r}> has no {attribute}")
+        raise _ForeignError(f"<{element.tag} name={element.get('name')!r}> has no {attribute}")
     try:
         values = tuple(float(v) for v in text.split())
     except ValueError:
         values = ()
     if len(values) != count:
-        raise _Foreign(
+        raise _ForeignError(
             f"<{element.tag} name={element.get('name')!r}> {attribute}={text!r}: expected "
             f"{count} numbers"[:300]
         )
@@ -375,31 +378,31 @@ def _vector(element: ET.Element, attribute: str) -> tuple[float, float, float]:
     return (x, y, z)
 
 
-def _rotation(element: ET.Element) -> FloatArray:
+def _rotation(element: ET.Element) -> Matrix:
     """The rotation of ``xyaxes`` (identity without): ``x``, ``y`` as written (normalised and
     orthogonalised, as MuJoCo does, only when they are not unit and orthogonal to ``1e-12``),
     ``z = x × y`` normalised."""
     if element.get("xyaxes") is None:
         for other in ("quat", "axisangle", "euler", "zaxis"):
             if element.get(other) is not None:
-                raise _Foreign(f"<{element.tag} name={element.get('name')!r}> has {other}")
-        return np.eye(3)
+                raise _ForeignError(f"<{element.tag} name={element.get('name')!r}> has {other}")
+        return check_rotation("xyaxes", np.eye(3))
     values = np.array(_numbers(element, "xyaxes", 6))
     x, y = values[:3], values[3:]
     if not (abs(x @ x - 1.0) < 1e-12 and abs(y @ y - 1.0) < 1e-12 and abs(x @ y) < 1e-12):
         if not np.linalg.norm(np.cross(x, y)) > 1e-9 * np.linalg.norm(x) * np.linalg.norm(y):
-            raise _Foreign(f"<{element.tag} name={element.get('name')!r}> xyaxes are parallel")
+            raise _ForeignError(f"<{element.tag} name={element.get('name')!r}> xyaxes are parallel")
         x = x / np.linalg.norm(x)
         y = y - (x @ y) * x
         y = y / np.linalg.norm(y)
     z = np.cross(x, y)
-    return np.stack([x, y, z / np.linalg.norm(z)], axis=1)
+    return check_rotation("xyaxes", np.stack([x, y, z / np.linalg.norm(z)], axis=1))
 
 
 def _body_of(element: ET.Element, name: str) -> Body:
     inertial = element.find("inertial")
     if inertial is None:
-        raise _Foreign(f"<body name={element.get('name')!r}> has no <inertial>")
+        raise _ForeignError(f"<body name={element.get('name')!r}> has no <inertial>")
     (mass,) = _numbers(inertial, "mass", 1)
     if inertial.get("diaginertia") is not None:
         a, b, c = _numbers(inertial, "diaginertia", 3)
@@ -424,7 +427,7 @@ def _joint_of(
     joints = element.findall("joint")
     key = tuple((j.get("type", "hinge"), j.get("axis", "")) for j in joints)
     if key not in _KINDS:
-        raise _Foreign(
+        raise _ForeignError(
             f"<body name={element.get('name')!r}>: joints {key!r} are not an R, P or U"[:300]
         )
     kind = _KINDS[key]
@@ -432,7 +435,7 @@ def _joint_of(
     limits = []
     for name, j in zip(joint_names, joints, strict=True):
         if j.get("name") != name:
-            raise _Foreign(f"joint {j.get('name')!r} where prp3 writes {name!r}")
+            raise _ForeignError(f"joint {j.get('name')!r} where prp3 writes {name!r}")
         if j.get("range") is not None:
             low, high = _numbers(j, "range", 2)
             limits.append((low, high))
@@ -452,7 +455,7 @@ def _custom(root: ET.Element) -> tuple[dict[str, str], dict[str, tuple[float, ..
             try:
                 numerics[numeric.get("name", "")] = tuple(float(v) for v in data.split())
             except ValueError:
-                raise _Foreign(f"numeric {numeric.get('name')!r} = {data!r}"[:300]) from None
+                raise _ForeignError(f"numeric {numeric.get('name')!r} = {data!r}"[:300]) from None
     return texts, numerics
 
 
@@ -463,7 +466,7 @@ def _leg_of(
 ) -> Leg:  # fmt: skip
     element = world.find(f"body[@name='leg{i}_body1']")
     if element is None:
-        raise _Foreign(f"no body leg{i}_body1 in the worldbody")
+        raise _ForeignError(f"no body leg{i}_body1 in the worldbody")
     joints, bodies = [], []
     k = 1
     while True:
@@ -475,7 +478,7 @@ def _leg_of(
         element, k = child, k + 1
     site = platform.find(f"site[@name='platform_leg{i}']")
     if site is None:
-        raise _Foreign(f"no site platform_leg{i} in the body platform")
+        raise _ForeignError(f"no site platform_leg{i} in the body platform")
     end = element.find(f"body[@name='leg{i}_end']")
     if end is not None:
         last = _joint_of(end, i, k + 1, ranges)
@@ -485,7 +488,9 @@ def _leg_of(
         label = f"S{k + 1}"
         s_site = element.find(f"site[@name='leg{i}_{label}']")
         if s_site is None:
-            raise _Foreign(f"leg {i} ends neither in a body leg{i}_end nor a site leg{i}_{label}")
+            raise _ForeignError(
+                f"leg {i} ends neither in a body leg{i}_end nor a site leg{i}_{label}"
+            )
         last = Joint(
             "S", _vector(s_site, "pos"), _rotation(s_site),
             (ranges.get(f"leg{i}_{label}", (0.0, math.inf)),),
@@ -493,15 +498,18 @@ def _leg_of(
         tag = "connect"
     closure = equalities.get(f"leg{i}_{label}")
     if closure is None or closure.tag != tag:
-        raise _Foreign(f"no <{tag} name='leg{i}_{label}'> closing leg {i}")
+        raise _ForeignError(f"no <{tag} name='leg{i}_{label}'> closing leg {i}")
     joints.append(last)
     driven = actuators.get(f"actuator_{i}", "")
     actuated = [
-        k for k, (joint, label) in enumerate(zip(joints, (f"{j.kind}{n}" for n, j in enumerate(joints, 1)), strict=True))
+        k
+        for k, (joint, label) in enumerate(
+            zip(joints, (f"{j.kind}{n}" for n, j in enumerate(joints, 1)), strict=True)
+        )
         if joint.dof == 1 and driven == f"leg{i}_{label}"
     ]
     if len(actuated) != 1:
-        raise _Foreign(f"actuator_{i} drives {driven!r}, not an R or P of leg {i}")
+        raise _ForeignError(f"actuator_{i} drives {driven!r}, not an R or P of leg {i}")
     return Leg(tuple(joints), tuple(bodies), _vector(site, "pos"), _rotation(site), actuated[0])
 
 
@@ -524,7 +532,7 @@ def spatial_mjcf_robot(text: str) -> SpatialRobot:
         ) from None
     try:
         return _robot_of(root)
-    except _Foreign as error:
+    except _ForeignError as error:
         raise ParameterError(
             f"not an MJCF model of a spatial robot written by prp3 (prp3 export mjcf): {error}",
             subject="mjcf",
@@ -533,14 +541,14 @@ def spatial_mjcf_robot(text: str) -> SpatialRobot:
 
 def _robot_of(root: ET.Element) -> SpatialRobot:
     if root.tag != "mujoco":
-        raise _Foreign(f"the root element is <{root.tag}>, not <mujoco>")
+        raise _ForeignError(f"the root element is <{root.tag}>, not <mujoco>")
     texts, numerics = _custom(root)
     if SPATIAL_MJCF_MARK not in texts:
-        raise _Foreign(f"it has no <custom><text name={SPATIAL_MJCF_MARK!r}>")
+        raise _ForeignError(f"it has no <custom><text name={SPATIAL_MJCF_MARK!r}>")
     world = root.find("worldbody")
     platform = world.find("body[@name='platform']") if world is not None else None
     if world is None or platform is None:
-        raise _Foreign("no body platform in a <worldbody>")
+        raise _ForeignError("no body platform in a <worldbody>")
     ranges = {
         name.removeprefix("prp3_range_"): (values[0], values[1])
         for name, values in numerics.items()
@@ -554,17 +562,19 @@ def _robot_of(root: ET.Element) -> SpatialRobot:
         placed.append(_leg_of(world, platform, i, texts, ranges, equalities, actuators))
         i += 1
     option = root.find("option")
-    gravity = _vector(option, "gravity") if option is not None else (0.0, 0.0, -9.81)
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)  # MuJoCo's default
+    if option is not None and option.get("gravity") is not None:
+        gravity = _vector(option, "gravity")
     home = numerics.get("prp3_home", ())
     scale = numerics.get("prp3_scale", ())
     if len(home) != 12 or len(scale) != 1:
-        raise _Foreign("the custom numerics prp3_home (12 numbers) and prp3_scale are missing")
+        raise _ForeignError("the custom numerics prp3_home (12 numbers) and prp3_scale are missing")
     parasitic = texts.get("prp3_parasitic", "none").split()
     name = texts.get("prp3_name", "").strip()
     platform_body = _body_of(platform, texts.get("prp3_body_platform", "platform").strip())
     return SpatialRobot(
-        name, tuple(placed), platform_body, gravity, home[:3],
-        np.array(home[3:]).reshape(3, 3), scale[0],
+        name, tuple(placed), platform_body, gravity, check_vector("home", home[:3]),
+        check_rotation("home rotation", np.array(home[3:]).reshape(3, 3)), scale[0],
         () if parasitic == ["none"] else tuple(parasitic),
     )  # fmt: skip
 
