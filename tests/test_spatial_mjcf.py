@@ -51,6 +51,8 @@ from prp3.spatial.rotations import matrix_quaternion
 from spatial_strategies import deltas, hexapods, rps_robots, waves
 
 ARCHITECTURES = {"6-UPS": hexapods, "3-RPS": rps_robots, "3-RUU": deltas}
+#: The unknowns of the square solve of each architecture (docs/spatial.md §16).
+UNKNOWNS = {"6-UPS": 24, "3-RPS": 12, "3-RUU": 21}
 TIMES = np.array([0.1, 0.45, 0.8])
 
 
@@ -199,7 +201,7 @@ def _check_architecture(architecture: str, robot: SpatialRobot, motion: Any) -> 
         # inverse dynamics: M·qacc + bias = B·τ + J_cᵀ·w
         b = closed.actuation()
         system = np.hstack([b, j_c.T])
-        assert system.shape[0] == system.shape[1]
+        assert system.shape == (UNKNOWNS[architecture],) * 2  # docs/spatial.md §16
         x = np.linalg.solve(system, closed.inverse())
         tau = x[:legs]
         assert np.allclose(tau, solution.tau[n], rtol=0, atol=1e-8 * tau_scale), (
