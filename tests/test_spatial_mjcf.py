@@ -23,6 +23,7 @@ platform's free joint from the motion), and:
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import fields, is_dataclass
 from pathlib import Path
 from typing import Any
@@ -233,19 +234,19 @@ def _check_architecture(architecture: str, robot: SpatialRobot, motion: Any) -> 
         ).max()
 
 
-@settings(max_examples=5, deadline=None)
+@settings(max_examples=8, deadline=None)
 @given(robots_and_motions("6-UPS"))
 def test_hexapod_in_mujoco(case: tuple[SpatialRobot, Any]) -> None:
     _check_architecture("6-UPS", *case)
 
 
-@settings(max_examples=5, deadline=None)
+@settings(max_examples=8, deadline=None)
 @given(robots_and_motions("3-RPS"))
 def test_three_rps_in_mujoco(case: tuple[SpatialRobot, Any]) -> None:
     _check_architecture("3-RPS", *case)
 
 
-@settings(max_examples=5, deadline=None)
+@settings(max_examples=8, deadline=None)
 @given(robots_and_motions("3-RUU"))
 def test_delta_in_mujoco(case: tuple[SpatialRobot, Any]) -> None:
     _check_architecture("3-RUU", *case)
@@ -395,3 +396,23 @@ def test_export_mjcf_refuses_bad_input_in_one_line_and_keeps_the_old_file(
     assert "\n" not in err and "below MuJoCo's smallest mass" in err and str(light) in err
     assert output.read_text(encoding="utf-8") == "old"
     assert math.isfinite(1.0)
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    st.sampled_from([hexapod(), three_rps(), delta()]),
+    st.integers(0, 10**6),
+    st.sampled_from(["nan", "inf", "-1", "0", "1e400", "x", "", "1 2", '"', "<"]),
+)
+def test_a_mutated_model_gives_a_robot_or_one_project_error(
+    robot: SpatialRobot, where: int, value: str
+) -> None:
+    """Any attribute value of a prp3 model replaced: a robot, or one ParameterError line."""
+    text = spatial_mjcf_model(robot)
+    spans = [(m.start(1), m.end(1)) for m in re.finditer(r'="([^"]*)"', text)]
+    start, end = spans[where % len(spans)]
+    mutated = text[:start] + value + text[end:]
+    try:
+        spatial_mjcf_robot(mutated)
+    except ParameterError as error:
+        assert "\n" not in str(error)
