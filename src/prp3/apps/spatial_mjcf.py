@@ -53,7 +53,7 @@ drawings only (no mass, no contact).
 
 >>> from prp3.spatial.model import hexapod
 >>> text = spatial_mjcf_model(hexapod())
->>> text.count("<joint "), text.count("<connect "), text.count("<motor ")
+>>> text.count("<joint name="), text.count("<connect "), text.count("<motor ")
 (18, 6, 6)
 """
 

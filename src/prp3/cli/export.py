@@ -100,7 +100,9 @@ def register(subparsers: Any) -> None:
         description=(
             "Write the robot as a MuJoCo MJCF model: the three legs as kinematic chains, "
             "the loops closed by weld equality constraints, motors on the three base "
-            "sliders. Exporting does not need MuJoCo."
+            "sliders; a spatial robot file (6-UPS, 3-RPS, 3-RUU), its legs as open chains, the "
+            "platform a free body, the loops closed by connect or weld constraints "
+            "(docs/spatial.md §16). Exporting does not need MuJoCo."
         ),
         epilog=_MJCF_EXAMPLE,
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -109,7 +111,7 @@ def register(subparsers: Any) -> None:
         "--robot",
         metavar="ROBOT.toml",
         type=path_name,
-        help="robot parameters (default: the paper's robot)",
+        help="robot parameters, planar or spatial (default: the paper's robot)",
     )
     mjcf.add_argument(
         "--output",
