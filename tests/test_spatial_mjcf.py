@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import fields, is_dataclass
+from dataclasses import fields, is_dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -290,8 +290,9 @@ def test_read_back_gives_the_same_robot(robot: SpatialRobot) -> None:
 
 
 def test_read_back_from_a_file_and_of_the_defaults(tmp_path: Path) -> None:
-    for robot in (hexapod(), three_rps(), delta()):
-        path = tmp_path / f"{robot.name}.xml"
+    quoted = replace(hexapod(), name='my "hexapod" <1> & co')  # XML's special characters
+    for k, robot in enumerate((hexapod(), three_rps(), delta(), quoted)):
+        path = tmp_path / f"model{k}.xml"
         path.write_text(spatial_mjcf_model(robot), encoding="utf-8")
         assert_same_robot(read_spatial_mjcf(path), robot)
 
