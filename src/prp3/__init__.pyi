@@ -101,6 +101,11 @@ from .apps.mjcf import (
     MjcfWarning as MjcfWarning,
     mjcf_model as mjcf_model,
 )
+from .apps.spatial_mjcf import (
+    read_spatial_mjcf as read_spatial_mjcf,
+    spatial_mjcf_model as spatial_mjcf_model,
+    spatial_mjcf_robot as spatial_mjcf_robot,
+)
 from .apps.optimization import (
     OptimizeOutcome as OptimizeOutcome,
     optimize_design as optimize_design,

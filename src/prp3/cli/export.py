@@ -9,6 +9,8 @@ does.  MuJoCo is not needed to export.
 dynamics as C99 code, ``DIR/prp3_inverse_dynamics.h`` and ``.c``
 (:func:`prp3.apps.codegen.c_inverse_dynamics`), together or not at all.
 
+A spatial robot file (docs/spatial.md §13: 6-UPS, 3-RPS, 3-RUU) goes to
+:func:`prp3.apps.spatial_mjcf.spatial_mjcf_model` (``export mjcf`` only; docs/spatial.md §16).
 A family-form robot file (docs/family.md: 3-RPR, 3-RRR, ...) goes to the
 family's exporters, :func:`prp3.family.mjcf.family_mjcf_model` and
 :func:`prp3.family.codegen.family_c_inverse_dynamics` (docs/family_export.md).
@@ -22,20 +24,24 @@ from typing import Any
 
 from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, CSource, c_inverse_dynamics
 from prp3.apps.mjcf import mjcf_model
+from prp3.apps.spatial_mjcf import spatial_mjcf_model
 from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     emit,
     files_report,
     load_any_robot,
+    load_robot_or_spatial,
     output_folder,
     path_name,
 )
-from prp3.errors import ParameterError
+from prp3.errors import InputFileError, ParameterError
 from prp3.family import FamilyRobot
 from prp3.family.codegen import FamilyCSource, family_c_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model
-from prp3.files import atomic_writer, check_inputs_kept, check_output_directory
+from prp3.files import atomic_writer, check_inputs_kept, check_output_directory, read_text
+from prp3.io.spatial_robot import SpatialRobotFile, key_line
+from prp3.model.robot_toml import MAX_ROBOT_FILE_BYTES
 
 __all__ = ["register"]
 
@@ -94,7 +100,9 @@ def register(subparsers: Any) -> None:
         description=(
             "Write the robot as a MuJoCo MJCF model: the three legs as kinematic chains, "
             "the loops closed by weld equality constraints, motors on the three base "
-            "sliders. Exporting does not need MuJoCo."
+            "sliders; a spatial robot file (6-UPS, 3-RPS, 3-RUU), its legs as open chains, the "
+            "platform a free body, the loops closed by connect or weld constraints "
+            "(docs/spatial.md §16). Exporting does not need MuJoCo."
         ),
         epilog=_MJCF_EXAMPLE,
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -103,7 +111,7 @@ def register(subparsers: Any) -> None:
         "--robot",
         metavar="ROBOT.toml",
         type=path_name,
-        help="robot parameters (default: the paper's robot)",
+        help="robot parameters, planar or spatial (default: the paper's robot)",
     )
     mjcf.add_argument(
         "--output",
@@ -130,8 +138,19 @@ def register(subparsers: Any) -> None:
 
 
 def _export_mjcf(args: argparse.Namespace) -> int:
-    robot = load_any_robot(args)
-    if isinstance(robot, FamilyRobot):
+    robot = load_robot_or_spatial(args)
+    if isinstance(robot, SpatialRobotFile):
+        try:
+            text = spatial_mjcf_model(robot.robot)
+        except ParameterError as error:
+            raise _file_key(args.robot, error) from None
+        closing = robot.robot.legs[0].joints[-1].kind
+        closures = f"{len(robot.robot.legs)} {'connects' if closing == 'S' else 'welds'}"
+        what = (
+            f"the {robot.architecture} as {len(robot.robot.legs)} open chains and a free platform, "
+            f"loops closed by {closures}, motors actuator_1..{len(robot.robot.legs)}"
+        )
+    elif isinstance(robot, FamilyRobot):
         try:
             text = family_mjcf_model(robot)
         except ParameterError as error:
@@ -156,6 +175,20 @@ def _export_mjcf(args: argparse.Namespace) -> int:
             f"files written:\n  {output}"
         )
     return 0
+
+
+#: The table of a spatial robot file of each body name (docs/spatial.md §13).
+_BODY_TABLES = {"arm": "arm_body", "forearm": "forearm_body"}
+
+
+def _file_key(path: Path, error: ParameterError) -> InputFileError:
+    """A refusal of a spatial robot's body, naming the file, the body's table key and its line."""
+    body, _, attribute = (error.key or "").partition(".")
+    key = f"{_BODY_TABLES.get(body, body)}.{attribute}" if attribute else None
+    line = None
+    if key is not None:
+        line = key_line(read_text(path, "robot", MAX_ROBOT_FILE_BYTES), key)
+    return InputFileError(error.reason, file=path, line=line, key=key)
 
 
 def _export_c(args: argparse.Namespace) -> int:
