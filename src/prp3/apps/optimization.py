@@ -40,7 +40,10 @@ class Optimizable(Protocol):
     """What :func:`optimize_design` needs of a spec: :class:`~prp3.apps.sweep_spec.SweepSpec`
     (the 3-PRP), or one robot of a :class:`~prp3.apps.spatial_design.SpatialSweepSpec`."""
 
-    seed: int
+    @property
+    def seed(self) -> int:
+        """Seed of the differential evolution."""
+        ...
 
     @property
     def evaluator(self) -> RowEvaluator:

@@ -87,7 +87,7 @@ from prp3.apps.sweep_spec import (
     spec_sampling,
     spec_table,
 )
-from prp3.errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
+from prp3.errors import ParameterError, Prp3Error, SingularPoseError
 from prp3.io.spatial_robot import (
     SPATIAL_ARCHITECTURES,
     read_spatial_robot,
@@ -384,14 +384,18 @@ class SpatialSweepSpec:
         blocks = []
         for index, study in enumerate(self.studies):
             have = np.array([path in study.paths for path in self.paths], dtype=bool)
-            part = np.where(have, sample, np.nan) if study.paths else np.full((1, have.size), np.nan)
+            part = (
+                np.where(have, sample, np.nan) if study.paths else np.full((1, have.size), np.nan)
+            )
             blocks.append(np.column_stack([np.full(len(part), float(index)), part]))
         return np.concatenate(blocks)
 
     def nominal_row(self) -> dict[str, Any]:
         """The row of the first robot's nominal design."""
         study = self.studies[0]
-        alone = replace(self.evaluator, studies=(replace(study, paths=()),), paths=(), indexed=False)
+        alone = replace(
+            self.evaluator, studies=(replace(study, paths=()),), paths=(), indexed=False
+        )
         columns = alone.evaluate(np.zeros((1, 0)))
         row: dict[str, Any] = {}
         for path in self.paths:

@@ -30,7 +30,6 @@ from __future__ import annotations
 import contextlib
 import itertools
 import json
-import math
 import os
 import re
 import shutil
@@ -84,8 +83,15 @@ class Sweepable(Protocol):
     """What :func:`run_sweep` needs of a spec: :class:`~prp3.apps.sweep_spec.SweepSpec` (the
     3-PRP) and :class:`~prp3.apps.spatial_design.SpatialSweepSpec` (the spatial robots)."""
 
-    source: str
-    chunk: int
+    @property
+    def source(self) -> str:
+        """Where the spec came from (for messages)."""
+        ...
+
+    @property
+    def chunk(self) -> int:
+        """Designs per Dask task."""
+        ...
 
     @property
     def evaluator(self) -> RowEvaluator:
@@ -120,18 +126,19 @@ class Sweepable(Protocol):
 
 
 # ------------------------------------------------------------------ Parquet
-def arrow_table(
-    columns: dict[str, Any], names: Sequence[str], text: Sequence[str] = ("status",)
-) -> Any:
-    """The columns ``names`` as a pyarrow table: those of ``text`` strings, the others float64."""
+def arrow_table(columns: dict[str, Any], names: Sequence[str]) -> Any:
+    """The columns ``names`` as a pyarrow table: arrays of text (``status``, ...) as strings,
+    the others float64."""
     import pyarrow as pa
 
-    arrays = [
-        pa.array(np.asarray(columns[name]).tolist(), type=pa.string())
-        if name in text
-        else pa.array(np.asarray(columns[name], dtype=np.float64), type=pa.float64())
-        for name in names
-    ]
+    arrays = []
+    for name in names:
+        values = np.asarray(columns[name])
+        arrays.append(
+            pa.array(values.tolist(), type=pa.string())
+            if values.dtype.kind in "US"
+            else pa.array(np.asarray(values, dtype=np.float64), type=pa.float64())
+        )
     return pa.Table.from_arrays(arrays, names=list(names))
 
 
@@ -560,7 +567,7 @@ def _compute_chunks(
         index = index_of.pop(future.key)
         columns = future.result()
         with atomic_path(_chunk_file(staging, index)) as temporary:
-            pq.write_table(arrow_table(columns, names, evaluator.text_columns), temporary)
+            pq.write_table(arrow_table(columns, names), temporary)
         finished += 1
         if progress is not None:
             progress(finished, len(starts))
