@@ -60,6 +60,7 @@ singular).
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import json
 import math
@@ -95,6 +96,7 @@ from prp3.io.spatial_robot import (
     spatial_robot_text,
 )
 from prp3.io.spatial_trajectory import read_spatial_trajectory
+from prp3.model.robot_toml import read_toml
 from prp3.spatial.kinematics import complete_motion, home_signs
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import SPATIAL_MOTIONS, PlatformMotion, spatial_motion
@@ -155,12 +157,28 @@ def is_spatial_spec(data: Mapping[str, Any]) -> bool:
 
 @dataclass(frozen=True)
 class SpatialStudy:
-    """One robot of a spatial sweep: its name in the spec, architecture, nominal mapping and
-    the key paths of the spec's parameters it has (in the spec's order)."""
+    """One robot of a spatial sweep.
+
+    Attributes
+    ----------
+    name : str
+        As the spec names it (an architecture, or the robot file's path).
+    architecture : str
+    nominal : dict
+        The mapping the designs start from: the robot file's keys as it gives them
+        (``{"architecture": ...}`` for a default design), so that a key it leaves out
+        keeps following the others as in the file (the Delta's arm centre follows a
+        swept ``arm``); with the arrays a parameter indexes (``stroke.1``) filled in.
+    values : dict
+        Every key of the robot file, defaults filled in (:func:`~prp3.io.spatial_robot.spatial_robot_text`).
+    paths : tuple of str
+        The key paths of the spec's parameters it has, in the spec's order.
+    """
 
     name: str
     architecture: str
     nominal: dict[str, Any]
+    values: dict[str, Any]
     paths: tuple[str, ...]
 
 
@@ -399,7 +417,7 @@ class SpatialSweepSpec:
         columns = alone.evaluate(np.zeros((1, 0)))
         row: dict[str, Any] = {}
         for path in self.paths:
-            value = nominal_value(study.nominal, path)
+            value = nominal_value(study.values, path)
             row[path] = math.nan if value is None else value
         text = self.evaluator.text_columns
         row |= {n: (str(v[0]) if n in text else float(v[0])) for n, v in columns.items()}
@@ -449,8 +467,6 @@ class SpatialSweepSpec:
 # ------------------------------------------------------------------ SWEEP.toml
 def read_spatial_sweep_spec(path: str | Path) -> SpatialSweepSpec:
     """Read and validate a spatial ``SWEEP.toml`` (:func:`spatial_sweep_spec`)."""
-    from prp3.model.robot_toml import read_toml
-
     path = Path(path)
     return spatial_sweep_spec(read_toml(path, "sweep"), base=path.parent, source=str(path))
 
@@ -469,28 +485,46 @@ def _leaves(table: Mapping[str, Any], prefix: str = "") -> list[str]:
     return out
 
 
-def _studies(source: str, base: Path, given: Any) -> tuple[list[SpatialStudy], list[Path]]:
-    names = [given] if isinstance(given, str) else given
+def _studies(source: str, base: Path, spatial: Any) -> tuple[list[SpatialStudy], list[Path]]:
+    names = [spatial] if isinstance(spatial, str) else spatial
     if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
         raise ParameterError(
             f"{source}: spatial must be an architecture ({', '.join(SPATIAL_ARCHITECTURES)}), "
-            f"the path of a spatial robot file, or a non-empty list of them, got {given!r}"[:300]
+            f"the path of a spatial robot file, or a non-empty list of them, got {spatial!r}"[:300]
         )
     studies, files = [], []
     for name in names:
         if name in SPATIAL_ARCHITECTURES:
+            given: dict[str, Any] = {"architecture": name}
             text = spatial_robot_text(name, comments=False)
         else:
             file = Path(name) if Path(name).is_absolute() else base / name
             try:
                 design = read_spatial_robot(file)
+                given = dict(read_toml(file, "robot"))
             except Prp3Error as error:
                 raise type(error)(f"{source}: spatial {name!r}: {error}") from None
             text = spatial_robot_text(design, comments=False)
             files.append(file)
-        nominal = tomllib.loads(text)
-        studies.append(SpatialStudy(name, str(nominal["architecture"]), nominal, ()))
+        values = tomllib.loads(text)
+        studies.append(SpatialStudy(name, str(values["architecture"]), given, values, ()))
     return studies, files
+
+
+def _with_array(nominal: dict[str, Any], values: Mapping[str, Any], path: str) -> dict[str, Any]:
+    """``nominal`` with the array ``path`` indexes (``stroke.1``: ``stroke``) taken from
+    ``values`` where ``nominal`` leaves it out."""
+    out = copy.deepcopy(nominal)
+    node, full = out, values
+    for part in path.split(".")[:-1]:
+        if not isinstance(full, Mapping) or part not in full:
+            break
+        if part not in node:
+            node[part] = copy.deepcopy(full[part]) if isinstance(full[part], list) else {}
+        if isinstance(full[part], list):
+            break
+        node, full = node[part], full[part]
+    return out
 
 
 def _parameters(
@@ -506,15 +540,21 @@ def _parameters(
         high = spec_number(source, f"[parameters] {path!r} high", value[1])
         if not low < high:
             raise ParameterError(f"{where}: low must be below high, got [{low!r}, {high!r}]")
-        applies = [i for i, s in enumerate(studies) if nominal_value(s.nominal, path) is not None]
+        applies = [i for i, s in enumerate(studies) if nominal_value(s.values, path) is not None]
         if not applies:
-            known = sorted({leaf for s in studies for leaf in _leaves(s.nominal)})
-            robots = ", ".join(s.architecture for s in studies)
+            known: dict[str, None] = {}  # the leaves, array indices shown as N, in order
+            for study in studies:
+                for leaf in _leaves(study.values):
+                    known[".".join("N" if p.isdigit() else p for p in leaf.split("."))] = None
+            robots = ", ".join(dict.fromkeys(s.architecture for s in studies))
             raise ParameterError(
                 f"{where}: not a key path of the spatial robot file of {robots} (expected one "
-                f"of: {', '.join(known)})"[:600]
+                f"of: {', '.join(known)}; N an index from 0)"
             )
         for i in applies:
+            studies[i] = replace(
+                studies[i], nominal=_with_array(studies[i].nominal, studies[i].values, path)
+            )
             for end in (low, high):
                 try:
                     spatial_design_file(replace(studies[i], paths=(path,)), [end])
@@ -548,7 +588,7 @@ def _task(
     for name in names:
         if name in SPATIAL_MOTIONS:
             for study in studies:
-                robot = spatial_robot_from_mapping(study.nominal).robot
+                robot = spatial_robot_from_mapping(study.values).robot
                 try:
                     spatial_motion(robot, name, 2, duration)
                 except ParameterError as error:
