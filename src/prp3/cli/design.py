@@ -447,7 +447,8 @@ def _run_spatial_optimize(args: argparse.Namespace, spec: SpatialSweepSpec) -> i
         refused = int(np.sum(outcome.history["violation"] >= 1000.0))
         lines.append(
             f"  {single.study.name} ({single.study.architecture}, "
-            f"{_count(len(single.parameters))}): {outcome.generations} generations, "
+            f"{_count(len(single.parameters))}): {outcome.generations} generation"
+            f"{'' if outcome.generations == 1 else 's'}, "
             f"{outcome.evaluations} designs ({outcome.message}); {refused} refused "
             "(unreachable, singular or invalid)"
         )
