@@ -264,6 +264,7 @@ EXEMPT: dict[str, str] = {
     "SpatialSweepSpec": "built by spatial_sweep_spec from a validated sweep file",
     "optimize_spatial": "a sweep file's run (tests/test_spatial_sweep.py)",
     "RowEvaluator": "a Protocol (DesignEvaluator, SpatialEvaluator implement it)",
+    "evaluate_rows": "takes an evaluator built by sweep_spec or spatial_sweep_spec",
     "sample_designs": "validated Parameter ranges of a sweep file (design_values' designs)",
     "spec_number": "a value of a parsed sweep file, named by its key (tests/test_spatial_sweep.py)",
     "evaluate_family_designs": "takes a FamilySweepSpec built by family_sweep_spec",

@@ -160,10 +160,12 @@ def nominal_value(nominal: Mapping[str, Any], path: str) -> float | None:
 class RowEvaluator(Protocol):
     """What the sweep and the optimization of designs need of an evaluator (picklable).
 
-    :class:`DesignEvaluator` (the 3-PRP) and
-    :class:`~prp3.apps.spatial_design.SpatialEvaluator` (the spatial robots) are ones:
-    :func:`prp3.apps.sweep.run_sweep` sends it to the Dask workers once and calls
-    :meth:`evaluate` on each chunk of designs.
+    :class:`~prp3.apps.spatial_design.SpatialEvaluator` (the spatial robots) is one;
+    :class:`DesignEvaluator` (the 3-PRP) has the columns, its rows are
+    :func:`~prp3.apps.design_evaluation.evaluate_designs`' (both:
+    :func:`~prp3.apps.design_evaluation.evaluate_rows`).
+    :func:`prp3.apps.sweep.run_sweep` sends it to the Dask workers once and evaluates
+    each chunk of designs there.
     """
 
     @property
@@ -272,12 +274,6 @@ class DesignEvaluator:
     def text_columns(self) -> tuple[str, ...]:
         """The column of text: ``status``."""
         return ("status",)
-
-    def evaluate(self, values: FloatArray) -> dict[str, Any]:
-        """:func:`~prp3.apps.design_evaluation.evaluate_designs` of designs ``values (k, p)``."""
-        from prp3.apps.design_evaluation import evaluate_designs
-
-        return evaluate_designs(self, values)
 
 
 def design_columns(paths: Sequence[str], workspace: bool) -> tuple[str, ...]:

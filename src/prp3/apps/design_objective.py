@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.design import AGGREGATES, RowEvaluator
+from prp3.apps.design import AGGREGATES, DesignEvaluator, RowEvaluator
+from prp3.apps.design_evaluation import evaluate_rows
 from prp3.errors import (
     ParameterError,
     Prp3Error,
@@ -161,7 +162,7 @@ class DesignObjective:
     minimises; its ``workers`` map calls it on the Dask workers.
     """
 
-    evaluator: RowEvaluator
+    evaluator: DesignEvaluator | RowEvaluator
     optimize: OptimizeSpec
 
     def __call__(self, x: FloatArray) -> float:
@@ -173,5 +174,5 @@ class DesignObjective:
 
         The value of each design is the one :meth:`__call__` gives it alone.
         """
-        columns = self.evaluator.evaluate(np.asarray(xs, dtype=np.float64))
+        columns = evaluate_rows(self.evaluator, np.asarray(xs, dtype=np.float64))
         return penalized_objective(self.optimize, columns)

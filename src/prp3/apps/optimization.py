@@ -19,7 +19,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.apps.cluster import ClientOrFactory, Progress, using, worker_count
-from prp3.apps.design import RowEvaluator
+from prp3.apps.design import DesignEvaluator, RowEvaluator
+from prp3.apps.design_evaluation import evaluate_rows
 from prp3.apps.design_objective import INFEASIBLE, DesignObjective, OptimizeSpec
 
 if TYPE_CHECKING:
@@ -46,7 +47,7 @@ class Optimizable(Protocol):
         ...
 
     @property
-    def evaluator(self) -> RowEvaluator:
+    def evaluator(self) -> DesignEvaluator | RowEvaluator:
         """Evaluates designs ``(k, p)``."""
         ...
 
@@ -207,7 +208,7 @@ def optimize_design(
     if progress is not None:
         progress(total, total)
     x = np.asarray(result.x, dtype=np.float64)
-    columns = spec.evaluator.evaluate(x[None, :])
+    columns = evaluate_rows(spec.evaluator, x[None, :])
     text = spec.evaluator.text_columns
     row = {name: (str(v[0]) if name in text else float(v[0])) for name, v in columns.items()}
     generation = np.array([g for g, _, _ in mapper.history], dtype=np.float64)

@@ -42,7 +42,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.apps.cluster import ClientOrFactory, Progress, using, worker_count
-from prp3.apps.design import RowEvaluator
+from prp3.apps.design import DesignEvaluator, RowEvaluator
+from prp3.apps.design_evaluation import evaluate_rows
 from prp3.errors import InputFileError, OutputFileError
 from prp3.files import atomic_path, check_output_directory
 
@@ -94,7 +95,7 @@ class Sweepable(Protocol):
         ...
 
     @property
-    def evaluator(self) -> RowEvaluator:
+    def evaluator(self) -> DesignEvaluator | RowEvaluator:
         """Evaluates a chunk of designs on a worker."""
         ...
 
@@ -142,9 +143,9 @@ def arrow_table(columns: dict[str, Any], names: Sequence[str]) -> Any:
     return pa.Table.from_arrays(arrays, names=list(names))
 
 
-def evaluate_chunk(evaluator: RowEvaluator, values: FloatArray) -> dict[str, Any]:
-    """``evaluator.evaluate(values)``: the task of one chunk on a worker."""
-    return evaluator.evaluate(values)
+def evaluate_chunk(evaluator: DesignEvaluator | RowEvaluator, values: FloatArray) -> dict[str, Any]:
+    """:func:`~prp3.apps.design_evaluation.evaluate_rows`: the task of one chunk on a worker."""
+    return evaluate_rows(evaluator, values)
 
 
 @dataclass(frozen=True)
@@ -538,7 +539,7 @@ def _sweep_into(
 def _compute_chunks(
     dask: Client,
     chunk: int,
-    evaluator: RowEvaluator,
+    evaluator: DesignEvaluator | RowEvaluator,
     values: FloatArray,
     starts: list[int],
     missing: list[int],

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from prp3 import __version__
 from prp3.apps.design import AGGREGATES, DesignEvaluator, design_robot, nominal_value
+from prp3.apps.design_evaluation import evaluate_designs
 from prp3.apps.design_objective import OptimizeSpec
 from prp3.errors import (
     ParameterError,
@@ -168,7 +169,7 @@ class SweepSpec:
             motions=evaluator.motions,
             workspace=evaluator.workspace,
         )
-        columns = alone.evaluate(np.zeros((1, 0)))
+        columns = evaluate_designs(alone, np.zeros((1, 0)))
         row: dict[str, Any] = {}
         for path in self.paths:
             value = nominal_value(evaluator.nominal, path)
