@@ -208,7 +208,11 @@ def _pareto_axes(spec: AnySpec, text: str | None) -> tuple[tuple[str, bool], tup
         if isinstance(spec, SweepSpec):
             first = "workspace_area" if spec.evaluator.workspace else spec.paths[0]
             return _axis(first), _axis("peak_f10")
-        return _axis("min_mu_par"), _axis("peak_effort")
+        if len(spec.studies) == 1:
+            return _axis("min_mu_par"), _axis("peak_effort")
+        # several robots: quantities of the same unit for every architecture (a measure's
+        # scale and an effort's unit differ from one architecture to another)
+        return _axis(spec.paths[0] if spec.paths else "peak_power"), _axis("peak_joint_force")
     parts = text.split(",")
     if len(parts) != 2:
         raise Prp3Error(f"--pareto must be two columns X,Y, got {text!r}")
