@@ -202,6 +202,12 @@ from .family.codegen import (
     FamilyCSource as FamilyCSource,
     family_c_inverse_dynamics as family_c_inverse_dynamics,
 )
+from .apps.spatial_design import (
+    SpatialSweepSpec as SpatialSweepSpec,
+    optimize_spatial as optimize_spatial,
+    read_spatial_sweep_spec as read_spatial_sweep_spec,
+    spatial_sweep_spec as spatial_sweep_spec,
+)
 from .family.design import (
     FamilySweepSpec as FamilySweepSpec,
     evaluate_family_designs as evaluate_family_designs,

@@ -23,7 +23,7 @@ import copy
 import itertools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,6 +40,7 @@ from prp3.validation import LEGS, check_finite, check_instance, check_real
 __all__ = [
     "AGGREGATES",
     "DesignEvaluator",
+    "RowEvaluator",
     "design_columns",
     "design_mapping",
     "design_robot",
@@ -156,6 +157,32 @@ def nominal_value(nominal: Mapping[str, Any], path: str) -> float | None:
 
 
 # ------------------------------------------------------------------ the task
+class RowEvaluator(Protocol):
+    """What the sweep and the optimization of designs need of an evaluator (picklable).
+
+    :class:`~prp3.apps.spatial_design.SpatialEvaluator` (the spatial robots) is one;
+    :class:`DesignEvaluator` (the 3-PRP) has the columns, its rows are
+    :func:`~prp3.apps.design_evaluation.evaluate_designs`' (both:
+    :func:`~prp3.apps.design_evaluation.evaluate_rows`).
+    :func:`prp3.apps.sweep.run_sweep` sends it to the Dask workers once and evaluates
+    each chunk of designs there.
+    """
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """The columns of the design table, in order."""
+        ...
+
+    @property
+    def text_columns(self) -> tuple[str, ...]:
+        """The columns of text (``status``, ...); the others are float64."""
+        ...
+
+    def evaluate(self, values: FloatArray) -> dict[str, Any]:
+        """The columns of the rows of designs ``values (k, p)``."""
+        ...
+
+
 @dataclass(frozen=True, eq=False)
 class DesignEvaluator:
     """What a worker needs to evaluate designs: the nominal robot, the paths and the task.
@@ -242,6 +269,11 @@ class DesignEvaluator:
     def columns(self) -> tuple[str, ...]:
         """Column names of the design table (:func:`design_columns`)."""
         return design_columns(self.paths, self.workspace)
+
+    @property
+    def text_columns(self) -> tuple[str, ...]:
+        """The column of text: ``status``."""
+        return ("status",)
 
 
 def design_columns(paths: Sequence[str], workspace: bool) -> tuple[str, ...]:

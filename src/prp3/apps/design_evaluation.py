@@ -63,6 +63,7 @@ from prp3.analysis.workspace import workspace_slice
 from prp3.apps.design import (
     AGGREGATES,
     DesignEvaluator,
+    RowEvaluator,
     design_columns,
     design_robot,
     path_components,
@@ -79,6 +80,7 @@ from prp3.validation import check_instance, check_real
 __all__ = [
     "STATUSES",
     "evaluate_designs",
+    "evaluate_rows",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -541,3 +543,12 @@ def evaluate_designs(evaluator: DesignEvaluator, values: FloatArray) -> dict[str
         columns["workspace_area"] = area
         columns["max_condition"] = condition
     return columns
+
+
+def evaluate_rows(evaluator: DesignEvaluator | RowEvaluator, values: FloatArray) -> dict[str, Any]:
+    """The columns of designs ``values (k, p)``: :func:`evaluate_designs` for the 3-PRP's
+    :class:`~prp3.apps.design.DesignEvaluator`, ``evaluator.evaluate(values)`` for another
+    :class:`~prp3.apps.design.RowEvaluator` (the spatial robots')."""
+    if isinstance(evaluator, DesignEvaluator):
+        return evaluate_designs(evaluator, values)
+    return evaluator.evaluate(values)

@@ -6,7 +6,8 @@
 (:class:`OptimizeSpec`) with its constraints as penalties: the function
 :class:`DesignObjective` that the optimization of designs minimises
 (:func:`prp3.apps.optimization.optimize_design`).  Plain numpy, as
-:func:`prp3.apps.design_evaluation.evaluate_designs` that gives the rows.
+:func:`prp3.apps.design_evaluation.evaluate_designs` that gives the rows of the 3-PRP
+(any :class:`~prp3.apps.design.RowEvaluator`'s rows: those of the spatial robots too).
 """
 
 from __future__ import annotations
@@ -19,8 +20,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.design import AGGREGATES, DesignEvaluator
-from prp3.apps.design_evaluation import evaluate_designs
+from prp3.apps.design import AGGREGATES, DesignEvaluator, RowEvaluator
+from prp3.apps.design_evaluation import evaluate_rows
 from prp3.errors import (
     ParameterError,
     Prp3Error,
@@ -161,7 +162,7 @@ class DesignObjective:
     minimises; its ``workers`` map calls it on the Dask workers.
     """
 
-    evaluator: DesignEvaluator
+    evaluator: DesignEvaluator | RowEvaluator
     optimize: OptimizeSpec
 
     def __call__(self, x: FloatArray) -> float:
@@ -173,5 +174,5 @@ class DesignObjective:
 
         The value of each design is the one :meth:`__call__` gives it alone.
         """
-        columns = evaluate_designs(self.evaluator, np.asarray(xs, dtype=np.float64))
+        columns = evaluate_rows(self.evaluator, np.asarray(xs, dtype=np.float64))
         return penalized_objective(self.optimize, columns)

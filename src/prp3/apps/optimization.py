@@ -13,21 +13,22 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from prp3.apps.cluster import ClientOrFactory, Progress, using, worker_count
-from prp3.apps.design_evaluation import evaluate_designs
-from prp3.apps.design_objective import INFEASIBLE, DesignObjective
-from prp3.apps.sweep_spec import SweepSpec
+from prp3.apps.design import DesignEvaluator, RowEvaluator
+from prp3.apps.design_evaluation import evaluate_rows
+from prp3.apps.design_objective import INFEASIBLE, DesignObjective, OptimizeSpec
 
 if TYPE_CHECKING:
     from dask.distributed import Client
 
 __all__ = [
     "DaskMap",
+    "Optimizable",
     "OptimizeOutcome",
     "optimize_design",
 ]
@@ -36,6 +37,36 @@ FloatArray = NDArray[np.float64]
 
 
 # ------------------------------------------------------------------ optimization
+class Optimizable(Protocol):
+    """What :func:`optimize_design` needs of a spec: :class:`~prp3.apps.sweep_spec.SweepSpec`
+    (the 3-PRP), or one robot of a :class:`~prp3.apps.spatial_design.SpatialSweepSpec`."""
+
+    @property
+    def seed(self) -> int:
+        """Seed of the differential evolution."""
+        ...
+
+    @property
+    def evaluator(self) -> DesignEvaluator | RowEvaluator:
+        """Evaluates designs ``(k, p)``."""
+        ...
+
+    @property
+    def optimize(self) -> OptimizeSpec:
+        """The objective, its constraints and the settings."""
+        ...
+
+    @property
+    def paths(self) -> tuple[str, ...]:
+        """Key paths of the parameters."""
+        ...
+
+    @property
+    def bounds(self) -> list[tuple[float, float]]:
+        """``(low, high)`` of every parameter."""
+        ...
+
+
 class DaskMap:
     """A ``map(func, iterable)`` for ``differential_evolution(workers=...)`` on Dask.
 
@@ -138,7 +169,7 @@ class OptimizeOutcome:
 
 
 def optimize_design(
-    spec: SweepSpec, client: ClientOrFactory, *, progress: Progress | None = None
+    spec: Optimizable, client: ClientOrFactory, *, progress: Progress | None = None
 ) -> OptimizeOutcome:
     """Minimise ``spec.optimize.objective`` subject to its constraints over the parameter ranges.
 
@@ -177,8 +208,9 @@ def optimize_design(
     if progress is not None:
         progress(total, total)
     x = np.asarray(result.x, dtype=np.float64)
-    columns = evaluate_designs(spec.evaluator, x[None, :])
-    row = {name: (str(v[0]) if name == "status" else float(v[0])) for name, v in columns.items()}
+    columns = evaluate_rows(spec.evaluator, x[None, :])
+    text = spec.evaluator.text_columns
+    row = {name: (str(v[0]) if name in text else float(v[0])) for name, v in columns.items()}
     generation = np.array([g for g, _, _ in mapper.history], dtype=np.float64)
     xs = np.array([x for _, x, _ in mapper.history]).reshape(-1, len(spec.paths))
     value = np.array([v for _, _, v in mapper.history])

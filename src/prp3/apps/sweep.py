@@ -30,22 +30,20 @@ from __future__ import annotations
 import contextlib
 import itertools
 import json
-import math
 import os
 import re
 import shutil
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from prp3.apps.cluster import ClientOrFactory, Progress, using, worker_count
-from prp3.apps.design import DesignEvaluator, nominal_value
-from prp3.apps.design_evaluation import evaluate_designs
-from prp3.apps.sweep_spec import SweepSpec, design_values
+from prp3.apps.design import DesignEvaluator, RowEvaluator
+from prp3.apps.design_evaluation import evaluate_rows
 from prp3.errors import InputFileError, OutputFileError
 from prp3.files import atomic_path, check_output_directory
 
@@ -56,7 +54,10 @@ __all__ = [
     "DESIGNS_FILE",
     "DesignTable",
     "SweepRun",
+    "Sweepable",
+    "arrow_table",
     "check_sweep_folder",
+    "evaluate_chunk",
     "read_designs",
     "run_sweep",
     "staging_folder",
@@ -79,17 +80,72 @@ _STAGING = re.compile(r"^\.prp3-sweep-[0-9a-f]{20}$")
 _MANIFEST = "sweep.json"
 
 
+class Sweepable(Protocol):
+    """What :func:`run_sweep` needs of a spec: :class:`~prp3.apps.sweep_spec.SweepSpec` (the
+    3-PRP) and :class:`~prp3.apps.spatial_design.SpatialSweepSpec` (the spatial robots)."""
+
+    @property
+    def source(self) -> str:
+        """Where the spec came from (for messages)."""
+        ...
+
+    @property
+    def chunk(self) -> int:
+        """Designs per Dask task."""
+        ...
+
+    @property
+    def evaluator(self) -> DesignEvaluator | RowEvaluator:
+        """Evaluates a chunk of designs on a worker."""
+        ...
+
+    @property
+    def paths(self) -> tuple[str, ...]:
+        """Key paths of the varied parameters."""
+        ...
+
+    @property
+    def count(self) -> int:
+        """Number of rows."""
+        ...
+
+    def digest(self) -> str:
+        """SHA-256 of everything the rows depend on."""
+        ...
+
+    def design_values(self) -> FloatArray:
+        """The rows' designs ``(count, p)``, in order."""
+        ...
+
+    def nominal_row(self) -> dict[str, Any]:
+        """The row of the nominal design (the file's metadata)."""
+        ...
+
+    def described(self) -> dict[str, Any]:
+        """The spec as the file's metadata records it (JSON)."""
+        ...
+
+
 # ------------------------------------------------------------------ Parquet
 def arrow_table(columns: dict[str, Any], names: Sequence[str]) -> Any:
+    """The columns ``names`` as a pyarrow table: arrays of text (``status``, ...) as strings,
+    the others float64."""
     import pyarrow as pa
 
-    arrays = [
-        pa.array(np.asarray(columns[name]).tolist(), type=pa.string())
-        if name == "status"
-        else pa.array(np.asarray(columns[name], dtype=np.float64), type=pa.float64())
-        for name in names
-    ]
+    arrays = []
+    for name in names:
+        values = np.asarray(columns[name])
+        arrays.append(
+            pa.array(values.tolist(), type=pa.string())
+            if values.dtype.kind in "US"
+            else pa.array(np.asarray(values, dtype=np.float64), type=pa.float64())
+        )
     return pa.Table.from_arrays(arrays, names=list(names))
+
+
+def evaluate_chunk(evaluator: DesignEvaluator | RowEvaluator, values: FloatArray) -> dict[str, Any]:
+    """:func:`~prp3.apps.design_evaluation.evaluate_rows`: the task of one chunk on a worker."""
+    return evaluate_rows(evaluator, values)
 
 
 @dataclass(frozen=True)
@@ -179,49 +235,24 @@ def read_designs(path: str | Path, columns: Sequence[str] | None = None) -> Desi
         raise InputFileError(
             f"{path}: not a designs file of prp3 sweep (no prp3 metadata)"
         ) from None
+    import pyarrow as pa
+
     read: dict[str, Any] = {}
     for name in table.column_names:
         column = table.column(name)
-        if name == "status":
+        if pa.types.is_string(column.type):
             read[name] = np.array(column.to_pylist(), dtype=str)
         else:
             read[name] = np.asarray(column.to_numpy(), dtype=np.float64)
     return DesignTable(columns=read, parameters=parameters, nominal=nominal, digest=digest)
 
 
-def nominal_row(spec: SweepSpec) -> dict[str, Any]:
-    """The row of the nominal robot itself (parameter values as it gives them, else NaN)."""
-    evaluator = spec.evaluator
-    alone = DesignEvaluator(
-        nominal=evaluator.nominal,
-        paths=(),
-        motions=evaluator.motions,
-        workspace=evaluator.workspace,
-    )
-    columns = evaluate_designs(alone, np.zeros((1, 0)))
-    row: dict[str, Any] = {}
-    for path in spec.paths:
-        value = nominal_value(evaluator.nominal, path)
-        row[path] = math.nan if value is None else value
-    row |= {name: (str(v[0]) if name == "status" else float(v[0])) for name, v in columns.items()}
-    return row
-
-
-def _metadata(spec: SweepSpec) -> dict[bytes, bytes]:
-    described = {
-        "source": spec.source,
-        "parameters": {p.path: [p.low, p.high] for p in spec.parameters},
-        "designs": spec.designs,
-        "sampling": spec.sampling,
-        "seed": spec.seed,
-        "motions": list(spec.motions),
-        "samples": spec.samples,
-    }
+def _metadata(spec: Sweepable) -> dict[bytes, bytes]:
     return {
         b"prp3.digest": spec.digest().encode(),
         b"prp3.parameters": json.dumps(list(spec.paths)).encode(),
-        b"prp3.nominal": json.dumps(nominal_row(spec)).encode(),
-        b"prp3.spec": json.dumps(described).encode(),
+        b"prp3.nominal": json.dumps(spec.nominal_row()).encode(),
+        b"prp3.spec": json.dumps(spec.described()).encode(),
     }
 
 
@@ -275,7 +306,7 @@ def sweep_of(path: str | Path) -> tuple[str, str] | None:
     return digest, source
 
 
-def check_sweep_folder(output: str | Path, spec: SweepSpec, *, force: bool = False) -> None:
+def check_sweep_folder(output: str | Path, spec: Sweepable, *, force: bool = False) -> None:
     """Refuse an output folder whose ``designs.parquet`` is not of ``spec`` (unless ``force``).
 
     The designs of another spec (or a file of that name prp3 did not write)
@@ -310,12 +341,12 @@ def check_sweep_folder(output: str | Path, spec: SweepSpec, *, force: bool = Fal
     )
 
 
-def staging_folder(output: str | Path, spec: SweepSpec) -> Path:
+def staging_folder(output: str | Path, spec: Sweepable) -> Path:
     """The staging folder of the chunks of ``spec`` in ``output``."""
     return Path(output) / f".prp3-sweep-{spec.digest()[:20]}"
 
 
-def stale_staging_folders(output: str | Path, spec: SweepSpec) -> list[tuple[Path, str]]:
+def stale_staging_folders(output: str | Path, spec: Sweepable) -> list[tuple[Path, str]]:
     """The staging folders in ``output`` of sweeps of other specs, each with its description.
 
     An interrupted sweep leaves its folder; when its spec is changed and the
@@ -346,7 +377,7 @@ def stale_staging_folders(output: str | Path, spec: SweepSpec) -> list[tuple[Pat
     return stale
 
 
-def _remove_stale(output: Path, spec: SweepSpec) -> tuple[str, ...]:
+def _remove_stale(output: Path, spec: Sweepable) -> tuple[str, ...]:
     removed = []
     for folder, described in stale_staging_folders(output, spec):
         shutil.rmtree(folder, ignore_errors=True)
@@ -370,7 +401,7 @@ def _chunk_ok(path: Path, rows: int, names: Sequence[str]) -> bool:
 
 
 def run_sweep(
-    spec: SweepSpec,
+    spec: Sweepable,
     output: str | Path,
     client: ClientOrFactory,
     *,
@@ -418,7 +449,7 @@ def run_sweep(
                     shutil.rmtree(staging, ignore_errors=True)
                     removed = _remove_stale(output, spec)
                     return _summary(target, done.columns, 0, spec, removed)
-        values = design_values(spec)
+        values = spec.design_values()
         return _sweep_into(spec, output, staging, target, values, client, progress=progress)
     except BaseException:
         # A run that fails before its first chunk leaves the folder as it was:
@@ -433,7 +464,7 @@ def run_sweep(
 
 
 def _sweep_into(
-    spec: SweepSpec,
+    spec: Sweepable,
     output: Path,
     staging: Path,
     target: Path,
@@ -481,8 +512,9 @@ def _sweep_into(
                 finished,
                 progress,
             )
+    text = spec.evaluator.text_columns
     schema = pa.schema(
-        [(n, pa.string() if n == "status" else pa.float64()) for n in names],
+        [(n, pa.string() if n in text else pa.float64()) for n in names],
         metadata=_metadata(spec),
     )
     with atomic_path(target) as temporary:
@@ -507,7 +539,7 @@ def _sweep_into(
 def _compute_chunks(
     dask: Client,
     chunk: int,
-    evaluator: DesignEvaluator,
+    evaluator: DesignEvaluator | RowEvaluator,
     values: FloatArray,
     starts: list[int],
     missing: list[int],
@@ -527,7 +559,7 @@ def _compute_chunks(
 
     def submit(index: int) -> Any:
         part = values[starts[index] : starts[index] + chunk]
-        future = dask.submit(evaluate_designs, shared, part, pure=False)
+        future = dask.submit(evaluate_chunk, shared, part, pure=False)
         index_of[future.key] = index
         return future
 
@@ -548,7 +580,7 @@ def _compute_chunks(
 
 
 def _summary(
-    path: Path, columns: dict[str, Any], computed: int, spec: SweepSpec, removed: tuple[str, ...]
+    path: Path, columns: dict[str, Any], computed: int, spec: Sweepable, removed: tuple[str, ...]
 ) -> SweepRun:
     statuses, counts = np.unique(np.asarray(columns["status"]), return_counts=True)
     chunks = -(-spec.count // spec.chunk)

@@ -25,7 +25,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3 import __version__
-from prp3.apps.design import AGGREGATES, DesignEvaluator, design_robot
+from prp3.apps.design import AGGREGATES, DesignEvaluator, design_robot, nominal_value
+from prp3.apps.design_evaluation import evaluate_designs
 from prp3.apps.design_objective import OptimizeSpec
 from prp3.errors import (
     ParameterError,
@@ -46,6 +47,8 @@ __all__ = [
     "design_values",
     "parameter_paths",
     "read_sweep_spec",
+    "sample_designs",
+    "spec_number",
     "sweep_spec",
 ]
 
@@ -147,6 +150,45 @@ class SweepSpec:
         """``(low, high)`` of every parameter."""
         return [(p.low, p.high) for p in self.parameters]
 
+    @property
+    def quantities(self) -> tuple[str, ...]:
+        """What an objective, a constraint or a figure may name: the numeric columns and the
+        per-leg aggregates (``peak_f10``: the largest of legs A, B, C)."""
+        return (*(c for c in self.evaluator.columns if c != "status"), *AGGREGATES)
+
+    def design_values(self) -> FloatArray:
+        """The designs, ``(count, p)`` (:func:`design_values`)."""
+        return design_values(self)
+
+    def nominal_row(self) -> dict[str, Any]:
+        """The row of the nominal robot itself (parameter values as it gives them, else NaN)."""
+        evaluator = self.evaluator
+        alone = DesignEvaluator(
+            nominal=evaluator.nominal,
+            paths=(),
+            motions=evaluator.motions,
+            workspace=evaluator.workspace,
+        )
+        columns = evaluate_designs(alone, np.zeros((1, 0)))
+        row: dict[str, Any] = {}
+        for path in self.paths:
+            value = nominal_value(evaluator.nominal, path)
+            row[path] = math.nan if value is None else value
+        row |= {n: (str(v[0]) if n == "status" else float(v[0])) for n, v in columns.items()}
+        return row
+
+    def described(self) -> dict[str, Any]:
+        """The spec as ``designs.parquet``'s metadata records it (``prp3.spec``)."""
+        return {
+            "source": self.source,
+            "parameters": {p.path: [p.low, p.high] for p in self.parameters},
+            "designs": self.designs,
+            "sampling": self.sampling,
+            "seed": self.seed,
+            "motions": list(self.motions),
+            "samples": self.samples,
+        }
+
     def digest(self) -> str:
         """SHA-256 of everything the rows depend on (keys the staging folder of a resume)."""
         hasher = hashlib.sha256()
@@ -183,7 +225,8 @@ def spec_integer(source: str, key: str, value: Any, low: int, high: int) -> int:
     return value
 
 
-def _number(source: str, key: str, value: Any) -> float:
+def spec_number(source: str, key: str, value: Any) -> float:
+    """A finite number of a spec file (``source: key must be a finite number``)."""
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise ParameterError(f"{source}: {key} must be a finite number, got {value!r}")
     return float(value)
@@ -283,8 +326,8 @@ def _parameters(
             )
         if len(value) != 2:
             raise ParameterError(f"{where}: the range must be [low, high], got {value!r}")
-        low = _number(source, f"[parameters] {path!r} low", value[0])
-        high = _number(source, f"[parameters] {path!r} high", value[1])
+        low = spec_number(source, f"[parameters] {path!r} low", value[0])
+        high = spec_number(source, f"[parameters] {path!r} high", value[1])
         if low > high:
             raise ParameterError(f"{where}: low > high in [{low!r}, {high!r}]")
         if low == high:
@@ -337,11 +380,24 @@ def spec_motions(
     return tuple(names), samples, tuple(motions), tuple(notes)
 
 
-def spec_optimize(source: str, table: Mapping[str, Any], columns: Sequence[str]) -> OptimizeSpec:
+def spec_optimize(
+    source: str,
+    table: Mapping[str, Any],
+    columns: Sequence[str],
+    *,
+    quantities: Sequence[str] | None = None,
+    objective: str = "peak_f10",
+) -> OptimizeSpec:
+    """The ``[optimize]`` table; its quantities are ``quantities`` (default: the numeric
+    ``columns`` and the 3-PRP's :data:`~prp3.apps.design.AGGREGATES`)."""
     refuse_unknown_keys(
         source, "optimize.", table, {"objective", "constraints", "maxiter", "popsize", "tol"}
     )
-    known = {c for c in columns if c != "status"} | set(AGGREGATES)
+    known = (
+        {c for c in columns if c != "status"} | set(AGGREGATES)
+        if quantities is None
+        else set(quantities)
+    )
 
     def name_of(key: str, value: Any) -> str:
         if not isinstance(value, str) or value not in known:
@@ -350,7 +406,7 @@ def spec_optimize(source: str, table: Mapping[str, Any], columns: Sequence[str])
             )
         return value
 
-    objective = name_of("optimize.objective", table.get("objective", "peak_f10"))
+    objective = name_of("optimize.objective", table.get("objective", objective))
     constraints: list[tuple[str, float, float]] = []
     for key, bounds in spec_table(
         source, "optimize.constraints", table.get("constraints", {})
@@ -361,12 +417,12 @@ def spec_optimize(source: str, table: Mapping[str, Any], columns: Sequence[str])
         refuse_unknown_keys(source, f"{where}.", bounds, {"min", "max"})
         if not bounds:
             raise ParameterError(f"{source}: {where} must give min and/or max")
-        low = _number(source, f"{where}.min", bounds["min"]) if "min" in bounds else -math.inf
-        high = _number(source, f"{where}.max", bounds["max"]) if "max" in bounds else math.inf
+        low = spec_number(source, f"{where}.min", bounds["min"]) if "min" in bounds else -math.inf
+        high = spec_number(source, f"{where}.max", bounds["max"]) if "max" in bounds else math.inf
         if low > high:
             raise ParameterError(f"{source}: {where}: min > max ({low!r} > {high!r})")
         constraints.append((name, low, high))
-    tol = _number(source, "optimize.tol", table.get("tol", 0.01))
+    tol = spec_number(source, "optimize.tol", table.get("tol", 0.01))
     if not tol > 0.0:
         raise ParameterError(f"{source}: optimize.tol must be positive, got {tol!r}")
     return OptimizeSpec(
@@ -465,24 +521,35 @@ def sweep_spec(
 
 
 def design_values(spec: SweepSpec) -> FloatArray:
-    """The designs of a sweep, shape ``(count, p)``, in the order they are generated.
+    """The designs of a sweep, shape ``(count, p)``, in the order they are generated
+    (:func:`sample_designs` of its parameters, ``designs``, ``sampling`` and ``seed``)."""
+    return sample_designs(spec.parameters, spec.designs, spec.sampling, spec.seed)
+
+
+def sample_designs(
+    parameters: Sequence[Parameter], designs: int, sampling: str, seed: int
+) -> FloatArray:
+    """Designs over the ranges of ``parameters``, shape ``(count, p)``, in order.
 
     ``grid``: full factorial with ``designs`` points per parameter, ends
     included, the first parameter varying slowest; ``lhs``: a Latin hypercube
     (:class:`scipy.stats.qmc.LatinHypercube`, ``seed``); ``random``: uniform
-    (:func:`numpy.random.default_rng`, ``seed``).
+    (:func:`numpy.random.default_rng`, ``seed``).  No parameters: one design of
+    no value, ``(1, 0)``.
     """
-    low = np.array([p.low for p in spec.parameters])
-    high = np.array([p.high for p in spec.parameters])
-    dims = len(spec.parameters)
-    if spec.sampling == "grid":
-        axes = [np.linspace(p.low, p.high, spec.designs) for p in spec.parameters]
+    dims = len(parameters)
+    if dims == 0:
+        return np.zeros((1, 0))
+    low = np.array([p.low for p in parameters])
+    high = np.array([p.high for p in parameters])
+    if sampling == "grid":
+        axes = [np.linspace(p.low, p.high, designs) for p in parameters]
         mesh = np.meshgrid(*axes, indexing="ij")
         return np.stack([m.reshape(-1) for m in mesh], axis=-1)
-    if spec.sampling == "lhs":
+    if sampling == "lhs":
         from scipy.stats import qmc
 
-        unit = qmc.LatinHypercube(d=dims, rng=np.random.default_rng(spec.seed)).random(spec.designs)
+        unit = qmc.LatinHypercube(d=dims, rng=np.random.default_rng(seed)).random(designs)
     else:
-        unit = np.random.default_rng(spec.seed).random((spec.designs, dims))
+        unit = np.random.default_rng(seed).random((designs, dims))
     return np.asarray(low + unit * (high - low))

@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import importlib.util
+import math
 import sys
 import time
 from collections.abc import Iterator, Mapping
@@ -28,7 +29,7 @@ import numpy as np
 
 from prp3.apps.design import AGGREGATES, design_robot
 from prp3.apps.design_objective import quantity
-from prp3.apps.sweep_spec import SweepSpec, read_sweep_spec
+from prp3.apps.sweep_spec import SweepSpec, sweep_spec
 from prp3.cli._progress import Progress
 from prp3.cli._types import emit, files_report, integer_at_least, output_folder, path_name
 from prp3.errors import Prp3Error
@@ -38,7 +39,10 @@ from prp3.io.tables import format_float
 if TYPE_CHECKING:
     from dask.distributed import Client
 
+    from prp3.apps.spatial_design import SpatialSweepSpec
     from prp3.family.design import FamilySweepSpec
+
+    AnySpec = SweepSpec | SpatialSweepSpec
 
 __all__ = ["register", "run_optimize", "run_sweep"]
 
@@ -62,6 +66,17 @@ with its [study.parameters]) compares architectures: designs.parquet then has th
 columns architecture, actuated, the parameters, status, peak_tau_L, peak_power_L,
 peak_f1_L .. peak_f3_L, peak_joint_force, energy, min_mu_leg, min_mu_par,
 regular_area, and --plots writes family_designs.png (docs/family_comparison.md).
+A SWEEP.toml with spatial = "6-UPS" | "3-RPS" | "3-RUU" | "SPATIAL.toml" (or a list
+of them, compared on the same task) sweeps spatial robots (docs/spatial.md §21):
+                   spatial = ["6-UPS", "3-RPS"]
+                   [parameters]
+                   base_radius = [0.08, 0.12]
+                   "platform.mass" = [0.5, 2.0]
+                   [task]
+                   motions = ["heave"]        # heave, circle, tilt or TRAJ.csv files
+designs.parquet then has robot, architecture, the parameters, status, peak_effort,
+peak_power, rms_power, energy, peak_joint_force, peak_joint_moment, min_mu_leg,
+min_mu_par, reachable.
 Exit status 0 on success, 2 on bad input (one line on stderr).
 """
 
@@ -78,6 +93,10 @@ examples:
   prp3 optimize --spec study.toml --output best
       study.toml with [[study]] tables: the best design of each architecture
       (objective peak_joint_force by default); best/ROBOT.toml is the best of all
+  prp3 optimize --spec spatial.toml --output best
+      spatial.toml with spatial = [...]: the best design of each spatial robot
+      (objective peak_effort by default); best/ROBOT.toml is the best of all, a
+      spatial robot file (docs/spatial.md §21)
 """
 
 
@@ -167,33 +186,59 @@ def _client(args: argparse.Namespace) -> Iterator[Client]:
         yield client
 
 
-def _axis(spec: SweepSpec, text: str) -> tuple[str, bool]:
+#: The columns of which larger is better (``--pareto`` takes them as ``:max`` by default).
+MAXIMIZED: frozenset[str] = frozenset({"workspace_area", "min_mu_leg", "min_mu_par", "reachable"})
+
+
+def _axis(text: str) -> tuple[str, bool]:
     name, _, sense = text.strip().partition(":")
     if sense not in ("", "min", "max"):
         raise Prp3Error(f"--pareto: {text!r}: a column may end with :min or :max, not :{sense}")
-    return name, (sense == "max" or (not sense and name == "workspace_area"))
+    return name, (sense == "max" or (not sense and name in MAXIMIZED))
 
 
-def _pareto_axes(spec: SweepSpec, text: str | None) -> tuple[tuple[str, bool], tuple[str, bool]]:
+def _spatial(spec: AnySpec) -> bool:
+    from prp3.apps.spatial_design import SpatialSweepSpec
+
+    return isinstance(spec, SpatialSweepSpec)
+
+
+def _pareto_axes(spec: AnySpec, text: str | None) -> tuple[tuple[str, bool], tuple[str, bool]]:
     if text is None:
-        first = "workspace_area" if spec.evaluator.workspace else spec.paths[0]
-        return _axis(spec, first), _axis(spec, "peak_f10")
+        if isinstance(spec, SweepSpec):
+            first = "workspace_area" if spec.evaluator.workspace else spec.paths[0]
+            return _axis(first), _axis("peak_f10")
+        if len(spec.studies) == 1:
+            return _axis("min_mu_par"), _axis("peak_effort")
+        # several robots: quantities of the same unit for every architecture (a measure's
+        # scale and an effort's unit differ from one architecture to another)
+        return _axis(spec.paths[0] if spec.paths else "peak_power"), _axis("peak_joint_force")
     parts = text.split(",")
     if len(parts) != 2:
         raise Prp3Error(f"--pareto must be two columns X,Y, got {text!r}")
-    return _axis(spec, parts[0]), _axis(spec, parts[1])
+    return _axis(parts[0]), _axis(parts[1])
 
 
-def _check_quantity(spec: SweepSpec, name: str, option: str) -> None:
-    known = {c for c in spec.evaluator.columns if c != "status"} | set(AGGREGATES)
+def _check_quantity(spec: AnySpec, name: str, option: str) -> None:
+    known = set(spec.quantities)
     if name not in known:
         raise Prp3Error(
             f"{option}: unknown column {name!r} (expected one of: {', '.join(sorted(known))})"
         )
 
 
-def _read_spec(args: argparse.Namespace) -> SweepSpec:
-    spec = read_sweep_spec(args.spec)
+def _read_spec(args: argparse.Namespace) -> AnySpec:
+    """The spec of ``--spec``: spatial (``spatial = ...``) or of the 3-PRP."""
+    from prp3.apps.spatial_design import is_spatial_spec, spatial_sweep_spec
+    from prp3.model.robot_toml import read_toml
+
+    path = Path(args.spec)
+    data = read_toml(path, "sweep")
+    spec: AnySpec = (
+        spatial_sweep_spec(data, base=path.parent, source=str(path))
+        if is_spatial_spec(data)
+        else sweep_spec(data, base=path.parent, source=str(path))
+    )
     for note in spec.notes:
         print(f"{args.program}: warning: {note}", file=sys.stderr)
     return spec
@@ -221,8 +266,8 @@ def run_sweep(args: argparse.Namespace) -> int:
         from prp3.cli._family_analysis import run_family_sweep
 
         return run_family_sweep(args, family)
-    args.sensitivity = args.sensitivity or "peak_f10"
     spec = _read_spec(args)
+    args.sensitivity = args.sensitivity or ("peak_effort" if _spatial(spec) else "peak_f10")
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, (sweep.DESIGNS_FILE,), (args.spec,))
@@ -252,9 +297,12 @@ def run_sweep(args: argparse.Namespace) -> int:
     elapsed = time.monotonic() - start
     statuses = ", ".join(f"{count} {name}" for name, count in sorted(result.status.items()))
     reused = result.chunks - result.computed
+    robots = (
+        f" of {', '.join(s.name for s in spec.studies)}" if not isinstance(spec, SweepSpec) else ""
+    )
     lines = [
-        f"prp3 sweep: {result.rows} designs ({spec.sampling}, {_count(len(spec.parameters))}) "
-        f"on {', '.join(spec.motions)}: {statuses}",
+        f"prp3 sweep: {result.rows} designs{robots} ({spec.sampling}, "
+        f"{_count(len(spec.parameters))}) on {', '.join(spec.motions)}: {statuses}",
         f"  {result.computed} of {result.chunks} chunks computed"
         + (f", {reused} found done" if reused else "")
         + f", {elapsed:.3g} s",
@@ -278,10 +326,11 @@ def run_sweep(args: argparse.Namespace) -> int:
                 table.columns, x, y, maximize_x=max_x, maximize_y=max_y, nominal=table.nominal
             )
             save_figure(figure, staged.path("pareto.png"))
-            figure = sensitivity_figure(
-                table.columns, table.parameters, args.sensitivity, nominal=table.nominal
-            )
-            save_figure(figure, staged.path("sensitivity.png"))
+            if table.parameters:  # a spatial comparison of nominal robots varies none
+                figure = sensitivity_figure(
+                    table.columns, table.parameters, args.sensitivity, nominal=table.nominal
+                )
+                save_figure(figure, staged.path("sensitivity.png"))
         emit("\n".join(lines + files_report(staged)))
     return 0
 
@@ -296,14 +345,15 @@ def _count(parameters: int) -> str:
 
 
 def _write_history(path: Path, history: Mapping[str, Any]) -> None:
-    """``history.csv``: the generation as an integer, every other number in full precision."""
+    """``history.csv``: the generation (and a spatial robot's index) as an integer, every
+    other number in full precision."""
     names = list(history)
     columns = [np.asarray(history[name], dtype=np.float64).tolist() for name in names]
     with atomic_writer(path) as stream:
         stream.write(",".join(names) + "\n")
         for row in zip(*columns, strict=True):
             cells = [
-                str(int(value)) if name == "generation" else format_float(value)
+                str(int(value)) if name in ("generation", "robot") else format_float(value)
                 for name, value in zip(names, row, strict=True)
             ]
             stream.write(",".join(cells) + "\n")
@@ -322,7 +372,9 @@ def run_optimize(args: argparse.Namespace) -> int:
     spec = _read_spec(args)
     output: Path = args.output
     check_output_directory(output)
-    check_inputs_kept(output, ("ROBOT.toml", "history.csv"), (args.spec,))
+    check_inputs_kept(output, ("ROBOT.toml", "history.csv"), (args.spec, *spec.files))
+    if not isinstance(spec, SweepSpec):
+        return _run_spatial_optimize(args, spec)
     start = time.monotonic()
     progress = Progress(sys.stderr)
     try:
@@ -339,18 +391,7 @@ def run_optimize(args: argparse.Namespace) -> int:
         f"{outcome.generations} generations, {outcome.evaluations} designs, {elapsed:.3g} s "
         f"({outcome.message})",
     ]
-    if outcome.feasible:
-        lines.append(f"  best {settings.objective} = {outcome.objective:.9g}")
-    else:
-        lines.append("  no design satisfies the constraints and the task; the least violating:")
-    lines += [
-        f"  {path} = {value!r}" for path, value in zip(spec.paths, outcome.x.tolist(), strict=True)
-    ]
-    columns = {k: [v] for k, v in outcome.row.items()}
-    lines.append(f"  status {outcome.row['status']}")
-    for name, low, high in settings.constraints:
-        value = float(quantity(columns, name)[0])
-        lines.append(f"  {name} = {value:.9g}  (required {low:g} .. {high:g})")
+    lines += _outcome_lines(settings, spec.paths, outcome)
     with output_folder(args, output) as staged:
         staged.path("ROBOT.toml").write_text(robot.to_toml(), encoding="utf-8")
         _write_history(staged.path("history.csv"), outcome.history)
@@ -358,3 +399,90 @@ def run_optimize(args: argparse.Namespace) -> int:
         # output then leaves the earlier results in place
         emit("\n".join(lines + files_report(staged)))
     return 0 if outcome.feasible else 1
+
+
+def _outcome_lines(
+    settings: Any, paths: tuple[str, ...], outcome: Any, indent: str = "  "
+) -> list[str]:
+    """The best design of an optimisation: its objective, values, status and constraints."""
+    lines = (
+        [f"{indent}best {settings.objective} = {outcome.objective:.9g}"]
+        if outcome.feasible
+        else [f"{indent}no design satisfies the constraints and the task; the least violating:"]
+    )
+    lines += [
+        f"{indent}{path} = {value!r}" for path, value in zip(paths, outcome.x.tolist(), strict=True)
+    ]
+    columns = {k: [v] for k, v in outcome.row.items()}
+    lines.append(f"{indent}status {outcome.row['status']}")
+    for name, low, high in settings.constraints:
+        value = float(quantity(columns, name)[0])
+        lines.append(f"{indent}{name} = {value:.9g}  (required {low:g} .. {high:g})")
+    return lines
+
+
+def _run_spatial_optimize(args: argparse.Namespace, spec: SpatialSweepSpec) -> int:
+    """``prp3 optimize`` of a spatial spec: the best design of every robot, the best of all
+    as ``DIR/ROBOT.toml`` (a spatial robot file); exit status 1 when none is feasible."""
+    from prp3.apps.design_objective import INFEASIBLE
+    from prp3.apps.spatial_design import optimize_spatial, spatial_design_file
+    from prp3.io.spatial_robot import spatial_robot_from_mapping, spatial_robot_text
+
+    start = time.monotonic()
+    progress = Progress(sys.stderr)
+    try:
+        results = optimize_spatial(
+            spec, lambda: _client(args), progress=progress.stage("generations")
+        )
+    finally:
+        progress.close()
+    elapsed = time.monotonic() - start
+    settings = spec.optimize
+    evaluations = sum(outcome.evaluations for _, outcome in results)
+    lines = [
+        f"prp3 optimize: minimise {settings.objective} for {len(results)} spatial "
+        f"robot{'s' if len(results) > 1 else ''}, {evaluations} designs, {elapsed:.3g} s",
+    ]
+    history: dict[str, list[float]] = {"robot": [], "generation": []}
+    for path in spec.paths:
+        history[path] = []
+    history |= {"objective": [], "violation": []}
+    for index, (single, outcome) in enumerate(results):
+        refused = int(np.sum(outcome.history["violation"] >= 1000.0))
+        lines.append(
+            f"  {single.study.name} ({single.study.architecture}, "
+            f"{_count(len(single.parameters))}): {outcome.generations} generation"
+            f"{'' if outcome.generations == 1 else 's'}, "
+            f"{outcome.evaluations} designs ({outcome.message}); {refused} refused "
+            "(unreachable, singular or invalid)"
+        )
+        lines += _outcome_lines(settings, single.paths, outcome, indent="    ")
+        rows = len(outcome.history["generation"])
+        history["robot"] += [float(index)] * rows
+        for name in ("generation", "objective", "violation"):
+            history[name] += np.asarray(outcome.history[name], dtype=np.float64).tolist()
+        for path in spec.paths:
+            given = outcome.history.get(path)
+            history[path] += [math.nan] * rows if given is None else given.tolist()
+    feasible = [(s, o) for s, o in results if o.feasible]
+    best_spec, best = min(feasible or results, key=lambda pair: pair[1].objective)
+    kinds = set()
+    for single, _ in results:  # the kind of joint each robot actuates: P (N) or R (N·m)
+        leg = spatial_robot_from_mapping(single.study.nominal).robot.legs[0]
+        kinds.add(leg.joints[leg.actuated].kind)
+    mixed = (
+        " (efforts of P and R actuators, N and N·m: compare like with like)"
+        if settings.objective == "peak_effort" and len(kinds) > 1
+        else ""
+    )
+    lines.append(
+        f"  best: {best_spec.study.name} ({settings.objective} = {best.objective:.9g}){mixed}"
+        if best.objective < INFEASIBLE
+        else f"  no design is feasible; the least violating: {best_spec.study.name}"
+    )
+    design = spatial_design_file(best_spec.study, best.x.tolist())
+    with output_folder(args, args.output) as staged:
+        staged.path("ROBOT.toml").write_text(spatial_robot_text(design), encoding="utf-8")
+        _write_history(staged.path("history.csv"), history)
+        emit("\n".join(lines + files_report(staged)))
+    return 0 if feasible else 1

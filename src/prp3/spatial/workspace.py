@@ -49,7 +49,10 @@ __all__ = [
     "MAX_POINTS",
     "SPATIAL_PLANES",
     "WORKSPACE_REASONS",
+    "PoseReasons",
     "SpatialWorkspace",
+    "pose_reasons",
+    "regular_poses",
     "spatial_planes",
     "spatial_statics_table",
     "spatial_workspace",
@@ -179,8 +182,7 @@ class SpatialWorkspace:
     @property
     def regular(self) -> BoolArray:
         """Reachable and every measure on its home side by at least ``SINGULAR``."""
-        leg = (self.mu_leg * np.sign(self.home_leg) >= SINGULAR).all(axis=-1)
-        return np.asarray(self.reachable & leg & (self.mu_par * np.sign(self.home_par) >= SINGULAR))
+        return regular_poses(self.reason, self.mu_leg, self.mu_par, self.home_leg, self.home_par)
 
     @property
     def peak(self) -> FloatArray | None:
@@ -369,6 +371,86 @@ def _default_window(
     )
 
 
+@dataclass(frozen=True)
+class PoseReasons:
+    """Reachability, its reason and both measures at given poses (:func:`pose_reasons`).
+
+    Attributes
+    ----------
+    position : (n, 3) m; rotation : (n, 3, 3)
+        The poses, their parasitic components solved (§11).
+    reason, reason_leg : (n,) int
+        The code of :data:`WORKSPACE_REASONS` (0 reachable) and the first leg (1-based)
+        with it (0 when reachable).
+    mu_leg : (n, legs); mu_par : (n,)
+        The signed measures of §6, §11 (``NaN`` where a leg has no closure).
+    home_leg : (legs,); home_par : float
+        The measures at the home pose.
+    """
+
+    position: FloatArray
+    rotation: FloatArray
+    reason: IntArray
+    reason_leg: IntArray
+    mu_leg: FloatArray
+    mu_par: FloatArray
+    home_leg: FloatArray
+    home_par: float
+
+    @property
+    def regular(self) -> BoolArray:
+        """Reachable and every measure on its home side by at least ``SINGULAR``, ``(n,)``."""
+        return regular_poses(self.reason, self.mu_leg, self.mu_par, self.home_leg, self.home_par)
+
+
+def regular_poses(
+    reason: IntArray, mu_leg: FloatArray, mu_par: FloatArray, home_leg: FloatArray,
+    home_par: float,
+) -> BoolArray:  # fmt: skip
+    """Where ``reason == 0`` and every measure is on its home side by at least ``SINGULAR``:
+    what :func:`~prp3.spatial.kinematics.spatial_kinematics` accepts (shapes ``(...)``,
+    ``mu_leg (..., legs)``)."""
+    leg = (mu_leg * np.sign(home_leg) >= SINGULAR).all(axis=-1)
+    return np.asarray((reason == 0) & leg & (mu_par * np.sign(home_par) >= SINGULAR))
+
+
+def pose_reasons(robot: SpatialRobot, position: ArrayLike, rotation: ArrayLike) -> PoseReasons:
+    """Whether the legs reach each pose, why not, and both measures (no refusal; §6, §17).
+
+    ``position (n, 3)`` m, ``rotation (n, 3, 3)``; evaluated in chunks of ``CHUNK`` poses.
+    For a robot of fewer than 6 DOF each pose is first completed (its parasitic
+    components solved by Newton's method from it, as §17's grid poses are).
+
+    >>> from prp3.spatial.model import hexapod
+    >>> robot = hexapod()
+    >>> poses = pose_reasons(robot, [[0.0, 0.0, 0.08], [0.0, 0.0, 0.3]], np.eye(3)[None].repeat(2, 0))
+    >>> poses.reason.tolist(), poses.regular.tolist()
+    ([0, 2], [True, False])
+    """
+    check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
+    given_p = check_real("position", position, ParameterError).reshape(-1, 3)
+    given_r = check_real("rotation", rotation, ParameterError).reshape(-1, 3, 3)
+    m, legs = given_p.shape[0], len(robot.legs)
+    out_p, out_r = np.empty((m, 3)), np.empty((m, 3, 3))
+    reason, reason_leg = np.empty(m, dtype=np.int64), np.empty(m, dtype=np.int64)
+    mu_leg, mu_par = np.empty((m, legs)), np.empty(m)
+    for start in range(0, m, CHUNK):
+        part = slice(start, min(start + CHUNK, m))
+        p, r, residual = _complete(robot, given_p[part].copy(), given_r[part].copy())
+        with np.errstate(all="ignore"):
+            frames = leg_coordinates(robot, p, r)
+        reason[part], reason_leg[part] = _point_reasons(_leg_reasons(robot, frames.q, residual))
+        mu_leg[part], mu_par[part] = frame_measures(robot, frames, p)
+        out_p[part], out_r[part] = p, r
+    home = np.array([robot.home_position])
+    with np.errstate(all="ignore"):
+        home_frames = leg_coordinates(robot, home, np.array([robot.home_rotation]))
+    home_leg, home_par = frame_measures(robot, home_frames, home)
+    return PoseReasons(
+        out_p, out_r, reason, reason_leg, mu_leg, mu_par, home_leg[0], float(home_par[0])
+    )
+
+
 def _evaluate(
     robot: SpatialRobot,
     plane: str,
@@ -381,30 +463,22 @@ def _evaluate(
     u = np.linspace(window[0], window[1], points)
     v = np.linspace(window[2], window[3], points)
     a, b = (grid.reshape(-1) for grid in np.meshgrid(u, v))
-    m, legs = a.shape[0], len(robot.legs)
+    m = a.shape[0]
     position, rotation = np.empty((m, 3)), np.empty((m, 3, 3))
-    reason, reason_leg = np.empty(m, dtype=np.int64), np.empty(m, dtype=np.int64)
-    mu_leg, mu_par = np.empty((m, legs)), np.empty(m)
     for start in range(0, m, CHUNK):
         part = slice(start, min(start + CHUNK, m))
-        p, r = _poses(robot, plane, offset, rpy, a[part], b[part])
-        p, r, residual = _complete(robot, p, r)
-        with np.errstate(all="ignore"):
-            frames = leg_coordinates(robot, p, r)
-        reason[part], reason_leg[part] = _point_reasons(_leg_reasons(robot, frames.q, residual))
-        mu_leg[part], mu_par[part] = frame_measures(robot, frames, p)
-        position[part], rotation[part] = p, r
-    home = np.array([robot.home_position])
-    with np.errstate(all="ignore"):
-        home_frames = leg_coordinates(robot, home, np.array([robot.home_rotation]))
-    home_leg, home_par = frame_measures(robot, home_frames, home)
+        position[part], rotation[part] = _poses(robot, plane, offset, rpy, a[part], b[part])
+    poses = pose_reasons(robot, position, rotation)
+    legs = len(robot.legs)
     shape = (v.size, u.size)
     ws = SpatialWorkspace(
         robot, plane, offset, (float(rpy[0]), float(rpy[1]), float(rpy[2])), u, v,
-        position.reshape(*shape, 3), rotation.reshape(*shape, 3, 3), reason.reshape(shape),
-        reason_leg.reshape(shape), mu_leg.reshape(*shape, legs), mu_par.reshape(shape),
-        home_leg[0], float(home_par[0]),
+        poses.position.reshape(*shape, 3), poses.rotation.reshape(*shape, 3, 3),
+        poses.reason.reshape(shape), poses.reason_leg.reshape(shape),
+        poses.mu_leg.reshape(*shape, legs), poses.mu_par.reshape(shape),
+        poses.home_leg, poses.home_par,
     )  # fmt: skip
+    position, rotation = poses.position, poses.rotation
     if not statics:
         return ws
     regular = ws.regular.reshape(-1)
