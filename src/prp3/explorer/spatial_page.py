@@ -47,7 +47,6 @@ from prp3.spatial.drawing import (
     force_scale,
     platform_path,
     robot_size,
-    scene_extent,
     sleeve_lengths,
     spatial_frame,
     spatial_samples,
@@ -249,6 +248,25 @@ def _styles(frame: SpatialFrame, legs: int) -> list[dict[str, Any]]:
     return styles
 
 
+def _cube(
+    frames: list[SpatialFrame], scale: float, size: float, path: FloatArray
+) -> tuple[FloatArray, float]:
+    """The middle and half side of the scene's cube: everything drawn over ``frames`` (the
+    legs, the arrows' tips, the joints' axis segments, the path) with a margin of a tenth."""
+    parts = [path]
+    half_axis = AXIS_HALF * size
+    for frame in frames:
+        parts += [frame.chain.reshape(-1, 3), frame.sleeves.reshape(-1, 3)]
+        if scale > 0.0:
+            parts.append((frame.points + frame.forces / scale).reshape(-1, 3))
+        for k in range(frame.points.shape[1]):
+            parts.append(axis_segments(frame.axes[:, k], frame.points[:, k], half_axis))
+    points = np.concatenate(parts)
+    points = points[~np.isnan(points).any(axis=1)]
+    low, high = points.min(axis=0), points.max(axis=0)
+    return 0.5 * (low + high), 0.55 * float((high - low).max())
+
+
 def _format_scale(scale: float) -> str:
     return f"{scale:.0f}" if scale >= 1.0 else f"{scale:.3g}"
 
@@ -292,11 +310,11 @@ def spatial_page_figure(
     size = robot_size(frames)
     scale = force_scale(force, size)
     path = platform_path(robot, q)
-    middle, half = scene_extent(frames, scale)
     legs = len(robot.legs)
     styles = _styles(frames[0], legs)
     plotted = [_frame_traces(frame, scale, size) for frame in frames]
     data = [{**trace, **style} for trace, style in zip(plotted[0], styles, strict=True)]
+    middle, half = _cube(frames, scale, size, path)
     data.append(
         {"type": "scatter3d", **_xyz(path), "meta": "path", "mode": "lines",
          "name": "platform origin's path (+: now)", "line": {"color": "#d62728", "width": 3},
