@@ -24,6 +24,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from clitools import cli, listing, one_line
+from prp3.errors import Prp3Error
 from prp3.io.tables import read_table_csv
 from prp3.spatial.kinematics import complete_motion
 from prp3.spatial.model import SpatialRobot, delta, hexapod, three_rps
@@ -33,8 +34,8 @@ from spatial_pages import expected_points, page_figure, reported_forces, xyz
 
 pytest.importorskip("plotly", reason="the 3-D explorer needs plotly (pip install 'prp3[explore]')")
 
-from prp3.explorer.spatial_page import spatial_page_figure  # noqa: E402 (after the skip)
-from prp3.explorer.spatial_run import read_spatial_run  # noqa: E402
+from prp3.explorer.spatial_page import spatial_page_figure
+from prp3.explorer.spatial_run import read_spatial_run
 
 RUNS = {"6-UPS": (hexapod, "heave"), "3-RPS": (three_rps, "tilt"), "3-RUU": (delta, "circle")}
 SAMPLES = 17
@@ -137,7 +138,11 @@ def test_the_scale_the_legend_states_draws_the_largest_force_within_its_fraction
         for k in range(SAMPLES)
     )
     chains = np.concatenate(
-        [xyz(trace) for frame in figure["frames"] for trace in frame["data"][4 : 4 + len(robot.legs)]]
+        [
+            xyz(trace)
+            for frame in figure["frames"]
+            for trace in frame["data"][4 : 4 + len(robot.legs)]
+        ]
     )
     size = float((chains.max(axis=0) - chains.min(axis=0)).max())
     assert largest / scale <= 0.3 * size * (1 + 1e-12)
@@ -345,12 +350,12 @@ def test_a_failing_page_leaves_the_earlier_results(
     before = listing(run)
 
     def fail(*args: object, **kwargs: object) -> str:
-        raise MemoryError("no memory for the page")
+        raise Prp3Error("the page failed")
 
     monkeypatch.setattr("prp3.explorer.spatial_page.spatial_run_html", fail)
     status, _, err = cli(capsys, "simulate", "--robot", robot_file, "--motion", "heave",
                          "--samples", 5, "--output", run, "--html", tmp_path / "p.html")  # fmt: skip
-    assert status != 0
+    assert status == 2 and one_line(err) == "prp3 simulate: error: the page failed"
     assert listing(run) == before and not (tmp_path / "p.html").exists()
 
 
