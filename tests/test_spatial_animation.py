@@ -210,7 +210,6 @@ def test_plots_add_the_pose_figure(capsys: pytest.CaptureFixture[str], tmp_path:
             "give --frames 21 or fewer, or more --samples",
         ),
         (["--frames", 4], "--frames 4 applies to the animation only: add --animate"),
-        (["--animate", "--html", "x.html"], "--html applies to the planar robots, not yet to"),
     ],
 )
 def test_simulate_refuses_frames_it_cannot_draw(

@@ -449,7 +449,6 @@ def test_robot_check_and_template_of_a_spatial_file(capsys, tmp_path):
         (["--motion", "circle"], "the circle motion drives vx, vy, which the 3-RPS"),
         (["--motion", "vertical"], "--motion vertical is a motion of the 3-PRP"),
         (["--motion", "heave", "--method", "fast"], "--method fast applies to the planar"),
-        (["--motion", "heave", "--html", "run.html"], "--html applies to the planar robots"),
     ],
 )
 def test_simulate_refuses_what_a_spatial_robot_does_not_take(capsys, tmp_path, options, words):

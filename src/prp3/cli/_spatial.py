@@ -9,7 +9,8 @@ its inverse dynamics by the Newton–Euler route (every joint's wrench), and
 the staged output folder (all of the run's files or none); ``--plots`` adds
 :func:`prp3.plotting.spatial.spatial_figures`, ``--animate`` the animated GIF of
 :func:`prp3.plotting.spatial_animation.save_spatial_animation` (at most ``--frames``
-frames, real time).
+frames, real time), ``--html FILE.html`` the 3-D explorer's page of the run
+(:func:`prp3.explorer.spatial_page.spatial_run_html`, docs/spatial.md §22).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from prp3.apps.runs import check_memory
 from prp3.cli._progress import Progress
 from prp3.cli._types import emit, files_report, output_folder
 from prp3.errors import Prp3Error, TrajectoryError
+from prp3.files import atomic_writer
 from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.spatial_trajectory import SpatialTrajectory, read_spatial_trajectory
 from prp3.io.tables import parquet_available, write_table_csv, write_table_parquet
@@ -60,8 +62,6 @@ def _refuse_options(args: argparse.Namespace, robot: str) -> None:
         )
     if args.engine != "auto":
         raise Prp3Error(f"--engine {args.engine} applies to the planar robots, not to {what}")
-    if getattr(args, "html", None) is not None:
-        raise Prp3Error(f"--html applies to the planar robots, not yet to {what}")
     if args.motion is not None and args.motion not in SPATIAL_MOTIONS:
         raise Prp3Error(
             f"--motion {args.motion} is a motion of the 3-PRP (paper eq. 4); {what} takes "
@@ -177,6 +177,11 @@ def run_spatial(
     """
     robot = design.robot
     _refuse_options(args, robot.name)
+    html: Path | None = getattr(args, "html", None)
+    if html is not None:
+        from prp3.explorer.spatial_page import require_plotly
+
+        require_plotly("--html of a spatial robot (the 3-D explorer, docs/spatial.md §22)")
     if args.format == "parquet" and not parquet_available():
         raise Prp3Error(
             "--format parquet needs pyarrow, which is not installed: "
@@ -241,6 +246,13 @@ def run_spatial(
     unit = "N" if leg.joints[leg.actuated].kind == "P" else "N·m"
     results_name = f"results.{args.format}"
     what = f"trajectory {trajectory.path}" if trajectory is not None else f"{args.motion} motion"
+    page = None
+    if html is not None:  # built before anything is written: a failure leaves no file
+        from prp3.explorer.spatial_page import spatial_run_html
+
+        page = spatial_run_html(
+            robot, table, f"{robot.name}: {what}", note=heading.removeprefix("prp3 simulate: ")
+        )
     with output_folder(args, output) as staged:
         if args.format == "parquet":
             write_table_parquet(staged.path(results_name), table)
@@ -273,4 +285,8 @@ def run_spatial(
             )
         progress.close()
         emit(_summary(heading, table, len(robot.legs), unit, files_report(staged)))
+    if html is not None and page is not None:  # as the planar robots' page: after the folder
+        with atomic_writer(html) as stream:
+            stream.write(page)
+        emit(f"html file written: {html}")
     return 0

@@ -11,7 +11,10 @@ results folder are read, and a results folder checked against the robot,
 before the server starts; a busy port is one line naming it and exit 2.
 Nothing is written, except with ``--export FILE.html``: then one
 self-contained HTML file of the run (``--results DIR``, else the paper's
-vertical motion) is written and no server is started.
+vertical motion) is written and no server is started.  A spatial ``--robot`` file gets the
+3-D explorer (docs/spatial.md §22, plotly): one page of the run of ``--results DIR`` (else the
+robot's heave motion), served as it is by the standard library's HTTP server, or written by
+``--export``; a spatial run folder with a planar robot (or none) is refused in one line.
 """
 
 from __future__ import annotations
@@ -20,8 +23,16 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from prp3.cli._types import add_robot_option, emit, integer_at_least, load_any_robot, path_name
+from prp3.cli._types import (
+    add_robot_option,
+    emit,
+    integer_at_least,
+    load_robot_or_spatial,
+    path_name,
+)
+from prp3.errors import Prp3Error
 from prp3.family import FamilyRobot
+from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.model.robot import Robot
 
 __all__ = ["register", "run"]
@@ -34,9 +45,12 @@ examples:
   prp3 explore --robot rrr.toml                  # a family-form robot file (docs/family.md)
   prp3 simulate --robot rrr.toml --output r && prp3 explore --robot rrr.toml --results r
   ssh -L 8765:127.0.0.1:8765 HOST 'prp3 explore --no-browser'   # on a remote machine
+  prp3 simulate --robot hexapod.toml --motion tilt --output t && \
+    prp3 explore --robot hexapod.toml --results t --export t.html   # a spatial run in 3-D
 
 Exit status 2 on bad input (one line, before the server starts), 130 on Ctrl-C.
-The model and the columns of a results folder: docs/model.md; the page: docs/explore.md.
+The model and the columns of a results folder: docs/model.md; the page: docs/explore.md;
+a spatial robot's 3-D page (plotly): docs/spatial.md §22.
 """
 
 
@@ -52,7 +66,9 @@ def register(subparsers: Any) -> None:
             "of `prp3 simulate` with a time scrubber. Forces come from prp3's kernel.\n"
             "A family-form --robot file (3-RRR, 3-PRR, ...: docs/family.md) gets its own\n"
             "legs, joint forces and singularity measures (prp3.family), and --results of\n"
-            "its runs (`prp3 simulate --robot FILE --output DIR`)."
+            "its runs (`prp3 simulate --robot FILE --output DIR`).\n"
+            "A spatial --robot file (docs/spatial.md) gets the 3-D explorer (plotly): the run of\n"
+            "--results (else its heave motion) with every joint's reaction force, one page."
         ),
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -94,10 +110,21 @@ def run(args: argparse.Namespace) -> int:
     from prp3.explorer.html_file import write_run_html
     from prp3.explorer.server import serve
 
+    loaded = load_robot_or_spatial(args)
+    if isinstance(loaded, SpatialRobotFile):  # the 3-D explorer: docs/spatial.md §22
+        return _run_spatial(args, loaded)
+    if args.results is not None:
+        from prp3.explorer.spatial_run import run_kind
+
+        if run_kind(args.results) == "spatial":
+            raise Prp3Error(
+                f"{args.results} holds a spatial robot's run: give its spatial robot file, "
+                f"prp3 explore --robot SPATIAL.toml --results {args.results} (docs/spatial.md §22)"
+            )
     require_bokeh()
     from prp3.explorer.run_folder import read_run, run_motion
 
-    robot = load_any_robot(args)
+    robot = loaded
     if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
         return _run_family(args, robot)
     results = read_run(args.results) if args.results is not None else None
@@ -157,6 +184,42 @@ def _run_family(args: argparse.Namespace, robot: FamilyRobot) -> int:
 
     serve(robot, results, host=args.host, port=args.port, open_browser=not args.no_browser,
           announce=announce)  # fmt: skip
+    return 0  # pragma: no cover - the server stops by a signal
+
+
+def _run_spatial(args: argparse.Namespace, design: SpatialRobotFile) -> int:
+    """``prp3 explore`` of a spatial robot file: the 3-D explorer's page (docs/spatial.md §22)
+    of the run of ``--results`` (else of its heave motion), written by ``--export`` or served."""
+    from prp3.explorer.spatial_page import require_plotly, spatial_run_html, write_spatial_run_html
+    from prp3.explorer.spatial_run import read_spatial_run, serve_page
+
+    require_plotly("prp3 explore of a spatial robot (the 3-D explorer, docs/spatial.md §22)")
+    robot = design.robot
+    if args.results is not None:
+        run = read_spatial_run(args.results, robot)
+        table, title = run.table, f"prp3 run {run.path} of the {robot.name}"
+        note = f"{run.path}, robot {design.path}"
+    else:
+        from prp3.spatial.kinematics import complete_motion
+        from prp3.spatial.motion import spatial_motion
+        from prp3.spatial.outputs import spatial_inverse_dynamics, spatial_results_table
+
+        motion = complete_motion(robot, spatial_motion(robot, "heave", 301))
+        table = spatial_results_table(spatial_inverse_dynamics(robot, motion, "newton-euler"))
+        title = f"prp3: the heave motion of the {robot.name}"
+        note = f"the heave motion of docs/spatial.md §15, robot {design.path}"
+    if args.export is not None:
+        export: Path = args.export
+        write_spatial_run_html(export, robot, table, title, note=note)
+        emit(f"{args.program}: wrote {export}")
+        return 0
+    page = spatial_run_html(robot, table, title, note=note)
+
+    def announce(url: str) -> None:
+        emit(f"{args.program}: serving {url} (Ctrl-C stops)")
+
+    serve_page(page, host=args.host, port=args.port, open_browser=not args.no_browser,
+               announce=announce)  # fmt: skip
     return 0  # pragma: no cover - the server stops by a signal
 
 

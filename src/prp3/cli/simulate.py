@@ -189,7 +189,8 @@ def register(subparsers: Any) -> None:
         type=path_name,
         help="also write one self-contained HTML file of the run: the robot with its force "
         "arrows, a scrubber, a play button and linked plots; opens offline (needs Bokeh, the "
-        "extra prp3[explore]; docs/explore.md)",
+        "extra prp3[explore]; docs/explore.md); a spatial robot: in 3-D with every joint's "
+        "reaction force (plotly, the same extra; docs/spatial.md §22)",
     )
     parser.set_defaults(handler=run)
 
@@ -285,10 +286,6 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
             "pip install 'prp3[parquet]' (or pyarrow), or leave --format out for CSV"
         )
     html: Path | None = getattr(args, "html", None)
-    if html is not None:
-        from prp3.explorer.app import require_bokeh
-
-        require_bokeh("--html")
     check_output_directory(output)
     check_inputs_kept(output, (results_name,), (args.trajectory, args.robot))
     spatial_or_planar = load_robot_or_spatial(args)
@@ -296,6 +293,10 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         from prp3.cli._spatial import run_spatial
 
         return run_spatial(args, spatial_or_planar, progress, stderr, DEFAULT_SAMPLES)
+    if html is not None:
+        from prp3.explorer.app import require_bokeh
+
+        require_bokeh("--html")
     loaded = spatial_or_planar
     if args.method is None:
         args.method = "fast"

@@ -1,9 +1,9 @@
 """The spatial robot drawn in 3-D, with its joint reactions: ``pose.png`` and ``mechanism.gif``.
 
-docs/spatial.md §15.  What is drawn for a sample is computed by the pure function
-:func:`spatial_frame` from the joint values ``q`` of a spatial ``results.csv``
-(docs/spatial.md §9) through the chain of frames of §2
-(:func:`prp3.spatial.geometry.chain_frames`), testable without matplotlib:
+docs/spatial.md §15.  What is drawn for a sample is the
+:class:`~prp3.spatial.drawing.SpatialFrame` of :func:`prp3.spatial.drawing.spatial_frame` (no
+matplotlib: the 3-D explorer's page draws the same, docs/spatial.md §22), from the joint values ``q`` of a spatial ``results.csv``
+(docs/spatial.md §9) through the chain of frames of §2:
 
 * every joint at its **joint point** (§2: the origin of its distal frame, where its wrench is
   reduced): an R as a circle with a short segment along its axis, a U as a square with its
@@ -15,8 +15,9 @@ docs/spatial.md §15.  What is drawn for a sample is computed by the pure functi
   path so far;
 * the **reaction force** of every joint (the force the proximal body exerts on the distal
   one, columns ``F<x|y|z>_<leg>_<joint>``) as an arrow from the joint point, of length
-  ``|F| / k`` for one scale ``k`` (N per m) over the whole run (:func:`force_scale`: the
-  run's largest force drawn :data:`ARROW_FRACTION` of the robot's size at most);
+  ``|F| / k`` for one scale ``k`` (N per m) over the whole run
+  (:func:`~prp3.spatial.drawing.force_scale`: the run's largest force drawn
+  :data:`~prp3.spatial.drawing.ARROW_FRACTION` of the robot's size at most);
 * the actuated joints in black.
 
 :func:`spatial_robot_figure` builds the figure and its artists once (fixed view limits over
@@ -25,24 +26,10 @@ to a frame; :func:`spatial_pose_figure` is one frame as a still figure and
 :func:`save_spatial_animation` writes the run as an animated GIF (Pillow), atomically, in real
 time (:func:`prp3.plotting.animation.frame_schedule`).  matplotlib is imported inside the
 functions only.
-
->>> from prp3.spatial.model import hexapod
->>> from prp3.spatial.motion import PlatformMotion
->>> from prp3.spatial.outputs import spatial_inverse_dynamics, spatial_results_table
->>> robot = hexapod()
->>> table = spatial_results_table(
-...     spatial_inverse_dynamics(robot, PlatformMotion.at_rest(robot.home_position)))
->>> t, q, force = spatial_samples(robot, table)
->>> frame = spatial_frame(robot, q[0], force[0])
->>> frame.points.shape, frame.labels, frame.centre.round(12).tolist()  # 6 legs, U1 P2 S3
-((6, 3, 3), ('U1', 'P2', 'S3'), [0.0, 0.0, 0.08])
->>> force_scale(force, 0.2)   # largest |F| 3.78 N (U1) in at most 0.3 × 0.2 m: 63 -> 100 N/m
-100.0
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -53,7 +40,25 @@ from numpy.typing import NDArray
 
 from prp3.errors import ParameterError
 from prp3.files import atomic_path
-from prp3.spatial.geometry import chain_frames
+from prp3.spatial.drawing import (
+    ARROW_FRACTION,
+    AXIS_HALF,
+    JOINT_COLOURS,
+    JOINT_NAMES,
+    LEG_COLOURS,
+    SLEEVE_FRACTION,
+    VIEW,
+    SpatialFrame,
+    axis_segments,
+    force_scale,
+    platform_path,
+    robot_size,
+    scene_extent,
+    sleeve_lengths,
+    spatial_frame,
+    spatial_samples,
+    view_direction,
+)
 from prp3.spatial.model import SpatialRobot
 from prp3.validation import check_instance, check_integer
 
@@ -84,198 +89,6 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
-
-#: The colours of the legs 1 to 6 (a colour-blind-safe palette), in every spatial figure.
-LEG_COLOURS: tuple[str, ...] = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9")
-
-#: The largest force of a run is drawn at most this fraction of the robot's size long.
-ARROW_FRACTION: float = 0.3
-
-#: A P joint's sleeve is this fraction of the smallest joint value ``q_P`` over the run.
-SLEEVE_FRACTION: float = 0.6
-
-#: The view of the 3-D axes: elevation and azimuth (degrees), as matplotlib's ``view_init``.
-VIEW: tuple[float, float] = (22.0, -58.0)
-
-#: The colours of the force arrows by the joint's place in the leg (1st, 2nd, 3rd joint): a
-#: colour-blind-safe dark red, dark blue and dark green, apart from the legs' colours.
-JOINT_COLOURS: tuple[str, ...] = ("#B2182B", "#2A3F9E", "#1B7837", "#7B3294")
-
-#: A joint's axis segment (R, U) and its marker size, as fractions of the robot's size.
-_AXIS_HALF = 0.07
-
-_NAMES = {"R": "revolute", "P": "prismatic", "U": "universal", "S": "spherical"}
-
-
-@dataclass(frozen=True)
-class SpatialFrame:
-    """What one frame shows (world frame, m; forces in N).
-
-    Attributes
-    ----------
-    t : float
-        Time of the sample (s).
-    labels, kinds : tuple of str
-        The joints of a leg (``U1, P2, S3``) and their types (``U, P, S``), base to platform.
-    actuated : int
-        Index of the actuated joint in the leg.
-    points : ndarray (legs, n, 3)
-        The joint points (docs/spatial.md §2: the origin of each joint's distal frame).
-    axes : ndarray (legs, n, 2, 3)
-        The unit rotation axes of each R (one, then NaN) and U (two) joint; NaN for P and S.
-    chain : ndarray (legs, 2 n, 3)
-        Each leg from the base to the platform: joint frame origin and joint point of every
-        joint in turn (a P's rod joins them; body ``k`` joins joint ``k``'s point to joint
-        ``k + 1``'s frame origin).
-    sleeves : ndarray (legs, n, 2, 3)
-        Each P joint's sleeve (from its joint frame's origin along its slide); NaN otherwise.
-    base, platform : ndarray (legs, 3)
-        The base polygon (the legs' first joint points) and the platform polygon (their last
-        joint points), in order around their centres.
-    centre : ndarray (3,)
-        The platform origin ``p``.
-    forces : ndarray (legs, n, 3)
-        The reaction force of every joint (N).
-    """
-
-    t: float
-    labels: tuple[str, ...]
-    kinds: tuple[str, ...]
-    actuated: int
-    points: FloatArray
-    axes: FloatArray
-    chain: FloatArray
-    sleeves: FloatArray
-    base: FloatArray
-    platform: FloatArray
-    centre: FloatArray
-    forces: FloatArray
-
-
-def spatial_samples(
-    robot: SpatialRobot, table: Mapping[str, NDArray[Any]]
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """The times ``t (N,)``, joint values ``q (N, legs, dof)`` and joint forces
-    ``(N, legs, joints, 3)`` of the columns of a spatial results table (docs/spatial.md §9)."""
-    check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
-    leg = robot.legs[0]
-    names = ["t"]
-    names += [f"q_{i + 1}_{c}" for i in range(len(robot.legs)) for c in leg.coordinates]
-    names += [
-        f"F{c}_{i + 1}_{label}"
-        for i in range(len(robot.legs))
-        for label in leg.labels
-        for c in "xyz"
-    ]
-    missing = [name for name in names if name not in table]
-    if missing:
-        raise ParameterError(
-            f"table: no column {missing[0]} (the columns of a {robot.name} run by the "
-            "Newton-Euler route, docs/spatial.md §9)",
-            key="table",
-        )
-    values = np.stack([np.asarray(table[name], dtype=np.float64) for name in names], axis=1)
-    if values.ndim != 2 or values.shape[0] < 1:
-        raise ParameterError(f"table: columns of one value per sample, got {values.shape}")
-    n, legs, dof, joints = values.shape[0], len(robot.legs), leg.dof, len(leg.joints)
-    q = values[:, 1 : 1 + legs * dof].reshape(n, legs, dof)
-    force = values[:, 1 + legs * dof :].reshape(n, legs, joints, 3)
-    return values[:, 0].copy(), q, force
-
-
-def _around(points: FloatArray) -> NDArray[np.int64]:
-    """The order of ``points (m, 3)`` around their centroid, seen along the normal of their best
-    plane."""
-    middle = points.mean(axis=0)
-    spread = points - middle
-    _, _, vt = np.linalg.svd(spread)
-    u, v = vt[0], vt[1]
-    return np.argsort(np.arctan2(spread @ v, spread @ u), kind="stable")
-
-
-def spatial_frame(
-    robot: SpatialRobot,
-    q: FloatArray,
-    forces: FloatArray,
-    *,
-    t: float = 0.0,
-    sleeve: FloatArray | None = None,
-) -> SpatialFrame:
-    """The frame of joint values ``q (legs, dof)`` with the joint forces ``(legs, joints, 3)``.
-
-    ``sleeve``: the sleeve length of each P joint of a leg, ``(n,)`` m (NaN for the other
-    joints); by default :data:`SLEEVE_FRACTION` of this frame's ``q_P``.
-    """
-    check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
-    leg = robot.legs[0]
-    legs, n = len(robot.legs), len(leg.joints)
-    values = np.asarray(q, dtype=np.float64)
-    force = np.asarray(forces, dtype=np.float64)
-    if values.shape != (legs, leg.dof) or force.shape != (legs, n, 3):
-        raise ParameterError(
-            f"q must have the shape ({legs}, {leg.dof}) and forces ({legs}, {n}, 3), got "
-            f"{values.shape} and {force.shape}",
-            key="q",
-        )
-    frames = chain_frames(robot, values[None])
-    origin, rotation = frames.origin[0], frames.rotation[0]
-    j_origin, j_rotation = frames.joint_origin[0], frames.joint_rotation[0]
-    axes = np.full((legs, n, 2, 3), np.nan)
-    sleeves = np.full((legs, n, 2, 3), np.nan)
-    lengths = np.full(n, np.nan) if sleeve is None else np.asarray(sleeve, dtype=np.float64)
-    column = 0
-    for k, joint in enumerate(leg.joints):
-        if joint.kind in ("R", "U"):
-            axes[:, k, 0] = frames.axes[0, :, column]
-        if joint.kind == "U":
-            axes[:, k, 1] = frames.axes[0, :, column + 1]
-        if joint.kind == "P":
-            length = (
-                SLEEVE_FRACTION * values[:, column] if sleeve is None else np.full(legs, lengths[k])
-            )
-            slide = j_rotation[:, k, :, 0]
-            sleeves[:, k, 0] = j_origin[:, k]
-            sleeves[:, k, 1] = j_origin[:, k] + length[:, None] * slide
-        column += joint.dof
-    chain = np.stack([j_origin, origin], axis=2).reshape(legs, 2 * n, 3)
-    # the platform origin from leg 1's end: F_n = (p + R c_A, R R_A)
-    r_p = rotation[0, -1] @ np.asarray(leg.attachment_rotation).T
-    centre = origin[0, -1] - r_p @ np.asarray(leg.attachment_position)
-    base, platform = origin[:, 0], origin[:, -1]
-    return SpatialFrame(
-        t=float(t),
-        labels=leg.labels,
-        kinds=tuple(joint.kind for joint in leg.joints),
-        actuated=leg.actuated,
-        points=origin.copy(),
-        axes=axes,
-        chain=chain,
-        sleeves=sleeves,
-        base=base[_around(base)],
-        platform=platform[_around(platform)],
-        centre=centre,
-        forces=force.copy(),
-    )
-
-
-def force_scale(forces: FloatArray, size: float) -> float:
-    """The arrows' scale ``k`` (N per m): the largest ``|F|`` of ``forces (..., 3)`` drawn at
-    most :data:`ARROW_FRACTION` × ``size`` (m) long, ``k`` rounded up to 1, 2 or 5 × 10ⁿ.
-
-    ``0.0`` when every force is zero (no arrows).
-
-    >>> force_scale(np.array([[3.0, 0.0, 4.0]]), 0.1)    # 5 N at most 0.03 m: 166.7 -> 200
-    200.0
-    """
-    largest = float(np.sqrt(np.einsum("...i,...i->...", forces, forces)).max(initial=0.0))
-    if not largest > 0.0 or not math.isfinite(largest):
-        return 0.0
-    raw = largest / (ARROW_FRACTION * size)
-    power = 10.0 ** math.floor(math.log10(raw))
-    for step in (1.0, 2.0, 5.0, 10.0):
-        if step * power >= raw * (1.0 - 1e-12):
-            return float(step * power)
-    return float(10.0 * power)  # pragma: no cover (the loop ends at 10)
 
 
 def _arrow_width(k: int) -> float:
@@ -339,14 +152,6 @@ class SpatialArtists:
         ]  # fmt: skip
 
 
-def _eye() -> FloatArray:
-    """The unit vector from the scene towards the viewer of :data:`VIEW`."""
-    elev, azim = (math.radians(v) for v in VIEW)
-    return np.array(
-        [math.cos(elev) * math.cos(azim), math.cos(elev) * math.sin(azim), math.sin(elev)]
-    )
-
-
 def _head(tail: FloatArray, tip: FloatArray, size: float) -> FloatArray:
     """An arrow head at ``tip``: a V in the plane facing the viewer, ``(3, 3)``."""
     d = tip - tail
@@ -355,7 +160,7 @@ def _head(tail: FloatArray, tip: FloatArray, size: float) -> FloatArray:
         return np.full((3, 3), np.nan)
     d = d / length
     h = min(0.3 * length, 0.035 * size)
-    side = np.cross(d, _eye())
+    side = np.cross(d, view_direction())
     norm = float(np.linalg.norm(side))
     side = (
         side / norm
@@ -365,49 +170,6 @@ def _head(tail: FloatArray, tip: FloatArray, size: float) -> FloatArray:
     side = side / float(np.linalg.norm(side))
     back = tip - h * d
     return np.stack([back + 0.45 * h * side, tip, back - 0.45 * h * side])
-
-
-def _segments(axes: FloatArray, points: FloatArray, half: float) -> FloatArray:
-    """Segments ``point ± half·axis`` of every leg's axes, NaN-separated, ``(m, 3)``."""
-    rows = []
-    for leg in range(points.shape[0]):
-        for a in range(axes.shape[1]):
-            if np.isnan(axes[leg, a]).any():
-                continue
-            rows.extend(
-                [points[leg] - half * axes[leg, a], points[leg] + half * axes[leg, a], [np.nan] * 3]
-            )
-    return np.array(rows, dtype=np.float64).reshape(-1, 3)
-
-
-def _extent(frames: list[SpatialFrame], scale: float) -> tuple[FloatArray, float]:
-    """The middle and half side of the cube that holds everything drawn over ``frames``."""
-    parts = []
-    for frame in frames:
-        parts += [frame.chain.reshape(-1, 3), frame.centre[None]]
-        if scale > 0.0:
-            parts.append((frame.points + frame.forces / scale).reshape(-1, 3))
-    points = np.concatenate(parts)
-    low, high = points.min(axis=0), points.max(axis=0)
-    return 0.5 * (low + high), 0.55 * float((high - low).max())
-
-
-def platform_path(robot: SpatialRobot, q: FloatArray) -> FloatArray:
-    """The platform origin ``p (N, 3)`` at the joint values ``q (N, legs, dof)``, from leg 1's
-    end (docs/spatial.md §2: ``F_n = (p + R·c_A, R·R_A)``)."""
-    check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
-    leg = robot.legs[0]
-    frames = chain_frames(robot, np.asarray(q, dtype=np.float64))
-    end, turn = frames.origin[:, 0, -1], frames.rotation[:, 0, -1]
-    r_p = turn @ np.asarray(leg.attachment_rotation).T
-    centre: FloatArray = end - r_p @ np.asarray(leg.attachment_position)
-    return centre
-
-
-def robot_size(frames: list[SpatialFrame]) -> float:
-    """The robot's size (m): the largest side of the box of its legs over ``frames``."""
-    points = np.concatenate([frame.chain.reshape(-1, 3) for frame in frames])
-    return float((points.max(axis=0) - points.min(axis=0)).max())
 
 
 def spatial_robot_figure(
@@ -437,7 +199,7 @@ def spatial_robot_figure(
     size = robot_size(frames)
     if scale is None:
         scale = force_scale(np.stack([f.forces for f in frames]), size)
-    middle, half = _extent(frames, scale)
+    middle, half = scene_extent(frames, scale)
     figure = Figure(figsize=(7.2, 7.2), dpi=dpi)
     canvas = FigureCanvasAgg(figure)
     ax: Any = figure.add_axes((-0.07, -0.01, 1.1, 0.96), projection="3d", computed_zorder=False)
@@ -529,10 +291,12 @@ def spatial_robot_figure(
         actuated = " (actuated)" if k == first.actuated else ""
         if kind == "P":
             handles.append(Line2D([], [], color="black" if actuated else "0.5", linewidth=6.0))
-            labels.append(f"{label}: {_NAMES[kind]}, its sleeve{actuated}")
+            labels.append(f"{label}: {JOINT_NAMES[kind]}, its sleeve{actuated}")
         else:
             handles.append(joints[k])
-            labels.append(f"{label}: {_NAMES[kind]}{', axes' if kind in 'RU' else ''}{actuated}")
+            labels.append(
+                f"{label}: {JOINT_NAMES[kind]}{', axes' if kind in 'RU' else ''}{actuated}"
+            )
     for k, label in enumerate(first.labels):
         handles.append(Line2D([], [], color=JOINT_COLOURS[k % len(JOINT_COLOURS)],
                               linewidth=_arrow_width(k)))  # fmt: skip
@@ -582,10 +346,10 @@ def draw_spatial_frame(
     legs, n = frame.points.shape[:2]
     for i in range(legs):
         _set(artists.links[i], frame.chain[i])
-    half = _AXIS_HALF * artists.size
+    half = AXIS_HALF * artists.size
     for k in range(n):
         _set(artists.joints[k], frame.points[:, k])
-        _set(artists.axes[k], _segments(frame.axes[:, k], frame.points[:, k], half))
+        _set(artists.axes[k], axis_segments(frame.axes[:, k], frame.points[:, k], half))
         bars = frame.sleeves[:, k]
         nan = np.full((legs, 1, 3), np.nan)
         _set(artists.sleeves[k], np.concatenate([bars, nan], axis=1))
@@ -601,18 +365,6 @@ def draw_spatial_frame(
     artists.clock.set_text(f"t = {frame.t:7.3f} s")
 
 
-def _sleeves(robot: SpatialRobot, q: FloatArray) -> FloatArray:
-    """Per joint of a leg: :data:`SLEEVE_FRACTION` of the smallest ``q_P`` over ``q (N, legs,
-    dof)`` for a P, NaN otherwise."""
-    lengths = np.full(len(robot.legs[0].joints), np.nan)
-    column = 0
-    for k, joint in enumerate(robot.legs[0].joints):
-        if joint.kind == "P":
-            lengths[k] = SLEEVE_FRACTION * max(float(q[..., column].min()), 0.0)
-        column += joint.dof
-    return lengths
-
-
 def spatial_pose_figure(
     robot: SpatialRobot, table: Mapping[str, NDArray[Any]], *, index: int = 0, what: str = ""
 ) -> Figure:
@@ -622,7 +374,7 @@ def spatial_pose_figure(
     """
     t, q, force = spatial_samples(robot, table)
     k = check_integer("index", index, 0, t.size - 1)
-    sleeve = _sleeves(robot, q)
+    sleeve = sleeve_lengths(robot, q)
     frame = spatial_frame(robot, q[k], force[k], t=float(t[k]), sleeve=sleeve)
     size = robot_size([frame])
     title = f"{robot.name} at t = {t[k]:g} s" + (f", {what}" if what else "")
@@ -675,7 +427,7 @@ def save_spatial_animation(
     t, q, force = spatial_samples(robot, table)
     limit = check_integer("max_frames", max_frames, 2, 10**6)
     indices, durations = frame_schedule(t, limit)
-    sleeve = _sleeves(robot, q)
+    sleeve = sleeve_lengths(robot, q)
     frames = [
         spatial_frame(robot, q[i], force[i], t=float(t[i]), sleeve=sleeve) for i in indices.tolist()
     ]
