@@ -366,13 +366,12 @@ def _angles(x: float, y: float, z: float) -> tuple[float, float]:
 @_jit
 def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q: FloatArray,
               jo: FloatArray, jr: FloatArray, fo: FloatArray, fr: FloatArray, axes: FloatArray,
-              work: FloatArray) -> int:  # fmt: skip
+              work: FloatArray, ce: FloatArray, f: FloatArray) -> int:  # fmt: skip
     """Every leg's closed-form inverse geometry (geometry.leg_coordinates), limits checked."""
     legs, pattern = ints[1], ints[0]
     status = _OK
     for i in range(legs):
         ap, ar = APOS + 3 * i, AROT + 9 * i
-        ce = np.empty(3)
         re_ = work[3]
         for r in range(3):
             ce[r] = p[r] + rm[r, 0] * par[ap] + rm[r, 1] * par[ap + 1] + rm[r, 2] * par[ap + 2]
@@ -394,7 +393,6 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
                 return _UNREACHABLE
             q[i, 0] = math.atan2(d1, d0) - math.acos(kk / rho)
             _chain(ints, par, i, q, jo, jr, fo, fr, axes, work)
-            f = np.empty(3)
             for r in range(3):
                 f[r] = ((ce[0] - jo[i, 1, 0]) * jr[i, 1, 0, r] + (ce[1] - jo[i, 1, 1]) * jr[i, 1, 1, r]
                         + (ce[2] - jo[i, 1, 2]) * jr[i, 1, 2, r])  # fmt: skip
@@ -456,7 +454,7 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
 def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
             v: FloatArray, al: FloatArray, a: FloatArray, q: FloatArray, dq: FloatArray,
             ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
-            measures: FloatArray, work: FloatArray, frames: FloatArray) -> int:  # fmt: skip
+            measures: FloatArray, work: FloatArray, frames: FloatArray, scr: tuple) -> int:  # type: ignore[type-arg]  # fmt: skip
     """One state: ``q, dq, ddq (legs, dof)``, ``tau (legs,)``, ``force, moment (legs, 3, 3)``,
     ``measures (legs + 1,)`` (``μ_leg``, then ``μ_par``); returns the status."""
     legs, dof, act = ints[1], ints[2], ints[3]
@@ -482,12 +480,13 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     jr = frames[108:270].reshape((_L, _J, 3, 3))
     fr = frames[270:432].reshape((_L, _J, 3, 3))
     axes = frames[432:540].reshape((_L, 6, 3))
-    status = _geometry(ints, par, p, rm, q, jo, jr, fo, fr, axes, work)
+    (kinds, owner, jac, fac, piv, b, xw, nw, kmat, ends, big, normal, jacs, pivs, st, bias_w,
+     bias_a, bw, ba, bo, rhs, z, y0, fk, mk, ce, f, ref, wn, y6) = scr
+    status = _geometry(ints, par, p, rm, q, jo, jr, fo, fr, axes, work, ce, f)
     if status != _OK:
         return status
     scale = par[SCALE]
-    kinds = np.empty(6, dtype=np.int64)  # per coordinate: 0 rotation about a body axis, 1 slide, 2 S
-    owner = np.empty(6, dtype=np.int64)
+    # per coordinate: kinds 0 rotation about a body axis, 1 slide, 2 S; owner its joint
     col = 0
     for k in range(_J):
         kind = ints[4 + k]
@@ -495,30 +494,25 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
             kinds[col] = 1 if kind == 1 else (2 if kind == 3 else 0)
             owner[col] = k
             col += 1
-    jac = np.empty((6, 6))
-    fac = np.empty((6, 6))
-    piv = np.empty(6, dtype=np.int64)
-    b = np.empty(6)
-    xw = np.empty((_L, 6))  # x_i = J⁻ᵀ e_a, as (M, F)
-    nw = np.zeros((_L, 6))  # the constraint wrench w_i (legs of 5 coordinates)
-    kmat = np.zeros((6, 6))  # rows: J_p, then C
-    ends = np.empty((_L, 3))
-    big = np.empty((6, 6))
-    normal = np.empty((_L, 6, 6))  # the factors of J (dof 6) or JᵀJ (dof 5)
-    jacs = np.empty((_L, 6, 6))
-    pivs = np.empty((_L, 6), dtype=np.int64)
+    # xw: x_i = J⁻ᵀ e_a as (M, F); nw: the constraint wrench w_i (legs of 5 coordinates);
+    # kmat: the rows J_p, then C; normal: the factors of J (dof 6) or JᵀJ (dof 5)
+    for r in range(6):
+        for c in range(6):
+            kmat[r, c] = 0.0
+        for i in range(_L):
+            nw[i, r] = 0.0
     for i in range(legs):
         e0, e1, e2 = fo[i, _J - 1, 0], fo[i, _J - 1, 1], fo[i, _J - 1, 2]
         ends[i, 0], ends[i, 1], ends[i, 2] = e0, e1, e2
         for c in range(dof):
-            x, y, z = axes[i, c, 0], axes[i, c, 1], axes[i, c, 2]
+            ax0, ax1, ax2 = axes[i, c, 0], axes[i, c, 1], axes[i, c, 2]
             if kinds[c] == 1:
                 jac[0, c] = jac[1, c] = jac[2, c] = 0.0
-                jac[3, c], jac[4, c], jac[5, c] = x, y, z
+                jac[3, c], jac[4, c], jac[5, c] = ax0, ax1, ax2
             else:
                 o = owner[c]
-                jac[0, c], jac[1, c], jac[2, c] = x, y, z
-                jac[3, c], jac[4, c], jac[5, c] = _cross(x, y, z, e0 - fo[i, o, 0], e1 - fo[i, o, 1],
+                jac[0, c], jac[1, c], jac[2, c] = ax0, ax1, ax2
+                jac[3, c], jac[4, c], jac[5, c] = _cross(ax0, ax1, ax2, e0 - fo[i, o, 0], e1 - fo[i, o, 1],
                                                          e2 - fo[i, o, 2])  # fmt: skip
             for r in range(6):
                 jacs[i, r, c] = jac[r, c]
@@ -567,7 +561,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                     normal[i, r, c] = s
         _lu(normal[i], dof, pivs[i])
         # x_i: Jᵀ x = e_a (dof 6: solve with the transposed factors), J (JᵀJ)⁻¹ e_a (dof 5)
-        _transpose_solve(normal[i], jacs[i], pivs[i], dof, act, b, xw[i])
+        _transpose_solve(normal[i], jacs[i], pivs[i], dof, act, b, xw[i], y6)
         kmat[i, 0] = xw[i, 0] + r1 * xw[i, 5] - r2 * xw[i, 4]
         kmat[i, 1] = xw[i, 1] + r2 * xw[i, 3] - r0 * xw[i, 5]
         kmat[i, 2] = xw[i, 2] + r0 * xw[i, 4] - r1 * xw[i, 3]
@@ -598,12 +592,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     if not measures[legs] * par[PARSIGN] >= SINGULAR:
         return _SINGULAR
     # rates: J·dq = (ω, v + ω × r)
-    st = np.empty(6)
-    bias_w = np.empty((_L, _J, 3))
-    bias_a = np.empty((_L, _J, 3))
-    bw = np.empty((_L, _J, 3))  # body angular velocity
-    ba = np.empty((_L, _J, 3))  # body angular acceleration
-    bo = np.empty((_L, _J, 3))  # body origin acceleration
+    # bw, ba: each body's angular velocity and acceleration; bo: its origin's acceleration
     for i in range(legs):
         r0, r1, r2 = ends[i, 0] - p[0], ends[i, 1] - p[1], ends[i, 2] - p[2]
         c0, c1, c2 = _cross(w[0], w[1], w[2], r0, r1, r2)
@@ -618,7 +607,6 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         _chain_motion(ints, i, jo, fo, axes, dq, ddq, bias_w, bias_a, bo)
         d0, d1, d2 = _cross(w[0], w[1], w[2], c0, c1, c2)
         g0, g1, g2 = _cross(al[0], al[1], al[2], r0, r1, r2)
-        ref = np.empty(6)
         for r in range(3):
             ref[r] = bias_a[i, _J - 1, r]
             ref[3 + r] = bo[i, _J - 1, r]
@@ -634,13 +622,8 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)
     # inertial wrenches and the particular wrenches (W_n = 0) from the platform inwards
     g = par[GRAV : GRAV + 3]
-    rhs = np.zeros(6)
-    f0 = np.zeros(3)
-    m0 = np.zeros(3)
-    z = np.empty(6)
-    y0 = np.empty(6)
-    fk = np.empty((_J, 3))
-    mk = np.empty((_J, 3))
+    for r in range(6):
+        rhs[r] = 0.0
     for i in range(legs):
         for r in range(3):
             fk[_J - 1, r] = 0.0
@@ -710,7 +693,6 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         t = rhs[i]
         tau[i] = t
         lam = rhs[legs + i] if dof == 5 else 0.0
-        wn = np.empty(6)
         for r in range(6):
             wn[r] = t * xw[i, r] - fac[i, r] + lam * nw[i, r]
         for k in range(_J):
@@ -845,9 +827,10 @@ def _transpose_solve_vector(fac: FloatArray, jac: FloatArray, piv: IntArray, dof
 
 @_jit
 def _transpose_solve(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, act: int,
-                     work: FloatArray, out: FloatArray) -> None:  # fmt: skip
+                     work: FloatArray, out: FloatArray, y: FloatArray) -> None:  # fmt: skip
     """``x = J⁻ᵀ·e_act`` (or ``J(JᵀJ)⁻¹·e_act``)."""
-    y = np.zeros(6)
+    for r in range(6):
+        y[r] = 0.0
     y[act] = 1.0
     _transpose_solve_vector(fac, jac, piv, dof, y, work, out)
 
@@ -915,9 +898,17 @@ def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: Flo
           measures: FloatArray, status: IntArray, start: int, stop: int) -> None:  # fmt: skip
     work = np.zeros((_WORK, 3, 3))
     frames = np.zeros(_FRAMES)
+    m6, v6, l6, lj3 = (6, 6), 6, (_L, 6), (_L, _J, 3)
+    scr = (np.zeros(6, dtype=np.int64), np.zeros(6, dtype=np.int64), np.zeros(m6), np.zeros(m6),
+           np.zeros(6, dtype=np.int64), np.zeros(v6), np.zeros(l6), np.zeros(l6), np.zeros(m6),
+           np.zeros((_L, 3)), np.zeros(m6), np.zeros((_L, 6, 6)), np.zeros((_L, 6, 6)),
+           np.zeros(l6, dtype=np.int64), np.zeros(v6), np.zeros(lj3), np.zeros(lj3),
+           np.zeros(lj3), np.zeros(lj3), np.zeros(lj3), np.zeros(v6), np.zeros(v6), np.zeros(v6),
+           np.zeros((_J, 3)), np.zeros((_J, 3)), np.zeros(3), np.zeros(3), np.zeros(v6),
+           np.zeros(v6), np.zeros(v6))  # fmt: skip
     for n in range(start, stop):
         status[n] = _sample(ints, par, p[n], rm[n], w[n], v[n], al[n], a[n], q[n], dq[n], ddq[n],
-                            tau[n], force[n], moment[n], measures[n], work, frames)  # fmt: skip
+                            tau[n], force[n], moment[n], measures[n], work, frames, scr)  # fmt: skip
 
 
 @numba.njit(cache=True, error_model="numpy", parallel=True)
