@@ -170,7 +170,9 @@ def main() -> None:
         rows.append(("Pinocchio rnea, open tree, no closure (Python)", pn))
     for name, seconds in rows:
         print(f"{name:52s} {seconds * 1e6:9.2f} us {1.0 / seconds:12.3g}")
-    print(f"batch vs recursive numpy: {recursive / batch:.1f}x; vs the system: {system / batch:.0f}x")
+    print(
+        f"batch vs recursive numpy: {recursive / batch:.1f}x; vs the system: {system / batch:.0f}x"
+    )
     if mj is not None:
         print(f"validated single call / mj_inverse: {single / mj:.1f}")
     if pn is not None:

@@ -69,7 +69,9 @@ def _check(robot: SpatialRobot, motion: PlatformMotion) -> None:
 
 @settings(max_examples=25, deadline=None)
 @given(hexapods(), st.data())
-def test_the_hexapod_routes_equal_the_system_route(robot: SpatialRobot, data: st.DataObject) -> None:
+def test_the_hexapod_routes_equal_the_system_route(
+    robot: SpatialRobot, data: st.DataObject
+) -> None:
     _check(robot, data.draw(states(robot)))
 
 
@@ -86,7 +88,11 @@ def test_the_delta_routes_equal_the_system_route(robot: SpatialRobot, data: st.D
 
 
 def test_the_built_in_motions_agree() -> None:
-    for robot, name in ((prp3.hexapod(), "tilt"), (prp3.three_rps(), "tilt"), (prp3.delta(), "circle")):
+    for robot, name in (
+        (prp3.hexapod(), "tilt"),
+        (prp3.three_rps(), "tilt"),
+        (prp3.delta(), "circle"),
+    ):
         motion = prp3.complete_motion(robot, prp3.spatial_motion(robot, name, 31))
         _check(robot, motion)
 

@@ -78,7 +78,11 @@ SPATIAL_STATUS: tuple[tuple[str, int, str], ...] = (
         8,
         "a leg of 5 coordinates cannot close at the pose (not a pose of the robot's DOF)",
     ),
-    ("PRP3_INCOMPATIBLE", 9, "the twist or its derivative is not one the legs of 5 coordinates allow"),
+    (
+        "PRP3_INCOMPATIBLE",
+        9,
+        "the twist or its derivative is not one the legs of 5 coordinates allow",
+    ),
 )
 _OK, _NOT_FINITE, _SINGULAR, _STROKE, _UNREACHABLE, _OVERFLOW = 0, 1, 2, 3, 4, 5
 _LIMIT, _NOT_ROTATION, _NOT_A_POSE, _INCOMPATIBLE = 6, 7, 8, 9
@@ -270,16 +274,36 @@ def _log(r: FloatArray, out: FloatArray) -> None:
         pick = 3
     if pick == 0:
         s = math.sqrt(max(1.0 + trace, 0.0)) * 2.0
-        w, x, y, z = s / 4.0, (r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s
+        w, x, y, z = (
+            s / 4.0,
+            (r[2, 1] - r[1, 2]) / s,
+            (r[0, 2] - r[2, 0]) / s,
+            (r[1, 0] - r[0, 1]) / s,
+        )
     elif pick == 1:
         s = math.sqrt(max(1.0 + r[0, 0] - r[1, 1] - r[2, 2], 0.0)) * 2.0
-        w, x, y, z = (r[2, 1] - r[1, 2]) / s, s / 4.0, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s
+        w, x, y, z = (
+            (r[2, 1] - r[1, 2]) / s,
+            s / 4.0,
+            (r[0, 1] + r[1, 0]) / s,
+            (r[0, 2] + r[2, 0]) / s,
+        )
     elif pick == 2:
         s = math.sqrt(max(1.0 - r[0, 0] + r[1, 1] - r[2, 2], 0.0)) * 2.0
-        w, x, y, z = (r[0, 2] - r[2, 0]) / s, (r[0, 1] + r[1, 0]) / s, s / 4.0, (r[1, 2] + r[2, 1]) / s
+        w, x, y, z = (
+            (r[0, 2] - r[2, 0]) / s,
+            (r[0, 1] + r[1, 0]) / s,
+            s / 4.0,
+            (r[1, 2] + r[2, 1]) / s,
+        )
     else:
         s = math.sqrt(max(1.0 - r[0, 0] - r[1, 1] + r[2, 2], 0.0)) * 2.0
-        w, x, y, z = (r[1, 0] - r[0, 1]) / s, (r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, s / 4.0
+        w, x, y, z = (
+            (r[1, 0] - r[0, 1]) / s,
+            (r[0, 2] + r[2, 0]) / s,
+            (r[1, 2] + r[2, 1]) / s,
+            s / 4.0,
+        )
     norm = math.sqrt(w * w + x * x + y * y + z * z)
     if w < 0.0:
         norm = -norm
@@ -376,7 +400,9 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
         for r in range(3):
             ce[r] = p[r] + rm[r, 0] * par[ap] + rm[r, 1] * par[ap + 1] + rm[r, 2] * par[ap + 2]
             for c in range(3):
-                re_[r, c] = rm[r, 0] * par[ar + c] + rm[r, 1] * par[ar + 3 + c] + rm[r, 2] * par[ar + 6 + c]
+                re_[r, c] = (
+                    rm[r, 0] * par[ar + c] + rm[r, 1] * par[ar + 3 + c] + rm[r, 2] * par[ar + 6 + c]
+                )
         b0, r0 = JPOS + 3 * _J * i, JROT + 9 * _J * i
         e0, e1, e2 = ce[0] - par[b0], ce[1] - par[b0 + 1], ce[2] - par[b0 + 2]
         d0 = par[r0] * e0 + par[r0 + 3] * e1 + par[r0 + 6] * e2
@@ -401,7 +427,11 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
             m = work[4]
             for r in range(3):
                 for c in range(3):
-                    m[r, c] = jr[i, 2, 0, r] * re_[0, c] + jr[i, 2, 1, r] * re_[1, c] + jr[i, 2, 2, r] * re_[2, c]
+                    m[r, c] = (
+                        jr[i, 2, 0, r] * re_[0, c]
+                        + jr[i, 2, 1, r] * re_[1, c]
+                        + jr[i, 2, 2, r] * re_[2, c]
+                    )
             q[i, 3], q[i, 4] = _angles(m[0, 0], m[1, 0], m[2, 0])
             off = par[SCALE] * m[2, 1]
         else:
@@ -425,7 +455,11 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
             m = work[4]
             for r in range(3):
                 for c in range(3):
-                    m[r, c] = jr[i, 2, 0, r] * re_[0, c] + jr[i, 2, 1, r] * re_[1, c] + jr[i, 2, 2, r] * re_[2, c]
+                    m[r, c] = (
+                        jr[i, 2, 0, r] * re_[0, c]
+                        + jr[i, 2, 1, r] * re_[1, c]
+                        + jr[i, 2, 2, r] * re_[2, c]
+                    )
             _log(m, q[i, slide + 1 : slide + 4])
         _chain(ints, par, i, q, jo, jr, fo, fr, axes, work)
         # limits (check_reach) and the closure (plane_offsets)
@@ -480,8 +514,38 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     jr = frames[108:270].reshape((_L, _J, 3, 3))
     fr = frames[270:432].reshape((_L, _J, 3, 3))
     axes = frames[432:540].reshape((_L, 6, 3))
-    (kinds, owner, jac, fac, piv, b, xw, nw, kmat, ends, big, normal, jacs, pivs, st, bias_w,
-     bias_a, bw, ba, bo, rhs, z, y0, fk, mk, ce, f, ref, wn, y6) = scr
+    (
+        kinds,
+        owner,
+        jac,
+        fac,
+        piv,
+        b,
+        xw,
+        nw,
+        kmat,
+        ends,
+        big,
+        normal,
+        jacs,
+        pivs,
+        st,
+        bias_w,
+        bias_a,
+        bw,
+        ba,
+        bo,
+        rhs,
+        z,
+        y0,
+        fk,
+        mk,
+        ce,
+        f,
+        ref,
+        wn,
+        y6,
+    ) = scr
     status = _geometry(ints, par, p, rm, q, jo, jr, fo, fr, axes, work, ce, f)
     if status != _OK:
         return status
@@ -490,7 +554,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     col = 0
     for k in range(_J):
         kind = ints[4 + k]
-        for c in range(_DOF[kind]):
+        for _c in range(_DOF[kind]):
             kinds[col] = 1 if kind == 1 else (2 if kind == 3 else 0)
             owner[col] = k
             col += 1
@@ -652,9 +716,13 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         for c in range(dof):
             o = owner[c]
             if kinds[c] == 1:
-                y0[c] = axes[i, c, 0] * fk[o, 0] + axes[i, c, 1] * fk[o, 1] + axes[i, c, 2] * fk[o, 2]
+                y0[c] = (
+                    axes[i, c, 0] * fk[o, 0] + axes[i, c, 1] * fk[o, 1] + axes[i, c, 2] * fk[o, 2]
+                )
             else:
-                y0[c] = axes[i, c, 0] * mk[o, 0] + axes[i, c, 1] * mk[o, 1] + axes[i, c, 2] * mk[o, 2]
+                y0[c] = (
+                    axes[i, c, 0] * mk[o, 0] + axes[i, c, 1] * mk[o, 1] + axes[i, c, 2] * mk[o, 2]
+                )
         _transpose_solve_vector(normal[i], jacs[i], pivs[i], dof, y0, b, z)
         r0, r1, r2 = ends[i, 0] - p[0], ends[i, 1] - p[1], ends[i, 2] - p[2]
         c0, c1, c2 = _cross(r0, r1, r2, z[3], z[4], z[5])
@@ -696,7 +764,11 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         for r in range(6):
             wn[r] = t * xw[i, r] - fac[i, r] + lam * nw[i, r]
         for k in range(_J):
-            l0, l1, l2 = ends[i, 0] - fo[i, k, 0], ends[i, 1] - fo[i, k, 1], ends[i, 2] - fo[i, k, 2]
+            l0, l1, l2 = (
+                ends[i, 0] - fo[i, k, 0],
+                ends[i, 1] - fo[i, k, 1],
+                ends[i, 2] - fo[i, k, 2],
+            )
             c0, c1, c2 = _cross(l0, l1, l2, wn[3], wn[4], wn[5])
             force[i, k, 0] += wn[3]
             force[i, k, 1] += wn[4]
@@ -858,11 +930,15 @@ def _chain_motion(ints: IntArray, i: int, jo: FloatArray, fo: FloatArray, axes: 
         aj0, aj1, aj2 = c0 + s0 + u0, c1 + s1 + u1, c2 + s2 + u2
         vf0, vf1, vf2 = vj0, vj1, vj2
         af0, af1, af2 = aj0, aj1, aj2
-        for n in range(_DOF[kind]):
+        for _n in range(_DOF[kind]):
             e0, e1, e2 = axes[i, col, 0], axes[i, col, 1], axes[i, col, 2]
             rate, acc = dq[i, col], ddq[i, col]
             if kind == 1:  # P: the frame origin on the proximal body, then the slide
-                y0, y1, y2 = fo[i, k, 0] - jo[i, k, 0], fo[i, k, 1] - jo[i, k, 1], fo[i, k, 2] - jo[i, k, 2]
+                y0, y1, y2 = (
+                    fo[i, k, 0] - jo[i, k, 0],
+                    fo[i, k, 1] - jo[i, k, 1],
+                    fo[i, k, 2] - jo[i, k, 2],
+                )
                 t0, t1, t2 = _cross(w0, w1, w2, y0, y1, y2)
                 s0, s1, s2 = _cross(a0, a1, a2, y0, y1, y2)
                 u0, u1, u2 = _cross(w0, w1, w2, t0, t1, t2)
@@ -876,7 +952,11 @@ def _chain_motion(ints: IntArray, i: int, jo: FloatArray, fo: FloatArray, axes: 
                 w0, w1, w2 = w0 + e0 * rate, w1 + e1 * rate, w2 + e2 * rate
             else:  # R, U: an axis fixed in the proximal body
                 h0, h1, h2 = _cross(w0, w1, w2, e0, e1, e2)
-                a0, a1, a2 = a0 + e0 * acc + h0 * rate, a1 + e1 * acc + h1 * rate, a2 + e2 * acc + h2 * rate
+                a0, a1, a2 = (
+                    a0 + e0 * acc + h0 * rate,
+                    a1 + e1 * acc + h1 * rate,
+                    a2 + e2 * acc + h2 * rate,
+                )
                 w0, w1, w2 = w0 + e0 * rate, w1 + e1 * rate, w2 + e2 * rate
             col += 1
         o0, o1, o2 = fo[i, k, 0], fo[i, k, 1], fo[i, k, 2]
@@ -965,7 +1045,7 @@ class SpatialSamples:
     status: IntArray
 
 
-def _vector(name: str, value: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
+def _vector(name: str, value: ArrayLike | None, shape: tuple[int, ...]) -> FloatArray:
     try:
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
@@ -1075,7 +1155,7 @@ class CompiledSpatial:
         rates = [_vector(name, value, (3,))[None] for name, value in (
             ("omega", omega), ("velocity", velocity), ("alpha", alpha),
             ("acceleration", acceleration))]  # fmt: skip
-        out = self.raw(p, r, *rates, threads=False)
+        out = self.raw(p, r, rates[0], rates[1], rates[2], rates[3], threads=False)
         if out.status[0]:  # the motion's validation names a bad input, the route a refusal
             self._refuse(out.status, PlatformMotion.of([0.0], p[0], r[0], *(x[0] for x in rates)))
         return SpatialSample(out.q[0], out.dq[0], out.ddq[0], out.tau[0], out.power[0],
@@ -1118,7 +1198,7 @@ class CompiledSpatial:
                 ("omega", omega), ("velocity", velocity), ("alpha", alpha),
                 ("acceleration", acceleration))]  # fmt: skip
             motion = None
-        out = self.raw(*arrays)
+        out = self.raw(arrays[0], arrays[1], arrays[2], arrays[3], arrays[4], arrays[5])
         if out.status.any():
             if motion is None:  # its validation names a bad input and its sample
                 motion = PlatformMotion.of(np.arange(len(arrays[0]), dtype=np.float64), *arrays)

@@ -49,8 +49,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.spatial.dynamics import BodyWrenches, body_wrenches
-from prp3.spatial.geometry import coordinate_kinds
-from prp3.spatial.geometry import CHUNK
+from prp3.spatial.geometry import CHUNK, coordinate_kinds
 from prp3.spatial.kinematics import ChunkKinematics, chunk_kinematics, transpose_solve
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
@@ -220,7 +219,9 @@ def recursive_chunk(
         moment_n = moment_n + lam * kin.null[..., :3]
         force_n = force_n + lam * kin.null[..., 3:]
     force = f0 + force_n[:, :, None, :]
-    moment = m0 + moment_n[:, :, None, :] + cross(end[:, :, None, :] - origin, force_n[:, :, None, :])
+    moment = (
+        m0 + moment_n[:, :, None, :] + cross(end[:, :, None, :] - origin, force_n[:, :, None, :])
+    )
     return JointWrenches(tau, force, moment)
 
 
