@@ -113,6 +113,10 @@ EXEMPT: dict[str, str] = {
     "ForwardGeometry": "result type",
     "PlatformDynamics": "result type",
     "CompiledRobot": "built by compile_robot from a validated robot",
+    "CompiledSpatial": "built by compile_spatial from a validated robot",
+    "SpatialSample": "result type",
+    "SpatialSamples": "result type",
+    "JointWrenches": "result type",
     "OrientationScan": "result type",
     "WorkspaceSlice": "result type",
     "WorkspaceStatics": "result type",
@@ -1117,6 +1121,10 @@ CASES: dict[str, Case] = {
         motion=_at_home,
         method="newton-euler",
     ),
+    "recursive_newton_euler": _case(
+        prp3.recursive_newton_euler, {"robot": OBJ, "motion": OBJ}, robot=_hexapod, motion=_at_home
+    ),
+    "compile_spatial": _case(prp3.compile_spatial, {"robot": OBJ}, robot=_hexapod),
     "spatial_motion": _case(
         prp3.spatial_motion,
         {"robot": OBJ, "name": C, "samples": INT, "duration": R},

@@ -440,6 +440,17 @@ from .spatial.outputs import (
     SpatialSolution as SpatialSolution,
     SPATIAL_METHODS as SPATIAL_METHODS,
 )
+from .spatial.newton_euler import (
+    recursive_newton_euler as recursive_newton_euler,
+    JointWrenches as JointWrenches,
+)
+from .spatial.compiled import (
+    compile_spatial as compile_spatial,
+    CompiledSpatial as CompiledSpatial,
+    SpatialSample as SpatialSample,
+    SpatialSamples as SpatialSamples,
+    SPATIAL_STATUS as SPATIAL_STATUS,
+)
 from .apps.spatial_identification import (
     BODY_PARAMETERS as BODY_PARAMETERS,
     SpatialExcitation as SpatialExcitation,

@@ -21,11 +21,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.spatial.dynamics import virtual_work_efforts
-from prp3.spatial.kinematics import SpatialKinematics, spatial_kinematics
+from prp3.spatial.dynamics import body_wrenches, virtual_work_efforts
+from prp3.spatial.geometry import CHUNK
+from prp3.spatial.kinematics import SpatialKinematics, chunk_kinematics, spatial_kinematics
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
-from prp3.spatial.newton_euler import newton_euler_dynamics
+from prp3.spatial.newton_euler import recursive_chunk
 from prp3.validation import check_choice, check_instance
 
 __all__ = [
@@ -84,15 +85,36 @@ def spatial_inverse_dynamics(
     check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
     check_instance("motion", motion, PlatformMotion, "a PlatformMotion")
     check_choice("method", method, SPATIAL_METHODS)
-    kin = spatial_kinematics(robot, motion)
-    force = moment = None
     if method == "newton-euler":
-        wrenches = newton_euler_dynamics(robot, motion)
-        tau, force, moment = wrenches.tau, wrenches.force, wrenches.moment
+        kin, tau, force, moment = _newton_euler(robot, motion)
     else:
-        tau = virtual_work_efforts(robot, motion)
+        kin = spatial_kinematics(robot, motion)
+        tau, force, moment = virtual_work_efforts(robot, motion), None, None
     power = tau * kin.dq[..., robot.legs[0].actuated_coordinate]
     return SpatialSolution(robot, motion.t, kin, tau, power, force, moment, method)
+
+
+def _newton_euler(
+    robot: SpatialRobot, motion: PlatformMotion
+) -> tuple[SpatialKinematics, FloatArray, FloatArray, FloatArray]:
+    """The kinematics and route (b) (:func:`~prp3.spatial.newton_euler.recursive_chunk`) in one
+    pass over chunks of ``CHUNK`` samples."""
+    n, legs, dof = len(motion), len(robot.legs), robot.legs[0].dof
+    joints = len(robot.legs[0].joints)
+    q, dq, ddq = (np.empty((n, legs, dof)) for _ in range(3))
+    jp, leg, par = np.empty((n, legs, 6)), np.empty((n, legs)), np.empty(n)
+    tau = np.empty((n, legs))
+    force, moment = np.empty((n, legs, joints, 3)), np.empty((n, legs, joints, 3))
+    for start in range(0, n, CHUNK):
+        stop = min(start + CHUNK, n)
+        chunk = motion.chunk(start, stop)
+        kin = chunk_kinematics(robot, chunk, start)
+        part = recursive_chunk(robot, kin, chunk, body_wrenches(robot, kin, chunk))
+        q[start:stop], dq[start:stop], ddq[start:stop] = kin.frames.q, kin.dq, kin.ddq
+        jp[start:stop], leg[start:stop] = kin.parallel, kin.leg_measure
+        par[start:stop] = kin.parallel_measure
+        tau[start:stop], force[start:stop], moment[start:stop] = part.tau, part.force, part.moment
+    return SpatialKinematics(q, dq, ddq, jp, leg, par), tau, force, moment
 
 
 def spatial_results_table(solution: SpatialSolution) -> dict[str, FloatArray]:
