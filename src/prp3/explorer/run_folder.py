@@ -33,6 +33,7 @@ __all__ = [
     "Run",
     "family_run_motion",
     "read_family_run",
+    "read_parquet_columns",
     "read_run",
     "run_motion",
 ]
@@ -100,7 +101,7 @@ def _read_folder(
         table = read_table_csv(csv_path, required, optional, what="results")
         path = csv_path
     elif parquet_path.is_file():
-        table = _read_parquet(parquet_path, required, optional)
+        table = read_parquet_columns(parquet_path, required, optional)
         path = parquet_path
     else:
         raise InputFileError(
@@ -120,9 +121,17 @@ def _read_folder(
     return Run(path=path, table=table)
 
 
-def _read_parquet(
-    path: Path, required: tuple[str, ...], optional: tuple[str, ...]
+def read_parquet_columns(
+    path: Path, required: tuple[str, ...], optional: tuple[str, ...] = ()
 ) -> dict[str, FloatArray]:
+    """The float64 columns of the Parquet run file ``path``: every ``required`` one, any ``optional``.
+
+    Raises
+    ------
+    InputFileError
+        Not Parquet, an unknown or missing column, a value that is not a finite number
+        (naming the column and sample), or no rows.
+    """
     try:
         import pyarrow.parquet as pq
     except ImportError:  # pragma: no cover - pyarrow is in the test extra

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.errors import InputFileError, Prp3Error
-from prp3.explorer.run_folder import Run
+from prp3.explorer.run_folder import Run, read_parquet_columns
 from prp3.io.tables import read_table
 from prp3.spatial.geometry import chain_frames
 from prp3.spatial.model import SpatialRobot
@@ -134,7 +134,7 @@ def read_spatial_run(directory: str | Path, robot: SpatialRobot) -> Run:
         table = read_table(path, columns, (), "results")
         data, lines = table.columns, table.lines
     else:
-        data, lines = _read_parquet(path, columns), None
+        data, lines = read_parquet_columns(path, columns), None
     t = data["t"]
     bad = first_not_increasing(t)
     if bad is not None:
@@ -147,41 +147,6 @@ def read_spatial_run(directory: str | Path, robot: SpatialRobot) -> Run:
         )
     _check_closure(robot, data, path, lines)
     return Run(path=path, table=data)
-
-
-def _read_parquet(path: Path, columns: tuple[str, ...]) -> dict[str, FloatArray]:
-    import pyarrow.parquet as pq
-
-    try:
-        data = pq.read_table(str(path))
-    except Exception as error:  # pyarrow raises its own types for a broken file
-        raise InputFileError(f"not a Parquet file ({error})"[:300], file=path) from None
-    names = list(data.column_names)
-    unknown = [name for name in names if name not in columns]
-    missing = [name for name in columns if name not in names]
-    if unknown or missing:
-        what = f"unknown column {unknown[0]!r}" if unknown else f"missing column {missing[0]}"
-        raise InputFileError(f"{what} (the columns of a run of this robot)", file=path)
-    table: dict[str, FloatArray] = {}
-    for name in columns:
-        try:
-            column = np.asarray(data.column(name).to_numpy(), dtype=np.float64)
-        except (TypeError, ValueError) as error:
-            raise InputFileError(
-                f"column {name!r}: not numbers ({error})"[:300], file=path, key=name
-            ) from None
-        wrong = np.flatnonzero(~np.isfinite(column))
-        if wrong.size:
-            raise InputFileError(
-                f"column {name!r}: not a finite number: {float(column[wrong[0]])!r}",
-                file=path,
-                key=name,
-                sample=int(wrong[0]),
-            )
-        table[name] = column
-    if table["t"].size == 0:
-        raise InputFileError("no data rows", file=path)
-    return table
 
 
 def _check_closure(
