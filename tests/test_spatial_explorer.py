@@ -374,3 +374,54 @@ def test_explore_refuses_a_busy_port_in_one_line(
         f"prp3 explore: error: --port {port}: port {port} on 127.0.0.1 is busy (another "
         "program listens there): choose another with --port"
     )
+
+
+def test_the_subtitle_names_the_first_of_tied_largest_forces() -> None:
+    """The table is built so that two joints carry the largest force, equal to round-off
+    (one slightly above the other, by 1e-13 relative), and another later joint the same
+    force exactly: the first in time, leg, joint order is named, not the one round-off
+    favours."""
+    robot, table = _run("6-UPS")
+    table = {name: np.array(column, dtype=float) for name, column in table.items()}
+    leg = robot.legs[0]
+    top = 1e3
+    names = [f"F{c}_{i + 1}_{label}" for i in range(6) for label in leg.labels for c in "xyz"]
+    for name in names:
+        table[name][:] = 0.0
+    table[f"Fz_3_{leg.labels[0]}"][2] = top  # the first (sample 2, leg 3)
+    table[f"Fz_6_{leg.labels[0]}"][2] = top * (1 + 1e-13)  # round-off above it
+    subtitle = spatial_page_figure(robot, table, "tie")["layout"]["title"]["text"]
+    assert f"at {leg.labels[0]} of leg 3, t = {float(table['t'][2]):.3g} s" in subtitle
+
+
+def test_the_explorer_functions_are_public_at_prp3_explorer() -> None:
+    import prp3.explorer
+
+    assert prp3.explorer.spatial_page_figure is spatial_page_figure
+    assert prp3.explorer.read_spatial_run is read_spatial_run
+    for name in ("spatial_run_html", "write_spatial_run_html"):
+        assert callable(getattr(prp3.explorer, name)) and name in prp3.explorer.__all__
+
+
+@pytest.mark.parametrize(
+    ("table", "named"),
+    [
+        (None, "table must be a mapping"),
+        ("t", "table must be a mapping"),
+        ({"t": [0.0]}, "no column q_1_"),
+    ],
+)
+def test_the_page_refuses_what_is_not_a_results_table(table: Any, named: str) -> None:
+    robot, _ = _run("6-UPS")
+    with pytest.raises(Prp3Error, match=named):
+        spatial_page_figure(robot, table)
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, "text"])
+def test_the_page_refuses_a_column_that_is_not_a_finite_number(bad: Any) -> None:
+    robot, table = _run("6-UPS")
+    name = f"Fx_2_{robot.legs[0].labels[1]}"
+    column = np.array(table[name], dtype=object)
+    column[3] = bad
+    with pytest.raises(Prp3Error, match="table: col"):
+        spatial_page_figure(robot, {**table, name: column})

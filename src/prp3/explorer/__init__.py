@@ -17,6 +17,10 @@
   same for a family robot (docs/family.md): its own legs (R joints as circles,
   P joints as slides), the joint forces of :mod:`prp3.family` at the joint
   origins, and its singularity measures ``μ_leg``, ``μ_par``.
+* :mod:`prp3.explorer.spatial_page` and :mod:`prp3.explorer.spatial_run`: the 3-D page of a
+  spatial robot's run (plotly, docs/spatial.md §22): :func:`spatial_page_figure` (the figure as a
+  dict), :func:`spatial_run_html` / :func:`write_spatial_run_html` (the offline page) and
+  :func:`read_spatial_run` (a ``prp3 simulate`` folder of a spatial robot, checked).
 
 >>> import subprocess, sys
 >>> code = "import sys, prp3.explorer; print('bokeh' in sys.modules)"
@@ -38,6 +42,8 @@ from prp3.explorer.scene import (
     scene_view,
     workspace_overlay,
 )
+from prp3.explorer.spatial_page import spatial_page_figure, spatial_run_html, write_spatial_run_html
+from prp3.explorer.spatial_run import read_spatial_run
 
 __all__ = [
     "PRP3_SCENE",
@@ -50,7 +56,11 @@ __all__ = [
     "family_view",
     "pose_table",
     "read_run",
+    "read_spatial_run",
     "run_motion",
     "scene_view",
+    "spatial_page_figure",
+    "spatial_run_html",
     "workspace_overlay",
+    "write_spatial_run_html",
 ]

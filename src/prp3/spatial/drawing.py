@@ -134,6 +134,11 @@ def spatial_samples(
     """The times ``t (N,)``, joint values ``q (N, legs, dof)`` and joint forces
     ``(N, legs, joints, 3)`` of the columns of a spatial results table (docs/spatial.md §9)."""
     check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
+    if not isinstance(table, Mapping):
+        raise ParameterError(
+            f"table must be a mapping of column names to arrays, got {type(table).__name__}",
+            key="table",
+        )
     leg = robot.legs[0]
     names = ["t"]
     names += [f"q_{i + 1}_{c}" for i in range(len(robot.legs)) for c in leg.coordinates]
@@ -150,9 +155,22 @@ def spatial_samples(
             "Newton-Euler route, docs/spatial.md §9)",
             key="table",
         )
-    values = np.stack([np.asarray(table[name], dtype=np.float64) for name in names], axis=1)
+    try:
+        columns = [np.asarray(table[name], dtype=np.float64) for name in names]
+        values = np.stack(columns, axis=1)
+    except (TypeError, ValueError) as error:
+        raise ParameterError(
+            f"table: columns of numbers of one length each, got {error}", key="table"
+        ) from None
     if values.ndim != 2 or values.shape[0] < 1:
-        raise ParameterError(f"table: columns of one value per sample, got {values.shape}")
+        raise ParameterError(
+            f"table: columns of one value per sample, got {values.shape}", key="table"
+        )
+    bad = np.flatnonzero(~np.isfinite(values).all(axis=0))
+    if bad.size:
+        raise ParameterError(
+            f"table: column {names[int(bad[0])]} is not finite (NaN or infinity)", key="table"
+        )
     n, legs, dof, joints = values.shape[0], len(robot.legs), leg.dof, len(leg.joints)
     q = values[:, 1 : 1 + legs * dof].reshape(n, legs, dof)
     force = values[:, 1 + legs * dof :].reshape(n, legs, joints, 3)
