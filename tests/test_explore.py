@@ -19,6 +19,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -412,3 +413,27 @@ def test_ctrl_c_stops_the_server_with_130_and_writes_nothing(tmp_path: Path) -> 
     assert server.returncode == 130
     assert (out, err) == ("", "prp3 explore: interrupted\n")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_design_edit_is_the_robot_file_with_that_value() -> None:
+    """Every design field but friction's (tested above) gives the robot its ROBOT.toml gives
+    with that value, read by the TOML reader: the independent route to the edit."""
+    import tomllib
+
+    robot = Robot()
+    before = design_values(robot)
+    component = {"x": 0, "y": 1}
+    for key in (k for k in DESIGN_PARAMETERS if not k.startswith("friction.")):
+        defaults = {"payload": {"mass": 0.0, "com": [0.0, 0.0], "inertia": 0.0},
+                    "load": {"force": [0.0, 0.0], "moment": 0.0}}  # fmt: skip
+        value = before[key] + 0.01
+        data = tomllib.loads(robot.to_toml())
+        *path, last = key.split(".")
+        where: Any = data
+        for part in path:
+            where = where.setdefault(part, defaults.get(part, {}))
+        if isinstance(where, list):
+            where[component[last]] = value
+        else:
+            where[last] = value
+        assert design_robot(robot, {key: value}) == Robot.from_mapping(data), key

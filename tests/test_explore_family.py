@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import math
 import re
+import tomllib
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -24,6 +26,7 @@ from prp3.errors import ParameterError, Prp3Error, SingularPoseError, Unreachabl
 from prp3.explorer.family_scene import (
     FAMILY_DESIGN_PARAMETERS,
     family_arrow_scale,
+    family_design_parameters,
     family_design_robot,
     family_design_values,
     family_pose_table,
@@ -192,14 +195,69 @@ def test_the_arrow_scale_draws_the_largest_force_at_rest_a_third_of_the_scale() 
     assert max(lengths) == pytest.approx(0.35 * robot.leg.scale, rel=1e-12)
 
 
+#: A change every design value takes without a singular home (1 cm, 0.01 rad, 0.01 kg ...).
+STEP = 0.01
+COMPONENT = {"x": 0, "y": 1, "a": 0, "b": 1, "gamma": 2}
+
+
 @pytest.mark.parametrize("key", list(FAMILY_DESIGN_PARAMETERS))
 def test_each_design_parameter_changes_only_itself(key: str) -> None:
     robot = FamilyRobot.default("3-RPR")
     before = family_design_values(robot)
-    changed = family_design_robot(robot, {key: before[key] + 0.75})
+    changed = family_design_robot(robot, {key: before[key] + STEP})
     after = family_design_values(changed)
-    assert after == {**before, key: before[key] + 0.75}
-    assert changed.leg == robot.leg and changed.architecture == robot.architecture
+    assert after == {**before, key: before[key] + STEP}
+    assert changed.architecture == robot.architecture and changed.actuated == robot.actuated
+
+
+def _file_with(robot: FamilyRobot, key: str, value: float) -> FamilyRobot:
+    """The robot file of ``robot`` (its TOML text) with the file's entry of ``key`` set to
+    ``value``, read back by the family's TOML reader: the independent route to the edit."""
+    data = tomllib.loads(robot.to_toml())
+    defaults = {"payload": {"mass": 0.0, "com": [0.0, 0.0], "inertia": 0.0},
+                "load": {"force": [0.0, 0.0], "moment": 0.0}}  # fmt: skip
+    *path, last = key.split(".")
+    where: Any = data
+    for part in path:
+        if part not in where:
+            where[part] = defaults[part]
+        where = where[part]
+    if isinstance(where, list):
+        where[COMPONENT[last]] = value
+    else:
+        where[last] = value
+    return FamilyRobot.from_mapping(data)
+
+
+@pytest.mark.parametrize("architecture", ARCHITECTURES)
+def test_a_design_edit_is_the_robot_file_with_that_value(architecture: str) -> None:
+    """Every design field of every architecture gives the robot its file gives with that
+    value (read by the TOML reader), and the page's joint forces are that robot's."""
+    robot = FamilyRobot.default(architecture)
+    before = family_design_values(robot)
+    state = State((0.004, -0.003, 0.02), (0.05, -0.02, 0.1), (0.3, 0.2, -0.5))
+    for key in FAMILY_DESIGN_PARAMETERS:
+        value = before[key] + STEP
+        edited = family_design_robot(robot, {key: value})
+        from_file = _file_with(robot, key, value)
+        assert edited == from_file, key
+        page, direct = family_pose_table(edited, state), family_pose_table(from_file, state)
+        assert all(np.array_equal(page[c], direct[c]) for c in direct), key
+
+
+def test_the_home_coordinates_carry_their_joints_units() -> None:
+    units = family_design_parameters(FamilyRobot.default("3-RPR"))
+    assert [units[f"leg.home.{p}"][1] for p in ("a", "b", "gamma")] == ["rad", "m", "rad"]
+    units = family_design_parameters(FamilyRobot.default("3-PPR", actuated=1))
+    assert [units[f"leg.home.{p}"][1] for p in ("a", "b", "gamma")] == ["m", "m", "rad"]
+
+
+def test_a_bad_geometry_or_body_value_is_refused_naming_it() -> None:
+    robot = FamilyRobot.default("3-RPR")
+    with pytest.raises(ParameterError, match=r"leg\.scale"):
+        family_design_robot(robot, {"leg.scale": 0.0})
+    with pytest.raises(ParameterError, match=r"link1\.com"):
+        family_design_robot(robot, {"link1.com.x": math.nan})
 
 
 def test_a_bad_design_value_is_refused_naming_its_key() -> None:

@@ -60,6 +60,9 @@ __all__ = ["PLOTTED", "explorer_document", "require_bokeh"]
 #: The per-leg quantities of the linked plots against time.
 PLOTTED: tuple[str, ...] = ("f10", "f21y", "f21z", "n32")
 
+#: Design fields per row of the page.
+DESIGN_ROW = 7
+
 
 def require_bokeh(what: str = "prp3 explore") -> None:
     """Refuse, in one line, when Bokeh is not installed."""
@@ -370,12 +373,11 @@ def explorer_document(
         + (f"[{stroke[0]:g}, {stroke[1]:g}] m (bands on the guides)" if stroke else "none")
         + "; singular at φ = π/3 mod π.  The check boxes show or hide the arrows."
     )
-    fields = list(live.design_fields.values())
+    fields = [*live.design_fields.values(), live.scale_field]
     design = [
-        "<b>design</b> (the robot's parameters; forces update live)",
-        row(*fields[:5], live.scale_field),
-        row(*fields[5:9]),
-        row(*fields[9:]),
+        "<b>design</b> (the robot's parameters; forces update live; a value the model refuses "
+        "is named in the message)",
+        *(row(*fields[k : k + DESIGN_ROW]) for k in range(0, len(fields), DESIGN_ROW)),
         overlay_box,
     ]
     right = [values_table, singularity]

@@ -29,9 +29,9 @@ from numpy.typing import NDArray
 
 from prp3.explorer.family_scene import (
     FAMILY_ARROWS,
-    FAMILY_DESIGN_PARAMETERS,
     FamilyScene,
     family_arrow_scale,
+    family_design_parameters,
     family_design_robot,
     family_design_values,
     family_extent,
@@ -59,6 +59,9 @@ FloatArray = NDArray[np.float64]
 FAMILY_PLOTTED: tuple[str, ...] = ("tau", "fx1", "fy1", "p")
 
 SCENE = FamilyScene()
+
+#: Design fields per row of the page.
+DESIGN_ROW = 7
 
 
 #: A family robot's glyphs, in drawing order (the arrows follow them).
@@ -180,7 +183,7 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
         doc,
         limits,
         motion,
-        FAMILY_DESIGN_PARAMETERS,
+        family_design_parameters(robot),
         family_design_values(robot),
         family_arrow_scale(robot),
     )
@@ -207,9 +210,11 @@ def family_document(doc: Any, robot: FamilyRobot, run: Run | None = None) -> Non
         f"120°, 240°.  Home measures: μ_leg = {home_leg[0]:.4f}, μ_par = {home_par:.4f}; a "
         "pose is refused when sign·μ < 1e-4 (docs/family.md §6)."
     )
+    fields = [*live.design_fields.values(), live.scale_field]
     design = [
-        "<b>design</b> (masses; forces update live)",
-        row(*live.design_fields.values(), live.scale_field),
+        "<b>design</b> (every value of the robot file; forces update live; a value the model "
+        "refuses is named in the message)",
+        *(row(*fields[k : k + DESIGN_ROW]) for k in range(0, len(fields), DESIGN_ROW)),
     ]
     right = [values_table, measures_table]
     scrubber = None

@@ -27,15 +27,22 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
 from prp3.drawing import GUIDE_OVERHANG, LEG_COLOURS, SLIDE_HALF_LENGTH
 from prp3.errors import Prp3Error
-from prp3.explorer.scene import ArrowStyle, Columns, State, View, arrow_columns
+from prp3.explorer.scene import (
+    ArrowStyle,
+    Columns,
+    State,
+    View,
+    arrow_columns,
+    design_value,
+    with_design_values,
+)
 from prp3.family import (
     FamilyRobot,
     family_inverse_dynamics,
@@ -54,8 +61,10 @@ from prp3.validation import LEGS
 __all__ = [
     "FAMILY_ARROWS",
     "FAMILY_DESIGN_PARAMETERS",
+    "HOME",
     "FamilyScene",
     "family_arrow_scale",
+    "family_design_parameters",
     "family_design_robot",
     "family_design_values",
     "family_extent",
@@ -75,12 +84,58 @@ FAMILY_ARROWS: dict[str, ArrowStyle] = {
 }
 
 #: Editable design parameters of a family robot: dotted key → (label, unit).
+#: The design keys' components of the home coordinates ``q1, q2, q3``.
+HOME: tuple[str, str, str] = ("a", "b", "gamma")
+
+#: Every value of the family-form robot file (docs/family.md §3) but its architecture and
+#: actuation; keys are the file's dotted keys, with ``.x``/``.y`` or ``.a``/``.b``/``.gamma``
+#: for a pair's or a placement's components.
 FAMILY_DESIGN_PARAMETERS: dict[str, tuple[str, str]] = {
-    "link1.mass": ("link 1 mass", "kg"),
-    "link2.mass": ("link 2 mass", "kg"),
+    **{
+        key: value
+        for link in ("link1", "link2")
+        for key, value in {
+            f"{link}.mass": (f"link {link[-1]} mass", "kg"),
+            f"{link}.inertia": (f"link {link[-1]} I", "kg·m²"),
+            f"{link}.com.x": (f"link {link[-1]} com x", "m"),
+            f"{link}.com.y": (f"link {link[-1]} com y", "m"),
+        }.items()
+    },
     "platform.mass": ("platform mass", "kg"),
+    "platform.inertia": ("platform I", "kg·m²"),
     "payload.mass": ("payload mass", "kg"),
+    "payload.inertia": ("payload I", "kg·m²"),
+    "payload.com.x": ("payload com x", "m"),
+    "payload.com.y": ("payload com y", "m"),
+    "load.force.x": ("load F_x", "N"),
+    "load.force.y": ("load F_y", "N"),
+    "load.moment": ("load M", "N·m"),
+    "gravity.x": ("gravity x", "m/s²"),
+    "gravity.y": ("gravity y", "m/s²"),
+    **{
+        f"leg.{frame}.{part}": (f"{frame} {symbol}", unit)
+        for frame in ("joint1", "joint2", "joint3", "attachment")
+        for part, symbol, unit in (("a", "a", "m"), ("b", "b", "m"), ("gamma", "γ", "rad"))
+    },
+    **{f"leg.home.{part}": (f"home q{k}", "m or rad") for k, part in enumerate(HOME, 1)},
+    "leg.scale": ("measure scale ℓ", "m"),
 }
+
+
+def family_design_parameters(robot: FamilyRobot) -> dict[str, tuple[str, str]]:
+    """:data:`FAMILY_DESIGN_PARAMETERS` with the unit of each home coordinate of ``robot``'s
+    joints (m for a P joint, rad for an R joint).
+
+    >>> family_design_parameters(FamilyRobot.default("3-RPR"))["leg.home.b"]
+    ('home q2', 'm')
+    """
+    units = {
+        part: "m" if kind == "P" else "rad" for part, kind in zip(HOME, robot.types, strict=True)
+    }
+    return {
+        key: (label, units[key.rsplit(".", 1)[1]]) if key.startswith("leg.home.") else (label, unit)
+        for key, (label, unit) in FAMILY_DESIGN_PARAMETERS.items()
+    }
 
 
 def family_pose_table(robot: FamilyRobot, state: State) -> dict[str, FloatArray]:
@@ -305,22 +360,17 @@ def family_arrow_scale(robot: FamilyRobot, fraction: float = 0.35) -> float:
     return fraction * robot.leg.scale / (peak if peak > 0.0 else 1.0)
 
 
-def _get(robot: FamilyRobot, key: str) -> float:
-    part, name = key.split(".")
-    return float(getattr(getattr(robot, part), name))
-
-
 def family_design_values(robot: FamilyRobot) -> dict[str, float]:
     """The current value of each of :data:`FAMILY_DESIGN_PARAMETERS`.
 
     >>> family_design_values(FamilyRobot.default("3-RRR"))["platform.mass"]
     3.0
     """
-    return {key: _get(robot, key) for key in FAMILY_DESIGN_PARAMETERS}
+    return {key: design_value(robot, key) for key in FAMILY_DESIGN_PARAMETERS}
 
 
 def family_design_robot(robot: FamilyRobot, values: Mapping[str, float]) -> FamilyRobot:
-    """``robot`` with the masses ``values`` (keys of :data:`FAMILY_DESIGN_PARAMETERS`).
+    """``robot`` with the design values ``values`` (keys of :data:`FAMILY_DESIGN_PARAMETERS`).
 
     Validated by the model's own classes: a bad value raises the library's
     :class:`~prp3.errors.ParameterError` naming the key.
@@ -332,11 +382,8 @@ def family_design_robot(robot: FamilyRobot, values: Mapping[str, float]) -> Fami
     unknown = sorted(set(values) - set(FAMILY_DESIGN_PARAMETERS))
     if unknown:
         raise Prp3Error(f"unknown design parameter {unknown[0]!r}", key=unknown[0])
-    parts: dict[str, Any] = {}
-    for key, value in values.items():
-        part, name = key.split(".")
-        parts[part] = replace(parts.get(part, getattr(robot, part)), **{name: float(value)})
-    return replace(robot, **parts)
+    changed: FamilyRobot = with_design_values(robot, values)
+    return changed
 
 
 @dataclass(frozen=True)

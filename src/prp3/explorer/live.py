@@ -17,7 +17,14 @@ import numpy as np
 
 from prp3.errors import Prp3Error
 from prp3.explorer.page import REDRAW_TABLES, escape, slider_with_field
-from prp3.explorer.scene import MOTION_CONTROLS, MotionControl, State, View, empty_view
+from prp3.explorer.scene import (
+    MOTION_CONTROLS,
+    MotionControl,
+    State,
+    View,
+    empty_view,
+    signed_design_key,
+)
 from prp3.explorer.scrubber import server_scrubber, time_plots
 from prp3.model.motion import Motion
 
@@ -229,11 +236,11 @@ class LivePage:
             key: Spinner(
                 title=f"{label} ({unit})",
                 value=values[key],
-                low=0.0,
+                low=None if signed_design_key(key) else 0.0,
                 step=0.01,
                 width=130,
                 name=f"design:{key}",
-                format="0.[0000]",
+                format="0.[000000]",
             )
             for key, (label, unit) in design.items()
         }

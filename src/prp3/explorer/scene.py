@@ -66,6 +66,7 @@ from prp3.validation import LEGS
 __all__ = [
     "ARROWS",
     "ARROW_COLUMNS",
+    "DESIGN_COMPONENTS",
     "DESIGN_PARAMETERS",
     "MOTION_CONTROLS",
     "PRP3_SCENE",
@@ -78,12 +79,15 @@ __all__ = [
     "arrow_columns",
     "arrow_scale",
     "design_robot",
+    "design_value",
     "design_values",
     "empty_view",
     "pose_table",
     "scene_view",
+    "signed_design_key",
     "singularity_curve",
     "stroke_bands",
+    "with_design_values",
     "workspace_overlay",
 ]
 
@@ -161,6 +165,20 @@ DESIGN_PARAMETERS: dict[str, tuple[str, str]] = {
     "link.mass": ("link mass", "kg"),
     "platform.mass": ("platform mass", "kg"),
     "payload.mass": ("payload mass", "kg"),
+    "piston.inertia": ("piston I", "kg·m²"),
+    "piston.com.x": ("piston com x", "m"),
+    "piston.com.y": ("piston com y", "m"),
+    "link.inertia": ("link I", "kg·m²"),
+    "link.com.x": ("link com x", "m"),
+    "link.com.y": ("link com y", "m"),
+    "payload.inertia": ("payload I", "kg·m²"),
+    "payload.com.x": ("payload com x", "m"),
+    "payload.com.y": ("payload com y", "m"),
+    "load.force.x": ("load F_x", "N"),
+    "load.force.y": ("load F_y", "N"),
+    "load.moment": ("load M", "N·m"),
+    "gravity.x": ("gravity x", "m/s²"),
+    "gravity.y": ("gravity y", "m/s²"),
     "friction.actuator.viscous": ("guide b", "N·s/m"),
     "friction.actuator.coulomb": ("guide c", "N"),
     "friction.actuator.mu": ("guide μ", "-"),
@@ -511,13 +529,55 @@ def workspace_overlay(robot: Robot, phi: float, points: int = 41) -> dict[str, C
 
 
 # ---------------------------------------------------------------- design
-def _get(robot: Robot, key: str) -> float:
-    value: Any = robot
+def signed_design_key(key: str) -> bool:
+    """Whether a design key may be negative: a coordinate, a load or gravity."""
+    return key.rsplit(".", 1)[-1] in DESIGN_COMPONENTS or key.startswith(("load.", "gravity."))
+
+
+#: The components of a pair or a placement in a design key: ``gravity.y``, ``leg.joint2.gamma``.
+DESIGN_COMPONENTS: dict[str, int] = {"x": 0, "y": 1, "a": 0, "b": 1, "gamma": 2}
+
+
+def design_value(model: Any, key: str) -> float:
+    """The value of a dotted design key of an immutable robot (``link.com.x``, ``load.moment``).
+
+    A part that is ``None`` (a robot without ``[friction]``) gives 0; the last
+    part of a key into a tuple names its component (:data:`DESIGN_COMPONENTS`).
+
+    >>> design_value(Robot(), "gravity.y"), design_value(Robot(), "friction.actuator.mu")
+    (-9.81, 0.0)
+    """
+    value: Any = model
     for part in key.split("."):
         if value is None:  # no [friction]: every coefficient is 0
             return 0.0
-        value = getattr(value, part)
+        value = value[DESIGN_COMPONENTS[part]] if isinstance(value, tuple) else getattr(value, part)
     return float(value)
+
+
+def with_design_values(model: Any, values: Mapping[str, float]) -> Any:
+    """``model`` (a frozen dataclass) with the dotted design keys ``values`` replaced.
+
+    Each part is rebuilt by :func:`dataclasses.replace`, so the model's own
+    validation refuses a bad value, naming it.
+
+    >>> with_design_values(Robot(), {"gravity.x": 1.0, "link.com.y": 0.01}).link.com
+    (0.0, 0.01)
+    """
+    if isinstance(model, tuple):
+        items = list(model)
+        for key, value in values.items():
+            items[DESIGN_COMPONENTS[key]] = float(value)
+        return tuple(items)
+    groups: dict[str, dict[str, float]] = {}
+    for key, value in values.items():
+        head, _, rest = key.partition(".")
+        groups.setdefault(head, {})[rest] = value
+    changes = {
+        head: float(sub[""]) if "" in sub else with_design_values(getattr(model, head), sub)
+        for head, sub in groups.items()
+    }
+    return replace(model, **changes)
 
 
 def design_values(robot: Robot) -> dict[str, float]:
@@ -526,7 +586,7 @@ def design_values(robot: Robot) -> dict[str, float]:
     >>> design_values(Robot())["platform.mass"], design_values(Robot())["friction.sleeve.mu"]
     (3.0, 0.0)
     """
-    return {key: _get(robot, key) for key in DESIGN_PARAMETERS}
+    return {key: design_value(robot, key) for key in DESIGN_PARAMETERS}
 
 
 def design_robot(robot: Robot, values: Mapping[str, float]) -> Robot:
@@ -547,11 +607,8 @@ def design_robot(robot: Robot, values: Mapping[str, float]) -> Robot:
     if unknown:
         raise Prp3Error(f"unknown design parameter {unknown[0]!r}", key=unknown[0])
     changed: dict[str, float] = {k: float(v) for k, v in values.items()}
-    bodies: dict[str, Any] = {}
-    for part in ("piston", "link", "platform", "payload"):
-        key = f"{part}.mass"
-        if key in changed:
-            bodies[part] = replace(getattr(robot, part), mass=changed[key])
+    plain = {k: v for k, v in changed.items() if not k.startswith("friction.")}
+    robot = with_design_values(robot, plain)
     friction: Friction | None = robot.friction
     wanted = {k: v for k, v in changed.items() if k.startswith("friction.")}
     if wanted and (friction is not None or any(v != 0.0 for v in wanted.values())):
@@ -565,7 +622,7 @@ def design_robot(robot: Robot, values: Mapping[str, float]) -> Robot:
             }
             joints[kind] = replace(getattr(base, kind), **fields)
         friction = Friction(**joints)
-    return replace(robot, l0=changed.get("l0", robot.l0), friction=friction, **bodies)
+    return replace(robot, friction=friction)
 
 
 class _Prp3Scene:
