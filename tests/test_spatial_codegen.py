@@ -337,3 +337,40 @@ def test_cli_as_a_subprocess(tmp_path: Path) -> None:
     assert math.isclose(
         float(outputs[4][:, 2, 2].sum()), robot.platform.mass * -robot.gravity[2], rel_tol=1e-12
     )
+
+
+def test_parallel_singular_hexapod(tmp_path: Path) -> None:
+    """The hexapod turned about the vertical to where ``μ_par`` changes sign (bisection on the
+    kernel's measure): ``PRP3_SINGULAR`` there, as the kernel and the numpy route; regular
+    0.05 rad before it."""
+    robot = hexapod(stroke=(0.01, 1.0), u_limit=1.5, s_limit=3.0)
+    code = spatial_c_inverse_dynamics(robot)
+    (tmp_path / HEADER_NAME).write_text(code.header)
+    (tmp_path / SOURCE_NAME).write_text(code.source)
+    compiled = build_from(tmp_path, robot)
+    kernel = compile_spatial(robot)
+
+    def state(yaw: float) -> list[np.ndarray]:
+        at = _home(robot)
+        at[1] = rpy_matrix(np.array([0.0, 0.0, yaw])) @ at[1]
+        return at
+
+    def measure(yaw: float) -> float:
+        arrays = [np.ascontiguousarray(v[None]) for v in state(yaw)]
+        return float(kernel.raw(*arrays, threads=False).parallel_measure[0])
+
+    yaws = np.linspace(0.0, 2.0, 201)
+    signs = np.sign([measure(float(y)) for y in yaws])
+    k = int(np.argmax(signs != signs[0]))
+    assert k > 0
+    lo, hi = float(yaws[k - 1]), float(yaws[k])
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if np.sign(measure(mid)) == signs[0] else (lo, mid)
+    near = state(lo)
+    assert _kernel_status(robot, tuple(near)) == CODES["PRP3_SINGULAR"]
+    assert _refused(compiled, tuple(near)) == CODES["PRP3_SINGULAR"]
+    with pytest.raises(prp3.SingularPoseError, match="parallel singular"):
+        spatial_inverse_dynamics(robot, PlatformMotion.of([0.0], *near))
+    code_away, _ = compiled(*state(lo - 0.05))
+    assert code_away == CODES["PRP3_OK"]

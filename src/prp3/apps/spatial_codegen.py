@@ -417,31 +417,6 @@ static void rot_y(double m[3][3], double angle, double out[3][3])
     }
 }
 
-/* exp([phi]x), Rodrigues (the series below |phi|^2 < 1e-12) */
-static void rot_exp(const double phi[3], double out[3][3])
-{
-    const double t2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2];
-    const double x = phi[0], y = phi[1], z = phi[2];
-    double a, b;
-    if (t2 < 1e-12) {
-        a = 1.0 - t2 / 6.0;
-        b = 0.5 - t2 / 24.0;
-    } else {
-        const double t = sqrt(t2);
-        a = sin(t) / t;
-        b = (1.0 - cos(t)) / t2;
-    }
-    out[0][0] = 1.0 + b * (-y * y - z * z);
-    out[1][1] = 1.0 + b * (-x * x - z * z);
-    out[2][2] = 1.0 + b * (-x * x - y * y);
-    out[0][1] = -a * z + b * x * y;
-    out[1][0] = a * z + b * x * y;
-    out[0][2] = a * y + b * x * z;
-    out[2][0] = -a * y + b * x * z;
-    out[1][2] = -a * x + b * y * z;
-    out[2][1] = a * x + b * y * z;
-}
-
 #if PRP3_PATTERN != 2
 /* the principal rotation vector of r through its quaternion (Shepperd) */
 static void rot_log(double r[3][3], double out[3])
@@ -518,7 +493,7 @@ static void chain(int i, const double q[], Frames *f)
 {
     double o[3] = {0.0, 0.0, 0.0};
     double rot[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
-    double cross_frame[3][3], e[3][3];
+    double cross_frame[3][3];
     int col = 0, k, r, c, a;
     for (k = 0; k < NJ; ++k) {
         const int kind = KIND[k];
@@ -552,20 +527,16 @@ static void chain(int i, const double q[], Frames *f)
                 f->fo[i][k][r] = f->jo[i][k][r];
             }
             rot_y(cross_frame, Q(q, i, col + 1), f->fr[i][k]);
-        } else { /* S */
+        } else { /* S, the last joint: world axes; its distal frame is the platform's */
             for (a = 0; a < 3; ++a) {
                 for (r = 0; r < 3; ++r) {
                     f->axes[i][col + a][r] = a == r ? 1.0 : 0.0;
                 }
             }
-            rot_exp(&Q(q, i, col), e);
             for (r = 0; r < 3; ++r) {
                 f->fo[i][k][r] = f->jo[i][k][r];
-                for (c = 0; c < 3; ++c) {
-                    f->fr[i][k][r][c] = f->jr[i][k][r][0] * e[0][c] + f->jr[i][k][r][1] * e[1][c]
-                                        + f->jr[i][k][r][2] * e[2][c];
-                }
             }
+            return;
         }
         col += KDOF[kind];
         for (r = 0; r < 3; ++r) {
@@ -697,7 +668,9 @@ static int geometry(const double p[3], double rm[3][3], double q[], Frames *f)
             rot_log(m, &Q(q, i, slide + 1));
         }
 #endif
-        chain(i, q, f);
+#if PRP3_PATTERN == 2
+        chain(i, q, f); /* the second U's cross axis (the S joint's frames need no q_S) */
+#endif
         status = limits(i, q, status);
         if (fabs(off) > PAR[PLANE]) {
             return PRP3_NOT_A_POSE;
@@ -883,6 +856,8 @@ typedef struct {
     double nw[PRP3_LEGS][6];        /* the constraint wrench w_i (legs of 5 coordinates) */
     double zl[PRP3_LEGS][6];        /* z_i = J_i^-T y0_i */
     double kmat[6][6];              /* the rows x_i, then w_i, about the platform's origin */
+    double kt[6][6];                /* the factors of K^T */
+    int kpiv[6];
     double ends[PRP3_LEGS][3];      /* the legs' ends c_i */
     double bw[PRP3_LEGS][NJ][3], ba[PRP3_LEGS][NJ][3], bo[PRP3_LEGS][NJ][3];
     int kinds[6], owner[6];         /* per coordinate: 0 rotation, 1 slide, 2 S; its joint */
@@ -917,8 +892,8 @@ static void leg_jacobian(int i, const Frames *f, Legs *s)
     }
 }
 
-/* mu_leg of leg i (the scaled Jacobian's determinant, or the norm of its generalised cross
-   product for 5 coordinates, which is the constraint wrench w_i) */
+/* mu_leg of a leg of 5 coordinates: the norm of the scaled Jacobian's generalised cross
+   product, which is the constraint wrench w_i (6 coordinates: jacobians) */
 static double leg_measure(int i, Legs *s)
 {
     const double scale = PAR[SCALE];
@@ -935,9 +910,6 @@ static double leg_measure(int i, Legs *s)
             }
             fac[r][c] = value;
         }
-    }
-    if (PRP3_DOF == 6) {
-        return lu(fac, 6, piv);
     }
     {
         double total = 0.0;
@@ -976,8 +948,8 @@ static void wrench_row(const double r[3], const double x[6], double row[6])
 static int jacobians(const double p[3], const Frames *f, Legs *s, double measures[])
 {
     const double scale = PAR[SCALE];
-    double big[6][6];
-    int piv[6], i, r, c, k, col = 0;
+    double det, factor = scale * scale * scale;
+    int i, r, c, k, col = 0;
     for (k = 0; k < NJ; ++k) {
         for (c = 0; c < KDOF[KIND[k]]; ++c) {
             s->kinds[col] = KIND[k] == 1 ? 1 : (KIND[k] == 3 ? 2 : 0);
@@ -996,7 +968,9 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
             s->nw[i][r] = 0.0;
         }
         leg_jacobian(i, f, s);
-        measures[i] = leg_measure(i, s);
+        if (PRP3_DOF == 5) {
+            measures[i] = leg_measure(i, s);
+        }
         for (r = 0; r < PRP3_DOF; ++r) {
             for (c = 0; c < PRP3_DOF; ++c) {
                 if (PRP3_DOF == 6) {
@@ -1010,7 +984,14 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
                 }
             }
         }
-        lu(s->normal[i], PRP3_DOF, s->pivs[i]);
+        det = lu(s->normal[i], PRP3_DOF, s->pivs[i]);
+        if (PRP3_DOF == 6) { /* the scaled Jacobian's determinant: rows of v / l, slides * l */
+            double factor = 1.0 / (scale * scale * scale);
+            for (c = 0; c < 6; ++c) {
+                factor *= s->kinds[c] == 1 ? scale : 1.0;
+            }
+            measures[i] = det * factor;
+        }
         e[PRP3_ACTUATED] = 1.0;
         transpose_solve(s->normal[i], s->jacs[i], s->pivs[i], e, s->xw[i]);
         for (r = 0; r < 3; ++r) {
@@ -1021,25 +1002,17 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
             wrench_row(rr, s->nw[i], s->kmat[(PRP3_LEGS + i) % 6]);
         }
     }
-    /* the parallel measure in units of the robot's length */
+    /* K^T factored once: the platform's balance, and the parallel measure in units of the
+       robot's length (the moment columns * l, the rows of a slide's effort / l) */
     for (r = 0; r < 6; ++r) {
         for (c = 0; c < 6; ++c) {
-            double value = s->kmat[r][c];
-            if (r < PRP3_LEGS) {
-                if (s->kinds[PRP3_ACTUATED] == 1) {
-                    if (c < 3) {
-                        value /= scale;
-                    }
-                } else if (c >= 3) {
-                    value *= scale;
-                }
-            } else if (c >= 3) {
-                value *= scale;
-            }
-            big[r][c] = value;
+            s->kt[r][c] = s->kmat[c][r];
         }
     }
-    measures[PRP3_LEGS] = lu(big, 6, piv);
+    for (i = 0; i < PRP3_LEGS; ++i) {
+        factor /= s->kinds[PRP3_ACTUATED] == 1 ? scale : 1.0;
+    }
+    measures[PRP3_LEGS] = lu(s->kt, 6, s->kpiv) * factor;
     for (i = 0; i < PRP3_LEGS; ++i) {
         if (!(measures[i] * PAR[LEGSIGN + i] >= PRP3_SINGULARITY_THRESHOLD)) {
             return PRP3_SINGULAR;
@@ -1163,8 +1136,8 @@ static void wrenches(const double p[3], double rm[3][3], const double w[3], cons
                      const double a[3], const Frames *f, Legs *s, double tau[], double force[],
                      double moment[])
 {
-    double rhs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, rp[3], fp[3], mp[3], c3[3], big[6][6];
-    int piv[6], i, k, r, c;
+    double rhs[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, rp[3], fp[3], mp[3], c3[3];
+    int i, k, r;
     for (i = 0; i < PRP3_LEGS; ++i) {
         leg_wrenches(i, p, f, s, force, moment, rhs);
     }
@@ -1177,13 +1150,7 @@ static void wrenches(const double p[3], double rm[3][3], const double w[3], cons
         rhs[r] += mp[r] + c3[r];
         rhs[3 + r] += fp[r];
     }
-    for (r = 0; r < 6; ++r) {
-        for (c = 0; c < 6; ++c) {
-            big[r][c] = s->kmat[c][r];
-        }
-    }
-    lu(big, 6, piv);
-    lu_solve(big, 6, piv, rhs);
+    lu_solve(s->kt, 6, s->kpiv, rhs);
     for (i = 0; i < PRP3_LEGS; ++i) {
         const double t = rhs[i];
         const double lam = PRP3_DOF == 5 ? rhs[(PRP3_LEGS + i) % 6] : 0.0;
