@@ -96,7 +96,9 @@ def _c_time(robot: prp3.SpatialRobot, states: np.ndarray, calls: int, folder: Pa
     return float(per_call), np.fromfile(folder / "out.bin")
 
 
-def _kernel(robot: prp3.SpatialRobot, motion: prp3.PlatformMotion) -> tuple[float, float, np.ndarray]:
+def _kernel(
+    robot: prp3.SpatialRobot, motion: prp3.PlatformMotion
+) -> tuple[float, float, np.ndarray]:
     kernel = prp3.compile_spatial(robot)
     arrays = [np.ascontiguousarray(a) for a in (motion.position, motion.rotation, motion.omega,
               motion.velocity, motion.alpha, motion.acceleration)]  # fmt: skip

@@ -78,8 +78,16 @@ def build_from(folder: Path, robot: SpatialRobot) -> Compiled:
     library = folder / "libprp3spatial.so"
     assert COMPILER is not None
     done = subprocess.run(
-        [COMPILER, *FLAGS, "-shared", "-fPIC", "-o", str(library), str(folder / SOURCE_NAME),
-         "-lm"],  # fmt: skip
+        [
+            COMPILER,
+            *FLAGS,
+            "-shared",
+            "-fPIC",
+            "-o",
+            str(library),
+            str(folder / SOURCE_NAME),
+            "-lm",
+        ],
         capture_output=True,
         text=True,
         check=False,
@@ -115,9 +123,7 @@ def _close(got: np.ndarray, want: np.ndarray, what: str) -> None:
 @pytest.mark.parametrize("name", list(ROBOTS))
 @settings(max_examples=15, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1))
-def test_agrees_with_the_numpy_route(
-    libraries: dict[str, Compiled], name: str, seed: int
-) -> None:
+def test_agrees_with_the_numpy_route(libraries: dict[str, Compiled], name: str, seed: int) -> None:
     robot = ROBOTS[name]()
     motion = spatial_random_motion(robot, 4, seed)
     solution = spatial_inverse_dynamics(robot, motion)
@@ -321,8 +327,8 @@ def test_cli_as_a_subprocess(tmp_path: Path) -> None:
     robot_file = tmp_path / "hexapod.toml"
     robot_file.write_text('architecture = "6-UPS"\n')
     done = subprocess.run(
-        [sys.executable, "-m", "prp3", "export", "c", "--robot", str(robot_file), "--output",
-         str(tmp_path / "c")],  # fmt: skip
+        [sys.executable, "-m", "prp3", "export", "c"]
+        + ["--robot", str(robot_file), "--output", str(tmp_path / "c")],
         capture_output=True,
         text=True,
         check=False,
