@@ -206,6 +206,7 @@ EXEMPT: dict[str, str] = {
     "PlatformBody": "a FamilyRobot's platform, validated by FamilyRobot (tests/test_family_model.py)",
     "FamilyRobot": "validated in __post_init__ (tests/test_family_model.py)",
     "FamilyCSource": "result type",
+    "SpatialCSource": "result type (spatial_c_inverse_dynamics)",
     "FamilyEffortModel": "result type",
     "FamilyForward": "result type",
     "FamilyKinematics": "result type",
@@ -1125,6 +1126,9 @@ CASES: dict[str, Case] = {
         prp3.recursive_newton_euler, {"robot": OBJ, "motion": OBJ}, robot=_hexapod, motion=_at_home
     ),
     "compile_spatial": _case(prp3.compile_spatial, {"robot": OBJ}, robot=_hexapod),
+    "spatial_c_inverse_dynamics": _case(
+        prp3.spatial_c_inverse_dynamics, {"robot": OBJ}, robot=_hexapod
+    ),
     "spatial_motion": _case(
         prp3.spatial_motion,
         {"robot": OBJ, "name": C, "samples": INT, "duration": R},

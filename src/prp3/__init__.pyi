@@ -202,6 +202,10 @@ from .family.codegen import (
     FamilyCSource as FamilyCSource,
     family_c_inverse_dynamics as family_c_inverse_dynamics,
 )
+from .apps.spatial_codegen import (
+    SpatialCSource as SpatialCSource,
+    spatial_c_inverse_dynamics as spatial_c_inverse_dynamics,
+)
 from .apps.spatial_design import (
     SpatialSweepSpec as SpatialSweepSpec,
     optimize_spatial as optimize_spatial,

@@ -10,7 +10,8 @@ dynamics as C99 code, ``DIR/prp3_inverse_dynamics.h`` and ``.c``
 (:func:`prp3.apps.codegen.c_inverse_dynamics`), together or not at all.
 
 A spatial robot file (docs/spatial.md §13: 6-UPS, 3-RPS, 3-RUU) goes to
-:func:`prp3.apps.spatial_mjcf.spatial_mjcf_model` (``export mjcf`` only; docs/spatial.md §16).
+:func:`prp3.apps.spatial_mjcf.spatial_mjcf_model` (``export mjcf``; docs/spatial.md §16)
+and :func:`prp3.apps.spatial_codegen.spatial_c_inverse_dynamics` (§24).
 A family-form robot file (docs/family.md: 3-RPR, 3-RRR, ...) goes to the
 family's exporters, :func:`prp3.family.mjcf.family_mjcf_model` and
 :func:`prp3.family.codegen.family_c_inverse_dynamics` (docs/family_export.md).
@@ -24,13 +25,13 @@ from typing import Any
 
 from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, CSource, c_inverse_dynamics
 from prp3.apps.mjcf import mjcf_model
+from prp3.apps.spatial_codegen import SpatialCSource, spatial_c_inverse_dynamics
 from prp3.apps.spatial_mjcf import spatial_mjcf_model
 from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
     emit,
     files_report,
-    load_any_robot,
     load_robot_or_spatial,
     output_folder,
     path_name,
@@ -80,6 +81,10 @@ A family-form ROBOT.toml (docs/family.md) writes
 int prp3_inverse_dynamics(pose, velocity, acceleration, double tau[3],
                           double joint[27]);
 with 4 for a pose out of reach; see docs/family_export.md.
+A spatial robot file (6-UPS, 3-RPS, 3-RUU: docs/spatial.md §13) writes
+int prp3_inverse_dynamics(position, rotation, omega, velocity, alpha,
+                          acceleration, q, dq, ddq, tau, force, moment);
+every joint's wrench, codes 0-9 of the header; see docs/spatial.md §24.
 """
 
 
@@ -195,9 +200,18 @@ def _export_c(args: argparse.Namespace) -> int:
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, (HEADER_NAME, SOURCE_NAME), (args.robot,))
-    robot = load_any_robot(args)
-    code: CSource | FamilyCSource
-    if isinstance(robot, FamilyRobot):
+    robot = load_robot_or_spatial(args)
+    code: CSource | FamilyCSource | SpatialCSource
+    if isinstance(robot, SpatialRobotFile):
+        code = spatial_c_inverse_dynamics(robot.robot)
+        legs, dof = len(robot.robot.legs), robot.robot.legs[0].dof
+        what = (
+            f"(the {robot.architecture}; prp3_inverse_dynamics: position, rotation, omega, velocity, "
+            f"alpha, acceleration -> q, dq, ddq[{legs * dof}], tau[{legs}], force, "
+            f"moment[{legs * 9}]; returns 0, or a code of the header: 1 non-finite, 2 singular, "
+            "4 out of reach, ...)"
+        )
+    elif isinstance(robot, FamilyRobot):
         code = family_c_inverse_dynamics(robot)
         what = (
             f"the {robot.architecture}, actuated joint {robot.actuated} (prp3_inverse_dynamics: "
