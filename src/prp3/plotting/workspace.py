@@ -55,6 +55,34 @@ def cm_viridis() -> tuple[float, float, float, float]:
     return tuple(colormaps["viridis"](0.5))  # type: ignore[return-value]
 
 
+def grey_points(ax: Axes, x: np.ndarray, y: np.ndarray, shown: np.ndarray) -> None:
+    """Light grey (the colour of :func:`cm_grey`) on the grid points where ``shown`` is False."""
+    ax.pcolormesh(
+        x, y, np.where(shown, np.nan, 1.0), cmap="Greys", vmin=0.0, vmax=4.0, shading="nearest"
+    )
+
+
+def effort_panel(
+    figure: Figure,
+    ax: Axes,
+    grid: tuple[np.ndarray, np.ndarray, np.ndarray],
+    values: np.ndarray,
+    scale: tuple[str, float, float],
+    unit: str,
+) -> None:
+    """A map of actuator efforts at rest: grey where ``grid[2]`` (regular) is False, colour bar.
+
+    ``grid``: the axes ``u``, ``v`` and the regular points; ``scale``: the
+    colour map and its range ``(cmap, low, high)``; non-finite values are not drawn.
+    """
+    u, v, regular = grid
+    cmap, low, high = scale
+    grey_points(ax, u, v, regular)
+    mesh = ax.pcolormesh(u, v, np.ma.masked_invalid(values), cmap=cmap, vmin=low, vmax=high,
+                         shading="nearest")  # fmt: skip
+    figure.colorbar(mesh, ax=ax, shrink=0.85, label=unit)
+
+
 def _closed(points: np.ndarray) -> np.ndarray:
     return np.vstack([points, points[:1]])
 
@@ -90,7 +118,7 @@ def workspace_figure(
     ax = axes[0]
     ws = workspace
     kappa = np.ma.masked_array(ws.condition, mask=~ws.reachable | ~np.isfinite(ws.condition))
-    _grey_unreachable(ax, ws.x, ws.y, ws.reachable)
+    grey_points(ax, ws.x, ws.y, ws.reachable)
     finite = ws.condition[ws.reachable & np.isfinite(ws.condition)]
     if finite.size:
         low, high = float(finite.min()), max(float(finite.max()), float(finite.min()) * 1.001)
@@ -281,7 +309,7 @@ def statics_figure(robot: Robot, statics: WorkspaceStatics) -> Figure:
     figure = Figure(figsize=(7.0, 6.4), layout="constrained")
     ax = figure.subplots()
     st = statics
-    _grey_unreachable(ax, st.x, st.y, st.reachable)
+    grey_points(ax, st.x, st.y, st.reachable)
     handles: list[object] = []
     shown = st.peak[st.reachable]
     limit = st.max_force
@@ -372,10 +400,3 @@ def save_statics_map(path: str | Path, robot: Robot, statics: WorkspaceStatics) 
     with atomic_path(path) as temporary:
         figure.savefig(temporary, format="png", dpi=120)
     return path
-
-
-def _grey_unreachable(ax: Axes, x: np.ndarray, y: np.ndarray, reachable: np.ndarray) -> None:
-    """Light grey on the grid points outside the reachable region (the colour of :func:`cm_grey`)."""
-    ax.pcolormesh(
-        x, y, np.where(reachable, np.nan, 1.0), cmap="Greys", vmin=0.0, vmax=4.0, shading="nearest"
-    )
