@@ -443,16 +443,21 @@ def _family_float(low: float, high: float) -> st.SearchStrategy[float]:
 
 
 @st.composite
-def family_designs(draw: st.DrawFn) -> FamilyRobot:
-    """A random design near an architecture's default, random inertias, payload, load, gravity."""
+def family_designs(draw: st.DrawFn, mujoco: bool = False) -> FamilyRobot:
+    """A random design near an architecture's default, random inertias, payload, load, gravity.
+
+    ``mujoco``: positive masses and inertias, the default leg scale (what an MJCF
+    model can hold); otherwise zero masses are allowed and the leg is rescaled.
+    """
     arch, act = draw(st.sampled_from(FAMILY_ALLOWED))
     base = FamilyRobot.default(arch, act)
+    f = _family_float
 
     def jitter(p: tuple[float, float, float], size: float) -> tuple[float, float, float]:
         return (
-            p[0] + draw(_family_float(-size, size)),
-            p[1] + draw(_family_float(-size, size)),
-            p[2] + draw(_family_float(-3 * size, 3 * size)),
+            p[0] + draw(f(-size, size)),
+            p[1] + draw(f(-size, size)),
+            p[2] + draw(f(-3 * size, 3 * size)),
         )
 
     size = draw(st.sampled_from([0.0, 0.01, 0.03]))
@@ -462,17 +467,15 @@ def family_designs(draw: st.DrawFn) -> FamilyRobot:
         joint2=jitter(base.leg.joint2, size),
         joint3=jitter(base.leg.joint3, size),
         attachment=jitter(base.leg.attachment, size),
-        scale=draw(_family_float(0.1, 1.0)),
+        scale=base.leg.scale if mujoco else draw(f(0.1, 1.0)),
     )
+    least_mass, least_inertia = (0.05, 1e-4) if mujoco else (0.0, 0.0)
 
     def body(name: str) -> Body:
-        return Body(
-            draw(_family_float(0.0, 3.0)),
-            (draw(_family_float(-0.2, 0.2)), draw(_family_float(-0.2, 0.2))),
-            draw(_family_float(0.0, 0.01)),
-            name=name,
-        )
+        com = (draw(f(-0.2, 0.2)), draw(f(-0.2, 0.2)))
+        return Body(draw(f(least_mass, 3.0)), com, draw(f(least_inertia, 0.01)), name=name)
 
+    platform = (0.1, 1e-3) if mujoco else (0.0, 0.0)
     try:
         return FamilyRobot(
             architecture=arch,
@@ -480,17 +483,12 @@ def family_designs(draw: st.DrawFn) -> FamilyRobot:
             leg=leg,
             link1=body("link1"),
             link2=body("link2"),
-            platform=PlatformBody(draw(_family_float(0.0, 5.0)), draw(_family_float(0.0, 0.1))),
+            platform=PlatformBody(draw(f(platform[0], 5.0)), draw(f(platform[1], 0.1))),
             payload=Payload(
-                draw(_family_float(0.0, 2.0)),
-                (draw(_family_float(-0.1, 0.1)), draw(_family_float(-0.1, 0.1))),
-                draw(_family_float(0.0, 0.01)),
+                draw(f(0.0, 2.0)), (draw(f(-0.1, 0.1)), draw(f(-0.1, 0.1))), draw(f(0.0, 0.01))
             ),
-            load=Load(
-                (draw(_family_float(-20, 20)), draw(_family_float(-20, 20))),
-                draw(_family_float(-2, 2)),
-            ),
-            gravity=(draw(_family_float(-10, 10)), draw(_family_float(-10, 10))),
+            load=Load((draw(f(-20, 20)), draw(f(-20, 20))), draw(f(-2, 2))),
+            gravity=(draw(f(-10, 10)), draw(f(-10, 10))),
         )
     except ParameterError:
         assume(False)
@@ -500,13 +498,7 @@ def family_designs(draw: st.DrawFn) -> FamilyRobot:
 @st.composite
 def family_motions(draw: st.DrawFn, centre: FloatArray, samples: int = 7) -> Motion:
     """``pose(t) = centre + A·sin(ωt + c)`` with its exact derivatives, t in [0, 1]."""
-    amp = np.array(
-        [
-            draw(_family_float(0.0, 0.02)),
-            draw(_family_float(0.0, 0.02)),
-            draw(_family_float(0.0, 0.1)),
-        ]
-    )
+    amp = np.array([draw(_family_float(0.0, high)) for high in (0.02, 0.02, 0.1)])
     w = np.array([draw(_family_float(0.5, 4.0)) for _ in range(3)])
     c = np.array([draw(_family_float(-3.0, 3.0)) for _ in range(3)])
     t = np.linspace(0.0, 1.0, samples)[:, None]

@@ -37,23 +37,17 @@ from prp3.apps.codegen import (
     SOURCE_NAME,
 )
 from prp3.cli import main
-from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
-from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody, family_inverse_dynamics
+from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
+from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
 from prp3.family.codegen import C_UNREACHABLE, family_c_inverse_dynamics, python_sample
 from prp3.model.motion import Motion, paper_motion
 from prp3.model.parameters import Load, Payload
+from strategies import FAMILY_ALLOWED, family_designs, family_motions
 
 COMPILER = shutil.which("gcc") or shutil.which("cc") or shutil.which("clang")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
 FLAGS = ["-std=c99", "-pedantic-errors", "-Wall", "-Wextra", "-Werror", "-O2"]
 
-#: The actuations docs/family.md allows (two passive P joints refused; 3-RRP 2 singular at home).
-ALLOWED = [
-    (arch, act)
-    for arch in ARCHITECTURES
-    for act in (1, 2, 3)
-    if [arch[2 + k] for k in range(3) if k != act - 1] != ["P", "P"] and (arch, act) != ("3-RRP", 2)
-]
 CROSSING = {("3-PRR", 2, "rotation")}
 
 _Vector3 = np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(3,), flags="C_CONTIGUOUS")
@@ -132,7 +126,7 @@ def loaded(arch: str, act: int) -> FamilyRobot:
     )
 
 
-@pytest.mark.parametrize(("arch", "act"), ALLOWED)
+@pytest.mark.parametrize(("arch", "act"), FAMILY_ALLOWED)
 def test_every_actuation_matches_the_family_route(
     tmp_path_factory: pytest.TempPathFactory, arch: str, act: int
 ) -> None:
@@ -146,7 +140,7 @@ def test_every_actuation_matches_the_family_route(
 
 def test_python_steps_match_the_family_route() -> None:
     """The generated steps on Python floats (no compiler), the same check."""
-    for arch, act in ALLOWED:
+    for arch, act in FAMILY_ALLOWED:
         robot = loaded(arch, act)
         motion = paper_motion("vertical", 9)
         want = expected(robot, motion)
@@ -158,78 +152,13 @@ def test_python_steps_match_the_family_route() -> None:
             assert np.abs(np.array(got) - want[k]).max() <= 1e-12 * np.abs(want[k]).max()
 
 
-def _f(low: float, high: float) -> st.SearchStrategy[float]:
-    return st.floats(low, high, allow_nan=False, allow_infinity=False)
-
-
-@st.composite
-def designs(draw: st.DrawFn) -> FamilyRobot:
-    """A design near a default (placements jittered), random inertias (zero allowed), payload, load."""
-    arch, act = draw(st.sampled_from(ALLOWED))
-    base = FamilyRobot.default(arch, act)
-
-    def jitter(p: tuple[float, float, float], size: float) -> tuple[float, float, float]:
-        return (
-            p[0] + draw(_f(-size, size)),
-            p[1] + draw(_f(-size, size)),
-            p[2] + draw(_f(-3 * size, 3 * size)),
-        )
-
-    size = draw(st.sampled_from([0.0, 0.01, 0.03]))
-    leg = replace(
-        base.leg,
-        joint1=jitter(base.leg.joint1, size),
-        joint2=jitter(base.leg.joint2, size),
-        joint3=jitter(base.leg.joint3, size),
-        attachment=jitter(base.leg.attachment, size),
-        scale=draw(_f(0.1, 1.0)),
-    )
-
-    def body(name: str) -> Body:
-        com = (draw(_f(-0.2, 0.2)), draw(_f(-0.2, 0.2)))
-        return Body(draw(_f(0.0, 3.0)), com, draw(_f(0.0, 0.01)), name=name)
-
-    try:
-        return FamilyRobot(
-            architecture=arch,
-            actuated=act,
-            leg=leg,
-            link1=body("link1"),
-            link2=body("link2"),
-            platform=PlatformBody(draw(_f(0.0, 5.0)), draw(_f(0.0, 0.1))),
-            payload=Payload(
-                draw(_f(0.0, 2.0)), (draw(_f(-0.1, 0.1)), draw(_f(-0.1, 0.1))), draw(_f(0.0, 0.01))
-            ),
-            load=Load((draw(_f(-20, 20)), draw(_f(-20, 20))), draw(_f(-2, 2))),
-            gravity=(draw(_f(-10, 10)), draw(_f(-10, 10))),
-        )
-    except ParameterError:
-        assume(False)
-        raise
-
-
-@st.composite
-def motions(draw: st.DrawFn, centre: np.ndarray, samples: int = 9) -> Motion:
-    """``pose(t) = centre + A·sin(ωt + c)`` with its exact derivatives, ``t`` in [0, 1] s."""
-    amp = np.array([draw(_f(0.0, 0.02)), draw(_f(0.0, 0.02)), draw(_f(0.0, 0.1))])
-    w = np.array([draw(_f(0.5, 4.0)) for _ in range(3)])
-    c = np.array([draw(_f(-3.0, 3.0)) for _ in range(3)])
-    t = np.linspace(0.0, 1.0, samples)[:, None]
-    return Motion(
-        t=t[:, 0],
-        pose=centre + amp * np.sin(w * t + c),
-        velocity=amp * w * np.cos(w * t + c),
-        acceleration=-amp * w * w * np.sin(w * t + c),
-    )
-
-
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(data=st.data())
 def test_random_designs_match_the_family_route(
     tmp_path_factory: pytest.TempPathFactory, data: st.DataObject
 ) -> None:
-    robot = data.draw(designs())
-    motion = data.draw(motions(robot.home_poses.mean(axis=0)))
+    robot = data.draw(family_designs())
+    motion = data.draw(family_motions(robot.home_poses.mean(axis=0), samples=9))
     try:
         expected(robot, motion)
     except (SingularPoseError, UnreachablePoseError):

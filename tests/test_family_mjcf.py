@@ -39,20 +39,14 @@ from hypothesis import strategies as st
 from prp3.apps.mjcf import MjcfWarning
 from prp3.cli import main
 from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
-from prp3.family import ARCHITECTURES, Body, FamilyRobot, PlatformBody, family_inverse_dynamics
+from prp3.family import Body, FamilyRobot, PlatformBody, family_inverse_dynamics
 from prp3.family.mjcf import family_mjcf_model, joint_names
 from prp3.model.motion import Motion, paper_motion
 from prp3.model.parameters import Load, Payload
+from strategies import FAMILY_ALLOWED, family_designs, family_motions
 
 LEGS = "ABC"
 
-#: The actuations docs/family.md allows (two passive P joints refused; 3-RRP 2 singular at home).
-ALLOWED = [
-    (arch, act)
-    for arch in ARCHITECTURES
-    for act in (1, 2, 3)
-    if [arch[2 + k] for k in range(3) if k != act - 1] != ["P", "P"] and (arch, act) != ("3-RRP", 2)
-]
 #: Paper motions that cross a singularity for these actuations (docs/family.md §3).
 CROSSING = {("3-PRR", 2, "rotation")}
 
@@ -132,7 +126,7 @@ def relative(out: dict[str, Any], robot: FamilyRobot) -> float:
 
 
 # ------------------------------------------------------------ structure (no MuJoCo)
-@pytest.mark.parametrize(("arch", "act"), ALLOWED)
+@pytest.mark.parametrize(("arch", "act"), FAMILY_ALLOWED)
 def test_structure(arch: str, act: int) -> None:
     robot = FamilyRobot.default(arch, act)
     root = ET.fromstring(family_mjcf_model(robot))
@@ -175,7 +169,7 @@ def test_load_is_named_in_a_warning() -> None:
 
 # ------------------------------------------------------------ with MuJoCo
 @pytest.mark.parametrize("motion_name", ["vertical", "rotation"])
-@pytest.mark.parametrize(("arch", "act"), ALLOWED)
+@pytest.mark.parametrize(("arch", "act"), FAMILY_ALLOWED)
 def test_mujoco_matches_the_family_route(
     mujoco: ModuleType, arch: str, act: int, motion_name: str
 ) -> None:
@@ -191,75 +185,11 @@ def test_mujoco_matches_the_family_route(
     assert relative(out, robot) < 1e-12  # measured ≤ 1.2e-15
 
 
-def _f(low: float, high: float) -> st.SearchStrategy[float]:
-    return st.floats(low, high, allow_nan=False, allow_infinity=False)
-
-
-@st.composite
-def designs(draw: st.DrawFn) -> FamilyRobot:
-    """A design near a default (placements jittered), random positive masses, inertias, payload."""
-    arch, act = draw(st.sampled_from(ALLOWED))
-    base = FamilyRobot.default(arch, act)
-
-    def jitter(p: tuple[float, float, float], size: float) -> tuple[float, float, float]:
-        return (
-            p[0] + draw(_f(-size, size)),
-            p[1] + draw(_f(-size, size)),
-            p[2] + draw(_f(-3 * size, 3 * size)),
-        )
-
-    size = draw(st.sampled_from([0.0, 0.01, 0.03]))
-    leg = replace(
-        base.leg,
-        joint1=jitter(base.leg.joint1, size),
-        joint2=jitter(base.leg.joint2, size),
-        joint3=jitter(base.leg.joint3, size),
-        attachment=jitter(base.leg.attachment, size),
-    )
-
-    def body(name: str) -> Body:
-        com = (draw(_f(-0.2, 0.2)), draw(_f(-0.2, 0.2)))
-        return Body(draw(_f(0.05, 3.0)), com, draw(_f(1e-4, 0.01)), name=name)
-
-    try:
-        return FamilyRobot(
-            architecture=arch,
-            actuated=act,
-            leg=leg,
-            link1=body("link1"),
-            link2=body("link2"),
-            platform=PlatformBody(draw(_f(0.1, 5.0)), draw(_f(1e-3, 0.1))),
-            payload=Payload(
-                draw(_f(0.0, 2.0)), (draw(_f(-0.1, 0.1)), draw(_f(-0.1, 0.1))), draw(_f(0.0, 0.01))
-            ),
-            load=Load((draw(_f(-20, 20)), draw(_f(-20, 20))), draw(_f(-2, 2))),
-            gravity=(draw(_f(-10, 10)), draw(_f(-10, 10))),
-        )
-    except ParameterError:
-        assume(False)
-        raise
-
-
-@st.composite
-def motions(draw: st.DrawFn, centre: np.ndarray, samples: int = 7) -> Motion:
-    """``pose(t) = centre + A·sin(ωt + c)`` with its exact derivatives, ``t`` in [0, 1] s."""
-    amp = np.array([draw(_f(0.0, 0.02)), draw(_f(0.0, 0.02)), draw(_f(0.0, 0.1))])
-    w = np.array([draw(_f(0.5, 4.0)) for _ in range(3)])
-    c = np.array([draw(_f(-3.0, 3.0)) for _ in range(3)])
-    t = np.linspace(0.0, 1.0, samples)[:, None]
-    return Motion(
-        t=t[:, 0],
-        pose=centre + amp * np.sin(w * t + c),
-        velocity=amp * w * np.cos(w * t + c),
-        acceleration=-amp * w * w * np.sin(w * t + c),
-    )
-
-
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(data=st.data())
 def test_mujoco_matches_random_designs(mujoco: ModuleType, data: st.DataObject) -> None:
-    robot = data.draw(designs())
-    motion = data.draw(motions(robot.home_poses.mean(axis=0)))
+    robot = data.draw(family_designs(mujoco=True))
+    motion = data.draw(family_motions(robot.home_poses.mean(axis=0)))
     try:
         out = mujoco_efforts(mujoco, robot, motion)
     except (SingularPoseError, UnreachablePoseError):

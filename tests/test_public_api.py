@@ -57,7 +57,6 @@ import prp3.references.paper
 import prp3.references.paper_kinematics
 import prp3.references.paper_wrenches
 from prp3.errors import Prp3Error
-from prp3.mechanics.architecture import ClosedForm3PRP, solve_stages
 
 #: Modules whose ``__all__`` is walked besides ``prp3``'s own.
 MODULES = (
@@ -83,7 +82,6 @@ MODULES = (
     "prp3.apps.base_parameters",
     "prp3.apps.excitation",
     "prp3.mechanics.kinematics",
-    "prp3.mechanics.architecture",
     "prp3.apps.mjcf",
     "prp3.apps.codegen",
     "prp3.model.parameters",
@@ -122,8 +120,6 @@ EXEMPT: dict[str, str] = {
     "WorkspaceStatics": "result type",
     "Tracking": "result type",
     "RecursiveMatrixResult": "result type",
-    "JointSolution": "result type",
-    "LegArchitecture": "a protocol (the interface of the architectures), not called",
     "PaperGeometry": "result type",
     "PaperVelocities": "result type",
     "PaperAccelerations": "result type",
@@ -790,13 +786,6 @@ CASES: dict[str, Case] = {
         engine="numpy",
     ),
     "sample_forces": _case(prp3.sample_forces, SINGLE, **SINGLE_GOOD),
-    "ClosedForm3PRP": _case(ClosedForm3PRP, {"robot": OBJ}, robot=ROBOT),
-    "solve_stages": _case(
-        solve_stages,
-        {"architecture": OBJ, "motion": OBJ},
-        architecture=lambda: ClosedForm3PRP(ROBOT),
-        motion=_motion,
-    ),
     "sample_actuator_forces": _case(
         prp3.engines.sample_entries.sample_actuator_forces, SINGLE, **SINGLE_GOOD
     ),

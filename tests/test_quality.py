@@ -303,3 +303,83 @@ def test_the_private_import_check_catches_both_forms() -> None:
     assert _private_imports(here, "from .chain import _y\n") == ["chain._y"]
     assert _private_imports(here, "import prp3.family.chain as c\nc._z(1)\n") == ["c._z"]
     assert _private_imports(here, "import numpy as np\nnp._w\nfrom os import _exit\n") == []
+
+
+#: The functions of src/prp3 over 80 lines when this check came (path -> names); the list
+#: may only shrink (a function split below 80 lines must leave it, a new one may not join).
+#: Why they stay for now: Newton-Euler assemblies (references/newton_euler._solve,
+#: family/newton_euler, mechanics/wrenches.body_wrenches); numba kernels compiled as one
+#: function (family/compiled*, spatial/compiled); files other helpers were changing at the
+#: same time (spatial/compiled, spatial/forward, apps/control, cli/control, cli/_spatial*);
+#: the rest are not split yet (issue 31, item 6).
+LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
+    "analysis/forward.py": ("forward_dynamics",),
+    "apps/codegen.py": ("c_inverse_dynamics",),
+    "apps/control.py": ("track",),
+    "apps/excitation.py": ("exciting_trajectory",),
+    "apps/identification.py": ("identified_robot", "identify"),
+    "apps/mjcf.py": ("mjcf_model",),
+    "apps/regressor.py": ("regressor",),
+    "apps/spatial_identification.py": ("spatial_exciting_trajectory", "spatial_identify"),
+    "apps/spatial_mjcf.py": ("spatial_mjcf_model",),
+    "apps/sweep_spec.py": ("sweep_spec",),
+    "cli/_family_analysis.py": ("run_family_workspace",),
+    "cli/_spatial.py": ("run_spatial",),
+    "cli/_spatial_forward.py": ("run_spatial_forward",),
+    "cli/control.py": ("run",),
+    "cli/design.py": ("run_sweep",),
+    "cli/forward.py": ("run",),
+    "cli/simulate.py": ("_run", "register"),
+    "cli/workspace.py": ("run",),
+    "engines/trace.py": ("broadcast_function",),
+    "explorer/app.py": ("explorer_document",),
+    "explorer/family_scene.py": ("family_view",),
+    "explorer/scene.py": ("scene_view",),
+    "explorer/spatial_page.py": ("spatial_page_figure",),
+    "family/codegen.py": ("family_c_inverse_dynamics",),
+    "family/compiled.py": ("_samples",),
+    "family/compiled_legs.py": ("closure_branch", "pack"),
+    "family/compiled_path.py": ("follow_path",),
+    "family/forward.py": ("family_forward_dynamics",),
+    "family/mechanics.py": ("inverse_geometry",),
+    "family/mjcf.py": ("family_mjcf_model",),
+    "family/newton_euler.py": ("newton_euler_dynamics",),
+    "family/paper.py": ("paper_steps",),
+    "family/sample_mechanics.py": ("sample_dynamics",),
+    "io/spatial_trajectory.py": ("_read",),
+    "mechanics/implicit_friction.py": ("solve_mu",),
+    "mechanics/wrenches.py": ("body_wrenches",),
+    "model/robot_toml.py": ("robot_text",),
+    "path_validation.py": ("check_path",),
+    "plotting/animation.py": ("mechanism_figure",),
+    "plotting/control.py": ("tracking_figure",),
+    "plotting/family.py": ("_draw_design",),
+    "plotting/spatial_animation.py": ("save_spatial_animation", "spatial_robot_figure"),
+    "plotting/workspace.py": ("statics_figure",),
+    "pose_validation.py": ("check_pose_array",),
+    "references/newton_euler.py": ("_solve",),
+    "spatial/compiled.py": ("_geometry", "_sample"),
+    "spatial/forward.py": ("spatial_forward_dynamics",),
+    "spatial/kinematics.py": ("complete_motion",),
+    "spatial/model.py": ("delta",),
+    "spatial/workspace.py": ("spatial_workspace",),
+    "staged_files.py": ("staged_output",),
+}
+
+
+def _long_functions() -> dict[str, set[str]]:
+    found: dict[str, set[str]] = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                if (node.end_lineno or node.lineno) - node.lineno + 1 > 80:
+                    found.setdefault(path.relative_to(PACKAGE).as_posix(), set()).add(node.name)
+    return found
+
+
+def test_no_function_over_80_lines_but_the_listed_ones() -> None:
+    found = _long_functions()
+    new = {p: sorted(n - set(LONG_FUNCTIONS.get(p, ()))) for p, n in found.items()}
+    assert not {p: n for p, n in new.items() if n}, "split these (no function over 80 lines)"
+    gone = {p: sorted(set(n) - found.get(p, set())) for p, n in LONG_FUNCTIONS.items()}
+    assert not {p: n for p, n in gone.items() if n}, "shorter now: take them off LONG_FUNCTIONS"

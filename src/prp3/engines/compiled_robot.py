@@ -19,7 +19,7 @@ from typing import Literal
 
 import numpy as np
 
-from prp3.engines.select import numba_module, resolve_engine
+from prp3.engines.select import numba_module, resolve_engine, runs_on
 from prp3.errors import Prp3Error
 from prp3.mechanics import kernel
 from prp3.mechanics.ops import MATH
@@ -175,8 +175,8 @@ def compile_robot(robot: Robot) -> CompiledRobot:
         dtype=PARAMETER_RECORD,
     )
     array.flags.writeable = False
-    friction = robot.friction is not None or parameters.has_mu
-    return CompiledRobot(robot, parameters, robot.limits.stroke, array, not friction)
+    compiled_kernel = runs_on("numba", parameters, robot.friction is not None) == "numba"
+    return CompiledRobot(robot, parameters, robot.limits.stroke, array, compiled_kernel)
 
 
 def as_compiled(robot: object) -> CompiledRobot:

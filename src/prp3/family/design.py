@@ -59,6 +59,7 @@ from prp3.apps.sweep_spec import (
     Parameter,
     parameter_paths,
     refuse_unknown_keys,
+    sample_designs,
     spec_integer,
     spec_motions,
     spec_sampling,
@@ -386,30 +387,13 @@ def family_sweep_spec(
 def family_design_rows(spec: FamilySweepSpec) -> list[tuple[int, list[float]]]:
     """Every design of the sweep as ``(study index, values)``, study by study.
 
-    A study without parameters is its nominal design, one row.  ``grid``:
-    ``designs`` points per parameter, ends included, the first varying slowest;
-    ``lhs``: a Latin hypercube (seed ``seed + study index``); ``random``: uniform.
+    A study without parameters is its nominal design, one row; the others are
+    :func:`~prp3.apps.sweep_spec.sample_designs` of their parameters, with the
+    seed ``seed + study index``.
     """
     rows: list[tuple[int, list[float]]] = []
     for index, study in enumerate(spec.studies):
-        dims = len(study.parameters)
-        if dims == 0:
-            rows.append((index, []))
-            continue
-        low = np.array([p.low for p in study.parameters])
-        high = np.array([p.high for p in study.parameters])
-        if spec.sampling == "grid":
-            axes = [np.linspace(p.low, p.high, spec.designs) for p in study.parameters]
-            mesh = np.meshgrid(*axes, indexing="ij")
-            values = np.stack([m.reshape(-1) for m in mesh], axis=-1)
-        elif spec.sampling == "lhs":
-            from scipy.stats import qmc
-
-            rng = np.random.default_rng(spec.seed + index)
-            values = low + qmc.LatinHypercube(d=dims, rng=rng).random(spec.designs) * (high - low)
-        else:
-            unit = np.random.default_rng(spec.seed + index).random((spec.designs, dims))
-            values = low + unit * (high - low)
+        values = sample_designs(study.parameters, spec.designs, spec.sampling, spec.seed + index)
         rows += [(index, v) for v in values.tolist()]
     return rows
 

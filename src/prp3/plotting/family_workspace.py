@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from prp3.files import atomic_path
-from prp3.plotting.workspace import cm_grey
+from prp3.plotting.workspace import cm_grey, effort_panel, grey_points
 from prp3.validation import LEGS
 
 if TYPE_CHECKING:
@@ -53,10 +53,7 @@ def _measure_panel(
     sign: float,
     title: str,
 ) -> None:
-    from matplotlib.colors import ListedColormap
-
-    grey = ListedColormap([cm_grey()])
-    ax.pcolormesh(ws.x, ws.y, np.where(ws.reachable, np.nan, 0.0), cmap=grey, shading="nearest")
+    grey_points(ax, ws.x, ws.y, ws.reachable)
     signed = np.ma.masked_invalid(sign * values)
     mesh = ax.pcolormesh(ws.x, ws.y, signed, cmap="RdBu", vmin=-1.0, vmax=1.0, shading="nearest")
     if np.isfinite(values).any() and np.nanmin(signed) < 0.0 < np.nanmax(signed):
@@ -154,7 +151,6 @@ def family_statics_figure(statics: FamilyStatics) -> Figure:
     statics : FamilyStatics
         From :func:`prp3.family.workspace.family_workspace_statics`.
     """
-    from matplotlib.colors import ListedColormap
     from matplotlib.figure import Figure
 
     ws = statics.workspace
@@ -162,22 +158,16 @@ def family_statics_figure(statics: FamilyStatics) -> Figure:
     unit = "N" if robot.types[robot.actuated - 1] == "P" else "N·m"
     figure = Figure(figsize=(11.0, 9.6), layout="constrained")
     axes = figure.subplots(2, 2).ravel()
-    grey = ListedColormap([cm_grey()])
     finite = statics.tau[np.isfinite(statics.tau)]
     bound = float(np.abs(finite).max()) if finite.size else 1.0
     bound = bound if bound > 0.0 else 1.0
-    panels = [(statics.tau[..., j], f"tau_{leg} at rest ({unit})") for j, leg in enumerate(LEGS)]
-    panels.append((statics.peak, f"largest |tau| over the legs ({unit})"))
-    for k, (ax, (values, title)) in enumerate(zip(axes, panels, strict=True)):
-        ax.pcolormesh(ws.x, ws.y, np.where(ws.regular, np.nan, 0.0), cmap=grey, shading="nearest")
-        shown = np.ma.masked_invalid(values)
-        if k < 3:
-            mesh = ax.pcolormesh(ws.x, ws.y, shown, cmap="RdBu", vmin=-bound, vmax=bound,
-                                 shading="nearest")  # fmt: skip
-        else:
-            mesh = ax.pcolormesh(ws.x, ws.y, shown, cmap="viridis", vmin=0.0, vmax=bound,
-                                 shading="nearest")  # fmt: skip
-        figure.colorbar(mesh, ax=ax, shrink=0.85, label=unit)
+    panels = [
+        (statics.tau[..., j], ("RdBu", -bound, bound), f"tau_{leg} at rest ({unit})")
+        for j, leg in enumerate(LEGS)
+    ]
+    panels.append((statics.peak, ("viridis", 0.0, bound), f"largest |tau| over the legs ({unit})"))
+    for ax, (values, scale, title) in zip(axes, panels, strict=True):
+        effort_panel(figure, ax, (ws.x, ws.y, ws.regular), values, scale, unit)
         _map_axes(ax, ws)
         ax.set_title(title, fontsize=9)
     figure.suptitle(

@@ -22,7 +22,7 @@ import numpy as np
 
 from prp3.errors import ParameterError
 from prp3.files import atomic_path
-from prp3.plotting.workspace import cm_grey
+from prp3.plotting.workspace import effort_panel, grey_points
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -79,12 +79,8 @@ def _border(ax: Axes, ws: SpatialWorkspace) -> None:
 def _measure_panel(
     figure: Figure, ax: Axes, ws: SpatialWorkspace, values: np.ndarray, home: float, title: str
 ) -> None:
-    from matplotlib.colors import ListedColormap
-
-    grey = ListedColormap([cm_grey()])
     ratio = values / home
-    ax.pcolormesh(ws.u, ws.v, np.where(np.isfinite(ratio), np.nan, 0.0), cmap=grey,
-                  shading="nearest")  # fmt: skip
+    grey_points(ax, ws.u, ws.v, np.isfinite(ratio))
     finite = ratio[np.isfinite(ratio)]
     bound = max(float(np.abs(finite).max()) if finite.size else 1.0, 1.0)
     mesh = ax.pcolormesh(ws.u, ws.v, np.ma.masked_invalid(ratio), cmap="RdBu", vmin=-bound,
@@ -176,7 +172,6 @@ def spatial_statics_figure(ws: SpatialWorkspace) -> Figure:
     Three panels: the largest and the smallest ``τ`` over the legs (one diverging scale
     centred on 0) and the largest ``|τ|``.
     """
-    from matplotlib.colors import ListedColormap
     from matplotlib.figure import Figure
 
     if ws.tau is None:
@@ -191,17 +186,13 @@ def spatial_statics_figure(ws: SpatialWorkspace) -> Figure:
     unit = ws.unit
     figure = Figure(figsize=(15.0, 5.2), layout="constrained")
     axes = figure.subplots(1, 3)
-    grey = ListedColormap([cm_grey()])
     panels = (
-        (largest, "RdBu", -bound, f"largest tau over the legs ({unit})"),
-        (smallest, "RdBu", -bound, f"smallest tau over the legs ({unit})"),
-        (peak, "viridis", 0.0, f"largest |tau| over the legs ({unit})"),
+        (largest, ("RdBu", -bound, bound), f"largest tau over the legs ({unit})"),
+        (smallest, ("RdBu", -bound, bound), f"smallest tau over the legs ({unit})"),
+        (peak, ("viridis", 0.0, bound), f"largest |tau| over the legs ({unit})"),
     )
-    for ax, (values, cmap, low, title) in zip(axes, panels, strict=True):
-        ax.pcolormesh(ws.u, ws.v, np.where(regular, np.nan, 0.0), cmap=grey, shading="nearest")
-        mesh = ax.pcolormesh(ws.u, ws.v, np.ma.masked_invalid(values), cmap=cmap, vmin=low,
-                             vmax=bound, shading="nearest")  # fmt: skip
-        figure.colorbar(mesh, ax=ax, shrink=0.85, label=unit)
+    for ax, (values, scale, title) in zip(axes, panels, strict=True):
+        effort_panel(figure, ax, (ws.u, ws.v, regular), values, scale, unit)
         _frame(ax, ws)
         ax.set_title(title, fontsize=9)
     figure.suptitle(

@@ -55,6 +55,34 @@ def cm_viridis() -> tuple[float, float, float, float]:
     return tuple(colormaps["viridis"](0.5))  # type: ignore[return-value]
 
 
+def grey_points(ax: Axes, x: np.ndarray, y: np.ndarray, shown: np.ndarray) -> None:
+    """Light grey (the colour of :func:`cm_grey`) on the grid points where ``shown`` is False."""
+    ax.pcolormesh(
+        x, y, np.where(shown, np.nan, 1.0), cmap="Greys", vmin=0.0, vmax=4.0, shading="nearest"
+    )
+
+
+def effort_panel(
+    figure: Figure,
+    ax: Axes,
+    grid: tuple[np.ndarray, np.ndarray, np.ndarray],
+    values: np.ndarray,
+    scale: tuple[str, float, float],
+    unit: str,
+) -> None:
+    """A map of actuator efforts at rest: grey where ``grid[2]`` (regular) is False, colour bar.
+
+    ``grid``: the axes ``u``, ``v`` and the regular points; ``scale``: the
+    colour map and its range ``(cmap, low, high)``; non-finite values are not drawn.
+    """
+    u, v, regular = grid
+    cmap, low, high = scale
+    grey_points(ax, u, v, regular)
+    mesh = ax.pcolormesh(u, v, np.ma.masked_invalid(values), cmap=cmap, vmin=low, vmax=high,
+                         shading="nearest")  # fmt: skip
+    figure.colorbar(mesh, ax=ax, shrink=0.85, label=unit)
+
+
 def _closed(points: np.ndarray) -> np.ndarray:
     return np.vstack([points, points[:1]])
 
@@ -78,19 +106,24 @@ def workspace_figure(
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.colors import LogNorm, Normalize
     from matplotlib.figure import Figure
-    from matplotlib.ticker import FuncFormatter
 
     panels = 2 if scan is not None else 1
     figure = Figure(figsize=(6.4 * panels + 0.6, 5.6), layout="constrained")
     axes = figure.subplots(1, panels, squeeze=False)[0]
+    _slice_panel(figure, axes[0], robot, workspace)
+    if scan is not None:
+        _scan_panel(axes[1], workspace, scan, robot.limits.stroke is not None)
+    return figure
 
-    # ---- the slice at φ
-    ax = axes[0]
-    ws = workspace
+
+def _slice_panel(figure: Figure, ax: Axes, robot: Robot, ws: WorkspaceSlice) -> None:
+    """The slice at φ: κ over the reachable points, the exact boundary, base and platform."""
+    from matplotlib.colors import LogNorm, Normalize
+    from matplotlib.patches import Patch
+
     kappa = np.ma.masked_array(ws.condition, mask=~ws.reachable | ~np.isfinite(ws.condition))
-    _grey_unreachable(ax, ws.x, ws.y, ws.reachable)
+    grey_points(ax, ws.x, ws.y, ws.reachable)
     finite = ws.condition[ws.reachable & np.isfinite(ws.condition)]
     if finite.size:
         low, high = float(finite.min()), max(float(finite.max()), float(finite.min()) * 1.001)
@@ -118,28 +151,7 @@ def workspace_figure(
             label="boundary of the reachable region (exact)"
             + (area if math.isfinite(ws.area) else ""),
         )
-
-    def visible(points: np.ndarray) -> bool:
-        inside_x = (points[:, 0] >= ws.x[0]) & (points[:, 0] <= ws.x[-1])
-        return bool((inside_x & (points[:, 1] >= ws.y[0]) & (points[:, 1] <= ws.y[-1])).any())
-
-    # for scale, when the window shows some of them, whole (the window grows to their tips);
-    # in colours of their own (red marks the singular orientations, the legs have theirs)
-    low_x, high_x, low_y, high_y = float(ws.x[0]), float(ws.x[-1]), float(ws.y[0]), float(ws.y[-1])
-    base = _closed(base_vertices(robot))
-    platform = _closed(platform_vertices(robot, [0.0, 0.0, ws.phi]))
-    for points, colour, style, text in (
-        (base, "0.2", "--", "base triangle"),
-        (platform, "tab:brown", ":", f"platform at (0, 0, {ws.phi:.3g})"),
-    ):
-        if visible(points):
-            ax.plot(points[:, 0], points[:, 1], color=colour, lw=1.4, ls=style, label=text)
-            low_x, high_x = min(low_x, points[:, 0].min()), max(high_x, points[:, 0].max())
-            low_y, high_y = min(low_y, points[:, 1].min()), max(high_y, points[:, 1].max())
-    drawn = any(visible(points) for points in (base, platform))  # their tips off the edge
-    margin = 0.03 * max(high_x - low_x, high_y - low_y) if drawn else 0.0
-    ax.set_xlim(low_x - margin, high_x + margin)
-    ax.set_ylim(low_y - margin, high_y + margin)
+    _scale_shapes(ax, robot, ws)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -151,8 +163,6 @@ def workspace_figure(
         "singular: φ ≡ π/3 (mod π), every (x, y)",
         fontsize=10,
     )
-    from matplotlib.patches import Patch
-
     handles, _ = ax.get_legend_handles_labels()
     if not ws.reachable.all():
         handles.append(
@@ -169,70 +179,100 @@ def workspace_figure(
         frameon=False,
     )
 
-    # ---- the φ-scan
-    if scan is not None:
-        ax = axes[1]
-        if np.isfinite(scan.area).any() and stroke is not None:
-            ax.plot(scan.phi, scan.area, color="black", label="reachable area, exact")
-            ax.plot(
-                scan.phi,
-                scan.grid_area,
-                ".",
-                color="tab:blue",
-                ms=3,
-                label="reachable area, grid",
-            )
-            ax.set_ylabel("reachable area (m²)")
-        else:
-            ax.plot(
-                scan.phi,
-                scan.reachable.mean(axis=(1, 2)),
-                color="black",
-                label="reachable fraction of the grid",
-            )
-            ax.set_ylabel("reachable fraction of the grid")
-        for phi in SINGULAR_ORIENTATIONS + (SINGULAR_ORIENTATIONS[0] + 2 * math.pi,):
-            if scan.phi[0] <= phi <= scan.phi[-1]:
-                ax.axvline(phi, color="tab:red", ls="--", lw=1.0, label="singular orientation")
-        ax.axvline(ws.phi, color="tab:green", lw=1.0, label=f"φ of the map ({ws.phi:.3g})")
-        ax.set_xlabel("φ (rad)")
-        twin = ax.twinx()
-        twin.semilogy(
-            scan.phi, scan.condition_min, color="tab:purple", lw=0.8, label="κ min (reachable)"
-        )
-        twin.semilogy(
+
+def _scale_shapes(ax: Axes, robot: Robot, ws: WorkspaceSlice) -> None:
+    """The base triangle and the platform at ``(0, 0, φ)`` for scale, and the window's limits.
+
+    Drawn when the window shows some of them, whole (the window grows to their
+    tips), in colours of their own (red marks the singular orientations, the
+    legs have theirs).
+    """
+
+    def visible(points: np.ndarray) -> bool:
+        inside_x = (points[:, 0] >= ws.x[0]) & (points[:, 0] <= ws.x[-1])
+        return bool((inside_x & (points[:, 1] >= ws.y[0]) & (points[:, 1] <= ws.y[-1])).any())
+
+    low_x, high_x, low_y, high_y = float(ws.x[0]), float(ws.x[-1]), float(ws.y[0]), float(ws.y[-1])
+    base = _closed(base_vertices(robot))
+    platform = _closed(platform_vertices(robot, [0.0, 0.0, ws.phi]))
+    for points, colour, style, text in (
+        (base, "0.2", "--", "base triangle"),
+        (platform, "tab:brown", ":", f"platform at (0, 0, {ws.phi:.3g})"),
+    ):
+        if visible(points):
+            ax.plot(points[:, 0], points[:, 1], color=colour, lw=1.4, ls=style, label=text)
+            low_x, high_x = min(low_x, points[:, 0].min()), max(high_x, points[:, 0].max())
+            low_y, high_y = min(low_y, points[:, 1].min()), max(high_y, points[:, 1].max())
+    drawn = any(visible(points) for points in (base, platform))  # their tips off the edge
+    margin = 0.03 * max(high_x - low_x, high_y - low_y) if drawn else 0.0
+    ax.set_xlim(low_x - margin, high_x + margin)
+    ax.set_ylim(low_y - margin, high_y + margin)
+
+
+def _scan_panel(ax: Axes, ws: WorkspaceSlice, scan: OrientationScan, stroke: bool) -> None:
+    """The φ-scan: the reachable area (or fraction) and the best and worst κ, against φ."""
+    from matplotlib.ticker import FuncFormatter
+
+    if np.isfinite(scan.area).any() and stroke:
+        ax.plot(scan.phi, scan.area, color="black", label="reachable area, exact")
+        ax.plot(
             scan.phi,
-            scan.condition_max,
-            color="tab:purple",
-            lw=0.8,
-            ls="--",
-            label="κ max (reachable)",
+            scan.grid_area,
+            ".",
+            color="tab:blue",
+            ms=3,
+            label="reachable area, grid",
         )
-        twin.set_ylabel("condition number κ over the reachable grid (log scale)")
-        spread = scan.condition_max[np.isfinite(scan.condition_max)]
-        if spread.size and spread.max() / max(float(np.nanmin(scan.condition_min)), 1.0) < 30.0:
-            plain = FuncFormatter(lambda value, _: f"{value:g}")
-            twin.yaxis.set_major_formatter(plain)
-            twin.yaxis.set_minor_formatter(plain)
-        handles, labels = ax.get_legend_handles_labels()
-        more, more_labels = twin.get_legend_handles_labels()
-        unique = dict(zip(labels + more_labels, handles + more, strict=True))
-        ax.legend(  # below the axes, over no curve
-            unique.values(),
-            unique.keys(),
-            fontsize=9,
-            loc="upper center",
-            bbox_to_anchor=(0.5, -0.1),
-            ncols=2,
-            frameon=False,
+        ax.set_ylabel("reachable area (m²)")
+    else:
+        ax.plot(
+            scan.phi,
+            scan.reachable.mean(axis=(1, 2)),
+            color="black",
+            label="reachable fraction of the grid",
         )
-        measure = "reachable area" if stroke is not None else "reachable fraction of the grid"
-        ax.set_title(
-            f"scan of φ: {measure} (left axis) and the best and worst κ over the\n"
-            "reachable grid points (right axis, log scale)",
-            fontsize=10,
-        )
-    return figure
+        ax.set_ylabel("reachable fraction of the grid")
+    for phi in SINGULAR_ORIENTATIONS + (SINGULAR_ORIENTATIONS[0] + 2 * math.pi,):
+        if scan.phi[0] <= phi <= scan.phi[-1]:
+            ax.axvline(phi, color="tab:red", ls="--", lw=1.0, label="singular orientation")
+    ax.axvline(ws.phi, color="tab:green", lw=1.0, label=f"φ of the map ({ws.phi:.3g})")
+    ax.set_xlabel("φ (rad)")
+    twin = ax.twinx()
+    twin.semilogy(
+        scan.phi, scan.condition_min, color="tab:purple", lw=0.8, label="κ min (reachable)"
+    )
+    twin.semilogy(
+        scan.phi,
+        scan.condition_max,
+        color="tab:purple",
+        lw=0.8,
+        ls="--",
+        label="κ max (reachable)",
+    )
+    twin.set_ylabel("condition number κ over the reachable grid (log scale)")
+    spread = scan.condition_max[np.isfinite(scan.condition_max)]
+    if spread.size and spread.max() / max(float(np.nanmin(scan.condition_min)), 1.0) < 30.0:
+        plain = FuncFormatter(lambda value, _: f"{value:g}")
+        twin.yaxis.set_major_formatter(plain)
+        twin.yaxis.set_minor_formatter(plain)
+    handles, labels = ax.get_legend_handles_labels()
+    more, more_labels = twin.get_legend_handles_labels()
+    unique = dict(zip(labels + more_labels, handles + more, strict=True))
+    ax.legend(  # below the axes, over no curve
+        unique.values(),
+        unique.keys(),
+        fontsize=9,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.1),
+        ncols=2,
+        frameon=False,
+    )
+    measure = "reachable area" if stroke else "reachable fraction of the grid"
+    ax.set_title(
+        f"scan of φ: {measure} (left axis) and the best and worst κ over the\n"
+        "reachable grid points (right axis, log scale)",
+        fontsize=10,
+    )
 
 
 def save_workspace_map(
@@ -281,7 +321,7 @@ def statics_figure(robot: Robot, statics: WorkspaceStatics) -> Figure:
     figure = Figure(figsize=(7.0, 6.4), layout="constrained")
     ax = figure.subplots()
     st = statics
-    _grey_unreachable(ax, st.x, st.y, st.reachable)
+    grey_points(ax, st.x, st.y, st.reachable)
     handles: list[object] = []
     shown = st.peak[st.reachable]
     limit = st.max_force
@@ -372,10 +412,3 @@ def save_statics_map(path: str | Path, robot: Robot, statics: WorkspaceStatics) 
     with atomic_path(path) as temporary:
         figure.savefig(temporary, format="png", dpi=120)
     return path
-
-
-def _grey_unreachable(ax: Axes, x: np.ndarray, y: np.ndarray, reachable: np.ndarray) -> None:
-    """Light grey on the grid points outside the reachable region (the colour of :func:`cm_grey`)."""
-    ax.pcolormesh(
-        x, y, np.where(reachable, np.nan, 1.0), cmap="Greys", vmin=0.0, vmax=4.0, shading="nearest"
-    )
