@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import prp3.apps.cluster
+import prp3.apps.sweep
 from clitools import cli, one_line
 from prp3.errors import Prp3Error
 from prp3.family import FamilyRobot, family_inverse_dynamics
@@ -269,3 +270,54 @@ def test_the_spec_of_the_page_is_valid() -> None:
         ("min_mu_par", 0.3, math.inf),
         ("regular_area", 0.05, math.inf),
     )
+
+
+def test_cli_family_sweep_resumes_after_an_interruption_to_the_same_table(
+    capsys: pytest.CaptureFixture[str],
+    tmp_path: Path,
+    scheduler: str,
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The family sweep is the sweep of every robot: chunks kept as they are done, a run
+    again after an interruption computes only the missing ones, and the file is the one an
+    uninterrupted run writes; its rows are the spec's designs evaluated again here."""
+    spec = tmp_path / "study.toml"
+    spec.write_text(SPEC.replace("chunk = 2", "chunk = 1", 1))
+    args = ("sweep", "--spec", spec, "--scheduler", scheduler)
+    status, out, err = cli(capsys, *args, "-o", tmp_path / "whole")
+    assert status == 0, err
+    assert "4 of 4 chunks computed" in out
+    whole = (tmp_path / "whole" / "designs.parquet").read_bytes()
+
+    written: list[int] = []
+    original = prp3.apps.sweep.arrow_table
+
+    def interrupt(columns: dict[str, object], names: list[str]) -> object:
+        if len(written) == 2:
+            raise KeyboardInterrupt
+        written.append(1)
+        return original(columns, names)
+
+    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", interrupt)
+    status, out, err = cli(capsys, *args, "-o", tmp_path / "cut")
+    assert status == 130 and "interrupted" in err
+    assert not (tmp_path / "cut" / "designs.parquet").exists()
+    assert len(list((tmp_path / "cut").glob(".prp3-sweep-*/chunk-*.parquet"))) == 2
+    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", original)
+    status, out, err = cli(capsys, *args, "-o", tmp_path / "cut")
+    assert status == 0, err
+    assert "2 of 4 chunks computed, 2 found done" in out
+    assert (tmp_path / "cut" / "designs.parquet").read_bytes() == whole
+
+    read = family_sweep_spec(tomllib.loads(spec.read_text()), base=tmp_path, source=str(spec))
+    table = prp3.read_designs(tmp_path / "cut" / "designs.parquet")
+    assert table.digest == read.digest()
+    again = evaluate_family_designs(read.evaluator, family_design_rows(read))
+    for name in read.evaluator.columns:
+        np.testing.assert_array_equal(table.columns[name], again[name], err_msg=name)
+    # another spec into the same folder is refused, --force replaces it
+    spec.write_text(SPEC)
+    status, _, err = cli(capsys, *args, "-o", tmp_path / "cut")
+    assert status == 2 and "another sweep" in one_line(err)
+    status, out, err = cli(capsys, *args, "-o", tmp_path / "cut", "--force")
+    assert status == 0 and "2 of 2 chunks computed" in out, err

@@ -289,11 +289,18 @@ def _best_lines(columns: dict[str, Any], spec: FamilySweepSpec, objective: str) 
 
 
 def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
-    """``prp3 sweep`` of a family spec (``[[study]]``); return the exit status."""
-    import pyarrow.parquet as pq
+    """``prp3 sweep`` of a family spec (``[[study]]``); return the exit status.
 
+    The sweep of every robot (:func:`prp3.apps.sweep.run_sweep`): resumed after an
+    interruption, ``--force`` to replace the designs of another spec.
+    """
+    import time
+
+    from prp3.apps import sweep
     from prp3.cli._design_client import client_of
-    from prp3.family.design import run_family_sweep as sweep
+    from prp3.cli._progress import Progress
+    from prp3.cli._types import output_folder
+    from prp3.family.design import run_family_sweep as family_sweep
 
     for option, given in (("--pareto", args.pareto is not None),
                           ("--sensitivity", args.sensitivity is not None)):  # fmt: skip
@@ -304,25 +311,45 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
             )
     output: Path = args.output
     check_output_directory(output)
-    check_inputs_kept(output, ("designs.parquet",), (args.spec,))
-    result = sweep(spec, output, lambda: client_of(args))
-    columns = {name: pq.read_table(result.path).column(name).to_numpy(zero_copy_only=False)
-               for name in spec.evaluator.columns}  # fmt: skip
-    written = [result.path]
-    if args.plots:
-        from prp3.plotting.family_design import family_designs_figure
-        from prp3.plotting.figures import save_figure
-
-        written.append(save_figure(family_designs_figure(columns), output / "family_designs.png"))
+    check_inputs_kept(output, (sweep.DESIGNS_FILE,), (args.spec,))
+    sweep.check_sweep_folder(output, spec, force=args.force)  # before any warning
+    for _, described in sweep.stale_staging_folders(output, spec):
+        print(
+            f"{args.program}: warning: {described}: an unfinished sweep of another spec; "
+            "it is removed when this sweep finishes (resume it first to keep it)",
+            file=sys.stderr,
+        )
+    progress = Progress(sys.stderr)
+    start = time.monotonic()
+    try:
+        result = family_sweep(
+            spec, output, lambda: client_of(args), progress=progress.stage("designs"),
+            force=args.force,
+        )  # fmt: skip
+    finally:
+        progress.close()
+    elapsed = time.monotonic() - start
+    columns = sweep.read_designs(result.path, list(spec.evaluator.columns)).columns
     statuses = ", ".join(f"{count} {name}" for name, count in sorted(result.status.items()))
+    reused = result.chunks - result.computed
     lines = [
         f"prp3 sweep: {result.rows} designs of {len(spec.studies)} architectures "
-        f"({spec.sampling}) on {', '.join(spec.motions)}: {statuses}; {result.chunks} chunks",
+        f"({spec.sampling}) on {', '.join(spec.motions)}: {statuses}",
+        f"  {result.computed} of {result.chunks} chunks computed"
+        + (f", {reused} found done" if reused else "")
+        + f", {elapsed:.3g} s",
+        *(f"  removed {described}: superseded by this sweep" for described in result.removed),
         *_best_lines(columns, spec, "peak_joint_force"),
-        "files written:",
-        *(f"  {path}" for path in written),
     ]
-    emit("\n".join(lines))
+    with output_folder(args, output, [args.spec]) as staged:
+        staged.adopt(sweep.DESIGNS_FILE)
+        if args.plots:
+            from prp3.plotting.family_design import family_designs_figure
+            from prp3.plotting.figures import save_figure
+
+            figure = family_designs_figure(columns)
+            save_figure(figure, staged.path("family_designs.png"))
+        emit("\n".join(lines + files_report(staged)))
     return 0
 
 

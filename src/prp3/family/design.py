@@ -43,18 +43,22 @@ before them):
 
 from __future__ import annotations
 
+import hashlib
+import json
 import math
 import tomllib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.design import design_mapping
+from prp3 import __version__
+from prp3.apps.design import design_mapping, nominal_value
 from prp3.apps.design_objective import OptimizeSpec, penalized_objective
+from prp3.apps.sweep import SweepRun, run_sweep
 from prp3.apps.sweep_spec import (
     Parameter,
     parameter_paths,
@@ -154,6 +158,22 @@ class FamilyEvaluator:
     def columns(self) -> tuple[str, ...]:
         """Column names of ``designs.parquet``."""
         return ("architecture", "actuated", *self.paths, "status", *FAMILY_DESIGN_COLUMNS)
+
+    @property
+    def text_columns(self) -> tuple[str, ...]:
+        """The columns of text (a :class:`~prp3.apps.design.RowEvaluator`)."""
+        return ("architecture", "status")
+
+    def evaluate(self, values: FloatArray) -> dict[str, Any]:
+        """The columns of designs ``values (k, 1 + p)``: the study's index, then every
+        parameter of :attr:`paths` (NaN where that study lacks it)."""
+        values = np.asarray(values, dtype=np.float64).reshape(len(values), -1)
+        rows: list[tuple[int, Sequence[float]]] = []
+        for row in values:
+            index = int(row[0])
+            study = self.studies[index]
+            rows.append((index, [float(row[1 + self.paths.index(p)]) for p in study.paths]))
+        return evaluate_family_designs(self, rows)
 
 
 def _row(evaluator: FamilyEvaluator, robot: FamilyRobot) -> tuple[str, list[float]]:
@@ -279,6 +299,84 @@ class FamilySweepSpec:
         """The architectures of the study."""
         return self.evaluator.studies
 
+    # ---- what prp3.apps.sweep.run_sweep needs (a Sweepable): resume, manifest, metadata
+    @property
+    def paths(self) -> tuple[str, ...]:
+        """Every parameter's key path, in column order."""
+        return self.evaluator.paths
+
+    @property
+    def parameters(self) -> tuple[Parameter, ...]:
+        """Every study's parameters, the first of each path."""
+        seen: dict[str, Parameter] = {}
+        for study in self.studies:
+            for parameter in study.parameters:
+                seen.setdefault(parameter.path, parameter)
+        return tuple(seen.values())
+
+    @property
+    def count(self) -> int:
+        """Number of rows (:func:`family_design_rows`)."""
+        return len(family_design_rows(self))
+
+    def design_values(self) -> FloatArray:
+        """The rows' designs ``(count, 1 + p)``: the study's index, then every parameter of
+        :attr:`paths` (NaN where the study lacks it), in the order of :func:`family_design_rows`."""
+        rows = family_design_rows(self)
+        values = np.full((len(rows), 1 + len(self.paths)), np.nan)
+        for i, (index, given) in enumerate(rows):
+            values[i, 0] = index
+            for path, value in zip(self.studies[index].paths, given, strict=True):
+                values[i, 1 + self.paths.index(path)] = value
+        return values
+
+    def nominal_row(self) -> dict[str, Any]:
+        """The row of the first study's nominal design (the file's metadata)."""
+        study = replace(self.studies[0], parameters=())
+        alone = replace(self.evaluator, studies=(study,), paths=())
+        columns = evaluate_family_designs(alone, [(0, [])])
+        row: dict[str, Any] = {}
+        for path in self.paths:
+            value = nominal_value(study.nominal, path)
+            row[path] = math.nan if value is None else value
+        text = self.evaluator.text_columns
+        row |= {n: (str(v[0]) if n in text else float(v[0])) for n, v in columns.items()}
+        return row
+
+    def described(self) -> dict[str, Any]:
+        """The spec as ``designs.parquet``'s metadata records it."""
+        return {
+            "source": self.source,
+            "studies": [
+                {
+                    "architecture": study.architecture,
+                    "parameters": {p.path: [p.low, p.high] for p in study.parameters},
+                }
+                for study in self.studies
+            ],
+            "designs": self.designs,
+            "sampling": self.sampling,
+            "seed": self.seed,
+            "motions": list(self.motions),
+        }
+
+    def digest(self) -> str:
+        """SHA-256 of everything the rows depend on (keys the staging folder of a resume)."""
+        hasher = hashlib.sha256()
+        described = {
+            "format": "family-1",
+            "prp3": __version__,
+            "chunk": self.chunk,
+            "nominal": [study.nominal for study in self.studies],
+            **{k: v for k, v in self.described().items() if k != "source"},
+        }
+        hasher.update(json.dumps(described, sort_keys=True, default=repr).encode())
+        for motion in self.evaluator.motions:
+            for name in ("t", "pose", "velocity", "acceleration"):
+                array = np.ascontiguousarray(getattr(motion, name), dtype=np.float64)
+                hasher.update(array.tobytes())
+        return hasher.hexdigest()
+
 
 def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, Any]) -> Study:
     where = f"study[{index}]"
@@ -399,27 +497,8 @@ def family_design_rows(spec: FamilySweepSpec) -> list[tuple[int, list[float]]]:
 
 
 # ------------------------------------------------------------------ on Dask
-@dataclass(frozen=True)
-class FamilySweepRun:
-    """What :func:`run_family_sweep` did: the file, its rows, chunks and statuses."""
-
-    path: Path
-    rows: int
-    chunks: int
-    status: dict[str, int]
-
-
-def _arrow(columns: Mapping[str, Any], names: Sequence[str]) -> Any:
-    import pyarrow as pa
-
-    return pa.table(
-        {
-            n: pa.array(np.asarray(columns[n]).tolist(), type=pa.string())
-            if n in ("architecture", "status")
-            else pa.array(np.asarray(columns[n], dtype=np.float64), type=pa.float64())
-            for n in names
-        }
-    )
+#: What :func:`run_family_sweep` did (the 3-PRP's and the spatial sweeps' record).
+FamilySweepRun = SweepRun
 
 
 def run_family_sweep(
@@ -428,58 +507,18 @@ def run_family_sweep(
     client: Any,
     *,
     progress: Any = None,
-) -> FamilySweepRun:
+    force: bool = False,
+) -> SweepRun:
     """Evaluate every design of ``spec`` on Dask and write ``output/designs.parquet``.
 
-    One task per chunk of ``spec.chunk`` designs; the rows keep the order of
-    :func:`family_design_rows` whatever the workers; the file is written
-    atomically (whole or not at all).  ``client`` makes the Dask client as a
-    context manager (:func:`prp3.apps.cluster.dask_client`).
+    The sweep of every robot (:func:`prp3.apps.sweep.run_sweep`): one task per chunk of
+    ``spec.chunk`` designs, each chunk kept in the staging folder as it is done, so a run
+    again after an interruption computes only the missing chunks; the rows keep the order
+    of :func:`family_design_rows` whatever the workers; the file is written atomically
+    with the spec's digest, parameters and nominal row in its metadata.  ``client``: a
+    Dask client, or a factory of one (:func:`prp3.apps.cluster.dask_client`).
     """
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    from prp3.errors import OutputFileError
-    from prp3.files import atomic_path, check_output_directory
-
-    output = Path(output)
-    check_output_directory(output)
-    try:
-        output.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise OutputFileError(f"{output}: cannot create ({error.strerror})") from None
-    rows = family_design_rows(spec)
-    starts = list(range(0, len(rows), spec.chunk))
-    names = spec.evaluator.columns
-    parts: list[Any] = [None] * len(starts)
-    with client() as dask:
-        from dask.distributed import as_completed
-
-        shared = dask.scatter(spec.evaluator, broadcast=True, hash=False)
-        index_of: dict[Any, int] = {}
-        futures = []
-        for i, start in enumerate(starts):
-            future = dask.submit(
-                evaluate_family_designs, shared, rows[start : start + spec.chunk], pure=False
-            )
-            index_of[future.key] = i
-            futures.append(future)
-        queue = as_completed(futures, loop=dask.loop)  # type: ignore[no-untyped-call]
-        for done, future in enumerate(queue, start=1):
-            parts[index_of[future.key]] = _arrow(future.result(), names)
-            if progress is not None:
-                progress(done, len(starts))
-    table = pa.concat_tables(parts)
-    target = output / "designs.parquet"
-    with atomic_path(target) as temporary:
-        pq.write_table(table, temporary)
-    statuses, counts = np.unique(np.asarray(table.column("status").to_pylist()), return_counts=True)
-    return FamilySweepRun(
-        path=target,
-        rows=table.num_rows,
-        chunks=len(starts),
-        status={str(s): int(c) for s, c in zip(statuses, counts, strict=True)},
-    )
+    return run_sweep(spec, output, client, progress=progress, force=force)
 
 
 @dataclass(frozen=True)
