@@ -32,7 +32,9 @@ prp3.errors.TrajectoryError: sample 1, leg B: lambda10 is not finite (nan)
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
@@ -49,6 +51,7 @@ __all__ = [
     "MIN_RTOL",
     "OVERFLOW_REASON",
     "check_choice",
+    "check_file_path",
     "check_finite",
     "check_instance",
     "check_integer",
@@ -355,6 +358,24 @@ def check_instance(name: str, value: object, kind: type[T], what: str) -> T:
     if not isinstance(value, kind):
         raise ParameterError(f"{name} must be {what}, got {_describe(value)}", key=name)
     return value
+
+
+def check_file_path(name: str, value: object) -> Path:
+    """Return ``value`` as a :class:`~pathlib.Path` if it is a text path, else refuse it.
+
+    >>> check_file_path("path", None)
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: path must be a file path (str or pathlib.Path), got None
+    """
+    if isinstance(value, (str, os.PathLike)):
+        try:
+            return Path(value)
+        except TypeError:  # a PathLike returning bytes
+            pass
+    raise ParameterError(
+        f"{name} must be a file path (str or pathlib.Path), got {_describe(value)}", key=name
+    )
 
 
 def check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:

@@ -38,6 +38,7 @@ from prp3.analysis.force_histories import (
 from prp3.analysis.inverse_dynamics import kernel_method
 from prp3.engines.compiled_robot import CompiledRobot, compile_robot
 from prp3.errors import (
+    ParameterError,
     Prp3Error,
     SingularPoseError,
     TrajectoryError,
@@ -60,6 +61,7 @@ from prp3.validation import (
 )
 
 __all__ = [
+    "MAX_ACCELERATION",
     "MAX_EVALUATIONS",
     "MAX_SECONDS",
     "MIN_RTOL",
@@ -86,6 +88,11 @@ MAX_EVALUATIONS: int = 1_000_000
 
 #: Default wall-time bound of :func:`forward_dynamics` (s, ``max_seconds``).
 MAX_SECONDS: float = 600.0
+
+#: The largest platform acceleration (m/s², rad/s², about 10⁵ g) that the forces and loads
+#: may ask for at the initial state: beyond it (forces of 1e20 N) the explicit integrator
+#: would crawl to :data:`MAX_SECONDS`, so the run is refused before it starts.
+MAX_ACCELERATION: float = 1e6
 
 
 class _BoundReachedError(Exception):
@@ -246,6 +253,7 @@ def forward_dynamics(
     free = without_limits(robot)  # the stroke ends are events, not refusals
     stroke = robot.limits.stroke
     lost: list[tuple[float, FloatArray, str]] = []  # states where the equations lost meaning
+    _check_accelerations(free, force_of, load_of, times, np.concatenate([q0, v0]))
     solution = _integrate(
         free, stroke, force_of, times, q0, v0, aspect, (rtol, atol), load_of, progress,
         bounds, lost,
@@ -291,6 +299,39 @@ def _inputs(
                     f"smoothing = {joint.smoothing!r}"
                 )
     return ", ".join(parts)
+
+
+def _check_accelerations(
+    robot: Robot,
+    force_of: Callable[[float], FloatArray],
+    load_of: Callable[[float], FloatArray] | None,
+    times: FloatArray,
+    state: FloatArray,
+) -> None:
+    """Refuse forces whose accelerations at the initial state exceed :data:`MAX_ACCELERATION`.
+
+    ``q̈ = A⁻¹·(f10 − b)`` at the initial state under the forces of up to 257 of the
+    sample times (an overflow is left to the integration, which names it at once).
+    """
+    compiled = compile_robot(robot)
+    picks = np.unique(np.linspace(0, times.size - 1, min(times.size, 257)).astype(int))
+    for k in picks.tolist():
+        time = float(times[k])
+        with np.errstate(all="ignore"):
+            size = float(
+                np.abs(state_derivative(compiled, force_of, time, state, load_of)[3:]).max()
+            )
+        if math.isfinite(size) and size >= MAX_ACCELERATION:
+            raise ParameterError(
+                f"the inputs at t = {time!r} s ask for a platform acceleration of {size:.3g} "
+                f"(m/s², rad/s²) at the initial state, beyond the bound {MAX_ACCELERATION:g} "
+                f"(q̈ = A⁻¹·(f10 − b)); the inputs there: "
+                f"{_inputs(robot, time, force_of, load_of)}; give forces and loads of the "
+                "robot's size",
+                subject="forward dynamics",
+                key="forces",
+                time=time,
+            )
 
 
 def _lost_meaning(

@@ -102,6 +102,7 @@ from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import SPATIAL_MOTIONS, PlatformMotion, spatial_motion
 from prp3.spatial.outputs import spatial_inverse_dynamics
 from prp3.spatial.workspace import pose_reasons
+from prp3.validation import check_file_path
 
 if TYPE_CHECKING:
     from prp3.apps.cluster import ClientOrFactory, Progress
@@ -467,7 +468,7 @@ class SpatialSweepSpec:
 # ------------------------------------------------------------------ SWEEP.toml
 def read_spatial_sweep_spec(path: str | Path) -> SpatialSweepSpec:
     """Read and validate a spatial ``SWEEP.toml`` (:func:`spatial_sweep_spec`)."""
-    path = Path(path)
+    path = check_file_path("path", path)
     return spatial_sweep_spec(read_toml(path, "sweep"), base=path.parent, source=str(path))
 
 

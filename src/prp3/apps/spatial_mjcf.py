@@ -74,7 +74,7 @@ from prp3.spatial.kinematics import spatial_kinematics
 from prp3.spatial.model import Body, Joint, Leg, Matrix, SpatialRobot, check_rotation, check_vector
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.rotations import matrix_quaternion
-from prp3.validation import check_instance
+from prp3.validation import check_file_path, check_instance
 
 __all__ = [
     "END_MASS_FRACTION",
@@ -589,7 +589,7 @@ def read_spatial_mjcf(path: str | Path) -> SpatialRobot:
         An unreadable file, malformed XML, a foreign MJCF model (one line naming the
         file and the reason), or elements that do not make a robot.
     """
-    path = Path(path)
+    path = check_file_path("path", path)
     text = read_text(path, "MJCF", MAX_MJCF_BYTES)
     try:
         return spatial_mjcf_robot(text)

@@ -31,7 +31,7 @@ from prp3.spatial.forward import state_from_joints
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.outputs import spatial_inverse_dynamics, spatial_results_table
-from prp3.validation import first_not_increasing
+from prp3.validation import check_file_path, first_not_increasing
 
 __all__ = ["SpatialEfforts", "read_spatial_efforts", "spatial_effort_columns"]
 
@@ -77,7 +77,7 @@ def read_spatial_efforts(path: str | Path, robot: SpatialRobot) -> SpatialEffort
         a cell that is not a finite number, fewer than 2 rows, a time that does not
         increase (each naming the file and line), joint values that give no pose.
     """
-    file = Path(path)
+    file = check_file_path("path", path)
     required, others = spatial_effort_columns(robot)
     table = read_table(file, required, others, "efforts")
     columns = table.columns

@@ -57,7 +57,7 @@ from prp3.spatial.model import (
 )
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.outputs import spatial_inverse_dynamics
-from prp3.validation import check_scalar
+from prp3.validation import check_file_path, check_scalar
 
 __all__ = [
     "BODY_KEYS",
@@ -418,7 +418,7 @@ def read_spatial_robot(path: str | Path) -> SpatialRobotFile:
         An unreadable file or invalid TOML (file, line and column), and every refusal of
         :func:`spatial_robot_from_mapping`, naming the file, the key and its line.
     """
-    path = Path(path)
+    path = check_file_path("path", path)
     data = read_toml(path, "robot")
     return read_spatial_mapping(path, data)
 
@@ -426,7 +426,7 @@ def read_spatial_robot(path: str | Path) -> SpatialRobotFile:
 def read_any_robot(path: str | Path) -> Robot | FamilyRobot | SpatialRobotFile:
     """A robot file of any form: spatial (:func:`read_spatial_robot`), or the planar forms of
     :func:`prp3.family.read_robot_file` (docs/model.md, docs/family.md)."""
-    path = Path(path)
+    path = check_file_path("path", path)
     data = read_toml(path, "robot")
     if is_spatial_mapping(data):
         return read_spatial_mapping(path, data)

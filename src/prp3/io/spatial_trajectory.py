@@ -40,7 +40,7 @@ from prp3.io.trajectory import column_group
 from prp3.model.motion import spline_derivatives
 from prp3.spatial.motion import PlatformMotion, check_rpy, rpy_rates
 from prp3.spatial.rotations import quaternion_matrix, rpy_matrix
-from prp3.validation import first_not_increasing
+from prp3.validation import check_file_path, first_not_increasing
 
 __all__ = [
     "QUATERNION_COLUMNS",
@@ -130,7 +130,7 @@ def read_spatial_trajectory(path: str | Path) -> SpatialTrajectory:
         not within ``1e-6`` of 1, rates derived from the poses that overflow (names the
         file and the line).
     """
-    return _read(Path(path), ())[0]
+    return _read(check_file_path("path", path), ())[0]
 
 
 @dataclass(frozen=True)

@@ -71,6 +71,7 @@ from prp3.spatial.rotations import cross, matrix_quaternion, quaternion_matrix
 from prp3.validation import check_instance, check_integer, check_real, check_scalar, check_times
 
 __all__ = [
+    "MAX_ACCELERATION",
     "SINGULARITY_STOP",
     "SpatialForward",
     "SpatialPlatformDynamics",
@@ -89,6 +90,16 @@ SINGULARITY_STOP: float = 1e-3
 
 #: A mass matrix whose condition number reaches this is refused as singular.
 MAX_CONDITION: float = 1e12
+
+#: The largest platform acceleration (m/s² and rad/s², about 10⁵ g) the efforts may
+#: ask for at the initial state (§18): efforts that ask for more (1e6 N·m on the Delta,
+#: 1e20, 1e308) are refused before the integration, which would otherwise crawl to its
+#: time bound.
+MAX_ACCELERATION: float = 1e6
+
+#: A right-hand side whose acceleration is not finite or reaches this (a million times
+#: :data:`MAX_ACCELERATION`) stops the integration with an error naming the time.
+MAX_DERIVATIVE: float = 1e12
 
 
 @dataclass(frozen=True)
@@ -339,6 +350,51 @@ class _BoundReachedError(Exception):
     """Raised inside the right-hand side when a bound of the run is reached."""
 
 
+class _AbsurdDerivativeError(Exception):
+    """Raised inside the right-hand side when the acceleration is not finite or absurd."""
+
+    def __init__(self, time: float, acceleration: float, tau: FloatArray) -> None:
+        super().__init__(time)
+        self.time, self.acceleration, self.tau = time, acceleration, tau
+
+
+def _effort_samples(
+    effort_of: Callable[[float], FloatArray], efforts: object, t0: float
+) -> tuple[FloatArray, bool]:
+    """The effort rows to check up front (every sample of a table) and whether sampled."""
+    if callable(efforts):
+        return effort_of(t0)[None], False
+    tau = np.asarray(efforts, dtype=np.float64)
+    return (tau[None] if tau.ndim == 1 else tau), tau.ndim == 2
+
+
+def _check_accelerations(
+    robot: SpatialRobot, dynamics: SpatialPlatformDynamics, rows: FloatArray, sampled: bool
+) -> None:
+    """Refuse efforts whose free accelerations at the initial state are absurd (§18).
+
+    ``a_f = A⁻¹·(τ − h)`` at the initial state for each row of ``rows`` (legs,); the
+    largest ``|a_f|`` must be finite and below :data:`MAX_ACCELERATION`.
+    """
+    with np.errstate(all="ignore"):
+        solved = np.linalg.solve(dynamics.effort_matrix[0], (rows - dynamics.effort_bias[0]).T).T
+        size = np.abs(solved).max(axis=1)
+    size = np.where(np.isfinite(size), size, math.inf)
+    k = int(np.argmax(size))
+    if size[k] < MAX_ACCELERATION:
+        return
+    leg = int(np.argmax(np.abs(rows[k])))
+    where = f"sample {k} of the efforts" if sampled else "the efforts"
+    raise ParameterError(
+        f"{where} ask for a platform acceleration of {size[k]:.3g} (m/s², rad/s²) at the "
+        f"initial state of the {robot.name}, beyond the bound {MAX_ACCELERATION:g} "
+        f"(docs/spatial.md §18: a_f = A⁻¹·(τ − h)); the effort of leg {leg + 1} is "
+        f"{float(rows[k, leg])!r}",
+        key="efforts",
+        sample=k if sampled else None,
+    )
+
+
 def _effort_function(
     robot: SpatialRobot, efforts: object, t_efforts: ArrayLike | None
 ) -> tuple[Callable[[float], FloatArray], tuple[float, float] | None]:
@@ -555,6 +611,7 @@ def spatial_forward_dynamics(
             subject="robot",
         )
     effort_of(t0)  # a function of the wrong kind is refused before the integration
+    _check_accelerations(robot, dyn0, *_effort_samples(effort_of, efforts, t0))
     y0 = np.concatenate(
         [
             first.position[0],
@@ -615,6 +672,9 @@ def spatial_forward_dynamics(
             return np.full(13, np.nan)
         except np.linalg.LinAlgError:
             return np.full(13, np.nan)
+        size = float(np.abs(acc).max())
+        if np.isfinite(y).all() and not size < MAX_DERIVATIVE:
+            raise _AbsurdDerivativeError(time, size, effort_of(time))
         if time > furthest[0]:
             furthest[0] = time
             if progress is not None:
@@ -663,6 +723,15 @@ def spatial_forward_dynamics(
             f"[{float(times[0])!r}, {float(times[-1])!r}] s",
             subject="forward dynamics",
             time=furthest[0],
+        ) from None
+    except _AbsurdDerivativeError as absurd:
+        tau_text = ", ".join(f"{v:.6g}" for v in absurd.tau)
+        raise TrajectoryError(
+            f"the equations of motion give a platform acceleration of {absurd.acceleration:.3g} "
+            f"(m/s², rad/s²) at t = {absurd.time!r} s, not below {MAX_DERIVATIVE:g}, under the "
+            f"efforts ({tau_text}): the efforts are absurd for the {robot.name}",
+            subject="forward dynamics",
+            time=absurd.time,
         ) from None
     if (
         solution.status == 1
