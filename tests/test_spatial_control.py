@@ -100,8 +100,12 @@ def test_orientation_error_decays() -> None:
     robot = prp3.hexapod()
     reference = _hexapod_reference(robot)
     ref0 = reference(0.0)
-    tilt = prp3.PlatformMotion.at_rest([0, 0, 0], np.array(
-        [[1, 0, 0], [0, math.cos(0.02), -math.sin(0.02)], [0, math.sin(0.02), math.cos(0.02)]]))
+    tilt = prp3.PlatformMotion.at_rest(
+        [0, 0, 0],
+        np.array(
+            [[1, 0, 0], [0, math.cos(0.02), -math.sin(0.02)], [0, math.sin(0.02), math.cos(0.02)]]
+        ),
+    )
     start = PlatformMotion.of([0.0], ref0.position, tilt.rotation @ ref0.rotation,
                               ref0.omega, ref0.velocity)  # fmt: skip
     run = prp3.spatial_track(robot, reference, 0.6, kp=100.0, kd=20.0, initial=start, samples=13)

@@ -24,7 +24,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from prp3.errors import ParameterError
 from prp3.spatial.forward import spatial_forward_dynamics, spatial_platform_dynamics
