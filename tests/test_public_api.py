@@ -290,6 +290,7 @@ EXEMPT: dict[str, str] = {
     "SpatialKinematics": "result type",
     "SpatialSolution": "result type",
     "SpatialForward": "result type (spatial_forward_dynamics)",
+    "SpatialTracking": "result type (spatial_track)",
     "SpatialPlatformDynamics": "result type (spatial_platform_dynamics)",
     "SpatialEfforts": "result type (read_spatial_efforts)",
     "read_spatial_efforts": "reads a file (tests/test_spatial_forward.py: prp3 forward's refusals)",
@@ -1143,6 +1144,31 @@ CASES: dict[str, Case] = {
         rtol=1e-8,
         atol=1e-10,
     ),
+    "spatial_track": _case(
+        prp3.spatial_track,
+        {
+            "robot": OBJ,
+            "reference": OBJ,
+            "duration": R,
+            "kp": R,
+            "kd": R,
+            "samples": INT,
+            "plant": C,
+        },
+        robot=_hexapod,
+        reference=lambda: lambda t: prp3.PlatformMotion.at_rest(prp3.hexapod().home_position),
+        duration=0.01,
+        kp=100.0,
+        kd=20.0,
+        samples=2,
+        plant="prp3",
+    ),
+    "spatial_pose_error": _case(
+        prp3.spatial_pose_error,
+        {"reference": OBJ, "actual": OBJ},
+        reference=_at_home,
+        actual=_at_home,
+    ),
     "spatial_platform_dynamics": _case(
         prp3.spatial_platform_dynamics,
         {"robot": OBJ, "motion": OBJ},
@@ -1309,7 +1335,7 @@ CASES: dict[str, Case] = {
 }
 
 #: Functions whose good call is too slow for this file (each has its own tests).
-SLOW = {"track", "exciting_trajectory"}
+SLOW = {"track", "exciting_trajectory", "spatial_track"}
 
 #: Refusals still missing, by (function, argument[, label]): strict xfails, so that
 #: the fix makes them fail until the entry goes.

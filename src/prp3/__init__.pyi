@@ -472,3 +472,8 @@ from .io.spatial_trajectory import (
     SpatialMeasurements as SpatialMeasurements,
     read_spatial_measurements as read_spatial_measurements,
 )
+from .apps.spatial_control import (
+    SpatialTracking as SpatialTracking,
+    spatial_pose_error as spatial_pose_error,
+    spatial_track as spatial_track,
+)

@@ -443,6 +443,33 @@ def _effort_function(
     return (lambda time: np.asarray(spline(time), dtype=np.float64)), (float(te[0]), float(te[-1]))
 
 
+def _closed(
+    robot: SpatialRobot,
+    feedback: Callable[[float, PlatformMotion], ArrayLike] | None,
+    time: float,
+    state: PlatformMotion,
+) -> FloatArray | float:
+    """The feedback efforts at ``(time, state)`` (0 without feedback), checked."""
+    if feedback is None:
+        return 0.0
+    value = np.asarray(feedback(time, state), dtype=np.float64)
+    if value.shape != (len(robot.legs),) or not np.isfinite(value).all():
+        raise ParameterError(
+            f"feedback must return {len(robot.legs)} finite numbers, got {value!r}"[:300],
+            key="feedback",
+        )
+    return value
+
+
+def _row(motion: PlatformMotion, k: int) -> PlatformMotion:
+    """Sample ``k`` of ``motion`` as a motion of one sample."""
+    return PlatformMotion(
+        motion.t[k : k + 1], motion.position[k : k + 1], motion.rotation[k : k + 1],
+        motion.omega[k : k + 1], motion.velocity[k : k + 1], motion.alpha[k : k + 1],
+        motion.acceleration[k : k + 1],
+    )  # fmt: skip
+
+
 def _without_limits(robot: SpatialRobot) -> SpatialRobot:
     """``robot`` with every joint unbounded: the equations of motion a little beyond a limit.
 
@@ -510,6 +537,7 @@ def spatial_forward_dynamics(
     max_evaluations: int = MAX_EVALUATIONS,
     max_seconds: float = MAX_SECONDS,
     progress: Callable[[int, int], None] | None = None,
+    feedback: Callable[[float, PlatformMotion], ArrayLike] | None = None,
 ) -> SpatialForward:
     """Integrate the platform motion of ``robot`` driven by the actuator efforts ``τ(t)`` (§18).
 
@@ -544,6 +572,10 @@ def spatial_forward_dynamics(
         :data:`~prp3.analysis.forward.MAX_SECONDS`).
     progress : callable, optional
         ``progress(samples_reached, N)``, reported as the integration advances.
+    feedback : callable, optional
+        ``feedback(t, state) -> (legs,)``: efforts of the time and of the state (one
+        sample, completed onto the legs' constraints, accelerations zero), added to
+        ``efforts`` (a closed loop, :func:`~prp3.apps.spatial_control.spatial_track`).
 
     Returns
     -------
@@ -569,6 +601,11 @@ def spatial_forward_dynamics(
     """
     check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
     effort_of, span = _effort_function(robot, efforts, t_efforts)
+    if feedback is not None and not callable(feedback):
+        raise ParameterError(
+            f"feedback must be a function (t, state) -> efforts or None, got {feedback!r}"[:300],
+            key="feedback",
+        )
     period = check_scalar("duration", duration, positive=True, unit="s")
     count = check_integer("samples", samples, 2, 10**7)
     relative = check_scalar("rtol", rtol, positive=True)
@@ -643,7 +680,8 @@ def spatial_forward_dynamics(
         done = _evaluate(unlimited, motion)
         reach = limit_margin(robot, leg_coordinates(robot, motion.position, motion.rotation).q)
         dyn = done.dynamics
-        a_free = np.linalg.solve(dyn.effort_matrix[0], effort_of(time) - dyn.effort_bias[0])
+        tau = effort_of(time) + _closed(robot, feedback, time, motion)
+        a_free = np.linalg.solve(dyn.effort_matrix[0], tau - dyn.effort_bias[0])
         base = done.accelerations[0, 0]
         full = base + a_free @ (done.accelerations[0, 1:] - base)  # affine in a_f (§11)
         moved = PlatformMotion(
@@ -786,7 +824,12 @@ def spatial_forward_dynamics(
     # the parasitic accelerations solved afresh from the free ones (§11), not by the
     # affine combination of the right-hand side (round-off relative to a small acceleration)
     motion = complete_motion(robot, motion)
-    given = np.array([effort_of(float(s)) for s in motion.t])
+    given = np.array(
+        [
+            effort_of(float(s)) + _closed(robot, feedback, float(s), _row(motion, k))
+            for k, s in enumerate(motion.t)
+        ]
+    )
     inverse = spatial_inverse_dynamics(robot, motion, "newton-euler")
     residual = float(np.abs(inverse.tau - given).max())
     message = (
