@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import prp3
 import prp3.apps.cluster
 import prp3.apps.sweep
 from clitools import cli, one_line
@@ -321,3 +322,17 @@ def test_cli_family_sweep_resumes_after_an_interruption_to_the_same_table(
     assert status == 2 and "another sweep" in one_line(err)
     status, out, err = cli(capsys, *args, "-o", tmp_path / "cut", "--force")
     assert status == 0 and "2 of 2 chunks computed" in out, err
+
+
+def test_the_family_spec_file_is_read_as_the_cli_reads_it(tmp_path: Path) -> None:
+    spec = tmp_path / "study.toml"
+    spec.write_text(SPEC)
+    read = prp3.read_family_sweep_spec(spec)
+    direct = family_sweep_spec(tomllib.loads(SPEC), base=tmp_path, source=str(spec))
+    assert read.digest() == direct.digest() and read.count == 4
+    np.testing.assert_array_equal(read.design_values(), direct.design_values())
+    (tmp_path / "model.toml").write_text("designs = 2\n[parameters]\nl0 = [0.25, 0.35]\n")
+    with pytest.raises(Prp3Error, match=r"model\.toml: not a family sweep spec"):
+        prp3.read_family_sweep_spec(tmp_path / "model.toml")
+    with pytest.raises(Prp3Error, match="path"):
+        prp3.read_family_sweep_spec(None)  # type: ignore[arg-type]

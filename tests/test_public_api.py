@@ -262,6 +262,7 @@ EXEMPT: dict[str, str] = {
     "family_sweep_spec": "a parsed sweep file (tests/test_family_design.py)",
     "spatial_sweep_spec": "a parsed sweep file (tests/test_spatial_sweep.py)",
     "read_spatial_sweep_spec": "reads a sweep file (tests/test_spatial_sweep.py)",
+    "read_family_sweep_spec": "reads a sweep file (tests/test_family_design.py)",
     "SpatialSweepSpec": "built by spatial_sweep_spec from a validated sweep file",
     "optimize_spatial": "a sweep file's run (tests/test_spatial_sweep.py)",
     "RowEvaluator": "a Protocol (DesignEvaluator, SpatialEvaluator implement it)",

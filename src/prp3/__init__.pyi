@@ -218,6 +218,7 @@ from .family.design import (
     family_design_robot as family_design_robot,
     family_sweep_spec as family_sweep_spec,
     optimize_family as optimize_family,
+    read_family_sweep_spec as read_family_sweep_spec,
     run_family_sweep as run_family_sweep,
 )
 from .family.forward import (

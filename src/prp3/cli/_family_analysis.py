@@ -255,13 +255,12 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
 
 def family_spec_of(path: Path) -> FamilySweepSpec | None:
     """The family sweep spec of ``SWEEP.toml`` at ``path``, or ``None`` for a model-form spec."""
-    from prp3.family.design import family_sweep_spec, is_family_spec
+    from prp3.family.design import is_family_spec, read_family_sweep_spec
     from prp3.model.robot_toml import read_toml
 
-    data = read_toml(path, "sweep")
-    if not is_family_spec(data):
+    if not is_family_spec(read_toml(path, "sweep")):
         return None
-    return family_sweep_spec(data, base=path.parent, source=str(path))
+    return read_family_sweep_spec(path)
 
 
 def _best_lines(columns: dict[str, Any], spec: FamilySweepSpec, objective: str) -> list[str]:

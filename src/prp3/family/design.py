@@ -482,6 +482,21 @@ def family_sweep_spec(
     )
 
 
+def read_family_sweep_spec(path: str | Path) -> FamilySweepSpec:
+    """Read and validate a family ``SWEEP.toml`` (:func:`family_sweep_spec`; errors name the
+    file).  A spec without ``[[study]]`` tables is not a family spec and is refused."""
+    from prp3.model.robot_toml import read_toml
+    from prp3.validation import check_file_path
+
+    path = check_file_path("path", path)
+    data = read_toml(path, "sweep")
+    if not is_family_spec(data):
+        raise ParameterError(
+            f"{path}: not a family sweep spec (it has no [[study]] table; docs/family_comparison.md)"
+        )
+    return family_sweep_spec(data, base=path.parent, source=str(path))
+
+
 def family_design_rows(spec: FamilySweepSpec) -> list[tuple[int, list[float]]]:
     """Every design of the sweep as ``(study index, values)``, study by study.
 
