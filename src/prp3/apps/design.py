@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import copy
 import itertools
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -30,6 +31,7 @@ from numpy.typing import NDArray
 
 from prp3.errors import (
     ParameterError,
+    Prp3Error,
     SingularPoseError,
 )
 from prp3.model.motion import Motion
@@ -44,6 +46,7 @@ __all__ = [
     "design_columns",
     "design_mapping",
     "design_robot",
+    "nominal_design_row",
     "nominal_value",
 ]
 
@@ -131,6 +134,29 @@ def design_robot(
         )
     check_finite("values", numbers, ParameterError, components=tuple(paths))
     return Robot.from_mapping(design_mapping(nominal, paths, numbers.tolist()))
+
+
+def nominal_design_row(
+    nominal: Mapping[str, Any],
+    paths: Sequence[str],
+    columns: Mapping[str, Any],
+    text_columns: Sequence[str],
+) -> dict[str, Any]:
+    """The nominal row of a designs file's metadata: each parameter's nominal value (NaN
+    where the nominal mapping gives none), then the first row of the evaluated ``columns``.
+
+    >>> nominal_design_row({"l0": 0.3}, ["l0", "payload.mass"], {"status": ["ok"]}, ["status"])
+    {'l0': 0.3, 'payload.mass': nan, 'status': 'ok'}
+    """
+    row: dict[str, Any] = {}
+    for path in paths:
+        try:
+            value = nominal_value(nominal, path)
+        except Prp3Error:  # not a 3-PRP mapping: no computed default
+            value = None
+        row[path] = math.nan if value is None else value
+    row |= {n: (str(v[0]) if n in text_columns else float(v[0])) for n, v in columns.items()}
+    return row
 
 
 def nominal_value(nominal: Mapping[str, Any], path: str) -> float | None:

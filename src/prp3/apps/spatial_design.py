@@ -74,7 +74,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3 import __version__
-from prp3.apps.design import design_mapping, nominal_value
+from prp3.apps.design import design_mapping, nominal_design_row, nominal_value
 from prp3.apps.design_objective import OptimizeSpec
 from prp3.apps.sweep_spec import (
     MAX_DESIGNS,
@@ -416,13 +416,7 @@ class SpatialSweepSpec:
             self.evaluator, studies=(replace(study, paths=()),), paths=(), indexed=False
         )
         columns = alone.evaluate(np.zeros((1, 0)))
-        row: dict[str, Any] = {}
-        for path in self.paths:
-            value = nominal_value(study.values, path)
-            row[path] = math.nan if value is None else value
-        text = self.evaluator.text_columns
-        row |= {n: (str(v[0]) if n in text else float(v[0])) for n, v in columns.items()}
-        return row
+        return nominal_design_row(study.values, self.paths, columns, self.evaluator.text_columns)
 
     def described(self) -> dict[str, Any]:
         """The spec as ``designs.parquet``'s metadata records it."""

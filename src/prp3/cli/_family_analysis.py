@@ -293,13 +293,9 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
     The sweep of every robot (:func:`prp3.apps.sweep.run_sweep`): resumed after an
     interruption, ``--force`` to replace the designs of another spec.
     """
-    import time
-
     from prp3.apps import sweep
-    from prp3.cli._design_client import client_of
-    from prp3.cli._progress import Progress
+    from prp3.cli._sweep_run import swept
     from prp3.cli._types import output_folder
-    from prp3.family.design import run_family_sweep as family_sweep
 
     for option, given in (("--pareto", args.pareto is not None),
                           ("--sensitivity", args.sensitivity is not None)):  # fmt: skip
@@ -311,33 +307,13 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
     output: Path = args.output
     check_output_directory(output)
     check_inputs_kept(output, (sweep.DESIGNS_FILE,), (args.spec,))
-    sweep.check_sweep_folder(output, spec, force=args.force)  # before any warning
-    for _, described in sweep.stale_staging_folders(output, spec):
-        print(
-            f"{args.program}: warning: {described}: an unfinished sweep of another spec; "
-            "it is removed when this sweep finishes (resume it first to keep it)",
-            file=sys.stderr,
-        )
-    progress = Progress(sys.stderr)
-    start = time.monotonic()
-    try:
-        result = family_sweep(
-            spec, output, lambda: client_of(args), progress=progress.stage("designs"),
-            force=args.force,
-        )  # fmt: skip
-    finally:
-        progress.close()
-    elapsed = time.monotonic() - start
+    result, chunks = swept(args, spec, output)
     columns = sweep.read_designs(result.path, list(spec.evaluator.columns)).columns
     statuses = ", ".join(f"{count} {name}" for name, count in sorted(result.status.items()))
-    reused = result.chunks - result.computed
     lines = [
         f"prp3 sweep: {result.rows} designs of {len(spec.studies)} architectures "
         f"({spec.sampling}) on {', '.join(spec.motions)}: {statuses}",
-        f"  {result.computed} of {result.chunks} chunks computed"
-        + (f", {reused} found done" if reused else "")
-        + f", {elapsed:.3g} s",
-        *(f"  removed {described}: superseded by this sweep" for described in result.removed),
+        *chunks,
         *_best_lines(columns, spec, "peak_joint_force"),
     ]
     with output_folder(args, output, [args.spec]) as staged:
@@ -354,7 +330,7 @@ def run_family_sweep(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
 
 def run_family_optimize(args: argparse.Namespace, spec: FamilySweepSpec) -> int:
     """``prp3 optimize`` of a family spec; return the exit status (1 when nothing is feasible)."""
-    from prp3.cli._design_client import client_of
+    from prp3.cli._sweep_run import client_of
     from prp3.family.design import family_design_robot, optimize_family
 
     output: Path = args.output

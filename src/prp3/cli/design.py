@@ -16,12 +16,11 @@ The format of ``SWEEP.toml`` is in ``docs/design.md``.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import importlib.util
 import math
 import sys
 import time
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -31,14 +30,13 @@ from prp3.apps.design import AGGREGATES, design_robot
 from prp3.apps.design_objective import quantity
 from prp3.apps.sweep_spec import SweepSpec, sweep_spec
 from prp3.cli._progress import Progress
+from prp3.cli._sweep_run import client_of, swept
 from prp3.cli._types import emit, files_report, integer_at_least, output_folder, path_name
 from prp3.errors import Prp3Error
 from prp3.files import atomic_writer, check_inputs_kept, check_output_directory
 from prp3.io.tables import format_float
 
 if TYPE_CHECKING:
-    from dask.distributed import Client
-
     from prp3.apps.spatial_design import SpatialSweepSpec
     from prp3.family.design import FamilySweepSpec
 
@@ -178,14 +176,6 @@ def _require_design_extra() -> None:
         raise Prp3Error(f"design studies need {', '.join(missing)}: pip install 'prp3[design]'")
 
 
-@contextlib.contextmanager
-def _client(args: argparse.Namespace) -> Iterator[Client]:
-    from prp3.apps.cluster import dask_client
-
-    with dask_client(args.workers, args.scheduler) as client:
-        yield client
-
-
 #: The columns of which larger is better (``--pareto`` takes them as ``:max`` by default).
 MAXIMIZED: frozenset[str] = frozenset({"workspace_area", "min_mu_leg", "min_mu_par", "reachable"})
 
@@ -275,38 +265,15 @@ def run_sweep(args: argparse.Namespace) -> int:
     for name, _ in axes:
         _check_quantity(spec, name, "--pareto")
     _check_quantity(spec, args.sensitivity, "--sensitivity")
-    sweep.check_sweep_folder(output, spec, force=args.force)  # before any warning
-    for _, described in sweep.stale_staging_folders(output, spec):
-        print(
-            f"{args.program}: warning: {described}: an unfinished sweep of another spec; "
-            "it is removed when this sweep finishes (resume it first to keep it)",
-            file=sys.stderr,
-        )
-    progress = Progress(sys.stderr)
-    start = time.monotonic()
-    try:
-        result = sweep.run_sweep(
-            spec,
-            output,
-            lambda: _client(args),
-            progress=progress.stage("designs"),
-            force=args.force,
-        )
-    finally:
-        progress.close()
-    elapsed = time.monotonic() - start
+    result, chunks = swept(args, spec, output)
     statuses = ", ".join(f"{count} {name}" for name, count in sorted(result.status.items()))
-    reused = result.chunks - result.computed
     robots = (
         f" of {', '.join(s.name for s in spec.studies)}" if not isinstance(spec, SweepSpec) else ""
     )
     lines = [
         f"prp3 sweep: {result.rows} designs{robots} ({spec.sampling}, "
         f"{_count(len(spec.parameters))}) on {', '.join(spec.motions)}: {statuses}",
-        f"  {result.computed} of {result.chunks} chunks computed"
-        + (f", {reused} found done" if reused else "")
-        + f", {elapsed:.3g} s",
-        *(f"  removed {described}: superseded by this sweep" for described in result.removed),
+        *chunks,
     ]
     # designs.parquet is written in place (resumable); the figures are staged with it, and
     # the manifest records them: a later sweep without --plots removes its stale figures
@@ -379,7 +346,7 @@ def run_optimize(args: argparse.Namespace) -> int:
     progress = Progress(sys.stderr)
     try:
         outcome = optimization.optimize_design(
-            spec, lambda: _client(args), progress=progress.stage("generations")
+            spec, lambda: client_of(args), progress=progress.stage("generations")
         )
     finally:
         progress.close()
@@ -432,7 +399,7 @@ def _run_spatial_optimize(args: argparse.Namespace, spec: SpatialSweepSpec) -> i
     progress = Progress(sys.stderr)
     try:
         results = optimize_spatial(
-            spec, lambda: _client(args), progress=progress.stage("generations")
+            spec, lambda: client_of(args), progress=progress.stage("generations")
         )
     finally:
         progress.close()

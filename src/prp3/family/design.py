@@ -56,7 +56,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3 import __version__
-from prp3.apps.design import design_mapping, nominal_value
+from prp3.apps.design import design_mapping, nominal_design_row
 from prp3.apps.design_objective import OptimizeSpec, penalized_objective
 from prp3.apps.sweep import SweepRun, run_sweep
 from prp3.apps.sweep_spec import (
@@ -335,13 +335,7 @@ class FamilySweepSpec:
         study = replace(self.studies[0], parameters=())
         alone = replace(self.evaluator, studies=(study,), paths=())
         columns = evaluate_family_designs(alone, [(0, [])])
-        row: dict[str, Any] = {}
-        for path in self.paths:
-            value = nominal_value(study.nominal, path)
-            row[path] = math.nan if value is None else value
-        text = self.evaluator.text_columns
-        row |= {n: (str(v[0]) if n in text else float(v[0])) for n, v in columns.items()}
-        return row
+        return nominal_design_row(study.nominal, self.paths, columns, self.evaluator.text_columns)
 
     def described(self) -> dict[str, Any]:
         """The spec as ``designs.parquet``'s metadata records it."""
