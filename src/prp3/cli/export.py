@@ -21,11 +21,10 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, CSource, c_inverse_dynamics
 from prp3.apps.mjcf import mjcf_model
-from prp3.apps.spatial_codegen import SpatialCSource, spatial_c_inverse_dynamics
 from prp3.apps.spatial_mjcf import spatial_mjcf_model
 from prp3.cli._types import (
     add_output_directory,
@@ -43,6 +42,9 @@ from prp3.family.mjcf import family_mjcf_model
 from prp3.files import atomic_writer, check_inputs_kept, check_output_directory, read_text
 from prp3.io.spatial_robot import SpatialRobotFile, key_line
 from prp3.model.robot_toml import MAX_ROBOT_FILE_BYTES
+
+if TYPE_CHECKING:
+    from prp3.apps.spatial_codegen import SpatialCSource
 
 __all__ = ["register"]
 
@@ -203,6 +205,8 @@ def _export_c(args: argparse.Namespace) -> int:
     robot = load_robot_or_spatial(args)
     code: CSource | FamilyCSource | SpatialCSource
     if isinstance(robot, SpatialRobotFile):
+        from prp3.apps.spatial_codegen import spatial_c_inverse_dynamics  # numba: on use
+
         code = spatial_c_inverse_dynamics(robot.robot)
         legs, dof = len(robot.robot.legs), robot.robot.legs[0].dof
         what = (
