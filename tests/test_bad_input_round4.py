@@ -210,3 +210,125 @@ def test_an_initial_velocity_whose_squares_overflow_is_refused_as_the_initial_st
             robot, None, lambda t: np.zeros(3), np.array([0.0, 0.01]), robot.home_poses[0],
             [0.0, 0.0, 1.5482003035190314e154],
         )  # fmt: skip
+
+
+# ------------------------------------------------ family forward (issue 33, gap 1 and 2)
+FAMILY_FORWARD_DOCS = "docs/family.md §7"
+
+
+def _family_efforts_csv(path: Path, rows: list[list[float]]) -> Path:
+    body = "".join(",".join(repr(float(v)) for v in row) + "\n" for row in rows)
+    path.write_text("t,tau_A,tau_B,tau_C\n" + body, encoding="utf-8")
+    return path
+
+
+def _family_forward_cli(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, robot_text: str, rows: list[list[float]]
+) -> tuple[int, str]:
+    robot = tmp_path / "family.toml"
+    robot.write_text(robot_text, encoding="utf-8")
+    table = _family_efforts_csv(tmp_path / "efforts.csv", rows)
+    out = tmp_path / "out"
+    kept = _earlier_output(out)
+    status = main(["forward", "--robot", str(robot), "--forces", str(table),
+                   "--output", str(out)])  # fmt: skip
+    assert kept.read_text() == "earlier output\n"
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]  # nothing written
+    return status, _error_line(capsys)
+
+
+@pytest.mark.parametrize("push", [1e6, 1e20, 1e308, -1e308])
+def test_prp3_forward_of_a_family_robot_refuses_absurd_efforts(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, push: float
+) -> None:
+    """Before the check these ran past 100 s (the explicit integrator crawling)."""
+    rows = [[0.0, push, push, push], [0.1, push, push, push]]
+    status, line = _family_forward_cli(capsys, tmp_path, 'architecture = "3-RRR"\n', rows)
+    assert status == 2
+    assert "efforts.csv: sample 0" in line and "beyond the bound 1e+06" in line
+    assert f"tau_A = {push!r}" in line and "3-RRR" in line
+
+
+def test_prp3_forward_of_a_family_robot_refuses_an_efforts_column_swinging_across_floats(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    rows = [[0.0, 1e308, 0.0, 0.0], [0.1, -1e308, 0.0, 0.0]]
+    status, line = _family_forward_cli(capsys, tmp_path, 'architecture = "3-RRR"\n', rows)
+    assert status == 2 and "beyond the bound" in line and "tau_A = 1e+308" in line
+
+
+def test_prp3_forward_of_a_family_robot_refuses_a_huge_load(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    text = 'architecture = "3-RRR"\n[load]\nforce = [0.0, 1e12]\n'
+    status, line = _family_forward_cli(capsys, tmp_path, text, [[0.0, 0, 0, 0], [0.1, 0, 0, 0]])
+    assert status == 2 and "the efforts and the [load] ask" in line
+    assert "[load] force = [0.0, 1000000000000.0] N" in line
+
+
+def test_prp3_forward_of_a_family_robot_refuses_model_form_friction(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Coulomb friction smoothed over 1e-300 m/s is a key the family form does not have."""
+    text = 'architecture = "3-RRR"\n[friction.revolute]\ncoulomb = 0.1\nsmoothing = 1e-300\n'
+    status, line = _family_forward_cli(capsys, tmp_path, text, [[0.0, 0, 0, 0], [0.1, 0, 0, 0]])
+    assert status == 2 and "[friction]" in line
+
+
+def _family_efforts_for(robot: object, pose: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
+    """``τ`` of the robot at rest at ``pose`` accelerating by ``acceleration`` (Newton–Euler,
+    another route than the forward dynamics' unit-acceleration samples)."""
+    import prp3
+    from prp3.model.motion import Motion
+
+    motion = Motion(
+        t=np.array([0.0]), pose=pose[None], velocity=np.zeros((1, 3)),
+        acceleration=acceleration[None],
+    )  # fmt: skip
+    return np.asarray(prp3.newton_euler_dynamics(robot, motion).tau)[0]
+
+
+@pytest.mark.parametrize("architecture", ["3-RRR", "3-RPR", "3-PRR"])
+def test_the_family_bound_is_the_acceleration_of_the_equations_of_motion(
+    architecture: str,
+) -> None:
+    """Efforts asking for half the bound run; efforts asking for twice it are refused."""
+    import prp3
+    from prp3.family.forward import MAX_ACCELERATION
+
+    robot = prp3.FamilyRobot.default(architecture)
+    home = np.asarray(robot.home_poses[0], dtype=np.float64)
+    direction = np.array([0.6, -0.8, 0.0])
+    for scale, accepted in ((0.5, True), (2.0, False)):
+        tau = _family_efforts_for(robot, home, scale * MAX_ACCELERATION * direction)
+        efforts = np.vstack([tau, tau])
+
+        def run(efforts: np.ndarray = efforts) -> prp3.FamilyForward:
+            return prp3.family_forward_dynamics(
+                robot, [0.0, 1e-9], efforts, [0.0, 1e-9], home, np.zeros(3)
+            )
+
+        if accepted:
+            result = run()
+            np.testing.assert_allclose(
+                result.motion.acceleration[0], 0.5 * MAX_ACCELERATION * direction,
+                rtol=1e-6, atol=1e-6 * MAX_ACCELERATION,
+            )  # fmt: skip
+        else:
+            with pytest.raises(ParameterError, match="beyond the bound") as refused:
+                run()
+            assert refused.value.key == "efforts" and refused.value.sample == 0
+            assert f"{2.0 * MAX_ACCELERATION * 0.8:.3g}" in str(refused.value)  # max |ẍ_i|
+
+
+def test_family_efforts_turning_absurd_during_the_motion_stop_naming_the_time() -> None:
+    import prp3
+
+    robot = prp3.FamilyRobot.default("3-RRR")
+    home = robot.home_poses[0]
+
+    def efforts(t: float) -> np.ndarray:
+        return np.full(3, 1e300 if 1e-3 < t < 9e-3 else 0.0)  # between the output times
+
+    with pytest.raises(TrajectoryError, match=r"at t = .* s, not below 1e\+12"):
+        prp3.family_forward_dynamics(robot, None, efforts, [0.0, 0.01], home, np.zeros(3))

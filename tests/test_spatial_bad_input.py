@@ -238,3 +238,170 @@ def test_prp3_forward_of_the_planar_robot_refuses_absurd_forces_at_once(capsys, 
     line = one_line(err)
     assert status == 2 and "huge.csv" in line and "beyond the bound" in line
     assert not (tmp_path / "o").exists()
+
+
+# ------------------------------------------- hostile sweep specs, explore, identify (round 4)
+SPEC_HEAD = 'spatial = "6-UPS"\ndesigns = 2\n[task]\nsamples = 5\n'
+
+
+@pytest.mark.parametrize(
+    ("tail", "words"),
+    [
+        ("[parameters]\nbase_radius = [nan, 0.5]\n", "low must be a finite number, got nan"),
+        ("[parameters]\nbase_radius = [0.1, inf]\n", "high must be a finite number, got inf"),
+        ("[parameters]\nbase_radius = [0.1, 1e308]\n", "base_radius must be at most"),
+        ('[parameters]\n"platform.mass" = [-1.0, 2.0]\n', "platform.mass must be a non-negative"),
+        ("[parameters]\nbase_radius = [true, false]\n", "low must be a finite number, got True"),
+        ('[parameters]\nbase_radius = [0.1, 0.5]\n"base_radius" = [0.2, 0.4]\n', "set twice"),
+        ("bogus = 1\n", "unknown key task.'bogus'"),
+    ],
+)
+@pytest.mark.parametrize("command", ["sweep", "optimize"])
+def test_hostile_spatial_sweep_specs_end_in_one_line_and_keep_the_folder(
+    capsys, tmp_path, command, tail, words
+):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(SPEC_HEAD + tail, encoding="utf-8")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("kept\n", encoding="utf-8")
+    before = listing(out)
+    status, _, err = cli(capsys, command, "--spec", spec, "--output", out, "--workers", 1)
+    line = one_line(err)
+    assert status == 2 and "spec.toml" in line and words in line
+    assert listing(out) == before
+
+
+def test_an_unknown_top_level_key_of_a_spatial_spec_is_named(capsys, tmp_path):
+    spec = tmp_path / "spec.toml"
+    spec.write_text('bogus = 1\nspatial = "6-UPS"\n', encoding="utf-8")
+    status, _, err = cli(capsys, "sweep", "--spec", spec, "--output", tmp_path / "out")
+    assert status == 2 and "unknown key 'bogus'" in one_line(err)
+    assert not (tmp_path / "out").exists()
+
+
+def test_an_unreachable_scheduler_leaves_no_staging_folder(capsys, tmp_path):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(SPEC_HEAD, encoding="utf-8")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("kept\n", encoding="utf-8")
+    before = listing(out)
+    status, _, err = cli(capsys, "sweep", "--spec", spec, "--output", out,
+                         "--scheduler", "tcp://127.0.0.1:1")  # fmt: skip
+    assert status == 2 and "cannot reach the Dask scheduler" in one_line(err)
+    assert listing(out) == before and sorted(p.name for p in out.iterdir()) == ["notes.txt"]
+
+
+def test_a_truncated_spatial_designs_file_is_named_truncated(capsys, tmp_path):
+    pytest.importorskip("pyarrow")
+    spec = tmp_path / "spec.toml"
+    spec.write_text(SPEC_HEAD, encoding="utf-8")
+    out = tmp_path / "out"
+    status, _, err = cli(capsys, "sweep", "--spec", spec, "--output", out, "--workers", 1)
+    assert status == 0, err
+    designs = out / "designs.parquet"
+    designs.write_bytes(designs.read_bytes()[: designs.stat().st_size // 2])
+    before = listing(out)
+    status, _, err = cli(capsys, "sweep", "--spec", spec, "--output", out, "--workers", 1)
+    line = one_line(err)
+    assert status == 2 and "designs.parquet: truncated: a Parquet file cut short" in line
+    assert "not a designs file" not in line
+    assert listing(out) == before
+
+
+@pytest.fixture
+def hexapod_run(capsys, tmp_path):
+    robot_file = _robot_file(tmp_path, "6-UPS")
+    status, _, err = cli(capsys, "simulate", "--robot", robot_file, "--motion", "tilt",
+                         "--samples", 7, "--output", tmp_path / "run")  # fmt: skip
+    assert status == 0, err
+    return robot_file, tmp_path / "run"
+
+
+def _broken_runs(run: Path, folder: Path) -> dict[str, Path]:
+    rows = (run / "results.csv").read_text(encoding="utf-8").splitlines()
+    runs = {}
+    for name in ("truncated", "nan", "huge"):
+        (folder / name).mkdir()
+        runs[name] = folder / name
+    text = "\n".join(rows) + "\n"
+    (runs["truncated"] / "results.csv").write_text(text[: len(text) // 2], encoding="utf-8")
+    for name, value in (("nan", "nan"), ("huge", "1e308")):
+        changed = list(rows)
+        cells = changed[3].split(",")
+        cells[3] = value
+        changed[3] = ",".join(cells)
+        (runs[name] / "results.csv").write_text("\n".join(changed) + "\n", encoding="utf-8")
+    return runs
+
+
+@pytest.mark.parametrize("kind", ["truncated", "nan", "huge", "missing", "other"])
+def test_explore_export_of_a_broken_spatial_run_writes_no_html(capsys, tmp_path, hexapod_run, kind):
+    robot_file, run = hexapod_run
+    runs = _broken_runs(run, tmp_path)
+    runs["missing"] = tmp_path / "nowhere"
+    runs["other"] = run
+    if kind == "other":
+        robot_file = _robot_file(tmp_path, "3-RPS")
+    export = tmp_path / "page.html"
+    status, out, err = cli(capsys, "explore", "--robot", robot_file, "--results", runs[kind],
+                           "--export", export)  # fmt: skip
+    assert status == 2 and out == ""
+    one_line(err)
+    assert not export.exists()
+
+
+def test_explore_names_a_truncated_parquet_run(capsys, tmp_path):
+    pytest.importorskip("pyarrow")
+    robot_file = _robot_file(tmp_path, "6-UPS")
+    status, _, err = cli(capsys, "simulate", "--robot", robot_file, "--motion", "tilt",
+                         "--samples", 7, "--output", tmp_path / "pq", "--format", "parquet")  # fmt: skip
+    assert status == 0, err
+    parquet = tmp_path / "pq" / "results.parquet"
+    parquet.write_bytes(parquet.read_bytes()[: parquet.stat().st_size // 2])
+    export = tmp_path / "page.html"
+    status, _, err = cli(capsys, "explore", "--robot", robot_file, "--results", tmp_path / "pq",
+                         "--export", export)  # fmt: skip
+    assert status == 2 and "results.parquet: truncated: a Parquet file cut short" in one_line(err)
+    assert not export.exists()
+
+
+def _measurements(folder: Path, capsys) -> tuple[Path, list[list[str]]]:
+    """A 3-RPS robot file and the rows of its measurements (trajectory columns and efforts)."""
+    import csv
+
+    robot_file = _robot_file(folder, "3-RPS")
+    status, _, err = cli(capsys, "excite", "--robot", robot_file, "--output", folder / "ex",
+                         "--samples", 101, "--iterations", 1, "--rotation", 0.3)  # fmt: skip
+    assert status == 0, err
+    status, _, err = cli(capsys, "simulate", "--robot", robot_file, "--trajectory",
+                         folder / "ex" / "trajectory.csv", "--output", folder / "sim")  # fmt: skip
+    assert status == 0, err
+    poses = list(csv.reader((folder / "ex" / "trajectory.csv").read_text().splitlines()))
+    sim = list(csv.reader((folder / "sim" / "results.csv").read_text().splitlines()))
+    columns = [sim[0].index(f"tau_{i}") for i in (1, 2, 3)]
+    return robot_file, [p + [s[c] for c in columns] for p, s in zip(poses, sim, strict=True)]
+
+
+@pytest.mark.parametrize(
+    ("column", "value", "words"),
+    [
+        ("tau_3", "nan", "not a finite number: 'nan'"),
+        ("tau_3", "1e308", "the least squares overflow double precision: tau_3 = 1e+308"),
+        ("x", "1e308", "cannot be completed for the legs"),
+        ("wx", "1e308", "of alpha is not finite"),
+    ],
+)
+def test_identify_of_a_spatial_robot_refuses_absurd_measurements(
+    capsys, tmp_path, column, value, words
+):
+    robot_file, rows = _measurements(tmp_path, capsys)
+    rows[5][rows[0].index(column)] = value
+    measured = tmp_path / "m.csv"
+    measured.write_text("\n".join(",".join(r) for r in rows) + "\n", encoding="utf-8")
+    status, _, err = cli(capsys, "identify", "--robot", robot_file, "--measurements", measured,
+                           "--output", tmp_path / "id")  # fmt: skip
+    line = one_line(err)
+    assert status == 2 and "m.csv:6" in line and words in line
+    assert not (tmp_path / "id").exists()

@@ -368,7 +368,10 @@ def weighted_least_squares(
     samples, _, count = W.shape
     stacked = W.reshape(-1, count)
     with np.errstate(all="ignore"):  # an overflow is refused below
-        estimate, std, sigma = _two_passes(W, target, stacked, samples, count)
+        try:
+            estimate, std, sigma = _two_passes(W, target, stacked, samples, count)
+        except np.linalg.LinAlgError:  # the SVD of overflowed weights does not converge
+            estimate = std = sigma = np.full(count, np.nan)
     if not (np.isfinite(estimate).all() and np.isfinite(std).all() and np.isfinite(sigma).all()):
         raise ParameterError(
             "measured or W is too large for double precision: the least squares overflow",

@@ -524,7 +524,18 @@ def spatial_identify(
         raise TrajectoryError(
             f"{where}: {refused}; move every coordinate, e.g. along a trajectory of prp3 excite"
         )
-    estimate, std, sigma = weighted_least_squares(W, measured, names=base.labels)
+    try:
+        estimate, std, sigma = weighted_least_squares(W, measured, names=base.labels)
+    except ParameterError as error:
+        if error.key != "measured":
+            raise
+        k, i = (int(v) for v in np.unravel_index(np.argmax(np.abs(measured)), measured.shape))
+        raise TrajectoryError(
+            f"{where}: the least squares overflow double precision: tau_{i + 1} = "
+            f"{float(measured[k, i])!r} is far beyond the efforts of the robot",
+            sample=k,
+            key=f"tau_{i + 1}",
+        ) from None
     fitted = W @ estimate
     return Identification(
         base=base,

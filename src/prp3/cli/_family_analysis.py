@@ -232,6 +232,8 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
                 raise error.located(origin=origin) from None
             where = "the first row of the results" if results else "the home pose"
             raise error.located(file=args.forces, subject=f"initial pose ({where})") from None
+        if error.key == "efforts" or error.subject == "forward dynamics":
+            raise error.located(file=args.forces) from None  # the efforts' file
         raise
     table = family_results_table(result.solution) if result.solution is not None else None
     with staged_output(args.output) as staged:

@@ -70,8 +70,22 @@ def _names(folder: Path) -> tuple[Path, list[str]] | None:
                 "reading Parquet needs pyarrow: pip install 'prp3[parquet]'", file=parquet_path
             ) from None
         except Exception as error:  # pyarrow raises its own types for a broken file
-            raise InputFileError(f"not a Parquet file ({error})"[:300], file=parquet_path) from None
+            raise InputFileError(_broken_parquet(parquet_path, error), file=parquet_path) from None
     return None
+
+
+def _broken_parquet(path: Path, error: Exception) -> str:
+    """Why pyarrow cannot read ``path``: cut short (``PAR1`` at its start, not at its end)."""
+    try:
+        data = path.read_bytes()
+    except OSError:
+        data = b""
+    if data[:4] == b"PAR1" and data[-4:] != b"PAR1":
+        return (
+            f"truncated: a Parquet file cut short ({len(data)} bytes, without the footer that "
+            "ends every Parquet file); run prp3 simulate again into a new folder"
+        )
+    return f"not a Parquet file ({error})"[:300]
 
 
 def run_kind(directory: str | Path) -> str | None:
@@ -175,10 +189,11 @@ def _check_closure(
         positions.append(end - np.einsum("nij,j->ni", turn, np.asarray(each.attachment_position)))
         turns.append(turn)
     position, turn = np.stack(positions, axis=1), np.stack(turns, axis=1)  # (N, legs, ...)
-    gap = np.maximum(
-        np.abs(position - position[:, :1]).max(axis=-1) / robot.scale,
-        np.abs(turn - turn[:, :1]).max(axis=(-2, -1)),
-    )  # (N, legs)
+    with np.errstate(all="ignore"):  # joint values of 1e308: a gap that is not finite, refused
+        gap = np.maximum(
+            np.abs(position - position[:, :1]).max(axis=-1) / robot.scale,
+            np.abs(turn - turn[:, :1]).max(axis=(-2, -1)),
+        )  # (N, legs)
     if not (gap <= CLOSURE_TOLERANCE).all():
         k, i = (int(v) for v in np.argwhere(~(gap <= CLOSURE_TOLERANCE))[0])
         raise InputFileError(

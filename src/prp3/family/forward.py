@@ -66,6 +66,8 @@ from prp3.validation import (
 )
 
 __all__ = [
+    "MAX_ACCELERATION",
+    "MAX_DERIVATIVE",
     "SINGULARITY_STOP",
     "FamilyEffortModel",
     "FamilyForward",
@@ -79,6 +81,21 @@ FloatArray = NDArray[np.float64]
 
 #: The integration stops when ``s·μ`` of a measure falls to this (above §6's 1e-4).
 SINGULARITY_STOP: float = 1e-3
+
+#: The largest platform acceleration (m/s², rad/s², about 10⁵ g) that the efforts and the
+#: load may ask for at the initial state: beyond it (efforts of 1e6 N·m on the default
+#: 3-RRR, 1e20) the explicit integrator would crawl for ever, so the run is refused before
+#: it starts (``ẍ = A⁻¹·(τ − b)`` at the initial state, §7).
+MAX_ACCELERATION: float = 1e6
+
+#: A right-hand side whose acceleration reaches this (a million times
+#: :data:`MAX_ACCELERATION`) at a finite state stops the integration with an error naming
+#: the time (efforts given as a function that turn absurd during the motion).
+MAX_DERIVATIVE: float = 1e12
+
+
+class _AbsurdDerivativeError(Exception):
+    """Raised inside the right-hand side when the acceleration reaches :data:`MAX_DERIVATIVE`."""
 
 
 def _vector(name: str, value: ArrayLike) -> FloatArray:
@@ -301,6 +318,88 @@ def _checked(function: Callable[[float], ArrayLike]) -> Callable[[float], FloatA
     return effort
 
 
+def _effort_of(
+    t_efforts: ArrayLike | None,
+    efforts: ArrayLike | Callable[[float], ArrayLike],
+    times: FloatArray,
+) -> tuple[Callable[[float], FloatArray], tuple[FloatArray, FloatArray] | None]:
+    """The efforts ``τ(t)`` and, for a table, its samples ``(t_efforts, efforts)``."""
+    if callable(efforts):
+        return _checked(efforts), None
+    if t_efforts is None:
+        raise ParameterError("t_efforts: the times of the effort samples are missing")
+    te = check_times("t_efforts", t_efforts, minimum=2)
+    tau = check_real("efforts", efforts, ParameterError)
+    if tau.shape != (te.size, 3):
+        raise ParameterError(f"efforts must have shape ({te.size}, 3), got {tau.shape}")
+    if times[0] < te[0] or times[-1] > te[-1]:
+        raise ParameterError(
+            f"the output times {times[0]!r} .. {times[-1]!r} s lie outside the efforts' "
+            f"{te[0]!r} .. {te[-1]!r} s"
+        )
+    with np.errstate(all="ignore"):  # ±1e308: inf slopes, refused by _check_accelerations
+        return _effort_function(te, tau), (te, tau)
+
+
+def _check_accelerations(
+    robot: FamilyRobot,
+    a0: FloatArray,
+    b0: FloatArray,
+    effort: Callable[[float], FloatArray],
+    times: FloatArray,
+    samples: tuple[FloatArray, FloatArray] | None,
+) -> None:
+    """Refuse efforts whose platform accelerations at the initial state are absurd.
+
+    ``ẍ = A⁻¹·(τ − b)`` at the initial state (§7) for every effort sample of a table
+    and for ``τ`` at up to 257 of the output times; the largest ``|ẍ|`` must be
+    finite and below :data:`MAX_ACCELERATION`.  A sample of the table is named by
+    its index (from 0) and time, with the column and value of its largest effort.
+    """
+    picks = np.unique(np.linspace(0, times.size - 1, min(times.size, 257)).astype(int))
+    at = times[picks]
+    with np.errstate(all="ignore"):
+        rows = np.array([effort(float(time)) for time in at]).reshape(-1, 3)
+    sampled = 0
+    if samples is not None:
+        at, rows, sampled = np.concatenate([samples[0], at]), np.vstack([samples[1], rows]), 1
+    with np.errstate(all="ignore"):
+        size = np.abs(np.linalg.solve(a0, (rows - b0).T).T).max(axis=1)
+    size = np.where(np.isfinite(size), size, math.inf)
+    k = int(np.argmax(size))
+    if size[k] < MAX_ACCELERATION:
+        return
+    leg = int(np.argmax(np.abs(rows[k])))
+    table = bool(sampled) and samples is not None and k < samples[0].size
+    load = robot.load
+    asking = "the efforts and the [load]" if any((*load.force, load.moment)) else "the efforts"
+    raise ParameterError(
+        f"{asking} ask for a platform acceleration of {size[k]:.3g} "
+        f"(m/s², rad/s²) at the initial state of the {robot.architecture}, beyond the bound "
+        f"{MAX_ACCELERATION:g} (docs/family.md §7: ẍ = A⁻¹·(τ − b)); tau_{'ABC'[leg]} = "
+        f"{float(rows[k, leg])!r}, [load] force = {list(load.force)!r} N, moment = "
+        f"{load.moment!r} N·m; give efforts and loads of the robot's size",
+        key="efforts",
+        sample=k if table else None,
+        time=float(at[k]),
+    )
+
+
+def _absurd_refusal(
+    robot: FamilyRobot, effort: Callable[[float], FloatArray], time: float, size: float
+) -> TrajectoryError:
+    """The refusal of a run whose right-hand side reached :data:`MAX_DERIVATIVE`."""
+    with np.errstate(all="ignore"):
+        tau = ", ".join(f"{v:.6g}" for v in effort(time).tolist())
+    return TrajectoryError(
+        f"the equations of motion give a platform acceleration of {size:.3g} (m/s², rad/s²) at "
+        f"t = {time!r} s, not below {MAX_DERIVATIVE:g}, under the efforts ({tau}): the "
+        f"efforts are absurd for the {robot.architecture}",
+        subject="forward dynamics",
+        time=time,
+    )
+
+
 def family_forward_dynamics(
     robot: FamilyRobot,
     t_efforts: ArrayLike | None,
@@ -339,26 +438,12 @@ def family_forward_dynamics(
     """
     robot = check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
     times = check_times("t", t, minimum=2)
-    if callable(efforts):
-        effort = _checked(efforts)
-    else:
-        if t_efforts is None:
-            raise ParameterError("t_efforts: the times of the effort samples are missing")
-        te = check_times("t_efforts", t_efforts, minimum=2)
-        tau = check_real("efforts", efforts, ParameterError)
-        if tau.shape != (te.size, 3):
-            raise ParameterError(f"efforts must have shape ({te.size}, 3), got {tau.shape}")
-        if times[0] < te[0] or times[-1] > te[-1]:
-            raise ParameterError(
-                f"the output times {times[0]!r} .. {times[-1]!r} s lie outside the efforts' "
-                f"{te[0]!r} .. {te[-1]!r} s"
-            )
-        effort = _effort_function(te, tau)
+    effort, samples = _effort_of(t_efforts, efforts, times)
     rtol, atol = check_tolerances(rtol, atol)
     x0, v0 = _vector("initial_pose", initial_pose), _vector("initial_velocity", initial_velocity)
     try:  # refuses a singular or unreachable initial pose
         with np.errstate(all="ignore"):  # an overflow: the results' own refusal, located
-            a0, _ = _dynamics(robot, x0, v0)
+            a0, b0 = _dynamics(robot, x0, v0)
     except Prp3Error as error:
         raise error.located(subject="initial pose") from None
     if not np.linalg.cond(a0) < 1e12:
@@ -368,6 +453,7 @@ def family_forward_dynamics(
             "without inertia (a massless platform?)",
             subject="robot",
         )
+    _check_accelerations(robot, a0, b0, effort, times, samples)
     count = [0]
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
@@ -377,6 +463,8 @@ def family_forward_dynamics(
             acceleration = np.linalg.solve(a, effort(time) - b)
         except (Prp3Error, np.linalg.LinAlgError):  # a trial state beyond the stop: NaN
             return np.full(6, np.nan)  # rejects the step
+        if np.isfinite(state).all() and not np.abs(acceleration).max() < MAX_DERIVATIVE:
+            raise _AbsurdDerivativeError(time, float(np.abs(acceleration).max()))
         return np.concatenate([state[3:], acceleration])
 
     def singular(_time: float, state: FloatArray) -> float:
@@ -386,17 +474,20 @@ def family_forward_dynamics(
     singular.direction = -1.0  # type: ignore[attr-defined]
     from scipy.integrate import solve_ivp
 
-    with np.errstate(all="ignore"):
-        solution = solve_ivp(
-            rhs,
-            (float(times[0]), float(times[-1])),
-            np.concatenate([x0, v0]),
-            method="DOP853",
-            t_eval=times,
-            events=[singular],
-            rtol=rtol,
-            atol=atol,
-        )
+    try:
+        with np.errstate(all="ignore"):
+            solution = solve_ivp(
+                rhs,
+                (float(times[0]), float(times[-1])),
+                np.concatenate([x0, v0]),
+                method="DOP853",
+                t_eval=times,
+                events=[singular],
+                rtol=rtol,
+                atol=atol,
+            )
+    except _AbsurdDerivativeError as absurd:
+        raise _absurd_refusal(robot, effort, *absurd.args) from None
     states = np.asarray(solution.y, dtype=np.float64).reshape(x0.size + v0.size, -1).T
     reached = np.asarray(solution.t, dtype=np.float64)
     if solution.status == 1:

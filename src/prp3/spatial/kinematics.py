@@ -441,6 +441,39 @@ def chunk_kinematics(
     return ChunkKinematics(frames, dq, ddq, jacobian, parallel, bodies, leg, par, constraint, null)
 
 
+def _solved_or_nan(matrix: FloatArray, rhs: FloatArray) -> FloatArray:
+    try:
+        return np.asarray(np.linalg.solve(matrix, rhs), dtype=np.float64)
+    except np.linalg.LinAlgError:
+        return np.full_like(rhs, np.nan)
+
+
+def _newton_step(jacobian: FloatArray, off: FloatArray, position: FloatArray) -> FloatArray:
+    """The Newton step of :func:`complete_motion`, refusing a pose it cannot complete.
+
+    A pose far beyond the robot (a position of 1e308 m) gives closure residuals or a
+    Jacobian that are not finite, or a singular Jacobian: refused naming the first such
+    sample (``TrajectoryError``, ``sample`` set).
+    """
+    with np.errstate(all="ignore"):
+        finite = np.isfinite(off).all(axis=-1) & np.isfinite(jacobian).all(axis=(-2, -1))
+        if finite.all():
+            try:
+                step = np.linalg.solve(jacobian, -off[..., None])[..., 0]
+            except np.linalg.LinAlgError:  # find the singular sample(s)
+                step = np.array([_solved_or_nan(a, -o) for a, o in zip(jacobian, off, strict=True)])
+            finite = np.isfinite(step).all(axis=-1)
+            if finite.all():
+                return np.asarray(step, dtype=np.float64)
+    k = int(np.argmin(finite))
+    raise TrajectoryError(
+        f"the pose of sample {k} (position {position[k].tolist()!r} m) cannot be completed for "
+        "the legs (docs/spatial.md §11): its closure residuals are not finite or their "
+        "Jacobian is singular; give poses within the robot's reach",
+        sample=k,
+    )
+
+
 def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMotion:
     """``motion`` with its parasitic components solved so that every leg can follow it (§11).
 
@@ -485,9 +518,7 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
             plus = plane_offsets(robot, *moved(step))
             minus = plane_offsets(robot, *moved(np.asarray(-step, dtype=np.float64)))
             columns.append((plus - minus) / (2.0 * step[:, j, None]))
-        newton = np.asarray(
-            np.linalg.solve(np.stack(columns, axis=-1), -off[..., None])[..., 0], dtype=np.float64
-        )
+        newton = _newton_step(np.stack(columns, axis=-1), off, position)
         position, rotation = moved(newton)
     # the twist: C·ξ = 0 for the parasitic components
     staged = PlatformMotion(motion.t, position, rotation, motion.omega, motion.velocity,
@@ -507,24 +538,25 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
         -np.einsum("nlj,nj->nl", constraint[..., free], twist[:, free])[..., None],
     )[..., 0]
     # the acceleration: wᵀ·(end acceleration − bias) = 0
-    omega = np.broadcast_to(twist[:, None, :3], r.shape)
-    v_end = twist[:, None, 3:] + cross(omega, r)
-    dq = pseudo_solve(jacobian, np.concatenate([omega, v_end], axis=-1))
-    bias = chain_motion(robot, frames, dq, np.zeros_like(dq))
-    centripetal = cross(omega, cross(omega, r))
-    target = np.einsum("nli,nli->nl", null[..., :3], bias.alpha[:, :, -1]) + np.einsum(
-        "nli,nli->nl", null[..., 3:], bias.acceleration[:, :, -1] - centripetal
-    )
-    # α = E·α0 + ω_E × E·ω0 + (ω_E)˙, the last along the parasitic axes
-    turn_rate = np.zeros_like(turned)
-    rotations = [c for c in index if c < 3]
-    turn_rate[:, rotations] = twist[:, rotations] - turned[:, rotations]
-    turned_alpha = np.einsum("nij,nj->ni", turn, motion.alpha) + cross(turn_rate, turned)
-    acc = np.concatenate([turned_alpha, motion.acceleration], axis=1)
-    acc[:, index] = np.linalg.solve(
-        constraint[..., index],
-        (target - np.einsum("nlj,nj->nl", constraint[..., free], acc[:, free]))[..., None],
-    )[..., 0]
+    with np.errstate(all="ignore"):  # rates of 1e308: PlatformMotion.of refuses the result
+        omega = np.broadcast_to(twist[:, None, :3], r.shape)
+        v_end = twist[:, None, 3:] + cross(omega, r)
+        dq = pseudo_solve(jacobian, np.concatenate([omega, v_end], axis=-1))
+        bias = chain_motion(robot, frames, dq, np.zeros_like(dq))
+        centripetal = cross(omega, cross(omega, r))
+        target = np.einsum("nli,nli->nl", null[..., :3], bias.alpha[:, :, -1]) + np.einsum(
+            "nli,nli->nl", null[..., 3:], bias.acceleration[:, :, -1] - centripetal
+        )
+        # α = E·α0 + ω_E × E·ω0 + (ω_E)˙, the last along the parasitic axes
+        turn_rate = np.zeros_like(turned)
+        rotations = [c for c in index if c < 3]
+        turn_rate[:, rotations] = twist[:, rotations] - turned[:, rotations]
+        turned_alpha = np.einsum("nij,nj->ni", turn, motion.alpha) + cross(turn_rate, turned)
+        acc = np.concatenate([turned_alpha, motion.acceleration], axis=1)
+        acc[:, index] = np.linalg.solve(
+            constraint[..., index],
+            (target - np.einsum("nlj,nj->nl", constraint[..., free], acc[:, free]))[..., None],
+        )[..., 0]
     return PlatformMotion.of(
         motion.t, position, rotation, twist[:, :3], twist[:, 3:], acc[:, :3], acc[:, 3:]
     )
