@@ -296,6 +296,22 @@ def test_folders_without_results_are_refused(tmp_path: Path) -> None:
         read_run(tmp_path)
 
 
+def test_a_truncated_parquet_run_is_named_truncated(tmp_path: Path) -> None:
+    pytest.importorskip("pyarrow")
+    from prp3.cli import main
+
+    folder = tmp_path / "run"
+    argv = ["simulate", "--motion", "rotation", "--samples", "41", "--format", "parquet"]
+    assert main([*argv, "--output", str(folder)]) == 0
+    whole = (folder / "results.parquet").read_bytes()
+    (folder / "results.parquet").write_bytes(whole[: len(whole) // 2])
+    with pytest.raises(InputFileError, match=r"results\.parquet.*truncated: a Parquet file cut"):
+        read_run(folder)
+    (folder / "results.parquet").write_bytes(b"not parquet at all")
+    with pytest.raises(InputFileError, match="not a Parquet file"):
+        read_run(folder)
+
+
 # ---------------------------------------------------------------- HTML file of a run
 def test_simulate_html_writes_one_self_contained_file(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]

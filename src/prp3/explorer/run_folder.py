@@ -31,6 +31,7 @@ if TYPE_CHECKING:
 __all__ = [
     "RUN_MATCH_TOLERANCE",
     "Run",
+    "broken_parquet",
     "family_run_motion",
     "read_family_run",
     "read_parquet_columns",
@@ -121,6 +122,20 @@ def _read_folder(
     return Run(path=path, table=table)
 
 
+def broken_parquet(path: Path, error: Exception) -> str:
+    """Why pyarrow cannot read ``path``: cut short (``PAR1`` at its start, not at its end)."""
+    try:
+        data = path.read_bytes()
+    except OSError:
+        data = b""
+    if data[:4] == b"PAR1" and data[-4:] != b"PAR1":
+        return (
+            f"truncated: a Parquet file cut short ({len(data)} bytes, without the footer that "
+            "ends every Parquet file); run the command that wrote it again"
+        )
+    return f"not a Parquet file ({error})"[:300]
+
+
 def read_parquet_columns(
     path: Path, required: tuple[str, ...], optional: tuple[str, ...] = ()
 ) -> dict[str, FloatArray]:
@@ -141,7 +156,7 @@ def read_parquet_columns(
     try:
         data = pq.read_table(str(path))
     except Exception as error:  # pyarrow raises its own types for a broken file
-        raise InputFileError(f"not a Parquet file ({error})"[:300], file=path) from None
+        raise InputFileError(broken_parquet(path, error), file=path) from None
     names = list(data.column_names)
     allowed = set(required) | set(optional)
     for name in names:

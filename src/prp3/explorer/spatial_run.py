@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.errors import InputFileError, Prp3Error
-from prp3.explorer.run_folder import Run, read_parquet_columns
+from prp3.explorer.run_folder import Run, broken_parquet, read_parquet_columns
 from prp3.io.tables import read_table
 from prp3.spatial.geometry import chain_frames
 from prp3.spatial.model import SpatialRobot
@@ -70,22 +70,8 @@ def _names(folder: Path) -> tuple[Path, list[str]] | None:
                 "reading Parquet needs pyarrow: pip install 'prp3[parquet]'", file=parquet_path
             ) from None
         except Exception as error:  # pyarrow raises its own types for a broken file
-            raise InputFileError(_broken_parquet(parquet_path, error), file=parquet_path) from None
+            raise InputFileError(broken_parquet(parquet_path, error), file=parquet_path) from None
     return None
-
-
-def _broken_parquet(path: Path, error: Exception) -> str:
-    """Why pyarrow cannot read ``path``: cut short (``PAR1`` at its start, not at its end)."""
-    try:
-        data = path.read_bytes()
-    except OSError:
-        data = b""
-    if data[:4] == b"PAR1" and data[-4:] != b"PAR1":
-        return (
-            f"truncated: a Parquet file cut short ({len(data)} bytes, without the footer that "
-            "ends every Parquet file); run prp3 simulate again into a new folder"
-        )
-    return f"not a Parquet file ({error})"[:300]
 
 
 def run_kind(directory: str | Path) -> str | None:
