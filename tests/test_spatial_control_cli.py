@@ -185,7 +185,7 @@ def test_mujoco_plant_on_the_cli(capsys, tmp_path) -> None:
     assert "mujoco plant" in stdout.splitlines()[0]
     table = _read(tmp_path / "out" / "tracking.csv")
     _check_error_columns(table)
-    # MuJoCo's soft closures and held efforts, on a heave of period 0.3 s (peak acceleration
-    # 0.35 g): 4 % of the initial error (1.5 % for a period of 1 s, test_spatial_control.py)
+    # MuJoCo's soft closures and held efforts, on a heave of period 0.3 s
+    # (not 1 s): 4 % of the initial error (1.5 % for a period of 1 s, test_spatial_control.py)
     np.testing.assert_allclose(table["e_z"], _critical(table["t"], 0.002, 20.0),
                                rtol=0, atol=8e-5)  # fmt: skip

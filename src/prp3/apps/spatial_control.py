@@ -179,11 +179,7 @@ def spatial_track(
         robot, np.zeros(len(robot.legs)), start, duration, samples=samples,
         rtol=rtol, atol=atol, feedback=law,
     )  # fmt: skip
-    refs = [_reference_at(reference, float(s)) for s in run.motion.t]
-    ref = PlatformMotion(
-        run.motion.t.copy(),
-        *(np.concatenate([getattr(r, f) for r in refs]) for f in _FIELDS),
-    )
+    ref = _stacked([_reference_at(reference, float(s)) for s in run.motion.t])
     error = spatial_pose_error(ref, run.motion)
     return SpatialTracking(run.motion.t, ref, run.motion, error, run.efforts, run.effort_residual)
 
@@ -257,13 +253,16 @@ def _mujoco_track(
             data.ctrl[:] = tau / model.actuator_gear[:, 0]
             mujoco.mj_step(model, data)
     t = marks * model.opt.timestep
-    actual = PlatformMotion(
-        t.astype(float), *(np.concatenate([getattr(s, f) for s in states]) for f in _FIELDS)
-    )
-    refs = [_reference_at(reference, float(s)) for s in t]
-    ref = PlatformMotion(
-        t.astype(float), *(np.concatenate([getattr(r, f) for r in refs]) for f in _FIELDS)
-    )
+    actual = _stacked(states)
+    ref = _stacked([_reference_at(reference, float(s)) for s in t])
     return SpatialTracking(
         actual.t, ref, actual, spatial_pose_error(ref, actual), np.array(efforts), math.nan
+    )
+
+
+def _stacked(samples: list[PlatformMotion]) -> PlatformMotion:
+    """One motion of the one-sample motions ``samples``, in order."""
+    return PlatformMotion(
+        np.concatenate([m.t for m in samples]),
+        *(np.concatenate([getattr(m, f) for m in samples]) for f in _FIELDS),
     )
