@@ -159,6 +159,7 @@ def spatial_track(
         raise ParameterError(
             f"plant must be one of {', '.join(SPATIAL_PLANTS)}, got {plant!r}", key="plant"
         )
+    step = check_scalar("timestep", timestep, positive=True, unit="s")
     start = initial if initial is not None else _reference_at(reference, 0.0)
     free = [c for c in range(6) if c not in robot.parasitic_index]
 
@@ -173,7 +174,6 @@ def spatial_track(
 
     if plant == "mujoco":
         check_integer("samples", samples, 2, 10**7)
-        step = check_scalar("timestep", timestep, positive=True, unit="s")
         return _mujoco_track(robot, reference, duration, start, law, samples, step)
     run = spatial_forward_dynamics(
         robot, np.zeros(len(robot.legs)), start, duration, samples=samples,

@@ -332,15 +332,7 @@ def spatial_motion(
     if times is None:
         t = np.linspace(0.0, period, n)
     else:
-        try:
-            t = np.atleast_1d(np.asarray(times, dtype=float))
-        except (TypeError, ValueError):
-            t = np.zeros((0, 0))
-        if t.ndim != 1 or t.size == 0 or not np.isfinite(t).all():
-            raise ParameterError(
-                f"times must be a non-empty 1-D array of finite seconds, got {times!r}"[:300],
-                key="times",
-            )
+        t = check_times("times", times)
         n = t.size
     w = 2.0 * np.pi / period
     if not math.isfinite(w * w * max(0.1 * robot.scale, 0.1)):
