@@ -1122,12 +1122,13 @@ CASES: dict[str, Case] = {
     ),
     "spatial_motion": _case(
         prp3.spatial_motion,
-        {"robot": OBJ, "name": C, "samples": INT, "duration": R},
+        {"robot": OBJ, "name": C, "samples": INT, "duration": R, "times": T + "?"},
         names={"name": ("name", "motion")},  # the command line's --motion
         robot=_hexapod,
         name="heave",
         samples=5,
         duration=1.0,
+        times=lambda: [0.0, 0.25],
     ),
     "spatial_robot_from_mapping": _case(
         prp3.spatial_robot_from_mapping,
@@ -1155,6 +1156,7 @@ CASES: dict[str, Case] = {
             "kd": R,
             "samples": INT,
             "plant": C,
+            "timestep": R,
         },
         robot=_hexapod,
         reference=lambda: lambda t: prp3.PlatformMotion.at_rest(prp3.hexapod().home_position),
@@ -1163,6 +1165,7 @@ CASES: dict[str, Case] = {
         kd=20.0,
         samples=2,
         plant="prp3",
+        timestep=1e-3,
     ),
     "spatial_pose_error": _case(
         prp3.spatial_pose_error,

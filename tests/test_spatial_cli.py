@@ -465,12 +465,16 @@ def test_the_planar_robots_refuse_a_spatial_motion_and_other_commands_a_spatial_
 ):
     status, _, err = cli(capsys, "simulate", "--motion", "heave", "--output", tmp_path / "o")
     assert status == 2 and "a motion of the spatial robots" in one_line(err)
-    # prp3 export c takes a spatial robot file (docs/spatial.md §24); prp3 control does not
+    # prp3 control takes a spatial robot file (docs/spatial.md §23), with a spatial motion
     status, _, err = cli(capsys, "control", "--robot", _robot_file(tmp_path, "6-UPS"),
                          "--motion", "vertical", "--plant", "prp3", "--controller", "pd",
                          "--output", tmp_path / "ctl")  # fmt: skip
-    assert status == 2 and "not yet the 6-UPS of a spatial robot file" in one_line(err)
-    assert "export c" in one_line(err)
+    assert status == 2 and "--motion vertical applies to the planar robots" in one_line(err)
+    assert "heave | circle | tilt" in one_line(err)
+    assert not (tmp_path / "ctl").exists()
+    status, _, err = cli(capsys, "control", "--motion", "heave", "--plant", "prp3",
+                         "--controller", "pd", "--output", tmp_path / "ctl")  # fmt: skip
+    assert status == 2 and "a motion of the spatial robots" in one_line(err)
 
 
 def test_a_subprocess_run_writes_results_and_figures_or_nothing(tmp_path):

@@ -141,3 +141,31 @@ def test_pose_error_refuses_mismatched_lengths() -> None:
     b = PlatformMotion.of([0.0, 1.0], [[0, 0, 0], [0, 0, 0]], np.stack([np.eye(3)] * 2))
     with pytest.raises(prp3.ParameterError, match="samples"):
         prp3.spatial_pose_error(a, b)
+
+
+@pytest.mark.parametrize(
+    ("make", "motion", "position_tol", "rotation_tol"),
+    [(prp3.hexapod, "heave", 3e-5, 1e-12), (prp3.three_rps, "tilt", 2e-5, 5e-4)],
+)
+def test_mujoco_plant_agrees_with_prp3_plant(make, motion, position_tol, rotation_tol) -> None:
+    """From a 2 mm error: MuJoCo (RK4, 1 ms steps, efforts held over a step, its loop
+    closures soft equalities of solref (2 ms, 1)) against prp3's exact plant.  The
+    tolerance (1.5 % of the initial error; rotation: the 3-RPS's parasitic turn) is
+    MuJoCo's: its soft closures and the held efforts."""
+    pytest.importorskip("mujoco")
+    robot = make()
+
+    def reference(t: float) -> PlatformMotion:
+        return prp3.complete_motion(robot, prp3.spatial_motion(robot, motion, 2, 1.0, times=[t]))
+
+    r0 = reference(0.0)
+    start = prp3.complete_motion(robot, PlatformMotion.of(
+        [0.0], r0.position + [0.0, 0.0, -0.002], r0.rotation, r0.omega, r0.velocity))  # fmt: skip
+    exact = prp3.spatial_track(robot, reference, 0.3, initial=start, samples=7)
+    run = prp3.spatial_track(robot, reference, 0.3, initial=start, samples=7, plant="mujoco")
+    np.testing.assert_allclose(run.t, exact.t, rtol=0, atol=1e-15)
+    assert float(np.abs(run.error[:, 3:] - exact.error[:, 3:]).max()) <= position_tol
+    assert float(np.abs(run.error[:, :3] - exact.error[:, :3]).max()) <= rotation_tol
+    peak = float(np.abs(exact.efforts).max())
+    assert float(np.abs(run.efforts - exact.efforts).max()) <= 3e-3 * peak
+    assert float(np.abs(run.error[-1, 5])) < 0.002 * 0.05  # and it converges

@@ -20,20 +20,27 @@ True
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from prp3.apps.spatial_mjcf import spatial_mjcf_joint_names, spatial_mjcf_model
 from prp3.errors import ParameterError
 from prp3.spatial.forward import spatial_forward_dynamics, spatial_platform_dynamics
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
-from prp3.spatial.rotations import log_rotation
-from prp3.validation import check_instance, check_scalar
+from prp3.spatial.outputs import spatial_inverse_dynamics
+from prp3.spatial.rotations import log_rotation, matrix_quaternion, quaternion_matrix
+from prp3.validation import check_instance, check_integer, check_scalar
 
-__all__ = ["SpatialTracking", "spatial_pose_error", "spatial_track"]
+__all__ = ["SPATIAL_PLANTS", "SpatialTracking", "spatial_pose_error", "spatial_track"]
+
+#: The plants of :func:`spatial_track`.
+SPATIAL_PLANTS: tuple[str, ...] = ("prp3", "mujoco")
 
 FloatArray = NDArray[np.float64]
 
@@ -54,7 +61,8 @@ class SpatialTracking:
     efforts : (N, legs)
         The law's efforts (N or N·m).
     effort_residual : float
-        ``max |τ_inverse − τ|`` of the plant's inverse dynamics (N or N·m).
+        ``max |τ_inverse − τ|`` of the plant's inverse dynamics (N or N·m); NaN for
+        the MuJoCo plant.
     """
 
     t: FloatArray
@@ -107,6 +115,7 @@ def spatial_track(
     rtol: float = 1e-10,
     atol: float = 1e-12,
     plant: str = "prp3",
+    timestep: float = 1e-3,
 ) -> SpatialTracking:
     """Track ``reference`` with the computed-torque law on the prp3 plant (§23).
 
@@ -124,8 +133,15 @@ def spatial_track(
         The plant's initial state (default: the reference at 0, no error).
     samples, rtol, atol
         As :func:`~prp3.spatial.forward.spatial_forward_dynamics`.
-    plant : {"prp3"}
-        The plant (the MuJoCo plant is not built yet).
+    plant : {"prp3", "mujoco"}
+        The plant: prp3's forward dynamics (§18), or MuJoCo running
+        :func:`~prp3.apps.spatial_mjcf.spatial_mjcf_model` (§16) with its RK4
+        integrator, the efforts held over each step (needs the ``mujoco`` package).
+    timestep : float
+        The MuJoCo plant's step (s, > 0), rounded so that ``duration`` is a whole
+        number of steps; each output instant is the step nearest it.  The loop
+        closures' equalities get MuJoCo's stiffest ``solref = (2·timestep, 1)``.
+        ``rtol``, ``atol`` are the prp3 plant's.
 
     Returns
     -------
@@ -139,8 +155,11 @@ def spatial_track(
         )
     p_gain = check_scalar("kp", kp, non_negative=True, unit="1/s²")
     d_gain = check_scalar("kd", kd, non_negative=True, unit="1/s")
-    if plant != "prp3":
-        raise ParameterError(f"plant must be 'prp3', got {plant!r}", key="plant")
+    if plant not in SPATIAL_PLANTS:
+        raise ParameterError(
+            f"plant must be one of {', '.join(SPATIAL_PLANTS)}, got {plant!r}", key="plant"
+        )
+    step = check_scalar("timestep", timestep, positive=True, unit="s")
     start = initial if initial is not None else _reference_at(reference, 0.0)
     free = [c for c in range(6) if c not in robot.parasitic_index]
 
@@ -153,17 +172,97 @@ def spatial_track(
         dyn = spatial_platform_dynamics(robot, state)
         return np.asarray(dyn.effort_matrix[0] @ command[free] + dyn.effort_bias[0])
 
+    if plant == "mujoco":
+        check_integer("samples", samples, 2, 10**7)
+        return _mujoco_track(robot, reference, duration, start, law, samples, step)
     run = spatial_forward_dynamics(
         robot, np.zeros(len(robot.legs)), start, duration, samples=samples,
         rtol=rtol, atol=atol, feedback=law,
     )  # fmt: skip
-    refs = [_reference_at(reference, float(s)) for s in run.motion.t]
-    ref = PlatformMotion(
-        run.motion.t.copy(),
-        *(np.concatenate([getattr(r, f) for r in refs]) for f in _FIELDS),
-    )
+    ref = _stacked([_reference_at(reference, float(s)) for s in run.motion.t])
     error = spatial_pose_error(ref, run.motion)
     return SpatialTracking(run.motion.t, ref, run.motion, error, run.efforts, run.effort_residual)
 
 
 _FIELDS = ("position", "rotation", "omega", "velocity", "alpha", "acceleration")
+
+
+def _mujoco_start(mujoco: Any, robot: SpatialRobot, start: PlatformMotion) -> tuple[Any, Any]:
+    """MuJoCo's model of ``robot`` (RK4) and its data in the state ``start``."""
+    model = mujoco.MjModel.from_xml_string(spatial_mjcf_model(robot))
+    model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    data = mujoco.MjData(model)
+    kinematics = spatial_inverse_dynamics(robot, start).kinematics
+    names = set(spatial_mjcf_joint_names(robot))
+    for i, leg in enumerate(robot.legs):
+        for c, coordinate in enumerate(leg.coordinates):
+            if f"leg{i + 1}_{coordinate}" in names:  # not a closing S's (the connect)
+                joint = model.joint(f"leg{i + 1}_{coordinate}")
+                data.qpos[joint.qposadr[0]] = kinematics.q[0, i, c]
+                data.qvel[joint.dofadr[0]] = kinematics.dq[0, i, c]
+    free = model.joint("platform")
+    q0, v0 = int(free.qposadr[0]), int(free.dofadr[0])
+    data.qpos[q0 : q0 + 3] = start.position[0]
+    data.qpos[q0 + 3 : q0 + 7] = matrix_quaternion(start.rotation[0])
+    data.qvel[v0 : v0 + 3] = start.velocity[0]
+    data.qvel[v0 + 3 : v0 + 6] = start.rotation[0].T @ start.omega[0]
+    mujoco.mj_forward(model, data)
+    return model, data
+
+
+def _mujoco_state(model: Any, data: Any, time: float) -> PlatformMotion:
+    """The platform's pose and twist in MuJoCo's state (accelerations zero: unused)."""
+    free = model.joint("platform")
+    q0, v0 = int(free.qposadr[0]), int(free.dofadr[0])
+    rotation = quaternion_matrix(data.qpos[q0 + 3 : q0 + 7])
+    return PlatformMotion.of(
+        [time], [data.qpos[q0 : q0 + 3]], rotation[None], [rotation @ data.qvel[v0 + 3 : v0 + 6]],
+        [data.qvel[v0 : v0 + 3]],
+    )  # fmt: skip
+
+
+def _mujoco_track(
+    robot: SpatialRobot,
+    reference: Callable[[float], PlatformMotion],
+    duration: float,
+    start: PlatformMotion,
+    law: Callable[[float, PlatformMotion], FloatArray],
+    samples: int,
+    timestep: float,
+) -> SpatialTracking:
+    """:func:`spatial_track` on the MuJoCo plant: ``law`` evaluated and held each step."""
+    try:
+        import mujoco
+    except ImportError:
+        raise ParameterError(
+            "plant='mujoco' needs the mujoco package: pip install mujoco", key="plant"
+        ) from None
+    model, data = _mujoco_start(mujoco, robot, start)
+    steps = max(1, round(duration / timestep))
+    model.opt.timestep = duration / steps
+    model.eq_solref[:] = (2.0 * model.opt.timestep, 1.0)  # the stiffest MuJoCo allows
+    marks = np.rint(np.linspace(0.0, steps, samples)).astype(int)
+    states, efforts = [], []
+    for k in range(steps + 1):
+        state = _mujoco_state(model, data, k * model.opt.timestep)
+        tau = law(k * model.opt.timestep, state)
+        for _ in range(int(np.count_nonzero(marks == k))):
+            states.append(state)
+            efforts.append(tau)
+        if k < steps:
+            data.ctrl[:] = tau / model.actuator_gear[:, 0]
+            mujoco.mj_step(model, data)
+    t = marks * model.opt.timestep
+    actual = _stacked(states)
+    ref = _stacked([_reference_at(reference, float(s)) for s in t])
+    return SpatialTracking(
+        actual.t, ref, actual, spatial_pose_error(ref, actual), np.array(efforts), math.nan
+    )
+
+
+def _stacked(samples: list[PlatformMotion]) -> PlatformMotion:
+    """One motion of the one-sample motions ``samples``, in order."""
+    return PlatformMotion(
+        np.concatenate([m.t for m in samples]),
+        *(np.concatenate([getattr(m, f) for m in samples]) for f in _FIELDS),
+    )

@@ -142,7 +142,7 @@ FAMILY_COMMANDS_NOTE = (
 #: What a command that runs planar robots only says of a spatial robot file.
 SPATIAL_COMMANDS_NOTE = (
     "docs/spatial.md §13: prp3 simulate, forward, workspace, identify, excite, export mjcf, "
-    "export c and "
+    "export c, control and "
     "robot --check take it"
 )
 

@@ -43,6 +43,7 @@ from prp3.cli._types import (
     files_report,
     finite_float,
     load_any_robot,
+    load_robot_or_spatial,
     output_folder,
     path_name,
     positive_float,
@@ -50,12 +51,14 @@ from prp3.cli._types import (
 from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.family.model import FamilyRobot, read_robot_file
 from prp3.files import check_inputs_kept, check_output_directory
+from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.tables import write_table_csv
 from prp3.io.trajectory import read_trajectory
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
 from prp3.model.robot import Robot
 from prp3.plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
+from prp3.spatial.motion import SPATIAL_MOTIONS
 from prp3.validation import LEGS
 
 __all__ = ["EXIT_STOPPED", "TRACKING_COLUMNS", "register", "run", "tracking_table"]
@@ -111,6 +114,18 @@ def axis_gains(text: str) -> float | tuple[float, float, float]:
     return (x, y, phi)
 
 
+def pose_error(text: str) -> tuple[float, ...]:
+    """Six numbers ``RX,RY,RZ,X,Y,Z`` (rad, m): an initial pose error.
+
+    >>> pose_error("0,0,0.01,0,0,0.002")
+    (0.0, 0.0, 0.01, 0.0, 0.0, 0.002)
+    """
+    parts = text.split(",")
+    if len(parts) != 6:
+        raise argparse.ArgumentTypeError(f"expected 6 numbers RX,RY,RZ,X,Y,Z, got {text!r}")
+    return tuple(finite_float(part) for part in parts)
+
+
 def gains_text(value: float | tuple[float, float, float]) -> str:
     """``400`` or ``(400, 400, 900)`` for the summary and the figure.
 
@@ -140,8 +155,9 @@ def register(subparsers: Any) -> None:
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument(
         "--motion",
-        choices=tuple(PAPER_MOTIONS),
-        help="one of the paper's motions (eq. 4, t = 0..3 s), the analytic law as reference",
+        choices=(*PAPER_MOTIONS, *SPATIAL_MOTIONS),
+        help="one of the paper's motions (eq. 4, t = 0..3 s), the analytic law as reference; "
+        f"for a spatial robot file: {', '.join(SPATIAL_MOTIONS)} (docs/spatial.md §23)",
     )
     source.add_argument(
         "--trajectory",
@@ -181,6 +197,24 @@ def register(subparsers: Any) -> None:
         help=f"velocity gain (1/s, default {DEFAULT_KD:g}): one for every axis, or "
         "KD_X,KD_Y,KD_PHI",
     )
+    parser.add_argument(
+        "--initial-error",
+        metavar="RX,RY,RZ,X,Y,Z",
+        type=pose_error,
+        help="a spatial robot file only: the plant starts with this pose error "
+        "(log(R_ref R^T) rad, p_ref - p m) from the reference (docs/spatial.md §23)",
+    )
+    parser.add_argument(
+        "--duration",
+        metavar="T",
+        type=positive_float,
+        help="a spatial robot file only: the motion's period and the run's length (s, default 3)",
+    )
+    parser.add_argument(
+        "--plots",
+        action="store_true",
+        help="a spatial robot file: also write DIR/tracking.png (a planar robot writes it always)",
+    )
     add_output_directory(parser)
     parser.set_defaults(handler=run)
 
@@ -203,6 +237,22 @@ def run(args: argparse.Namespace) -> int:
     check_output_directory(output)
     names = ("tracking.csv", TRACKING_FIGURE)
     check_inputs_kept(output, names, (args.trajectory, args.robot, args.model))
+    loaded = load_robot_or_spatial(args)
+    if isinstance(loaded, SpatialRobotFile):  # docs/spatial.md §23
+        from prp3.cli._spatial_control import run_spatial_control
+
+        return run_spatial_control(args, loaded)
+    for option in ("initial_error", "duration"):
+        if getattr(args, option) is not None:
+            raise ParameterError(
+                f"--{option.replace('_', '-')} applies to a spatial robot file only "
+                "(docs/spatial.md §23)"
+            )
+    if args.motion is not None and args.motion not in PAPER_MOTIONS:
+        raise ParameterError(
+            f"--motion {args.motion} is a motion of the spatial robots (docs/spatial.md §23); "
+            f"the planar robots take --motion {' | '.join(PAPER_MOTIONS)} or --trajectory"
+        )
     robot = load_any_robot(args)  # either form: docs/family.md for the other architectures
     model: Robot | FamilyRobot = robot
     if args.model is not None:

@@ -25,7 +25,7 @@ from prp3.validation import LEGS
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["TRACKING_FIGURE", "scaled_unit", "tracking_figure"]
+__all__ = ["TRACKING_FIGURE", "scaled_unit", "spatial_tracking_figure", "tracking_figure"]
 
 FloatArray = NDArray[np.float64]
 
@@ -130,4 +130,43 @@ def tracking_figure(
     figure.suptitle(title, fontsize=12, fontweight="bold")
     if subtitle:
         position.set_title(subtitle, fontsize=10, color="0.3")
+    return figure
+
+
+def spatial_tracking_figure(
+    table: Mapping[str, FloatArray], legs: int, *, title: str, subtitle: str = ""
+) -> Figure:
+    """Pose error and efforts of a spatial robot's closed-loop run (docs/spatial.md §23).
+
+    ``table``: the columns of the spatial ``tracking.csv`` (``t``, ``e_rx .. e_rz``
+    (rad), ``e_x .. e_z`` (m), ``tau_1 .. tau_legs``), ``N >= 2``.  Three panels: the
+    rotation error, the position error, the efforts.
+    """
+    from matplotlib.figure import Figure
+
+    t = np.asarray(table["t"], dtype=np.float64)
+    figure = Figure(figsize=(8.0, 7.6), dpi=120, layout="constrained")
+    rotation, position, effort = figure.subplots(3, 1, sharex=True)
+    for axes, names, unit, what in (
+        (rotation, ("e_rx", "e_ry", "e_rz"), "rad", "rotation error log(R_ref R^T)"),
+        (position, ("e_x", "e_y", "e_z"), "m", "position error p_ref - p"),
+    ):
+        values = {n: np.asarray(table[n], dtype=np.float64) for n in names}
+        scale, shown = scaled_unit(max(float(np.abs(v).max()) for v in values.values()), unit)
+        for (name, value), style in zip(values.items(), ("-", "--", ":"), strict=True):
+            axes.plot(t, value / scale, linestyle=style, linewidth=1.8, label=name)
+        axes.set_ylabel(f"{what}\n({shown})", fontsize=9)
+    for leg in range(1, legs + 1):
+        effort.plot(t, np.asarray(table[f"tau_{leg}"], dtype=np.float64), linewidth=1.4,
+                    label=f"leg {leg}")  # fmt: skip
+    effort.set_ylabel("effort tau (N or N·m)")
+    effort.set_xlabel("time $t$ (s)")
+    effort.set_xlim(float(t[0]), float(t[-1]))
+    for axes in (rotation, position, effort):
+        axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+        axes.grid(True, color="0.88")
+        axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    figure.suptitle(title, fontsize=12, fontweight="bold")
+    if subtitle:
+        rotation.set_title(subtitle, fontsize=10, color="0.3")
     return figure

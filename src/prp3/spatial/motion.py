@@ -289,11 +289,19 @@ _DRIVES: dict[str, tuple[str, ...]] = {
 
 
 def spatial_motion(
-    robot: SpatialRobot, name: str, samples: int = 301, duration: float = 3.0
+    robot: SpatialRobot,
+    name: str,
+    samples: int = 301,
+    duration: float = 3.0,
+    *,
+    times: ArrayLike | None = None,
 ) -> PlatformMotion:
     """A built-in motion of :data:`SPATIAL_MOTIONS` about ``robot``'s home, its exact rates.
 
-    ``samples`` equally spaced times over ``0 .. duration`` (s).  A motion that drives a
+    ``samples`` equally spaced times over ``0 .. duration`` (s), or the given ``times``
+    (s, finite; ``samples`` then unused): the closed form at any instant, e.g. one
+    sample at a time as the reference of :func:`~prp3.apps.spatial_control.spatial_track`
+    (docs/spatial.md §23).  A motion that drives a
     component ``robot`` determines (``robot.parasitic``: the 3-RPS's circle, the Delta's
     tilt) is refused; the other parasitic components are left at home's (zero), for
     :func:`~prp3.spatial.kinematics.complete_motion` to solve.
@@ -321,13 +329,23 @@ def spatial_motion(
             subject="motion",
             key="motion",
         )
-    t = np.linspace(0.0, period, n)
+    if times is None:
+        t = np.linspace(0.0, period, n)
+    else:
+        t = check_times("times", times)
+        n = t.size
     w = 2.0 * np.pi / period
     if not math.isfinite(w * w * max(0.1 * robot.scale, 0.1)):
         raise ParameterError(
             f"duration = {period!r} s is too short: the motion's accelerations overflow float64",
             key="duration",
         )
+    return _closed_form(robot, name, t, w)
+
+
+def _closed_form(robot: SpatialRobot, name: str, t: FloatArray, w: float) -> PlatformMotion:
+    """The built-in motion ``name`` at the times ``t`` (s), ``w = 2π/T`` (rad/s)."""
+    n = t.size
     theta = w * t
     sin, cos, zero = np.sin(theta), np.cos(theta), np.zeros(n)
     home = np.broadcast_to(np.asarray(robot.home_position), (n, 3))
