@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 import prp3
 from prp3 import PlatformMotion
+from prp3.errors import ParameterError
 
 W = 2.0 * math.pi  # 1 s period
 
@@ -169,3 +170,11 @@ def test_mujoco_plant_agrees_with_prp3_plant(make, motion, position_tol, rotatio
     peak = float(np.abs(exact.efforts).max())
     assert float(np.abs(run.efforts - exact.efforts).max()) <= 3e-3 * peak
     assert float(np.abs(run.error[-1, 5])) < 0.002 * 0.05  # and it converges
+
+
+def test_the_delta_on_the_mujoco_plant_is_refused_naming_the_plant() -> None:
+    from prp3 import delta, spatial_track
+
+    robot = delta()
+    with pytest.raises(ParameterError, match=r"plant='mujoco' is refused for the 3-RUU"):
+        spatial_track(robot, lambda t: None, 0.1, plant="mujoco")  # type: ignore[arg-type,return-value]

@@ -159,6 +159,13 @@ def spatial_track(
         raise ParameterError(
             f"plant must be one of {', '.join(SPATIAL_PLANTS)}, got {plant!r}", key="plant"
         )
+    if plant == "mujoco" and robot.legs[0].pattern == "RUU":
+        raise ParameterError(
+            "plant='mujoco' is refused for the 3-RUU (the Delta): its platform turns by up to "
+            "0.2 rad on MuJoCo where the prp3 plant holds it to round-off, so the comparison "
+            "has no meaning yet (docs/spatial.md §23); use plant='prp3'",
+            key="plant",
+        )
     step = check_scalar("timestep", timestep, positive=True, unit="s")
     start = initial if initial is not None else _reference_at(reference, 0.0)
     free = [c for c in range(6) if c not in robot.parasitic_index]
