@@ -183,6 +183,7 @@ EXEMPT: dict[str, str] = {
     "design_values": "takes a SweepSpec built by sweep_spec",
     "parameter_paths": "a parsed [parameters] table of a sweep file (its key paths checked)",
     "nominal_value": "looks up a path of a validated sweep file",
+    "nominal_design_row": "the metadata row of a validated sweep spec's nominal design",
     "penalized_objective": "takes columns computed by evaluate_designs",
     "quantity": "takes columns computed by evaluate_designs",
     "control_force": "the controller's inner step, called by track on validated values",
