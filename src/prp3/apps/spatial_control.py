@@ -103,6 +103,21 @@ def _reference_at(reference: Callable[[float], PlatformMotion], time: float) -> 
     return value
 
 
+def _check_plant(robot: SpatialRobot, plant: object) -> None:
+    """Refuse an unknown plant, and MuJoCo for the Delta (its welds disagree, §23)."""
+    if plant not in SPATIAL_PLANTS:
+        raise ParameterError(
+            f"plant must be one of {', '.join(SPATIAL_PLANTS)}, got {plant!r}", key="plant"
+        )
+    if plant == "mujoco" and robot.legs[0].pattern == "RUU":
+        raise ParameterError(
+            "plant='mujoco' is refused for the 3-RUU (the Delta): its platform turns by up to "
+            "0.2 rad on MuJoCo where the prp3 plant holds it to round-off, so the comparison "
+            "has no meaning yet (docs/spatial.md §23); use plant='prp3'",
+            key="plant",
+        )
+
+
 def spatial_track(
     robot: SpatialRobot,
     reference: Callable[[float], PlatformMotion],
@@ -155,17 +170,7 @@ def spatial_track(
         )
     p_gain = check_scalar("kp", kp, non_negative=True, unit="1/s²")
     d_gain = check_scalar("kd", kd, non_negative=True, unit="1/s")
-    if plant not in SPATIAL_PLANTS:
-        raise ParameterError(
-            f"plant must be one of {', '.join(SPATIAL_PLANTS)}, got {plant!r}", key="plant"
-        )
-    if plant == "mujoco" and robot.legs[0].pattern == "RUU":
-        raise ParameterError(
-            "plant='mujoco' is refused for the 3-RUU (the Delta): its platform turns by up to "
-            "0.2 rad on MuJoCo where the prp3 plant holds it to round-off, so the comparison "
-            "has no meaning yet (docs/spatial.md §23); use plant='prp3'",
-            key="plant",
-        )
+    _check_plant(robot, plant)
     step = check_scalar("timestep", timestep, positive=True, unit="s")
     start = initial if initial is not None else _reference_at(reference, 0.0)
     free = [c for c in range(6) if c not in robot.parasitic_index]
