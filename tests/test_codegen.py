@@ -13,8 +13,6 @@ from __future__ import annotations
 import ctypes
 import math
 import re
-import shutil
-import subprocess
 from dataclasses import replace
 from pathlib import Path
 
@@ -23,6 +21,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ctools import COMPILER, shared_library
 from prp3 import Limits, Motion, Robot, inverse_dynamics
 from prp3.apps.codegen import (
     C_NOT_FINITE,
@@ -44,9 +43,7 @@ from prp3.model.parameters import Friction, JointFriction, Load, Spring, SpringP
 from strategies import poses, robots
 
 pytest.importorskip("sympy")
-COMPILER = shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
-FLAGS = ["-std=c99", "-pedantic-errors", "-Wall", "-Wextra", "-Werror", "-O2"]
 
 _Vector = np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(3,), flags="C_CONTIGUOUS")
 
@@ -76,24 +73,7 @@ def build(robot: Robot, folder: Path) -> Compiled:
 
 
 def build_from(folder: Path) -> Compiled:
-    library = folder / "libprp3id.so"
-    assert COMPILER is not None
-    done = subprocess.run(
-        [
-            COMPILER,
-            *FLAGS,
-            "-shared",
-            "-fPIC",
-            "-o",
-            str(library),
-            str(folder / SOURCE_NAME),
-            "-lm",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert done.returncode == 0, done.stderr
+    library = shared_library(folder, "libprp3id.so")
     return Compiled(library)
 
 

@@ -17,8 +17,6 @@ from __future__ import annotations
 import ctypes
 import math
 import re
-import shutil
-import subprocess
 from dataclasses import replace
 from pathlib import Path
 
@@ -27,6 +25,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from ctools import COMPILER, shared_library
 from prp3.apps.codegen import (
     C_NOT_FINITE,
     C_OK,
@@ -44,9 +43,7 @@ from prp3.model.motion import Motion, paper_motion
 from prp3.model.parameters import Load, Payload
 from strategies import FAMILY_ALLOWED, family_designs, family_motions
 
-COMPILER = shutil.which("gcc") or shutil.which("cc") or shutil.which("clang")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
-FLAGS = ["-std=c99", "-pedantic-errors", "-Wall", "-Wextra", "-Werror", "-O2"]
 
 CROSSING = {("3-PRR", 2, "rotation")}
 
@@ -79,24 +76,7 @@ def build(robot: FamilyRobot, folder: Path) -> Compiled:
 
 
 def build_from(folder: Path) -> Compiled:
-    library = folder / "libprp3family.so"
-    assert COMPILER is not None
-    done = subprocess.run(
-        [
-            COMPILER,
-            *FLAGS,
-            "-shared",
-            "-fPIC",
-            "-o",
-            str(library),
-            str(folder / SOURCE_NAME),
-            "-lm",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert done.returncode == 0, done.stderr
+    library = shared_library(folder, "libprp3family.so")
     return Compiled(library)
 
 

@@ -13,7 +13,6 @@ from __future__ import annotations
 import ctypes
 import math
 import re
-import shutil
 import subprocess
 import sys
 from collections.abc import Callable
@@ -25,6 +24,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import prp3
+from ctools import COMPILER, shared_library
 from prp3 import (
     RETURN_CODES,
     SPATIAL_STATUS,
@@ -43,9 +43,7 @@ from prp3.cli import main
 from prp3.errors import ParameterError, Prp3Error
 from prp3.spatial.rotations import rpy_matrix
 
-COMPILER = shutil.which("cc") or shutil.which("gcc") or shutil.which("clang")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
-FLAGS = ["-std=c99", "-pedantic-errors", "-Wall", "-Wextra", "-Werror", "-O2"]
 CODES = {name: value for name, value, _ in SPATIAL_STATUS}
 ROBOTS: dict[str, Callable[[], SpatialRobot]] = {
     "6-UPS": hexapod,
@@ -75,24 +73,7 @@ class Compiled:
 
 
 def build_from(folder: Path, robot: SpatialRobot) -> Compiled:
-    library = folder / "libprp3spatial.so"
-    assert COMPILER is not None
-    done = subprocess.run(
-        [
-            COMPILER,
-            *FLAGS,
-            "-shared",
-            "-fPIC",
-            "-o",
-            str(library),
-            str(folder / SOURCE_NAME),
-            "-lm",
-        ],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    assert done.returncode == 0, done.stderr
+    library = shared_library(folder, "libprp3spatial.so")
     return Compiled(library, robot)
 
 
