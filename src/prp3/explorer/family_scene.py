@@ -128,6 +128,8 @@ def family_design_parameters(robot: FamilyRobot) -> dict[str, tuple[str, str]]:
 
     >>> family_design_parameters(FamilyRobot.default("3-RPR"))["leg.home.b"]
     ('home q2', 'm')
+    >>> len(FAMILY_DESIGN_PARAMETERS)  # the fields docs/explore.md counts
+    35
     """
     units = {
         part: "m" if kind == "P" else "rad" for part, kind in zip(HOME, robot.types, strict=True)
