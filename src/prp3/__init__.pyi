@@ -106,6 +106,12 @@ from .apps.spatial_mjcf import (
     spatial_mjcf_model as spatial_mjcf_model,
     spatial_mjcf_robot as spatial_mjcf_robot,
 )
+from .apps.spatial_urdf import (
+    read_spatial_urdf as read_spatial_urdf,
+    spatial_urdf_closures as spatial_urdf_closures,
+    spatial_urdf_model as spatial_urdf_model,
+    spatial_urdf_robot as spatial_urdf_robot,
+)
 from .apps.optimization import (
     OptimizeOutcome as OptimizeOutcome,
     optimize_design as optimize_design,
