@@ -226,3 +226,156 @@ def test_default_designs_at_their_built_in_motions(robot: SpatialRobot) -> None:
 
     motion = spatial_motion(robot, "heave", 7, 1.0)
     _check_architecture(robot.name, robot, complete_motion(robot, motion) if robot.parasitic else motion)
+
+
+# ---------------------------------------------------------------- reading back
+@settings(max_examples=10, deadline=None)
+@given(st.sampled_from(sorted(ARCHITECTURES)).flatmap(lambda a: ARCHITECTURES[a]()))
+def test_read_back_gives_the_same_robot(robot: SpatialRobot) -> None:
+    assert_same_robot(spatial_urdf_robot(spatial_urdf_model(robot), spatial_urdf_closures(robot)), robot)
+
+
+def test_read_back_from_files_of_the_defaults_and_odd_names(tmp_path: Path) -> None:
+    quoted = replace(hexapod(), name='my "hexapod" <1> & co')  # XML's special characters
+    for k, robot in enumerate((hexapod(), three_rps(), delta(), quoted)):
+        path = tmp_path / f"robot{k}.urdf"
+        path.write_text(spatial_urdf_model(robot), encoding="utf-8")
+        (tmp_path / f"robot{k}.yaml").write_text(spatial_urdf_closures(robot), encoding="utf-8")
+        assert_same_robot(read_spatial_urdf(path), robot)
+        other = tmp_path / f"closures{k}.txt"
+        other.write_text(spatial_urdf_closures(robot), encoding="utf-8")
+        assert_same_robot(read_spatial_urdf(path, other), robot)
+
+
+def test_the_closures_follow_example_parallel_robots() -> None:
+    """The side file's keys and values as Gepetto's loader reads them (``yaml.safe_load``)."""
+    yaml = pytest.importorskip("yaml")
+    content = yaml.safe_load(spatial_urdf_closures(three_rps()))
+    assert content == {
+        "closed_loop": [[f"closedloop{i}_A", f"closedloop{i}_B"] for i in (1, 2, 3)],
+        "type": ["3D"] * 3,
+        "name_mot": ["leg1_P2", "leg2_P2", "leg3_P2"],
+    }
+
+
+FOREIGN = '<robot name="arm"><link name="base"/></robot>\n'
+
+
+@pytest.mark.parametrize(
+    ("urdf", "closures", "words"),
+    [
+        (FOREIGN, None, "it has no <prp3_spatial> element"),
+        ("<robot><link>", None, "not well-formed XML at line 1"),
+        ("<mujoco/>", None, "the root element is <mujoco>"),
+        (None, "closed_loop: [[a, b]]\n", "the closures have no closed_loop, type and name_mot"),
+        (None, "closed_loop: [\n", "the closures are not YAML"),
+        (None, "closed_loop: [['closedloop1_B', 'closedloop1_A']]\ntype: ['3D']\nname_mot: ['leg1_P2']\n",
+         "closed_loop entry 1"),
+        (None, spatial_urdf_closures(three_rps()).replace("'3D', '3D', '3D'", "'3D', '6D', '3D'"),
+         "the closure of leg 2 is '6D'; its cut joint needs '3D'"),
+        (None, spatial_urdf_closures(three_rps()).replace("leg3_P2", "leg3_R1"), "leg 3 is a RPS actuated at joint 1"),
+        (None, spatial_urdf_closures(three_rps()).replace("leg3_P2", "leg3_S3"), "the motor 'leg3_S3' of leg 3"),
+    ],
+)
+def test_a_foreign_pair_is_refused_in_one_line(
+    tmp_path: Path, urdf: str | None, closures: str | None, words: str
+) -> None:
+    pytest.importorskip("yaml")
+    path = tmp_path / "robot.urdf"
+    path.write_text(spatial_urdf_model(three_rps()) if urdf is None else urdf, encoding="utf-8")
+    text = spatial_urdf_closures(three_rps()) if closures is None else closures
+    (tmp_path / "robot.yaml").write_text(text, encoding="utf-8")
+    with pytest.raises(InputFileError) as info:
+        read_spatial_urdf(path)
+    message = str(info.value)
+    assert "\n" not in message and words in message and "robot.urdf" in message
+
+
+def test_a_urdf_without_its_closures_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "robot.urdf"
+    path.write_text(spatial_urdf_model(delta()), encoding="utf-8")
+    with pytest.raises(InputFileError, match=r"the closures' side file .*robot\.yaml is missing"):
+        read_spatial_urdf(path)
+
+
+def test_an_edited_prp3_urdf_is_refused_naming_the_element() -> None:
+    robot = hexapod()
+    text = spatial_urdf_model(robot).replace('name="leg2_P2" type="prismatic"', 'name="leg2_P2" type="revolute"')
+    with pytest.raises(ParameterError, match="joint leg2_P2: type 'revolute'"):
+        spatial_urdf_robot(text, spatial_urdf_closures(robot))
+    text = spatial_urdf_model(robot).replace('<link name="leg4_body2">', '<link name="leg4_body2_">')
+    with pytest.raises(ParameterError, match="leg 4"):
+        spatial_urdf_robot(text, spatial_urdf_closures(robot))
+
+
+def test_limits_round_trip_and_pinocchio_keeps_them() -> None:
+    pin = pytest.importorskip("pinocchio")
+    robot = delta()
+    model = pin.buildModelFromXML(spatial_urdf_model(robot))
+    joint = model.joints[model.getJointId("leg2_U3_b")]
+    low, high = robot.legs[1].joints[2].limits[1]
+    assert (model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]) == (low, high)
+    rps = spatial_urdf_robot(spatial_urdf_model(three_rps(s_limit=0.7)), spatial_urdf_closures(three_rps()))
+    assert rps.legs[2].joints[2].limits == ((0.0, 0.7),)
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    st.sampled_from([hexapod(), three_rps(), delta()]),
+    st.integers(0, 10**6),
+    st.sampled_from(["nan", "inf", "-1", "0", "1e400", "x", "", "1 2", '"', "<"]),
+)
+def test_a_mutated_urdf_gives_a_robot_or_one_project_error(robot: SpatialRobot, where: int, value: str) -> None:
+    """Any attribute value of a prp3 URDF replaced: a robot, or one ParameterError line."""
+    pytest.importorskip("yaml")
+    import re
+
+    text = spatial_urdf_model(robot)
+    spans = [(m.start(1), m.end(1)) for m in re.finditer(r'="([^"]*)"', text)]
+    start, end = spans[where % len(spans)]
+    try:
+        spatial_urdf_robot(text[:start] + value + text[end:], spatial_urdf_closures(robot))
+    except ParameterError as error:
+        assert "\n" not in str(error)
+
+
+# ---------------------------------------------------------------- the command line
+@pytest.mark.parametrize("architecture", sorted(ARCHITECTURES))
+def test_export_urdf_of_a_spatial_robot_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], architecture: str
+) -> None:
+    robot_file = tmp_path / "robot.toml"
+    robot_file.write_text(f'architecture = "{architecture}"\n', encoding="utf-8")
+    output = tmp_path / "robot.urdf"
+    assert main(["export", "urdf", "--robot", str(robot_file), "--output", str(output)]) == 0
+    out = capsys.readouterr().out
+    assert str(output) in out and str(tmp_path / "robot.yaml") in out and architecture in out
+    from prp3.io.spatial_robot import read_spatial_robot
+
+    robot = read_spatial_robot(robot_file).robot
+    assert output.read_text(encoding="utf-8") == spatial_urdf_model(robot)
+    assert (tmp_path / "robot.yaml").read_text(encoding="utf-8") == spatial_urdf_closures(robot)
+    if pytest.importorskip("yaml"):
+        assert_same_robot(read_spatial_urdf(output), robot)
+
+
+def test_export_urdf_refuses_bad_input_in_one_line_and_keeps_the_old_files(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    output = tmp_path / "robot.urdf"
+    output.write_text("old", encoding="utf-8")
+    (tmp_path / "robot.yaml").write_text("old", encoding="utf-8")
+    bad = tmp_path / "bad.toml"
+    bad.write_text('architecture = "3-RUU"\n[arm_body]\nmass = -1.0\n', encoding="utf-8")
+    planar = tmp_path / "planar.toml"
+    planar.write_text("", encoding="utf-8")
+    for robot_file, words in ((bad, "arm_body.mass"), (planar, "takes a spatial robot file")):
+        assert main(["export", "urdf", "--robot", str(robot_file), "--output", str(output)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert "\n" not in err and words in err and str(robot_file) in err
+    good = tmp_path / "good.toml"
+    good.write_text('architecture = "6-UPS"\n', encoding="utf-8")
+    assert main(["export", "urdf", "--robot", str(good), "--output", str(tmp_path / "x.yaml")]) == 2
+    assert "ends in .yaml" in capsys.readouterr().err
+    assert output.read_text(encoding="utf-8") == "old"
+    assert (tmp_path / "robot.yaml").read_text(encoding="utf-8") == "old"

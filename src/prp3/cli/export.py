@@ -12,6 +12,10 @@ dynamics as C99 code, ``DIR/prp3_inverse_dynamics.h`` and ``.c``
 A spatial robot file (docs/spatial.md §13: 6-UPS, 3-RPS, 3-RUU) goes to
 :func:`prp3.apps.spatial_mjcf.spatial_mjcf_model` (``export mjcf``; docs/spatial.md §16)
 and :func:`prp3.apps.spatial_codegen.spatial_c_inverse_dynamics` (§24).
+``prp3 export urdf --robot SPATIAL.toml --output FILE`` writes a spatial robot as the
+URDF of its spanning tree (:func:`prp3.apps.spatial_urdf.spatial_urdf_model`) and its loop
+closures beside it (``FILE`` with ``.yaml``, the Extended URDF of Gepetto's
+example-parallel-robots; docs/spatial.md §25), both atomically.
 A family-form robot file (docs/family.md: 3-RPR, 3-RRR, ...) goes to the
 family's exporters, :func:`prp3.family.mjcf.family_mjcf_model` and
 :func:`prp3.family.codegen.family_c_inverse_dynamics` (docs/family_export.md).
@@ -26,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 from prp3.apps.codegen import HEADER_NAME, SOURCE_NAME, CSource, c_inverse_dynamics
 from prp3.apps.mjcf import mjcf_model
 from prp3.apps.spatial_mjcf import spatial_mjcf_model
+from prp3.apps.spatial_urdf import closures_path, spatial_urdf_closures, spatial_urdf_model
 from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
@@ -128,6 +133,7 @@ def register(subparsers: Any) -> None:
         help="write the model to FILE, whole or not at all (default: standard output)",
     )
     mjcf.set_defaults(handler=_export_mjcf)
+    _register_urdf(formats)
     code = formats.add_parser(
         "c",
         help="the inverse dynamics as C99 code for an embedded controller (.h and .c)",
@@ -180,6 +186,63 @@ def _export_mjcf(args: argparse.Namespace) -> int:
         emit(
             f"{args.program}: MuJoCo MJCF model of {source} ({what}), {len(text.encode())} bytes\n"
             f"files written:\n  {output}"
+        )
+    return 0
+
+
+def _register_urdf(formats: Any) -> None:
+    urdf = formats.add_parser(
+        "urdf",
+        help="a spatial robot as URDF (its spanning tree) and its loop closures (YAML)",
+        description=(
+            "Write a spatial robot file (6-UPS, 3-RPS, 3-RUU) as the URDF of its spanning tree "
+            "(the legs as open chains from the world, the platform floating, cut at each leg's "
+            "closing joint) and, beside it with the suffix .yaml, its loop closures in the "
+            "Extended URDF of Gepetto's example-parallel-robots (closed_loop, type, name_mot; "
+            "docs/spatial.md §25)."
+        ),
+        epilog="example: prp3 export urdf --robot hexapod.toml --output hexapod.urdf",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    urdf.add_argument(
+        "--robot", metavar="SPATIAL.toml", type=path_name, required=True,
+        help="a spatial robot file (docs/spatial.md §13)",
+    )  # fmt: skip
+    urdf.add_argument(
+        "--output", "-o", metavar="FILE", type=path_name, required=True,
+        help="the URDF; its closures go to FILE with the suffix .yaml (both whole or not at all)",
+    )  # fmt: skip
+    urdf.set_defaults(handler=_export_urdf)
+
+
+def _export_urdf(args: argparse.Namespace) -> int:
+    robot = load_robot_or_spatial(args)
+    if not isinstance(robot, SpatialRobotFile):
+        raise InputFileError(
+            "prp3 export urdf takes a spatial robot file (architecture = 6-UPS, 3-RPS or 3-RUU; "
+            "docs/spatial.md §13)",
+            file=args.robot,
+        )
+    try:
+        text, closures = spatial_urdf_model(robot.robot), spatial_urdf_closures(robot.robot)
+    except ParameterError as error:
+        raise _file_key(args.robot, error) from None
+    output: Path = args.output
+    side = closures_path(output)
+    if side == output:
+        raise InputFileError(f"--output {output} ends in .yaml: its closures would overwrite it",
+                             file=args.robot)  # fmt: skip
+    legs = len(robot.robot.legs)
+    first = robot.robot.legs[0]
+    motor = first.coordinates[first.actuated_coordinate]
+    kind = "3D (cut S)" if robot.robot.legs[0].joints[-1].kind == "S" else "6D (cut below the U)"
+    with atomic_writer(side) as closing, atomic_writer(output) as stream:
+        closing.write(closures)
+        stream.write(text)
+        emit(
+            f"{args.program}: URDF of the {robot.architecture} of {args.robot} ({legs} open chains "
+            f"and a floating platform, {legs} closures {kind}, motors leg{{i}}_{motor}), "
+            f"{len(text.encode())} bytes\nfiles written:\n  {output}\n  {side}"
         )
     return 0
 
