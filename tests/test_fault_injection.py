@@ -113,6 +113,7 @@ COMMANDS: dict[str, str] = {
     "identify": "identify --measurements m.csv --output {out}",
     "export-c": "export c --output {out}",
     "export-mjcf": "export mjcf --output {out}.xml",
+    "export-urdf-spatial": "export urdf --robot hexapod.toml --output {out}.urdf",
     "sweep": "sweep --spec sweep.toml --workers 1 --output {out}",
     "explore-export": "explore --export {out}.html",
 }

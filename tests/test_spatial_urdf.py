@@ -80,7 +80,9 @@ def robots_and_motions(draw: st.DrawFn, architecture: str) -> tuple[SpatialRobot
     return robot, motion
 
 
-def _state(pin: Any, model: Any, robot: SpatialRobot, solution: Any, motion: Any, n: int) -> tuple[np.ndarray, ...]:
+def _state(
+    pin: Any, model: Any, robot: SpatialRobot, solution: Any, motion: Any, n: int
+) -> tuple[np.ndarray, ...]:
     """Pinocchio's ``q, v, a`` of sample ``n``: prp3's joint values by name; the free flyer
     ``(p, quaternion xyzw)``, ``(Rᵀṗ, Rᵀω)``, ``(Rᵀp̈ − ω_l × v_l, Rᵀα)``."""
     q, v, a = pin.neutral(model), np.zeros(model.nv), np.zeros(model.nv)
@@ -92,7 +94,11 @@ def _state(pin: Any, model: Any, robot: SpatialRobot, solution: Any, motion: Any
                 assert coordinate.startswith("S")  # the cut S
                 continue
             joint = model.joints[model.getJointId(name)]
-            q[joint.idx_q], v[joint.idx_v], a[joint.idx_v] = kin.q[n, i, c], kin.dq[n, i, c], kin.ddq[n, i, c]
+            q[joint.idx_q], v[joint.idx_v], a[joint.idx_v] = (
+                kin.q[n, i, c],
+                kin.dq[n, i, c],
+                kin.ddq[n, i, c],
+            )
     free = model.joints[model.getJointId("platform")]
     rotation = motion.rotation[n]
     w, x, y, z = matrix_quaternion(rotation)
@@ -104,7 +110,9 @@ def _state(pin: Any, model: Any, robot: SpatialRobot, solution: Any, motion: Any
     return q, v, a
 
 
-def _closure_jacobian(pin: Any, model: Any, data: Any, robot: SpatialRobot) -> tuple[np.ndarray, list[slice]]:
+def _closure_jacobian(
+    pin: Any, model: Any, data: Any, robot: SpatialRobot
+) -> tuple[np.ndarray, list[slice]]:
     rows, blocks, start = [], [], 0
     world = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
     for leg_frame, platform_frame, kind in closure_frames(robot):
@@ -155,7 +163,9 @@ def _kkt_check(pin: Any, model: Any, robot: SpatialRobot, q: np.ndarray, v: np.n
         gamma.append((acc[0] - acc[1])[:3] if kind == "3D" else acc[0] - acc[1])
     rows = j_c.shape[0]
     kkt = np.block([[mass, -j_c.T], [j_c, np.zeros((rows, rows))]])
-    ddq = np.linalg.solve(kkt, np.concatenate([generalised - bias, -np.concatenate(gamma)]))[: model.nv]
+    ddq = np.linalg.solve(kkt, np.concatenate([generalised - bias, -np.concatenate(gamma)]))[
+        : model.nv
+    ]
     scale = max(float(np.abs(a).max()), float(np.linalg.norm(robot.gravity)) / robot.scale)
     assert np.allclose(ddq, a, rtol=0, atol=1e-8 * scale), np.abs(ddq - a).max()
 
@@ -170,7 +180,9 @@ def _check_architecture(architecture: str, robot: SpatialRobot, motion: Any) -> 
     legs = len(robot.legs)
     b = np.zeros((model.nv, legs))
     for i, leg in enumerate(robot.legs):
-        joint = model.joints[model.getJointId(f"leg{i + 1}_{leg.coordinates[leg.actuated_coordinate]}")]
+        joint = model.joints[
+            model.getJointId(f"leg{i + 1}_{leg.coordinates[leg.actuated_coordinate]}")
+        ]
         b[joint.idx_v, i] = 1.0
     tau_scale = float(np.abs(solution.tau).max())
     f_scale = float(np.abs(solution.force[:, :, -1]).max())
@@ -191,7 +203,10 @@ def _check_architecture(architecture: str, robot: SpatialRobot, motion: Any) -> 
         assert system.shape == (UNKNOWNS[architecture],) * 2
         generalised = pin.rnea(model, data, q, v, a).copy()
         x = np.linalg.solve(system, generalised)
-        assert np.allclose(x[:legs], solution.tau[n], rtol=0, atol=1e-8 * tau_scale), (x[:legs], solution.tau[n])
+        assert np.allclose(x[:legs], solution.tau[n], rtol=0, atol=1e-8 * tau_scale), (
+            x[:legs],
+            solution.tau[n],
+        )
         for i, block in enumerate(blocks):
             w = x[legs:][block]
             assert np.allclose(w[:3], solution.force[n, i, -1], rtol=0, atol=1e-8 * f_scale)
@@ -225,14 +240,18 @@ def test_default_designs_at_their_built_in_motions(robot: SpatialRobot) -> None:
     from prp3 import spatial_motion
 
     motion = spatial_motion(robot, "heave", 7, 1.0)
-    _check_architecture(robot.name, robot, complete_motion(robot, motion) if robot.parasitic else motion)
+    _check_architecture(
+        robot.name, robot, complete_motion(robot, motion) if robot.parasitic else motion
+    )
 
 
 # ---------------------------------------------------------------- reading back
 @settings(max_examples=10, deadline=None)
 @given(st.sampled_from(sorted(ARCHITECTURES)).flatmap(lambda a: ARCHITECTURES[a]()))
 def test_read_back_gives_the_same_robot(robot: SpatialRobot) -> None:
-    assert_same_robot(spatial_urdf_robot(spatial_urdf_model(robot), spatial_urdf_closures(robot)), robot)
+    assert_same_robot(
+        spatial_urdf_robot(spatial_urdf_model(robot), spatial_urdf_closures(robot)), robot
+    )
 
 
 def test_read_back_from_files_of_the_defaults_and_odd_names(tmp_path: Path) -> None:
@@ -269,12 +288,26 @@ FOREIGN = '<robot name="arm"><link name="base"/></robot>\n'
         ("<mujoco/>", None, "the root element is <mujoco>"),
         (None, "closed_loop: [[a, b]]\n", "the closures have no closed_loop, type and name_mot"),
         (None, "closed_loop: [\n", "the closures are not YAML"),
-        (None, "closed_loop: [['closedloop1_B', 'closedloop1_A']]\ntype: ['3D']\nname_mot: ['leg1_P2']\n",
-         "closed_loop entry 1"),
-        (None, spatial_urdf_closures(three_rps()).replace("'3D', '3D', '3D'", "'3D', '6D', '3D'"),
-         "the closure of leg 2 is '6D'; its cut joint needs '3D'"),
-        (None, spatial_urdf_closures(three_rps()).replace("leg3_P2", "leg3_R1"), "leg 3 is a RPS actuated at joint 1"),
-        (None, spatial_urdf_closures(three_rps()).replace("leg3_P2", "leg3_S3"), "the motor 'leg3_S3' of leg 3"),
+        (
+            None,
+            "closed_loop: [['closedloop1_B', 'closedloop1_A']]\ntype: ['3D']\nname_mot: ['leg1_P2']\n",
+            "closed_loop entry 1",
+        ),
+        (
+            None,
+            spatial_urdf_closures(three_rps()).replace("'3D', '3D', '3D'", "'3D', '6D', '3D'"),
+            "the closure of leg 2 is '6D'; its cut joint needs '3D'",
+        ),
+        (
+            None,
+            spatial_urdf_closures(three_rps()).replace("leg3_P2", "leg3_R1"),
+            "leg 3 is a RPS actuated at joint 1",
+        ),
+        (
+            None,
+            spatial_urdf_closures(three_rps()).replace("leg3_P2", "leg3_S3"),
+            "the motor 'leg3_S3' of leg 3",
+        ),
     ],
 )
 def test_a_foreign_pair_is_refused_in_one_line(
@@ -300,10 +333,14 @@ def test_a_urdf_without_its_closures_is_refused(tmp_path: Path) -> None:
 
 def test_an_edited_prp3_urdf_is_refused_naming_the_element() -> None:
     robot = hexapod()
-    text = spatial_urdf_model(robot).replace('name="leg2_P2" type="prismatic"', 'name="leg2_P2" type="revolute"')
+    text = spatial_urdf_model(robot).replace(
+        'name="leg2_P2" type="prismatic"', 'name="leg2_P2" type="revolute"'
+    )
     with pytest.raises(ParameterError, match="joint leg2_P2: type 'revolute'"):
         spatial_urdf_robot(text, spatial_urdf_closures(robot))
-    text = spatial_urdf_model(robot).replace('<link name="leg4_body2">', '<link name="leg4_body2_">')
+    text = spatial_urdf_model(robot).replace(
+        '<link name="leg4_body2">', '<link name="leg4_body2_">'
+    )
     with pytest.raises(ParameterError, match="leg 4"):
         spatial_urdf_robot(text, spatial_urdf_closures(robot))
 
@@ -314,8 +351,13 @@ def test_limits_round_trip_and_pinocchio_keeps_them() -> None:
     model = pin.buildModelFromXML(spatial_urdf_model(robot))
     joint = model.joints[model.getJointId("leg2_U3_b")]
     low, high = robot.legs[1].joints[2].limits[1]
-    assert (model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]) == (low, high)
-    rps = spatial_urdf_robot(spatial_urdf_model(three_rps(s_limit=0.7)), spatial_urdf_closures(three_rps()))
+    assert (model.lowerPositionLimit[joint.idx_q], model.upperPositionLimit[joint.idx_q]) == (
+        low,
+        high,
+    )
+    rps = spatial_urdf_robot(
+        spatial_urdf_model(three_rps(s_limit=0.7)), spatial_urdf_closures(three_rps())
+    )
     assert rps.legs[2].joints[2].limits == ((0.0, 0.7),)
 
 
@@ -325,7 +367,9 @@ def test_limits_round_trip_and_pinocchio_keeps_them() -> None:
     st.integers(0, 10**6),
     st.sampled_from(["nan", "inf", "-1", "0", "1e400", "x", "", "1 2", '"', "<"]),
 )
-def test_a_mutated_urdf_gives_a_robot_or_one_project_error(robot: SpatialRobot, where: int, value: str) -> None:
+def test_a_mutated_urdf_gives_a_robot_or_one_project_error(
+    robot: SpatialRobot, where: int, value: str
+) -> None:
     """Any attribute value of a prp3 URDF replaced: a robot, or one ParameterError line."""
     pytest.importorskip("yaml")
     import re

@@ -51,7 +51,6 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
-from typing import Any
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
@@ -156,7 +155,9 @@ def _joint_lines(
     origin = _origin(joint.position, joint.rotation)
     for coordinate, (low, high) in zip(joint.coordinates(label), joint.limits, strict=True):
         if math.isinf(low) != math.isinf(high):
-            ranges.append(f'    <range joint="leg{leg}_{coordinate}" low="{num(low)}" high="{num(high)}"/>')
+            ranges.append(
+                f'    <range joint="leg{leg}_{coordinate}" low="{num(low)}" high="{num(high)}"/>'
+            )
     if joint.kind in "RP":
         unbounded = joint.kind == "R" and joint.limits[0] == (-math.inf, math.inf)
         kind = "continuous" if unbounded else "revolute" if joint.kind == "R" else "prismatic"
@@ -184,7 +185,9 @@ def _check_robot(robot: SpatialRobot) -> None:
             )
 
 
-def _leg_lines(robot: SpatialRobot, i: int, leg: Leg, ranges: list[str], names: list[str]) -> list[str]:
+def _leg_lines(
+    robot: SpatialRobot, i: int, leg: Leg, ranges: list[str], names: list[str]
+) -> list[str]:
     lines: list[str] = []
     parent = "world"
     n = len(leg.joints)
@@ -298,7 +301,9 @@ def spatial_urdf_closures(robot: SpatialRobot) -> str:
     name_mot: ['leg1_R1', 'leg2_R1', 'leg3_R1']
     """
     pairs = closure_frames(robot)
-    motors = [f"leg{i}_{leg.coordinates[leg.actuated_coordinate]}" for i, leg in enumerate(robot.legs, 1)]
+    motors = [
+        f"leg{i}_{leg.coordinates[leg.actuated_coordinate]}" for i, leg in enumerate(robot.legs, 1)
+    ]
     loops = ", ".join(f"['{a}', '{b}']" for a, b, _ in pairs)
     types = ", ".join(f"'{t}'" for _, _, t in pairs)
     return (
@@ -340,12 +345,16 @@ def _body_of(link: ET.Element, name: str) -> Body:
     mass = inertial.find("mass") if inertial is not None else None
     tensor = inertial.find("inertia") if inertial is not None else None
     if inertial is None or mass is None or tensor is None:
-        raise _ForeignError(f"<link name={link.get('name')!r}> has no <inertial> with mass and inertia")
+        raise _ForeignError(
+            f"<link name={link.get('name')!r}> has no <inertial> with mass and inertia"
+        )
     centre, rotation = _placement(inertial)
     if rotation != _IDENTITY:
         raise _ForeignError(f"<link name={link.get('name')!r}>: its inertial frame is turned")
     (m,) = _floats(mass, "value", 1)
-    xx, xy, xz, yy, yz, zz = (_floats(tensor, a, 1)[0] for a in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+    xx, xy, xz, yy, yz, zz = (
+        _floats(tensor, a, 1)[0] for a in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+    )
     return Body(m, centre, ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz)), name)
 
 
@@ -406,6 +415,7 @@ def _joint_of(tree: _Tree, leg: int, k: int, link: str) -> tuple[Joint, str]:
     """Joint ``k`` (1-based) of ``leg``, which moves ``link``; and the link before it."""
     joint = tree.by_child.get(link)
     name = "" if joint is None else joint.get("name", "")
+    limits: tuple[tuple[float, float], ...]
     if name == f"leg{leg}_R{k}":
         element = tree.joint_into(link, name, "revolute", "0 0 1")
         kind, limits = "R", (tree.limit(element),)
@@ -427,7 +437,8 @@ def _leg_of(tree: _Tree, i: int, closure: str, motor: str) -> Leg:
     k = 1
     while f"leg{i}_body{k + 1}" in tree.links:
         k += 1
-    joints, bodies = [], []
+    joints: list[Joint] = []
+    bodies: list[Body] = []
     for j in range(k, 0, -1):
         joint, parent = _joint_of(tree, i, j, f"leg{i}_body{j}")
         if parent != (f"leg{i}_body{j - 1}" if j > 1 else "world"):
@@ -444,7 +455,9 @@ def _leg_of(tree: _Tree, i: int, closure: str, motor: str) -> Leg:
         s_range = tree.ranges.get(f"leg{i}_S{k + 1}", (0.0, math.inf))
         last, expected = Joint("S", position, rotation, ((s_range[0], s_range[1]),)), "3D"
     if closure != expected:
-        raise _ForeignError(f"the closure of leg {i} is {closure!r}; its cut joint needs {expected!r}")
+        raise _ForeignError(
+            f"the closure of leg {i} is {closure!r}; its cut joint needs {expected!r}"
+        )
     attach = tree.joint_into(f"closedloop{i}_B", f"leg{i}_cut_B", "fixed", "")
     joints.append(last)
     labels = [f"{j.kind}{n}" for n, j in enumerate(joints, 1)]
@@ -459,7 +472,7 @@ def _leg_of(tree: _Tree, i: int, closure: str, motor: str) -> Leg:
 def _closures(text: str) -> tuple[list[str], list[str]]:
     """The closures' types and the motors of a side file written by :func:`spatial_urdf_closures`."""
     try:
-        import yaml
+        import yaml  # type: ignore[import-untyped]
     except ImportError:
         raise ParameterError(
             "reading the closures' YAML side file needs PyYAML (pip install 'prp3[urdf]')",
@@ -468,7 +481,9 @@ def _closures(text: str) -> tuple[list[str], list[str]]:
     try:
         content = yaml.safe_load(text)
     except yaml.YAMLError as error:
-        raise _ForeignError(f"the closures are not YAML ({' '.join(str(error).split())})"[:300]) from None
+        raise _ForeignError(
+            f"the closures are not YAML ({' '.join(str(error).split())})"[:300]
+        ) from None
     if not isinstance(content, dict) or not {"closed_loop", "type", "name_mot"} <= set(content):
         raise _ForeignError("the closures have no closed_loop, type and name_mot")
     loops, types, motors = content["closed_loop"], content["type"], content["name_mot"]
@@ -512,7 +527,7 @@ def spatial_urdf_robot(text: str, closures: str) -> SpatialRobot:
 
 def _robot_of(root: ET.Element, types: list[str], motors: list[str]) -> SpatialRobot:
     tree = _Tree(root)
-    legs = []
+    legs: list[Leg] = []
     while f"leg{len(legs) + 1}_body1" in tree.links:
         i = len(legs) + 1
         if i > len(types):

@@ -239,6 +239,8 @@ def _export_urdf(args: argparse.Namespace) -> int:
     with atomic_writer(side) as closing, atomic_writer(output) as stream:
         closing.write(closures)
         stream.write(text)
+        closing.flush()  # a full disk refuses both here, before either file is moved in
+        stream.flush()
         emit(
             f"{args.program}: URDF of the {robot.architecture} of {args.robot} ({legs} open chains "
             f"and a floating platform, {legs} closures {kind}, motors leg{{i}}_{motor}), "
