@@ -22,6 +22,7 @@ accelerations (the platform's ``floating`` joint, a free flyer, from the motion)
 
 from __future__ import annotations
 
+import math
 from dataclasses import fields, is_dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -359,6 +360,24 @@ def test_limits_round_trip_and_pinocchio_keeps_them() -> None:
         spatial_urdf_model(three_rps(s_limit=0.7)), spatial_urdf_closures(three_rps())
     )
     assert rps.legs[2].joints[2].limits == ((0.0, 0.7),)
+
+
+def test_infinite_ranges_round_trip() -> None:
+    robot = three_rps()
+    legs = tuple(
+        replace(leg, joints=(replace(leg.joints[0], limits=()),
+                             replace(leg.joints[1], limits=((0.06, math.inf),)), leg.joints[2]))
+        for leg in robot.legs
+    )  # fmt: skip
+    for changed in (replace(robot, legs=legs), replace(robot, legs=(legs[0], *robot.legs[1:]))):
+        text = spatial_urdf_model(changed)
+        assert 'type="continuous"' in text and "1e+300" in text
+        assert_same_robot(spatial_urdf_robot(text, spatial_urdf_closures(changed)), changed)
+    unbounded = replace(robot.legs[0].joints[1], limits=((-math.inf, math.inf),))
+    slider = replace(robot, legs=tuple(replace(leg, joints=(leg.joints[0], unbounded, leg.joints[2]))
+                                       for leg in robot.legs))  # fmt: skip
+    back = spatial_urdf_robot(spatial_urdf_model(slider), spatial_urdf_closures(slider))
+    assert back.legs[1].joints[1].limits == ((-math.inf, math.inf),)
 
 
 @settings(max_examples=100, deadline=None)

@@ -154,7 +154,7 @@ def _joint_lines(
     """The URDF joints (and a U's cross link) of an R, P or U joint between two links."""
     origin = _origin(joint.position, joint.rotation)
     for coordinate, (low, high) in zip(joint.coordinates(label), joint.limits, strict=True):
-        if math.isinf(low) != math.isinf(high):
+        if math.isinf(low) or math.isinf(high):  # ±1e300 in <limit>, or continuous
             ranges.append(
                 f'    <range joint="leg{leg}_{coordinate}" low="{num(low)}" high="{num(high)}"/>'
             )

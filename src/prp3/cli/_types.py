@@ -142,7 +142,7 @@ FAMILY_COMMANDS_NOTE = (
 #: What a command that runs planar robots only says of a spatial robot file.
 SPATIAL_COMMANDS_NOTE = (
     "docs/spatial.md §13: prp3 simulate, forward, workspace, control, identify, excite, "
-    "export mjcf, export c, explore and robot --check take it, and sweep and optimize a spec "
+    "export mjcf, export urdf, export c, explore and robot --check take it, and sweep and optimize a spec "
     "with spatial = ..."
 )
 
