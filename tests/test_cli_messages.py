@@ -24,7 +24,8 @@ from clitools import cli
         (["forward", "--rtol", "0", "--forces", "f.csv", "-o", "{tmp}/o"], "prp3 forward"),
         (["robot"], "prp3 robot"),
         (["export", "mjcf", "--bogus"], "prp3 export mjcf"),
-        (["export", "urdf"], "prp3 export"),
+        (["export", "sdf"], "prp3 export"),
+        (["export", "urdf"], "prp3 export urdf"),  # --robot and --output are required
         (["--bogus"], "prp3"),
         # errors found by prp3 after parsing
         (["simulate", "--trajectory", "{tmp}/none.csv", "-o", "{tmp}/o"], "prp3 simulate"),

@@ -107,6 +107,7 @@ READERS = {
     "read_spatial_efforts": lambda p: prp3.read_spatial_efforts(p, hexapod()),
     "read_spatial_sweep_spec": lambda p: prp3.read_spatial_sweep_spec(p),
     "read_spatial_mjcf": lambda p: prp3.read_spatial_mjcf(p),
+    "read_spatial_urdf": lambda p: prp3.read_spatial_urdf(p),
 }
 
 
@@ -128,6 +129,23 @@ def test_read_spatial_mjcf_refuses_hostile_xml_in_one_line(tmp_path, text):
     with pytest.raises(InputFileError) as refused:
         prp3.read_spatial_mjcf(path)
     assert "\n" not in str(refused.value) and "model.xml" in str(refused.value)
+
+
+@pytest.mark.parametrize(
+    ("text", "closures"),
+    [("", None), ("<robot><link>", None), ("\x00\x00", None), ("<robot>" + "<a>" * 200_000, None),
+     ('<!DOCTYPE l [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;">]><robot>&b;</robot>', None),
+     (None, "a: &a [x, x, x]\nb: &b [*a, *a, *a]\nc: [*b, *b, *b]\n"), (None, "\x00"), (None, "[")],
+)  # fmt: skip
+def test_read_spatial_urdf_refuses_hostile_files_in_one_line(tmp_path, text, closures):
+    pytest.importorskip("yaml")
+    path = tmp_path / "robot.urdf"
+    path.write_text(prp3.spatial_urdf_model(hexapod()) if text is None else text, encoding="utf-8")
+    side = prp3.spatial_urdf_closures(hexapod()) if closures is None else closures
+    (tmp_path / "robot.yaml").write_text(side, encoding="utf-8")
+    with pytest.raises(InputFileError) as refused:
+        prp3.read_spatial_urdf(path)
+    assert "\n" not in str(refused.value) and "robot." in str(refused.value)
 
 
 def test_read_spatial_mjcf_refuses_a_huge_file_before_reading_it(tmp_path):

@@ -508,6 +508,8 @@ def spatial_urdf_robot(text: str, closures: str) -> SpatialRobot:
         writes another: named), closures that are not those of the tree; a robot the
         elements do not make; PyYAML missing.
     """
+    check_instance("text", text, str, "the text of a URDF")
+    check_instance("closures", closures, str, "the text of the closures' YAML side file")
     try:
         root = ET.fromstring(text)
     except ET.ParseError as error:
