@@ -68,6 +68,14 @@ def earlier_run(tmp_path: Path) -> Path:
     return folder
 
 
+@pytest.fixture(scope="module")
+def browser() -> Iterator[object]:
+    """A headless Chromium for the browser tests (``tests/browsertools.py``), closed after."""
+    from browsertools import chromium_browser
+
+    yield from chromium_browser()
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Run the ``slow`` tests first, then the doctests of the documents, then the rest.
 
