@@ -351,7 +351,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "plotting/family.py": ("_draw_design",),
     "plotting/spatial_animation.py": ("save_spatial_animation", "spatial_robot_figure"),
     "plotting/workspace.py": ("statics_figure",),
-    "pose_validation.py": ("check_pose_array",),
     "references/newton_euler.py": ("_solve",),
     "spatial/compiled.py": ("_geometry", "_sample"),
     "spatial/forward.py": ("spatial_forward_dynamics",),
