@@ -348,7 +348,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "path_validation.py": ("check_path",),
     "plotting/animation.py": ("mechanism_figure",),
     "plotting/control.py": ("tracking_figure",),
-    "plotting/family.py": ("_draw_design",),
     "plotting/spatial_animation.py": ("save_spatial_animation", "spatial_robot_figure"),
     "plotting/workspace.py": ("statics_figure",),
     "references/newton_euler.py": ("_solve",),
