@@ -348,7 +348,7 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "path_validation.py": ("check_path",),
     "plotting/animation.py": ("mechanism_figure",),
     "plotting/control.py": ("tracking_figure",),
-    "plotting/spatial_animation.py": ("save_spatial_animation", "spatial_robot_figure"),
+    "plotting/spatial_animation.py": ("spatial_robot_figure",),
     "plotting/workspace.py": ("statics_figure",),
     "references/newton_euler.py": ("_solve",),
     "spatial/compiled.py": ("_geometry", "_sample"),
