@@ -325,7 +325,7 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "cli/_spatial.py": ("run_spatial",),
     "cli/_spatial_forward.py": ("run_spatial_forward",),
     "cli/control.py": ("run",),
-    "cli/simulate.py": ("_run", "register"),
+    "cli/simulate.py": ("_run",),
     "cli/workspace.py": ("run",),
     "engines/trace.py": ("broadcast_function",),
     "explorer/app.py": ("explorer_document",),
