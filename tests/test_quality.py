@@ -346,7 +346,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "model/robot_toml.py": ("robot_text",),
     "path_validation.py": ("check_path",),
     "plotting/animation.py": ("mechanism_figure",),
-    "plotting/control.py": ("tracking_figure",),
     "plotting/spatial_animation.py": ("spatial_robot_figure",),
     "plotting/workspace.py": ("statics_figure",),
     "references/newton_euler.py": ("_solve",),
