@@ -318,7 +318,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "apps/control.py": ("track",),
     "apps/excitation.py": ("exciting_trajectory",),
     "apps/identification.py": ("identified_robot", "identify"),
-    "apps/regressor.py": ("regressor",),
     "apps/spatial_identification.py": ("spatial_exciting_trajectory", "spatial_identify"),
     "apps/spatial_mjcf.py": ("spatial_mjcf_model",),
     "cli/_spatial.py": ("run_spatial",),
