@@ -350,7 +350,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "references/newton_euler.py": ("_solve",),
     "spatial/compiled.py": ("_geometry", "_sample"),
     "spatial/forward.py": ("spatial_forward_dynamics",),
-    "spatial/kinematics.py": ("complete_motion",),
     "spatial/model.py": ("delta",),
     "spatial/workspace.py": ("spatial_workspace",),
     "staged_files.py": ("staged_output",),
