@@ -321,7 +321,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "apps/spatial_identification.py": ("spatial_exciting_trajectory", "spatial_identify"),
     "apps/spatial_mjcf.py": ("spatial_mjcf_model",),
     "cli/_spatial.py": ("run_spatial",),
-    "cli/_spatial_forward.py": ("run_spatial_forward",),
     "cli/control.py": ("run",),
     "cli/simulate.py": ("_run",),
     "cli/workspace.py": ("run",),
