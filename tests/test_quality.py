@@ -323,7 +323,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "cli/_spatial.py": ("run_spatial",),
     "cli/control.py": ("run",),
     "cli/simulate.py": ("_run",),
-    "cli/workspace.py": ("run",),
     "engines/trace.py": ("broadcast_function",),
     "explorer/app.py": ("explorer_document",),
     "explorer/family_scene.py": ("family_view",),
