@@ -337,7 +337,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "family/newton_euler.py": ("newton_euler_dynamics",),
     "family/paper.py": ("paper_steps",),
     "family/sample_mechanics.py": ("sample_dynamics",),
-    "io/spatial_trajectory.py": ("_read",),
     "mechanics/implicit_friction.py": ("solve_mu",),
     "mechanics/wrenches.py": ("body_wrenches",),
     "model/robot_toml.py": ("robot_text",),
