@@ -340,7 +340,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "mechanics/implicit_friction.py": ("solve_mu",),
     "mechanics/wrenches.py": ("body_wrenches",),
     "model/robot_toml.py": ("robot_text",),
-    "plotting/animation.py": ("mechanism_figure",),
     "plotting/spatial_animation.py": ("spatial_robot_figure",),
     "plotting/workspace.py": ("statics_figure",),
     "references/newton_euler.py": ("_solve",),
