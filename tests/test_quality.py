@@ -326,7 +326,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "engines/trace.py": ("broadcast_function",),
     "explorer/app.py": ("explorer_document",),
     "explorer/family_scene.py": ("family_view",),
-    "explorer/scene.py": ("scene_view",),
     "explorer/spatial_page.py": ("spatial_page_figure",),
     "family/codegen.py": ("family_c_inverse_dynamics",),
     "family/compiled.py": ("_samples",),
