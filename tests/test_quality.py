@@ -338,7 +338,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "family/sample_mechanics.py": ("sample_dynamics",),
     "mechanics/implicit_friction.py": ("solve_mu",),
     "mechanics/wrenches.py": ("body_wrenches",),
-    "model/robot_toml.py": ("robot_text",),
     "plotting/spatial_animation.py": ("spatial_robot_figure",),
     "plotting/workspace.py": ("statics_figure",),
     "references/newton_euler.py": ("_solve",),
