@@ -339,7 +339,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "mechanics/implicit_friction.py": ("solve_mu",),
     "mechanics/wrenches.py": ("body_wrenches",),
     "plotting/spatial_animation.py": ("spatial_robot_figure",),
-    "plotting/workspace.py": ("statics_figure",),
     "references/newton_euler.py": ("_solve",),
     "spatial/compiled.py": ("_geometry", "_sample"),
     "spatial/forward.py": ("spatial_forward_dynamics",),
