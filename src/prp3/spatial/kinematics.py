@@ -533,6 +533,24 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
     )
 
 
+def parasitic_moved(
+    index: list[int], position: FloatArray, rotation: FloatArray, steps: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """The poses ``position`` (n, 3), ``rotation`` (n, 3, 3) moved by ``steps`` (n, k) along
+    the parasitic coordinates ``index`` (k): ``c < 3`` a turn about the world axis ``c``
+    (applied on the left, in order), else a shift of the position's ``c − 3``; new arrays."""
+    p, r = position.copy(), rotation
+    for j, c in enumerate(index):
+        if c < 3:  # a turn about the world axis c
+            r = exp_rotation(steps[:, j, None] * _AXES[c]) @ r
+        else:
+            p[:, c - 3] += steps[:, j]
+    return p, r
+
+
+_AXES = np.eye(3)
+
+
 def _parasitic_pose(
     robot: SpatialRobot, motion: PlatformMotion, index: list[int]
 ) -> tuple[FloatArray, FloatArray]:
@@ -540,16 +558,9 @@ def _parasitic_pose(
     coordinates ``index`` solved by Newton's method on the legs' closure residuals
     (:func:`complete_motion`; the Jacobian by central differences)."""
     position, rotation = motion.position.copy(), motion.rotation.copy()
-    axes = np.eye(3)
 
     def moved(steps: FloatArray) -> tuple[FloatArray, FloatArray]:
-        p, r = position.copy(), rotation
-        for j, c in enumerate(index):
-            if c < 3:  # a turn about the world axis c
-                r = exp_rotation(steps[:, j, None] * axes[c]) @ r
-            else:
-                p[:, c - 3] += steps[:, j]
-        return p, r
+        return parasitic_moved(index, position, rotation, steps)
 
     h = 1e-6
     zero = np.zeros((len(motion), len(index)))
