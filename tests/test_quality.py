@@ -317,7 +317,7 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "apps/codegen.py": ("c_inverse_dynamics",),
     "apps/control.py": ("track",),
     "apps/excitation.py": ("exciting_trajectory",),
-    "apps/identification.py": ("identified_robot", "identify"),
+    "apps/identification.py": ("identify",),
     "apps/spatial_identification.py": ("spatial_exciting_trajectory", "spatial_identify"),
     "apps/spatial_mjcf.py": ("spatial_mjcf_model",),
     "cli/_spatial.py": ("run_spatial",),
