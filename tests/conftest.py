@@ -68,6 +68,32 @@ def earlier_run(tmp_path: Path) -> Path:
     return folder
 
 
+@pytest.fixture(scope="module")
+def browser() -> Iterator[object]:
+    """A headless Chromium for the browser tests (``tests/browsertools.py``), closed after."""
+    from browsertools import chromium_browser
+
+    yield from chromium_browser()
+
+
+@pytest.fixture(scope="module")
+def scheduler() -> Iterator[str]:
+    """Address of an in-process Dask cluster (1 worker thread) shared by the module (the
+    sweep tests)."""
+    from dask.distributed import LocalCluster
+
+    from prp3.apps.cluster import QUIET_SCHEDULER
+
+    with LocalCluster(
+        n_workers=1,
+        threads_per_worker=1,
+        processes=False,
+        dashboard_address=None,
+        scheduler_kwargs=QUIET_SCHEDULER,
+    ) as cluster:
+        yield cluster.scheduler_address
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """Run the ``slow`` tests first, then the doctests of the documents, then the rest.
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from hypothesis import strategies as st
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
 
 from prp3.spatial.model import Body, SpatialRobot, delta, hexapod, three_rps
 from prp3.spatial.motion import PlatformMotion, rpy_motion
@@ -53,14 +54,38 @@ def bodies(draw: st.DrawFn, name: str, centre_x: float, mass: float, scale: floa
     return Body(m, centre, _inertia(draw, scale), name)
 
 
+def _gravity(draw: st.DrawFn) -> tuple[float, float, float]:
+    """A random gravity, tilted up to 3 m/s² from the vertical, 5 to 12 m/s² down."""
+    return (draw(st.floats(-3.0, 3.0)), draw(st.floats(-3.0, 3.0)), -draw(st.floats(5.0, 12.0)))
+
+
+@st.composite
+def free_states(
+    draw: st.DrawFn,
+    robot: SpatialRobot,
+    scales: tuple[float, float, float, float, float, float],
+    n: int = 4,
+) -> PlatformMotion:
+    """``n`` random states near home, each component uniform within its scale (position
+    offset m, rotation vector rad, ω, v, α, a): the parasitic components left to
+    :func:`~prp3.spatial.kinematics.complete_motion`."""
+    position, angle, omega, velocity, alpha, acceleration = scales
+
+    def block(scale: float) -> FloatArray:
+        return np.array([[draw(st.floats(-scale, scale)) for _ in range(3)] for _ in range(n)])
+
+    return PlatformMotion.of(
+        np.arange(n, dtype=np.float64),
+        np.array(robot.home_position) + block(position),
+        Rotation.from_euler("xyz", block(angle)).as_matrix(),
+        block(omega), block(velocity), block(alpha), block(acceleration),
+    )  # fmt: skip
+
+
 @st.composite
 def hexapods(draw: st.DrawFn) -> SpatialRobot:
     """A random 6-UPS hexapod (docs/spatial.md §7 with random parameters), wide limits."""
-    gravity = (
-        draw(st.floats(-3.0, 3.0)),
-        draw(st.floats(-3.0, 3.0)),
-        -draw(st.floats(5.0, 12.0)),
-    )
+    gravity = _gravity(draw)
     return hexapod(
         base_radius=draw(st.floats(0.08, 0.14)),
         platform_radius=draw(st.floats(0.05, 0.08)),
@@ -80,11 +105,7 @@ def hexapods(draw: st.DrawFn) -> SpatialRobot:
 @st.composite
 def rps_robots(draw: st.DrawFn) -> SpatialRobot:
     """A random 3-RPS (docs/spatial.md §11 with random parameters), wide limits."""
-    gravity = (
-        draw(st.floats(-3.0, 3.0)),
-        draw(st.floats(-3.0, 3.0)),
-        -draw(st.floats(5.0, 12.0)),
-    )
+    gravity = _gravity(draw)
     return three_rps(
         base_radius=draw(st.floats(0.08, 0.14)),
         platform_radius=draw(st.floats(0.04, 0.08)),
@@ -102,11 +123,7 @@ def rps_robots(draw: st.DrawFn) -> SpatialRobot:
 @st.composite
 def deltas(draw: st.DrawFn) -> SpatialRobot:
     """A random Delta as a 3-RUU (docs/spatial.md §12 with random parameters), wide limits."""
-    gravity = (
-        draw(st.floats(-3.0, 3.0)),
-        draw(st.floats(-3.0, 3.0)),
-        -draw(st.floats(5.0, 12.0)),
-    )
+    gravity = _gravity(draw)
     arm = draw(st.floats(0.08, 0.14))
     base = draw(st.floats(0.08, 0.14))
     platform = draw(st.floats(0.02, 0.05))

@@ -26,6 +26,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from browsertools import free_port, prp3_env
 from clitools import cli, one_line
 from prp3 import Robot
 from prp3.analysis.inverse_dynamics import inverse_dynamics
@@ -50,7 +51,6 @@ from strategies import REF_E, REF_N, ref_geometry, ref_joint, ref_rates, ref_sli
 
 pytest.importorskip("bokeh", reason="the explorer needs Bokeh (pip install 'prp3[explore]')")
 
-ROOT = Path(__file__).resolve().parents[1]
 
 finite = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)
 
@@ -397,19 +397,12 @@ def test_a_bad_port_is_a_usage_error(capsys: pytest.CaptureFixture[str]) -> None
     assert status == 2 and one_line(err).startswith("prp3 explore: error: argument --port")
 
 
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
-
-
 @pytest.mark.slow  # a server in a subprocess
 def test_ctrl_c_stops_the_server_with_130_and_writes_nothing(tmp_path: Path) -> None:
-    port = _free_port()
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    port = free_port()
     server = subprocess.Popen(
         [sys.executable, "-m", "prp3", "explore", "--no-browser", "--port", str(port)],
-        cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        cwd=tmp_path, env=prp3_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
     try:
         assert server.stdout is not None

@@ -13,11 +13,6 @@ installs Debian's chromium; the ``test`` extra the ``playwright`` package).
 from __future__ import annotations
 
 import math
-import os
-import shutil
-import socket
-import subprocess
-import sys
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -26,6 +21,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from browsertools import explore_server, require_browser, run_prp3
 from prp3 import Robot
 from prp3.errors import Prp3Error
 from prp3.explorer.run_folder import read_run
@@ -34,33 +30,7 @@ from prp3.model.motion import Motion
 from prp3.plotting.animation import frame_indices
 
 pytest.importorskip("bokeh", reason="the explorer needs Bokeh (pip install 'prp3[explore]')")
-sync_api = pytest.importorskip(
-    "playwright.sync_api", reason="no browser driver: pip install playwright (the test extra)"
-)
-
-ROOT = Path(__file__).resolve().parents[1]
-
-#: Chromium of the OS (Playwright's own download does not work here); PRP3_CHROMIUM overrides.
-CHROMIUM = (
-    os.environ.get("PRP3_CHROMIUM") or shutil.which("chromium") or shutil.which("chromium-browser")
-)
-if CHROMIUM is None:
-    pytest.skip(
-        "no browser: install chromium (apt-get install chromium, as .ci/run does)",
-        allow_module_level=True,
-    )
-
-#: Chromium's flags on a machine without a network or a screen, as root.
-FLAGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-]
+require_browser()
 
 #: e_i and n_i of the legs, written out here (α = π/3, π, −π/3, eq. 1).
 E = np.array([[0.5, math.sqrt(3) / 2], [-1.0, 0.0], [0.5, -math.sqrt(3) / 2]])
@@ -80,62 +50,22 @@ _SET = """
 
 
 @pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    with sync_api.sync_playwright() as playwright:
-        try:
-            chromium = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
-        except Exception as error:  # a browser that does not start: skip with its reason
-            pytest.skip(f"no browser: {CHROMIUM} does not start ({str(error)[:120]})")
-        yield chromium
-        chromium.close()
-
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
-
-
-def _serve(*options: str) -> Iterator[str]:
-    port = _free_port()
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    server = subprocess.Popen(
-        [sys.executable, "-m", "prp3", "explore", "--no-browser", "--port", str(port), *options],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    try:
-        assert server.stdout is not None
-        line = server.stdout.readline()
-        assert "serving" in line, line + (server.stderr.read() if server.stderr else "")
-        yield f"http://127.0.0.1:{port}/"
-    finally:
-        server.terminate()
-        server.communicate(timeout=30)
-
-
-@pytest.fixture(scope="module")
 def server() -> Iterator[str]:
-    yield from _serve()
+    with explore_server() as (url, _):
+        yield url
 
 
 @pytest.fixture(scope="module")
 def run_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("browser") / "rot"
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    subprocess.run(
-        [sys.executable, "-m", "prp3", "simulate", "--motion", "rotation", "--samples", "61",
-         "--output", str(folder)],
-        env=env, check=True, capture_output=True,
-    )  # fmt: skip
+    run_prp3("simulate", "--motion", "rotation", "--samples", "61", "--output", str(folder))
     return folder
 
 
 @pytest.fixture(scope="module")
 def run_server(run_folder: Path) -> Iterator[str]:
-    yield from _serve("--results", str(run_folder))
+    with explore_server("--results", str(run_folder)) as (url, _):
+        yield url
 
 
 def _open(browser: Any, url: str) -> Any:
@@ -313,12 +243,7 @@ def test_the_exported_html_opens_offline_and_plays(
     browser: Any, run_folder: Path, tmp_path: Path
 ) -> None:
     page_file = tmp_path / "rot.html"
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    subprocess.run(
-        [sys.executable, "-m", "prp3", "explore", "--results", str(run_folder),
-         "--export", str(page_file)],
-        env=env, check=True, capture_output=True,
-    )  # fmt: skip
+    run_prp3("explore", "--results", str(run_folder), "--export", str(page_file))
     table = read_run(run_folder).table
     frames = frame_indices(int(table["t"].size), 200)
     context = browser.new_context(offline=True)
@@ -370,7 +295,8 @@ def rrr_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
 
     path = tmp_path_factory.mktemp("family") / "rrr.toml"
     path.write_text(FamilyRobot.default("3-RRR").to_toml(), encoding="utf-8")
-    yield from _serve("--robot", str(path))
+    with explore_server("--robot", str(path)) as (url, _):
+        yield url
 
 
 def test_a_3rrr_page_draws_the_library_s_joint_forces_after_a_slider_move(
@@ -434,13 +360,9 @@ def rrr_run_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[s
     folder = tmp_path_factory.mktemp("family_run")
     path = folder / "rrr.toml"
     path.write_text(FamilyRobot.default("3-RRR").to_toml(), encoding="utf-8")
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    subprocess.run(
-        [sys.executable, "-m", "prp3", "simulate", "--robot", str(path), "--motion", "rotation",
-         "--samples", "41", "--output", str(folder / "run")],
-        env=env, check=True, capture_output=True,
-    )  # fmt: skip
-    for url in _serve("--robot", str(path), "--results", str(folder / "run")):
+    run_prp3("simulate", "--robot", str(path), "--motion", "rotation", "--samples", "41",
+             "--output", str(folder / "run"))  # fmt: skip
+    with explore_server("--robot", str(path), "--results", str(folder / "run")) as (url, _):
         yield url, folder / "run"
 
 

@@ -32,21 +32,7 @@ from prp3.family.design import (
     family_sweep_spec,
 )
 from prp3.model.motion import paper_motion
-
-
-@pytest.fixture(scope="module")
-def scheduler():  # type: ignore[no-untyped-def]
-    """Address of an in-process Dask cluster (1 worker thread) shared by the module."""
-    from dask.distributed import LocalCluster
-
-    with LocalCluster(
-        n_workers=1,
-        threads_per_worker=1,
-        processes=False,
-        dashboard_address=None,
-        scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
-    ) as cluster:
-        yield cluster.scheduler_address
+from sweeptools import interrupted_sweep
 
 
 def _spec(studies: list[dict[str, object]], **extra: object) -> object:
@@ -290,21 +276,7 @@ def test_cli_family_sweep_resumes_after_an_interruption_to_the_same_table(
     assert "4 of 4 chunks computed" in out
     whole = (tmp_path / "whole" / "designs.parquet").read_bytes()
 
-    written: list[int] = []
-    original = prp3.apps.sweep.arrow_table
-
-    def interrupt(columns: dict[str, object], names: list[str]) -> object:
-        if len(written) == 2:
-            raise KeyboardInterrupt
-        written.append(1)
-        return original(columns, names)
-
-    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", interrupt)
-    status, out, err = cli(capsys, *args, "-o", tmp_path / "cut")
-    assert status == 130 and "interrupted" in err
-    assert not (tmp_path / "cut" / "designs.parquet").exists()
-    assert len(list((tmp_path / "cut").glob(".prp3-sweep-*/chunk-*.parquet"))) == 2
-    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", original)
+    interrupted_sweep(capsys, monkeypatch, args, tmp_path / "cut")
     status, out, err = cli(capsys, *args, "-o", tmp_path / "cut")
     assert status == 0, err
     assert "2 of 4 chunks computed, 2 found done" in out

@@ -10,7 +10,6 @@ identification motion and on another one.
 
 from __future__ import annotations
 
-import argparse
 from dataclasses import replace
 from pathlib import Path
 
@@ -30,7 +29,6 @@ from prp3.apps.family_regressor import (
     family_standard_parameters,
 )
 from prp3.apps.identification import identified_robot, identify, robot_from_standard
-from prp3.cli._types import load_robot
 from prp3.errors import ParameterError, SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.family import Body, FamilyRobot, PlatformBody, family_inverse_dynamics
 from prp3.io.trajectory import read_trajectory
@@ -352,15 +350,6 @@ def test_family_bad_input(
     assert status == 2 and out == ""
     assert message in one_line(err)
     assert not (tmp_path / "out").exists()
-
-
-def test_load_robot_refuses_a_family_file(tmp_path: Path) -> None:
-    """A command of the 3-PRP only (none is left) refuses a family-form file by capability."""
-    robot_file = tmp_path / "robot.toml"
-    robot_file.write_text(FamilyRobot.default("3-RPP").to_toml())
-    with pytest.raises(ParameterError, match="computes the 3-PRP") as info:
-        load_robot(argparse.Namespace(robot=robot_file, command="new"))
-    assert "identify, excite and robot take it" in str(info.value)
 
 
 def test_noise_within_the_standard_deviations() -> None:

@@ -24,7 +24,7 @@ from prp3.spatial.model import SpatialRobot, delta
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.newton_euler import newton_euler_dynamics
 from prp3.spatial.outputs import spatial_inverse_dynamics
-from spatial_strategies import deltas, derivative
+from spatial_strategies import deltas, derivative, free_states
 
 H = 1e-4
 STEPS = np.array([-2.0, -1.0, 0.0, 1.0, 2.0]) * H
@@ -35,17 +35,8 @@ def _rot(axis: str, angle: np.ndarray) -> np.ndarray:
     return Rotation.from_euler(axis, np.asarray(angle)[..., None]).as_matrix()
 
 
-@st.composite
-def free_states(draw: st.DrawFn, robot: SpatialRobot, n: int = 4) -> PlatformMotion:
-    def block(scale: float) -> np.ndarray:
-        return np.array([[draw(st.floats(-scale, scale)) for _ in range(3)] for _ in range(n)])
-
-    return PlatformMotion.of(
-        np.arange(n, dtype=np.float64),
-        np.array(robot.home_position) + block(0.015),
-        Rotation.from_euler("xyz", block(0.05)).as_matrix(),
-        block(2.0), block(0.5), block(50.0), block(10.0),
-    )  # fmt: skip
+#: The scales of :func:`spatial_strategies.free_states` here.
+STATE_SCALES = (0.015, 0.05, 2.0, 0.5, 50.0, 10.0)
 
 
 def _ruu(robot: SpatialRobot, q: np.ndarray, dq: np.ndarray, ddq: np.ndarray, i: int):  # type: ignore[no-untyped-def]
@@ -97,7 +88,7 @@ def _inertial(body, omega, alpha, acc, rotation, gravity):  # type: ignore[no-un
 def test_completed_states_translate_and_every_leg_closes(
     robot: SpatialRobot, data: st.DataObject
 ) -> None:
-    motion = complete_motion(robot, data.draw(free_states(robot)))
+    motion = complete_motion(robot, data.draw(free_states(robot, STATE_SCALES)))
     assert np.abs(motion.rotation - np.eye(3)).max() < 1e-12
     assert np.abs(motion.omega).max() < 1e-12 and np.abs(motion.alpha).max() < 1e-10
     kin = spatial_kinematics(robot, motion)
@@ -129,7 +120,7 @@ def test_rates_match_finite_differences_along_a_translation(
 
 @given(deltas(), st.data())
 def test_the_routes_agree_and_every_body_balances(robot: SpatialRobot, data: st.DataObject) -> None:
-    motion = complete_motion(robot, data.draw(free_states(robot)))
+    motion = complete_motion(robot, data.draw(free_states(robot, STATE_SCALES)))
     tau_a = virtual_work_efforts(robot, motion)
     solution = spatial_inverse_dynamics(robot, motion)
     assert float(np.abs(tau_a - solution.tau).max() / np.abs(tau_a).max()) < 1e-10

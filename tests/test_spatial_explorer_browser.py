@@ -13,42 +13,22 @@ Skipped, with one line, when plotly, Playwright or Chromium is missing.
 
 from __future__ import annotations
 
-import os
-import shutil
-import socket
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
 
+from browsertools import ROOT, explore_server, prp3_env, require_browser, run_prp3
 from prp3.io.tables import read_table_csv
 from prp3.spatial.model import hexapod
 from spatial_pages import expected_points, reported_forces
 
 pytest.importorskip("plotly", reason="the 3-D explorer needs plotly (pip install 'prp3[explore]')")
-sync_api = pytest.importorskip(
-    "playwright.sync_api", reason="no browser driver: pip install playwright (the test extra)"
-)
-
-ROOT = Path(__file__).resolve().parents[1]
-CHROMIUM = (
-    os.environ.get("PRP3_CHROMIUM") or shutil.which("chromium") or shutil.which("chromium-browser")
-)
-if CHROMIUM is None:
-    pytest.skip(
-        "no browser: install chromium (apt-get install chromium, as .ci/run does)",
-        allow_module_level=True,
-    )
-
-FLAGS = [
-    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-]  # fmt: skip
+require_browser()
 
 _READY = """() => { const g = document.querySelector('.js-plotly-plot');
   return !!(g && g._fullLayout && g.data && g.data.length > 0); }"""
@@ -71,28 +51,12 @@ SAMPLES = 61
 
 
 @pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    with sync_api.sync_playwright() as playwright:
-        try:
-            chromium = playwright.chromium.launch(executable_path=CHROMIUM, args=FLAGS)
-        except Exception as error:  # a browser that does not start: skip with its reason
-            pytest.skip(f"no browser: {CHROMIUM} does not start ({str(error)[:120]})")
-        yield chromium
-        chromium.close()
-
-
-@pytest.fixture(scope="module")
 def tilt(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path, Path]:
     folder = tmp_path_factory.mktemp("spatial_browser")
     robot = folder / "hexapod.toml"
     robot.write_text('architecture = "6-UPS"\n', encoding="utf-8")
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    subprocess.run(
-        [sys.executable, "-m", "prp3", "simulate", "--robot", str(robot), "--motion", "tilt",
-         "--samples", str(SAMPLES), "--output", str(folder / "run"),
-         "--html", str(folder / "tilt.html")],
-        env=env, check=True, capture_output=True,
-    )  # fmt: skip
+    run_prp3("simulate", "--robot", str(robot), "--motion", "tilt", "--samples", str(SAMPLES),
+             "--output", str(folder / "run"), "--html", str(folder / "tilt.html"))  # fmt: skip
     return robot, folder / "run", folder / "tilt.html"
 
 
@@ -194,40 +158,25 @@ def test_the_page_opens_offline_and_the_slider_draws_the_sample_s_frame(
 
 def test_explore_serves_the_same_page(browser: Any, tilt: tuple[Path, Path, Path]) -> None:
     robot, run, _ = tilt
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = int(probe.getsockname()[1])
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
-    server = subprocess.Popen(
-        [sys.executable, "-m", "prp3", "explore", "--robot", str(robot), "--results", str(run),
-         "--no-browser", "--port", str(port)],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
-    try:
-        assert server.stdout is not None
-        line = server.stdout.readline()
-        assert line.strip() == f"prp3 explore: serving http://127.0.0.1:{port}/ (Ctrl-C stops)"
+    with explore_server("--robot", str(robot), "--results", str(run)) as (url, line):
+        assert line.strip() == f"prp3 explore: serving {url} (Ctrl-C stops)"
         columns = (run / "results.csv").read_text(encoding="utf-8").splitlines()[0].split(",")
         table = read_table_csv(run / "results.csv", columns)
-        context, page, problems = _open(browser, f"http://127.0.0.1:{port}/", offline=False)
+        context, page, problems = _open(browser, url, offline=False)
         try:
             assert _check(page.evaluate(_READ), table) == 0
             assert problems == []
         finally:
             context.close()
-    finally:
-        server.terminate()
-        server.communicate(timeout=30)
 
 
 def test_the_screenshot_script_writes_the_picture_of_docs_spatial_md(tmp_path: Path) -> None:
     from PIL import Image
 
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     printed = subprocess.run(
         [sys.executable, str(ROOT / "docs" / "examples" / "spatial_explorer_screenshot.py"),
          "--figures", str(tmp_path)],
-        env=env, check=True, capture_output=True, text=True,
+        env=prp3_env(), check=True, capture_output=True, text=True,
     ).stdout  # fmt: skip
     assert printed.startswith("spatial_explorer.png: 1280 × 800 px, the 6-UPS's tilt")
     assert "force arrows 100 N per m" in printed

@@ -29,25 +29,14 @@ from prp3.spatial.model import SpatialRobot, three_rps
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.newton_euler import newton_euler_dynamics
 from prp3.spatial.outputs import spatial_inverse_dynamics
-from spatial_strategies import derivative, rps_robots
+from spatial_strategies import derivative, free_states, rps_robots
 
 H = 1e-4
 STEPS = np.array([-2.0, -1.0, 0.0, 1.0, 2.0]) * H
 
 
-@st.composite
-def free_states(draw: st.DrawFn, robot: SpatialRobot, n: int = 4) -> PlatformMotion:
-    """``n`` random states near home (the parasitic components left to :func:`complete_motion`)."""
-
-    def block(scale: float) -> np.ndarray:
-        return np.array([[draw(st.floats(-scale, scale)) for _ in range(3)] for _ in range(n)])
-
-    return PlatformMotion.of(
-        np.arange(n, dtype=np.float64),
-        np.array(robot.home_position) + block(0.008),
-        Rotation.from_euler("xyz", block(0.15)).as_matrix(),
-        block(2.0), block(0.05), block(50.0), block(3.0),
-    )  # fmt: skip
+#: The scales of :func:`spatial_strategies.free_states` here.
+STATE_SCALES = (0.008, 0.15, 2.0, 0.05, 50.0, 3.0)
 
 
 def _path(robot: SpatialRobot, t: np.ndarray, c: np.ndarray) -> PlatformMotion:
@@ -70,7 +59,7 @@ def _frame_rates(motions: PlatformMotion) -> tuple[np.ndarray, np.ndarray]:
 
 @given(rps_robots(), st.data())
 def test_completed_poses_close_every_leg(robot: SpatialRobot, data: st.DataObject) -> None:
-    motion = complete_motion(robot, data.draw(free_states(robot)))
+    motion = complete_motion(robot, data.draw(free_states(robot, STATE_SCALES)))
     q = inverse_geometry(robot, motion)
     for i, leg in enumerate(robot.legs):
         joint = leg.joints[0]
@@ -185,7 +174,7 @@ def _inertial(body, omega, alpha, acc, rotation, gravity):  # type: ignore[no-un
 
 @given(rps_robots(), st.data())
 def test_the_routes_agree_and_the_power_balances(robot: SpatialRobot, data: st.DataObject) -> None:
-    motion = complete_motion(robot, data.draw(free_states(robot)))
+    motion = complete_motion(robot, data.draw(free_states(robot, STATE_SCALES)))
     tau_a = virtual_work_efforts(robot, motion)
     tau_b = newton_euler_dynamics(robot, motion).tau
     assert float(np.abs(tau_a - tau_b).max() / np.abs(tau_a).max()) < 1e-10
@@ -212,7 +201,7 @@ def test_the_routes_agree_and_the_power_balances(robot: SpatialRobot, data: st.D
 def test_every_body_balances_under_the_reported_wrenches(
     robot: SpatialRobot, data: st.DataObject
 ) -> None:
-    motion = complete_motion(robot, data.draw(free_states(robot)))
+    motion = complete_motion(robot, data.draw(free_states(robot, STATE_SCALES)))
     kin, legs = _rps_bodies(robot, motion)
     solution = spatial_inverse_dynamics(robot, motion)
     assert solution.force is not None and solution.moment is not None

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,30 +28,11 @@ from prp3.apps.spatial_design import (  # noqa: E402
     read_spatial_sweep_spec,
     spatial_sweep_spec,
 )
+from sweeptools import interrupted_sweep, write  # noqa: E402
 
 #: The built-in motions each architecture can make.
 MOTIONS = {"6-UPS": ("heave", "circle", "tilt"), "3-RPS": ("heave", "tilt"),
            "3-RUU": ("heave", "circle")}  # fmt: skip
-
-
-@pytest.fixture(scope="module")
-def scheduler():
-    """Address of an in-process Dask cluster (1 worker thread) shared by the module."""
-    from dask.distributed import LocalCluster
-
-    with LocalCluster(
-        n_workers=1,
-        threads_per_worker=1,
-        processes=False,
-        dashboard_address=None,
-        scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
-    ) as cluster:
-        yield cluster.scheduler_address
-
-
-def write(path: Path, text: str) -> Path:
-    path.write_text(text, encoding="utf-8")
-    return path
 
 
 def expected_row(mapping: dict, motion: str, samples: int) -> dict[str, float]:
@@ -201,21 +181,7 @@ def test_sweep_resumes_after_an_interruption_to_the_same_table(
     assert "5 of 5 chunks computed" in out
     whole = (tmp_path / "whole" / "designs.parquet").read_bytes()
 
-    written = []
-    original = prp3.apps.sweep.arrow_table
-
-    def interrupt(columns, names):
-        if len(written) == 2:
-            raise KeyboardInterrupt
-        written.append(len(columns["status"]))
-        return original(columns, names)
-
-    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", interrupt)
-    status, out, err = cli(capsys, *args, "-o", tmp_path / "cut")
-    assert status == 130 and "interrupted" in err
-    assert not (tmp_path / "cut" / "designs.parquet").exists()
-    assert len(list((tmp_path / "cut").glob(".prp3-sweep-*/chunk-*.parquet"))) == 2
-    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", original)
+    interrupted_sweep(capsys, monkeypatch, args, tmp_path / "cut")
     status, out, err = cli(capsys, *args, "-o", tmp_path / "cut")
     assert status == 0, err
     assert "3 of 5 chunks computed, 2 found done" in out

@@ -35,6 +35,7 @@ from prp3.apps.design_evaluation import evaluate_designs  # noqa: E402
 from prp3.apps.design_objective import pareto_front  # noqa: E402
 from prp3.apps.sweep_spec import design_values, read_sweep_spec, sweep_spec  # noqa: E402
 from prp3.mechanics.parameters import kernel_parameters  # noqa: E402
+from sweeptools import interrupted_sweep, write  # noqa: E402
 
 LEGS = "ABC"
 GRID = """\
@@ -61,26 +62,6 @@ stroke = [-0.06, 0.06]
 motions = ["vertical", "rotation"]
 samples = 21
 """
-
-
-@pytest.fixture(scope="module")
-def scheduler():
-    """Address of an in-process Dask cluster (1 worker thread) shared by the module."""
-    from dask.distributed import LocalCluster
-
-    with LocalCluster(
-        n_workers=1,
-        threads_per_worker=1,
-        processes=False,
-        dashboard_address=None,
-        scheduler_kwargs=prp3.apps.cluster.QUIET_SCHEDULER,
-    ) as cluster:
-        yield cluster.scheduler_address
-
-
-def write(path: Path, text: str) -> Path:
-    path.write_text(text, encoding="utf-8")
-    return path
 
 
 def read_results(path: Path) -> dict[str, np.ndarray]:
@@ -140,23 +121,9 @@ def test_one_or_two_workers_and_an_interrupted_run_give_the_same_file(
     assert _digest_bytes(tmp_path / "one") == _digest_bytes(tmp_path / "two")
 
     # interrupted after two chunks: the staging folder keeps them, no designs.parquet
-    written = []
-    original = prp3.apps.sweep.arrow_table
-
-    def interrupt(columns, names):
-        if len(written) == 2:
-            raise KeyboardInterrupt
-        written.append(len(columns["status"]))
-        return original(columns, names)
-
-    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", interrupt)
+    interrupted_sweep(capsys, monkeypatch, ("sweep", "--spec", spec, "--scheduler", scheduler),
+                      tmp_path / "cut")  # fmt: skip
     args = ("sweep", "--spec", spec, "-o", tmp_path / "cut", "--scheduler", scheduler)
-    status, out, err = cli(capsys, *args)
-    assert status == 130 and "interrupted" in err
-    assert not (tmp_path / "cut" / "designs.parquet").exists()
-    staged = sorted(p.name for p in (tmp_path / "cut").glob(".prp3-sweep-*/*.parquet"))
-    assert len(staged) == 2
-    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", original)
     status, out, err = cli(capsys, *args)
     assert status == 0, err
     assert "2 of 4 chunks computed, 2 found done" in out
@@ -679,18 +646,7 @@ def test_a_finished_sweep_leaves_no_staging_folder_of_its_own_or_of_other_specs(
     mine = out / ".prp3-sweep-notes"  # not a staging folder: never touched
     mine.mkdir(parents=True)
     # the sweep of old.toml interrupted after two of its four chunks
-    original = prp3.apps.sweep.arrow_table
-    written = []
-
-    def interrupt(columns, names):
-        if len(written) == 2:
-            raise KeyboardInterrupt
-        written.append(1)
-        return original(columns, names)
-
-    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", interrupt)
-    assert cli(capsys, "sweep", "--spec", old, "-o", out, "--scheduler", scheduler)[0] == 130
-    monkeypatch.setattr(prp3.apps.sweep, "arrow_table", original)
+    interrupted_sweep(capsys, monkeypatch, ("sweep", "--spec", old, "--scheduler", scheduler), out)
     (stale,) = [p for p in out.glob(".prp3-sweep-*") if p != mine]
     # its spec changed: a new sweep into the same folder says what it will remove, then does
     status, text, err = cli(capsys, "sweep", "--spec", new, "-o", out, "--scheduler", scheduler)

@@ -138,21 +138,29 @@ def check_path(
     if times.ndim != 1 or times.size < 2:
         return
     q = np.asarray(pose, dtype=np.float64).reshape(times.size, 3)
+    k = _crossing(times, q[:, 2])
+    if k is None:
+        return
+    raise _crossing_error(times, q, k, lines, subject)
+
+
+def _crossing_error(
+    times: FloatArray, q: FloatArray, k: int, lines: ArrayLike | None, subject: str | None
+) -> SingularPoseError:
+    """The refusal of the step from sample ``k − 1`` to ``k`` of the poses ``q`` (N, 3),
+    which crosses a singular orientation: both samples named (by file line when ``lines``)."""
     where = None if lines is None else np.asarray(lines).reshape(-1)
 
     def sample(k: int) -> str:
         label = f"line {int(where[k])}" if where is not None else f"sample {k}"
         return f"{label} (t = {float(times[k]):.6g} s"
 
-    k = _crossing(times, q[:, 2])
-    if k is None:
-        return
     phi0, phi1 = float(q[k - 1, 2]), float(q[k, 2])
     band = math.floor((phi0 - math.pi / 3.0) / math.pi)
     singular = math.pi / 3.0 + math.pi * (band + 1 if phi1 > phi0 else band)
     d0, d1 = (float(v) for v in singularity_measure(np.array([phi0, phi1])))
     change = f"changes sign ({d0:.3g} to {d1:.3g})" if d0 * d1 < 0 else "passes zero"
-    raise SingularPoseError(
+    return SingularPoseError(
         f"the motion crosses the singular orientation phi = {singular:.6g} rad (pi/3 mod pi) "
         f"between {sample(k - 1)}, phi = {phi0:.6g}) and {sample(k)}, phi = {phi1:.6g}): "
         f"sin(phi - pi/3) {change}; the actuator forces are infinite there",

@@ -161,6 +161,22 @@ def check_pose_array(
             return array
     elif inside:
         return array
+    _refuse_poses(flat, robot, name, singular=singular, error=error, batch=batch)
+    return array
+
+
+def _refuse_poses(
+    flat: FloatArray,
+    robot: Robot | None,
+    name: str,
+    *,
+    singular: bool,
+    error: type[Prp3Error],
+    batch: bool,
+) -> None:
+    """The slow path of :func:`check_pose_array`: raise for the first pose ``(N, 3)`` too far
+    from the centre, turned too far, or (``singular``) near the singularity, in that order."""
+    reach = math.inf if robot is None else POSE_BOUND * robot.l0
     if robot is not None:
         far = (np.abs(flat[:, :2]) > reach).any(axis=1)
         if far.any():
@@ -200,7 +216,6 @@ def check_pose_array(
                 f"|sin(phi - pi/3)| = {float(D[index]):.3g} < {SINGULARITY_THRESHOLD:g} "
                 "(phi = pi/3 mod pi is singular)",
             )
-    return array
 
 
 #: The types of a number of one sample that :func:`check_sample` converts at once.

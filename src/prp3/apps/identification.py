@@ -730,6 +730,37 @@ def _solve_choice(
     return values
 
 
+def _clamped_estimate(
+    nominal: Robot | FamilyRobot, result: Identification
+) -> tuple[FloatArray, list[str]]:
+    """The base estimate with what is zero within its noise written as 0: a friction
+    coefficient estimated just below 0, and (no payload) the platform's first moments; with
+    the names of those clamped."""
+    estimate = result.estimate.copy()
+    clamped = []
+    without_payload = not nominal.payload.mass > 0.0
+    length = nominal.leg.scale if isinstance(nominal, FamilyRobot) else nominal.l0
+    moment_floor = 1e-9 * nominal.platform.mass * length  # kg m: round-off of h3
+    roundoff = 1e-12 * float(np.abs(result.measured).max())  # of the forces: N (N s/m at 1 m/s)
+    base = result.base
+    for b, name in enumerate(base.names):  # a friction coefficient of 0 estimated below 0
+        if base.members(b) != (base.independent[b],):
+            continue
+        floor = max(3.0 * result.std[b], roundoff)
+        if name in ELEMENT_PARAMETERS and -floor <= estimate[b] < 0.0:
+            estimate[b] = 0.0
+            clamped.append(name)
+        elif (  # no payload: the centre of mass of the platform is G
+            without_payload
+            and name in ("platform_moment_x", "platform_moment_y")
+            and estimate[b] != 0.0
+            and abs(estimate[b]) <= max(3.0 * result.std[b], moment_floor)
+        ):
+            estimate[b] = 0.0
+            clamped.append(name)
+    return estimate, clamped
+
+
 def identified_robot(nominal: Robot | FamilyRobot, result: Identification) -> IdentifiedRobot:
     """The robot of an identification: in each combination, solve the dominant parameter.
 
@@ -778,27 +809,8 @@ def identified_robot(nominal: Robot | FamilyRobot, result: Identification) -> Id
             "identified_robot the nominal robot given to identify",
             key="result",
         )
-    estimate = result.estimate.copy()
-    clamped = []
-    without_payload = not nominal.payload.mass > 0.0
-    length = nominal.leg.scale if isinstance(nominal, FamilyRobot) else nominal.l0
-    moment_floor = 1e-9 * nominal.platform.mass * length  # kg m: round-off of h3
+    estimate, clamped = _clamped_estimate(nominal, result)
     roundoff = 1e-12 * float(np.abs(result.measured).max())  # of the forces: N (N s/m at 1 m/s)
-    for b, name in enumerate(base.names):  # a friction coefficient of 0 estimated below 0
-        if base.members(b) != (base.independent[b],):
-            continue
-        floor = max(3.0 * result.std[b], roundoff)
-        if name in ELEMENT_PARAMETERS and -floor <= estimate[b] < 0.0:
-            estimate[b] = 0.0
-            clamped.append(name)
-        elif (  # no payload: the centre of mass of the platform is G
-            without_payload
-            and name in ("platform_moment_x", "platform_moment_y")
-            and estimate[b] != 0.0
-            and abs(estimate[b]) <= max(3.0 * result.std[b], moment_floor)
-        ):
-            estimate[b] = 0.0
-            clamped.append(name)
     every = _all_standard(nominal)
     nominal_values = np.array([every[name] for name in base.parameters])
     candidates = []

@@ -314,39 +314,9 @@ def mjcf_model(robot: Robot) -> str:
     >>> 'gravity="0 -9.81 0"' in mjcf_model(Robot())
     True
     """
-    if not isinstance(robot, Robot):
-        raise ParameterError(f"robot must be a prp3.Robot, got {type(robot).__name__}")
+    _check_exportable(robot)
+    warn_left_out(unrepresented(robot))
     l0 = robot.l0
-    if l0 < MIN_L0:
-        raise ParameterError(
-            f"robot: l0 = {l0!r} m is too small for a MuJoCo model (at least {MIN_L0!r} m: "
-            "MuJoCo refuses geoms shorter than about 1e-7 m)"
-        )
-    gx, gy = robot.gravity
-    m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
-    i3 = robot.platform_inertia
-    for name, mass in (("piston.mass", m1), ("link.mass", m2), ("platform.mass / 3", m3 / 3.0)):
-        if mass < MUJOCO_MIN_VALUE:
-            raise ParameterError(
-                f"robot: {name} = {mass!r} kg is below MuJoCo's smallest body mass "
-                f"{MUJOCO_MIN_VALUE!r} kg"
-            )
-    left_out = unrepresented(robot)
-    if left_out:
-        warnings.warn(
-            "the MuJoCo model leaves out " + "; ".join(left_out), MjcfWarning, stacklevel=2
-        )
-    payload = robot.payload
-    base = base_vertices(robot)
-    # P_i at λ10 = 0: B_i0 + (l0/√3)·e_i
-    piston_origin = base + (l0 / math.sqrt(3.0)) * LEG_AXIS
-    # G − P_i at the central configuration, in link i's frame (x along d_i):
-    # eq. (10) gives G − P_i = λ32·d_i + Rot(α_i + φ)·c, i.e. Rot(π/3)·c in that frame.
-    c = 0.5 * l0 * np.array([1.0 / math.sqrt(3.0), 1.0])
-    cos60, sin60 = 0.5, math.sqrt(3.0) / 2.0
-    third_in_link = (cos60 * c[0] - sin60 * c[1], sin60 * c[0] + cos60 * c[1])
-    corners = platform_vertices(robot, [0.0, 0.0, 0.0])  # in the platform frame at G
-
     size = l0 / 30.0  # drawing thickness
     lines = preamble(
         [
@@ -356,47 +326,97 @@ def mjcf_model(robot: Robot) -> str:
             "       The platform is three welded thirds platform_A/B/C (each m3/3 at G, I3/3).",
             "       Geoms are drawings only: no mass, no contact. -->",
         ],
-        (gx, gy),
+        robot.gravity,
     )
-    for k in range(3):  # the base triangle
+    lines += _base_triangle(base_vertices(robot), size)
+    for i in range(3):
+        lines += _leg_bodies(robot, i, size)
+    welds = [(other, "0 0 0 1 0 0 0") for other in ("B", "C")]
+    lines += welds_motors_load(welds, [f"lambda10_{leg}" for leg in LEGS], robot.load)
+    lines += SENSORS
+    return "\n".join(lines) + "\n"
+
+
+def _check_exportable(robot: Robot) -> None:
+    """Refuse what MuJoCo cannot load: not a :class:`Robot`, ``l0 < MIN_L0``, a body mass
+    (``m1``, ``m2``, ``m3/3``) below :data:`MUJOCO_MIN_VALUE`."""
+    if not isinstance(robot, Robot):
+        raise ParameterError(f"robot must be a prp3.Robot, got {type(robot).__name__}")
+    l0 = robot.l0
+    if l0 < MIN_L0:
+        raise ParameterError(
+            f"robot: l0 = {l0!r} m is too small for a MuJoCo model (at least {MIN_L0!r} m: "
+            "MuJoCo refuses geoms shorter than about 1e-7 m)"
+        )
+    m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
+    for name, mass in (("piston.mass", m1), ("link.mass", m2), ("platform.mass / 3", m3 / 3.0)):
+        if mass < MUJOCO_MIN_VALUE:
+            raise ParameterError(
+                f"robot: {name} = {mass!r} kg is below MuJoCo's smallest body mass "
+                f"{MUJOCO_MIN_VALUE!r} kg"
+            )
+
+
+def warn_left_out(left_out: list[str]) -> None:
+    """One :class:`MjcfWarning` naming what the model leaves out (none when nothing is),
+    pointed at the caller of the model writer that calls this."""
+    if left_out:
+        warnings.warn(
+            "the MuJoCo model leaves out " + "; ".join(left_out), MjcfWarning, stacklevel=3
+        )
+
+
+def _base_triangle(base: np.ndarray, size: float) -> list[str]:
+    """The base triangle ``B_A0 B_B0 B_C0`` drawn as three capsules of the world."""
+    lines = []
+    for k in range(3):
         a, b = base[k], base[(k + 1) % 3]
         lines.append(
             f'    <geom name="base_edge_{k}" type="capsule" size="{num(size / 2)}" '
             f'fromto="{vec(a[0], a[1], 0.0, b[0], b[1], 0.0)}" rgba="0.5 0.5 0.5 1"/>'
         )
+    return lines
+
+
+def _leg_bodies(robot: Robot, i: int, size: float) -> list[str]:
+    """Leg ``i``'s chain ``piston_i`` / ``link_i`` / ``platform_i`` at the central
+    configuration (module notes), the payload inside ``platform_A``."""
+    l0, leg, alpha = robot.l0, LEGS[i], float(ALPHA[i])
+    # P_i at λ10 = 0: B_i0 + (l0/√3)·e_i
+    origin = base_vertices(robot)[i] + (l0 / math.sqrt(3.0)) * LEG_AXIS[i]
+    # G − P_i at the central configuration, in link i's frame (x along d_i):
+    # eq. (10) gives G − P_i = λ32·d_i + Rot(α_i + φ)·c, i.e. Rot(π/3)·c in that frame.
+    c = 0.5 * l0 * np.array([1.0 / math.sqrt(3.0), 1.0])
+    cos60, sin60 = 0.5, math.sqrt(3.0) / 2.0
+    third_in_link = (cos60 * c[0] - sin60 * c[1], sin60 * c[0] + cos60 * c[1])
+    corners = platform_vertices(robot, [0.0, 0.0, 0.0])  # in the platform frame at G
+    # platform edge i runs through P_i along d_i, from corner i+1 to corner i+2
+    start, end = corners[(i + 1) % 3], corners[(i + 2) % 3]
+    slide_axis = alpha - math.pi / 3.0  # d_i in the platform frame at φ
     joints = _joint_attributes(robot)
     actuator, revolute, sleeve = joints["lambda10"], joints["phi"], joints["lambda32"]
-    for i, leg in enumerate(LEGS):
-        alpha = float(ALPHA[i])
-        origin = piston_origin[i]
-        # platform edge i runs through P_i along d_i, from corner i+1 to corner i+2
-        start, end = corners[(i + 1) % 3], corners[(i + 2) % 3]
-        slide_axis = alpha - math.pi / 3.0  # d_i in the platform frame at φ
-        ind = "    "
-        lines += [
-            f'{ind}<body name="piston_{leg}" pos="{vec(origin[0], origin[1], 0.0)}" '
-            f'quat="{quat_z(alpha)}">',
-            f'{ind}  <joint name="lambda10_{leg}" type="slide" axis="1 0 0"{actuator}/>',
-            f"{ind}  " + inertial_element(m1, robot.piston.com, robot.piston.inertia, l0),
-            f'{ind}  <geom type="box" size="{vec(2 * size, size, size)}" rgba="0.2 0.4 0.8 1"/>',
-            f'{ind}  <body name="link_{leg}" quat="{quat_z(-math.pi / 3.0)}">',
-            f'{ind}    <joint name="phi_{leg}" type="hinge" axis="0 0 1"{revolute}/>',
-            f"{ind}    " + inertial_element(m2, robot.link.com, robot.link.inertia, l0),
-            f'{ind}    <geom type="cylinder" size="{vec(size, size)}" rgba="0.9 0.6 0.1 1"/>',
-            f'{ind}    <body name="platform_{leg}" pos="{vec(*third_in_link, 0.0)}" '
-            f'quat="{quat_z(math.pi / 3.0 - alpha)}">',
-            f'{ind}      <joint name="lambda32_{leg}" type="slide" '
-            f'axis="{vec(math.cos(slide_axis), math.sin(slide_axis), 0.0)}"{sleeve}/>',
-            f"{ind}      " + inertial_element(m3 / 3.0, (0.0, 0.0), i3 / 3.0, l0),
-            f'{ind}      <geom type="capsule" size="{num(size / 2)}" '
-            f'fromto="{vec(start[0], start[1], 0.0, end[0], end[1], 0.0)}" '
-            f'rgba="0.3 0.7 0.3 1"/>',
-            *(payload_body(payload, size, ind + "      ") if i == 0 and payload.present else []),
-            f"{ind}    </body>",
-            f"{ind}  </body>",
-            f"{ind}</body>",
-        ]
-    welds = [(other, "0 0 0 1 0 0 0") for other in ("B", "C")]
-    lines += welds_motors_load(welds, [f"lambda10_{leg}" for leg in LEGS], robot.load)
-    lines += SENSORS
-    return "\n".join(lines) + "\n"
+    m1, m2, m3 = robot.piston.mass, robot.link.mass, robot.platform.mass
+    payload, ind = robot.payload, "    "
+    return [
+        f'{ind}<body name="piston_{leg}" pos="{vec(origin[0], origin[1], 0.0)}" '
+        f'quat="{quat_z(alpha)}">',
+        f'{ind}  <joint name="lambda10_{leg}" type="slide" axis="1 0 0"{actuator}/>',
+        f"{ind}  " + inertial_element(m1, robot.piston.com, robot.piston.inertia, l0),
+        f'{ind}  <geom type="box" size="{vec(2 * size, size, size)}" rgba="0.2 0.4 0.8 1"/>',
+        f'{ind}  <body name="link_{leg}" quat="{quat_z(-math.pi / 3.0)}">',
+        f'{ind}    <joint name="phi_{leg}" type="hinge" axis="0 0 1"{revolute}/>',
+        f"{ind}    " + inertial_element(m2, robot.link.com, robot.link.inertia, l0),
+        f'{ind}    <geom type="cylinder" size="{vec(size, size)}" rgba="0.9 0.6 0.1 1"/>',
+        f'{ind}    <body name="platform_{leg}" pos="{vec(*third_in_link, 0.0)}" '
+        f'quat="{quat_z(math.pi / 3.0 - alpha)}">',
+        f'{ind}      <joint name="lambda32_{leg}" type="slide" '
+        f'axis="{vec(math.cos(slide_axis), math.sin(slide_axis), 0.0)}"{sleeve}/>',
+        f"{ind}      " + inertial_element(m3 / 3.0, (0.0, 0.0), robot.platform_inertia / 3.0, l0),
+        f'{ind}      <geom type="capsule" size="{num(size / 2)}" '
+        f'fromto="{vec(start[0], start[1], 0.0, end[0], end[1], 0.0)}" '
+        f'rgba="0.3 0.7 0.3 1"/>',
+        *(payload_body(payload, size, ind + "      ") if i == 0 and payload.present else []),
+        f"{ind}    </body>",
+        f"{ind}  </body>",
+        f"{ind}</body>",
+    ]

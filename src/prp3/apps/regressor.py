@@ -245,6 +245,30 @@ def state_rows(motion: Motion) -> FloatArray:
     )
 
 
+def _chunked_rows(
+    units: Sequence[KernelParameters],
+    rows: FloatArray,
+    width: int,
+    progress: Callable[[int, int], None] | None,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """:func:`regressor_rows` of the states ``rows`` (9, N) in chunks of ``width`` samples
+    (``progress`` after each): ``(3 forces, N, 3, P)``, ``λ10`` and ``λ̇10`` ``(N, 3)``."""
+    samples = rows.shape[1]
+    width = max(1, min(width, samples))
+    forces = np.empty((3, samples, 3, len(units)))
+    lambda10 = np.empty((samples, 3))
+    dlambda10 = np.empty((samples, 3))
+    for start in range(0, samples, width):
+        stop = min(start + width, samples)
+        block, lam, dlam = regressor_rows(units, rows[:, start:stop])
+        forces[:, start:stop] = block
+        lambda10[start:stop] = lam
+        dlambda10[start:stop] = dlam
+        if progress is not None:
+            progress(stop, samples)
+    return forces, lambda10, dlambda10
+
+
 def regressor(
     robot: Robot,
     motion: Motion,
@@ -312,20 +336,7 @@ def regressor(
         )
     inverse_geometry(robot, motion.pose)  # refuses singular and unreachable poses
     units = unit_parameters(robot, names)
-    rows = state_rows(motion)
-    samples = rows.shape[1]
-    width = max(1, min(width, samples))
-    forces = np.empty((3, samples, 3, len(names)))
-    lambda10 = np.empty((samples, 3))
-    dlambda10 = np.empty((samples, 3))
-    for start in range(0, samples, width):
-        stop = min(start + width, samples)
-        block, lam, dlam = regressor_rows(units, rows[:, start:stop])
-        forces[:, start:stop] = block
-        lambda10[start:stop] = lam
-        dlambda10[start:stop] = dlam
-        if progress is not None:
-            progress(stop, samples)
+    forces, lambda10, dlambda10 = _chunked_rows(units, state_rows(motion), width, progress)
     shape = motion.pose.shape[:-1]
     return Regressor(
         parameters=names,

@@ -450,28 +450,7 @@ def sweep_spec(
     base = Path(base)
     refuse_unknown_keys(source, "", data, _TOP_KEYS)
     robot_file = data.get("robot")
-    if robot_file is None:
-        robot = Robot()
-    elif isinstance(robot_file, str) and robot_file:
-        file = Path(robot_file) if Path(robot_file).is_absolute() else base / robot_file
-        try:
-            robot = Robot.from_toml(file)
-        except Prp3Error as error:
-            raise type(error)(f"{source}: robot {robot_file!r}: {error}") from None
-    else:
-        raise ParameterError(
-            f"{source}: robot must be the path of a ROBOT.toml, got {robot_file!r}"
-        )
-    nominal: dict[str, Any] = tomllib.loads(robot.to_toml())
-    if "limits" in data:
-        limits = spec_table(source, "limits", data["limits"])
-        nominal["limits"] = {**nominal.get("limits", {}), **limits}
-        try:
-            Robot.from_mapping(nominal)
-        except ParameterError as error:
-            raise ParameterError(
-                f"{source}: [limits]: {re.sub(r'^robot: ', '', str(error))}"
-            ) from None
+    nominal = _nominal(data, base, source)
     sampling = spec_sampling(source, data)
     designs = spec_integer(
         source, "designs", data.get("designs", 100), 2 if sampling == "grid" else 1, MAX_DESIGNS
@@ -518,6 +497,35 @@ def sweep_spec(
             if name not in PAPER_MOTIONS
         ),
     )
+
+
+def _nominal(data: Mapping[str, Any], base: Path, source: str) -> dict[str, Any]:
+    """The nominal robot's mapping: the spec's ``robot`` file (relative to ``base``) or the
+    paper's robot, with the spec's ``[limits]`` over its own (the result checked)."""
+    robot_file = data.get("robot")
+    if robot_file is None:
+        robot = Robot()
+    elif isinstance(robot_file, str) and robot_file:
+        file = Path(robot_file) if Path(robot_file).is_absolute() else base / robot_file
+        try:
+            robot = Robot.from_toml(file)
+        except Prp3Error as error:
+            raise type(error)(f"{source}: robot {robot_file!r}: {error}") from None
+    else:
+        raise ParameterError(
+            f"{source}: robot must be the path of a ROBOT.toml, got {robot_file!r}"
+        )
+    nominal: dict[str, Any] = tomllib.loads(robot.to_toml())
+    if "limits" in data:
+        limits = spec_table(source, "limits", data["limits"])
+        nominal["limits"] = {**nominal.get("limits", {}), **limits}
+        try:
+            Robot.from_mapping(nominal)
+        except ParameterError as error:
+            raise ParameterError(
+                f"{source}: [limits]: {re.sub(r'^robot: ', '', str(error))}"
+            ) from None
+    return nominal
 
 
 def design_values(spec: SweepSpec) -> FloatArray:

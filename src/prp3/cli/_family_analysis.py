@@ -33,7 +33,7 @@ from prp3.files import check_inputs_kept, check_output_directory
 from prp3.io.tables import read_table_csv, write_table_csv
 from prp3.io.trajectory import trajectory_table
 from prp3.model.motion import Motion
-from prp3.staged_files import staged_output
+from prp3.staged_files import StagedOutput, staged_output
 from prp3.validation import LEGS
 
 __all__ = [
@@ -46,6 +46,7 @@ __all__ = [
 
 if TYPE_CHECKING:
     from prp3.family.design import FamilySweepSpec
+    from prp3.family.workspace import FamilyStatics
 
 FloatArray = NDArray[np.float64]
 
@@ -69,21 +70,7 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
     )
 
     statics_wanted = family_wants_statics(robot, args.statics)
-    if args.extent is not None:
-        xmin, xmax, ymin, ymax = check_extent(args.extent)
-    else:
-        half = 2.0 * robot.leg.scale
-        xmin, xmax, ymin, ymax = -half, half, -half, half
-    per_point = BYTES_PER_POINT * (2 if statics_wanted else 1)
-    check_memory(f"--points {args.points}", BYTES_PER_RUN + args.points**2 * per_point)
-    x = np.linspace(xmin, xmax, args.points)
-    y = np.linspace(ymin, ymax, args.points)
-    for axis, values in (("x", x), ("y", y)):
-        if not (np.diff(values) > 0).all():
-            raise ParameterError(
-                f"--extent is too narrow in {axis} for --points {args.points}: neighbouring grid "
-                "values are equal"
-            )
+    x, y = _workspace_grid(args, robot, statics_wanted)
     ws = family_workspace_slice(robot, args.phi, x, y)
     step = max(1, -(-args.points // SCAN_POINTS))
     phis = np.linspace(-SCAN_RANGE, SCAN_RANGE, args.orientations)
@@ -110,7 +97,7 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
         "regular_area": scan.regular_area,
         "min_mu_par": scan.min_mu_par,
     }
-    from prp3.plotting.family_workspace import save_family_statics_map, save_family_workspace_map
+    from prp3.plotting.family_workspace import save_family_workspace_map
 
     with staged_output(args.output) as staged:
         write_table_csv(staged.path("workspace.csv"), table)
@@ -118,20 +105,7 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
         save_family_workspace_map(staged.path("workspace.png"), ws, scan)
         statics_lines: list[str] = []
         if statics is not None:
-            statics_table = {key: table[key] for key in ("x", "y", "regular")}
-            for j, leg in enumerate(LEGS):
-                statics_table[f"tau_{leg}"] = statics.tau[..., j].reshape(-1)
-            statics_table["tau_peak"] = statics.peak.reshape(-1)
-            write_table_csv(staged.path("statics.csv"), statics_table)
-            save_family_statics_map(staged.path("statics.png"), statics)
-            unit = "N" if robot.types[robot.actuated - 1] == "P" else "N m"
-            held = statics.peak[ws.regular]
-            statics_lines.append(
-                f"  statics (at rest): largest |tau| over the legs {held.min():.6g} .. "
-                f"{held.max():.6g} {unit} over the regular points"
-                if held.size
-                else "  statics: no regular grid point"
-            )
+            statics_lines = _write_statics(staged, table, statics, ws.regular, robot)
         home_leg, home_par = robot.home_measures
         lines = [
             f"prp3 workspace: {robot.architecture} (joint {robot.actuated} driven), phi = "
@@ -148,6 +122,55 @@ def run_family_workspace(args: argparse.Namespace, robot: FamilyRobot) -> int:
         ]  # fmt: skip
         emit("\n".join(lines))
     return 0
+
+
+def _workspace_grid(
+    args: argparse.Namespace, robot: FamilyRobot, statics_wanted: bool
+) -> tuple[FloatArray, FloatArray]:
+    """The grid values ``x``, ``y`` of ``--extent`` (default ``±2·scale``) and ``--points``,
+    its memory checked; a grid whose neighbouring values are equal is refused."""
+    if args.extent is not None:
+        xmin, xmax, ymin, ymax = check_extent(args.extent)
+    else:
+        half = 2.0 * robot.leg.scale
+        xmin, xmax, ymin, ymax = -half, half, -half, half
+    per_point = BYTES_PER_POINT * (2 if statics_wanted else 1)
+    check_memory(f"--points {args.points}", BYTES_PER_RUN + args.points**2 * per_point)
+    x = np.linspace(xmin, xmax, args.points)
+    y = np.linspace(ymin, ymax, args.points)
+    for axis, values in (("x", x), ("y", y)):
+        if not (np.diff(values) > 0).all():
+            raise ParameterError(
+                f"--extent is too narrow in {axis} for --points {args.points}: neighbouring grid "
+                "values are equal"
+            )
+    return x, y
+
+
+def _write_statics(
+    staged: StagedOutput,
+    table: dict[str, FloatArray],
+    statics: FamilyStatics,
+    regular: NDArray[np.bool_],
+    robot: FamilyRobot,
+) -> list[str]:
+    """Stage ``statics.csv`` and ``statics.png``; return the summary's line of them."""
+    from prp3.plotting.family_workspace import save_family_statics_map
+
+    statics_table = {key: table[key] for key in ("x", "y", "regular")}
+    for j, leg in enumerate(LEGS):
+        statics_table[f"tau_{leg}"] = statics.tau[..., j].reshape(-1)
+    statics_table["tau_peak"] = statics.peak.reshape(-1)
+    write_table_csv(staged.path("statics.csv"), statics_table)
+    save_family_statics_map(staged.path("statics.png"), statics)
+    unit = "N" if robot.types[robot.actuated - 1] == "P" else "N m"
+    held = statics.peak[regular]
+    return [
+        f"  statics (at rest): largest |tau| over the legs {held.min():.6g} .. "
+        f"{held.max():.6g} {unit} over the regular points"
+        if held.size
+        else "  statics: no regular grid point"
+    ]
 
 
 def family_wants_statics(robot: FamilyRobot, option: bool | None) -> bool:

@@ -17,6 +17,7 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 from prp3.apps.runs import check_memory
 from prp3.cli._progress import progress_bar
@@ -27,9 +28,11 @@ from prp3.io.spatial_efforts import SpatialEfforts, read_spatial_efforts
 from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.tables import write_table_csv
 from prp3.spatial.forward import SpatialForward, hold_efforts, spatial_forward_dynamics
+from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.outputs import spatial_results_table
 from prp3.spatial.rotations import matrix_quaternion, matrix_rpy
+from prp3.staged_files import StagedOutput
 
 __all__ = ["HOLD", "run_spatial_forward", "trajectory_columns"]
 
@@ -173,23 +176,7 @@ def run_spatial_forward(args: argparse.Namespace, design: SpatialRobotFile) -> i
         write_table_csv(staged.path("results.csv"), table)
         write_table_csv(staged.path("trajectory.csv"), trajectory_columns(motion))
         if args.plots:
-            from prp3.plotting.figures import save_figure
-            from prp3.plotting.spatial import platform_motion_figure, spatial_figures
-
-            planned = None
-            if given is not None and given.planned is not None:
-                p = given.planned
-                if motion.t.size <= p.t.size and np.array_equal(motion.t, p.t[: motion.t.size]):
-                    n = motion.t.size
-                    planned = (p.position[:n], matrix_rpy(p.rotation[:n]))
-            figures = {
-                "platform.png": platform_motion_figure(
-                    motion.t, motion.position, matrix_rpy(motion.rotation), robot, what, planned
-                ),
-                **spatial_figures(table, robot, what=what),
-            }
-            for name, figure in figures.items():
-                save_figure(figure, staged.path(name))
+            _save_plots(staged, table, result.motion, robot, what, given)
         p0, p1 = motion.position[0], motion.position[-1]
         lines = [
             f"prp3 forward: {robot.name} ({design.path}), efforts {source}",
@@ -205,3 +192,32 @@ def run_spatial_forward(args: argparse.Namespace, design: SpatialRobotFile) -> i
         ]  # fmt: skip
         emit("\n".join(lines))
     return 0
+
+
+def _save_plots(
+    staged: StagedOutput,
+    table: dict[str, NDArray[np.float64]],
+    motion: PlatformMotion,
+    robot: SpatialRobot,
+    what: str,
+    given: SpatialEfforts | None,
+) -> None:
+    """Stage ``platform.png`` (the integrated pose, beside the planned one of a results
+    table over the same times) and the spatial run's figures of ``table``."""
+    from prp3.plotting.figures import save_figure
+    from prp3.plotting.spatial import platform_motion_figure, spatial_figures
+
+    planned = None
+    if given is not None and given.planned is not None:
+        p = given.planned
+        if motion.t.size <= p.t.size and np.array_equal(motion.t, p.t[: motion.t.size]):
+            n = motion.t.size
+            planned = (p.position[:n], matrix_rpy(p.rotation[:n]))
+    figures = {
+        "platform.png": platform_motion_figure(
+            motion.t, motion.position, matrix_rpy(motion.rotation), robot, what, planned
+        ),
+        **spatial_figures(table, robot, what=what),
+    }
+    for name, figure in figures.items():
+        save_figure(figure, staged.path(name))

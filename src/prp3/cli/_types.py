@@ -36,7 +36,6 @@ __all__ = [
     "input_paths",
     "integer_at_least",
     "load_any_robot",
-    "load_robot",
     "load_robot_or_spatial",
     "output_folder",
     "path_name",
@@ -117,28 +116,6 @@ def add_robot_option(parser: argparse.ArgumentParser, note: str = "") -> None:
     )
 
 
-FAMILY_COMMANDS: tuple[str, ...] = (
-    "simulate",
-    "workspace",
-    "forward",
-    "control",
-    "export",
-    "sweep",
-    "optimize",
-    "explore",
-    "identify",
-    "excite",
-    "robot",
-)
-"""The commands that take a family-form robot (``tests/test_family_cli.py`` runs each)."""
-
-FAMILY_COMMANDS_NOTE = (
-    "docs/family.md: prp3 "
-    + ", ".join(FAMILY_COMMANDS[:-1])
-    + f" and {FAMILY_COMMANDS[-1]} take it"
-)
-
-
 #: What a command that runs planar robots only says of a spatial robot file.
 SPATIAL_COMMANDS_NOTE = (
     "docs/spatial.md §13: prp3 simulate, forward, workspace, control, identify, excite, "
@@ -157,40 +134,11 @@ def spatial_refusal(args: argparse.Namespace, robot: SpatialRobotFile) -> Parame
     )
 
 
-def load_robot(args: argparse.Namespace) -> Robot:
-    """The robot of ``--robot``, or the paper's robot.
-
-    A family-form robot file (docs/family.md) is refused by capability, naming
-    its architecture: the commands of :data:`FAMILY_COMMANDS` take it before
-    calling this (and ``sweep``/``optimize`` the family form of ``SWEEP.toml``).
-    """
-    if args.robot is None:
-        return Robot()
-    from prp3.family import FamilyRobot
-    from prp3.io.spatial_robot import SpatialRobotFile, read_any_robot
-
-    robot = read_any_robot(args.robot)
-    if isinstance(robot, SpatialRobotFile):
-        raise spatial_refusal(args, robot)
-    if isinstance(robot, FamilyRobot):
-        command = " ".join(
-            str(part)
-            for part in (getattr(args, "command", None), getattr(args, "format", None))
-            if isinstance(part, str) and part not in ("csv", "parquet")
-        )
-        raise ParameterError(
-            f"prp3 {command or 'this command'} computes the 3-PRP of docs/model.md only, not yet "
-            f"the {robot.architecture} of a family-form robot file ({FAMILY_COMMANDS_NOTE})",
-            file=args.robot,
-        )
-    return robot
-
-
 def load_any_robot(args: argparse.Namespace) -> Robot | FamilyRobot:
     """The robot of ``--robot`` in either form (docs/family.md §1), or the paper's robot.
 
-    For the commands of :data:`FAMILY_COMMANDS`, which run a family-form robot
-    their own way; an error in the file names it.
+    For the commands that run a family-form robot their own way; an error in the file
+    names it.
     """
     if args.robot is None:
         return Robot()

@@ -203,19 +203,7 @@ def run(args: argparse.Namespace) -> int:
         from prp3.cli._spatial_forward import run_spatial_forward
 
         return run_spatial_forward(args, loaded)
-    for option, given in (("--duration", args.duration is not None), ("--plots", args.plots)):
-        if given:
-            raise Prp3Error(
-                f"{option} applies to a spatial robot file (docs/spatial.md §18); the planar "
-                "robots integrate over the times of --forces"
-            )
-    if args.forces is None:
-        raise Prp3Error("--forces FORCES.csv is required (the actuator forces over time)")
-    if str(args.forces) == "hold":
-        raise Prp3Error(
-            "--forces hold applies to a spatial robot file (docs/spatial.md §18); give a "
-            "table of forces t,f10_A,f10_B,f10_C"
-        )
+    _check_planar_options(args)
     robot = loaded
     if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
         from prp3.cli._family_analysis import run_family_forward
@@ -255,22 +243,10 @@ def run(args: argparse.Namespace) -> int:
                 progress=bar.stage("integrating", "samples"),
             )  # fmt: skip
     except Prp3Error as error:
-        if error.subject in ("initial_pose", "pose"):  # the initial pose: say where it came from
-            if args.initial_pose is not None:
-                origin = "--initial-pose " + " ".join(repr(v) for v in args.initial_pose)
-                raise error.located(origin=origin, subject=None) from None
-            if given.first_pose is not None:
-                raise error.located(
-                    file=given.path, subject="initial pose from the first row"
-                ) from None
-            raise error.located(
-                origin="initial pose 0 0 0 (the central configuration)", subject=None
-            ) from None
-        if error.subject == "forces":  # a force above limits.max_force
-            raise error.located(file=given.path) from None
-        if error.subject == "forward dynamics":  # a bound, or the equations lost meaning
-            raise error.located(file=_cause_file(args, robot, given)) from None
-        raise
+        located = _located(error, args, robot, given)
+        if located is None:
+            raise
+        raise located from None
     table = results_table(result.kinematics, result.dynamics)
     with output_folder(args, output) as staged:
         write_table_csv(staged.path("results.csv"), table)
@@ -283,6 +259,44 @@ def run(args: argparse.Namespace) -> int:
         print(f"{args.program}: warning: {result.message}", file=sys.stderr)
         return EXIT_STOPPED
     return 0
+
+
+def _check_planar_options(args: argparse.Namespace) -> None:
+    """Refuse the options of a spatial robot file (``--duration``, ``--plots``,
+    ``--forces hold``) and a missing ``--forces`` in a planar run."""
+    for option, given in (("--duration", args.duration is not None), ("--plots", args.plots)):
+        if given:
+            raise Prp3Error(
+                f"{option} applies to a spatial robot file (docs/spatial.md §18); the planar "
+                "robots integrate over the times of --forces"
+            )
+    if args.forces is None:
+        raise Prp3Error("--forces FORCES.csv is required (the actuator forces over time)")
+    if str(args.forces) == "hold":
+        raise Prp3Error(
+            "--forces hold applies to a spatial robot file (docs/spatial.md §18); give a "
+            "table of forces t,f10_A,f10_B,f10_C"
+        )
+
+
+def _located(
+    error: Prp3Error, args: argparse.Namespace, robot: Any, given: ForceInput
+) -> Prp3Error | None:
+    """The integration's ``error`` laid to where its cause was given: the initial pose's
+    option or row, the forces file, or the robot file (:func:`_cause_file`); None for another
+    error (raised as it is)."""
+    if error.subject in ("initial_pose", "pose"):  # the initial pose: say where it came from
+        if args.initial_pose is not None:
+            origin = "--initial-pose " + " ".join(repr(v) for v in args.initial_pose)
+            return error.located(origin=origin, subject=None)
+        if given.first_pose is not None:
+            return error.located(file=given.path, subject="initial pose from the first row")
+        return error.located(origin="initial pose 0 0 0 (the central configuration)", subject=None)
+    if error.subject == "forces":  # a force above limits.max_force
+        return error.located(file=given.path)
+    if error.subject == "forward dynamics":  # a bound, or the equations lost meaning
+        return error.located(file=_cause_file(args, robot, given))
+    return None
 
 
 def _cause_file(args: argparse.Namespace, robot: Any, given: ForceInput) -> Path:

@@ -155,6 +155,13 @@ def register(subparsers: Any) -> None:
     )
     add_engine_option(parser)
     add_output_directory(parser)
+    _add_output_options(parser)
+    parser.set_defaults(handler=run)
+
+
+def _add_output_options(parser: argparse.ArgumentParser) -> None:
+    """Add what a run writes besides its table: ``--format``, ``--plots``, ``--animate``,
+    ``--frames`` and ``--html``."""
     parser.add_argument(
         "--format",
         choices=FORMATS,
@@ -192,7 +199,6 @@ def register(subparsers: Any) -> None:
         "extra prp3[explore]; docs/explore.md); a spatial robot: in 3-D with every joint's "
         "reaction force (plotly, the same extra; docs/spatial.md §22)",
     )
-    parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -320,15 +320,7 @@ def run(args: argparse.Namespace) -> int:
         from prp3.cli._spatial_workspace import run_spatial_workspace
 
         return run_spatial_workspace(args, robot)
-    for option, given in (("--plane", args.plane), ("--offset", args.offset), ("--rpy", args.rpy)):
-        if given is not None:
-            raise ParameterError(
-                f"{option} applies to a spatial robot file (docs/spatial.md §17); the planar "
-                "robots' slice is given by --phi"
-            )
-    args.phi = 0.0 if args.phi is None else args.phi
-    args.points = DEFAULT_POINTS if args.points is None else args.points
-    args.orientations = DEFAULT_ORIENTATIONS if args.orientations is None else args.orientations
+    _planar_options(args)
     if isinstance(robot, FamilyRobot):  # a family-form robot file: docs/family.md
         from prp3.cli._family_analysis import run_family_workspace
 
@@ -339,34 +331,8 @@ def run(args: argparse.Namespace) -> int:
         if args.robot is None:
             raise
         raise error.located(file=args.robot) from None
-    if args.extent is not None:
-        xmin, xmax, ymin, ymax = check_extent(args.extent)
-        reach = POSE_BOUND * robot.l0
-        if max(abs(v) for v in args.extent) > reach:
-            raise ParameterError(
-                f"--extent {' '.join(repr(v) for v in args.extent)} reaches beyond "
-                f"{POSE_BOUND:g}*l0 = {reach:g} m (l0 = {robot.l0:g} m), farther than prp3 "
-                "computes poses: give a window within that bound"
-            )
-    else:
-        xmin, xmax, ymin, ymax = default_extent(robot)
-    points = args.points * args.points
     statics_wanted = wants_statics(robot, args.statics)
-    per_point = BYTES_PER_POINT + (BYTES_PER_STATICS_POINT if statics_wanted else 0)
-    check_memory(
-        f"--points {args.points} --orientations {args.orientations}",
-        BYTES_PER_RUN + points * (per_point + args.orientations),
-    )
-    x = np.linspace(xmin, xmax, args.points)
-    y = np.linspace(ymin, ymax, args.points)
-    for axis, values in (("x", x), ("y", y)):
-        if not (np.diff(values) > 0).all():
-            window = " ".join(repr(v) for v in (xmin, xmax, ymin, ymax))
-            what = "--extent" if args.extent is not None else "the default extent (stroke)"
-            raise ParameterError(
-                f"{what} {window} is too narrow in {axis} for --points {args.points}: "
-                "neighbouring grid values are equal"
-            )
+    x, y = _grid(args, robot, statics_wanted)
     ws = workspace_slice(robot, args.phi, x, y)  # refuses a singular phi
     if robot.limits.stroke is not None:
         low, high = orientation_range(robot)
@@ -408,6 +374,56 @@ def run(args: argparse.Namespace) -> int:
             # results
             emit(_summary(robot, ws, (low, high), files_report(staged), statics))
     return 0
+
+
+def _planar_options(args: argparse.Namespace) -> None:
+    """Refuse the options of a spatial robot file's slice (``--plane``, ``--offset``,
+    ``--rpy``) and fill in the planar defaults of ``--phi``, ``--points``, ``--orientations``."""
+    for option, given in (("--plane", args.plane), ("--offset", args.offset), ("--rpy", args.rpy)):
+        if given is not None:
+            raise ParameterError(
+                f"{option} applies to a spatial robot file (docs/spatial.md §17); the planar "
+                "robots' slice is given by --phi"
+            )
+    args.phi = 0.0 if args.phi is None else args.phi
+    args.points = DEFAULT_POINTS if args.points is None else args.points
+    args.orientations = DEFAULT_ORIENTATIONS if args.orientations is None else args.orientations
+
+
+def _grid(
+    args: argparse.Namespace, robot: Robot, statics_wanted: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """The grid values ``x``, ``y`` of ``--extent`` (within the bound of the poses; default:
+    :func:`default_extent`) and ``--points``, the run's memory checked; a grid whose
+    neighbouring values are equal is refused."""
+    if args.extent is not None:
+        xmin, xmax, ymin, ymax = check_extent(args.extent)
+        reach = POSE_BOUND * robot.l0
+        if max(abs(v) for v in args.extent) > reach:
+            raise ParameterError(
+                f"--extent {' '.join(repr(v) for v in args.extent)} reaches beyond "
+                f"{POSE_BOUND:g}*l0 = {reach:g} m (l0 = {robot.l0:g} m), farther than prp3 "
+                "computes poses: give a window within that bound"
+            )
+    else:
+        xmin, xmax, ymin, ymax = default_extent(robot)
+    points = args.points * args.points
+    per_point = BYTES_PER_POINT + (BYTES_PER_STATICS_POINT if statics_wanted else 0)
+    check_memory(
+        f"--points {args.points} --orientations {args.orientations}",
+        BYTES_PER_RUN + points * (per_point + args.orientations),
+    )
+    x = np.linspace(xmin, xmax, args.points)
+    y = np.linspace(ymin, ymax, args.points)
+    for axis, values in (("x", x), ("y", y)):
+        if not (np.diff(values) > 0).all():
+            window = " ".join(repr(v) for v in (xmin, xmax, ymin, ymax))
+            what = "--extent" if args.extent is not None else "the default extent (stroke)"
+            raise ParameterError(
+                f"{what} {window} is too narrow in {axis} for --points {args.points}: "
+                "neighbouring grid values are equal"
+            )
+    return x, y
 
 
 def _statics_summary(statics: WorkspaceStatics) -> list[str]:

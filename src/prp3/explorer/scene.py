@@ -361,6 +361,26 @@ def scene_view(robot: Robot, table: Mapping[str, FloatArray], index: int, scale:
             else {"x": [], "y": [], "radius": []}
         ),
     }
+    components = _force_components(table, index, normal, slide)
+    arrows = arrow_columns(
+        (
+            (quantity, leg, joint[j], float(vectors[j, 0]), float(vectors[j, 1]))
+            for quantity, vectors in components.items()
+            if vectors is not None
+            for j, leg in enumerate(LEGS)
+        ),
+        scale,
+    )
+    rows = _table_rows(table, index)
+    return View(shapes=shapes, arrows=arrows, table=rows)
+
+
+def _force_components(
+    table: Mapping[str, FloatArray], index: int, normal: FloatArray, slide: FloatArray
+) -> dict[str, FloatArray | None]:
+    """The arrows' vectors ``(3, 2)`` per quantity at sample ``index``: ``f10`` along
+    ``e_i``, ``f21`` and ``n10`` from ``normal`` (``n_i``) and ``e_i``, ``n32`` across the
+    sleeve's direction ``slide``, the friction forces where the table has them (else None)."""
     components: dict[str, FloatArray | None] = {}
     f10, f21y, f21z = (_per_leg(table, n, index) for n in ("f10", "f21y", "f21z"))
     n10, n32 = _per_leg(table, "n10", index), _per_leg(table, "n32", index)
@@ -373,15 +393,12 @@ def scene_view(robot: Robot, table: Mapping[str, FloatArray], index: int, scale:
     components["n32"] = n32[:, None] * perp(slide)
     components["fric10"] = None if fric10 is None else fric10[:, None] * LEG_AXIS
     components["fric32"] = None if fric32 is None else fric32[:, None] * slide
-    arrows = arrow_columns(
-        (
-            (quantity, leg, joint[j], float(vectors[j, 0]), float(vectors[j, 1]))
-            for quantity, vectors in components.items()
-            if vectors is not None
-            for j, leg in enumerate(LEGS)
-        ),
-        scale,
-    )
+    return components
+
+
+def _table_rows(table: Mapping[str, FloatArray], index: int) -> Columns:
+    """The explorer's table of sample ``index``: one row per quantity the table has, with
+    its unit and its value for legs A, B, C."""
     rows: Columns = {"quantity": [], "unit": [], "A": [], "B": [], "C": []}
     for quantity in TABLE_QUANTITIES:
         values = _per_leg(table, quantity, index)
@@ -391,7 +408,7 @@ def scene_view(robot: Robot, table: Mapping[str, FloatArray], index: int, scale:
         rows["unit"].append(OUTPUT_QUANTITIES[quantity].unit)
         for j, leg in enumerate(LEGS):
             rows[leg].append(float(values[j]))
-    return View(shapes=shapes, arrows=arrows, table=rows)
+    return rows
 
 
 #: The columns of the arrows' source (:attr:`View.arrows`).

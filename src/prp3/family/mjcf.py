@@ -55,7 +55,6 @@ True
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 from numpy.typing import NDArray
@@ -63,13 +62,13 @@ from numpy.typing import NDArray
 from prp3.apps.mjcf import (
     MUJOCO_MIN_VALUE,
     SENSORS,
-    MjcfWarning,
     inertial_element,
     num,
     payload_body,
     preamble,
     quat_z,
     vec,
+    warn_left_out,
     welds_motors_load,
 )
 from prp3.errors import ParameterError, Prp3Error
@@ -196,30 +195,8 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
         mass of a moving body, ``MUJOCO_MIN_VALUE`` (naming the key).
     """
     robot = check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
-    m3 = robot.platform.mass / 3.0
-    for name, mass in (
-        ("link1.mass", robot.link1.mass),
-        ("link2.mass", robot.link2.mass),
-        ("platform.mass", m3),
-    ):
-        if mass < MUJOCO_MIN_VALUE:
-            shown = "platform.mass / 3" if name == "platform.mass" else name
-            raise ParameterError(
-                f"{shown} = {mass!r} kg is below MuJoCo's smallest mass of a moving body "
-                f"{MUJOCO_MIN_VALUE!r} kg (the MJCF model cannot carry it)",
-                subject="robot",
-                key=name,
-            )
-    left_out = unrepresented(robot)
-    if left_out:
-        warnings.warn(
-            "the MuJoCo model leaves out " + "; ".join(left_out), MjcfWarning, stacklevel=2
-        )
-    scale = robot.leg.scale
-    placements = robot.leg.placements
-    size = scale / 60.0
-    gx, gy = robot.gravity
-    a_p, b_p, gamma_p = robot.leg.attachment
+    _check_masses(robot)
+    warn_left_out(unrepresented(robot))
     lines = preamble(
         [
             f"  <!-- {robot.architecture} planar parallel robot (actuated joint {robot.actuated}),",
@@ -228,41 +205,10 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
             f"       Motors actuator_i: ctrl = tau_i on q{robot.actuated}_i. The platform is three",
             "       welded thirds platform_A/B/C (each m/3, I/3 at G). Geoms are drawings only. -->",
         ],
-        (gx, gy),
+        robot.gravity,
     )
-    bodies = (
-        ("link1", robot.link1.mass, robot.link1.com, robot.link1.inertia, "0.2 0.4 0.8 1"),
-        ("link2", robot.link2.mass, robot.link2.com, robot.link2.inertia, "0.9 0.6 0.1 1"),
-        ("platform", m3, (a_p, b_p), robot.platform.inertia / 3.0, "0.3 0.7 0.3 1"),
-    )
-    for j, leg in enumerate(LEGS):
-        sigma = float(SIGMA[j])
-        c, s = math.cos(sigma), math.sin(sigma)
-        opened: list[str] = []
-        for k, (name, mass, com, izz, rgba) in enumerate(bodies):
-            a, b, gamma = (float(v) for v in placements[k])
-            if k == 0:  # the placement joint1 in the start frame (O, σ_j)
-                a, b, gamma = c * a - s * b, s * a + c * b, gamma + sigma
-            ind = "    " + "  " * k
-            nxt = placements[k + 1]
-            lines += [
-                f'{ind}<body name="{name}_{leg}" pos="{vec(a, b, 0.0)}" quat="{quat_z(gamma)}">',
-                f"{ind}  " + _joint(robot, k, leg),
-                f"{ind}  " + inertial_element(mass, com, izz, scale, gamma_p if k == 2 else 0.0),
-                f"{ind}  " + _drawing(float(nxt[0]), float(nxt[1]), size, rgba),
-            ]
-            opened.append(f"{ind}</body>")
-        if j == 0 and robot.payload.present:
-            payload = robot.payload
-            cg, sg = math.cos(gamma_p), math.sin(gamma_p)
-            px, py = payload.com
-            inner = "        "
-            body = payload_body(payload, size, inner)
-            # the payload's com is given in the platform frame E_A = T_P in F_3
-            at = (a_p + cg * px - sg * py, b_p + sg * px + cg * py)
-            body[0] = f'{inner}<body name="payload" pos="{vec(at[0], at[1], 0.0)}">'
-            lines += body
-        lines += opened[::-1]
+    for j in range(3):
+        lines += _leg_chain(robot, j)
     welds = []
     for j in (1, 2):
         x, y, angle = weld_relpose(robot, j)
@@ -278,3 +224,63 @@ def family_mjcf_model(robot: FamilyRobot) -> str:
         ]
     lines += SENSORS
     return "\n".join(lines) + "\n"
+
+
+def _check_masses(robot: FamilyRobot) -> None:
+    """Refuse a moving body MuJoCo cannot load: ``link1.mass``, ``link2.mass`` or
+    ``platform.mass / 3`` below :data:`~prp3.apps.mjcf.MUJOCO_MIN_VALUE` (naming the key)."""
+    for name, mass in (
+        ("link1.mass", robot.link1.mass),
+        ("link2.mass", robot.link2.mass),
+        ("platform.mass", robot.platform.mass / 3.0),
+    ):
+        if mass < MUJOCO_MIN_VALUE:
+            shown = "platform.mass / 3" if name == "platform.mass" else name
+            raise ParameterError(
+                f"{shown} = {mass!r} kg is below MuJoCo's smallest mass of a moving body "
+                f"{MUJOCO_MIN_VALUE!r} kg (the MJCF model cannot carry it)",
+                subject="robot",
+                key=name,
+            )
+
+
+def _leg_chain(robot: FamilyRobot, j: int) -> list[str]:
+    """Leg ``j``'s bodies ``link1_i`` / ``link2_i`` / ``platform_i`` at their placements
+    (module notes), the payload inside ``platform_A``."""
+    scale, placements, leg = robot.leg.scale, robot.leg.placements, LEGS[j]
+    size = scale / 60.0
+    a_p, b_p, gamma_p = robot.leg.attachment
+    bodies = (
+        ("link1", robot.link1.mass, robot.link1.com, robot.link1.inertia, "0.2 0.4 0.8 1"),
+        ("link2", robot.link2.mass, robot.link2.com, robot.link2.inertia, "0.9 0.6 0.1 1"),
+        ("platform", robot.platform.mass / 3.0, (a_p, b_p), robot.platform.inertia / 3.0,
+         "0.3 0.7 0.3 1"),
+    )  # fmt: skip
+    sigma = float(SIGMA[j])
+    c, s = math.cos(sigma), math.sin(sigma)
+    lines: list[str] = []
+    opened: list[str] = []
+    for k, (name, mass, com, izz, rgba) in enumerate(bodies):
+        a, b, gamma = (float(v) for v in placements[k])
+        if k == 0:  # the placement joint1 in the start frame (O, σ_j)
+            a, b, gamma = c * a - s * b, s * a + c * b, gamma + sigma
+        ind = "    " + "  " * k
+        nxt = placements[k + 1]
+        lines += [
+            f'{ind}<body name="{name}_{leg}" pos="{vec(a, b, 0.0)}" quat="{quat_z(gamma)}">',
+            f"{ind}  " + _joint(robot, k, leg),
+            f"{ind}  " + inertial_element(mass, com, izz, scale, gamma_p if k == 2 else 0.0),
+            f"{ind}  " + _drawing(float(nxt[0]), float(nxt[1]), size, rgba),
+        ]
+        opened.append(f"{ind}</body>")
+    if j == 0 and robot.payload.present:
+        payload = robot.payload
+        cg, sg = math.cos(gamma_p), math.sin(gamma_p)
+        px, py = payload.com
+        inner = "        "
+        body = payload_body(payload, size, inner)
+        # the payload's com is given in the platform frame E_A = T_P in F_3
+        at = (a_p + cg * px - sg * py, b_p + sg * px + cg * py)
+        body[0] = f'{inner}<body name="payload" pos="{vec(at[0], at[1], 0.0)}">'
+        lines += body
+    return lines + opened[::-1]

@@ -166,6 +166,37 @@ def read_spatial_measurements(path: str | Path, actuators: int) -> SpatialMeasur
     return SpatialMeasurements(trajectory, np.stack([columns[name] for name in names], axis=-1))
 
 
+def _orientations(
+    path: Path, columns: dict[str, FloatArray], lines: IntArray, *, quaternion: bool
+) -> tuple[FloatArray, FloatArray]:
+    """The orientation columns of a trajectory file as the values its spline runs through
+    (unit quaternions of one sign from sample to sample, or unwrapped roll, pitch, yaw) and
+    the rotation matrices ``(N, 3, 3)``; a sample that is not a rotation is named by line."""
+    if quaternion:
+        q = _stack(columns, QUATERNION_COLUMNS)
+        norm = np.sqrt(np.einsum("ij,ij->i", q, q))
+        bad = ~(np.abs(norm - 1.0) <= QUATERNION_TOLERANCE)
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise TrajectoryError(
+                f"qw, qx, qy, qz is not a unit quaternion (norm {float(norm[k]):.12g}; "
+                f"accepted within {QUATERNION_TOLERANCE:g} of 1)",
+                file=path,
+                line=int(lines[k]),
+            )
+        q = q / norm[:, None]
+        flip = np.cumprod(np.where(np.einsum("ij,ij->i", q[1:], q[:-1]) < 0.0, -1.0, 1.0))
+        q[1:] *= flip[:, None]  # q and −q are one rotation: the spline follows one sign
+        return q, quaternion_matrix(q)
+    try:
+        angles = check_rpy(_stack(columns, RPY_COLUMNS))
+    except TrajectoryError as error:
+        line = int(lines[error.sample]) if error.sample is not None else None
+        raise error.located(file=path, line=line, subject=None) from None
+    angles = np.unwrap(angles, axis=0)  # the spline sees no 2π jump
+    return angles, rpy_matrix(angles)
+
+
 def _read(path: Path, required: tuple[str, ...]) -> tuple[SpatialTrajectory, dict[str, FloatArray]]:
     """:func:`read_spatial_trajectory` of a file with the ``required`` columns too."""
     optional = QUATERNION_COLUMNS + RPY_COLUMNS + RATE_COLUMNS
@@ -195,31 +226,7 @@ def _read(path: Path, required: tuple[str, ...]) -> tuple[SpatialTrajectory, dic
             line=int(lines[k]),
         )
     position = _stack(columns, ("x", "y", "z"))
-    if quaternion:
-        q = _stack(columns, QUATERNION_COLUMNS)
-        norm = np.sqrt(np.einsum("ij,ij->i", q, q))
-        bad = ~(np.abs(norm - 1.0) <= QUATERNION_TOLERANCE)
-        if bad.any():
-            k = int(np.argmax(bad))
-            raise TrajectoryError(
-                f"qw, qx, qy, qz is not a unit quaternion (norm {float(norm[k]):.12g}; "
-                f"accepted within {QUATERNION_TOLERANCE:g} of 1)",
-                file=path,
-                line=int(lines[k]),
-            )
-        q = q / norm[:, None]
-        flip = np.cumprod(np.where(np.einsum("ij,ij->i", q[1:], q[:-1]) < 0.0, -1.0, 1.0))
-        q[1:] *= flip[:, None]  # q and −q are one rotation: the spline follows one sign
-        angles = q
-        rotation = quaternion_matrix(q)
-    else:
-        try:
-            angles = check_rpy(_stack(columns, RPY_COLUMNS))
-        except TrajectoryError as error:
-            line = int(lines[error.sample]) if error.sample is not None else None
-            raise error.located(file=path, line=line, subject=None) from None
-        angles = np.unwrap(angles, axis=0)  # the spline sees no 2π jump
-        rotation = rpy_matrix(angles)
+    angles, rotation = _orientations(path, columns, lines, quaternion=quaternion)
     note: str | None = None
     if rates:
         omega, velocity = _stack(columns, RATE_COLUMNS[0:3]), _stack(columns, RATE_COLUMNS[3:6])

@@ -379,7 +379,19 @@ def robot_text(robot: Robot, *, comments: bool) -> str:
         elif comments:
             out.append("# max_force = 500.0  # N, largest admissible |f10|")
     out += payload_load_toml(robot.payload, robot.load, comments)
-    friction = robot.friction
+    out += _friction_toml(robot.friction, comments)
+    out += _spring_toml(robot.spring, comments)
+    return "\n".join(out) + "\n"
+
+
+def _friction_toml(friction: Friction | None, comments: bool) -> list[str]:
+    """The ``[friction.actuator]``, ``[friction.revolute]``, ``[friction.sleeve]`` tables
+    (with ``comments``: commented out when the robot has no friction)."""
+
+    def line(key: str, value: str, comment: str) -> str:
+        return toml_line(key, value, comment, comments)
+
+    out: list[str] = []
     if friction is not None:
         for kind in ("actuator", "revolute", "sleeve"):
             joint: JointFriction = getattr(friction, kind)
@@ -400,10 +412,21 @@ def robot_text(robot: Robot, *, comments: bool) -> str:
             "# mu = 0.0",
             "# smoothing = 0.0",
         ]
-    if robot.spring is not None:
+    return out
+
+
+def _spring_toml(springs: Spring | None, comments: bool) -> list[str]:
+    """The ``[spring.<joint>]`` tables: the actuator's always, another joint's when it has a
+    spring (with ``comments``: the actuator's commented out when the robot has none)."""
+
+    def line(key: str, value: str, comment: str) -> str:
+        return toml_line(key, value, comment, comments)
+
+    out: list[str] = []
+    if springs is not None:
         for kind, spring_units in SPRING_UNITS.items():
             stiffness, rest, damping = (unit.replace("·", " ") for unit in spring_units)
-            spring = getattr(robot.spring, kind)
+            spring = getattr(springs, kind)
             if kind != "actuator" and spring.is_zero and spring.rest == 0.0:
                 continue  # the actuator's table is always written (the table [spring] exists)
             heading = f"  # {_SPRING_WHERE[kind]}" if comments else ""
@@ -426,4 +449,4 @@ def robot_text(robot: Robot, *, comments: bool) -> str:
             "# rest = 0.0         # m",
             "# damping = 0.0      # N s/m; docs/loads_and_friction.md",
         ]
-    return "\n".join(out) + "\n"
+    return out

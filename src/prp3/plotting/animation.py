@@ -38,6 +38,7 @@ from prp3.plotting.figures import LEG_STYLES
 from prp3.validation import LEGS
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Polygon
@@ -222,20 +223,12 @@ class MechanismArtists:
         ]
 
 
-def mechanism_figure(robot: Robot, kin: Kinematics, *, title: str = "") -> MechanismArtists:
-    """Build the figure and its artists for the samples of ``kin``.
-
-    The axes keep the same limits for every frame (the extent of the base
-    and of the platform over all the samples) and an equal aspect ratio.
-    The artists show sample 0 until :func:`draw_frame` moves them.
-    """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+def _draw_base(axes: Axes, robot: Robot, kin: Kinematics) -> None:
+    """The still parts: the base triangle with its vertices' and legs' names, the axes'
+    limits (the base and the platform over every sample of ``kin``, with a margin) and
+    labels."""
     from matplotlib.patches import Polygon
 
-    figure = Figure(figsize=(7.2, 7.2), dpi=100, layout="constrained")  # 720 x 720 px
-    canvas = FigureCanvasAgg(figure)
-    axes = figure.add_subplot()
     base = base_vertices(robot)
     extent = np.concatenate([base, platform_vertices(robot, kin.motion.pose).reshape(-1, 2)])
     low, high = extent.min(axis=0), extent.max(axis=0)
@@ -260,6 +253,23 @@ def mechanism_figure(robot: Robot, kin: Kinematics, *, title: str = "") -> Mecha
             x, y, f"leg {leg}", ha="center", va="center", color=LEG_STYLES[leg][0],
             fontsize=12, fontweight="bold",
         )  # fmt: skip
+
+
+def mechanism_figure(robot: Robot, kin: Kinematics, *, title: str = "") -> MechanismArtists:
+    """Build the figure and its artists for the samples of ``kin``.
+
+    The axes keep the same limits for every frame (the extent of the base
+    and of the platform over all the samples) and an equal aspect ratio.
+    The artists show sample 0 until :func:`draw_frame` moves them.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Polygon
+
+    figure = Figure(figsize=(7.2, 7.2), dpi=100, layout="constrained")  # 720 x 720 px
+    canvas = FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    _draw_base(axes, robot, kin)
     platform = Polygon(
         np.zeros((3, 2)),
         closed=True,

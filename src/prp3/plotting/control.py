@@ -23,6 +23,7 @@ from prp3.plotting.figures import LEG_STYLES
 from prp3.validation import LEGS
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 __all__ = ["TRACKING_FIGURE", "scaled_unit", "spatial_tracking_figure", "tracking_figure"]
@@ -76,13 +77,38 @@ def tracking_figure(
     from matplotlib.figure import Figure
 
     t = np.asarray(table["t"], dtype=np.float64)
+    figure = Figure(figsize=(8.0, 7.6), dpi=120, layout="constrained")
+    position, orientation, force = figure.subplots(3, 1, sharex=True)
+    _plot_errors(position, orientation, t, table)
+    _plot_efforts(force, t, table)
+    force.set_xlabel("time $t$ (s)")
+    force.set_xlim(float(t[0]), max(float(t[-1]), end if end is not None else float(t[-1])))
+    for axes in (position, orientation, force):
+        axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
+        if stop is not None:
+            axes.axvline(float(t[-1]), color="k", linestyle=":", linewidth=1.6,
+                         label=f"stop (last row, t = {float(t[-1]):.4g} s)")  # fmt: skip
+        axes.grid(True, color="0.88")
+        axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    if stop is not None:  # in the x label, so that the layout leaves it room
+        reason = textwrap.fill("the plant stopped early: " + stop, 80)
+        force.set_xlabel(f"time $t$ (s)\n\n{reason}", fontsize=9)
+    figure.suptitle(title, fontsize=12, fontweight="bold")
+    if subtitle:
+        position.set_title(subtitle, fontsize=10, color="0.3")
+    return figure
+
+
+def _plot_errors(
+    position: Axes, orientation: Axes, t: FloatArray, table: Mapping[str, FloatArray]
+) -> None:
+    """The tracking errors ``x_ref − x``, ``y_ref − y`` (one panel) and ``φ_ref − φ`` (the
+    other), each in a unit that suits its size."""
     errors = {
         name: np.asarray(table[f"{name}_ref"], dtype=np.float64)
         - np.asarray(table[name], dtype=np.float64)
         for name in ("x", "y", "phi")
     }
-    figure = Figure(figsize=(8.0, 7.6), dpi=120, layout="constrained")
-    position, orientation, force = figure.subplots(3, 1, sharex=True)
     scale, unit = scaled_unit(max(np.abs(errors["x"]).max(), np.abs(errors["y"]).max()), "m")
     position.plot(t, errors["x"] / scale, color="tab:blue", linewidth=1.8, label="$x_{ref} - x$")
     position.plot(
@@ -103,6 +129,10 @@ def tracking_figure(
         label="$\\varphi_{ref} - \\varphi$",
     )
     orientation.set_ylabel(f"orientation error ({unit})")
+
+
+def _plot_efforts(force: Axes, t: FloatArray, table: Mapping[str, FloatArray]) -> None:
+    """The legs' actuator forces ``f10`` (the 3-PRP) or efforts ``tau`` (a family robot)."""
     family = "tau_A" in table  # a family robot's efforts (N or N·m: docs/family.md)
     for leg in LEGS:
         color, style = LEG_STYLES[leg]
@@ -115,22 +145,6 @@ def tracking_figure(
             label=f"leg {leg}  " + (f"$\\tau_{leg}$" if family else f"$f_{{10}}^{leg}$"),
         )
     force.set_ylabel("actuator effort tau (N or N·m)" if family else "actuator force (N)")
-    force.set_xlabel("time $t$ (s)")
-    force.set_xlim(float(t[0]), max(float(t[-1]), end if end is not None else float(t[-1])))
-    for axes in (position, orientation, force):
-        axes.axhline(0.0, color="0.6", linewidth=0.8, zorder=0)
-        if stop is not None:
-            axes.axvline(float(t[-1]), color="k", linestyle=":", linewidth=1.6,
-                         label=f"stop (last row, t = {float(t[-1]):.4g} s)")  # fmt: skip
-        axes.grid(True, color="0.88")
-        axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
-    if stop is not None:  # in the x label, so that the layout leaves it room
-        reason = textwrap.fill("the plant stopped early: " + stop, 80)
-        force.set_xlabel(f"time $t$ (s)\n\n{reason}", fontsize=9)
-    figure.suptitle(title, fontsize=12, fontweight="bold")
-    if subtitle:
-        position.set_title(subtitle, fontsize=10, color="0.3")
-    return figure
 
 
 def spatial_tracking_figure(

@@ -157,7 +157,7 @@ def family_figures(
 
 def _draw_design(ax: Axes, robot: FamilyRobot) -> None:
     """One design at home: ground, guides, sliders, pivots, links, platform, ``G``."""
-    from matplotlib.patches import Polygon, Rectangle
+    from matplotlib.patches import Polygon
 
     from prp3.family import leg_chain
     from prp3.family.chain import SIGMA
@@ -182,46 +182,7 @@ def _draw_design(ax: Axes, robot: FamilyRobot) -> None:
             zorder=2,
         )
         for k in range(3):
-            driven = k == act
-            edge = "black" if driven else color
-            if types[k] == "R":
-                ax.plot(
-                    *o[k],
-                    marker="o",
-                    markersize=9,
-                    markerfacecolor="white",
-                    markeredgecolor=edge,
-                    markeredgewidth=2.5 if driven else 1.5,
-                    zorder=4,
-                )
-            else:
-                stroke = float((o[k] - jo[k]) @ u[k])
-                low, high = min(stroke, 0.0) - 0.07, max(stroke, 0.0) + 0.07
-                guide = np.stack([jo[k] + low * u[k], jo[k] + high * u[k]])
-                ax.plot(
-                    *guide.T,
-                    color="0.2" if k == 0 else color,
-                    linewidth=1.2,
-                    linestyle="-" if k == 0 else "--",
-                    zorder=2,
-                )
-                if k > 0:  # the proximal link runs along its guide to the slider
-                    ax.plot(*np.stack([jo[k], o[k]]).T, color=color, linewidth=3.0, zorder=2)
-                angle = float(np.degrees(np.arctan2(u[k][1], u[k][0])))
-                w, h = 0.05, 0.025
-                corner = o[k] - (w / 2) * u[k] - (h / 2) * np.array([-u[k][1], u[k][0]])
-                ax.add_patch(
-                    Rectangle(
-                        tuple(corner),
-                        w,
-                        h,
-                        angle=angle,
-                        facecolor="white",
-                        edgecolor=edge,
-                        linewidth=2.5 if driven else 1.5,
-                        zorder=3,
-                    )
-                )
+            _draw_joint(ax, types[k], k, (o[k], jo[k], u[k]), color, driven=k == act)
         if types[0] == "R":  # a ground mark under the base pivot
             base = o[0]
             ax.add_patch(
@@ -240,6 +201,61 @@ def _draw_design(ax: Axes, robot: FamilyRobot) -> None:
     ax.set_yticks([-0.4, 0.0, 0.4])
     ax.grid(True, color="0.92")
     ax.set_title(f"{robot.architecture} (joint {robot.actuated} driven)", fontsize=11)
+
+
+def _draw_joint(
+    ax: Axes,
+    kind: str,
+    k: int,
+    frame: tuple[FloatArray, FloatArray, FloatArray],
+    color: str,
+    *,
+    driven: bool,
+) -> None:
+    """Joint ``k`` of a leg (``kind`` R or P) at its origin ``o``, joint origin ``jo`` and axis
+    ``u`` (``frame``): a pivot, or a slider on its guide; the driven one edged in black."""
+    from matplotlib.patches import Rectangle
+
+    o, jo, u = frame
+    edge = "black" if driven else color
+    if kind == "R":
+        ax.plot(
+            *o,
+            marker="o",
+            markersize=9,
+            markerfacecolor="white",
+            markeredgecolor=edge,
+            markeredgewidth=2.5 if driven else 1.5,
+            zorder=4,
+        )
+    else:
+        stroke = float((o - jo) @ u)
+        low, high = min(stroke, 0.0) - 0.07, max(stroke, 0.0) + 0.07
+        guide = np.stack([jo + low * u, jo + high * u])
+        ax.plot(
+            *guide.T,
+            color="0.2" if k == 0 else color,
+            linewidth=1.2,
+            linestyle="-" if k == 0 else "--",
+            zorder=2,
+        )
+        if k > 0:  # the proximal link runs along its guide to the slider
+            ax.plot(*np.stack([jo, o]).T, color=color, linewidth=3.0, zorder=2)
+        angle = float(np.degrees(np.arctan2(u[1], u[0])))
+        w, h = 0.05, 0.025
+        corner = o - (w / 2) * u - (h / 2) * np.array([-u[1], u[0]])
+        ax.add_patch(
+            Rectangle(
+                tuple(corner),
+                w,
+                h,
+                angle=angle,
+                facecolor="white",
+                edgecolor=edge,
+                linewidth=2.5 if driven else 1.5,
+                zorder=3,
+            )
+        )
 
 
 def designs_figure(robots: list[FamilyRobot]) -> Figure:

@@ -384,6 +384,39 @@ def spatial_pose_figure(
     return artists.figure
 
 
+def _rendered_frames(
+    artists: SpatialArtists,
+    frames: list[SpatialFrame],
+    indices: list[int],
+    trace: FloatArray,
+    progress: Callable[[int, int], None] | None,
+) -> list[Any]:
+    """The GIF's images, one per frame: the still parts rendered once, the moving artists
+    of each frame (the platform's path up to its sample) drawn over them (blitting)."""
+    from PIL import Image
+
+    figure, canvas = artists.figure, artists.canvas
+    moving = artists.moving()
+    for artist in moving:
+        artist.set_animated(True)  # left out of the background, drawn per frame
+    canvas.draw()  # the axes, panes, legend and titles: rendered once
+    background = canvas.copy_from_bbox(figure.bbox)
+    images = []
+    for done, (index, frame) in enumerate(zip(indices, frames, strict=True), start=1):
+        draw_spatial_frame(artists, frame, trace=trace[: index + 1])
+        canvas.restore_region(background)
+        for artist in moving:
+            if hasattr(artist, "do_3d_projection"):
+                artist.do_3d_projection()  # a 3-D collection projects before it draws
+            figure.draw_artist(artist)
+        rgb = np.asarray(artists.canvas.buffer_rgba())[..., :3]
+        image = Image.fromarray(np.ascontiguousarray(rgb))
+        images.append(image.quantize(colors=256, method=Image.Quantize.FASTOCTREE))
+        if progress is not None:
+            progress(done, len(frames))
+    return images
+
+
 def save_spatial_animation(
     robot: SpatialRobot,
     table: Mapping[str, NDArray[Any]],
@@ -420,7 +453,6 @@ def save_spatial_animation(
         The number of frames written.  The view limits and the arrows' scale are those of the
         whole run; the GIF loops forever.
     """
-    from PIL import Image
 
     from prp3.plotting.animation import END_HOLD_MS, frame_schedule
 
@@ -442,25 +474,7 @@ def save_spatial_animation(
         f"{END_HOLD_MS / 1000:g} s",
         dpi=dpi,
     )
-    figure, canvas = artists.figure, artists.canvas
-    moving = artists.moving()
-    for artist in moving:
-        artist.set_animated(True)  # left out of the background, drawn per frame
-    canvas.draw()  # the axes, panes, legend and titles: rendered once
-    background = canvas.copy_from_bbox(figure.bbox)
-    images = []
-    for done, (index, frame) in enumerate(zip(indices.tolist(), frames, strict=True), start=1):
-        draw_spatial_frame(artists, frame, trace=trace[: index + 1])
-        canvas.restore_region(background)
-        for artist in moving:
-            if hasattr(artist, "do_3d_projection"):
-                artist.do_3d_projection()  # a 3-D collection projects before it draws
-            figure.draw_artist(artist)
-        rgb = np.asarray(artists.canvas.buffer_rgba())[..., :3]
-        image = Image.fromarray(np.ascontiguousarray(rgb))
-        images.append(image.quantize(colors=256, method=Image.Quantize.FASTOCTREE))
-        if progress is not None:
-            progress(done, len(frames))
+    images = _rendered_frames(artists, frames, indices.tolist(), trace, progress)
     with atomic_path(path) as temporary:
         images[0].save(temporary, format="GIF", save_all=True, append_images=images[1:],
                        duration=durations, loop=0)  # fmt: skip

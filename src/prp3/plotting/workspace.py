@@ -36,6 +36,7 @@ from prp3.model.robot import Robot
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.colorbar import Colorbar
     from matplotlib.figure import Figure
 
 __all__ = ["save_statics_map", "save_workspace_map", "statics_figure", "workspace_figure"]
@@ -299,6 +300,55 @@ def _loads(robot: Robot) -> str:
     return ", ".join(parts)
 
 
+def _max_force_marks(
+    ax: Axes,
+    bar: Colorbar,
+    st: WorkspaceStatics,
+    peak: np.ma.MaskedArray,
+    span: tuple[float, float],
+    limit: float,
+) -> list[object]:
+    """``[limits] max_force`` on the statics map: a line on the colour bar, the points it
+    cannot hold hatched, its contour; return their legend handles."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    low, high = span
+    marks: list[object] = []
+    if low <= limit <= high:
+        bar.ax.axhline(limit, color="tab:red", lw=1.5)
+    over = st.reachable & (st.peak > limit)
+    if over.any():
+        ax.contourf(
+            st.x,
+            st.y,
+            over.astype(float),
+            levels=[0.5, 1.5],
+            colors="none",
+            hatches=["//"],
+        )
+        marks.append(
+            Patch(
+                facecolor="none",
+                edgecolor="black",
+                hatch="//",
+                label=f"max |f10| > max_force = {limit:g} N: cannot hold",
+            )
+        )
+    if low < limit < high:
+        ax.contour(st.x, st.y, peak, levels=[limit], colors="tab:red", linewidths=1.5)
+        marks.append(
+            Line2D(
+                [],
+                [],
+                color="tab:red",
+                lw=1.5,
+                label=f"max |f10| = max_force = {limit:g} N",
+            )
+        )
+    return marks
+
+
 def statics_figure(robot: Robot, statics: WorkspaceStatics) -> Figure:
     """The statics map: ``max_i |f10_i|`` at rest over the reachable grid points.
 
@@ -337,37 +387,7 @@ def statics_figure(robot: Robot, statics: WorkspaceStatics) -> Figure:
             Patch(facecolor=cm_viridis(), edgecolor="none", label="reachable: colour = max |f10|")
         )
         if limit is not None:
-            if low <= limit <= high:
-                bar.ax.axhline(limit, color="tab:red", lw=1.5)
-            over = st.reachable & (st.peak > limit)
-            if over.any():
-                ax.contourf(
-                    st.x,
-                    st.y,
-                    over.astype(float),
-                    levels=[0.5, 1.5],
-                    colors="none",
-                    hatches=["//"],
-                )
-                handles.append(
-                    Patch(
-                        facecolor="none",
-                        edgecolor="black",
-                        hatch="//",
-                        label=f"max |f10| > max_force = {limit:g} N: cannot hold",
-                    )
-                )
-            if low < limit < high:
-                ax.contour(st.x, st.y, peak, levels=[limit], colors="tab:red", linewidths=1.5)
-                handles.append(
-                    Line2D(
-                        [],
-                        [],
-                        color="tab:red",
-                        lw=1.5,
-                        label=f"max |f10| = max_force = {limit:g} N",
-                    )
-                )
+            handles += _max_force_marks(ax, bar, st, peak, (low, high), limit)
     if not st.reachable.all():
         handles.append(
             Patch(facecolor=cm_grey(), edgecolor="none", label="unreachable grid points")

@@ -490,36 +490,7 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
     index = list(robot.parasitic_index)
     if not index:
         return motion
-    position, rotation = motion.position.copy(), motion.rotation.copy()
-    axes = np.eye(3)
-
-    def moved(steps: FloatArray) -> tuple[FloatArray, FloatArray]:
-        p, r = position.copy(), rotation
-        for j, c in enumerate(index):
-            if c < 3:  # a turn about the world axis c
-                r = exp_rotation(steps[:, j, None] * axes[c]) @ r
-            else:
-                p[:, c - 3] += steps[:, j]
-        return p, r
-
-    h = 1e-6
-    zero = np.zeros((len(motion), len(index)))
-    polished = False  # one more step once within tolerance takes the residual to round-off
-    for _ in range(30):
-        off = plane_offsets(robot, position, rotation)
-        if np.abs(off).max() <= 1e-3 * PLANE_TOLERANCE * robot.scale:
-            if polished:
-                break
-            polished = True
-        columns = []
-        for j, c in enumerate(index):
-            step = zero.copy()
-            step[:, j] = h * (1.0 if c < 3 else robot.scale)
-            plus = plane_offsets(robot, *moved(step))
-            minus = plane_offsets(robot, *moved(np.asarray(-step, dtype=np.float64)))
-            columns.append((plus - minus) / (2.0 * step[:, j, None]))
-        newton = _newton_step(np.stack(columns, axis=-1), off, position)
-        position, rotation = moved(newton)
+    position, rotation = _parasitic_pose(robot, motion, index)
     # the twist: C·ξ = 0 for the parasitic components
     staged = PlatformMotion(motion.t, position, rotation, motion.omega, motion.velocity,
                             motion.alpha, motion.acceleration)  # fmt: skip
@@ -560,6 +531,56 @@ def complete_motion(robot: SpatialRobot, motion: PlatformMotion) -> PlatformMoti
     return PlatformMotion.of(
         motion.t, position, rotation, twist[:, :3], twist[:, 3:], acc[:, :3], acc[:, 3:]
     )
+
+
+def parasitic_moved(
+    index: list[int], position: FloatArray, rotation: FloatArray, steps: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """The poses ``position`` (n, 3), ``rotation`` (n, 3, 3) moved by ``steps`` (n, k) along
+    the parasitic coordinates ``index`` (k): ``c < 3`` a turn about the world axis ``c``
+    (applied on the left, in order), else a shift of the position's ``c − 3``; new arrays."""
+    p, r = position.copy(), rotation
+    for j, c in enumerate(index):
+        if c < 3:  # a turn about the world axis c
+            r = exp_rotation(steps[:, j, None] * _AXES[c]) @ r
+        else:
+            p[:, c - 3] += steps[:, j]
+    return p, r
+
+
+_AXES = np.eye(3)
+
+
+def _parasitic_pose(
+    robot: SpatialRobot, motion: PlatformMotion, index: list[int]
+) -> tuple[FloatArray, FloatArray]:
+    """The positions ``(N, 3)`` and rotations ``(N, 3, 3)`` of ``motion`` with the parasitic
+    coordinates ``index`` solved by Newton's method on the legs' closure residuals
+    (:func:`complete_motion`; the Jacobian by central differences)."""
+    position, rotation = motion.position.copy(), motion.rotation.copy()
+
+    def moved(steps: FloatArray) -> tuple[FloatArray, FloatArray]:
+        return parasitic_moved(index, position, rotation, steps)
+
+    h = 1e-6
+    zero = np.zeros((len(motion), len(index)))
+    polished = False  # one more step once within tolerance takes the residual to round-off
+    for _ in range(30):
+        off = plane_offsets(robot, position, rotation)
+        if np.abs(off).max() <= 1e-3 * PLANE_TOLERANCE * robot.scale:
+            if polished:
+                break
+            polished = True
+        columns = []
+        for j, c in enumerate(index):
+            step = zero.copy()
+            step[:, j] = h * (1.0 if c < 3 else robot.scale)
+            plus = plane_offsets(robot, *moved(step))
+            minus = plane_offsets(robot, *moved(np.asarray(-step, dtype=np.float64)))
+            columns.append((plus - minus) / (2.0 * step[:, j, None]))
+        newton = _newton_step(np.stack(columns, axis=-1), off, position)
+        position, rotation = moved(newton)
+    return position, rotation
 
 
 @dataclass(frozen=True)

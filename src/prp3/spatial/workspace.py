@@ -38,10 +38,10 @@ from prp3.spatial.geometry import (
     placements,
     plane_offsets,
 )
-from prp3.spatial.kinematics import SINGULAR, frame_measures
+from prp3.spatial.kinematics import SINGULAR, frame_measures, parasitic_moved
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
-from prp3.spatial.rotations import exp_rotation, matrix_rpy, rpy_matrix
+from prp3.spatial.rotations import matrix_rpy, rpy_matrix
 from prp3.validation import check_choice, check_instance, check_integer, check_real, check_scalar
 
 __all__ = [
@@ -254,16 +254,9 @@ def _complete(
         off = plane_offsets(robot, position, rotation)
     if not index:
         return position, rotation, np.abs(off)
-    axes = np.eye(3)
 
     def moved(p: FloatArray, r: FloatArray, steps: FloatArray) -> tuple[FloatArray, FloatArray]:
-        p = p.copy()
-        for j, c in enumerate(index):
-            if c < 3:  # a turn about the world axis c
-                r = exp_rotation(steps[:, j, None] * axes[c]) @ r
-            else:
-                p[:, c - 3] += steps[:, j]
-        return p, r
+        return parasitic_moved(index, p, r, steps)
 
     h = 1e-6
     n, k = position.shape[0], len(index)
