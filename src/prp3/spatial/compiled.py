@@ -839,14 +839,16 @@ def _s_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray
             factor *= scale
         for r in range(3):
             normal[i, r, c] = jac[r, c]
-    return det * factor
+    return float(det * factor)
 
 
 @_jit
 def _s_rates(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None:
     """``J⁻¹·t`` for a leg closed by S (:func:`_s_closed`): ``B⁻¹·t_v``, then ``t_ω − A·(…)``."""
     for r in range(3):
-        out[r] = normal[i, 3 + r, 0] * t[3] + normal[i, 3 + r, 1] * t[4] + normal[i, 3 + r, 2] * t[5]
+        out[r] = (
+            normal[i, 3 + r, 0] * t[3] + normal[i, 3 + r, 1] * t[4] + normal[i, 3 + r, 2] * t[5]
+        )
     for r in range(3):
         out[3 + r] = t[r] - (normal[i, r, 0] * out[0] + normal[i, r, 1] * out[1]
                              + normal[i, r, 2] * out[2])  # fmt: skip
