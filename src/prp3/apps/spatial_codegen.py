@@ -175,6 +175,8 @@ def _prelude(robot: SpatialRobot) -> list[str]:
     return [
         f"#define PRP3_PATTERN {_PATTERNS[leg.pattern]} /* 0 UPS, 1 RPS, 2 RUU */",
         f"#define PRP3_ACTUATED {leg.actuated_coordinate} /* the actuated coordinate */",
+        f"#define PRP3_S_CLOSED {int(leg.dof == 6 and leg.joints[-1].kind == 'S')}"
+        " /* 1: legs of 6 coordinates closed by an S joint, J = [[A, 1], [B, 0]] */",
         f"static const int KIND[3] = {{{kinds}}}; /* the joints: 0 R, 1 P, 2 U, 3 S */",
         f"static const double PRP3_SINGULARITY_THRESHOLD = {_number(SINGULAR)};",
         f"static const double PRP3_COMPATIBILITY = {_number(COMPATIBILITY)};",
@@ -736,11 +738,49 @@ static int compatible(const double nw[6], const double target[6], const double r
     return fabs(off) <= PRP3_COMPATIBILITY * fmax(size, 2.2250738585072014e-308);
 }
 
+/* a leg closed by an S joint: J = [[A, 1], [B, 0]] (the S's columns are the identity in
+   omega and zero in v), det J = -det B; keeps A in fac[0..2][0..2], B^-1 (adjugate over
+   determinant) in fac[3..5][0..2] and returns det J */
+static double s_closed(double jac[6][6], double fac[6][6])
+{
+    double det, inv;
+    int r, c;
+    for (r = 0; r < 3; ++r) {
+        for (c = 0; c < 3; ++c) {
+            fac[r][c] = jac[r][c];
+        }
+    }
+    fac[3][0] = jac[4][1] * jac[5][2] - jac[4][2] * jac[5][1];
+    fac[4][0] = jac[4][2] * jac[5][0] - jac[4][0] * jac[5][2];
+    fac[5][0] = jac[4][0] * jac[5][1] - jac[4][1] * jac[5][0];
+    det = jac[3][0] * fac[3][0] + jac[3][1] * fac[4][0] + jac[3][2] * fac[5][0];
+    inv = 1.0 / det;
+    fac[3][0] *= inv;
+    fac[4][0] *= inv;
+    fac[5][0] *= inv;
+    fac[3][1] = (jac[3][2] * jac[5][1] - jac[3][1] * jac[5][2]) * inv;
+    fac[4][1] = (jac[3][0] * jac[5][2] - jac[3][2] * jac[5][0]) * inv;
+    fac[5][1] = (jac[3][1] * jac[5][0] - jac[3][0] * jac[5][1]) * inv;
+    fac[3][2] = (jac[3][1] * jac[4][2] - jac[3][2] * jac[4][1]) * inv;
+    fac[4][2] = (jac[3][2] * jac[4][0] - jac[3][0] * jac[4][2]) * inv;
+    fac[5][2] = (jac[3][0] * jac[4][1] - jac[3][1] * jac[4][0]) * inv;
+    return -det;
+}
+
 /* J^-1 t (6 coordinates) or (J^T J)^-1 J^T t (5) with the leg's factors */
 static void solve_rates(double fac[6][6], double jac[6][6], const int piv[6], const double t[6],
                         double out[6])
 {
     int r, c;
+    if (PRP3_S_CLOSED) { /* B^-1 t_v, then t_omega - A (...) */
+        for (r = 0; r < 3; ++r) {
+            out[r] = fac[3 + r][0] * t[3] + fac[3 + r][1] * t[4] + fac[3 + r][2] * t[5];
+        }
+        for (r = 0; r < 3; ++r) {
+            out[3 + r] = t[r] - (fac[r][0] * out[0] + fac[r][1] * out[1] + fac[r][2] * out[2]);
+        }
+        return;
+    }
     if (PRP3_DOF == 6) {
         for (r = 0; r < 6; ++r) {
             out[r] = t[r];
@@ -763,6 +803,16 @@ static void transpose_solve(double fac[6][6], double jac[6][6], const int piv[6]
 {
     double work[6];
     int r, c;
+    if (PRP3_S_CLOSED) { /* M = y_S, F = B^-T (y_a - A^T y_S) */
+        for (c = 0; c < 3; ++c) {
+            work[c] = y[c] - (fac[0][c] * y[3] + fac[1][c] * y[4] + fac[2][c] * y[5]);
+        }
+        for (r = 0; r < 3; ++r) {
+            out[r] = y[3 + r];
+            out[3 + r] = fac[3][r] * work[0] + fac[4][r] * work[1] + fac[5][r] * work[2];
+        }
+        return;
+    }
     for (c = 0; c < PRP3_DOF; ++c) {
         work[c] = y[c];
     }
@@ -971,7 +1021,7 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
         if (PRP3_DOF == 5) {
             measures[i] = leg_measure(i, s);
         }
-        for (r = 0; r < PRP3_DOF; ++r) {
+        for (r = 0; r < PRP3_DOF && !PRP3_S_CLOSED; ++r) {
             for (c = 0; c < PRP3_DOF; ++c) {
                 if (PRP3_DOF == 6) {
                     s->normal[i][r][c] = s->jacs[i][r][c];
@@ -984,7 +1034,8 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
                 }
             }
         }
-        det = lu(s->normal[i], PRP3_DOF, s->pivs[i]);
+        det = PRP3_S_CLOSED ? s_closed(s->jacs[i], s->normal[i])
+                            : lu(s->normal[i], PRP3_DOF, s->pivs[i]);
         if (PRP3_DOF == 6) { /* the scaled Jacobian's determinant: rows of v / l, slides * l */
             double factor = 1.0 / (scale * scale * scale);
             for (c = 0; c < 6; ++c) {

@@ -107,7 +107,10 @@ PARSIGN = LEGSIGN + _L
 PLANE = PARSIGN + 1  # the closure tolerance PLANE_TOLERANCE·ℓ
 SIZE = PLANE + 1
 # the integers: pattern (0 UPS, 1 RPS, 2 RUU), legs, dof, actuated coordinate, joint kinds
-# (0 R, 1 P, 2 U, 3 S)
+# (0 R, 1 P, 2 U, 3 S), then 1 for legs of 6 coordinates closed by an S joint (the fast path)
+#: The index in the packed integers of the flag of legs closed by an S joint (6-UPS, 3-RPS):
+#: 1 takes the block solves of :func:`_s_closed`, 0 the generic 6 × 6 LU (the reference).
+S_CLOSED: int = 4 + 3
 _PATTERNS = {"UPS": 0, "RPS": 1, "RUU": 2}
 _KINDS = {"R": 0, "P": 1, "U": 2, "S": 3}
 _DOF = (1, 1, 2, 3)
@@ -123,13 +126,14 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
     legs = robot.legs
     if len(legs) > _L or len(legs[0].joints) != _J:  # pragma: no cover - the patterns have 3
         raise Prp3Error(f"the compiled kernel takes up to {_L} legs of {_J} joints")
-    ints = np.zeros(4 + _J, dtype=np.int64)
+    ints = np.zeros(5 + _J, dtype=np.int64)
     ints[0] = _PATTERNS[legs[0].pattern]
     ints[1] = len(legs)
     ints[2] = legs[0].dof
     ints[3] = legs[0].actuated_coordinate
     for k, joint in enumerate(legs[0].joints):
         ints[4 + k] = _KINDS[joint.kind]
+    ints[S_CLOSED] = int(legs[0].dof == 6 and legs[0].joints[-1].kind == "S")
     par = np.zeros(SIZE)
     for i, leg in enumerate(legs):
         for k, joint in enumerate(leg.joints):
@@ -492,6 +496,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     """One state: ``q, dq, ddq (legs, dof)``, ``tau (legs,)``, ``force, moment (legs, 3, 3)``,
     ``measures (legs + 1,)`` (``μ_leg``, then ``μ_par``); returns the status."""
     legs, dof, act = ints[1], ints[2], ints[3]
+    fast = ints[S_CLOSED] == 1
     for r in range(3):
         if not (math.isfinite(p[r]) and math.isfinite(w[r]) and math.isfinite(v[r])
                 and math.isfinite(al[r]) and math.isfinite(a[r])):  # fmt: skip
@@ -590,7 +595,13 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                 if kinds[c] == 1:
                     value *= scale
                 fac[r, c] = value
-        if dof == 6:
+        if fast:  # J = [[A, 1], [B, 0]]: B⁻¹ and A kept, x_i = J⁻ᵀ·e_a by blocks
+            measures[i] = _s_closed(jac, kinds, scale, normal, i)
+            for r in range(6):
+                y6[r] = 0.0
+            y6[act] = 1.0
+            xw[i, 0], xw[i, 1], xw[i, 2], xw[i, 3], xw[i, 4], xw[i, 5] = _s_transpose(normal, i, y6)
+        elif dof == 6:
             for r in range(6):
                 for c in range(6):
                     big[r, c] = fac[r, c]
@@ -612,7 +623,9 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                 total += value * value
             measures[i] = math.sqrt(total)
         # factors: J (dof 6) for J·dq = t and Jᵀ·x = e; JᵀJ (dof 5)
-        if dof == 6:
+        if fast:
+            pass
+        elif dof == 6:
             for r in range(6):
                 for c in range(6):
                     normal[i, r, c] = jac[r, c]
@@ -623,9 +636,10 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                     for k in range(6):
                         s += jac[k, r] * jac[k, c]
                     normal[i, r, c] = s
-        _lu(normal[i], dof, pivs[i])
-        # x_i: Jᵀ x = e_a (dof 6: solve with the transposed factors), J (JᵀJ)⁻¹ e_a (dof 5)
-        _transpose_solve(normal[i], jacs[i], pivs[i], dof, act, b, xw[i], y6)
+        if not fast:
+            _lu(normal[i], dof, pivs[i])
+            # x_i: Jᵀ x = e_a (dof 6: solve with the transposed factors), J (JᵀJ)⁻¹ e_a (dof 5)
+            _transpose_solve(normal[i], jacs[i], pivs[i], dof, act, b, xw[i], y6)
         kmat[i, 0] = xw[i, 0] + r1 * xw[i, 5] - r2 * xw[i, 4]
         kmat[i, 1] = xw[i, 1] + r2 * xw[i, 3] - r0 * xw[i, 5]
         kmat[i, 2] = xw[i, 2] + r0 * xw[i, 4] - r1 * xw[i, 3]
@@ -664,7 +678,10 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         st[3], st[4], st[5] = v[0] + c0, v[1] + c1, v[2] + c2
         if dof == 5 and not _compatible(nw[i], st, st, scale):
             return _INCOMPATIBLE
-        _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
+        if fast:
+            _s_rates(normal, i, st, b)
+        else:
+            _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
         for c in range(dof):
             dq[i, c] = b[c]
             ddq[i, c] = 0.0
@@ -680,7 +697,10 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         st[5] = a[2] + g2 + d2 - ref[5]
         if dof == 5 and not _compatible(nw[i], st, ref, scale):
             return _INCOMPATIBLE
-        _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
+        if fast:
+            _s_rates(normal, i, st, b)
+        else:
+            _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
         for c in range(dof):
             ddq[i, c] = b[c]
         _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)
@@ -723,7 +743,10 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                 y0[c] = (
                     axes[i, c, 0] * mk[o, 0] + axes[i, c, 1] * mk[o, 1] + axes[i, c, 2] * mk[o, 2]
                 )
-        _transpose_solve_vector(normal[i], jacs[i], pivs[i], dof, y0, b, z)
+        if fast:
+            z[0], z[1], z[2], z[3], z[4], z[5] = _s_transpose(normal, i, y0)
+        else:
+            _transpose_solve_vector(normal[i], jacs[i], pivs[i], dof, y0, b, z)
         r0, r1, r2 = ends[i, 0] - p[0], ends[i, 1] - p[1], ends[i, 2] - p[2]
         c0, c1, c2 = _cross(r0, r1, r2, z[3], z[4], z[5])
         rhs[0] += z[0] + c0
@@ -787,6 +810,61 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                 if not (math.isfinite(force[i, k, r]) and math.isfinite(moment[i, k, r])):
                     return _OVERFLOW
     return _OK
+
+
+@_jit
+def _s_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray, i: int) -> float:
+    """A leg of 6 coordinates closed by an S joint: its Jacobian is ``[[A, 1], [B, 0]]``
+    (the S's columns are the identity in ω and zero in v, the S's centre being the leg's
+    end), so ``det J = −det B`` and ``J⁻¹`` needs ``B⁻¹`` only.  Keeps ``A`` in
+    ``normal[i, :3, :3]`` and ``B⁻¹`` (adjugate over determinant) in ``normal[i, 3:, :3]``;
+    returns the leg measure, the determinant of the scaled ``J`` (rows of ``v`` over ℓ,
+    slide columns times ℓ) as the generic path's LU gives it."""
+    b00, b01, b02 = jac[3, 0], jac[3, 1], jac[3, 2]
+    b10, b11, b12 = jac[4, 0], jac[4, 1], jac[4, 2]
+    b20, b21, b22 = jac[5, 0], jac[5, 1], jac[5, 2]
+    c00, c01, c02 = b11 * b22 - b12 * b21, b12 * b20 - b10 * b22, b10 * b21 - b11 * b20
+    det = b00 * c00 + b01 * c01 + b02 * c02
+    inv = 1.0 / det
+    normal[i, 3, 0], normal[i, 4, 0], normal[i, 5, 0] = c00 * inv, c01 * inv, c02 * inv
+    normal[i, 3, 1] = (b02 * b21 - b01 * b22) * inv
+    normal[i, 4, 1] = (b00 * b22 - b02 * b20) * inv
+    normal[i, 5, 1] = (b01 * b20 - b00 * b21) * inv
+    normal[i, 3, 2] = (b01 * b12 - b02 * b11) * inv
+    normal[i, 4, 2] = (b02 * b10 - b00 * b12) * inv
+    normal[i, 5, 2] = (b00 * b11 - b01 * b10) * inv
+    factor = -1.0 / (scale * scale * scale)
+    for c in range(3):
+        if kinds[c] == 1:
+            factor *= scale
+        for r in range(3):
+            normal[i, r, c] = jac[r, c]
+    return float(det * factor)
+
+
+@_jit
+def _s_rates(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None:
+    """``J⁻¹·t`` for a leg closed by S (:func:`_s_closed`): ``B⁻¹·t_v``, then ``t_ω − A·(…)``."""
+    for r in range(3):
+        out[r] = (
+            normal[i, 3 + r, 0] * t[3] + normal[i, 3 + r, 1] * t[4] + normal[i, 3 + r, 2] * t[5]
+        )
+    for r in range(3):
+        out[3 + r] = t[r] - (normal[i, r, 0] * out[0] + normal[i, r, 1] * out[1]
+                             + normal[i, r, 2] * out[2])  # fmt: skip
+
+
+@_jit
+def _s_transpose(normal: FloatArray, i: int, y: FloatArray
+                 ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
+    """``J⁻ᵀ·y`` for a leg closed by S as ``(M, F)``: ``M = y_S``, ``F = B⁻ᵀ(y_a − Aᵀ·y_S)``."""
+    u0 = y[0] - (normal[i, 0, 0] * y[3] + normal[i, 1, 0] * y[4] + normal[i, 2, 0] * y[5])
+    u1 = y[1] - (normal[i, 0, 1] * y[3] + normal[i, 1, 1] * y[4] + normal[i, 2, 1] * y[5])
+    u2 = y[2] - (normal[i, 0, 2] * y[3] + normal[i, 1, 2] * y[4] + normal[i, 2, 2] * y[5])
+    return (y[3], y[4], y[5],
+            normal[i, 3, 0] * u0 + normal[i, 4, 0] * u1 + normal[i, 5, 0] * u2,
+            normal[i, 3, 1] * u0 + normal[i, 4, 1] * u1 + normal[i, 5, 1] * u2,
+            normal[i, 3, 2] * u0 + normal[i, 4, 2] * u1 + normal[i, 5, 2] * u2)  # fmt: skip
 
 
 @_jit

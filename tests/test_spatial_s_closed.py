@@ -1,0 +1,93 @@
+"""The fast path of legs closed by an S joint (docs/spatial.md §19, §24).
+
+For the 6-UPS hexapod the compiled kernel solves each leg's Jacobian
+``J = [[A, 1], [B, 0]]`` by its blocks (``B⁻¹``, ``det J = −det B``) instead of the
+generic ``6 × 6`` LU.  Held here against the generic path of the same kernel (the flag
+``S_CLOSED`` of the packed integers set to 0) to 1e-12 relative in every output and
+status, on random designs and states (hypothesis), also far from home where the poses
+are refused; and against the numpy kinematics for ``det J``'s sign.  The 3-RPS (legs
+of 5 coordinates) and the 3-RUU keep the generic path.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
+import prp3
+from prp3.spatial.compiled import S_CLOSED
+from prp3.spatial.model import SpatialRobot
+from spatial_strategies import hexapods
+from test_spatial_compiled import states
+
+TOLERANCE = 1e-12
+NAMES = ("q", "dq", "ddq", "tau", "power", "force", "moment", "leg_measure", "parallel_measure")
+
+
+def _both(robot: SpatialRobot, arrays: list[np.ndarray]) -> tuple[prp3.SpatialSamples, ...]:
+    fast = prp3.compile_spatial(robot)
+    generic = prp3.compile_spatial(robot)
+    generic.ints = generic.ints.copy()
+    generic.ints[S_CLOSED] = 0
+    with np.errstate(all="ignore"):  # raw's power of a refused sample's unset outputs
+        return fast.raw(*arrays, threads=False), generic.raw(*arrays, threads=False)
+
+
+def _agree(fast: prp3.SpatialSamples, generic: prp3.SpatialSamples) -> None:
+    assert np.array_equal(fast.status, generic.status)
+    ok = generic.status == 0
+    for name in NAMES:
+        a, b = getattr(fast, name)[ok], getattr(generic, name)[ok]
+        if not b.size:
+            continue
+        scale = max(float(np.abs(b).max()), 1e-300)
+        assert float(np.abs(a - b).max()) <= TOLERANCE * scale, name
+
+
+def _arrays(motion: prp3.PlatformMotion) -> list[np.ndarray]:
+    return [np.ascontiguousarray(x) for x in (motion.position, motion.rotation, motion.omega,
+            motion.velocity, motion.alpha, motion.acceleration)]  # fmt: skip
+
+
+def test_the_flag_is_set_for_the_hexapod_only() -> None:
+    assert prp3.compile_spatial(prp3.hexapod()).ints[S_CLOSED] == 1
+    for make in (prp3.three_rps, prp3.delta):
+        assert prp3.compile_spatial(make()).ints[S_CLOSED] == 0
+    assert "#define PRP3_S_CLOSED 1" in prp3.spatial_c_inverse_dynamics(prp3.hexapod()).source
+    for make in (prp3.three_rps, prp3.delta):
+        assert "#define PRP3_S_CLOSED 0" in prp3.spatial_c_inverse_dynamics(make()).source
+
+
+@settings(max_examples=30, deadline=None)
+@given(hexapods(), st.data())
+def test_the_fast_path_equals_the_generic_kernel(robot: SpatialRobot, data: st.DataObject) -> None:
+    motion = data.draw(states(robot, 8))
+    fast, generic = _both(robot, _arrays(motion))
+    _agree(fast, generic)
+    kin = prp3.spatial_kinematics(robot, motion) if not generic.status.any() else None
+    if kin is not None:  # the measure's sign and size: the numpy route's det J
+        assert np.allclose(fast.leg_measure, kin.leg_measure, rtol=1e-10, atol=0.0)
+
+
+@settings(max_examples=15, deadline=None)
+@given(hexapods(), st.integers(0, 2**32 - 1))
+def test_refusals_far_from_home_are_the_generic_kernels(robot: SpatialRobot, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    n = 400
+    position = np.array(robot.home_position) + rng.normal(0.0, 0.15 * robot.scale, (n, 3))
+    rotation = Rotation.from_rotvec(rng.normal(0.0, 0.25, (n, 3))).as_matrix()
+    rates = [rng.normal(0.0, 1.0, (n, 3)) for _ in range(4)]
+    fast, generic = _both(robot, [np.ascontiguousarray(x) for x in (position, rotation, *rates)])
+    _agree(fast, generic)
+
+
+def test_the_generic_path_still_runs_for_the_3ruu_and_the_3rps() -> None:
+    for make, name in ((prp3.delta, "circle"), (prp3.three_rps, "tilt")):
+        robot = make()
+        motion = prp3.complete_motion(robot, prp3.spatial_motion(robot, name, 21))
+        out = prp3.compile_spatial(robot).solve_batch(motion)
+        kin = prp3.spatial_kinematics(robot, motion)
+        assert not out.status.any()
+        assert np.allclose(out.dq, kin.dq, rtol=1e-10, atol=1e-12 * np.abs(kin.dq).max())
