@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import re
 import shutil
 import subprocess
@@ -24,10 +23,10 @@ import pytest
 
 import prp3
 from clitools import cli
-from read_only import NAMESPACES, run_read_only
 from prp3.apps.runs import simulate_table
 from prp3.cli import main
 from prp3.staged_files import MANIFEST_NAME
+from read_only import NAMESPACES, run_read_only
 
 #: The contract's columns (docs/model.md), written out here rather than imported.
 PER_LEG = (

@@ -21,11 +21,11 @@ import pytest
 
 import prp3
 from clitools import cli, listing, one_line
-from read_only import NAMESPACES, run_read_only
 from prp3.apps.spatial_mjcf import MAX_MJCF_BYTES
 from prp3.errors import InputFileError, ParameterError
 from prp3.spatial.forward import MAX_ACCELERATION, hold_efforts, spatial_forward_dynamics
 from prp3.spatial.model import delta, hexapod, three_rps
+from read_only import NAMESPACES, run_read_only
 
 ROBOTS = {"6-UPS": hexapod, "3-RPS": three_rps, "3-RUU": delta}
 
