@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import re
 import shutil
 import subprocess
@@ -27,6 +26,7 @@ from clitools import cli
 from prp3.apps.runs import simulate_table
 from prp3.cli import main
 from prp3.staged_files import MANIFEST_NAME
+from read_only import NAMESPACES, run_read_only
 
 #: The contract's columns (docs/model.md), written out here rather than imported.
 PER_LEG = (
@@ -437,18 +437,12 @@ def test_unwritable_output_directory(tmp_path, capsys):
     assert blocker.read_text() == ""
 
 
-@pytest.mark.skipif(
-    not hasattr(os, "geteuid") or os.geteuid() == 0, reason="root can write anywhere"
-)
-def test_read_only_output_directory(tmp_path, capsys):
+@NAMESPACES
+def test_read_only_output_directory(tmp_path):
     locked = tmp_path / "locked"
     locked.mkdir()
-    locked.chmod(0o555)
-    try:
-        status, _, err = cli(capsys, "simulate", "--motion", "vertical", "-o", locked / "out")
-        assert_refused(status, err, locked / "out", "locked", "not writable")
-    finally:
-        locked.chmod(0o755)
+    status, err = run_read_only(locked, "simulate", "--motion", "vertical", "-o", locked / "out")
+    assert_refused(status, err, locked / "out", "locked", "not writable")
 
 
 @pytest.mark.parametrize(

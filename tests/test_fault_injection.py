@@ -24,7 +24,11 @@ The tests skip, with one line, where user namespaces are not allowed.
 
 from __future__ import annotations
 
+import contextlib
+import csv
+import functools
 import hashlib
+import io
 import json
 import os
 import random
@@ -32,6 +36,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -78,8 +83,80 @@ popsize = 2
 """
 
 
+SPATIAL_SWEEP_SPEC = """spatial = "6-UPS"
+designs = 3
+sampling = "grid"
+[parameters]
+"platform.mass" = [2.0, 4.0]
+[task]
+motions = ["heave"]
+samples = 21
+"""
+FAMILY_SWEEP_SPEC = """designs = 3
+sampling = "grid"
+[task]
+motions = ["vertical"]
+samples = 21
+[[study]]
+architecture = "3-RRR"
+[study.parameters]
+"link2.mass" = [0.5, 1.0]
+"""
+
+
+def _columns(table: Path, names: list[str]) -> list[list[str]]:
+    with table.open(newline="") as handle:
+        return [[row[name] for name in names] for row in csv.DictReader(handle)]
+
+
+@functools.cache
+def _measurements() -> dict[str, str]:
+    """Measurement tables a family and a spatial ``prp3 identify`` accept, made once.
+
+    Each is an exciting trajectory of ``prp3 excite`` whose efforts come from
+    ``prp3 simulate`` on it (the identification's own correctness is tested in
+    tests/test_family_identify*.py and tests/test_spatial_identify*.py).
+    """
+    from prp3.cli import main
+
+    made: dict[str, str] = {}
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = Path(scratch)
+        (folder / "rrr.toml").write_text(FAMILY_ROBOT)
+        (folder / "hexapod.toml").write_text(SPATIAL_ROBOT)
+        for robot, samples, efforts in (
+            ("rrr.toml", "101", ["tau_A", "tau_B", "tau_C"]),
+            ("hexapod.toml", "201", [f"tau_{i}" for i in range(1, 7)]),
+        ):
+            ex, sim = folder / f"ex-{robot}", folder / f"sim-{robot}"
+            with contextlib.redirect_stdout(io.StringIO()):
+                assert main(["excite", "--robot", str(folder / robot), "--samples", samples,
+                             "--iterations", "2", "--output", str(ex)]) == 0  # fmt: skip
+                assert main(["simulate", "--robot", str(folder / robot), "--trajectory",
+                             str(ex / "trajectory.csv"), "--output", str(sim)]) == 0  # fmt: skip
+            with (ex / "trajectory.csv").open() as handle:
+                pose = [name for name in handle.readline().strip().split(",")
+                        if robot == "hexapod.toml" or name in ("t", "x", "y", "phi")]  # fmt: skip
+            rows = [a + b for a, b in zip(_columns(ex / "trajectory.csv", pose),
+                                          _columns(sim / "results.csv", efforts), strict=True)]  # fmt: skip
+            made[robot] = "\n".join(",".join(row) for row in [pose + efforts, *rows]) + "\n"
+        with contextlib.redirect_stdout(io.StringIO()):  # a motion prp3 forward follows
+            assert main(["simulate", "--robot", str(folder / "rrr.toml"), "--motion", "vertical",
+                         "--samples", "101", "--output", str(folder / "vertical")]) == 0  # fmt: skip
+        made["forces"] = (folder / "vertical" / "results.csv").read_text()
+    return made
+
+
 def _inputs(folder: Path) -> None:
     """The input files the commands read, in ``folder`` (outside the faulty volume)."""
+    (folder / "rps.toml").write_text('architecture = "3-RPS"\n')
+    (folder / "delta.toml").write_text('architecture = "3-RUU"\n')
+    (folder / "spatial-sweep.toml").write_text(SPATIAL_SWEEP_SPEC)
+    (folder / "family-sweep.toml").write_text(FAMILY_SWEEP_SPEC)
+    measured = _measurements()
+    (folder / "fm.csv").write_text(measured["rrr.toml"])
+    (folder / "sm.csv").write_text(measured["hexapod.toml"])
+    (folder / "family-forces.csv").write_text(measured["forces"])
     shutil.copy(EXAMPLES / "robot.toml", folder / "robot.toml")
     shutil.copy(EXAMPLES / "forces.csv", folder / "forces.csv")
     (folder / "rrr.toml").write_text(FAMILY_ROBOT)
@@ -116,6 +193,27 @@ COMMANDS: dict[str, str] = {
     "export-urdf-spatial": "export urdf --robot hexapod.toml --output {out}.urdf",
     "sweep": "sweep --spec sweep.toml --workers 1 --output {out}",
     "explore-export": "explore --export {out}.html",
+    # the family and spatial forms of every writing command (issue 33)
+    "workspace-family": "workspace --robot rrr.toml --points 9 --orientations 5 --output {out}",
+    "workspace-spatial": "workspace --robot hexapod.toml --output {out}",
+    "workspace-3-RPS": "workspace --robot rps.toml --output {out}",
+    "forward-family": "forward --robot rrr.toml --forces family-forces.csv --samples 20 --output {out}",
+    "forward-3-RPS": "forward --robot rps.toml --efforts hold --duration 0.05 --output {out}",
+    "forward-Delta": "forward --robot delta.toml --efforts hold --duration 0.05 --output {out}",
+    "control-family": "control --robot rrr.toml --motion vertical --plant prp3 --controller pd --rate 200 --output {out}",
+    "control-spatial": "control --robot hexapod.toml --motion heave --plant prp3 --controller computed-torque --rate 100 --duration 0.2 --output {out}",
+    "excite-family": "excite --robot rrr.toml --samples 101 --iterations 2 --output {out}",
+    "excite-spatial": "excite --robot hexapod.toml --samples 201 --iterations 2 --output {out}",
+    "identify-family": "identify --robot rrr.toml --measurements fm.csv --output {out}",
+    "identify-spatial": "identify --robot hexapod.toml --measurements sm.csv --output {out}",
+    "export-c-family": "export c --robot rrr.toml --output {out}",
+    "export-c-spatial": "export c --robot hexapod.toml --output {out}",
+    "export-mjcf-family": "export mjcf --robot rrr.toml --output {out}.xml",
+    "export-mjcf-spatial": "export mjcf --robot hexapod.toml --output {out}.xml",
+    "export-mjcf-Delta": "export mjcf --robot delta.toml --output {out}.xml",
+    "sweep-family": "sweep --spec family-sweep.toml --workers 1 --output {out}",
+    "sweep-spatial": "sweep --spec spatial-sweep.toml --workers 1 --output {out}",
+    "explore-export-spatial": "explore --robot hexapod.toml --export {out}.html",
 }
 
 
@@ -204,6 +302,14 @@ LONG_COMMANDS: dict[str, str] = {
     "export-c": "export c --output {out}",
     "simulate-spatial": "simulate --robot hexapod.toml --motion circle --samples 20000 --output {out}",
     "forward-spatial": "forward --robot hexapod.toml --efforts hold --duration 0.3 --output {out}",
+    "forward-family": "forward --robot rrr.toml --forces family-forces.csv --samples 400 --output {out}",
+    "forward-Delta": "forward --robot delta.toml --efforts hold --duration 0.3 --output {out}",
+    "control-spatial": "control --robot hexapod.toml --motion heave --plant prp3 --controller computed-torque --rate 200 --duration 0.5 --output {out}",
+    "excite-spatial": "excite --robot hexapod.toml --samples 201 --iterations 5 --output {out}",
+    "identify-spatial": "identify --robot hexapod.toml --measurements sm.csv --output {out}",
+    "sweep-family": "sweep --spec family-sweep.toml --workers 1 --output {out}",
+    "sweep-spatial": "sweep --spec spatial-sweep.toml --workers 1 --output {out}",
+    "workspace-Delta": "workspace --robot delta.toml --output {out}",
 }
 
 

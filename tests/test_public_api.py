@@ -1476,3 +1476,16 @@ def test_no_engine_sees_a_bad_argument(
     with pytest.raises(Prp3Error):
         case.call(**arguments)
     assert engine_calls == [], f"{name}({argument}={label}) ran {engine_calls} before refusing"
+
+
+def test_one_acceleration_bound_for_every_forward_dynamics() -> None:
+    """``prp3.MAX_ACCELERATION`` is the bound the 3-PRP, family and spatial runs refuse beyond."""
+    from prp3.family import forward as family
+    from prp3.spatial import forward as spatial
+
+    assert prp3.MAX_ACCELERATION == family.MAX_ACCELERATION == spatial.MAX_ACCELERATION == 1e6
+    robot = prp3.FamilyRobot.from_mapping({"architecture": "3-RRR", "load": {"force": [2e12, 0]}})
+    words = r"load.force = \[2000000000000.0, 0.0\] alone .* beyond the bound 1e\+06"
+    with pytest.raises(prp3.ParameterError, match=words):
+        prp3.family_forward_dynamics(robot, [0.0, 1.0], np.zeros((2, 3)), [0.0, 0.5],
+                                     robot.home_poses[0], np.zeros(3))  # fmt: skip

@@ -16,6 +16,7 @@ from .analysis.force_histories import (
     ActuatorForces as ActuatorForces,
 )
 from .analysis.forward import (
+    MAX_ACCELERATION as MAX_ACCELERATION,
     MAX_EVALUATIONS as MAX_EVALUATIONS,
     MAX_SECONDS as MAX_SECONDS,
     ForwardDynamics as ForwardDynamics,

@@ -370,9 +370,12 @@ def check_file_path(name: str, value: object) -> Path:
     """
     if isinstance(value, (str, os.PathLike)):
         try:
-            return Path(value)
+            path = Path(value)
         except TypeError:  # a PathLike returning bytes
             pass
+        else:
+            if "\0" not in str(path):  # the operating system refuses a NUL in a path
+                return path
     raise ParameterError(
         f"{name} must be a file path (str or pathlib.Path), got {_describe(value)}", key=name
     )

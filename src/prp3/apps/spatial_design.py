@@ -621,7 +621,7 @@ def spatial_sweep_spec(
         raise ParameterError(f"{source}: a sweep spec is a table, got {data!r}"[:200])
     base = Path(base)
     refuse_unknown_keys(source, "", data, _TOP_KEYS)
-    studies, robot_files = _studies(source, base, data["spatial"])
+    studies, robot_files = _studies(source, base, data.get("spatial"))
     sampling = spec_sampling(source, data)
     designs = spec_integer(
         source, "designs", data.get("designs", 20), 2 if sampling == "grid" else 1, MAX_DESIGNS

@@ -388,6 +388,8 @@ def _rotation(element: ET.Element) -> Matrix:
                 raise _ForeignError(f"<{element.tag} name={element.get('name')!r}> has {other}")
         return check_rotation("xyaxes", np.eye(3))
     values = np.array(_numbers(element, "xyaxes", 6))
+    if not np.abs(values).max() < 1e100:  # x·x would overflow; prp3 writes unit axes
+        raise _ForeignError(f"<{element.tag} name={element.get('name')!r}> xyaxes beyond 1e100")
     x, y = values[:3], values[3:]
     if not (abs(x @ x - 1.0) < 1e-12 and abs(y @ y - 1.0) < 1e-12 and abs(x @ y) < 1e-12):
         if not np.linalg.norm(np.cross(x, y)) > 1e-9 * np.linalg.norm(x) * np.linalg.norm(y):

@@ -215,6 +215,16 @@ def _drift(columns: dict[str, FloatArray], motion: Motion, results: bool) -> lis
     ]
 
 
+def _robot_key(path: Path, error: Prp3Error) -> Prp3Error:
+    """``error`` located at the robot file's line of its key (``load.force``)."""
+    from prp3.files import read_text
+    from prp3.io.spatial_robot import key_line
+    from prp3.model.robot_toml import MAX_ROBOT_FILE_BYTES
+
+    line = key_line(read_text(path, "robot", MAX_ROBOT_FILE_BYTES), str(error.key))
+    return error.located(file=path, line=line)
+
+
 def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
     """``prp3 forward`` of a family robot; return the exit status."""
     from prp3.family.forward import family_forward_dynamics
@@ -255,6 +265,8 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
                 raise error.located(origin=origin) from None
             where = "the first row of the results" if results else "the home pose"
             raise error.located(file=args.forces, subject=f"initial pose ({where})") from None
+        if error.key in ("load.force", "load.moment") and args.robot is not None:
+            raise _robot_key(Path(args.robot), error) from None  # the robot file's [load]
         if error.key == "efforts" or error.subject == "forward dynamics":
             raise error.located(file=args.forces) from None  # the efforts' file
         raise

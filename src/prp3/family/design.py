@@ -440,7 +440,7 @@ def family_sweep_spec(
     base = Path(base)
     refuse_unknown_keys(source, "", data, _TOP_KEYS)
     shared = {key: data[key] for key in _SHARED if key in data}
-    studies_table = data["study"]
+    studies_table = data.get("study")
     if not isinstance(studies_table, list) or not studies_table:
         raise ParameterError(f"{source}: [[study]] must be a non-empty array of tables")
     studies = tuple(_study(source, base, i, t, shared) for i, t in enumerate(studies_table))

@@ -341,6 +341,39 @@ def _effort_of(
         return _effort_function(te, tau), (te, tau)
 
 
+def _check_load(robot: FamilyRobot, x0: FloatArray, v0: FloatArray, b0: FloatArray) -> None:
+    """Refuse a robot file's ``[load]`` that alone (zero efforts) asks for an absurd ``|ẍ|``.
+
+    ``ẍ = −A⁻¹·b`` at the initial state (§7) with and without the load; the load is to
+    blame (named by its key, ``load.force`` or ``load.moment``) when the first is not
+    below :data:`MAX_ACCELERATION` and the second is.
+    """
+    from dataclasses import replace
+
+    from prp3.model.parameters import Load
+
+    load = robot.load
+    if not any((*load.force, load.moment)):
+        return
+    with np.errstate(all="ignore"):
+        a_free, b_free = _dynamics(replace(robot, load=Load()), x0, v0)
+        try:
+            sizes = [float(np.abs(np.linalg.solve(a_free, -b)).max()) for b in (b0, b_free)]
+        except np.linalg.LinAlgError:  # a massless platform: the caller's refusal
+            return
+    if sizes[0] < MAX_ACCELERATION or not sizes[1] < MAX_ACCELERATION:
+        return
+    key = "load.moment" if abs(load.moment) > max(map(abs, load.force)) else "load.force"
+    value = load.moment if key == "load.moment" else list(load.force)
+    raise ParameterError(
+        f"{key} = {value!r} alone asks for a platform acceleration of "
+        f"{sizes[0]:.3g} (m/s², rad/s²) at the initial state of the {robot.architecture}, "
+        f"beyond the bound {MAX_ACCELERATION:g} (docs/family.md §7: ẍ = A⁻¹·(τ − b)); "
+        "give a load of the robot's size",
+        key=key,
+    )
+
+
 def _check_accelerations(
     robot: FamilyRobot,
     a0: FloatArray,
@@ -446,6 +479,7 @@ def family_forward_dynamics(
             a0, b0 = _dynamics(robot, x0, v0)
     except Prp3Error as error:
         raise error.located(subject="initial pose") from None
+    _check_load(robot, x0, v0, b0)
     if not np.linalg.cond(a0) < 1e12:
         raise ParameterError(
             f"the equations of motion of this {robot.architecture} are singular at the initial "

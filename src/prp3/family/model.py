@@ -52,7 +52,7 @@ from prp3.model.robot_toml import (
     toml_list,
     toml_table,
 )
-from prp3.validation import check_choice, check_integer, check_scalar
+from prp3.validation import check_choice, check_file_path, check_integer, check_scalar
 
 __all__ = [
     "ARCHITECTURES",
@@ -444,7 +444,7 @@ def read_robot_file(path: str | Path) -> Robot | FamilyRobot:
     it (``architecture = "3-PRP"`` is then dropped); a family-form file by
     :meth:`FamilyRobot.from_toml`.
     """
-    path = Path(path)
+    path = check_file_path("path", path)
     data = read_toml(path, "robot")
     if robot_file_form(data) == "family":
         return parse_located(path, FamilyRobot.from_mapping, data)

@@ -162,7 +162,7 @@ def read_spatial_measurements(path: str | Path, actuators: int) -> SpatialMeasur
     if isinstance(actuators, bool) or not isinstance(actuators, int) or not 1 <= actuators <= 6:
         raise TrajectoryError(f"actuators must be an integer 1..6, got {actuators!r}")
     names = tuple(f"tau_{i + 1}" for i in range(actuators))
-    trajectory, columns = _read(Path(path), names)
+    trajectory, columns = _read(check_file_path("path", path), names)
     return SpatialMeasurements(trajectory, np.stack([columns[name] for name in names], axis=-1))
 
 
@@ -233,7 +233,11 @@ def _read(path: Path, required: tuple[str, ...]) -> tuple[SpatialTrajectory, dic
         alpha, acceleration = _stack(columns, RATE_COLUMNS[6:9]), _stack(columns, RATE_COLUMNS[9:])
     else:
         with np.errstate(all="ignore"):  # an overflow is reported below, naming the line
-            velocity, acceleration, degree = spline_derivatives(t, position)
+            try:
+                velocity, acceleration, degree = spline_derivatives(t, position)
+            except TrajectoryError as error:  # steps lost against the span: the sample's line
+                line = int(lines[error.sample]) if error.sample is not None else None
+                raise error.located(file=path, line=line, sample=None) from None
             rate, second, _ = spline_derivatives(t, angles)
             if quaternion:
                 omega, alpha = _quaternion_rates(angles, rate, second)

@@ -27,6 +27,7 @@ from prp3.validation import (
     check_real,
     check_scalar,
     check_times,
+    first_not_increasing,
     require_finite,
 )
 
@@ -377,6 +378,14 @@ def spline_derivatives(t: FloatArray, pose: FloatArray) -> tuple[FloatArray, Flo
         half = float(t[-1] / 2.0 - t[0] / 2.0)
         s, duration = (t / 2.0 - t[0] / 2.0) / half, math.inf
     s[-1] = 1.0
+    k = first_not_increasing(s)
+    if k is not None:  # steps lost against the span (t of 1e-3 s beside one of -1e308)
+        raise TrajectoryError(
+            f"time steps too small against the time span {float(t[-1]) - float(t[0])!r} s: "
+            f"samples {k - 1} and {k} (t = {float(t[k - 1])!r}, {float(t[k])!r}) cannot be "
+            "told apart on it in float64",
+            sample=k,
+        )
     spline = make_interp_spline(s, pose - pose[0], k=degree, axis=0)
     if math.isinf(duration):
         velocity = np.asarray(spline(s, 1), dtype=np.float64) / half / 2.0
