@@ -296,7 +296,11 @@ def staged_output(
         shutil.rmtree(staging, ignore_errors=True)
         _remove_empty(created)
         raise
-    shutil.rmtree(staging, ignore_errors=True)
+    try:
+        shutil.rmtree(staging, ignore_errors=True)
+    except BaseException:  # an interrupt after the files are in: finish the cleanup, then stop
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
 
 
 def _file_stamp(path: Path) -> dict[str, int] | None:
