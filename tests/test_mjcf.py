@@ -382,7 +382,7 @@ def test_cli_robot_and_output(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     ("arguments", "message"),
     [
         (["export"], "required: FORMAT"),
-        (["export", "urdf"], "invalid choice: 'urdf'"),
+        (["export", "sdf"], "invalid choice: 'sdf'"),
         (["export", "mjcf", "--robot", "{tmp}/missing.toml"], "missing.toml: cannot read"),
         (["export", "mjcf", "--robot", "{tmp}/bad.toml"], "unknown key 'l1'"),
         (["export", "mjcf", "--output", "{tmp}"], "is a directory"),
