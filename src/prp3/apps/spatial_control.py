@@ -134,7 +134,7 @@ def _gains(name: str, value: object, unit: str = "") -> FloatArray:
         k = int(negative[0])
         units = f" ({unit})" if unit else ""
         raise ParameterError(
-            f"{_COMPONENTS[k]} of {name} must be non-negative{units}, got {array[k]!r}",
+            f"{_COMPONENTS[k]} of {name} must be non-negative{units}, got {float(array[k])!r}",
             key=name,
         )
     return array
