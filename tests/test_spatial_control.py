@@ -279,9 +279,15 @@ def test_scalar_gains_are_six_equal_gains() -> None:
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"kp": [1.0] * 5}, r"kp must be a number or 6 numbers \(rx, ry, rz, x, y, z\), got shape \(5,\)"),
+        (
+            {"kp": [1.0] * 5},
+            r"kp must be a number or 6 numbers \(rx, ry, rz, x, y, z\), got shape \(5,\)",
+        ),
         ({"kd": np.ones((2, 3))}, r"kd must be a number or 6 numbers .* got shape \(2, 3\)"),
-        ({"kp": [1.0, 1.0, 1.0, -1.0, 1.0, 1.0]}, r"x of kp must be non-negative \(1/s²\), got -1.0"),
+        (
+            {"kp": [1.0, 1.0, 1.0, -1.0, 1.0, 1.0]},
+            r"x of kp must be non-negative \(1/s²\), got -1.0",
+        ),
         ({"kd": [1.0, 1.0, math.inf, 1.0, 1.0, 1.0]}, r"rz of kd is not finite \(inf\)"),
         ({"kp": ["a"] * 6}, r"kp must be an array of real numbers"),
         ({"kd": [True] * 6}, r"kd must be an array of real numbers"),

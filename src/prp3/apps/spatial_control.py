@@ -116,9 +116,7 @@ def _gains(name: str, value: object, unit: str = "") -> FloatArray:
     ...
     prp3.errors.ParameterError: kp must be a number or 6 numbers (rx, ry, rz, x, y, z), got shape (2,): [1.0, 2.0]
     """
-    if not isinstance(value, list | tuple | np.ndarray) or np.ndim(value) == 0:
-        if isinstance(value, np.ndarray):
-            value = value.item() if value.dtype.kind in "iuf" else value
+    if not (isinstance(value, list | tuple) or (isinstance(value, np.ndarray) and value.ndim)):
         return np.full(6, check_scalar(name, value, non_negative=True, unit=unit))
     array = check_real(name, value, ParameterError)
     if array.shape != (6,):
