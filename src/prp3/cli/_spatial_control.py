@@ -156,10 +156,14 @@ def run_spatial_control(args: argparse.Namespace, design: SpatialRobotFile) -> i
             from prp3.plotting.control import spatial_tracking_figure
             from prp3.plotting.figures import save_figure
 
-            subtitle = (
-                f"{SPATIAL_MOTIONS[args.motion]}; KP = {_gain_text(args.kp)} 1/s², "
-                f"KD = {_gain_text(args.kd)} 1/s"
+            apart = isinstance(args.kp, tuple) or isinstance(args.kd, tuple)  # a long line
+            kp, kd = (
+                ",".join(f"{v:g}" for v in g) if isinstance(g, tuple) else f"{g:g}"
+                for g in (args.kp, args.kd)
             )
+            per = " (rx, ry, rz, x, y, z)" if apart else ""
+            gains = f"KP{per} = {kp} 1/s², KD = {kd} 1/s"
+            subtitle = f"{SPATIAL_MOTIONS[args.motion]}{chr(10) if apart else '; '}{gains}"
             figure = spatial_tracking_figure(table, len(robot.legs), title=title, subtitle=subtitle)
             save_figure(figure, staged.path(TRACKING_FIGURE))
         emit("\n".join([line, *files_report(staged)]))
