@@ -127,7 +127,7 @@ def test_plots_write_the_figure(capsys, tmp_path) -> None:
         (("--motion", "tilt"), "the tilt motion drives wx, wy"),
         (("--motion", "heave", "--controller", "pd"), "--controller pd applies to the planar"),
         (("--motion", "heave", "--kp", "1,2,3"), "one gain for every component or six"),
-        (("--motion", "heave", "--kd", "1,2,3,4"), "expected a number, 3 numbers X,Y,PHI or 6"),
+        (("--motion", "heave", "--kd", "1,2,3,4"), "a spatial robot file: or 6 numbers RX,RY,RZ"),
         (("--motion", "heave", "--kp", "1,1,1,-1,1,1"), "expected a non-negative number"),
         (("--motion", "heave", "--initial-error", "1,2"), "expected 6 numbers"),
         (("--trajectory", "t.csv"), "--trajectory applies to the planar robots"),

@@ -104,14 +104,15 @@ def axis_gains(text: str) -> float | tuple[float, ...]:
     >>> axis_gains("1,2")
     Traceback (most recent call last):
     ...
-    argparse.ArgumentTypeError: expected a number, 3 numbers X,Y,PHI or 6 numbers RX,RY,RZ,X,Y,Z, got '1,2'
+    argparse.ArgumentTypeError: expected a number or 3 numbers X,Y,PHI, got '1,2' (a spatial robot file: or 6 numbers RX,RY,RZ,X,Y,Z)
     """
     parts = text.split(",")
     if len(parts) == 1:
         return non_negative_float(text)
     if len(parts) not in (3, 6):
         raise argparse.ArgumentTypeError(
-            f"expected a number, 3 numbers X,Y,PHI or 6 numbers RX,RY,RZ,X,Y,Z, got {text!r}"
+            f"expected a number or 3 numbers X,Y,PHI, got {text!r} (a spatial robot file: or 6 "
+            "numbers RX,RY,RZ,X,Y,Z)"
         )
     return tuple(non_negative_float(part) for part in parts)
 
