@@ -148,7 +148,7 @@ def _reference_at(reference: Callable[[float], PlatformMotion], time: float) -> 
     return value
 
 
-def _check_plant(robot: SpatialRobot, plant: object) -> None:
+def _check_plant(plant: object) -> None:
     """Refuse an unknown plant."""
     if plant not in SPATIAL_PLANTS:
         raise ParameterError(
@@ -182,7 +182,7 @@ def spatial_track(
         ``T`` (s, > 0) from ``t0 = 0``.
     kp, kd : float or (6,)
         Gains (1/s², 1/s, finite, ≥ 0): one for every component, or six, one per
-        component of the error ``(rx, ry, rz, x, y, z)`` ; a
+        component of the error ``(rx, ry, rz, x, y, z)``; a
         parasitic component's gain (the 3-RPS's ``rz, x, y``) is not used.
     initial : PlatformMotion, optional
         The plant's initial state (default: the reference at 0, no error).
@@ -212,7 +212,7 @@ def spatial_track(
         )
     p_gain = _gains("kp", kp, "1/s²")
     d_gain = _gains("kd", kd, "1/s")
-    _check_plant(robot, plant)
+    _check_plant(plant)
     step = check_scalar("timestep", timestep, positive=True, unit="s")
     start = initial if initial is not None else _reference_at(reference, 0.0)
     free = [c for c in range(6) if c not in robot.parasitic_index]
