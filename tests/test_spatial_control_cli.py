@@ -126,7 +126,9 @@ def test_plots_write_the_figure(capsys, tmp_path) -> None:
     [
         (("--motion", "tilt"), "the tilt motion drives wx, wy"),
         (("--motion", "heave", "--controller", "pd"), "--controller pd applies to the planar"),
-        (("--motion", "heave", "--kp", "1,2,3"), "one gain for every component"),
+        (("--motion", "heave", "--kp", "1,2,3"), "one gain for every component or six"),
+        (("--motion", "heave", "--kd", "1,2,3,4"), "a spatial robot file: or 6 numbers RX,RY,RZ"),
+        (("--motion", "heave", "--kp", "1,1,1,-1,1,1"), "expected a non-negative number"),
         (("--motion", "heave", "--initial-error", "1,2"), "expected 6 numbers"),
         (("--trajectory", "t.csv"), "--trajectory applies to the planar robots"),
     ],
@@ -187,5 +189,46 @@ def test_mujoco_plant_on_the_cli(capsys, tmp_path) -> None:
     _check_error_columns(table)
     # MuJoCo's soft closures and held efforts, on a heave of period 0.3 s
     # (not 1 s): 4 % of the initial error (1.5 % for a period of 1 s, test_spatial_control.py)
+    np.testing.assert_allclose(table["e_z"], _critical(table["t"], 0.002, 20.0),
+                               rtol=0, atol=8e-5)  # fmt: skip
+
+
+def test_gains_per_component(capsys, tmp_path) -> None:
+    """``--kp``, ``--kd`` of six numbers: each position component decays critically with its
+    own rate ``√Kp_c`` (``Kd_c = 2·√Kp_c``), the closed form of its own ODE."""
+    table, stdout, _ = _run(capsys, tmp_path, "6-UPS", "heave", "--kp", "100,100,100,64,144,400",
+                            "--kd", "20,20,20,16,24,40", "--initial-error",
+                            "0,0,0,0.001,-0.002,0.002")  # fmt: skip
+    for column, e0, rate in (("e_x", 0.001, 8.0), ("e_y", -0.002, 12.0), ("e_z", 0.002, 20.0)):
+        np.testing.assert_allclose(table[column], _critical(table["t"], e0, rate),
+                                   rtol=0, atol=1e-9)  # fmt: skip
+    assert "KP = (rx, ry, rz, x, y, z) = (100, 100, 100, 64, 144, 400) 1/s^2" in stdout
+
+
+def test_planar_refuses_six_gains(capsys, tmp_path) -> None:
+    status, _, err = cli(capsys, "control", "--motion", "vertical", "--plant", "prp3",
+                         "--controller", "pd", "--kp", "1,1,1,1,1,1",
+                         "--output", tmp_path / "o")  # fmt: skip
+    assert status == 2 and "kp must be a number or 3 numbers (x, y, phi)" in one_line(err)
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_delta_on_the_mujoco_plant_on_the_cli(capsys, tmp_path) -> None:
+    """``prp3 control --robot delta.toml --plant mujoco``: the platform's orientation held
+    (below 1e-5 rad, docs/spatial.md §23), ``e_z`` the closed loop's within MuJoCo's 4 %."""
+    pytest.importorskip("mujoco")
+    robot = tmp_path / "delta.toml"
+    robot.write_text('architecture = "3-RUU"\n', encoding="utf-8")
+    status, stdout, err = cli(
+        capsys, "control", "--robot", robot, "--motion", "circle", "--plant", "mujoco",
+        "--controller", "computed-torque", "--duration", DURATION, "--rate", RATE,
+        "--initial-error", "0,0,0,0,0,0.002", "--output", tmp_path / "out",
+    )  # fmt: skip
+    assert status == 0, err
+    assert "mujoco plant" in stdout.splitlines()[0]
+    table = _read(tmp_path / "out" / "tracking.csv")
+    _check_error_columns(table)
+    for column in ("e_rx", "e_ry", "e_rz", "rx", "ry", "rz"):
+        assert float(np.abs(table[column]).max()) <= 1e-5, column
     np.testing.assert_allclose(table["e_z"], _critical(table["t"], 0.002, 20.0),
                                rtol=0, atol=8e-5)  # fmt: skip

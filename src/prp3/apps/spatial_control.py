@@ -6,8 +6,9 @@ The law ``τ = A(x, ξ)·a_f + h(x, ξ)`` (the affine inverse dynamics of §18 a
 ``a = a_ref + Kd·ė + Kp·e``,  ``e = (log(R_ref·Rᵀ), p_ref − p)``,
 ``ė = (ω_ref − ω, v_ref − v)``
 
-(``a_f`` its free components, §11) makes the closed loop of the exact model
-``ë_p + Kd·ė_p + Kp·e_p = 0`` for the free position components.
+(``a_f`` its free components, §11; ``Kp``, ``Kd`` one gain for every component or
+diagonal, one per component in the order of ``e``) makes the closed loop of the
+exact model ``ë_c + Kd_c·ė_c + Kp_c·e_c = 0`` for each free position component ``c``.
 
 >>> import numpy as np
 >>> from prp3.spatial.model import hexapod
@@ -26,7 +27,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from prp3.apps.spatial_mjcf import spatial_mjcf_joint_names, spatial_mjcf_model
 from prp3.errors import ParameterError
@@ -35,12 +36,18 @@ from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.outputs import spatial_inverse_dynamics
 from prp3.spatial.rotations import log_rotation, matrix_quaternion, quaternion_matrix
-from prp3.validation import check_instance, check_integer, check_scalar
+from prp3.validation import check_finite, check_instance, check_integer, check_real, check_scalar
 
 __all__ = ["SPATIAL_PLANTS", "SpatialTracking", "spatial_pose_error", "spatial_track"]
 
 #: The plants of :func:`spatial_track`.
 SPATIAL_PLANTS: tuple[str, ...] = ("prp3", "mujoco")
+
+# The components of the pose error ``e = (log(R_ref·Rᵀ), p_ref − p)``, in order: the gains'.
+_COMPONENTS: tuple[str, ...] = ("rx", "ry", "rz", "x", "y", "z")
+
+# MuJoCo's largest constraint impedance (``mjMAXIMP``): the plant's ``solimp``.
+_MUJOCO_MAX_IMPEDANCE = 0.9999
 
 FloatArray = NDArray[np.float64]
 
@@ -93,6 +100,44 @@ def spatial_pose_error(reference: PlatformMotion, actual: PlatformMotion) -> Flo
     return np.concatenate([log_rotation(rotation), reference.position - actual.position], axis=1)
 
 
+def _gains(name: str, value: object, unit: str = "") -> FloatArray:
+    """A gain of :func:`spatial_track` per pose component, shape ``(6,)``.
+
+    ``value`` is one number for every component, or six, one per component of
+    ``_COMPONENTS`` (rotation ``rx, ry, rz`` then translation ``x, y, z``);
+    each finite and ``>= 0`` (``name`` and ``unit`` name it in a refusal).
+
+    >>> _gains("kp", 400.0).tolist()
+    [400.0, 400.0, 400.0, 400.0, 400.0, 400.0]
+    >>> _gains("kd", [10, 10, 10, 20, 20, 40]).tolist()
+    [10.0, 10.0, 10.0, 20.0, 20.0, 40.0]
+    >>> _gains("kp", [1.0, 2.0])
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: kp must be a number or 6 numbers (rx, ry, rz, x, y, z), got shape (2,): [1.0, 2.0]
+    """
+    if not (isinstance(value, list | tuple) or (isinstance(value, np.ndarray) and value.ndim)):
+        return np.full(6, check_scalar(name, value, non_negative=True, unit=unit))
+    array = check_real(name, value, ParameterError)
+    if array.shape != (6,):
+        shown = repr(value) if len(repr(value)) <= 60 else repr(value)[:57] + "..."
+        raise ParameterError(
+            f"{name} must be a number or 6 numbers ({', '.join(_COMPONENTS)}), got shape "
+            f"{array.shape}: {shown}",
+            key=name,
+        )
+    check_finite(name, array, ParameterError, components=_COMPONENTS)
+    negative = np.flatnonzero(~(array >= 0.0))
+    if negative.size:
+        k = int(negative[0])
+        units = f" ({unit})" if unit else ""
+        raise ParameterError(
+            f"{_COMPONENTS[k]} of {name} must be non-negative{units}, got {float(array[k])!r}",
+            key=name,
+        )
+    return array
+
+
 def _reference_at(reference: Callable[[float], PlatformMotion], time: float) -> PlatformMotion:
     value = reference(time)
     if not isinstance(value, PlatformMotion) or len(value) != 1:
@@ -103,18 +148,11 @@ def _reference_at(reference: Callable[[float], PlatformMotion], time: float) -> 
     return value
 
 
-def _check_plant(robot: SpatialRobot, plant: object) -> None:
-    """Refuse an unknown plant, and MuJoCo for the Delta (its welds disagree, §23)."""
+def _check_plant(plant: object) -> None:
+    """Refuse an unknown plant."""
     if plant not in SPATIAL_PLANTS:
         raise ParameterError(
             f"plant must be one of {', '.join(SPATIAL_PLANTS)}, got {plant!r}", key="plant"
-        )
-    if plant == "mujoco" and robot.legs[0].pattern == "RUU":
-        raise ParameterError(
-            "plant='mujoco' is refused for the 3-RUU (the Delta): its platform turns by up to "
-            "0.2 rad on MuJoCo where the prp3 plant holds it to round-off, so the comparison "
-            "has no meaning yet (docs/spatial.md §23); use plant='prp3'",
-            key="plant",
         )
 
 
@@ -123,8 +161,8 @@ def spatial_track(
     reference: Callable[[float], PlatformMotion],
     duration: float,
     *,
-    kp: float = 400.0,
-    kd: float = 40.0,
+    kp: float | ArrayLike = 400.0,
+    kd: float | ArrayLike = 40.0,
     initial: PlatformMotion | None = None,
     samples: int = 101,
     rtol: float = 1e-10,
@@ -142,8 +180,10 @@ def spatial_track(
         ``reference(t) -> PlatformMotion`` of one sample (pose, twist, accelerations).
     duration : float
         ``T`` (s, > 0) from ``t0 = 0``.
-    kp, kd : float
-        Gains (1/s², 1/s, ≥ 0), the same for every component.
+    kp, kd : float or (6,)
+        Gains (1/s², 1/s, finite, ≥ 0): one for every component, or six, one per
+        component of the error ``(rx, ry, rz, x, y, z)``; a
+        parasitic component's gain (the 3-RPS's ``rz, x, y``) is not used.
     initial : PlatformMotion, optional
         The plant's initial state (default: the reference at 0, no error).
     samples, rtol, atol
@@ -155,7 +195,9 @@ def spatial_track(
     timestep : float
         The MuJoCo plant's step (s, > 0), rounded so that ``duration`` is a whole
         number of steps; each output instant is the step nearest it.  The loop
-        closures' equalities get MuJoCo's stiffest ``solref = (2·timestep, 1)``.
+        closures' equalities get MuJoCo's stiffest ``solref = (2·timestep, 1)`` and
+        ``solimp`` (impedance 0.9999), a closing U's end body the platform's
+        inverse weight (§23).
         ``rtol``, ``atol`` are the prp3 plant's.
 
     Returns
@@ -168,9 +210,9 @@ def spatial_track(
             f"reference must be a function t -> PlatformMotion, got {reference!r}"[:300],
             key="reference",
         )
-    p_gain = check_scalar("kp", kp, non_negative=True, unit="1/s²")
-    d_gain = check_scalar("kd", kd, non_negative=True, unit="1/s")
-    _check_plant(robot, plant)
+    p_gain = _gains("kp", kp, "1/s²")
+    d_gain = _gains("kd", kd, "1/s")
+    _check_plant(plant)
     step = check_scalar("timestep", timestep, positive=True, unit="s")
     start = initial if initial is not None else _reference_at(reference, 0.0)
     free = [c for c in range(6) if c not in robot.parasitic_index]
@@ -222,6 +264,24 @@ def _mujoco_start(mujoco: Any, robot: SpatialRobot, start: PlatformMotion) -> tu
     return model, data
 
 
+def _stiffen_closures(model: Any, robot: SpatialRobot) -> None:
+    """The loop closures as stiff as MuJoCo allows (docs/spatial.md §23, the Delta).
+
+    ``solref = (2·timestep, 1)`` and ``solimp`` of impedance ``0.9999`` (``mjMAXIMP``).
+    A closing U's body ``leg{i}_end`` (mass ``END_MASS_FRACTION`` of the platform's,
+    §16) is welded to the platform, so its inverse weight, which scales the weld's
+    regularisation ``R = (1 − d)/d · (w_end + w_platform)``, is set to the platform's:
+    with its own (about ``1e12`` times larger) the weld is so soft that the Delta's
+    platform turns by 0.2 rad.
+    """
+    model.eq_solref[:] = (2.0 * model.opt.timestep, 1.0)
+    model.eq_solimp[:, :2] = _MUJOCO_MAX_IMPEDANCE
+    platform = model.body("platform").id
+    for i, leg in enumerate(robot.legs, 1):
+        if leg.joints[-1].kind != "S":
+            model.body_invweight0[model.body(f"leg{i}_end").id] = model.body_invweight0[platform]
+
+
 def _mujoco_state(model: Any, data: Any, time: float) -> PlatformMotion:
     """The platform's pose and twist in MuJoCo's state (accelerations zero: unused)."""
     free = model.joint("platform")
@@ -252,7 +312,7 @@ def _mujoco_track(
     model, data = _mujoco_start(mujoco, robot, start)
     steps = max(1, round(duration / timestep))
     model.opt.timestep = duration / steps
-    model.eq_solref[:] = (2.0 * model.opt.timestep, 1.0)  # the stiffest MuJoCo allows
+    _stiffen_closures(model, robot)
     marks = np.rint(np.linspace(0.0, steps, samples)).astype(int)
     states, efforts = [], []
     for k in range(steps + 1):

@@ -73,6 +73,13 @@ def _initial(
     return complete_motion(robot, moved)
 
 
+def _gain_text(value: float | tuple[float, ...]) -> str:
+    """``400`` or ``(rx, ry, rz, x, y, z) = (100, 100, 100, 400, 400, 900)``."""
+    if isinstance(value, tuple):
+        return "(rx, ry, rz, x, y, z) = (" + ", ".join(f"{v:g}" for v in value) + ")"
+    return f"{value:g}"
+
+
 def _refuse_options(args: argparse.Namespace, robot: SpatialRobot) -> None:
     """The options of ``prp3 control`` a spatial robot does not take, refused by name."""
     what = f"the {robot.name} of a spatial robot file"
@@ -90,8 +97,13 @@ def _refuse_options(args: argparse.Namespace, robot: SpatialRobot) -> None:
     if args.model is not None:
         raise Prp3Error(f"--model applies to the planar robots, not to {what}")
     for name in ("kp", "kd"):
-        if isinstance(getattr(args, name), tuple):
-            raise Prp3Error(f"--{name} of {what} is one gain for every component, not one per axis")
+        value = getattr(args, name)
+        if isinstance(value, tuple) and len(value) != 6:
+            raise Prp3Error(
+                f"--{name} of {what} is one gain for every component or six "
+                f"{name.upper()}_RX,..,{name.upper()}_Z (docs/spatial.md §23), got "
+                f"{len(value)} numbers (X,Y,PHI of a planar robot)"
+            )
 
 
 def tracking_table(run: SpatialTracking) -> dict[str, np.ndarray]:
@@ -133,7 +145,8 @@ def run_spatial_control(args: argparse.Namespace, design: SpatialRobotFile) -> i
     title = f"{robot.name}: computed torque, {args.plant} plant, {args.motion} motion"
     line = (
         f"prp3 control: {title} ({design.path}), {samples} samples over t = 0 .. "
-        f"{duration:g} s, KP = {args.kp:g} 1/s^2, KD = {args.kd:g} 1/s: max |error| "
+        f"{duration:g} s, KP = {_gain_text(args.kp)} 1/s^2, KD = {_gain_text(args.kd)} 1/s: "
+        "max |error| "
         f"{float(norm['rotation'].max()):.3g} rad, {float(norm['position'].max()):.3g} m; "
         f"final {float(norm['rotation'][-1]):.3g} rad, {float(norm['position'][-1]):.3g} m"
     )
@@ -143,9 +156,14 @@ def run_spatial_control(args: argparse.Namespace, design: SpatialRobotFile) -> i
             from prp3.plotting.control import spatial_tracking_figure
             from prp3.plotting.figures import save_figure
 
-            subtitle = (
-                f"{SPATIAL_MOTIONS[args.motion]}; KP = {args.kp:g} 1/s², KD = {args.kd:g} 1/s"
+            apart = isinstance(args.kp, tuple) or isinstance(args.kd, tuple)  # a long line
+            kp, kd = (
+                ",".join(f"{v:g}" for v in g) if isinstance(g, tuple) else f"{g:g}"
+                for g in (args.kp, args.kd)
             )
+            per = " (rx, ry, rz, x, y, z)" if apart else ""
+            gains = f"KP{per} = {kp} 1/s², KD = {kd} 1/s"
+            subtitle = f"{SPATIAL_MOTIONS[args.motion]}{chr(10) if apart else '; '}{gains}"
             figure = spatial_tracking_figure(table, len(robot.legs), title=title, subtitle=subtitle)
             save_figure(figure, staged.path(TRACKING_FIGURE))
         emit("\n".join([line, *files_report(staged)]))

@@ -95,23 +95,26 @@ def non_negative_float(text: str) -> float:
     return value
 
 
-def axis_gains(text: str) -> float | tuple[float, float, float]:
-    """A gain for every axis (``400``) or one per axis ``x,y,phi`` (``400,400,900``).
+def axis_gains(text: str) -> float | tuple[float, ...]:
+    """A gain for every axis (``400``), one per axis ``x,y,phi`` (``400,400,900``), or, for a
+    spatial robot file, one per pose component ``RX,RY,RZ,X,Y,Z`` (docs/spatial.md §23).
 
     >>> axis_gains("400"), axis_gains("400,400,900")
     (400.0, (400.0, 400.0, 900.0))
     >>> axis_gains("1,2")
     Traceback (most recent call last):
     ...
-    argparse.ArgumentTypeError: expected a number or 3 numbers X,Y,PHI, got '1,2'
+    argparse.ArgumentTypeError: expected a number or 3 numbers X,Y,PHI, got '1,2' (a spatial robot file: or 6 numbers RX,RY,RZ,X,Y,Z)
     """
     parts = text.split(",")
     if len(parts) == 1:
         return non_negative_float(text)
-    if len(parts) != 3:
-        raise argparse.ArgumentTypeError(f"expected a number or 3 numbers X,Y,PHI, got {text!r}")
-    x, y, phi = (non_negative_float(part) for part in parts)
-    return (x, y, phi)
+    if len(parts) not in (3, 6):
+        raise argparse.ArgumentTypeError(
+            f"expected a number or 3 numbers X,Y,PHI, got {text!r} (a spatial robot file: or 6 "
+            "numbers RX,RY,RZ,X,Y,Z)"
+        )
+    return tuple(non_negative_float(part) for part in parts)
 
 
 def pose_error(text: str) -> tuple[float, ...]:
@@ -126,7 +129,7 @@ def pose_error(text: str) -> tuple[float, ...]:
     return tuple(finite_float(part) for part in parts)
 
 
-def gains_text(value: float | tuple[float, float, float]) -> str:
+def gains_text(value: float | tuple[float, ...]) -> str:
     """``400`` or ``(400, 400, 900)`` for the summary and the figure.
 
     >>> gains_text(400.0), gains_text((400.0, 400.0, 900.0))
@@ -187,7 +190,7 @@ def register(subparsers: Any) -> None:
         type=axis_gains,
         default=DEFAULT_KP,
         help=f"position gain (1/s^2, default {DEFAULT_KP:g}): one for every axis, or "
-        "KP_X,KP_Y,KP_PHI",
+        "KP_X,KP_Y,KP_PHI; a spatial robot file: one, or KP_RX,KP_RY,KP_RZ,KP_X,KP_Y,KP_Z",
     )
     parser.add_argument(
         "--kd",
@@ -195,7 +198,7 @@ def register(subparsers: Any) -> None:
         type=axis_gains,
         default=DEFAULT_KD,
         help=f"velocity gain (1/s, default {DEFAULT_KD:g}): one for every axis, or "
-        "KD_X,KD_Y,KD_PHI",
+        "KD_X,KD_Y,KD_PHI; a spatial robot file: one, or KD_RX,KD_RY,KD_RZ,KD_X,KD_Y,KD_Z",
     )
     parser.add_argument(
         "--initial-error",
