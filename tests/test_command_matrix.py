@@ -46,7 +46,7 @@ EXPECTED = """\
 | 3-RRP a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
 | 6-UPS | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
 | 3-RPS | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RUU | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: the Delta's platform turns 0.2 rad on MuJoCo | ok | ok | ok | ok |
+| 3-RUU | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
 """
 
 #: The lines of the table by robot (the first cell).

@@ -51,10 +51,6 @@ NOTES = {
 
 #: A refusal's one line -> the few words of the table (the first that matches).
 REASONS = (
-    (
-        r"refused for the 3-RUU \(the Delta\)",
-        "refused: the Delta's platform turns 0.2 rad on MuJoCo",
-    ),
     (r"pip install 'prp3\[(\w+)\]'", r"needs prp3[\1]"),
 )
 
