@@ -24,29 +24,29 @@ MATRIX: dict[str, Any] = runpy.run_path(str(SCRIPT))
 #: The table, as docs/cli.md shows it (every extra installed: dask, pyarrow, plotly, bokeh,
 #: mujoco).
 EXPECTED = """\
-| robot | robot --check | simulate fast | simulate paper | simulate newton-euler | --plots | --animate | --html | workspace --statics | forward | export c | export mjcf | excite | identify | control prp3 | control mujoco | sweep | optimize | explore --export | explore --results |
-|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|
-| 3-PRP (model form) | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-PRP a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-PRP a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RPR a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RPR a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RPR a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RRR a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RRR a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RRR a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-PRR a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-PRR a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-PRR a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-PPR a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-PPR a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RPP a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RPP a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RRP a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RRP a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 6-UPS | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RPS | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
-| 3-RUU | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
+| robot | robot --check | simulate fast | simulate paper | simulate newton-euler | --plots | --animate | --html | workspace --statics | forward | export c | export mjcf | export urdf | excite | identify | control prp3 | control mujoco | sweep | optimize | explore --export | explore --results |
+|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|
+| 3-PRP (model form) | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-PRP a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-PRP a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RPR a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RPR a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RPR a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RRR a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RRR a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RRR a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-PRR a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-PRR a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-PRR a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-PPR a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-PPR a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RPP a=2 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RPP a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RRP a=1 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RRP a=3 | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | refused: spatial robots only | ok | ok | ok | ok | ok | ok | ok | ok |
+| 6-UPS | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RPS | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
+| 3-RUU | ok | n.a.¹ | n.a.¹ | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok | ok |
 """
 
 #: The lines of the table by robot (the first cell).

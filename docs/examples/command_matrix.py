@@ -51,6 +51,7 @@ NOTES = {
 
 #: A refusal's one line -> the few words of the table (the first that matches).
 REASONS = (
+    (r"export urdf takes a spatial robot file", "refused: spatial robots only"),
     (r"pip install 'prp3\[(\w+)\]'", r"needs prp3[\1]"),
 )
 
@@ -199,6 +200,10 @@ COLUMNS = (
     Column(
         "export mjcf",
         lambda row, f: ["export", "mjcf", "--robot", _robot(row, f), "-o", str(f / "m.xml")],
+    ),
+    Column(
+        "export urdf",
+        lambda row, f: ["export", "urdf", "--robot", _robot(row, f), "-o", str(f / "u.urdf")],
     ),
     Column("excite", _excite, needs="excite"),
     Column("identify", _identify, needs="measured"),
