@@ -9,7 +9,8 @@ Measures in one run, for the default 6-UPS (docs/spatial.md §7) on the tilt mot
 * prp3's routes for ``N`` samples: the one linear system of every unknown (route (b) as
   written, the reference), the recursive numpy route (``recursive_newton_euler``) and
   the compiled kernel's batch (``compile_spatial(robot).solve_batch``, numba's threads),
-  also with its fast path of the legs closed by an S joint switched off (``S_CLOSED``);
+  also with its fast path of the legs closed by an S joint switched off (``S_CLOSED``) and
+  with the chain's motion in two passes per leg instead of one (``ONE_PASS``);
 * one validated call of the compiled kernel (``CompiledSpatial.solve``, one state);
 * MuJoCo's ``mj_inverse`` on the hexapod as an open tree (a free platform, each leg two
   hinges, a slide and a ball, the ball's body welded to the platform by a ``connect``
@@ -29,7 +30,7 @@ import time
 import numpy as np
 
 import prp3
-from prp3.spatial.compiled import S_CLOSED
+from prp3.spatial.compiled import ONE_PASS, S_CLOSED
 from prp3.spatial.newton_euler import newton_euler_dynamics, recursive_newton_euler
 
 
@@ -151,6 +152,11 @@ def main() -> None:
     generic.ints[S_CLOSED] = 0
     generic.solve_batch(small)
     batch_generic = _best(lambda: generic.solve_batch(motion), 3) / len(motion)
+    two = prp3.compile_spatial(robot)  # the chain's motion in two passes per leg
+    two.ints = two.ints.copy()
+    two.ints[ONE_PASS] = 0
+    two.solve_batch(small)
+    batch_two = _best(lambda: two.solve_batch(motion), 3) / len(motion)
     state = (motion.position[7], motion.rotation[7], motion.omega[7], motion.velocity[7],
              motion.alpha[7], motion.acceleration[7])  # fmt: skip
     calls = 20_000
@@ -169,6 +175,7 @@ def main() -> None:
         ("prp3 route (b), one 114 x 114 system (reference)", system),
         ("prp3 recursive_newton_euler (numpy)", recursive),
         ("prp3 compile_spatial .solve_batch (numba)", batch),
+        ("  the same, the chain's motion twice (ONE_PASS = 0)", batch_two),
         ("  the same, generic path (S_CLOSED = 0)", batch_generic),
         ("prp3 compile_spatial .solve, one validated call", single),
     ]

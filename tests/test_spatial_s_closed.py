@@ -5,7 +5,9 @@ For the 6-UPS hexapod the compiled kernel solves each leg's Jacobian
 generic ``6 × 6`` LU.  Held here against the generic path of the same kernel (the flag
 ``S_CLOSED`` of the packed integers set to 0) to 1e-12 relative in every output and
 status, on random designs and states (hypothesis), also far from home where the poses
-are refused; and against the numpy kinematics for ``det J``'s sign.  The 3-RPS (legs
+are refused; and against the numpy kinematics for ``det J``'s sign.  Likewise the chain's
+motion in one pass (the flag ``ONE_PASS``: the bias with ``q̈ = 0``, then the ``q̈`` terms
+by the Jacobian's columns) against its two passes, on every architecture.  The 3-RPS (legs
 of 5 coordinates) and the 3-RUU keep the generic path.
 """
 
@@ -17,20 +19,23 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 import prp3
-from prp3.spatial.compiled import S_CLOSED
+from prp3.spatial.compiled import ONE_PASS, S_CLOSED
 from prp3.spatial.model import SpatialRobot
-from spatial_strategies import hexapods
+from spatial_strategies import deltas, hexapods, rps_robots
 from test_spatial_compiled import states
 
 TOLERANCE = 1e-12
 NAMES = ("q", "dq", "ddq", "tau", "power", "force", "moment", "leg_measure", "parallel_measure")
 
 
-def _both(robot: SpatialRobot, arrays: list[np.ndarray]) -> tuple[prp3.SpatialSamples, ...]:
+def _both(robot: SpatialRobot, arrays: list[np.ndarray], flags: tuple[int, ...] = (S_CLOSED,
+          ONE_PASS)) -> tuple[prp3.SpatialSamples, ...]:  # fmt: skip
+    """The kernel as compiled, and with the ``flags`` set to 0 (the reference paths)."""
     fast = prp3.compile_spatial(robot)
     generic = prp3.compile_spatial(robot)
     generic.ints = generic.ints.copy()
-    generic.ints[S_CLOSED] = 0
+    for flag in flags:
+        generic.ints[flag] = 0
     with np.errstate(all="ignore"):  # raw's power of a refused sample's unset outputs
         return fast.raw(*arrays, threads=False), generic.raw(*arrays, threads=False)
 
@@ -91,3 +96,13 @@ def test_the_generic_path_still_runs_for_the_3ruu_and_the_3rps() -> None:
         kin = prp3.spatial_kinematics(robot, motion)
         assert not out.status.any()
         assert np.allclose(out.dq, kin.dq, rtol=1e-10, atol=1e-12 * np.abs(kin.dq).max())
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.sampled_from((hexapods, rps_robots, deltas)), st.data())
+def test_one_pass_of_the_chain_equals_two(make: object, data: st.DataObject) -> None:
+    robot = data.draw(make())  # type: ignore[operator]
+    motion = data.draw(states(robot, 8))
+    one, two = _both(robot, _arrays(motion), (ONE_PASS,))
+    _agree(one, two)
+    assert prp3.compile_spatial(robot).ints[ONE_PASS] == 1

@@ -177,6 +177,8 @@ def _prelude(robot: SpatialRobot) -> list[str]:
         f"#define PRP3_ACTUATED {leg.actuated_coordinate} /* the actuated coordinate */",
         f"#define PRP3_S_CLOSED {int(leg.dof == 6 and leg.joints[-1].kind == 'S')}"
         " /* 1: legs of 6 coordinates closed by an S joint, J = [[A, 1], [B, 0]] */",
+        "#define PRP3_ONE_PASS 1 /* 1: the chain's motion once (q'' = 0), the q'' terms added;"
+        " 0: twice */",
         f"static const int KIND[3] = {{{kinds}}}; /* the joints: 0 R, 1 P, 2 U, 3 S */",
         f"static const double PRP3_SINGULARITY_THRESHOLD = {_number(SINGULAR)};",
         f"static const double PRP3_COMPATIBILITY = {_number(COMPATIBILITY)};",
@@ -1075,6 +1077,43 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
     return PRP3_OK;
 }
 
+/* the q'' terms of leg i's bodies 0 .. NJ-2 onto the bias (chain_motion with q'' = 0): the
+   acceleration is linear in q''; coordinate c of joint o <= k adds e_c q''_c to alpha_k and
+   e_c x (o_k - o_o) q''_c to body k's origin (a rotation), or e_c q''_c to the latter (a slide) */
+static void add_accelerations(int i, const Frames *f, Legs *s, const double ddq[])
+{
+    int k, c, r;
+    for (k = 0; k < NJ - 1; ++k) {
+        const double *x = f->fo[i][k];
+        for (c = 0; c < PRP3_DOF && s->owner[c] <= k; ++c) {
+            const int o = s->owner[c];
+            const double *ax = f->axes[i][c];
+            double e[3], h[3], lever[3];
+            for (r = 0; r < 3; ++r) {
+                e[r] = ax[r] * ddq[c];
+            }
+            if (s->kinds[c] == 1) {
+                for (r = 0; r < 3; ++r) {
+                    s->bo[i][k][r] += e[r];
+                }
+            } else {
+                for (r = 0; r < 3; ++r) {
+                    s->ba[i][k][r] += e[r];
+                }
+                if (o < k) {
+                    for (r = 0; r < 3; ++r) {
+                        lever[r] = x[r] - f->fo[i][o][r];
+                    }
+                    cross3(e, lever, h);
+                    for (r = 0; r < 3; ++r) {
+                        s->bo[i][k][r] += h[r];
+                    }
+                }
+            }
+        }
+    }
+}
+
 /* dq, ddq from J_i dq = (omega, v + omega x r_i) and the chain's recursion */
 static int rates(const double p[3], const double w[3], const double v[3], const double al[3],
                  const double a[3], const Frames *f, Legs *s, double dq[], double ddq[])
@@ -1082,7 +1121,6 @@ static int rates(const double p[3], const double w[3], const double v[3], const 
     int i, r, c;
     for (i = 0; i < PRP3_LEGS; ++i) {
         double rr[3], cw[3], d[3], g[3], st[6], ref[6], b[6];
-        double bias_w[NJ][3], bias_a[NJ][3], bias_o[NJ][3];
         for (r = 0; r < 3; ++r) {
             rr[r] = s->ends[i][r] - p[r];
         }
@@ -1099,12 +1137,12 @@ static int rates(const double p[3], const double w[3], const double v[3], const 
             Q(dq, i, c) = b[c];
             Q(ddq, i, c) = 0.0;
         }
-        chain_motion(i, f, dq, ddq, bias_w, bias_a, bias_o);
+        chain_motion(i, f, dq, ddq, s->bw[i], s->ba[i], s->bo[i]); /* the bias, q'' = 0 */
         cross3(w, cw, d);
         cross3(al, rr, g);
         for (r = 0; r < 3; ++r) {
-            ref[r] = bias_a[NJ - 1][r];
-            ref[3 + r] = bias_o[NJ - 1][r];
+            ref[r] = s->ba[i][NJ - 1][r];
+            ref[3 + r] = s->bo[i][NJ - 1][r];
         }
         for (r = 0; r < 3; ++r) {
             st[r] = al[r] - ref[r];
@@ -1117,7 +1155,11 @@ static int rates(const double p[3], const double w[3], const double v[3], const 
         for (c = 0; c < PRP3_DOF; ++c) {
             Q(ddq, i, c) = b[c];
         }
-        chain_motion(i, f, dq, ddq, s->bw[i], s->ba[i], s->bo[i]);
+        if (PRP3_ONE_PASS) { /* the q'' terms onto the bias */
+            add_accelerations(i, f, s, b);
+        } else { /* the chain again with q'' (the reference) */
+            chain_motion(i, f, dq, ddq, s->bw[i], s->ba[i], s->bo[i]);
+        }
     }
     return PRP3_OK;
 }

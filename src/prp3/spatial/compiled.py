@@ -111,6 +111,10 @@ SIZE = PLANE + 1
 #: The index in the packed integers of the flag of legs closed by an S joint (6-UPS, 3-RPS):
 #: 1 takes the block solves of :func:`_s_closed`, 0 the generic 6 × 6 LU (the reference).
 S_CLOSED: int = 4 + 3
+#: The index of the flag of the chain's motion in one pass: 1 runs the chain once with
+#: ``q̈ = 0`` (the bias) and adds the ``q̈`` terms by the Jacobian's columns (the
+#: acceleration is linear in ``q̈``), 0 runs it a second time with ``q̈`` (the reference).
+ONE_PASS: int = 4 + 4
 _PATTERNS = {"UPS": 0, "RPS": 1, "RUU": 2}
 _KINDS = {"R": 0, "P": 1, "U": 2, "S": 3}
 _DOF = (1, 1, 2, 3)
@@ -126,7 +130,7 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
     legs = robot.legs
     if len(legs) > _L or len(legs[0].joints) != _J:  # pragma: no cover - the patterns have 3
         raise Prp3Error(f"the compiled kernel takes up to {_L} legs of {_J} joints")
-    ints = np.zeros(5 + _J, dtype=np.int64)
+    ints = np.zeros(6 + _J, dtype=np.int64)
     ints[0] = _PATTERNS[legs[0].pattern]
     ints[1] = len(legs)
     ints[2] = legs[0].dof
@@ -134,6 +138,7 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
     for k, joint in enumerate(legs[0].joints):
         ints[4 + k] = _KINDS[joint.kind]
     ints[S_CLOSED] = int(legs[0].dof == 6 and legs[0].joints[-1].kind == "S")
+    ints[ONE_PASS] = 1
     par = np.zeros(SIZE)
     for i, leg in enumerate(legs):
         for k, joint in enumerate(leg.joints):
@@ -497,6 +502,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     ``measures (legs + 1,)`` (``μ_leg``, then ``μ_par``); returns the status."""
     legs, dof, act = ints[1], ints[2], ints[3]
     fast = ints[S_CLOSED] == 1
+    one = ints[ONE_PASS] == 1
     for r in range(3):
         if not (math.isfinite(p[r]) and math.isfinite(w[r]) and math.isfinite(v[r])
                 and math.isfinite(al[r]) and math.isfinite(a[r])):  # fmt: skip
@@ -685,11 +691,11 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         for c in range(dof):
             dq[i, c] = b[c]
             ddq[i, c] = 0.0
-        _chain_motion(ints, i, jo, fo, axes, dq, ddq, bias_w, bias_a, bo)
+        _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)  # the bias, q̈ = 0
         d0, d1, d2 = _cross(w[0], w[1], w[2], c0, c1, c2)
         g0, g1, g2 = _cross(al[0], al[1], al[2], r0, r1, r2)
         for r in range(3):
-            ref[r] = bias_a[i, _J - 1, r]
+            ref[r] = ba[i, _J - 1, r]
             ref[3 + r] = bo[i, _J - 1, r]
         st[0], st[1], st[2] = al[0] - ref[0], al[1] - ref[1], al[2] - ref[2]
         st[3] = a[0] + g0 + d0 - ref[3]
@@ -703,7 +709,10 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
             _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
         for c in range(dof):
             ddq[i, c] = b[c]
-        _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)
+        if one:  # the q̈ terms onto the bias
+            _add_accelerations(i, dof, kinds, owner, fo, axes, ddq, ba, bo)
+        else:  # the chain again with q̈ (the reference)
+            _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)
     # inertial wrenches and the particular wrenches (W_n = 0) from the platform inwards
     g = par[GRAV : GRAV + 3]
     for r in range(6):
@@ -1043,6 +1052,38 @@ def _chain_motion(ints: IntArray, i: int, jo: FloatArray, fo: FloatArray, axes: 
         ow[i, k, 0], ow[i, k, 1], ow[i, k, 2] = w0, w1, w2
         oa[i, k, 0], oa[i, k, 1], oa[i, k, 2] = a0, a1, a2
         oacc[i, k, 0], oacc[i, k, 1], oacc[i, k, 2] = c0, c1, c2
+
+
+@_jit
+def _add_accelerations(i: int, dof: int, kinds: IntArray, owner: IntArray, fo: FloatArray,
+                       axes: FloatArray, ddq: FloatArray, oa: FloatArray, oacc: FloatArray
+                       ) -> None:  # fmt: skip
+    """The ``q̈`` terms of leg ``i``'s bodies ``0 … J−2`` onto the bias of
+    :func:`_chain_motion` (``q̈ = 0``): coordinate ``c`` of joint ``o ≤ k`` adds ``e_c·q̈_c``
+    to ``α_k`` and ``e_c × (o_k − o_o)·q̈_c`` to the acceleration of body ``k``'s origin (a
+    rotation), or ``e_c·q̈_c`` to the latter (a slide): the columns of the body's Jacobian."""
+    for k in range(_J - 1):
+        x0, x1, x2 = fo[i, k, 0], fo[i, k, 1], fo[i, k, 2]
+        for c in range(dof):
+            o = owner[c]
+            if o > k:
+                break
+            acc = ddq[i, c]
+            e0, e1, e2 = axes[i, c, 0] * acc, axes[i, c, 1] * acc, axes[i, c, 2] * acc
+            if kinds[c] == 1:
+                oacc[i, k, 0] += e0
+                oacc[i, k, 1] += e1
+                oacc[i, k, 2] += e2
+            else:
+                oa[i, k, 0] += e0
+                oa[i, k, 1] += e1
+                oa[i, k, 2] += e2
+                if o < k:
+                    h0, h1, h2 = _cross(e0, e1, e2, x0 - fo[i, o, 0], x1 - fo[i, o, 1],
+                                        x2 - fo[i, o, 2])  # fmt: skip
+                    oacc[i, k, 0] += h0
+                    oacc[i, k, 1] += h1
+                    oacc[i, k, 2] += h2
 
 
 _FRAMES = 540
