@@ -2,13 +2,14 @@
 
 For the 6-UPS hexapod the compiled kernel solves each leg's Jacobian
 ``J = [[A, 1], [B, 0]]`` by its blocks (``B⁻¹``, ``det J = −det B``) instead of the
-generic ``6 × 6`` LU.  Held here against the generic path of the same kernel (the flag
+generic ``6 × 6`` LU; for the 3-RPS (``A, B`` of 3 × 2) by ``B(BᵀB)⁻¹`` and the constraint
+wrench ``(0, −b̃₀ × b̃₁/ℓ)`` instead of the ``5 × 5`` minors and the LU of ``JᵀJ``.  Held here against the generic path of the same kernel (the flag
 ``S_CLOSED`` of the packed integers set to 0) to 1e-12 relative in every output and
 status, on random designs and states (hypothesis), also far from home where the poses
-are refused; and against the numpy kinematics for ``det J``'s sign.  Likewise the chain's
+are refused (the 3-RPS: also off its poses, with rates it does not allow); and against the
+numpy kinematics for ``det J``'s sign and size.  Likewise the chain's
 motion in one pass (the flag ``ONE_PASS``: the bias with ``q̈ = 0``, then the ``q̈`` terms
-by the Jacobian's columns) against its two passes, on every architecture.  The 3-RPS (legs
-of 5 coordinates) and the 3-RUU keep the generic path.
+by the Jacobian's columns) against its two passes, on every architecture.  The 3-RUU keeps the generic path.
 """
 
 from __future__ import annotations
@@ -56,18 +57,18 @@ def _arrays(motion: prp3.PlatformMotion) -> list[np.ndarray]:
             motion.velocity, motion.alpha, motion.acceleration)]  # fmt: skip
 
 
-def test_the_flag_is_set_for_the_hexapod_only() -> None:
-    assert prp3.compile_spatial(prp3.hexapod()).ints[S_CLOSED] == 1
-    for make in (prp3.three_rps, prp3.delta):
-        assert prp3.compile_spatial(make()).ints[S_CLOSED] == 0
-    assert "#define PRP3_S_CLOSED 1" in prp3.spatial_c_inverse_dynamics(prp3.hexapod()).source
-    for make in (prp3.three_rps, prp3.delta):
-        assert "#define PRP3_S_CLOSED 0" in prp3.spatial_c_inverse_dynamics(make()).source
+def test_the_flag_is_set_for_the_hexapod_and_the_3rps_only() -> None:
+    for make in (prp3.hexapod, prp3.three_rps):
+        assert prp3.compile_spatial(make()).ints[S_CLOSED] == 1
+        assert "#define PRP3_S_CLOSED 1" in prp3.spatial_c_inverse_dynamics(make()).source
+    assert prp3.compile_spatial(prp3.delta()).ints[S_CLOSED] == 0
+    assert "#define PRP3_S_CLOSED 0" in prp3.spatial_c_inverse_dynamics(prp3.delta()).source
 
 
-@settings(max_examples=30, deadline=None)
-@given(hexapods(), st.data())
-def test_the_fast_path_equals_the_generic_kernel(robot: SpatialRobot, data: st.DataObject) -> None:
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from((hexapods, rps_robots)), st.data())
+def test_the_fast_path_equals_the_generic_kernel(make: object, data: st.DataObject) -> None:
+    robot = data.draw(make())  # type: ignore[operator]
     motion = data.draw(states(robot, 8))
     fast, generic = _both(robot, _arrays(motion))
     _agree(fast, generic)
@@ -76,9 +77,11 @@ def test_the_fast_path_equals_the_generic_kernel(robot: SpatialRobot, data: st.D
         assert np.allclose(fast.leg_measure, kin.leg_measure, rtol=1e-10, atol=0.0)
 
 
-@settings(max_examples=15, deadline=None)
-@given(hexapods(), st.integers(0, 2**32 - 1))
-def test_refusals_far_from_home_are_the_generic_kernels(robot: SpatialRobot, seed: int) -> None:
+@settings(max_examples=20, deadline=None)
+@given(st.sampled_from((hexapods, rps_robots)), st.data(), st.integers(0, 2**32 - 1))
+def test_refusals_far_from_home_are_the_generic_kernels(make: object, data: st.DataObject,
+                                                        seed: int) -> None:  # fmt: skip
+    robot = data.draw(make())  # type: ignore[operator]
     rng = np.random.default_rng(seed)
     n = 400
     position = np.array(robot.home_position) + rng.normal(0.0, 0.15 * robot.scale, (n, 3))
@@ -88,7 +91,7 @@ def test_refusals_far_from_home_are_the_generic_kernels(robot: SpatialRobot, see
     _agree(fast, generic)
 
 
-def test_the_generic_path_still_runs_for_the_3ruu_and_the_3rps() -> None:
+def test_the_generic_path_still_runs_for_the_3ruu_and_the_fast_for_the_3rps() -> None:
     for make, name in ((prp3.delta, "circle"), (prp3.three_rps, "tilt")):
         robot = make()
         motion = prp3.complete_motion(robot, prp3.spatial_motion(robot, name, 21))

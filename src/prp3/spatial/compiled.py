@@ -137,7 +137,7 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
     ints[3] = legs[0].actuated_coordinate
     for k, joint in enumerate(legs[0].joints):
         ints[4 + k] = _KINDS[joint.kind]
-    ints[S_CLOSED] = int(legs[0].dof == 6 and legs[0].joints[-1].kind == "S")
+    ints[S_CLOSED] = int(legs[0].dof >= 5 and legs[0].joints[-1].kind == "S")
     ints[ONE_PASS] = 1
     par = np.zeros(SIZE)
     for i, leg in enumerate(legs):
@@ -601,12 +601,16 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                 if kinds[c] == 1:
                     value *= scale
                 fac[r, c] = value
-        if fast:  # J = [[A, 1], [B, 0]]: B⁻¹ and A kept, x_i = J⁻ᵀ·e_a by blocks
-            measures[i] = _s_closed(jac, kinds, scale, normal, i)
+        if fast:  # J = [[A, 1], [B, 0]]: A and B⁻¹ (or B(BᵀB)⁻¹) kept, x_i by blocks
+            if dof == 6:
+                measures[i] = _s_closed(jac, kinds, scale, normal, i)
+            else:
+                measures[i] = _s_closed5(jac, kinds, scale, normal, nw, i)
             for r in range(6):
                 y6[r] = 0.0
             y6[act] = 1.0
-            xw[i, 0], xw[i, 1], xw[i, 2], xw[i, 3], xw[i, 4], xw[i, 5] = _s_transpose(normal, i, y6)
+            xw[i, 0], xw[i, 1], xw[i, 2], xw[i, 3], xw[i, 4], xw[i, 5] = (
+                _s_transpose(normal, i, y6) if dof == 6 else _s_transpose5(normal, i, y6))
         elif dof == 6:
             for r in range(6):
                 for c in range(6):
@@ -685,7 +689,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         if dof == 5 and not _compatible(nw[i], st, st, scale):
             return _INCOMPATIBLE
         if fast:
-            _s_rates(normal, i, st, b)
+            _s_rates(normal, i, st, b) if dof == 6 else _s_rates5(normal, i, st, b)
         else:
             _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
         for c in range(dof):
@@ -704,7 +708,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         if dof == 5 and not _compatible(nw[i], st, ref, scale):
             return _INCOMPATIBLE
         if fast:
-            _s_rates(normal, i, st, b)
+            _s_rates(normal, i, st, b) if dof == 6 else _s_rates5(normal, i, st, b)
         else:
             _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
         for c in range(dof):
@@ -753,7 +757,8 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                     axes[i, c, 0] * mk[o, 0] + axes[i, c, 1] * mk[o, 1] + axes[i, c, 2] * mk[o, 2]
                 )
         if fast:
-            z[0], z[1], z[2], z[3], z[4], z[5] = _s_transpose(normal, i, y0)
+            z[0], z[1], z[2], z[3], z[4], z[5] = (
+                _s_transpose(normal, i, y0) if dof == 6 else _s_transpose5(normal, i, y0))
         else:
             _transpose_solve_vector(normal[i], jacs[i], pivs[i], dof, y0, b, z)
         r0, r1, r2 = ends[i, 0] - p[0], ends[i, 1] - p[1], ends[i, 2] - p[2]
@@ -874,6 +879,61 @@ def _s_transpose(normal: FloatArray, i: int, y: FloatArray
             normal[i, 3, 0] * u0 + normal[i, 4, 0] * u1 + normal[i, 5, 0] * u2,
             normal[i, 3, 1] * u0 + normal[i, 4, 1] * u1 + normal[i, 5, 1] * u2,
             normal[i, 3, 2] * u0 + normal[i, 4, 2] * u1 + normal[i, 5, 2] * u2)  # fmt: skip
+
+
+@_jit
+def _s_closed5(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray,
+               nw: FloatArray, i: int) -> float:  # fmt: skip
+    """A leg of 5 coordinates closed by an S joint (3-RPS): ``J = [[A, 1], [B, 0]]`` with
+    ``A, B`` of 3 × 2.  The generalised cross product of the scaled columns is ``(0,
+    −b̃₀ × b̃₁)`` (the 5 × 5 minors without a row of ``ω`` vanish, those without a row of
+    ``v`` are ``B``'s 2 × 2 minors); so the constraint wrench ``w_i`` is ``(0, −b̃₀ × b̃₁/ℓ)``
+    and ``μ_leg = |b̃₀ × b̃₁|``.  Keeps ``A`` in ``normal[i, :3, :2]`` and ``B(BᵀB)⁻¹`` in
+    ``normal[i, 3:, :2]`` (``det BᵀB = |b₀ × b₁|²``); returns ``μ_leg``."""
+    s0 = 1.0 if kinds[0] == 1 else 1.0 / scale  # the scaled columns: v over ℓ, slides times ℓ
+    s1 = 1.0 if kinds[1] == 1 else 1.0 / scale
+    x0, x1, x2 = jac[3, 0], jac[4, 0], jac[5, 0]
+    y0, y1, y2 = jac[3, 1], jac[4, 1], jac[5, 1]
+    c0, c1, c2 = _cross(x0, x1, x2, y0, y1, y2)
+    f = s0 * s1
+    nw[i, 0] = nw[i, 1] = nw[i, 2] = 0.0
+    nw[i, 3], nw[i, 4], nw[i, 5] = -c0 * f / scale, -c1 * f / scale, -c2 * f / scale
+    g00 = x0 * x0 + x1 * x1 + x2 * x2
+    g11 = y0 * y0 + y1 * y1 + y2 * y2
+    g01 = x0 * y0 + x1 * y1 + x2 * y2
+    inv = 1.0 / (c0 * c0 + c1 * c1 + c2 * c2)
+    for r in range(3):
+        bx, by = jac[3 + r, 0], jac[3 + r, 1]
+        normal[i, 3 + r, 0] = (bx * g11 - by * g01) * inv
+        normal[i, 3 + r, 1] = (by * g00 - bx * g01) * inv
+        normal[i, r, 0] = jac[r, 0]
+        normal[i, r, 1] = jac[r, 1]
+    return math.sqrt(c0 * c0 + c1 * c1 + c2 * c2) * abs(f)
+
+
+@_jit
+def _s_rates5(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None:
+    """``(JᵀJ)⁻¹Jᵀ·t`` for a leg of 5 closed by S (:func:`_s_closed5`): ``(BᵀB)⁻¹Bᵀ·t_v``,
+    then ``t_ω − A·(…)`` (the least-squares solution: ``x_S`` zeroes the ``ω`` rows)."""
+    for c in range(2):
+        out[c] = (
+            normal[i, 3, c] * t[3] + normal[i, 4, c] * t[4] + normal[i, 5, c] * t[5]
+        )
+    for r in range(3):
+        out[2 + r] = t[r] - (normal[i, r, 0] * out[0] + normal[i, r, 1] * out[1])
+
+
+@_jit
+def _s_transpose5(normal: FloatArray, i: int, y: FloatArray
+                  ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
+    """``J(JᵀJ)⁻¹·y`` for a leg of 5 closed by S as ``(M, F)``, the least-norm solution of
+    ``Jᵀ·x = y``: ``M = y_S``, ``F = B(BᵀB)⁻¹(y_a − Aᵀ·y_S)``."""
+    u0 = y[0] - (normal[i, 0, 0] * y[2] + normal[i, 1, 0] * y[3] + normal[i, 2, 0] * y[4])
+    u1 = y[1] - (normal[i, 0, 1] * y[2] + normal[i, 1, 1] * y[3] + normal[i, 2, 1] * y[4])
+    return (y[2], y[3], y[4],
+            normal[i, 3, 0] * u0 + normal[i, 3, 1] * u1,
+            normal[i, 4, 0] * u0 + normal[i, 4, 1] * u1,
+            normal[i, 5, 0] * u0 + normal[i, 5, 1] * u1)  # fmt: skip
 
 
 @_jit
