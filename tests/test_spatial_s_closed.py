@@ -15,11 +15,13 @@ by the Jacobian's columns) against its two passes, on every architecture.  The 3
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 import prp3
+from prp3.errors import Prp3Error
 from prp3.spatial.compiled import ONE_PASS, S_CLOSED
 from prp3.spatial.model import SpatialRobot
 from spatial_strategies import deltas, hexapods, rps_robots
@@ -109,3 +111,42 @@ def test_one_pass_of_the_chain_equals_two(make: object, data: st.DataObject) -> 
     one, two = _both(robot, _arrays(motion), (ONE_PASS,))
     _agree(one, two)
     assert prp3.compile_spatial(robot).ints[ONE_PASS] == 1
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.sampled_from((hexapods, rps_robots, deltas)), st.data())
+def test_the_single_call_equals_the_batch(make: object, data: st.DataObject) -> None:
+    """``solve`` (one state through one short kernel call) gives the batch's every output,
+    bit for bit (the same sample's steps), and raises what the batch of one raises."""
+    robot = data.draw(make())  # type: ignore[operator]
+    motion = data.draw(states(robot, 3))
+    kernel = prp3.compile_spatial(robot)
+    arrays = _arrays(motion)
+    for k in range(len(motion)):
+        one = [a[k : k + 1] for a in arrays]
+        try:
+            batch = kernel.solve_batch(*one)
+        except Prp3Error as error:
+            with pytest.raises(type(error)) as caught:
+                kernel.solve(*(a[0] for a in one))
+            assert str(caught.value) == str(error)
+            continue
+        single = kernel.solve(*(a[0] for a in one))
+        for name in NAMES:
+            assert np.array_equal(getattr(single, name), getattr(batch, name)[0]), name
+
+
+def test_the_single_calls_refusals_are_the_batchs() -> None:
+    robot = prp3.hexapod()
+    kernel = prp3.compile_spatial(robot)
+    zero = np.zeros(3)
+    home = np.array(robot.home_position)
+    tilted = Rotation.from_rotvec([0.0, 1.2, 0.0]).as_matrix()
+    for state in ((home + [0.0, 0.0, 0.2], np.eye(3)), (home + [0.0, 0.0, np.nan], np.eye(3)),
+                  (home, 2.0 * np.eye(3)), (home, np.diag([1.0, 1.0, -1.0])), (home, tilted),
+                  (home * [1.0, 1.0, 0.5], np.eye(3))):  # fmt: skip
+        with pytest.raises(Prp3Error) as batch:
+            kernel.solve_batch(state[0][None], state[1][None], *(zero[None],) * 4)
+        with pytest.raises(type(batch.value)) as single:
+            kernel.solve(state[0], state[1], zero, zero, zero, zero)
+        assert str(single.value) == str(batch.value)

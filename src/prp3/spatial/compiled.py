@@ -1151,10 +1151,8 @@ _WORK = 5
 
 
 @_jit
-def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
-          v: FloatArray, al: FloatArray, a: FloatArray, q: FloatArray, dq: FloatArray,
-          ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
-          measures: FloatArray, status: IntArray, start: int, stop: int) -> None:  # fmt: skip
+def _scratch() -> tuple:  # type: ignore[type-arg]
+    """The work arrays of :func:`_sample`: ``work``, ``frames`` and its scratch tuple."""
     work = np.zeros((_WORK, 3, 3))
     frames = np.zeros(_FRAMES)
     m6, v6, l6, lj3 = (6, 6), 6, (_L, 6), (_L, _J, 3)
@@ -1165,9 +1163,55 @@ def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: Flo
            np.zeros(lj3), np.zeros(lj3), np.zeros(lj3), np.zeros(v6), np.zeros(v6), np.zeros(v6),
            np.zeros((_J, 3)), np.zeros((_J, 3)), np.zeros(3), np.zeros(3), np.zeros(v6),
            np.zeros(v6), np.zeros(v6))  # fmt: skip
+    return work, frames, scr
+
+
+@_jit
+def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
+          v: FloatArray, al: FloatArray, a: FloatArray, q: FloatArray, dq: FloatArray,
+          ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
+          measures: FloatArray, status: IntArray, start: int, stop: int) -> None:  # fmt: skip
+    work, frames, scr = _scratch()
     for n in range(start, stop):
         status[n] = _sample(ints, par, p[n], rm[n], w[n], v[n], al[n], a[n], q[n], dq[n], ddq[n],
                             tau[n], force[n], moment[n], measures[n], work, frames, scr)  # fmt: skip
+
+
+@_jit
+def _one(ints: IntArray, par: FloatArray, state: FloatArray, out: FloatArray) -> int:
+    """One state ``(24,)`` (position, rotation row by row, ω, v, α, a) into ``out`` (the
+    blocks ``q, dq, ddq, tau, power, force, moment, measures`` flat, in that order, as
+    :func:`_layout`); returns the status of :func:`_sample`.  One call of few arguments:
+    the validated single call."""
+    legs, dof, act = ints[1], ints[2], ints[3]
+    nq, nw = legs * dof, legs * _J * 3
+    work, frames, scr = _scratch()
+    at = 3 * nq + 2 * legs
+    q = out[0:nq].reshape((legs, dof))
+    dq = out[nq : 2 * nq].reshape((legs, dof))
+    tau = out[3 * nq : 3 * nq + legs]
+    status = _sample(ints, par, state[0:3], state[3:12].reshape((3, 3)), state[12:15],
+                     state[15:18], state[18:21], state[21:24], q, dq,
+                     out[2 * nq : 3 * nq].reshape((legs, dof)), tau,
+                     out[at : at + nw].reshape((legs, _J, 3)),
+                     out[at + nw : at + 2 * nw].reshape((legs, _J, 3)),
+                     out[at + 2 * nw : at + 2 * nw + legs + 1], work, frames, scr)  # fmt: skip
+    for i in range(legs):
+        out[3 * nq + legs + i] = tau[i] * dq[i, act]
+    return status
+
+
+def _layout(legs: int, dof: int, joints: int) -> tuple[int, list[tuple[int, int, tuple[int, ...]]]]:
+    """The size of :func:`_one`'s ``out`` and its blocks ``(start, stop, shape)``: ``q, dq,
+    ddq (legs, dof)``, ``tau, power (legs,)``, ``force, moment (legs, joints, 3)``, ``μ_leg
+    (legs,)``, then ``μ_par`` alone."""
+    blocks: list[tuple[int, int, tuple[int, ...]]] = []
+    at = 0
+    for shape in ((legs, dof),) * 3 + ((legs,),) * 2 + ((legs, joints, 3),) * 2 + ((legs,),):
+        size = int(np.prod(shape))
+        blocks.append((at, at + size, shape))
+        at += size
+    return at + 1, blocks
 
 
 @numba.njit(cache=True, error_model="numpy", parallel=True)
@@ -1224,7 +1268,9 @@ class SpatialSamples:
     status: IntArray
 
 
-def _vector(name: str, value: ArrayLike | None, shape: tuple[int, ...]) -> FloatArray:
+def _vector(name: str, value: ArrayLike | None, shape: tuple[int, ...],
+            contiguous: bool = True) -> FloatArray:  # fmt: skip
+    """``value`` as float64 of ``shape`` (C-contiguous unless ``contiguous`` is false)."""
     try:
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
@@ -1234,7 +1280,7 @@ def _vector(name: str, value: ArrayLike | None, shape: tuple[int, ...]) -> Float
         raise TrajectoryError(
             f"{name} must have shape {shape}, got {array.shape}", subject="motion", key=name
         )
-    return np.ascontiguousarray(array)
+    return np.ascontiguousarray(array) if contiguous else array
 
 
 class CompiledSpatial:
@@ -1254,6 +1300,7 @@ class CompiledSpatial:
         self.ints, self.par = pack(robot)
         legs, dof = len(robot.legs), robot.legs[0].dof
         self._shapes = (legs, dof, len(robot.legs[0].joints))
+        self._size, self._blocks = _layout(*self._shapes)
 
     def _arrays(self, n: int) -> tuple[FloatArray, ...]:
         legs, dof, joints = self._shapes
@@ -1329,17 +1376,19 @@ class CompiledSpatial:
         UnreachablePoseError, SingularPoseError
             As :func:`~prp3.spatial.outputs.spatial_inverse_dynamics`.
         """
-        p = _vector("position", position, (3,))[None]
-        r = _vector("rotation", rotation, (3, 3))[None]
-        rates = [_vector(name, value, (3,))[None] for name, value in (
+        p = _vector("position", position, (3,), False)  # copied once, into the state
+        r = _vector("rotation", rotation, (3, 3), False)
+        rates = [_vector(name, value, (3,), False) for name, value in (
             ("omega", omega), ("velocity", velocity), ("alpha", alpha),
             ("acceleration", acceleration))]  # fmt: skip
-        out = self.raw(p, r, rates[0], rates[1], rates[2], rates[3], threads=False)
-        if out.status[0]:  # the motion's validation names a bad input, the route a refusal
-            self._refuse(out.status, PlatformMotion.of([0.0], p[0], r[0], *(x[0] for x in rates)))
-        return SpatialSample(out.q[0], out.dq[0], out.ddq[0], out.tau[0], out.power[0],
-                             out.force[0], out.moment[0], out.leg_measure[0],
-                             float(out.parallel_measure[0]))  # fmt: skip
+        state = np.concatenate((p, r.ravel(), *rates))
+        out = np.empty(self._size)
+        status = _one(self.ints, self.par, state, out)
+        if status:  # the motion's validation names a bad input, the route a refusal
+            self._refuse(np.array([status]), PlatformMotion.of([0.0], p, r, *rates))
+        q, dq, ddq, tau, power, force, moment, leg = [out[a:b].reshape(shape)
+                                                      for a, b, shape in self._blocks]  # fmt: skip
+        return SpatialSample(q, dq, ddq, tau, power, force, moment, leg, float(out[-1]))
 
     def solve_batch(
         self,
