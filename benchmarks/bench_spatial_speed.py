@@ -11,7 +11,9 @@ Measures in one run, for the default 6-UPS (docs/spatial.md §7) on the tilt mot
   the compiled kernel's batch (``compile_spatial(robot).solve_batch``, numba's threads),
   also with its fast path of the legs closed by an S joint switched off (``S_CLOSED``) and
   with the chain's motion in two passes per leg instead of one (``ONE_PASS``);
-* one validated call of the compiled kernel (``CompiledSpatial.solve``, one state);
+* one validated call of the compiled kernel (``CompiledSpatial.solve``, one state), and
+  the steps of the former single call (the inputs as a batch of one through ``raw``, the
+  outputs indexed: its kernel work, without its checks);
 * MuJoCo's ``mj_inverse`` on the hexapod as an open tree (a free platform, each leg two
   hinges, a slide and a ball, the ball's body welded to the platform by a ``connect``
   equality) and Pinocchio's ``rnea`` on the same tree without the closures (their fastest
@@ -167,6 +169,16 @@ def main() -> None:
             kernel.solve(*state)
 
     single = _best(singles) / calls
+
+    def former() -> None:  # the single call before _one: a batch of one through raw
+        for _ in range(calls):
+            arrays = [np.ascontiguousarray(np.asarray(x, dtype=np.float64))[None] for x in state]
+            out = kernel.raw(*arrays, threads=False)
+            prp3.SpatialSample(out.q[0], out.dq[0], out.ddq[0], out.tau[0], out.power[0],
+                               out.force[0], out.moment[0], out.leg_measure[0],
+                               float(out.parallel_measure[0]))  # fmt: skip
+
+    single_former = _best(former) / calls
     mj = _mujoco(robot, calls)
     pn = _pinocchio(robot, calls)
     print(f"6-UPS, tilt motion, {len(motion)} samples; {numba_threads()} threads")
@@ -178,6 +190,7 @@ def main() -> None:
         ("  the same, the chain's motion twice (ONE_PASS = 0)", batch_two),
         ("  the same, generic path (S_CLOSED = 0)", batch_generic),
         ("prp3 compile_spatial .solve, one validated call", single),
+        ("  the former call's steps (raw, a batch of one)", single_former),
     ]
     if mj is not None:
         rows.append(("MuJoCo mj_inverse, open tree + 6 connect (Python)", mj))

@@ -541,8 +541,8 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         jacs,
         pivs,
         st,
-        bias_w,
-        bias_a,
+        _bias_w,
+        _bias_a,
         bw,
         ba,
         bo,
@@ -610,7 +610,8 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                 y6[r] = 0.0
             y6[act] = 1.0
             xw[i, 0], xw[i, 1], xw[i, 2], xw[i, 3], xw[i, 4], xw[i, 5] = (
-                _s_transpose(normal, i, y6) if dof == 6 else _s_transpose5(normal, i, y6))
+                _s_transpose(normal, i, y6) if dof == 6 else _s_transpose5(normal, i, y6)
+            )
         elif dof == 6:
             for r in range(6):
                 for c in range(6):
@@ -758,7 +759,8 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                 )
         if fast:
             z[0], z[1], z[2], z[3], z[4], z[5] = (
-                _s_transpose(normal, i, y0) if dof == 6 else _s_transpose5(normal, i, y0))
+                _s_transpose(normal, i, y0) if dof == 6 else _s_transpose5(normal, i, y0)
+            )
         else:
             _transpose_solve_vector(normal[i], jacs[i], pivs[i], dof, y0, b, z)
         r0, r1, r2 = ends[i, 0] - p[0], ends[i, 1] - p[1], ends[i, 2] - p[2]
@@ -916,9 +918,7 @@ def _s_rates5(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> Non
     """``(JᵀJ)⁻¹Jᵀ·t`` for a leg of 5 closed by S (:func:`_s_closed5`): ``(BᵀB)⁻¹Bᵀ·t_v``,
     then ``t_ω − A·(…)`` (the least-squares solution: ``x_S`` zeroes the ``ω`` rows)."""
     for c in range(2):
-        out[c] = (
-            normal[i, 3, c] * t[3] + normal[i, 4, c] * t[4] + normal[i, 5, c] * t[5]
-        )
+        out[c] = normal[i, 3, c] * t[3] + normal[i, 4, c] * t[4] + normal[i, 5, c] * t[5]
     for r in range(3):
         out[2 + r] = t[r] - (normal[i, r, 0] * out[0] + normal[i, r, 1] * out[1])
 
@@ -1178,11 +1178,11 @@ def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: Flo
 
 
 @_jit
-def _one(ints: IntArray, par: FloatArray, state: FloatArray, out: FloatArray) -> int:
-    """One state ``(24,)`` (position, rotation row by row, ω, v, α, a) into ``out`` (the
-    blocks ``q, dq, ddq, tau, power, force, moment, measures`` flat, in that order, as
-    :func:`_layout`); returns the status of :func:`_sample`.  One call of few arguments:
-    the validated single call."""
+def _one(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
+         v: FloatArray, al: FloatArray, a: FloatArray, out: FloatArray) -> int:  # fmt: skip
+    """One state (``(3,)``, ``(3, 3)``, four ``(3,)``) into ``out``: the blocks ``q, dq, ddq,
+    tau, power, force, moment, measures`` flat, in that order, as :func:`_layout`; returns
+    the status of :func:`_sample`.  One short call: the validated single call."""
     legs, dof, act = ints[1], ints[2], ints[3]
     nq, nw = legs * dof, legs * _J * 3
     work, frames, scr = _scratch()
@@ -1190,8 +1190,7 @@ def _one(ints: IntArray, par: FloatArray, state: FloatArray, out: FloatArray) ->
     q = out[0:nq].reshape((legs, dof))
     dq = out[nq : 2 * nq].reshape((legs, dof))
     tau = out[3 * nq : 3 * nq + legs]
-    status = _sample(ints, par, state[0:3], state[3:12].reshape((3, 3)), state[12:15],
-                     state[15:18], state[18:21], state[21:24], q, dq,
+    status = _sample(ints, par, p, rm, w, v, al, a, q, dq,
                      out[2 * nq : 3 * nq].reshape((legs, dof)), tau,
                      out[at : at + nw].reshape((legs, _J, 3)),
                      out[at + nw : at + 2 * nw].reshape((legs, _J, 3)),
@@ -1268,9 +1267,11 @@ class SpatialSamples:
     status: IntArray
 
 
-def _vector(name: str, value: ArrayLike | None, shape: tuple[int, ...],
-            contiguous: bool = True) -> FloatArray:  # fmt: skip
-    """``value`` as float64 of ``shape`` (C-contiguous unless ``contiguous`` is false)."""
+def _vector(name: str, value: ArrayLike | None, shape: tuple[int, ...]) -> FloatArray:
+    """``value`` as a C-contiguous float64 array of ``shape`` (itself when it is one)."""
+    if (type(value) is np.ndarray and value.dtype == np.float64 and value.shape == shape
+            and value.flags.c_contiguous):  # fmt: skip
+        return value
     try:
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
@@ -1280,7 +1281,7 @@ def _vector(name: str, value: ArrayLike | None, shape: tuple[int, ...],
         raise TrajectoryError(
             f"{name} must have shape {shape}, got {array.shape}", subject="motion", key=name
         )
-    return np.ascontiguousarray(array) if contiguous else array
+    return np.ascontiguousarray(array)
 
 
 class CompiledSpatial:
@@ -1376,18 +1377,18 @@ class CompiledSpatial:
         UnreachablePoseError, SingularPoseError
             As :func:`~prp3.spatial.outputs.spatial_inverse_dynamics`.
         """
-        p = _vector("position", position, (3,), False)  # copied once, into the state
-        r = _vector("rotation", rotation, (3, 3), False)
-        rates = [_vector(name, value, (3,), False) for name, value in (
+        p = _vector("position", position, (3,))
+        r = _vector("rotation", rotation, (3, 3))
+        rates = [_vector(name, value, (3,)) for name, value in (
             ("omega", omega), ("velocity", velocity), ("alpha", alpha),
             ("acceleration", acceleration))]  # fmt: skip
-        state = np.concatenate((p, r.ravel(), *rates))
         out = np.empty(self._size)
-        status = _one(self.ints, self.par, state, out)
+        status = _one(self.ints, self.par, p, r, rates[0], rates[1], rates[2], rates[3], out)
         if status:  # the motion's validation names a bad input, the route a refusal
             self._refuse(np.array([status]), PlatformMotion.of([0.0], p, r, *rates))
-        q, dq, ddq, tau, power, force, moment, leg = [out[a:b].reshape(shape)
-                                                      for a, b, shape in self._blocks]  # fmt: skip
+        q, dq, ddq, tau, power, force, moment, leg = [
+            out[a:b] if len(shape) == 1 else out[a:b].reshape(shape) for a, b, shape in self._blocks
+        ]
         return SpatialSample(q, dq, ddq, tau, power, force, moment, leg, float(out[-1]))
 
     def solve_batch(
