@@ -20,7 +20,9 @@ Measures in one run, for the default 6-UPS (docs/spatial.md §7) on the tilt mot
   routes: MuJoCo's gives the generalised forces of its soft constraint model, Pinocchio's
   the tree's joint torques, neither the joint reactions of §9), one Python call each;
 
-and prints the samples per second, the time per call and the ratios.  Never run as a
+and prints the samples per second, the time per call and the ratios; then, per
+architecture in one thread, the kernel as compiled, with the chain's motion in two passes
+and generic (both flags at 0), timed in turn.  Never run as a
 test (the tests assert no timings); the table of docs/spatial.md §19 is its output.
 """
 
@@ -205,6 +207,38 @@ def main() -> None:
         print(f"validated single call / mj_inverse: {single / mj:.1f}")
     if pn is not None:
         print(f"validated single call / rnea: {single / pn:.1f}")
+    print(f"validated single call / the former call's steps: {single / single_former:.2f}")
+    _variants()
+
+
+def _variants(samples: int = 5000, rounds: int = 15) -> None:
+    """Each architecture's kernel in one thread on random regular states, as compiled, with
+    the chain's motion in two passes (``ONE_PASS = 0``) and generic (``S_CLOSED = 0`` too),
+    timed in turn ``rounds`` times (the best of each: the load of a shared machine hits the
+    three alike)."""
+    print(f"one thread, {samples} random regular states, the variants timed in turn "
+          f"{rounds} times (best), per sample:")  # fmt: skip
+    for make in (prp3.hexapod, prp3.three_rps, prp3.delta):
+        robot = make()
+        motion = prp3.spatial_random_motion(robot, samples, 1)
+        arrays = [np.ascontiguousarray(x) for x in (motion.position, motion.rotation,
+                  motion.omega, motion.velocity, motion.alpha, motion.acceleration)]  # fmt: skip
+        kernels = []
+        for flags in ((), (ONE_PASS,), (ONE_PASS, S_CLOSED)):
+            kernel = prp3.compile_spatial(robot)
+            kernel.ints = kernel.ints.copy()
+            kernel.ints[list(flags)] = 0
+            kernel.raw(*arrays, threads=False)
+            kernels.append(kernel)
+        best = [np.inf] * 3
+        for _ in range(rounds):
+            for k, kernel in enumerate(kernels):
+                start = time.perf_counter()
+                kernel.raw(*arrays, threads=False)
+                best[k] = min(best[k], time.perf_counter() - start)
+        one, two, generic = (b / samples * 1e6 for b in best)
+        print(f"  {robot.name:6s} one pass {one:6.2f} us, two passes {two:6.2f} us, "
+              f"generic {generic:6.2f} us")  # fmt: skip
 
 
 def numba_threads() -> int:
