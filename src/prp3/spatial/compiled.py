@@ -109,7 +109,8 @@ SIZE = PLANE + 1
 # the integers: pattern (0 UPS, 1 RPS, 2 RUU), legs, dof, actuated coordinate, joint kinds
 # (0 R, 1 P, 2 U, 3 S), then 1 for legs of 6 coordinates closed by an S joint (the fast path)
 #: The index in the packed integers of the flag of legs closed by an S joint (6-UPS, 3-RPS):
-#: 1 takes the block solves of :func:`_s_closed`, 0 the generic 6 × 6 LU (the reference).
+#: 1 takes the block solves of :func:`_s_closed` (6 coordinates) or :func:`_s_closed5` (5), 0 the
+#: generic LU of ``J`` or ``JᵀJ`` and the ``5 × 5`` minors (the reference).
 S_CLOSED: int = 4 + 3
 #: The index of the flag of the chain's motion in one pass: 1 runs the chain once with
 #: ``q̈ = 0`` (the bias) and adds the ``q̈`` terms by the Jacobian's columns (the
