@@ -14,7 +14,7 @@ regular states (``prp3.spatial_random_motion``), in one run:
 * the same C with the chain's motion in two passes per leg (``#define PRP3_ONE_PASS 0``:
   the bias with ``q̈ = 0``, then the chain again with ``q̈``) instead of one;
 * the same C with neither that nor its fast path of the legs closed by an S joint
-  (``PRP3_S_CLOSED 0`` too, the generic ``6 × 6`` LU; the 6-UPS only differs);
+  (``PRP3_S_CLOSED 0`` too, the generic LU; the 6-UPS and the 3-RPS differ);
 * the numba kernel (``prp3.compile_spatial(robot).raw``) on the same states, one thread,
   per sample (a batch: the loop is numba's), and one state per Python call.
 
