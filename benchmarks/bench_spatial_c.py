@@ -11,8 +11,10 @@ regular states (``prp3.spatial_random_motion``), in one run:
   -O2`` into a small driver program that reads the states and calls
   ``prp3_inverse_dynamics`` ``M`` times in a loop over them (no Python in the loop; the
   best of five loops), its outputs checked against the numba kernel's to 1e-12;
-* the same C with its fast path of the legs closed by an S joint switched off
-  (``#define PRP3_S_CLOSED 0``, the generic ``6 × 6`` LU; the 6-UPS only differs);
+* the same C with the chain's motion in two passes per leg (``#define PRP3_ONE_PASS 0``:
+  the bias with ``q̈ = 0``, then the chain again with ``q̈``) instead of one;
+* the same C with neither that nor its fast path of the legs closed by an S joint
+  (``PRP3_S_CLOSED 0`` too, the generic LU; the 6-UPS and the 3-RPS differ);
 * the numba kernel (``prp3.compile_spatial(robot).raw``) on the same states, one thread,
   per sample (a batch: the loop is numba's), and one state per Python call.
 
@@ -79,11 +81,12 @@ int main(int argc, char **argv)
 
 
 def _c_time(robot: prp3.SpatialRobot, states: np.ndarray, calls: int, folder: Path,
-            generic: bool = False) -> tuple[float, np.ndarray]:  # fmt: skip
+            off: tuple[str, ...] = ()) -> tuple[float, np.ndarray]:  # fmt: skip
+    """The C's time per call and outputs, with the ``#define``'s named in ``off`` set to 0."""
     code = prp3.spatial_c_inverse_dynamics(robot)
     source = code.source
-    if generic:
-        source = source.replace("#define PRP3_S_CLOSED 1", "#define PRP3_S_CLOSED 0")
+    for name in off:
+        source = source.replace(f"#define {name} 1", f"#define {name} 0")
     (folder / HEADER_NAME).write_text(code.header)
     (folder / SOURCE_NAME).write_text(source)
     (folder / "driver.c").write_text(_DRIVER)
@@ -132,8 +135,8 @@ def main() -> None:
     parser.add_argument("--calls", type=int, default=200000)
     args = parser.parse_args()
     print(f"random regular states: {args.samples}; C calls per loop: {args.calls}; one thread")
-    print(f"{'robot':<8}{'generated C':>16}{'C, generic':>16}{'numba batch':>16}"
-          f"{'numba 1 call':>16}  C vs batch")  # fmt: skip
+    print(f"{'robot':<8}{'generated C':>16}{'C, 2 passes':>16}{'C, generic':>16}"
+          f"{'numba batch':>16}{'numba 1 call':>16}  C vs batch")  # fmt: skip
     for make in (prp3.hexapod, prp3.three_rps, prp3.delta):
         robot = make()
         motion = prp3.spatial_random_motion(robot, args.samples, 1)
@@ -142,13 +145,17 @@ def main() -> None:
         with tempfile.TemporaryDirectory() as folder:
             c_call, c_values = _c_time(robot, states, args.calls, Path(folder))
         with tempfile.TemporaryDirectory() as folder:  # the legs closed by S through the LU
-            c_generic, _ = _c_time(robot, states, args.calls, Path(folder), generic=True)
+            c_generic, _ = _c_time(robot, states, args.calls, Path(folder),
+                                   ("PRP3_S_CLOSED", "PRP3_ONE_PASS"))  # fmt: skip
+        with tempfile.TemporaryDirectory() as folder:  # the chain's motion twice per leg
+            c_two, _ = _c_time(robot, states, args.calls, Path(folder), ("PRP3_ONE_PASS",))
         batch, single, k_values = _kernel(robot, motion)
         scale = float(np.max(np.abs(k_values)))
         error = float(np.max(np.abs(c_values - k_values)))
         if error > 1e-12 * scale:
             raise SystemExit(f"{robot.name}: C and kernel differ by {error:.3g} (of {scale:.3g})")
-        print(f"{robot.name:<8}{c_call * 1e6:>13.3f} us{c_generic * 1e6:>13.3f} us{batch * 1e6:>13.3f} us"
+        print(f"{robot.name:<8}{c_call * 1e6:>13.3f} us{c_two * 1e6:>13.3f} us"
+              f"{c_generic * 1e6:>13.3f} us{batch * 1e6:>13.3f} us"
               f"{single * 1e6:>13.3f} us  {batch / c_call:8.1f}x")  # fmt: skip
 
 

@@ -9,15 +9,20 @@ Measures in one run, for the default 6-UPS (docs/spatial.md §7) on the tilt mot
 * prp3's routes for ``N`` samples: the one linear system of every unknown (route (b) as
   written, the reference), the recursive numpy route (``recursive_newton_euler``) and
   the compiled kernel's batch (``compile_spatial(robot).solve_batch``, numba's threads),
-  also with its fast path of the legs closed by an S joint switched off (``S_CLOSED``);
-* one validated call of the compiled kernel (``CompiledSpatial.solve``, one state);
+  also with its fast path of the legs closed by an S joint switched off (``S_CLOSED``) and
+  with the chain's motion in two passes per leg instead of one (``ONE_PASS``);
+* one validated call of the compiled kernel (``CompiledSpatial.solve``, one state), and
+  the steps of the former single call (the inputs as a batch of one through ``raw``, the
+  outputs indexed: its kernel work, without its checks);
 * MuJoCo's ``mj_inverse`` on the hexapod as an open tree (a free platform, each leg two
   hinges, a slide and a ball, the ball's body welded to the platform by a ``connect``
   equality) and Pinocchio's ``rnea`` on the same tree without the closures (their fastest
   routes: MuJoCo's gives the generalised forces of its soft constraint model, Pinocchio's
   the tree's joint torques, neither the joint reactions of §9), one Python call each;
 
-and prints the samples per second, the time per call and the ratios.  Never run as a
+and prints the samples per second, the time per call and the ratios; then, per
+architecture in one thread, the kernel as compiled, with the chain's motion in two passes
+and generic (both flags at 0), timed in turn.  Never run as a
 test (the tests assert no timings); the table of docs/spatial.md §19 is its output.
 """
 
@@ -29,7 +34,7 @@ import time
 import numpy as np
 
 import prp3
-from prp3.spatial.compiled import S_CLOSED
+from prp3.spatial.compiled import ONE_PASS, S_CLOSED
 from prp3.spatial.newton_euler import newton_euler_dynamics, recursive_newton_euler
 
 
@@ -151,6 +156,11 @@ def main() -> None:
     generic.ints[S_CLOSED] = 0
     generic.solve_batch(small)
     batch_generic = _best(lambda: generic.solve_batch(motion), 3) / len(motion)
+    two = prp3.compile_spatial(robot)  # the chain's motion in two passes per leg
+    two.ints = two.ints.copy()
+    two.ints[ONE_PASS] = 0
+    two.solve_batch(small)
+    batch_two = _best(lambda: two.solve_batch(motion), 3) / len(motion)
     state = (motion.position[7], motion.rotation[7], motion.omega[7], motion.velocity[7],
              motion.alpha[7], motion.acceleration[7])  # fmt: skip
     calls = 20_000
@@ -161,6 +171,16 @@ def main() -> None:
             kernel.solve(*state)
 
     single = _best(singles) / calls
+
+    def former() -> None:  # the single call before _one: a batch of one through raw
+        for _ in range(calls):
+            arrays = [np.ascontiguousarray(np.asarray(x, dtype=np.float64))[None] for x in state]
+            out = kernel.raw(*arrays, threads=False)
+            prp3.SpatialSample(out.q[0], out.dq[0], out.ddq[0], out.tau[0], out.power[0],
+                               out.force[0], out.moment[0], out.leg_measure[0],
+                               float(out.parallel_measure[0]))  # fmt: skip
+
+    single_former = _best(former) / calls
     mj = _mujoco(robot, calls)
     pn = _pinocchio(robot, calls)
     print(f"6-UPS, tilt motion, {len(motion)} samples; {numba_threads()} threads")
@@ -169,8 +189,10 @@ def main() -> None:
         ("prp3 route (b), one 114 x 114 system (reference)", system),
         ("prp3 recursive_newton_euler (numpy)", recursive),
         ("prp3 compile_spatial .solve_batch (numba)", batch),
+        ("  the same, the chain's motion twice (ONE_PASS = 0)", batch_two),
         ("  the same, generic path (S_CLOSED = 0)", batch_generic),
         ("prp3 compile_spatial .solve, one validated call", single),
+        ("  the former call's steps (raw, a batch of one)", single_former),
     ]
     if mj is not None:
         rows.append(("MuJoCo mj_inverse, open tree + 6 connect (Python)", mj))
@@ -185,6 +207,38 @@ def main() -> None:
         print(f"validated single call / mj_inverse: {single / mj:.1f}")
     if pn is not None:
         print(f"validated single call / rnea: {single / pn:.1f}")
+    print(f"validated single call / the former call's steps: {single / single_former:.2f}")
+    _variants()
+
+
+def _variants(samples: int = 5000, rounds: int = 15) -> None:
+    """Each architecture's kernel in one thread on random regular states, as compiled, with
+    the chain's motion in two passes (``ONE_PASS = 0``) and generic (``S_CLOSED = 0`` too),
+    timed in turn ``rounds`` times (the best of each: the load of a shared machine hits the
+    three alike)."""
+    print(f"one thread, {samples} random regular states, the variants timed in turn "
+          f"{rounds} times (best), per sample:")  # fmt: skip
+    for make in (prp3.hexapod, prp3.three_rps, prp3.delta):
+        robot = make()
+        motion = prp3.spatial_random_motion(robot, samples, 1)
+        arrays = [np.ascontiguousarray(x) for x in (motion.position, motion.rotation,
+                  motion.omega, motion.velocity, motion.alpha, motion.acceleration)]  # fmt: skip
+        kernels = []
+        for flags in ((), (ONE_PASS,), (ONE_PASS, S_CLOSED)):
+            kernel = prp3.compile_spatial(robot)
+            kernel.ints = kernel.ints.copy()
+            kernel.ints[list(flags)] = 0
+            kernel.raw(*arrays, threads=False)
+            kernels.append(kernel)
+        best = [np.inf] * 3
+        for _ in range(rounds):
+            for k, kernel in enumerate(kernels):
+                start = time.perf_counter()
+                kernel.raw(*arrays, threads=False)
+                best[k] = min(best[k], time.perf_counter() - start)
+        one, two, generic = (b / samples * 1e6 for b in best)
+        print(f"  {robot.name:6s} one pass {one:6.2f} us, two passes {two:6.2f} us, "
+              f"generic {generic:6.2f} us")  # fmt: skip
 
 
 def numba_threads() -> int:

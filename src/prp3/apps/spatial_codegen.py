@@ -175,8 +175,10 @@ def _prelude(robot: SpatialRobot) -> list[str]:
     return [
         f"#define PRP3_PATTERN {_PATTERNS[leg.pattern]} /* 0 UPS, 1 RPS, 2 RUU */",
         f"#define PRP3_ACTUATED {leg.actuated_coordinate} /* the actuated coordinate */",
-        f"#define PRP3_S_CLOSED {int(leg.dof == 6 and leg.joints[-1].kind == 'S')}"
-        " /* 1: legs of 6 coordinates closed by an S joint, J = [[A, 1], [B, 0]] */",
+        f"#define PRP3_S_CLOSED {int(leg.dof >= 5 and leg.joints[-1].kind == 'S')}"
+        " /* 1: legs closed by an S joint, J = [[A, 1], [B, 0]] */",
+        "#define PRP3_ONE_PASS 1 /* 1: the chain's motion once (q'' = 0), the q'' terms added;"
+        " 0: twice */",
         f"static const int KIND[3] = {{{kinds}}}; /* the joints: 0 R, 1 P, 2 U, 3 S */",
         f"static const double PRP3_SINGULARITY_THRESHOLD = {_number(SINGULAR)};",
         f"static const double PRP3_COMPATIBILITY = {_number(COMPATIBILITY)};",
@@ -767,11 +769,50 @@ static double s_closed(double jac[6][6], double fac[6][6])
     return -det;
 }
 
+/* a leg of 5 coordinates closed by an S joint (3-RPS): J = [[A, 1], [B, 0]], A and B of
+   3 x 2; the generalised cross product of the scaled columns is (0, -b0 x b1) (scaled), so
+   w_i = (0, -b0~ x b1~ / l) and mu_leg = |b0~ x b1~|; keeps A in fac[0..2][0..1] and
+   B (B^T B)^-1 in fac[3..5][0..1] (det B^T B = |b0 x b1|^2); returns mu_leg */
+static double s_closed5(double jac[6][6], const int kinds[6], double fac[6][6], double nw[6])
+{
+    const double scale = PAR[SCALE];
+    const double f = (kinds[0] == 1 ? 1.0 : 1.0 / scale) * (kinds[1] == 1 ? 1.0 : 1.0 / scale);
+    double b0[3], b1[3], cr[3], g00 = 0.0, g01 = 0.0, g11 = 0.0, inv;
+    int r;
+    for (r = 0; r < 3; ++r) {
+        b0[r] = jac[3 + r][0];
+        b1[r] = jac[3 + r][1];
+        g00 += b0[r] * b0[r];
+        g01 += b0[r] * b1[r];
+        g11 += b1[r] * b1[r];
+    }
+    cross3(b0, b1, cr);
+    inv = 1.0 / (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    for (r = 0; r < 3; ++r) {
+        nw[r] = 0.0;
+        nw[3 + r] = -cr[r] * f / scale;
+        fac[3 + r][0] = (b0[r] * g11 - b1[r] * g01) * inv;
+        fac[3 + r][1] = (b1[r] * g00 - b0[r] * g01) * inv;
+        fac[r][0] = jac[r][0];
+        fac[r][1] = jac[r][1];
+    }
+    return sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]) * fabs(f);
+}
+
 /* J^-1 t (6 coordinates) or (J^T J)^-1 J^T t (5) with the leg's factors */
 static void solve_rates(double fac[6][6], double jac[6][6], const int piv[6], const double t[6],
                         double out[6])
 {
     int r, c;
+    if (PRP3_S_CLOSED && PRP3_DOF == 5) { /* (B^T B)^-1 B^T t_v, then t_omega - A (...) */
+        for (c = 0; c < 2; ++c) {
+            out[c] = fac[3][c] * t[3] + fac[4][c] * t[4] + fac[5][c] * t[5];
+        }
+        for (r = 0; r < 3; ++r) {
+            out[2 + r] = t[r] - (fac[r][0] * out[0] + fac[r][1] * out[1]);
+        }
+        return;
+    }
     if (PRP3_S_CLOSED) { /* B^-1 t_v, then t_omega - A (...) */
         for (r = 0; r < 3; ++r) {
             out[r] = fac[3 + r][0] * t[3] + fac[3 + r][1] * t[4] + fac[3 + r][2] * t[5];
@@ -803,6 +844,16 @@ static void transpose_solve(double fac[6][6], double jac[6][6], const int piv[6]
 {
     double work[6];
     int r, c;
+    if (PRP3_S_CLOSED && PRP3_DOF == 5) { /* M = y_S, F = B (B^T B)^-1 (y_a - A^T y_S) */
+        for (c = 0; c < 2; ++c) {
+            work[c] = y[c] - (fac[0][c] * y[2] + fac[1][c] * y[3] + fac[2][c] * y[4]);
+        }
+        for (r = 0; r < 3; ++r) {
+            out[r] = y[2 + r];
+            out[3 + r] = fac[3 + r][0] * work[0] + fac[3 + r][1] * work[1];
+        }
+        return;
+    }
     if (PRP3_S_CLOSED) { /* M = y_S, F = B^-T (y_a - A^T y_S) */
         for (c = 0; c < 3; ++c) {
             work[c] = y[c] - (fac[0][c] * y[3] + fac[1][c] * y[4] + fac[2][c] * y[5]);
@@ -998,7 +1049,7 @@ static void wrench_row(const double r[3], const double x[6], double row[6])
 static int jacobians(const double p[3], const Frames *f, Legs *s, double measures[])
 {
     const double scale = PAR[SCALE];
-    double det, factor = scale * scale * scale;
+    double det = 0.0, factor = scale * scale * scale;
     int i, r, c, k, col = 0;
     for (k = 0; k < NJ; ++k) {
         for (c = 0; c < KDOF[KIND[k]]; ++c) {
@@ -1019,7 +1070,8 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
         }
         leg_jacobian(i, f, s);
         if (PRP3_DOF == 5) {
-            measures[i] = leg_measure(i, s);
+            measures[i] = PRP3_S_CLOSED ? s_closed5(s->jacs[i], s->kinds, s->normal[i], s->nw[i])
+                                        : leg_measure(i, s);
         }
         for (r = 0; r < PRP3_DOF && !PRP3_S_CLOSED; ++r) {
             for (c = 0; c < PRP3_DOF; ++c) {
@@ -1034,8 +1086,11 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
                 }
             }
         }
-        det = PRP3_S_CLOSED ? s_closed(s->jacs[i], s->normal[i])
-                            : lu(s->normal[i], PRP3_DOF, s->pivs[i]);
+        if (!PRP3_S_CLOSED) {
+            det = lu(s->normal[i], PRP3_DOF, s->pivs[i]);
+        } else if (PRP3_DOF == 6) {
+            det = s_closed(s->jacs[i], s->normal[i]);
+        }
         if (PRP3_DOF == 6) { /* the scaled Jacobian's determinant: rows of v / l, slides * l */
             double factor = 1.0 / (scale * scale * scale);
             for (c = 0; c < 6; ++c) {
@@ -1075,6 +1130,43 @@ static int jacobians(const double p[3], const Frames *f, Legs *s, double measure
     return PRP3_OK;
 }
 
+/* the q'' terms of leg i's bodies 0 .. NJ-2 onto the bias (chain_motion with q'' = 0): the
+   acceleration is linear in q''; coordinate c of joint o <= k adds e_c q''_c to alpha_k and
+   e_c x (o_k - o_o) q''_c to body k's origin (a rotation), or e_c q''_c to the latter (a slide) */
+static void add_accelerations(int i, const Frames *f, Legs *s, const double ddq[])
+{
+    int k, c, r;
+    for (k = 0; k < NJ - 1; ++k) {
+        const double *x = f->fo[i][k];
+        for (c = 0; c < PRP3_DOF && s->owner[c] <= k; ++c) {
+            const int o = s->owner[c];
+            const double *ax = f->axes[i][c];
+            double e[3], h[3], lever[3];
+            for (r = 0; r < 3; ++r) {
+                e[r] = ax[r] * ddq[c];
+            }
+            if (s->kinds[c] == 1) {
+                for (r = 0; r < 3; ++r) {
+                    s->bo[i][k][r] += e[r];
+                }
+            } else {
+                for (r = 0; r < 3; ++r) {
+                    s->ba[i][k][r] += e[r];
+                }
+                if (o < k) {
+                    for (r = 0; r < 3; ++r) {
+                        lever[r] = x[r] - f->fo[i][o][r];
+                    }
+                    cross3(e, lever, h);
+                    for (r = 0; r < 3; ++r) {
+                        s->bo[i][k][r] += h[r];
+                    }
+                }
+            }
+        }
+    }
+}
+
 /* dq, ddq from J_i dq = (omega, v + omega x r_i) and the chain's recursion */
 static int rates(const double p[3], const double w[3], const double v[3], const double al[3],
                  const double a[3], const Frames *f, Legs *s, double dq[], double ddq[])
@@ -1082,7 +1174,6 @@ static int rates(const double p[3], const double w[3], const double v[3], const 
     int i, r, c;
     for (i = 0; i < PRP3_LEGS; ++i) {
         double rr[3], cw[3], d[3], g[3], st[6], ref[6], b[6];
-        double bias_w[NJ][3], bias_a[NJ][3], bias_o[NJ][3];
         for (r = 0; r < 3; ++r) {
             rr[r] = s->ends[i][r] - p[r];
         }
@@ -1099,12 +1190,12 @@ static int rates(const double p[3], const double w[3], const double v[3], const 
             Q(dq, i, c) = b[c];
             Q(ddq, i, c) = 0.0;
         }
-        chain_motion(i, f, dq, ddq, bias_w, bias_a, bias_o);
+        chain_motion(i, f, dq, ddq, s->bw[i], s->ba[i], s->bo[i]); /* the bias, q'' = 0 */
         cross3(w, cw, d);
         cross3(al, rr, g);
         for (r = 0; r < 3; ++r) {
-            ref[r] = bias_a[NJ - 1][r];
-            ref[3 + r] = bias_o[NJ - 1][r];
+            ref[r] = s->ba[i][NJ - 1][r];
+            ref[3 + r] = s->bo[i][NJ - 1][r];
         }
         for (r = 0; r < 3; ++r) {
             st[r] = al[r] - ref[r];
@@ -1117,7 +1208,11 @@ static int rates(const double p[3], const double w[3], const double v[3], const 
         for (c = 0; c < PRP3_DOF; ++c) {
             Q(ddq, i, c) = b[c];
         }
-        chain_motion(i, f, dq, ddq, s->bw[i], s->ba[i], s->bo[i]);
+        if (PRP3_ONE_PASS) { /* the q'' terms onto the bias */
+            add_accelerations(i, f, s, b);
+        } else { /* the chain again with q'' (the reference) */
+            chain_motion(i, f, dq, ddq, s->bw[i], s->ba[i], s->bo[i]);
+        }
     }
     return PRP3_OK;
 }

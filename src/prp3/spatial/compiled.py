@@ -109,8 +109,13 @@ SIZE = PLANE + 1
 # the integers: pattern (0 UPS, 1 RPS, 2 RUU), legs, dof, actuated coordinate, joint kinds
 # (0 R, 1 P, 2 U, 3 S), then 1 for legs of 6 coordinates closed by an S joint (the fast path)
 #: The index in the packed integers of the flag of legs closed by an S joint (6-UPS, 3-RPS):
-#: 1 takes the block solves of :func:`_s_closed`, 0 the generic 6 × 6 LU (the reference).
+#: 1 takes the block solves of :func:`_s_closed` (6 coordinates) or :func:`_s_closed5` (5), 0 the
+#: generic LU of ``J`` or ``JᵀJ`` and the ``5 × 5`` minors (the reference).
 S_CLOSED: int = 4 + 3
+#: The index of the flag of the chain's motion in one pass: 1 runs the chain once with
+#: ``q̈ = 0`` (the bias) and adds the ``q̈`` terms by the Jacobian's columns (the
+#: acceleration is linear in ``q̈``), 0 runs it a second time with ``q̈`` (the reference).
+ONE_PASS: int = 4 + 4
 _PATTERNS = {"UPS": 0, "RPS": 1, "RUU": 2}
 _KINDS = {"R": 0, "P": 1, "U": 2, "S": 3}
 _DOF = (1, 1, 2, 3)
@@ -126,14 +131,15 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
     legs = robot.legs
     if len(legs) > _L or len(legs[0].joints) != _J:  # pragma: no cover - the patterns have 3
         raise Prp3Error(f"the compiled kernel takes up to {_L} legs of {_J} joints")
-    ints = np.zeros(5 + _J, dtype=np.int64)
+    ints = np.zeros(6 + _J, dtype=np.int64)
     ints[0] = _PATTERNS[legs[0].pattern]
     ints[1] = len(legs)
     ints[2] = legs[0].dof
     ints[3] = legs[0].actuated_coordinate
     for k, joint in enumerate(legs[0].joints):
         ints[4 + k] = _KINDS[joint.kind]
-    ints[S_CLOSED] = int(legs[0].dof == 6 and legs[0].joints[-1].kind == "S")
+    ints[S_CLOSED] = int(legs[0].dof >= 5 and legs[0].joints[-1].kind == "S")
+    ints[ONE_PASS] = 1
     par = np.zeros(SIZE)
     for i, leg in enumerate(legs):
         for k, joint in enumerate(leg.joints):
@@ -497,6 +503,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     ``measures (legs + 1,)`` (``μ_leg``, then ``μ_par``); returns the status."""
     legs, dof, act = ints[1], ints[2], ints[3]
     fast = ints[S_CLOSED] == 1
+    one = ints[ONE_PASS] == 1
     for r in range(3):
         if not (math.isfinite(p[r]) and math.isfinite(w[r]) and math.isfinite(v[r])
                 and math.isfinite(al[r]) and math.isfinite(a[r])):  # fmt: skip
@@ -535,8 +542,8 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         jacs,
         pivs,
         st,
-        bias_w,
-        bias_a,
+        _bias_w,
+        _bias_a,
         bw,
         ba,
         bo,
@@ -595,12 +602,17 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                 if kinds[c] == 1:
                     value *= scale
                 fac[r, c] = value
-        if fast:  # J = [[A, 1], [B, 0]]: B⁻¹ and A kept, x_i = J⁻ᵀ·e_a by blocks
-            measures[i] = _s_closed(jac, kinds, scale, normal, i)
+        if fast:  # J = [[A, 1], [B, 0]]: A and B⁻¹ (or B(BᵀB)⁻¹) kept, x_i by blocks
+            if dof == 6:
+                measures[i] = _s_closed(jac, kinds, scale, normal, i)
+            else:
+                measures[i] = _s_closed5(jac, kinds, scale, normal, nw, i)
             for r in range(6):
                 y6[r] = 0.0
             y6[act] = 1.0
-            xw[i, 0], xw[i, 1], xw[i, 2], xw[i, 3], xw[i, 4], xw[i, 5] = _s_transpose(normal, i, y6)
+            xw[i, 0], xw[i, 1], xw[i, 2], xw[i, 3], xw[i, 4], xw[i, 5] = (
+                _s_transpose(normal, i, y6) if dof == 6 else _s_transpose5(normal, i, y6)
+            )
         elif dof == 6:
             for r in range(6):
                 for c in range(6):
@@ -679,17 +691,17 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         if dof == 5 and not _compatible(nw[i], st, st, scale):
             return _INCOMPATIBLE
         if fast:
-            _s_rates(normal, i, st, b)
+            _s_rates(normal, i, st, b) if dof == 6 else _s_rates5(normal, i, st, b)
         else:
             _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
         for c in range(dof):
             dq[i, c] = b[c]
             ddq[i, c] = 0.0
-        _chain_motion(ints, i, jo, fo, axes, dq, ddq, bias_w, bias_a, bo)
+        _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)  # the bias, q̈ = 0
         d0, d1, d2 = _cross(w[0], w[1], w[2], c0, c1, c2)
         g0, g1, g2 = _cross(al[0], al[1], al[2], r0, r1, r2)
         for r in range(3):
-            ref[r] = bias_a[i, _J - 1, r]
+            ref[r] = ba[i, _J - 1, r]
             ref[3 + r] = bo[i, _J - 1, r]
         st[0], st[1], st[2] = al[0] - ref[0], al[1] - ref[1], al[2] - ref[2]
         st[3] = a[0] + g0 + d0 - ref[3]
@@ -698,12 +710,15 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         if dof == 5 and not _compatible(nw[i], st, ref, scale):
             return _INCOMPATIBLE
         if fast:
-            _s_rates(normal, i, st, b)
+            _s_rates(normal, i, st, b) if dof == 6 else _s_rates5(normal, i, st, b)
         else:
             _solve_rates(normal[i], jacs[i], pivs[i], dof, st, b)
         for c in range(dof):
             ddq[i, c] = b[c]
-        _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)
+        if one:  # the q̈ terms onto the bias
+            _add_accelerations(i, dof, kinds, owner, fo, axes, ddq, ba, bo)
+        else:  # the chain again with q̈ (the reference)
+            _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)
     # inertial wrenches and the particular wrenches (W_n = 0) from the platform inwards
     g = par[GRAV : GRAV + 3]
     for r in range(6):
@@ -744,7 +759,9 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                     axes[i, c, 0] * mk[o, 0] + axes[i, c, 1] * mk[o, 1] + axes[i, c, 2] * mk[o, 2]
                 )
         if fast:
-            z[0], z[1], z[2], z[3], z[4], z[5] = _s_transpose(normal, i, y0)
+            z[0], z[1], z[2], z[3], z[4], z[5] = (
+                _s_transpose(normal, i, y0) if dof == 6 else _s_transpose5(normal, i, y0)
+            )
         else:
             _transpose_solve_vector(normal[i], jacs[i], pivs[i], dof, y0, b, z)
         r0, r1, r2 = ends[i, 0] - p[0], ends[i, 1] - p[1], ends[i, 2] - p[2]
@@ -865,6 +882,59 @@ def _s_transpose(normal: FloatArray, i: int, y: FloatArray
             normal[i, 3, 0] * u0 + normal[i, 4, 0] * u1 + normal[i, 5, 0] * u2,
             normal[i, 3, 1] * u0 + normal[i, 4, 1] * u1 + normal[i, 5, 1] * u2,
             normal[i, 3, 2] * u0 + normal[i, 4, 2] * u1 + normal[i, 5, 2] * u2)  # fmt: skip
+
+
+@_jit
+def _s_closed5(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray,
+               nw: FloatArray, i: int) -> float:  # fmt: skip
+    """A leg of 5 coordinates closed by an S joint (3-RPS): ``J = [[A, 1], [B, 0]]`` with
+    ``A, B`` of 3 × 2.  The generalised cross product of the scaled columns is ``(0,
+    −b̃₀ × b̃₁)`` (the 5 × 5 minors without a row of ``ω`` vanish, those without a row of
+    ``v`` are ``B``'s 2 × 2 minors); so the constraint wrench ``w_i`` is ``(0, −b̃₀ × b̃₁/ℓ)``
+    and ``μ_leg = |b̃₀ × b̃₁|``.  Keeps ``A`` in ``normal[i, :3, :2]`` and ``B(BᵀB)⁻¹`` in
+    ``normal[i, 3:, :2]`` (``det BᵀB = |b₀ × b₁|²``); returns ``μ_leg``."""
+    s0 = 1.0 if kinds[0] == 1 else 1.0 / scale  # the scaled columns: v over ℓ, slides times ℓ
+    s1 = 1.0 if kinds[1] == 1 else 1.0 / scale
+    x0, x1, x2 = jac[3, 0], jac[4, 0], jac[5, 0]
+    y0, y1, y2 = jac[3, 1], jac[4, 1], jac[5, 1]
+    c0, c1, c2 = _cross(x0, x1, x2, y0, y1, y2)
+    f = s0 * s1
+    nw[i, 0] = nw[i, 1] = nw[i, 2] = 0.0
+    nw[i, 3], nw[i, 4], nw[i, 5] = -c0 * f / scale, -c1 * f / scale, -c2 * f / scale
+    g00 = x0 * x0 + x1 * x1 + x2 * x2
+    g11 = y0 * y0 + y1 * y1 + y2 * y2
+    g01 = x0 * y0 + x1 * y1 + x2 * y2
+    inv = 1.0 / (c0 * c0 + c1 * c1 + c2 * c2)
+    for r in range(3):
+        bx, by = jac[3 + r, 0], jac[3 + r, 1]
+        normal[i, 3 + r, 0] = (bx * g11 - by * g01) * inv
+        normal[i, 3 + r, 1] = (by * g00 - bx * g01) * inv
+        normal[i, r, 0] = jac[r, 0]
+        normal[i, r, 1] = jac[r, 1]
+    return math.sqrt(c0 * c0 + c1 * c1 + c2 * c2) * abs(f)
+
+
+@_jit
+def _s_rates5(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None:
+    """``(JᵀJ)⁻¹Jᵀ·t`` for a leg of 5 closed by S (:func:`_s_closed5`): ``(BᵀB)⁻¹Bᵀ·t_v``,
+    then ``t_ω − A·(…)`` (the least-squares solution: ``x_S`` zeroes the ``ω`` rows)."""
+    for c in range(2):
+        out[c] = normal[i, 3, c] * t[3] + normal[i, 4, c] * t[4] + normal[i, 5, c] * t[5]
+    for r in range(3):
+        out[2 + r] = t[r] - (normal[i, r, 0] * out[0] + normal[i, r, 1] * out[1])
+
+
+@_jit
+def _s_transpose5(normal: FloatArray, i: int, y: FloatArray
+                  ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
+    """``J(JᵀJ)⁻¹·y`` for a leg of 5 closed by S as ``(M, F)``, the least-norm solution of
+    ``Jᵀ·x = y``: ``M = y_S``, ``F = B(BᵀB)⁻¹(y_a − Aᵀ·y_S)``."""
+    u0 = y[0] - (normal[i, 0, 0] * y[2] + normal[i, 1, 0] * y[3] + normal[i, 2, 0] * y[4])
+    u1 = y[1] - (normal[i, 0, 1] * y[2] + normal[i, 1, 1] * y[3] + normal[i, 2, 1] * y[4])
+    return (y[2], y[3], y[4],
+            normal[i, 3, 0] * u0 + normal[i, 3, 1] * u1,
+            normal[i, 4, 0] * u0 + normal[i, 4, 1] * u1,
+            normal[i, 5, 0] * u0 + normal[i, 5, 1] * u1)  # fmt: skip
 
 
 @_jit
@@ -1045,15 +1115,45 @@ def _chain_motion(ints: IntArray, i: int, jo: FloatArray, fo: FloatArray, axes: 
         oacc[i, k, 0], oacc[i, k, 1], oacc[i, k, 2] = c0, c1, c2
 
 
+@_jit
+def _add_accelerations(i: int, dof: int, kinds: IntArray, owner: IntArray, fo: FloatArray,
+                       axes: FloatArray, ddq: FloatArray, oa: FloatArray, oacc: FloatArray
+                       ) -> None:  # fmt: skip
+    """The ``q̈`` terms of leg ``i``'s bodies ``0 … J−2`` onto the bias of
+    :func:`_chain_motion` (``q̈ = 0``): coordinate ``c`` of joint ``o ≤ k`` adds ``e_c·q̈_c``
+    to ``α_k`` and ``e_c × (o_k − o_o)·q̈_c`` to the acceleration of body ``k``'s origin (a
+    rotation), or ``e_c·q̈_c`` to the latter (a slide): the columns of the body's Jacobian."""
+    for k in range(_J - 1):
+        x0, x1, x2 = fo[i, k, 0], fo[i, k, 1], fo[i, k, 2]
+        for c in range(dof):
+            o = owner[c]
+            if o > k:
+                break
+            acc = ddq[i, c]
+            e0, e1, e2 = axes[i, c, 0] * acc, axes[i, c, 1] * acc, axes[i, c, 2] * acc
+            if kinds[c] == 1:
+                oacc[i, k, 0] += e0
+                oacc[i, k, 1] += e1
+                oacc[i, k, 2] += e2
+            else:
+                oa[i, k, 0] += e0
+                oa[i, k, 1] += e1
+                oa[i, k, 2] += e2
+                if o < k:
+                    h0, h1, h2 = _cross(e0, e1, e2, x0 - fo[i, o, 0], x1 - fo[i, o, 1],
+                                        x2 - fo[i, o, 2])  # fmt: skip
+                    oacc[i, k, 0] += h0
+                    oacc[i, k, 1] += h1
+                    oacc[i, k, 2] += h2
+
+
 _FRAMES = 540
 _WORK = 5
 
 
 @_jit
-def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
-          v: FloatArray, al: FloatArray, a: FloatArray, q: FloatArray, dq: FloatArray,
-          ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
-          measures: FloatArray, status: IntArray, start: int, stop: int) -> None:  # fmt: skip
+def _scratch() -> tuple:  # type: ignore[type-arg]
+    """The work arrays of :func:`_sample`: ``work``, ``frames`` and its scratch tuple."""
     work = np.zeros((_WORK, 3, 3))
     frames = np.zeros(_FRAMES)
     m6, v6, l6, lj3 = (6, 6), 6, (_L, 6), (_L, _J, 3)
@@ -1064,9 +1164,54 @@ def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: Flo
            np.zeros(lj3), np.zeros(lj3), np.zeros(lj3), np.zeros(v6), np.zeros(v6), np.zeros(v6),
            np.zeros((_J, 3)), np.zeros((_J, 3)), np.zeros(3), np.zeros(3), np.zeros(v6),
            np.zeros(v6), np.zeros(v6))  # fmt: skip
+    return work, frames, scr
+
+
+@_jit
+def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
+          v: FloatArray, al: FloatArray, a: FloatArray, q: FloatArray, dq: FloatArray,
+          ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
+          measures: FloatArray, status: IntArray, start: int, stop: int) -> None:  # fmt: skip
+    work, frames, scr = _scratch()
     for n in range(start, stop):
         status[n] = _sample(ints, par, p[n], rm[n], w[n], v[n], al[n], a[n], q[n], dq[n], ddq[n],
                             tau[n], force[n], moment[n], measures[n], work, frames, scr)  # fmt: skip
+
+
+@_jit
+def _one(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
+         v: FloatArray, al: FloatArray, a: FloatArray, out: FloatArray) -> int:  # fmt: skip
+    """One state (``(3,)``, ``(3, 3)``, four ``(3,)``) into ``out``: the blocks ``q, dq, ddq,
+    tau, power, force, moment, measures`` flat, in that order, as :func:`_layout`; returns
+    the status of :func:`_sample`.  One short call: the validated single call."""
+    legs, dof, act = ints[1], ints[2], ints[3]
+    nq, nw = legs * dof, legs * _J * 3
+    work, frames, scr = _scratch()
+    at = 3 * nq + 2 * legs
+    q = out[0:nq].reshape((legs, dof))
+    dq = out[nq : 2 * nq].reshape((legs, dof))
+    tau = out[3 * nq : 3 * nq + legs]
+    status = _sample(ints, par, p, rm, w, v, al, a, q, dq,
+                     out[2 * nq : 3 * nq].reshape((legs, dof)), tau,
+                     out[at : at + nw].reshape((legs, _J, 3)),
+                     out[at + nw : at + 2 * nw].reshape((legs, _J, 3)),
+                     out[at + 2 * nw : at + 2 * nw + legs + 1], work, frames, scr)  # fmt: skip
+    for i in range(legs):
+        out[3 * nq + legs + i] = tau[i] * dq[i, act]
+    return status
+
+
+def _layout(legs: int, dof: int, joints: int) -> tuple[int, list[tuple[int, int, tuple[int, ...]]]]:
+    """The size of :func:`_one`'s ``out`` and its blocks ``(start, stop, shape)``: ``q, dq,
+    ddq (legs, dof)``, ``tau, power (legs,)``, ``force, moment (legs, joints, 3)``, ``μ_leg
+    (legs,)``, then ``μ_par`` alone."""
+    blocks: list[tuple[int, int, tuple[int, ...]]] = []
+    at = 0
+    for shape in ((legs, dof),) * 3 + ((legs,),) * 2 + ((legs, joints, 3),) * 2 + ((legs,),):
+        size = int(np.prod(shape))
+        blocks.append((at, at + size, shape))
+        at += size
+    return at + 1, blocks
 
 
 @numba.njit(cache=True, error_model="numpy", parallel=True)
@@ -1124,6 +1269,10 @@ class SpatialSamples:
 
 
 def _vector(name: str, value: ArrayLike | None, shape: tuple[int, ...]) -> FloatArray:
+    """``value`` as a C-contiguous float64 array of ``shape`` (itself when it is one)."""
+    if (type(value) is np.ndarray and value.dtype == np.float64 and value.shape == shape
+            and value.flags.c_contiguous):  # fmt: skip
+        return value
     try:
         array = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as error:
@@ -1153,6 +1302,7 @@ class CompiledSpatial:
         self.ints, self.par = pack(robot)
         legs, dof = len(robot.legs), robot.legs[0].dof
         self._shapes = (legs, dof, len(robot.legs[0].joints))
+        self._size, self._blocks = _layout(*self._shapes)
 
     def _arrays(self, n: int) -> tuple[FloatArray, ...]:
         legs, dof, joints = self._shapes
@@ -1228,17 +1378,19 @@ class CompiledSpatial:
         UnreachablePoseError, SingularPoseError
             As :func:`~prp3.spatial.outputs.spatial_inverse_dynamics`.
         """
-        p = _vector("position", position, (3,))[None]
-        r = _vector("rotation", rotation, (3, 3))[None]
-        rates = [_vector(name, value, (3,))[None] for name, value in (
+        p = _vector("position", position, (3,))
+        r = _vector("rotation", rotation, (3, 3))
+        rates = [_vector(name, value, (3,)) for name, value in (
             ("omega", omega), ("velocity", velocity), ("alpha", alpha),
             ("acceleration", acceleration))]  # fmt: skip
-        out = self.raw(p, r, rates[0], rates[1], rates[2], rates[3], threads=False)
-        if out.status[0]:  # the motion's validation names a bad input, the route a refusal
-            self._refuse(out.status, PlatformMotion.of([0.0], p[0], r[0], *(x[0] for x in rates)))
-        return SpatialSample(out.q[0], out.dq[0], out.ddq[0], out.tau[0], out.power[0],
-                             out.force[0], out.moment[0], out.leg_measure[0],
-                             float(out.parallel_measure[0]))  # fmt: skip
+        out = np.empty(self._size)
+        status = _one(self.ints, self.par, p, r, rates[0], rates[1], rates[2], rates[3], out)
+        if status:  # the motion's validation names a bad input, the route a refusal
+            self._refuse(np.array([status]), PlatformMotion.of([0.0], p, r, *rates))
+        q, dq, ddq, tau, power, force, moment, leg = [
+            out[a:b] if len(shape) == 1 else out[a:b].reshape(shape) for a, b, shape in self._blocks
+        ]
+        return SpatialSample(q, dq, ddq, tau, power, force, moment, leg, float(out[-1]))
 
     def solve_batch(
         self,
