@@ -45,8 +45,12 @@ from prp3.model.parameters import (
     PistonParameters,
     PlatformParameters,
     Spring,
+    ScaleCheck,
+    body_scale_checks,
     check_pair,
     check_parts,
+    load_scale_check,
+    refuse_overflow,
 )
 from prp3.model.robot_toml import parse_located, read_toml, robot_arguments, robot_text
 from prp3.validation import check_robot, check_scalar
@@ -157,29 +161,10 @@ class Robot:
         ``b·l0`` and ``μ``-scaled reactions ``μ·(1 + r)``.  A refusal names the key.
         """
         l0 = np.float64(self.l0)
-        payload, load = self.payload, self.load
-        arm = l0 + np.hypot(np.float64(payload.com[0]), np.float64(payload.com[1]))
-        checks: list[tuple[str, str, object]] = [
-            (
-                "payload.mass",
-                f"payload.mass = {payload.mass!r} kg with com = "
-                f"{list(payload.com)!r} m: its weight and inertia overflow",
-                lambda: np.float64(payload.mass) * (arm**2 + arm * g + g),
-            ),
-            (
-                "payload.inertia",
-                f"payload.inertia = {payload.inertia!r} kg·m²: its inertia overflows",
-                lambda: np.float64(payload.inertia) + np.float64(payload.mass) * arm**2,
-            ),
-            (
-                "load.force",
-                f"load.force = {list(load.force)!r} N and load.moment = "
-                f"{load.moment!r} N·m: the load's wrench overflows",
-                lambda: (
-                    (abs(np.float64(load.force[0])) + abs(np.float64(load.force[1]))) * (l0 + 1.0)
-                    + abs(np.float64(load.moment))
-                ),
-            ),
+        payload = self.payload
+        checks = [
+            *body_scale_checks("payload", payload.mass, payload.com, payload.inertia, l0, g),
+            load_scale_check(self.load, l0),
         ]
         if self.spring is not None:
             for name in ("actuator",):
@@ -214,15 +199,9 @@ class Robot:
                         ),
                     )
                 )
-        for key, what, quantity in checks:
-            with np.errstate(over="ignore", invalid="ignore"):
-                value = 3.0 * quantity()  # type: ignore[operator]
-            if not np.isfinite(value):
-                raise ParameterError(
-                    f"{what} float64 (l0 = {self.l0!r} m, gravity = {list(self.gravity)!r} m/s²)",
-                    subject="robot",
-                    key=key,
-                )
+        refuse_overflow(
+            checks, f"(l0 = {self.l0!r} m, gravity = {list(self.gravity)!r} m/s²)"
+        )
 
     @property
     def elements(self) -> tuple[Element, ...]:
