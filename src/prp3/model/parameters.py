@@ -489,7 +489,8 @@ def body_scale_checks(
 
     ``length`` (m) is the robot's reach: the body's arm about the far end of a leg is
     ``length + |com|``; its weight ``m·g``, its inertia about that end ``I + m·arm²`` and
-    the moment of its weight ``m·g·arm`` must be finite (``g = max(|g_x|, |g_y|, 1)``).
+    the moment of its weight ``m·g·arm`` must be finite (``g = max(|g_x|, |g_y|, 1)``);
+    the first check names ``prefix.com`` when the arm alone overflows, else ``prefix.mass``.
 
     >>> [key for key, _, _ in body_scale_checks("payload", 1.0, (0.0, 0.0), 0.0, 0.3, 9.81)]
     ['payload.mass', 'payload.inertia']
@@ -497,10 +498,15 @@ def body_scale_checks(
     with np.errstate(over="ignore"):
         arm = np.float64(length) + np.hypot(np.float64(com[0]), np.float64(com[1]))
     m = np.float64(mass)
+    with np.errstate(over="ignore"):
+        far = not np.isfinite(3.0 * (arm**2 + arm * g + g))  # the com alone overflows
     return [
         (
-            f"{prefix}.mass",
-            f"{prefix}.mass = {mass!r} kg with com = {list(com)!r} m: its weight and "
+            f"{prefix}.com" if far else f"{prefix}.mass",
+            f"{prefix}.com = {list(com)!r} m with mass = {mass!r} kg: its arm and inertia "
+            "overflow"
+            if far
+            else f"{prefix}.mass = {mass!r} kg with com = {list(com)!r} m: its weight and "
             "inertia overflow",
             lambda: m * (arm**2 + arm * g + g),
         ),

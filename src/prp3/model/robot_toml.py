@@ -134,7 +134,9 @@ def parse_located(
 _LINE_KEY = re.compile(
     r"""\s*["']?([A-Za-z0-9_-]+)["']?\s*(?:\.\s*["']?([A-Za-z0-9_-]+)["']?\s*)?="""
 )
-_LINE_TABLE = re.compile(r"""\s*\[\s*["']?([A-Za-z0-9_-]+)["']?\s*\]""")
+_LINE_TABLE = re.compile(
+    r"""\s*\[\s*["']?([A-Za-z0-9_-]+(?:\s*\.\s*[A-Za-z0-9_-]+)*)["']?\s*\]"""
+)
 
 
 def key_line(text: str, key: str) -> int | None:
@@ -148,24 +150,26 @@ def key_line(text: str, key: str) -> int | None:
     3
     >>> key_line("stroke = [1]\\n", "stroke"), key_line("x = 1\\n", "y")
     (1, None)
+    >>> key_line("[spring.actuator]\\nstiffness = 1e308\\n", "spring.actuator.stiffness")
+    2
     """
     parts = key.split(".")
-    table: str | None = None
+    table: list[str] = []
     fallback: int | None = None
     for number, line in enumerate(text.splitlines(), 1):
         header = _LINE_TABLE.match(line)
         if header is not None:
-            table = header.group(1)
-            if parts == [table] or (len(parts) > 1 and parts[0] == table and fallback is None):
-                fallback = number
-            if parts == [table]:
+            table = [part.strip() for part in header.group(1).split(".")]
+            if parts == table:
                 return number
+            if len(parts) > len(table) and parts[: len(table)] == table and fallback is None:
+                fallback = number
             continue
         found = _LINE_KEY.match(line)
         if found is None:
             continue
         spelled = [found.group(1)] + ([found.group(2)] if found.group(2) else [])
-        path = ([table] if table else []) + spelled
+        path = table + spelled
         if path == parts:
             return number
         if path == parts[: len(path)] and fallback is None:

@@ -220,16 +220,22 @@ def body_scale_checks_3d(prefix: str, body: Body, length: float, g: float) -> li
 
     Its arm is ``length + |centre|``: its weight ``m·g``, the moment of its weight
     ``m·g·arm`` and its inertia ``max|I_ij| + m·arm²`` must be finite
-    (:func:`prp3.model.parameters.refuse_overflow`).
+    (:func:`prp3.model.parameters.refuse_overflow`); the first names ``prefix.centre`` when
+    the arm alone overflows.
     """
     with np.errstate(over="ignore"):
         arm = np.float64(length) + np.float64(np.linalg.norm(body.centre))
     m = np.float64(body.mass)
     largest = np.float64(np.abs(np.array(body.inertia)).max())
+    with np.errstate(over="ignore"):
+        far = not np.isfinite(3.0 * (arm**2 + arm * g + g))  # the centre alone overflows
     return [
         (
-            f"{prefix}.mass",
-            f"{prefix}.mass = {body.mass!r} kg with centre = {list(body.centre)!r} m: its "
+            f"{prefix}.centre" if far else f"{prefix}.mass",
+            f"{prefix}.centre = {list(body.centre)!r} m with mass = {body.mass!r} kg: its arm "
+            "and inertia overflow"
+            if far
+            else f"{prefix}.mass = {body.mass!r} kg with centre = {list(body.centre)!r} m: its "
             "weight and inertia overflow",
             lambda: m * (arm**2 + arm * g + g),
         ),

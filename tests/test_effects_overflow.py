@@ -1,0 +1,149 @@
+"""Family and spatial robots refuse parameters whose effects overflow float64 up front (issue 33).
+
+Library: the dataclass raises a ParameterError naming the key.  CLI: one line, exit 2, the
+robot file's key and its line named, no numpy "warning:" line.  A large but finite design is
+accepted, and its results are those of the linearity of the dynamics in the payload's mass.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from prp3.errors import ParameterError
+from prp3.family.model import Body, FamilyRobot, PlatformBody
+from prp3.model.parameters import Load, Payload
+
+ROOT = Path(__file__).resolve().parents[1]
+
+FAMILY_CASES = [
+    ("payload.mass", {"payload": Payload(mass=1e308)}),
+    ("payload.com", {"payload": Payload(mass=1.0, com=(1e200, 0.0))}),
+    ("payload.inertia", {"payload": Payload(inertia=1e308)}),
+    ("link1.mass", {"link1": Body(1e308, (0.1, 0.0), 0.0, name="link1")}),
+    ("link2.inertia", {"link2": Body(0.75, (0.1, 0.0), 1e308, name="link2")}),
+    ("platform.inertia", {"platform": PlatformBody(3.0, 1e308)}),
+    ("load.force", {"load": Load(force=(1e308, 0.0))}),
+    ("gravity", {"gravity": (0.0, -1e308)}),
+]
+
+
+@pytest.mark.parametrize("architecture", ["3-RRR", "3-RPR", "3-PRR"])
+@pytest.mark.parametrize(("key", "change"), FAMILY_CASES)
+def test_family_robot_refuses_overflow(architecture: str, key: str, change: dict) -> None:
+    base = FamilyRobot.default(architecture)
+    with pytest.raises(ParameterError) as caught:
+        replace(base, **change)
+    assert caught.value.key == key
+    assert "overflow" in caught.value.reason
+
+
+def _cli(tmp_path: Path, *args: str) -> subprocess.CompletedProcess[str]:
+    env = {"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"}
+    return subprocess.run(
+        [sys.executable, "-m", "prp3", *args],
+        cwd=tmp_path, capture_output=True, text=True, env=env, timeout=120, check=False,
+    )  # fmt: skip
+
+
+def _template(tmp_path: Path, architecture: str) -> list[str]:
+    done = _cli(tmp_path, "robot", "--template", "--architecture", architecture)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.splitlines()
+
+
+def _set(lines: list[str], table: str | None, key: str, value: str) -> tuple[str, int]:
+    """The file with ``key`` of ``[table]`` set to ``value``, and that line's number."""
+    current: str | None = None
+    for number, line in enumerate(lines, 1):
+        header = re.match(r"\[(\w+)\]", line)
+        if header:
+            current = header.group(1)
+        elif current == table and line.startswith(f"{key} ="):
+            out = [*lines[: number - 1], f"{key} = {value}", *lines[number:]]
+            return "\n".join(out) + "\n", number
+    raise AssertionError(f"no {table}.{key} in the template")
+
+
+CLI_CASES = [
+    ("3-RRR", "payload", "mass", "1e308", "payload.mass", "vertical"),
+    ("3-RRR", "payload", "com", "[1e200, 0.0]", "payload.com", "vertical"),
+    ("3-RRR", "payload", "inertia", "1e308", "payload.inertia", "vertical"),
+    ("3-RPR", "link2", "mass", "1e308", "link2.mass", "vertical"),
+    ("3-RRR", None, "gravity", "[0.0, -1e308]", "gravity", "vertical"),
+    ("6-UPS", "platform", "mass", "1e308", "platform.mass", "heave"),
+    ("6-UPS", "rod", "inertia", "[[1e308, 0, 0], [0, 1e308, 0], [0, 0, 1e308]]",
+     "rod.inertia", "heave"),
+    ("6-UPS", "cylinder", "centre", "[1e200, 0, 0]", "cylinder.centre", "heave"),
+    ("3-RUU", "forearm_body", "inertia", "[[1e308, 0, 0], [0, 1e308, 0], [0, 0, 1e308]]",
+     "forearm_body.inertia", "heave"),
+    ("3-RPS", None, "gravity", "[0.0, 0.0, -1e308]", "gravity", "heave"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("arch", "table", "key", "value", "named", "motion"), CLI_CASES)
+def test_cli_names_the_robot_files_key_and_line(
+    tmp_path: Path, arch: str, table: str | None, key: str, value: str, named: str, motion: str
+) -> None:
+    text, number = _set(_template(tmp_path, arch), table, key, value)
+    (tmp_path / "r.toml").write_text(text, encoding="utf-8")
+    done = _cli(tmp_path, "simulate", "--robot", "r.toml", "--motion", motion, "-o", "out")
+    assert done.returncode == 2
+    lines = done.stderr.splitlines()
+    assert len(lines) == 1, done.stderr
+    assert "warning:" not in done.stderr and "Traceback" not in done.stderr
+    assert f"r.toml:{number}: " in lines[0] and named in lines[0], lines[0]
+    assert "overflow" in lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_family_large_but_finite_payload_is_accepted_and_linear() -> None:
+    """Inverse dynamics is linear in the payload's mass: ``τ(M) = τ(0) + M·(τ(1) − τ(0))``."""
+    from prp3 import family_inverse_dynamics
+    from prp3.model.motion import Motion
+
+    base = FamilyRobot.default("3-RRR")
+    motion = Motion.at_rest(np.asarray(base.home_poses[0], dtype=np.float64))
+    tau = {
+        m: np.asarray(family_inverse_dynamics(replace(base, payload=Payload(mass=m)), motion).tau)
+        for m in (0.0, 1.0, 1e300)
+    }
+    expected = 1e300 * (tau[1.0] - tau[0.0])
+    assert np.isfinite(tau[1e300]).all()
+    np.testing.assert_allclose(tau[1e300], expected, rtol=1e-9)
+
+
+def test_spatial_library_refuses_and_accepts() -> None:
+    from prp3.spatial.model import Body as SpatialBody
+    from prp3.spatial.model import hexapod
+
+    robot = hexapod()
+    big = SpatialBody(1e308, (0.0, 0.0, 0.0), robot.platform.inertia, "platform")
+    with pytest.raises(ParameterError) as caught:
+        replace(robot, platform=big)
+    assert caught.value.key == "platform.mass"
+    huge = SpatialBody(1.0, (0.0, 0.0, 0.0), np.diag([1e308, 1e308, 1e308]), "platform")
+    with pytest.raises(ParameterError) as caught:
+        replace(robot, platform=huge)
+    assert caught.value.key == "platform.inertia"
+    with pytest.raises(ParameterError) as caught:
+        replace(robot, gravity=(0.0, 0.0, -1e308))
+    assert caught.value.key == "gravity"
+    fine = SpatialBody(1e300, (0.0, 0.0, 0.0), np.diag([1e300, 1e300, 2e300]), "platform")
+    accepted = replace(robot, platform=fine)
+    assert accepted.platform.inertia[2][2] == 2e300
+
+
+def test_spatial_inertia_near_overflow_is_checked_not_a_linalg_error() -> None:
+    from prp3.spatial.model import Body as SpatialBody
+
+    body = SpatialBody(1.0, (0.0, 0.0, 0.0), np.diag([1.7e308, 1.7e308, 1.7e308]), "rod")
+    assert body.inertia[0][0] == 1.7e308
+    with pytest.raises(ParameterError, match="principal moments"):
+        SpatialBody(1.0, (0.0, 0.0, 0.0), np.diag([1e308, 1e307, 1.7e308]), "rod")
