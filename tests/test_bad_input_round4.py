@@ -131,8 +131,14 @@ def test_bounds_are_validated(bad: dict[str, float]) -> None:
 @pytest.mark.parametrize(
     ("text", "key"),
     [
-        ("[payload]\nmass = 1e308\ncom = [1e200, 0]\n", "payload.com = [1e+200, 0.0] m with mass = 1e+308"),
-        ("[payload]\nmass = 1.0\ncom = [1e200, 0]\n", "payload.com = [1e+200, 0.0] m with mass = 1.0"),
+        (
+            "[payload]\nmass = 1e308\ncom = [1e200, 0]\n",
+            "payload.com = [1e+200, 0.0] m with mass = 1e+308",
+        ),
+        (
+            "[payload]\nmass = 1.0\ncom = [1e200, 0]\n",
+            "payload.com = [1e+200, 0.0] m with mass = 1.0",
+        ),
         ("[payload]\nmass = 1.0\ninertia = 1.7e308\n", "payload.inertia"),
         ("[load]\nforce = [1e308, 1e308]\n", "load.force"),
         ("[spring.actuator]\nstiffness = 1e308\nrest = 1e10\n", "spring.actuator"),

@@ -26,7 +26,6 @@ prp3.errors.ParameterError: robot: unknown key 'rod.mas' (expected one of: centr
 from __future__ import annotations
 
 import inspect
-import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path

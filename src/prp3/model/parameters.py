@@ -20,8 +20,8 @@ prp3.errors.ParameterError: robot: piston.mass must be a positive finite number 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
@@ -503,8 +503,7 @@ def body_scale_checks(
     return [
         (
             f"{prefix}.com" if far else f"{prefix}.mass",
-            f"{prefix}.com = {list(com)!r} m with mass = {mass!r} kg: its arm and inertia "
-            "overflow"
+            f"{prefix}.com = {list(com)!r} m with mass = {mass!r} kg: its arm and inertia overflow"
             if far
             else f"{prefix}.mass = {mass!r} kg with com = {list(com)!r} m: its weight and "
             "inertia overflow",

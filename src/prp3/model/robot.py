@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -38,6 +38,7 @@ from prp3.model.element_base import Element
 from prp3.model.elements import ELEMENTS
 from prp3.model.parameters import (
     Friction,
+    JointFriction,
     Limits,
     LinkParameters,
     Load,
@@ -45,7 +46,7 @@ from prp3.model.parameters import (
     PistonParameters,
     PlatformParameters,
     Spring,
-    ScaleCheck,
+    SpringParameters,
     body_scale_checks,
     check_pair,
     check_parts,
@@ -176,10 +177,7 @@ class Robot:
                         f"spring.{name}.stiffness",
                         f"spring.{name}: stiffness = {spring.stiffness!r} N/m, rest = "
                         f"{spring.rest!r} m, damping = {spring.damping!r} N·s/m: its force overflows",
-                        lambda s=spring: (
-                            np.float64(s.stiffness) * (abs(np.float64(s.rest)) + l0)
-                            + np.float64(s.damping) * l0
-                        ),
+                        _spring_force(spring, l0),
                     )
                 )
         if self.friction is not None:
@@ -193,15 +191,10 @@ class Robot:
                         f"friction.{name}: viscous = {joint.viscous!r}, coulomb = "
                         f"{joint.coulomb!r}, mu = {joint.mu!r}, pin_radius = {joint.pin_radius!r}: "
                         "its forces overflow",
-                        lambda j=joint: (
-                            (np.float64(j.viscous) * l0 + np.float64(j.coulomb)) * 3.0
-                            + np.float64(j.mu) * (1.0 + np.float64(j.pin_radius)) * 3.0
-                        ),
+                        _friction_forces(joint, l0),
                     )
                 )
-        refuse_overflow(
-            checks, f"(l0 = {self.l0!r} m, gravity = {list(self.gravity)!r} m/s²)"
-        )
+        refuse_overflow(checks, f"(l0 = {self.l0!r} m, gravity = {list(self.gravity)!r} m/s²)")
 
     @property
     def elements(self) -> tuple[Element, ...]:
@@ -285,3 +278,19 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
     """
     robot = Robot() if robot is None else check_robot(robot)
     return robot_text(robot, comments=comments)
+
+
+def _spring_force(spring: SpringParameters, l0: np.float64) -> Callable[[], Any]:
+    """The spring's force and damping at the scale ``l0`` (an overflow check's quantity)."""
+    return lambda: (
+        np.float64(spring.stiffness) * (abs(np.float64(spring.rest)) + l0)
+        + np.float64(spring.damping) * l0
+    )
+
+
+def _friction_forces(joint: JointFriction, l0: np.float64) -> Callable[[], Any]:
+    """A joint's friction forces at the scale ``l0`` (an overflow check's quantity)."""
+    return lambda: (
+        (np.float64(joint.viscous) * l0 + np.float64(joint.coulomb)) * 3.0
+        + np.float64(joint.mu) * (1.0 + np.float64(joint.pin_radius)) * 3.0
+    )

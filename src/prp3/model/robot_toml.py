@@ -134,9 +134,7 @@ def parse_located(
 _LINE_KEY = re.compile(
     r"""\s*["']?([A-Za-z0-9_-]+)["']?\s*(?:\.\s*["']?([A-Za-z0-9_-]+)["']?\s*)?="""
 )
-_LINE_TABLE = re.compile(
-    r"""\s*\[\s*["']?([A-Za-z0-9_-]+(?:\s*\.\s*[A-Za-z0-9_-]+)*)["']?\s*\]"""
-)
+_LINE_TABLE = re.compile(r"""\s*\[\s*["']?([A-Za-z0-9_-]+(?:\s*\.\s*[A-Za-z0-9_-]+)*)["']?\s*\]""")
 
 
 def key_line(text: str, key: str) -> int | None:
