@@ -147,3 +147,65 @@ def test_spatial_inertia_near_overflow_is_checked_not_a_linalg_error() -> None:
     assert body.inertia[0][0] == 1.7e308
     with pytest.raises(ParameterError, match="principal moments"):
         SpatialBody(1.0, (0.0, 0.0, 0.0), np.diag([1e308, 1e307, 1.7e308]), "rod")
+
+
+# --- efforts files whose cubic spline float64 cannot hold (issue 33's siblings) -------------
+
+SPLINE_CASES = [
+    ("0.5,1e308", "1,-1e308", "the slope overflows"),
+    ("5e-324,1", "1e-323,0", "overflows"),
+]
+
+
+@pytest.mark.parametrize(("row1", "row2", "why"), SPLINE_CASES)
+@pytest.mark.parametrize("arch", ["3-RRR", "6-UPS"])
+def test_forward_refuses_efforts_their_spline_cannot_hold(
+    tmp_path: Path, arch: str, row1: str, row2: str, why: str
+) -> None:
+    legs = 6 if arch == "6-UPS" else 3
+    names = [f"tau_{k + 1}" for k in range(6)] if legs == 6 else ["tau_A", "tau_B", "tau_C"]
+    pad = ",0" * (legs - 1)
+    rows = ["t," + ",".join(names), "0" + ",0" * legs, row1 + pad, row2 + pad]
+    (tmp_path / "E.csv").write_text("\n".join(rows) + "\n", encoding="utf-8")
+    (tmp_path / "r.toml").write_text("\n".join(_template(tmp_path, arch)) + "\n")
+    option = "--efforts" if legs == 6 else "--forces"
+    done = _cli(tmp_path, "forward", "--robot", "r.toml", option, "E.csv", "-o", "out")
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.splitlines()
+    assert len(lines) == 1 and "Traceback" not in done.stderr and "warning:" not in done.stderr
+    assert "E.csv: sample 0: " in lines[0] and why in lines[0], lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_checked_spline_accepts_what_float64_holds_and_matches_scipy() -> None:
+    """Small steps and large values that fit: the spline is scipy's, to the bit; steps of
+    1e-300 s with values of 1 are refused (its cubic coefficients ~ v/dt^3 overflow, where
+    scipy would give inf silently)."""
+    from scipy.interpolate import CubicSpline
+
+    from prp3.validation import checked_spline
+
+    rng = np.random.default_rng(3)
+    for scale_t, scale_v in ((1e-100, 1.0), (1.0, 1e300), (1e-3, 1e-3)):
+        t = np.cumsum(rng.uniform(0.5, 1.5, 6)) * scale_t
+        v = rng.normal(size=(6, 3)) * scale_v
+        ours, theirs = checked_spline("efforts", t, v), CubicSpline(t, v, axis=0)
+        assert np.isfinite(ours.c).all()
+        np.testing.assert_array_equal(ours.c, theirs.c)
+    t = np.cumsum(rng.uniform(0.5, 1.5, 6)) * 1e-300
+    with np.errstate(all="ignore"):
+        assert not np.isfinite(CubicSpline(t, rng.normal(size=(6, 3)), axis=0).c).all()
+    with pytest.raises(ParameterError, match="does not fit in float64"):
+        checked_spline("efforts", t, rng.normal(size=(6, 3)))
+
+
+def test_library_forward_refuses_subnormal_effort_steps() -> None:
+    from prp3.family.forward import family_forward_dynamics
+
+    robot = FamilyRobot.default("3-RRR")
+    t = np.array([0.0, 5e-324, 1e-323])
+    tau = np.array([[0.0, 0, 0], [1.0, 0, 0], [0.0, 0, 0]])
+    pose = np.asarray(robot.home_poses[0], dtype=np.float64)
+    with pytest.raises(ParameterError) as caught:
+        family_forward_dynamics(robot, t, tau, t, pose, np.zeros(3))
+    assert caught.value.key == "efforts" and caught.value.sample == 0
