@@ -209,3 +209,30 @@ def test_library_forward_refuses_subnormal_effort_steps() -> None:
     with pytest.raises(ParameterError) as caught:
         family_forward_dynamics(robot, t, tau, t, pose, np.zeros(3))
     assert caught.value.key == "efforts" and caught.value.sample == 0
+
+
+@pytest.mark.parametrize("arch", ["3-RRR", "3-PRP"])
+def test_identify_names_the_measurements_line_of_an_overflowing_value(
+    tmp_path: Path, arch: str
+) -> None:
+    t = np.linspace(0.0, 1.0, 50)
+    columns = ("tau_A", "tau_B", "tau_C") if arch != "3-PRP" else ("f10_A", "f10_B", "f10_C")
+    rows = [
+        [v, 0.01 * np.sin(2 * np.pi * v), 0.01 * np.cos(2 * np.pi * v) - 0.01,
+         0.05 * np.sin(4 * np.pi * v), 1.0, 2.0, 3.0]
+        for v in t
+    ]  # fmt: skip
+    rows[10][4] = 1e308  # sample 10: line 12 of the file
+    text = ",".join(("t", "x", "y", "phi", *columns)) + "\n"
+    text += "".join(",".join(repr(float(v)) for v in row) + "\n" for row in rows)
+    (tmp_path / "M.csv").write_text(text, encoding="utf-8")
+    if arch == "3-PRP":  # the model form of docs/model.md
+        (tmp_path / "r.toml").write_text(_cli(tmp_path, "robot", "--template").stdout)
+    else:
+        (tmp_path / "r.toml").write_text("\n".join(_template(tmp_path, arch)) + "\n")
+    done = _cli(tmp_path, "identify", "--robot", "r.toml", "--measurements", "M.csv", "-o", "out")
+    assert done.returncode == 2, done.stderr
+    lines = [line for line in done.stderr.splitlines() if "warning: the derivatives" not in line]
+    assert len(lines) == 1 and "Traceback" not in done.stderr, done.stderr
+    assert "M.csv:12: " in lines[0] and "1e+308" in lines[0] and "overflow" in lines[0], lines
+    assert not (tmp_path / "out").exists()
