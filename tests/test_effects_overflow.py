@@ -236,3 +236,20 @@ def test_identify_names_the_measurements_line_of_an_overflowing_value(
     assert len(lines) == 1 and "Traceback" not in done.stderr, done.stderr
     assert "M.csv:12: " in lines[0] and "1e+308" in lines[0] and "overflow" in lines[0], lines
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    ("arch", "table", "key", "value", "motion"),
+    [("3-RRR", "payload", "mass", "1e300", "vertical"), ("6-UPS", "platform", "mass", "1e300", "heave")],
+)  # fmt: skip
+def test_cli_accepts_a_large_but_finite_design(
+    tmp_path: Path, arch: str, table: str, key: str, value: str, motion: str
+) -> None:
+    text, _ = _set(_template(tmp_path, arch), table, key, value)
+    (tmp_path / "r.toml").write_text(text, encoding="utf-8")
+    done = _cli(tmp_path, "simulate", "--robot", "r.toml", "--motion", motion, "-o", "out")
+    assert done.returncode == 0, done.stderr
+    assert "warning:" not in done.stderr
+    table_ = np.genfromtxt(tmp_path / "out" / "results.csv", delimiter=",", names=True)
+    values = np.array(table_.tolist(), dtype=np.float64)
+    assert np.isfinite(values).all() and np.abs(values).max() > 1e299
