@@ -210,8 +210,9 @@ def test_cli_family_statics_that_overflow_name_the_load_and_the_file(
     )
     line = one_line(err)
     assert status == 2 and out == "" and "Traceback" not in err
-    assert "overflow" in line and "[load] force = [1e+308, 1e+308]" in line
-    assert str(robot_file) in line
+    # refused up front, on reading the robot file: its [load]'s wrench overflows (issue 33)
+    assert "overflow" in line and "load.force = [1e+308, 1e+308]" in line
+    assert f"{robot_file}:3: " in line
     assert (tmp_path / "ws" / "workspace.csv").read_text() == "earlier"
 
 

@@ -287,7 +287,7 @@ def test_derived_parameters_that_overflow_are_refused(tmp_path, capsys, text):
         status, out, err = cli(capsys, *argv, tmp_path / "big.toml")
         assert (status, out) == (2, "")
         line = one_line(err)
-        assert f"{tmp_path / 'big.toml'}: robot: l0 = " in line and "overflow float64" in line
+        assert f"{tmp_path / 'big.toml'}:1: robot: l0 = " in line and "overflow float64" in line
     assert not (tmp_path / "out").exists()
     with pytest.raises(ParameterError, match="overflow float64") as info:
         Robot(l0=1e200)

@@ -581,7 +581,7 @@ def test_core_huge_integer_parameter_is_a_parameter_error(tmp_path, capsys):
         Robot(l0=10**400)
     (tmp_path / "r.toml").write_text("l0 = 1" + "0" * 400 + "\n")
     status, _, err = cli(capsys, "robot", "--check", tmp_path / "r.toml")
-    assert "r.toml: robot: l0" in error_line(status, err)
+    assert "r.toml:1: robot: l0" in error_line(status, err)
 
 
 @pytest.mark.parametrize(

@@ -260,7 +260,7 @@ def reason(line: str) -> str:
         if match:
             return match.expand(words)
     message = re.sub(r"^prp3 [\w ]+: error: ", "", line)
-    message = re.sub(r"^\S+\.(toml|csv|html): ", "", message)
+    message = re.sub(r"^\S+\.(toml|csv|html)(:\d+)*: ", "", message)
     return " ".join(message.split()[:6]).replace("|", "/")
 
 

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
@@ -63,6 +64,7 @@ __all__ = [
     "check_scalar",
     "check_times",
     "check_tolerances",
+    "checked_spline",
     "first_non_finite",
     "first_not_increasing",
     "require_finite",
@@ -500,3 +502,61 @@ def check_tolerances(rtol: object, atol: object) -> tuple[float, float]:
             key="rtol",
         )
     return relative, absolute
+
+
+def checked_spline(name: str, t: FloatArray, values: FloatArray) -> Any:
+    """The not-a-knot ``scipy.interpolate.CubicSpline`` of the samples ``values`` at ``t``
+    (axis 0), or a ParameterError naming ``name``, the sample and why float64 cannot hold it.
+
+    ``t`` increasing and ``values`` finite (checked before); refused: samples whose slope
+    ``Δv/Δt`` overflows (values of ``±1e308``), and a spline whose coefficients are not
+    finite or that scipy cannot form (steps so small that its ``1/Δt²`` terms overflow:
+    subnormal steps), naming the smallest step.
+
+    >>> checked_spline("efforts", np.array([0.0, 0.5, 1.0]), np.array([0.0, 1e308, -1e308]))
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: sample 0: efforts change by 1e+308 from t = 0.0 s to t = 0.5 s: the slope overflows float64 (values out of range)
+    """
+    from scipy.interpolate import CubicSpline
+
+    failure = ""
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # scipy's LinAlgWarning: refused below
+        step = np.diff(t)
+        change = np.diff(values, axis=0).reshape(step.size, -1)
+        bad = ~np.isfinite(change / step[:, None]).all(axis=1)
+        if not bad.any():
+            try:
+                spline = CubicSpline(t, values, axis=0, bc_type="not-a-knot")
+                if np.isfinite(spline.c).all():
+                    return spline
+                failure = "its coefficients are not finite"
+            except ValueError as error:  # a system the steps make singular
+                failure = str(error).rstrip(".")
+    if bad.any():
+        k = int(np.argmax(bad))
+        largest = float(change[k][int(np.argmax(np.abs(change[k])))])
+        raise ParameterError(
+            f"{name} change by {largest!r} from t = {float(t[k])!r} s to "
+            f"t = {float(t[k + 1])!r} s: the slope overflows float64 (values out of range)",
+            key=name,
+            sample=k,
+        )
+    k = int(np.argmin(step))
+    if float(step[k]) ** 2 > 0.0:  # normal steps: the values are too large
+        j = int(np.argmax(np.abs(values.reshape(t.size, -1)).max(axis=1)))
+        shown = float(np.abs(values.reshape(t.size, -1)[j]).max())
+        raise ParameterError(
+            f"the cubic spline of the {name} does not fit in float64 ({failure}): the "
+            f"samples' values are too large (|{name}| = {shown!r} at t = {float(t[j])!r} s)",
+            key=name,
+            sample=j,
+        )
+    raise ParameterError(
+        f"the cubic spline of the {name} does not fit in float64 ({failure}): its smallest "
+        f"time step, t = {float(t[k])!r} s to t = {float(t[k + 1])!r} s ({float(step[k])!r} s), "
+        "is too small for the samples' values",
+        key=name,
+        sample=k,
+    )

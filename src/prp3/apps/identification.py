@@ -373,9 +373,14 @@ def weighted_least_squares(
         except np.linalg.LinAlgError:  # the SVD of overflowed weights does not converge
             estimate = std = sigma = np.full(count, np.nan)
     if not (np.isfinite(estimate).all() and np.isfinite(std).all() and np.isfinite(sigma).all()):
+        sets = np.abs(target).reshape(-1, samples, target.shape[-1])
+        k, j = (int(v) for v in np.unravel_index(int(np.argmax(sets.max(axis=0))), sets.shape[1:]))
         raise ParameterError(
-            "measured or W is too large for double precision: the least squares overflow",
+            "measured or W is too large for double precision: the least squares overflow; "
+            f"the largest measured value is {float(sets[:, k, j].max())!r} (actuator {j}), the "
+            f"largest of W {float(np.abs(W).max())!r}",
             key="measured",
+            sample=k,
         )
     return estimate, std, sigma
 

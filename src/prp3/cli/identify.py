@@ -209,10 +209,16 @@ def run(args: argparse.Namespace) -> int:
         raise error.located(file=trajectory.path, line=line, time=when, subject=None) from None
     estimated = estimated_parameters(nominal, args.friction)
     with progress_bar() as bar:
-        result = identify(
-            nominal, trajectory.motion, data.f10, estimated, where=str(args.measurements),
-            progress=bar.stage("regressor", "samples"),
-        )  # fmt: skip
+        try:
+            result = identify(
+                nominal, trajectory.motion, data.f10, estimated, where=str(args.measurements),
+                progress=bar.stage("regressor", "samples"),
+            )  # fmt: skip
+        except ParameterError as error:  # measured values too large: their line of the file
+            if error.key != "measured" or error.sample is None:
+                raise
+            line = int(trajectory.lines[error.sample])
+            raise error.located(file=trajectory.path, line=line) from None
     robot = identified_robot(nominal, result)
     if trajectory.note is not None:  # only for a run that goes on
         print(f"{args.program}: warning: {trajectory.note}", file=sys.stderr)

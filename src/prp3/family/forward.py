@@ -63,6 +63,7 @@ from prp3.validation import (
     check_real,
     check_times,
     check_tolerances,
+    checked_spline,
 )
 
 __all__ = [
@@ -297,12 +298,10 @@ class FamilyForward:
 
 
 def _effort_function(t: FloatArray, tau: FloatArray) -> Callable[[float], FloatArray]:
-    from scipy.interpolate import CubicSpline
-
     if t.size == 2:
         slope = (tau[1] - tau[0]) / (t[1] - t[0])
         return lambda time: np.asarray(tau[0] + slope * (time - t[0]))
-    spline = CubicSpline(t, tau, axis=0, bc_type="not-a-knot")
+    spline = checked_spline("efforts", t, tau)
     return lambda time: np.asarray(spline(time))
 
 

@@ -41,7 +41,16 @@ from prp3.family.chain import (
     transmitted_wrench,
     wrap,
 )
-from prp3.model.parameters import Load, Payload, check_pair, check_parts
+from prp3.model.parameters import (
+    Load,
+    Payload,
+    body_scale_checks,
+    check_pair,
+    check_parts,
+    gravity_scale_check,
+    load_scale_check,
+    refuse_overflow,
+)
 from prp3.model.robot import Robot
 from prp3.model.robot_toml import (
     parse_located,
@@ -262,6 +271,7 @@ class FamilyRobot:
                 key="actuated",
             )
         self._check_home()
+        self._check_scale()
 
     # ---------------------------------------------------------------- derived
     @property
@@ -321,6 +331,39 @@ class FamilyRobot:
                 subject="robot",
                 key="actuated",
             )
+
+    def _check_scale(self) -> None:
+        """Refuse bodies, a payload or a load whose effects overflow float64 (``mass = 1e308``).
+
+        The checks of the 3-PRP (:func:`prp3.model.parameters.body_scale_checks`) with the
+        leg's reach ``Σ|(a_k, b_k)| + Σ|q_k(home)|`` (m) in place of ``l0``: each body's weight,
+        its inertia and the moment of its weight about a leg's base, and the load's wrench.
+        """
+        g = max(abs(self.gravity[0]), abs(self.gravity[1]), 1.0)
+        with np.errstate(over="ignore"):
+            reach = float(
+                np.hypot(self.leg.placements[:, 0], self.leg.placements[:, 1]).sum()
+                + np.abs(np.array(self.leg.home)).sum()
+            )
+        checks = [
+            gravity_scale_check(self.gravity, reach),
+            *body_scale_checks("link1", *self._body(self.link1), reach, g),
+            *body_scale_checks("link2", *self._body(self.link2), reach, g),
+            *body_scale_checks(
+                "platform", self.platform.mass, (0.0, 0.0), self.platform.inertia, reach, g
+            ),
+            *body_scale_checks(
+                "payload", self.payload.mass, self.payload.com, self.payload.inertia, reach, g
+            ),
+            load_scale_check(self.load, reach),
+        ]
+        refuse_overflow(
+            checks, f"(reach of a leg {reach:.6g} m, gravity = {list(self.gravity)!r} m/s²)"
+        )
+
+    @staticmethod
+    def _body(body: Body) -> tuple[float, tuple[float, float], float]:
+        return body.mass, body.com, body.inertia
 
     # ---------------------------------------------------------------- builders
     @classmethod

@@ -26,7 +26,6 @@ prp3.errors.ParameterError: robot: unknown key 'rod.mas' (expected one of: centr
 from __future__ import annotations
 
 import inspect
-import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,6 +39,7 @@ from prp3.files import read_text
 from prp3.model.robot import Robot
 from prp3.model.robot_toml import (
     MAX_ROBOT_FILE_BYTES,
+    key_line,
     read_toml,
     toml_float,
     toml_line,
@@ -275,14 +275,30 @@ def _largest(given: dict[str, Any]) -> tuple[str, str]:
     return name, f"{name} = {value!r}"
 
 
-def _build(constructor: Callable[..., SpatialRobot], given: dict[str, Any]) -> SpatialRobot:
-    """``constructor(**given)``; a failure not of one key (an overflow) names the largest."""
+def _build(
+    constructor: Callable[..., SpatialRobot],
+    given: dict[str, Any],
+    tables: Mapping[str, str] | None = None,
+) -> SpatialRobot:
+    """``constructor(**given)``; a failure not of one key (an overflow) names the largest.
+
+    ``tables`` maps a body's name to its table (``arm`` → ``arm_body``): a refusal of a
+    body's key (``arm.mass``) is named by its table's key (``arm_body.mass``).
+    """
     try:
         with np.errstate(all="ignore"):
             return constructor(**given)
     except ValueError as error:  # ParameterError, or math's domain error of an overflow
         if isinstance(error, ParameterError) and error.key in given:
             raise
+        if isinstance(error, ParameterError) and error.key and tables:
+            body, _, attribute = error.key.partition(".")
+            if tables.get(body) in given:
+                raise ParameterError(
+                    error.reason.replace(f"{body}.", f"{tables[body]}.", 1),
+                    subject="robot",
+                    key=f"{tables[body]}.{attribute}",
+                ) from None
         reason = error.reason if isinstance(error, Prp3Error) else str(error)
         key, shown = _largest(given) if given else (None, "")
         raise ParameterError(
@@ -327,7 +343,7 @@ def spatial_robot_from_mapping(data: Mapping[str, Any]) -> SpatialRobotFile:
     for name in bodies:
         if name in top:
             given[name] = _body(name, top[name], defaults[name])
-    robot = _build(constructor, given)
+    robot = _build(constructor, given, {body.name: name for name, body in defaults.items()})
     home = PlatformMotion.at_rest(robot.home_position, robot.home_rotation)
     try:
         with np.errstate(all="ignore"):  # an overflow is refused below, naming the largest key
@@ -353,49 +369,6 @@ def spatial_robot_from_mapping(data: Mapping[str, Any]) -> SpatialRobotFile:
         )
     parameters = {**_defaults(architecture), **defaults, **given}
     return SpatialRobotFile(architecture, parameters, robot)
-
-
-#: A top-level key at the start of a line: ``name =`` (bare or quoted).
-_LINE_KEY = re.compile(
-    r"""\s*["']?([A-Za-z0-9_-]+)["']?\s*(?:\.\s*["']?([A-Za-z0-9_-]+)["']?\s*)?="""
-)
-_LINE_TABLE = re.compile(r"""\s*\[\s*["']?([A-Za-z0-9_-]+)["']?\s*\]""")
-
-
-def key_line(text: str, key: str) -> int | None:
-    """The line (1-based) of ``text`` where the dotted ``key`` (``stroke``, ``rod.mass``) is set.
-
-    Found for a key on a line of its own (``mass = 1.0`` under ``[rod]``, or
-    ``rod.mass = 1.0``), a table's heading for the table's own key (``rod``),
-    or the line of an inline table ``rod = {...}``; ``None`` otherwise.
-
-    >>> key_line("architecture = '6-UPS'\\n[rod]\\nmass = -1\\n", "rod.mass")
-    3
-    >>> key_line("stroke = [1]\\n", "stroke"), key_line("x = 1\\n", "y")
-    (1, None)
-    """
-    parts = key.split(".")
-    table: str | None = None
-    fallback: int | None = None
-    for number, line in enumerate(text.splitlines(), 1):
-        header = _LINE_TABLE.match(line)
-        if header is not None:
-            table = header.group(1)
-            if parts == [table] or (len(parts) > 1 and parts[0] == table and fallback is None):
-                fallback = number
-            if parts == [table]:
-                return number
-            continue
-        found = _LINE_KEY.match(line)
-        if found is None:
-            continue
-        spelled = [found.group(1)] + ([found.group(2)] if found.group(2) else [])
-        path = ([table] if table else []) + spelled
-        if path == parts:
-            return number
-        if path == parts[: len(path)] and fallback is None:
-            fallback = number  # an inline table holding the key
-    return fallback
 
 
 def _located(path: Path, error: ParameterError) -> InputFileError:

@@ -20,6 +20,7 @@ prp3.errors.ParameterError: robot: piston.mass must be a positive finite number 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -474,3 +475,81 @@ class Spring:
                     kind,
                     SpringParameters(value.stiffness, value.rest, value.damping, kind),
                 )
+
+
+#: One overflow check of :func:`refuse_overflow`: the key it names, what the message says of
+#: it, and the quantity (a float64 that is ``inf`` or NaN when it overflows).
+ScaleCheck = tuple[str, str, Callable[[], Any]]
+
+
+def body_scale_checks(
+    prefix: str, mass: float, com: tuple[float, float], inertia: float, length: float, g: float
+) -> list[ScaleCheck]:
+    """The overflow checks of a body fixed to a leg or the platform (``payload``, ``link1``).
+
+    ``length`` (m) is the robot's reach: the body's arm about the far end of a leg is
+    ``length + |com|``; its weight ``m·g``, its inertia about that end ``I + m·arm²`` and
+    the moment of its weight ``m·g·arm`` must be finite (``g = max(|g_x|, |g_y|, 1)``);
+    the first check names ``prefix.com`` when the arm alone overflows, else ``prefix.mass``.
+
+    >>> [key for key, _, _ in body_scale_checks("payload", 1.0, (0.0, 0.0), 0.0, 0.3, 9.81)]
+    ['payload.mass', 'payload.inertia']
+    """
+    with np.errstate(over="ignore"):
+        arm = np.float64(length) + np.hypot(np.float64(com[0]), np.float64(com[1]))
+    m = np.float64(mass)
+    with np.errstate(over="ignore"):
+        far = not np.isfinite(3.0 * (arm**2 + arm * g + g))  # the com alone overflows
+    return [
+        (
+            f"{prefix}.com" if far else f"{prefix}.mass",
+            f"{prefix}.com = {list(com)!r} m with mass = {mass!r} kg: its arm and inertia overflow"
+            if far
+            else f"{prefix}.mass = {mass!r} kg with com = {list(com)!r} m: its weight and "
+            "inertia overflow",
+            lambda: m * (arm**2 + arm * g + g),
+        ),
+        (
+            f"{prefix}.inertia",
+            f"{prefix}.inertia = {inertia!r} kg·m²: its inertia overflows",
+            lambda: np.float64(inertia) + m * arm**2,
+        ),
+    ]
+
+
+def gravity_scale_check(gravity: tuple[float, ...], length: float) -> ScaleCheck:
+    """The overflow check of gravity alone: a unit mass's weight moment ``|g|·(length + 1)``."""
+    g = np.float64(max(abs(float(v)) for v in gravity))
+    return (
+        "gravity",
+        f"gravity = {list(gravity)!r} m/s²: a unit mass's weight and its moment overflow",
+        lambda: g * (np.float64(length) + 1.0) * 16.0,
+    )
+
+
+def load_scale_check(load: Load, length: float) -> ScaleCheck:
+    """The overflow check of the load's wrench about the far end of a leg, ``|F|·(length + 1) + |M|``."""
+    fx, fy, moment = (np.float64(v) for v in (*load.force, load.moment))
+    return (
+        "load.force",
+        f"load.force = {list(load.force)!r} N and load.moment = {load.moment!r} N·m: "
+        "the load's wrench overflows",
+        lambda: (abs(fx) + abs(fy)) * (np.float64(length) + 1.0) + abs(moment),
+    )
+
+
+def refuse_overflow(checks: list[ScaleCheck], context: str) -> None:
+    """Raise a ParameterError naming the key of the first check whose quantity, times the
+    three legs, is not a finite float64; ``context`` (the robot's scale) ends the message.
+
+    >>> check = body_scale_checks("payload", 1e308, (0.0, 0.0), 0.0, 0.3, 9.81)
+    >>> refuse_overflow(check, "(l0 = 0.3 m)")
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: robot: payload.mass = 1e+308 kg with com = [0.0, 0.0] m: its weight and inertia overflow float64 (l0 = 0.3 m)
+    """
+    for key, what, quantity in checks:
+        with np.errstate(over="ignore", invalid="ignore"):
+            value = 3.0 * quantity()
+        if not np.isfinite(value):
+            raise ParameterError(f"{what} float64 {context}", subject="robot", key=key)

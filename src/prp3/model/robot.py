@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -38,6 +38,7 @@ from prp3.model.element_base import Element
 from prp3.model.elements import ELEMENTS
 from prp3.model.parameters import (
     Friction,
+    JointFriction,
     Limits,
     LinkParameters,
     Load,
@@ -45,8 +46,12 @@ from prp3.model.parameters import (
     PistonParameters,
     PlatformParameters,
     Spring,
+    SpringParameters,
+    body_scale_checks,
     check_pair,
     check_parts,
+    load_scale_check,
+    refuse_overflow,
 )
 from prp3.model.robot_toml import parse_located, read_toml, robot_arguments, robot_text
 from prp3.validation import check_robot, check_scalar
@@ -157,29 +162,10 @@ class Robot:
         ``b·l0`` and ``μ``-scaled reactions ``μ·(1 + r)``.  A refusal names the key.
         """
         l0 = np.float64(self.l0)
-        payload, load = self.payload, self.load
-        arm = l0 + np.hypot(np.float64(payload.com[0]), np.float64(payload.com[1]))
-        checks: list[tuple[str, str, object]] = [
-            (
-                "payload.mass",
-                f"payload.mass = {payload.mass!r} kg with com = "
-                f"{list(payload.com)!r} m: its weight and inertia overflow",
-                lambda: np.float64(payload.mass) * (arm**2 + arm * g + g),
-            ),
-            (
-                "payload.inertia",
-                f"payload.inertia = {payload.inertia!r} kg·m²: its inertia overflows",
-                lambda: np.float64(payload.inertia) + np.float64(payload.mass) * arm**2,
-            ),
-            (
-                "load.force",
-                f"load.force = {list(load.force)!r} N and load.moment = "
-                f"{load.moment!r} N·m: the load's wrench overflows",
-                lambda: (
-                    (abs(np.float64(load.force[0])) + abs(np.float64(load.force[1]))) * (l0 + 1.0)
-                    + abs(np.float64(load.moment))
-                ),
-            ),
+        payload = self.payload
+        checks = [
+            *body_scale_checks("payload", payload.mass, payload.com, payload.inertia, l0, g),
+            load_scale_check(self.load, l0),
         ]
         if self.spring is not None:
             for name in ("actuator",):
@@ -191,10 +177,7 @@ class Robot:
                         f"spring.{name}.stiffness",
                         f"spring.{name}: stiffness = {spring.stiffness!r} N/m, rest = "
                         f"{spring.rest!r} m, damping = {spring.damping!r} N·s/m: its force overflows",
-                        lambda s=spring: (
-                            np.float64(s.stiffness) * (abs(np.float64(s.rest)) + l0)
-                            + np.float64(s.damping) * l0
-                        ),
+                        _spring_force(spring, l0),
                     )
                 )
         if self.friction is not None:
@@ -208,21 +191,10 @@ class Robot:
                         f"friction.{name}: viscous = {joint.viscous!r}, coulomb = "
                         f"{joint.coulomb!r}, mu = {joint.mu!r}, pin_radius = {joint.pin_radius!r}: "
                         "its forces overflow",
-                        lambda j=joint: (
-                            (np.float64(j.viscous) * l0 + np.float64(j.coulomb)) * 3.0
-                            + np.float64(j.mu) * (1.0 + np.float64(j.pin_radius)) * 3.0
-                        ),
+                        _friction_forces(joint, l0),
                     )
                 )
-        for key, what, quantity in checks:
-            with np.errstate(over="ignore", invalid="ignore"):
-                value = 3.0 * quantity()  # type: ignore[operator]
-            if not np.isfinite(value):
-                raise ParameterError(
-                    f"{what} float64 (l0 = {self.l0!r} m, gravity = {list(self.gravity)!r} m/s²)",
-                    subject="robot",
-                    key=key,
-                )
+        refuse_overflow(checks, f"(l0 = {self.l0!r} m, gravity = {list(self.gravity)!r} m/s²)")
 
     @property
     def elements(self) -> tuple[Element, ...]:
@@ -306,3 +278,19 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
     """
     robot = Robot() if robot is None else check_robot(robot)
     return robot_text(robot, comments=comments)
+
+
+def _spring_force(spring: SpringParameters, l0: np.float64) -> Callable[[], Any]:
+    """The spring's force and damping at the scale ``l0`` (an overflow check's quantity)."""
+    return lambda: (
+        np.float64(spring.stiffness) * (abs(np.float64(spring.rest)) + l0)
+        + np.float64(spring.damping) * l0
+    )
+
+
+def _friction_forces(joint: JointFriction, l0: np.float64) -> Callable[[], Any]:
+    """A joint's friction forces at the scale ``l0`` (an overflow check's quantity)."""
+    return lambda: (
+        (np.float64(joint.viscous) * l0 + np.float64(joint.coulomb)) * 3.0
+        + np.float64(joint.mu) * (1.0 + np.float64(joint.pin_radius)) * 3.0
+    )

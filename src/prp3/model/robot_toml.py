@@ -48,7 +48,7 @@ from prp3.model.parameters import (
 if TYPE_CHECKING:
     from prp3.model.robot import Robot
 
-__all__ = ["parse_located", "read_toml", "robot_arguments", "robot_text"]
+__all__ = ["key_line", "parse_located", "read_toml", "robot_arguments", "robot_text"]
 
 
 #: Largest robot file read (bytes).
@@ -114,11 +114,65 @@ _Parsed = TypeVar("_Parsed")
 def parse_located(
     path: Path, parse: Callable[[dict[str, Any]], _Parsed], data: dict[str, Any]
 ) -> _Parsed:
-    """``parse(data)`` for the mapping ``data`` read from ``path``: a ParameterError names the file."""
+    """``parse(data)`` for the mapping ``data`` read from ``path``: a ParameterError names the file
+    and, when its key is set on a line of the file (:func:`key_line`), that line."""
     try:
         return parse(data)
     except ParameterError as error:
-        raise error.located(file=path) from None
+        line = None
+        if error.key:
+            try:
+                line = key_line(
+                    read_text(path, "robot", MAX_ROBOT_FILE_BYTES), error.key.split("[")[0]
+                )
+            except InputFileError:
+                line = None
+        raise error.located(file=path, line=line) from None
+
+
+#: A top-level key at the start of a line: ``name =`` (bare or quoted).
+_LINE_KEY = re.compile(
+    r"""\s*["']?([A-Za-z0-9_-]+)["']?\s*(?:\.\s*["']?([A-Za-z0-9_-]+)["']?\s*)?="""
+)
+_LINE_TABLE = re.compile(r"""\s*\[\s*["']?([A-Za-z0-9_-]+(?:\s*\.\s*[A-Za-z0-9_-]+)*)["']?\s*\]""")
+
+
+def key_line(text: str, key: str) -> int | None:
+    """The line (1-based) of ``text`` where the dotted ``key`` (``stroke``, ``rod.mass``) is set.
+
+    Found for a key on a line of its own (``mass = 1.0`` under ``[rod]``, or
+    ``rod.mass = 1.0``), a table's heading for the table's own key (``rod``),
+    or the line of an inline table ``rod = {...}``; ``None`` otherwise.
+
+    >>> key_line("architecture = '6-UPS'\\n[rod]\\nmass = -1\\n", "rod.mass")
+    3
+    >>> key_line("stroke = [1]\\n", "stroke"), key_line("x = 1\\n", "y")
+    (1, None)
+    >>> key_line("[spring.actuator]\\nstiffness = 1e308\\n", "spring.actuator.stiffness")
+    2
+    """
+    parts = key.split(".")
+    table: list[str] = []
+    fallback: int | None = None
+    for number, line in enumerate(text.splitlines(), 1):
+        header = _LINE_TABLE.match(line)
+        if header is not None:
+            table = [part.strip() for part in header.group(1).split(".")]
+            if parts == table:
+                return number
+            if len(parts) > len(table) and parts[: len(table)] == table and fallback is None:
+                fallback = number
+            continue
+        found = _LINE_KEY.match(line)
+        if found is None:
+            continue
+        spelled = [found.group(1)] + ([found.group(2)] if found.group(2) else [])
+        path = table + spelled
+        if path == parts:
+            return number
+        if path == parts[: len(path)] and fallback is None:
+            fallback = number  # an inline table holding the key
+    return fallback
 
 
 def _parse_toml(path: Path, text: str) -> dict[str, Any]:

@@ -68,7 +68,14 @@ from prp3.spatial.model import TWIST_COMPONENTS, SpatialRobot
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.outputs import SpatialSolution, spatial_inverse_dynamics
 from prp3.spatial.rotations import cross, matrix_quaternion, quaternion_matrix
-from prp3.validation import check_instance, check_integer, check_real, check_scalar, check_times
+from prp3.validation import (
+    check_instance,
+    check_integer,
+    check_real,
+    check_scalar,
+    check_times,
+    checked_spline,
+)
 
 __all__ = [
     "MAX_ACCELERATION",
@@ -437,9 +444,7 @@ def _effort_function(
     if te.size == 2:
         slope = (tau[1] - tau[0]) / (te[1] - te[0])
         return (lambda time: tau[0] + slope * (time - te[0])), (float(te[0]), float(te[-1]))
-    from scipy.interpolate import CubicSpline
-
-    spline = CubicSpline(te, tau, axis=0, bc_type="not-a-knot")
+    spline = checked_spline("efforts", te, tau)
     return (lambda time: np.asarray(spline(time), dtype=np.float64)), (float(te[0]), float(te[-1]))
 
 

@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import ParameterError
+from prp3.model.parameters import ScaleCheck, gravity_scale_check, refuse_overflow
 from prp3.spatial.rotations import axis_rotation, cross
 from prp3.validation import check_finite, check_real, check_scalar
 
@@ -188,25 +189,62 @@ class Body:
                 key="inertia",
             )
         check_finite("inertia", tensor, ParameterError, subject=subject)
-        scale = max(float(np.abs(tensor).max()), 1e-300)
-        if float(np.abs(tensor - tensor.T).max()) > 1e-12 * scale:
+        largest = float(np.abs(tensor).max())
+        scale = max(largest, 1e-300)
+        shift = math.ldexp(1.0, math.frexp(largest)[1] - 1) if largest > 1e300 else 1.0
+        unit = tensor / shift  # exact (a power of 2), entries <= 2: no overflow near 1e308
+        scale /= shift
+        if float(np.abs(unit - unit.T).max()) > 1e-12:
             raise ParameterError("inertia must be symmetric", subject=subject, key="inertia")
-        principal = np.linalg.eigvalsh(0.5 * (tensor + tensor.T))
-        a, b, c = (float(v) for v in principal)
-        if a < -1e-12 * scale or c > a + b + 1e-12 * scale:
+        symmetric = 0.5 * (unit + unit.T)
+        a, b, c = (float(v) for v in np.linalg.eigvalsh(symmetric))
+        if a < -1e-12 * scale or c - a - b > 1e-12 * scale:
             raise ParameterError(
-                f"inertia has principal moments {a:.6g}, {b:.6g}, {c:.6g}: not those of a "
+                f"inertia has principal moments {a * shift:.6g}, {b * shift:.6g}, "
+                f"{c * shift:.6g}: not those of a "
                 "body (each must be >= 0 and at most the sum of the other two)",
                 subject=subject,
                 key="inertia",
             )
-        rows = [tuple(float(v) for v in row) for row in 0.5 * (tensor + tensor.T)]
+        rows = [tuple(float(v) * shift for v in row) for row in symmetric]
         object.__setattr__(
             self,
             "inertia",
             ((rows[0][0], rows[0][1], rows[0][2]), (rows[1][0], rows[1][1], rows[1][2]),
              (rows[2][0], rows[2][1], rows[2][2])),
         )  # fmt: skip
+
+
+def body_scale_checks_3d(prefix: str, body: Body, length: float, g: float) -> list[ScaleCheck]:
+    """The overflow checks of a spatial body (keys ``prefix.mass``, ``prefix.inertia``).
+
+    Its arm is ``length + |centre|``: its weight ``m·g``, the moment of its weight
+    ``m·g·arm`` and its inertia ``max|I_ij| + m·arm²`` must be finite
+    (:func:`prp3.model.parameters.refuse_overflow`); the first names ``prefix.centre`` when
+    the arm alone overflows.
+    """
+    with np.errstate(over="ignore"):
+        arm = np.float64(length) + np.float64(np.linalg.norm(body.centre))
+    m = np.float64(body.mass)
+    largest = np.float64(np.abs(np.array(body.inertia)).max())
+    with np.errstate(over="ignore"):
+        far = not np.isfinite(3.0 * (arm**2 + arm * g + g))  # the centre alone overflows
+    return [
+        (
+            f"{prefix}.centre" if far else f"{prefix}.mass",
+            f"{prefix}.centre = {list(body.centre)!r} m with mass = {body.mass!r} kg: its arm "
+            "and inertia overflow"
+            if far
+            else f"{prefix}.mass = {body.mass!r} kg with centre = {list(body.centre)!r} m: its "
+            "weight and inertia overflow",
+            lambda: m * (arm**2 + arm * g + g),
+        ),
+        (
+            f"{prefix}.inertia",
+            f"{prefix}.inertia (largest entry {float(largest)!r} kg·m²): its inertia overflows",
+            lambda: largest + m * arm**2,
+        ),
+    ]
 
 
 #: The components of a twist ``(ω, v)``, in order.
@@ -402,6 +440,31 @@ class SpatialRobot:
                 subject="robot",
                 key="parasitic",
             )
+
+        self._check_scale()
+
+    @cached_property
+    def reach(self) -> float:
+        """The longest chain from the world origin to the platform frame (m): over the legs,
+        ``Σ|joint positions| + |attachment|``, plus ``|home|``; the arm of the overflow checks."""
+        with np.errstate(over="ignore"):
+            chains = [
+                sum(float(np.linalg.norm(j.position)) for j in leg.joints)
+                + float(np.linalg.norm(leg.attachment_position))
+                for leg in self.legs
+            ]
+            return max(chains) + float(np.linalg.norm(self.home_position))
+
+    def _check_scale(self) -> None:
+        """Refuse bodies whose weight, inertia or moment of weight overflow float64."""
+        g = max(float(np.abs(np.array(self.gravity)).max()), 1.0)
+        checks = [gravity_scale_check(self.gravity, self.reach)] + [
+            check for body in self.bodies
+            for check in body_scale_checks_3d(body.name, body, self.reach, g)
+        ]  # fmt: skip
+        refuse_overflow(
+            checks, f"(reach {self.reach:.6g} m, gravity = {list(self.gravity)!r} m/s²)"
+        )
 
     @property
     def parasitic_index(self) -> tuple[int, ...]:
