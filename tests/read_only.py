@@ -34,7 +34,8 @@ print(json.dumps({"status": status, "stderr": err.getvalue()}))
 """
 
 
-def _allowed() -> bool:
+def namespaces_allowed() -> bool:
+    """Whether ``unshare --map-root-user --mount`` runs here (user and mount namespaces)."""
     if shutil.which("unshare") is None:
         return False
     try:
@@ -47,7 +48,7 @@ def _allowed() -> bool:
 
 
 NAMESPACES = pytest.mark.skipif(
-    not _allowed(), reason="user and mount namespaces are not allowed here"
+    not namespaces_allowed(), reason="user and mount namespaces are not allowed here"
 )
 
 

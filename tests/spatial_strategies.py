@@ -10,13 +10,15 @@ call the code under test beyond the public constructors.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, is_dataclass
+from typing import Any
 
 import numpy as np
 from hypothesis import strategies as st
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from prp3.spatial.kinematics import complete_motion
 from prp3.spatial.model import Body, SpatialRobot, delta, hexapod, three_rps
 from prp3.spatial.motion import PlatformMotion, rpy_motion
 
@@ -191,6 +193,42 @@ def waves(draw: st.DrawFn, robot: SpatialRobot, size: float = 1.0) -> Wave:
         triple(0.5, 6.0),
         triple(-math.pi, math.pi),
     )
+
+
+#: The spatial architectures and their random designs.
+ARCHITECTURES = {"6-UPS": hexapods, "3-RPS": rps_robots, "3-RUU": deltas}
+#: The times of the exchange tests' motions (s).
+EXCHANGE_TIMES = np.array([0.1, 0.45, 0.8])
+
+
+def _leaves(value: Any) -> list[Any]:
+    """Every leaf of a robot (its dataclasses and tuples) in order."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return [leaf for f in fields(value) for leaf in _leaves(getattr(value, f.name))]
+    if isinstance(value, tuple):
+        return [leaf for item in value for leaf in _leaves(item)]
+    return [value]
+
+
+def assert_same_robot(a: SpatialRobot, b: SpatialRobot, tol: float) -> None:
+    """``a`` and ``b`` leaf by leaf: equal, floats within ``tol`` relative (of 1 at least)."""
+    left, right = _leaves(a), _leaves(b)
+    assert len(left) == len(right)
+    for x, y in zip(left, right, strict=True):
+        if isinstance(x, float) and isinstance(y, float):
+            assert x == y or abs(x - y) <= tol * max(1.0, abs(y)), (x, y)
+        else:
+            assert x == y
+
+
+@st.composite
+def robots_and_motions(draw: st.DrawFn, architecture: str) -> tuple[SpatialRobot, Any]:
+    """A random design of ``architecture`` and a smooth motion of it at EXCHANGE_TIMES."""
+    robot = draw(ARCHITECTURES[architecture]())
+    motion = draw(waves(robot)).motion(EXCHANGE_TIMES)
+    if robot.parasitic:
+        motion = complete_motion(robot, motion)
+    return robot, motion
 
 
 def hexapod_parallel_jacobian(robot: SpatialRobot, motion: PlatformMotion) -> FloatArray:

@@ -44,6 +44,7 @@ import numpy as np
 import pytest
 
 import prp3
+from read_only import NAMESPACES
 
 HERE = Path(__file__).parent
 EXAMPLES = HERE.parent / "examples"
@@ -51,21 +52,7 @@ MANIFEST = ".prp3-manifest.json"  # the output folder's record of its runs (docs
 ENV = {key: value for key, value in os.environ.items() if key != "PYTHONUNBUFFERED"}
 
 
-def _namespaces_allowed() -> bool:
-    if shutil.which("unshare") is None:
-        return False
-    try:
-        done = subprocess.run(
-            ["unshare", "--map-root-user", "--mount", "true"], capture_output=True, timeout=10
-        )
-    except (OSError, subprocess.SubprocessError):
-        return False
-    return done.returncode == 0
-
-
-pytestmark = pytest.mark.skipif(
-    not _namespaces_allowed(), reason="user and mount namespaces are not allowed here"
-)
+pytestmark = NAMESPACES
 
 FAMILY_ROBOT = 'architecture = "3-RRR"\nactuated = 1\n'
 SPATIAL_ROBOT = 'architecture = "6-UPS"\n'
