@@ -20,6 +20,7 @@ prp3.errors.ParameterError: robot: piston.mass must be a positive finite number 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -483,35 +484,45 @@ ScaleCheck = tuple[str, str, Callable[[], Any]]
 
 
 def body_scale_checks(
-    prefix: str, mass: float, com: tuple[float, float], inertia: float, length: float, g: float
+    prefix: str,
+    mass: float,
+    com: tuple[float, ...],
+    inertia: float,
+    length: float,
+    g: float,
+    centre: str = "com",
+    inertia_text: str | None = None,
 ) -> list[ScaleCheck]:
     """The overflow checks of a body fixed to a leg or the platform (``payload``, ``link1``).
 
     ``length`` (m) is the robot's reach: the body's arm about the far end of a leg is
-    ``length + |com|``; its weight ``m·g``, its inertia about that end ``I + m·arm²`` and
+    ``length + |com|`` (``com`` of two or three coordinates); its weight ``m·g``, its inertia
+    about that end ``I + m·arm²`` (``I`` the inertia, or a spatial body's largest entry) and
     the moment of its weight ``m·g·arm`` must be finite (``g = max(|g_x|, |g_y|, 1)``);
-    the first check names ``prefix.com`` when the arm alone overflows, else ``prefix.mass``.
+    the first check names ``prefix.com`` (``prefix.<centre>``) when the arm alone overflows,
+    else ``prefix.mass``.  ``inertia_text`` replaces ``= inertia kg·m²`` in the message.
 
     >>> [key for key, _, _ in body_scale_checks("payload", 1.0, (0.0, 0.0), 0.0, 0.3, 9.81)]
     ['payload.mass', 'payload.inertia']
     """
     with np.errstate(over="ignore"):
-        arm = np.float64(length) + np.hypot(np.float64(com[0]), np.float64(com[1]))
+        arm = np.float64(length) + np.float64(math.hypot(*(float(c) for c in com)))
     m = np.float64(mass)
     with np.errstate(over="ignore"):
         far = not np.isfinite(3.0 * (arm**2 + arm * g + g))  # the com alone overflows
+    where = f"{list(com)!r} m"
     return [
         (
-            f"{prefix}.com" if far else f"{prefix}.mass",
-            f"{prefix}.com = {list(com)!r} m with mass = {mass!r} kg: its arm and inertia overflow"
+            f"{prefix}.{centre}" if far else f"{prefix}.mass",
+            f"{prefix}.{centre} = {where} with mass = {mass!r} kg: its arm and inertia overflow"
             if far
-            else f"{prefix}.mass = {mass!r} kg with com = {list(com)!r} m: its weight and "
+            else f"{prefix}.mass = {mass!r} kg with {centre} = {where}: its weight and "
             "inertia overflow",
             lambda: m * (arm**2 + arm * g + g),
         ),
         (
             f"{prefix}.inertia",
-            f"{prefix}.inertia = {inertia!r} kg·m²: its inertia overflows",
+            f"{prefix}.inertia {inertia_text or f'= {inertia!r} kg·m²'}: its inertia overflows",
             lambda: np.float64(inertia) + m * arm**2,
         ),
     ]

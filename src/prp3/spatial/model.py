@@ -29,7 +29,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from prp3.errors import ParameterError
-from prp3.model.parameters import ScaleCheck, gravity_scale_check, refuse_overflow
+from prp3.model.parameters import (
+    ScaleCheck,
+    body_scale_checks,
+    gravity_scale_check,
+    refuse_overflow,
+)
 from prp3.spatial.rotations import axis_rotation, cross
 from prp3.validation import check_finite, check_real, check_scalar
 
@@ -218,33 +223,15 @@ class Body:
 def body_scale_checks_3d(prefix: str, body: Body, length: float, g: float) -> list[ScaleCheck]:
     """The overflow checks of a spatial body (keys ``prefix.mass``, ``prefix.inertia``).
 
-    Its arm is ``length + |centre|``: its weight ``m·g``, the moment of its weight
-    ``m·g·arm`` and its inertia ``max|I_ij| + m·arm²`` must be finite
-    (:func:`prp3.model.parameters.refuse_overflow`); the first names ``prefix.centre`` when
-    the arm alone overflows.
+    Those of :func:`prp3.model.parameters.body_scale_checks`, with the arm
+    ``length + |centre|`` and the inertia's largest entry ``max|I_ij|``; the first names
+    ``prefix.centre`` when the arm alone overflows.
     """
-    with np.errstate(over="ignore"):
-        arm = np.float64(length) + np.float64(np.linalg.norm(body.centre))
-    m = np.float64(body.mass)
-    largest = np.float64(np.abs(np.array(body.inertia)).max())
-    with np.errstate(over="ignore"):
-        far = not np.isfinite(3.0 * (arm**2 + arm * g + g))  # the centre alone overflows
-    return [
-        (
-            f"{prefix}.centre" if far else f"{prefix}.mass",
-            f"{prefix}.centre = {list(body.centre)!r} m with mass = {body.mass!r} kg: its arm "
-            "and inertia overflow"
-            if far
-            else f"{prefix}.mass = {body.mass!r} kg with centre = {list(body.centre)!r} m: its "
-            "weight and inertia overflow",
-            lambda: m * (arm**2 + arm * g + g),
-        ),
-        (
-            f"{prefix}.inertia",
-            f"{prefix}.inertia (largest entry {float(largest)!r} kg·m²): its inertia overflows",
-            lambda: largest + m * arm**2,
-        ),
-    ]
+    largest = float(np.abs(np.array(body.inertia)).max())
+    return body_scale_checks(
+        prefix, body.mass, body.centre, largest, length, g, centre="centre",
+        inertia_text=f"(largest entry {largest!r} kg·m²)",
+    )  # fmt: skip
 
 
 #: The components of a twist ``(ω, v)``, in order.
