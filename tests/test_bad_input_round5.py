@@ -24,7 +24,8 @@ FORCES = "t,tau_A,tau_B,tau_C\n0.0,0.0,0.0,0.0\n0.5,0.0,0.0,0.0\n1.0,0.0,0.0,0.0
     ("load", "key", "line"),
     [
         ("force = [1e12, 0.0]\nmoment = 0.0\n", "load.force", 4),
-        ("force = [0.0, -1e308]\n", "load.force", 4),
+        ("force = [0.0, -1e308]\n", "load.force", 4),  # finite wrench: refused by the bound
+        ("force = [1.7e308, -1.7e308]\n", "load.force", 4),  # |F| overflows: up front
         ("moment = 0.0\nforce = [0.0, 0.0]\n", None, None),
         ("force = [1.0, 0.0]\nmoment = 1e300\n", "load.moment", 5),
         ("moment = 1e300\nforce = [1.0, 0.0]\n", "load.moment", 4),
@@ -40,7 +41,7 @@ def test_an_absurd_family_load_names_the_robot_file_key_and_line(capsys, tmp_pat
         assert "beyond the bound" not in err and status in (0, 1), err
         return
     text = one_line(err)
-    if "1e308" in load:  # refused up front, on reading the robot file (its wrench overflows)
+    if "1.7e308" in load:  # refused up front, on reading the robot file (its wrench overflows)
         assert status == 2 and f"rrr.toml:{line}: robot: {key} = " in text, text
         assert "overflows float64" in text and "zero.csv" not in text
         return

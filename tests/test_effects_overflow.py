@@ -25,11 +25,12 @@ ROOT = Path(__file__).resolve().parents[1]
 FAMILY_CASES = [
     ("payload.mass", {"payload": Payload(mass=1e308)}),
     ("payload.com", {"payload": Payload(mass=1.0, com=(1e200, 0.0))}),
-    ("payload.inertia", {"payload": Payload(inertia=1e308)}),
+    # one inertia of 1e308 is finite, and so is the robot's total: two whose sum is not
+    ("payload.inertia", {"payload": Payload(inertia=1.7e308), "platform": PlatformBody(3.0, 1e308)}),
     ("link1.mass", {"link1": Body(1e308, (0.1, 0.0), 0.0, name="link1")}),
     ("link2.inertia", {"link2": Body(0.75, (0.1, 0.0), 1e308, name="link2")}),
-    ("platform.inertia", {"platform": PlatformBody(3.0, 1e308)}),
-    ("load.force", {"load": Load(force=(1e308, 0.0))}),
+    ("platform.inertia", {"platform": PlatformBody(3.0, 1.7e308), "payload": Payload(inertia=1e308)}),
+    ("load.force", {"load": Load(force=(1.7e308, 1.7e308))}),  # |F| = 2.4e308
     ("gravity", {"gravity": (0.0, -1e308)}),
 ]
 
@@ -74,7 +75,7 @@ def _set(lines: list[str], table: str | None, key: str, value: str) -> tuple[str
 CLI_CASES = [
     ("3-RRR", "payload", "mass", "1e308", "payload.mass", "vertical"),
     ("3-RRR", "payload", "com", "[1e200, 0.0]", "payload.com", "vertical"),
-    ("3-RRR", "payload", "inertia", "1e308", "payload.inertia", "vertical"),
+    ("3-RRR", "link2", "inertia", "1e308", "link2.inertia", "vertical"),  # three legs: 3e308
     ("3-RPR", "link2", "mass", "1e308", "link2.mass", "vertical"),
     ("3-RRR", None, "gravity", "[0.0, -1e308]", "gravity", "vertical"),
     ("6-UPS", "platform", "mass", "1e308", "platform.mass", "heave"),
@@ -83,7 +84,7 @@ CLI_CASES = [
     ("6-UPS", "cylinder", "centre", "[1e200, 0, 0]", "cylinder.centre", "heave"),
     ("3-RUU", "forearm_body", "inertia", "[[1e308, 0, 0], [0, 1e308, 0], [0, 0, 1e308]]",
      "forearm_body.inertia", "heave"),
-    ("3-RPS", None, "gravity", "[0.0, 0.0, -1e308]", "gravity", "heave"),
+    ("3-RPS", None, "gravity", "[0.0, 0.0, -1.79e308]", "gravity", "heave"),
 ]  # fmt: skip
 
 
@@ -128,10 +129,10 @@ def test_spatial_library_refuses_and_accepts() -> None:
     with pytest.raises(ParameterError) as caught:
         replace(robot, platform=big)
     assert caught.value.key == "platform.mass"
-    huge = SpatialBody(1.0, (0.0, 0.0, 0.0), np.diag([1e308, 1e308, 1e308]), "platform")
-    with pytest.raises(ParameterError) as caught:
-        replace(robot, platform=huge)
-    assert caught.value.key == "platform.inertia"
+    huge = SpatialBody(1.0, (0.0, 0.0, 0.0), np.diag([1e308, 1e308, 1e308]), "rod")
+    with pytest.raises(ParameterError) as caught:  # six rods: their total inertia overflows
+        replace(robot, legs=tuple(replace(leg, bodies=(leg.bodies[0], huge)) for leg in robot.legs))
+    assert caught.value.key == "rod.inertia"
     with pytest.raises(ParameterError) as caught:
         replace(robot, gravity=(0.0, 0.0, -1e308))
     assert caught.value.key == "gravity"

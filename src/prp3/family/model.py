@@ -337,7 +337,8 @@ class FamilyRobot:
 
         The checks of the 3-PRP (:func:`prp3.model.parameters.body_scale_checks`) with the
         leg's reach ``Σ|(a_k, b_k)| + Σ|q_k(home)|`` (m) in place of ``l0``: each body's weight,
-        its inertia and the moment of its weight about a leg's base, and the load's wrench.
+        its inertia and the moment of its weight about a leg's base (the links three times:
+        one per leg), their totals, and the load's wrench.
         """
         g = max(abs(self.gravity[0]), abs(self.gravity[1]), 1.0)
         with np.errstate(over="ignore"):
@@ -347,8 +348,8 @@ class FamilyRobot:
             )
         checks = [
             gravity_scale_check(self.gravity, reach),
-            *body_scale_checks("link1", *self._body(self.link1), reach, g),
-            *body_scale_checks("link2", *self._body(self.link2), reach, g),
+            *body_scale_checks("link1", *self._body(self.link1), reach, g, count=3),
+            *body_scale_checks("link2", *self._body(self.link2), reach, g, count=3),
             *body_scale_checks(
                 "platform", self.platform.mass, (0.0, 0.0), self.platform.inertia, reach, g
             ),

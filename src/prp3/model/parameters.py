@@ -479,8 +479,10 @@ class Spring:
 
 
 #: One overflow check of :func:`refuse_overflow`: the key it names, what the message says of
-#: it, and the quantity (a float64 that is ``inf`` or NaN when it overflows).
-ScaleCheck = tuple[str, str, Callable[[], Any]]
+#: it, the quantity (a float64 that is ``inf`` or NaN when it overflows) and, for a body's
+#: contribution to a total the model forms, the total's name (``"weight"``, ``"moment"``,
+#: ``"inertia"``: :func:`refuse_overflow` sums these over the bodies).
+ScaleCheck = tuple[str, str, Callable[[], Any]] | tuple[str, str, Callable[[], Any], str]
 
 
 def body_scale_checks(
@@ -492,75 +494,125 @@ def body_scale_checks(
     g: float,
     centre: str = "com",
     inertia_text: str | None = None,
+    count: int = 1,
 ) -> list[ScaleCheck]:
     """The overflow checks of a body fixed to a leg or the platform (``payload``, ``link1``).
 
     ``length`` (m) is the robot's reach: the body's arm about the far end of a leg is
-    ``length + |com|`` (``com`` of two or three coordinates); its weight ``m·g``, its inertia
-    about that end ``I + m·arm²`` (``I`` the inertia, or a spatial body's largest entry) and
-    the moment of its weight ``m·g·arm`` must be finite (``g = max(|g_x|, |g_y|, 1)``);
-    the first check names ``prefix.com`` (``prefix.<centre>``) when the arm alone overflows,
-    else ``prefix.mass``.  ``inertia_text`` replaces ``= inertia kg·m²`` in the message.
+    ``r = length + |com|`` (``com`` of two or three coordinates), ``g = max(|g_x|, |g_y|, 1)``.
+    The products the model forms of the body must be finite float64, no margin: its
+    weight ``m·g``, the moment of its weight ``m·g·r`` (which bounds its first moment
+    ``m·r``: ``g ≥ 1``) and its inertia about that end ``I + m·r²`` (``I`` the inertia, or a
+    spatial body's largest entry), and so must their totals over the robot's bodies
+    (:func:`refuse_overflow`; ``count`` bodies alike, the legs' bodies of a family robot).
+    An arm whose square ``r²`` or moment ``r·g`` alone overflows names ``prefix.com``
+    (``prefix.<centre>``) whatever the mass; else the weight and moment name the larger
+    of their factors, ``prefix.mass`` (``m ≥ g``) or ``gravity``, and the inertia
+    ``prefix.inertia``.  ``inertia_text`` replaces
+    ``= inertia kg·m²`` in the message.
 
-    >>> [key for key, _, _ in body_scale_checks("payload", 1.0, (0.0, 0.0), 0.0, 0.3, 9.81)]
-    ['payload.mass', 'payload.inertia']
+    >>> [check[0] for check in body_scale_checks("payload", 10.0, (0.0, 0.0), 0.0, 0.3, 9.81)]
+    ['payload.mass', 'payload.mass', 'payload.inertia']
     """
     with np.errstate(over="ignore"):
         arm = np.float64(length) + np.float64(math.hypot(*(float(c) for c in com)))
-    m = np.float64(mass)
-    with np.errstate(over="ignore"):
-        far = not np.isfinite(3.0 * (arm**2 + arm * g + g))  # the com alone overflows
+        far = not (np.isfinite(arm * arm) and np.isfinite(arm * np.float64(g)))
     where = f"{list(com)!r} m"
+    if far:  # the com alone: r² or r·g is beyond float64
+        return [
+            (
+                f"{prefix}.{centre}",
+                f"{prefix}.{centre} = {where} with mass = {mass!r} kg: its arm "
+                f"{length!r} m + |{centre}| squared overflows",
+                lambda: np.float64(math.inf),
+            )
+        ]
+    m, n = np.float64(mass), np.float64(count)
+    alike = f" ({count} bodies alike)" if count > 1 else ""
+    weight = f"{prefix}.mass = {mass!r} kg with {centre} = {where}{alike}: its weight"
+    heavy = f"{prefix}.mass"
+    if g > abs(mass):  # gravity is the larger factor of the weight: name it
+        heavy = "gravity"
+        weight = f"gravity |g| = {g!r} m/s² with {prefix}.mass = {mass!r} kg{alike}: the weight"
     return [
-        (
-            f"{prefix}.{centre}" if far else f"{prefix}.mass",
-            f"{prefix}.{centre} = {where} with mass = {mass!r} kg: its arm and inertia overflow"
-            if far
-            else f"{prefix}.mass = {mass!r} kg with {centre} = {where}: its weight and "
-            "inertia overflow",
-            lambda: m * (arm**2 + arm * g + g),
-        ),
+        (heavy, f"{weight} m·g overflows", lambda: n * m * g, "weight"),
+        (heavy, f"{weight}'s moment m·g·r overflows", lambda: n * m * g * arm, "moment"),
         (
             f"{prefix}.inertia",
-            f"{prefix}.inertia {inertia_text or f'= {inertia!r} kg·m²'}: its inertia overflows",
-            lambda: np.float64(inertia) + m * arm**2,
+            f"{prefix}.inertia {inertia_text or f'= {inertia!r} kg·m²'} with mass = {mass!r} kg: "
+            "its inertia I + m·r² overflows",
+            lambda: n * (np.float64(inertia) + m * arm * arm),
+            "inertia",
         ),
     ]
 
 
 def gravity_scale_check(gravity: tuple[float, ...], length: float) -> ScaleCheck:
-    """The overflow check of gravity alone: a unit mass's weight moment ``|g|·(length + 1)``."""
+    """The overflow check of gravity alone: a unit mass's weight and its moment,
+    ``|g|·max(length, 1)`` (``|g|`` the largest component)."""
     g = np.float64(max(abs(float(v)) for v in gravity))
     return (
         "gravity",
         f"gravity = {list(gravity)!r} m/s²: a unit mass's weight and its moment overflow",
-        lambda: g * (np.float64(length) + 1.0) * 16.0,
+        lambda: g * max(np.float64(length), np.float64(1.0)),
     )
 
 
 def load_scale_check(load: Load, length: float) -> ScaleCheck:
-    """The overflow check of the load's wrench about the far end of a leg, ``|F|·(length + 1) + |M|``."""
+    """The overflow check of the load's wrench: its force ``|F_x| + |F_y|`` and its moment about
+    the far end of a leg ``(|F_x| + |F_y|)·length + |M|`` (the larger must be finite)."""
     fx, fy, moment = (np.float64(v) for v in (*load.force, load.moment))
     return (
         "load.force",
         f"load.force = {list(load.force)!r} N and load.moment = {load.moment!r} N·m: "
         "the load's wrench overflows",
-        lambda: (abs(fx) + abs(fy)) * (np.float64(length) + 1.0) + abs(moment),
+        lambda: max(abs(fx) + abs(fy), (abs(fx) + abs(fy)) * np.float64(length) + abs(moment)),
     )
 
 
+#: The totals of :func:`refuse_overflow`: a check's total name → what the message calls it.
+TOTALS: dict[str, str] = {
+    "weight": "the weights m·g of the bodies",
+    "moment": "the moments m·g·r of their weights",
+    "inertia": "their inertias I + m·r²",
+}
+
+
 def refuse_overflow(checks: list[ScaleCheck], context: str) -> None:
-    """Raise a ParameterError naming the key of the first check whose quantity, times the
-    three legs, is not a finite float64; ``context`` (the robot's scale) ends the message.
+    """Raise a ParameterError naming the key of the first check whose quantity is not a
+    finite float64, or of the largest part of a total (:data:`TOTALS`: the sum over the
+    bodies of the checks that name it) that is not; ``context`` (the robot's scale) ends
+    the message.  No margin: what float64 holds is accepted.
 
     >>> check = body_scale_checks("payload", 1e308, (0.0, 0.0), 0.0, 0.3, 9.81)
     >>> refuse_overflow(check, "(l0 = 0.3 m)")
     Traceback (most recent call last):
     ...
-    prp3.errors.ParameterError: robot: payload.mass = 1e+308 kg with com = [0.0, 0.0] m: its weight and inertia overflow float64 (l0 = 0.3 m)
+    prp3.errors.ParameterError: robot: payload.mass = 1e+308 kg with com = [0.0, 0.0] m: its weight m·g overflows float64 (l0 = 0.3 m)
+    >>> refuse_overflow(body_scale_checks("payload", 1.8e307, (0.0, 0.0), 0.0, 0.3, 9.81), "")
+    >>> twice = body_scale_checks("link1", 1.8e307, (0.0, 0.0), 0.0, 0.3, 9.81, count=3)
+    >>> refuse_overflow(twice, "(reach 0.3 m)")
+    Traceback (most recent call last):
+    ...
+    prp3.errors.ParameterError: robot: link1.mass = 1.8e+307 kg with com = [0.0, 0.0] m (3 bodies alike): its weight m·g overflows float64 (reach 0.3 m)
     """
-    for key, what, quantity in checks:
+    parts: dict[str, list[tuple[float, str, str]]] = {}
+    for check in checks:
+        key, what, quantity = check[0], check[1], check[2]
         with np.errstate(over="ignore", invalid="ignore"):
-            value = 3.0 * quantity()
+            value = np.float64(quantity())
         if not np.isfinite(value):
-            raise ParameterError(f"{what} float64 {context}", subject="robot", key=key)
+            raise ParameterError(f"{what} float64 {context}".rstrip(), subject="robot", key=key)
+        if len(check) == 4:
+            parts.setdefault(check[3], []).append((float(abs(value)), key, what))
+    for total, terms in parts.items():
+        with np.errstate(over="ignore"):
+            summed = np.sum(np.array([value for value, _, _ in terms], dtype=np.float64))
+        if not np.isfinite(summed):
+            _, key, what = max(terms)
+            raise ParameterError(
+                f"{what.rsplit(': ', 1)[0]}: {TOTALS[total]} overflow float64 in their sum "
+                f"{context}".rstrip(),
+                subject="robot",
+                key=key,
+            )

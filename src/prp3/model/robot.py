@@ -154,10 +154,10 @@ class Robot:
     def _check_effects_scale(self, g: float) -> None:
         """Refuse a payload, load, spring or friction whose effects overflow float64.
 
-        Each effect's derived quantities as the kernel forms them, with the
-        margin of three legs: the payload's weight ``m·g``, its inertia about
-        the far end of a leg ``I + m·(l0 + |c|)²`` and the moment of its weight
-        ``m·g·(l0 + |c|)``; the load's ``|F|·l0 + |M|``; the spring's force
+        Each effect's derived quantities as the kernel forms them, without a
+        margin (:func:`prp3.model.parameters.refuse_overflow`): the payload's weight
+        ``m·g``, its inertia about the far end of a leg ``I + m·(l0 + |c|)²`` and the
+        moment of its weight ``m·g·(l0 + |c|)``; the load's ``|F|·l0 + |M|``; the spring's force
         ``k·(|λ_rest| + l0)`` and damping ``b·l0``; the friction's viscous
         ``b·l0`` and ``μ``-scaled reactions ``μ·(1 + r)``.  A refusal names the key.
         """
