@@ -76,6 +76,15 @@ def read_text_lines(path: str | Path, what: str, limit: int | None = None) -> It
             f"cannot read {what} file ({error.strerror or error})", file=path
         ) from None
     with stream:
+        try:  # a regular file over the bound is refused before a byte of it is read
+            size = os.fstat(stream.fileno()).st_size if stream.seekable() else 0
+        except OSError:
+            size = 0
+        if size > limit:
+            raise InputFileError(
+                f"{what} file is larger than {limit} bytes (the limit of prp3): {size} bytes",
+                file=path,
+            )
         total = 0
         number = 0
         while True:

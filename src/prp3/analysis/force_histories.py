@@ -150,6 +150,7 @@ def _not_interpolable(
         "large or time steps too small)",
         subject="forces",
         key=column,
+        sample=index,
     )
 
 
@@ -164,9 +165,9 @@ def force_function(
                 f"t: the times [{float(times[0])!r}, {float(times[-1])!r}] s must lie within "
                 f"the force samples [{first!r}, {last!r}] s"
             )
-        sampled_t, sampled = forces.t, forces.f10
+        sampled_t, sampled, table = forces.t, forces.f10, True
     elif callable(forces):
-        sampled_t = times
+        sampled_t, table = times, False
         sampled = np.stack([np.asarray(forces(float(time)), dtype=np.float64) for time in times])
         if sampled.shape != (times.size, 3) or not np.isfinite(sampled).all():
             raise ParameterError("the function must return 3 finite forces (N)", subject="forces")
@@ -185,6 +186,7 @@ def force_function(
                 subject="forces",
                 key="limits.max_force",
                 leg=LEGS[leg],
+                sample=index if table else None,  # a sample of the table (a file's row)
             )
     function = forces
 

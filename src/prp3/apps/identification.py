@@ -52,6 +52,7 @@ from prp3.model.motion import Motion
 from prp3.model.parameters import LinkParameters, Payload, PistonParameters, PlatformParameters
 from prp3.model.robot import Robot
 from prp3.validation import (
+    LEGS,
     check_instance,
     check_names,
     check_per_leg,
@@ -243,9 +244,22 @@ def identify(
         raise TrajectoryError(
             f"{where}: {refused}; move every coordinate, e.g. along a trajectory of prp3 excite"
         )
-    estimate, std, sigma = weighted_least_squares(
-        W, target, names=[base.label(b) for b in range(base.count)]
-    )
+    try:
+        estimate, std, sigma = weighted_least_squares(
+            W, target, names=[base.label(b) for b in range(base.count)]
+        )
+    except ParameterError as error:  # name the measured value, by its column
+        with np.errstate(over="ignore"):
+            squares = float(np.sum(measured**2))
+        if error.key != "measured" or np.isfinite(squares):  # W too large: as it is
+            raise
+        k, j = (int(v) for v in np.unravel_index(np.argmax(np.abs(measured)), measured.shape))
+        raise ParameterError(
+            f"the least squares overflow double precision: {effort}_{LEGS[j]} = "
+            f"{float(measured[k, j])!r} is far beyond the efforts of the robot",
+            key="measured",
+            sample=k,
+        ) from None
     fitted = W @ estimate + known
     return Identification(
         base=base,

@@ -30,7 +30,7 @@ from prp3.cli._types import check_extent, emit, files_report
 from prp3.errors import ParameterError, Prp3Error
 from prp3.family import FamilyRobot, family_results_table
 from prp3.files import check_inputs_kept, check_output_directory
-from prp3.io.tables import read_table_csv, write_table_csv
+from prp3.io.tables import Table, read_table, write_table_csv
 from prp3.io.trajectory import trajectory_table
 from prp3.model.motion import Motion
 from prp3.staged_files import StagedOutput, staged_output
@@ -185,18 +185,19 @@ def family_wants_statics(robot: FamilyRobot, option: bool | None) -> bool:
     return robot.payload.mass != 0.0 or any(v != 0.0 for v in (*load.force, load.moment))
 
 
-def _read_efforts(path: Path) -> tuple[dict[str, FloatArray], bool]:
-    """The efforts table: ``t,tau_A,tau_B,tau_C`` or a family ``results.csv`` (64 columns)."""
+def _read_efforts(path: Path) -> tuple[Table, bool]:
+    """The efforts table: ``t,tau_A,tau_B,tau_C`` or a family ``results.csv`` (64 columns),
+    with the line of each row (an error about a sample names it)."""
     from prp3.family import FAMILY_COLUMNS
 
     try:
         with path.open(encoding="utf-8", errors="replace") as handle:
             header = handle.readline(100_000).strip().split(",")
     except OSError:
-        header = []  # read_table_csv names the file and the reason
+        header = []  # read_table names the file and the reason
     if len(header) == len(FAMILY_COLUMNS) and set(header) == set(FAMILY_COLUMNS):
-        return read_table_csv(path, FAMILY_COLUMNS, what="results"), True
-    return read_table_csv(path, ("t", "tau_A", "tau_B", "tau_C"), what="efforts"), False
+        return read_table(path, FAMILY_COLUMNS, (), "results"), True
+    return read_table(path, ("t", "tau_A", "tau_B", "tau_C"), (), "efforts"), False
 
 
 def _drift(columns: dict[str, FloatArray], motion: Motion, results: bool) -> list[str]:
@@ -230,7 +231,8 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
     from prp3.family.forward import family_forward_dynamics
 
     check_inputs_kept(args.output, ("results.csv", "trajectory.csv"), (args.forces, args.robot))
-    columns, results = _read_efforts(Path(args.forces))
+    given, results = _read_efforts(Path(args.forces))
+    columns = given.columns
     t = columns["t"]
     tau = np.stack([columns[f"tau_{leg}"] for leg in LEGS], axis=-1)
     if args.initial_pose is not None:
@@ -267,6 +269,11 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
             raise error.located(file=args.forces, subject=f"initial pose ({where})") from None
         if error.key in ("load.force", "load.moment") and args.robot is not None:
             raise _robot_key(Path(args.robot), error) from None  # the robot file's [load]
+        if error.key == "efforts" and error.sample is not None:  # a row: its line and time
+            k = error.sample
+            raise error.located(
+                file=args.forces, line=int(given.lines[k]), time=float(t[k])
+            ) from None
         if error.key == "efforts" or error.subject == "forward dynamics":
             raise error.located(file=args.forces) from None  # the efforts' file
         raise

@@ -164,6 +164,11 @@ def run_spatial_forward(args: argparse.Namespace, design: SpatialRobotFile) -> i
             raise error.located(origin=f"--duration {args.duration!r}", subject=None) from None
         if error.subject == "initial state" and given is not None and given.planned is not None:
             raise error.located(file=given.path, line=int(given.lines[0])) from None
+        if given is not None and error.key == "efforts" and error.sample is not None:
+            k = error.sample  # a sample of the efforts table: its line and time
+            raise error.located(
+                file=given.path, line=int(given.lines[k]), time=float(given.t[k])
+            ) from None
         if given is not None:
             raise error.located(file=given.path) from None
         raise error.located(origin="--efforts hold") from None

@@ -293,7 +293,9 @@ def _located(
             return error.located(file=given.path, subject="initial pose from the first row")
         return error.located(origin="initial pose 0 0 0 (the central configuration)", subject=None)
     if error.subject == "forces":  # a force above limits.max_force
-        return error.located(file=given.path)
+        k = error.sample  # a sample of the forces table: its line
+        line = int(given.lines[k]) if k is not None and given.lines is not None else None
+        return error.located(file=given.path, line=line)
     if error.subject == "forward dynamics":  # a bound, or the equations lost meaning
         return error.located(file=_cause_file(args, robot, given))
     return None

@@ -218,7 +218,8 @@ def run(args: argparse.Namespace) -> int:
             if error.key != "measured" or error.sample is None:
                 raise
             line = int(trajectory.lines[error.sample])
-            raise error.located(file=trajectory.path, line=line) from None
+            when = float(trajectory.motion.t[error.sample])
+            raise error.located(file=trajectory.path, line=line, time=when) from None
     robot = identified_robot(nominal, result)
     if trajectory.note is not None:  # only for a run that goes on
         print(f"{args.program}: warning: {trajectory.note}", file=sys.stderr)

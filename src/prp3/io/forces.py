@@ -46,6 +46,8 @@ class ForceInput:
     planned_pose : ndarray (N, 3) or None
         ``(x, y, phi)`` of every row of a ``results.csv``: the motion the forces
         were planned for (at the times ``forces.t``); ``None`` for a force table.
+    lines : ndarray of int (N,) or None
+        The file line of each force sample (``None``: not read from a file).
     """
 
     path: Path
@@ -53,6 +55,7 @@ class ForceInput:
     first_pose: FloatArray | None
     first_rates: FloatArray | None
     planned_pose: FloatArray | None = None
+    lines: NDArray[np.int64] | None = None
 
     @property
     def results(self) -> bool:
@@ -99,7 +102,7 @@ def read_forces(path: str | Path) -> ForceInput:
         line = int(table.lines[error.sample]) if error.sample is not None else None
         raise error.located(file=path, line=line) from None
     if not extra:
-        return ForceInput(Path(path), forces, None, None)
+        return ForceInput(Path(path), forces, None, None, lines=table.lines)
     planned = np.stack([columns["x"], columns["y"], columns["phi"]], axis=-1)
     rates = np.array([columns[f"dlambda10_{leg}"][0] for leg in LEGS])
-    return ForceInput(Path(path), forces, planned[0].copy(), rates, planned)
+    return ForceInput(Path(path), forces, planned[0].copy(), rates, planned, table.lines)

@@ -391,9 +391,8 @@ def _check_accelerations(
     if size[k] < MAX_ACCELERATION:
         return
     leg = int(np.argmax(np.abs(rows[k])))
-    where = f"sample {k} of the efforts" if sampled else "the efforts"
-    raise ParameterError(
-        f"{where} ask for a platform acceleration of {size[k]:.3g} (m/s², rad/s²) at the "
+    raise ParameterError(  # the sample, when sampled, is the error's field
+        f"the efforts ask for a platform acceleration of {size[k]:.3g} (m/s², rad/s²) at the "
         f"initial state of the {robot.name}, beyond the bound {MAX_ACCELERATION:g} "
         f"(docs/spatial.md §18: a_f = A⁻¹·(τ − h)); the effort of leg {leg + 1} is "
         f"{float(rows[k, leg])!r}",
