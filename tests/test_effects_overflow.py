@@ -174,7 +174,7 @@ def test_forward_refuses_efforts_their_spline_cannot_hold(
     assert done.returncode == 2, done.stderr
     lines = done.stderr.splitlines()
     assert len(lines) == 1 and "Traceback" not in done.stderr and "warning:" not in done.stderr
-    assert "E.csv: sample 0: " in lines[0] and why in lines[0], lines[0]
+    assert "E.csv:2: sample 0, t = 0 s: " in lines[0] and why in lines[0], lines[0]  # its line
     assert not (tmp_path / "out").exists()
 
 

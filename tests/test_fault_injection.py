@@ -202,6 +202,7 @@ COMMANDS: dict[str, str] = {
     "sweep-family": "sweep --spec family-sweep.toml --workers 1 --output {out}",
     "sweep-spatial": "sweep --spec spatial-sweep.toml --workers 1 --output {out}",
     "explore-export-spatial": "explore --robot hexapod.toml --export {out}.html",
+    "explore-export-family": "explore --robot rrr.toml --export {out}.html",
 }
 
 

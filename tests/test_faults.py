@@ -308,7 +308,8 @@ def test_force_tables_with_tiny_time_steps_are_refused(tmp_path, capsys):
     status, _, err = cli(capsys, "forward", "--forces", table, "-o", tmp_path / "out")
     assert status == 2
     assert one_line(err).startswith(
-        f"prp3 forward: error: {table}: forces: the force samples cannot be interpolated"
+        f"prp3 forward: error: {table}:2: forces: sample 0, t = 0 s: the force samples cannot "
+        "be interpolated"  # the interval's first sample, by its line
     )
     assert not (tmp_path / "out").exists()
 

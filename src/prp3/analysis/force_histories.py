@@ -122,15 +122,23 @@ def _spline(t: FloatArray, values: FloatArray, names: tuple[str, ...], what: str
     bad_slopes = ~np.isfinite(slopes)
     if bad_slopes.any():
         index, column = np.argwhere(bad_slopes)[0].tolist()
+        ends = f"{float(values[index, column])!r} to {float(values[index + 1, column])!r}"
         raise _not_interpolable(
-            t, index, f"the rate of change of {names[column]} overflows", what, names[column]
-        )
+            t, index, f"the rate of change of {names[column]} overflows (from {ends})", what,
+            names[column],
+        )  # fmt: skip
     try:
         with np.errstate(all="ignore"):
             spline = CubicSpline(t, values, axis=0)
-    except ValueError:  # the spline's own slopes overflow (scipy's check)
-        raise _not_interpolable(
-            t, 0, f"the slopes of the {what} spline overflow", what, None
+    except ValueError:  # the spline's own slopes overflow (scipy's check): the largest sample
+        index, column = (int(v) for v in np.unravel_index(np.argmax(np.abs(values)), values.shape))
+        raise TrajectoryError(
+            f"the {what} samples cannot be interpolated: the slopes of the {what} spline "
+            f"overflow float64; the largest sample is {names[column]} = "
+            f"{float(values[index, column])!r} ({what} too large for its time steps)",
+            subject="forces",
+            key=names[column],
+            sample=index,
         ) from None
     bad = ~np.isfinite(spline.c).all(axis=0)  # (4, N - 1, 3) coefficients per interval
     if bad.any():  # steps so small (1e-300 s) that the cubic terms overflow

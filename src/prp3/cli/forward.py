@@ -293,9 +293,11 @@ def _located(
             return error.located(file=given.path, subject="initial pose from the first row")
         return error.located(origin="initial pose 0 0 0 (the central configuration)", subject=None)
     if error.subject == "forces":  # a force above limits.max_force
-        k = error.sample  # a sample of the forces table: its line
-        line = int(given.lines[k]) if k is not None and given.lines is not None else None
-        return error.located(file=given.path, line=line)
+        k = error.sample  # a sample of the forces table: its line and time
+        if k is None or given.lines is None:
+            return error.located(file=given.path)
+        when = float(given.forces.t[k])
+        return error.located(file=given.path, line=int(given.lines[k]), time=when)
     if error.subject == "forward dynamics":  # a bound, or the equations lost meaning
         return error.located(file=_cause_file(args, robot, given))
     return None

@@ -99,8 +99,9 @@ def read_forces(path: str | Path) -> ForceInput:
     try:
         forces = ActuatorForces(t=t, f10=f10, load=load)
     except Prp3Error as error:
-        line = int(table.lines[error.sample]) if error.sample is not None else None
-        raise error.located(file=path, line=line) from None
+        k = error.sample
+        line, when = (int(table.lines[k]), float(t[k])) if k is not None else (None, None)
+        raise error.located(file=path, line=line, time=when) from None
     if not extra:
         return ForceInput(Path(path), forces, None, None, lines=table.lines)
     planned = np.stack([columns["x"], columns["y"], columns["phi"]], axis=-1)

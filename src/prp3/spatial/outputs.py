@@ -27,7 +27,7 @@ from prp3.spatial.kinematics import SpatialKinematics, chunk_kinematics, spatial
 from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import PlatformMotion
 from prp3.spatial.newton_euler import recursive_chunk
-from prp3.validation import check_choice, check_instance
+from prp3.validation import check_choice, check_instance, require_finite
 
 __all__ = [
     "SPATIAL_METHODS",
@@ -79,18 +79,25 @@ def spatial_inverse_dynamics(
     ------
     UnreachablePoseError, SingularPoseError
         A pose out of reach or singular (names the sample, time and leg).
+    TrajectoryError
+        Results that overflow float64 (names the sample, its time and the result).
     ParameterError
         ``method`` not in :data:`SPATIAL_METHODS`; a robot or motion of the wrong type.
     """
     check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
     check_instance("motion", motion, PlatformMotion, "a PlatformMotion")
     check_choice("method", method, SPATIAL_METHODS)
-    if method == "newton-euler":
-        kin, tau, force, moment = _newton_euler(robot, motion)
-    else:
-        kin = spatial_kinematics(robot, motion)
-        tau, force, moment = virtual_work_efforts(robot, motion), None, None
-    power = tau * kin.dq[..., robot.legs[0].actuated_coordinate]
+    with np.errstate(all="ignore"):  # an overflow is refused below, naming the sample
+        if method == "newton-euler":
+            kin, tau, force, moment = _newton_euler(robot, motion)
+        else:
+            kin = spatial_kinematics(robot, motion)
+            tau, force, moment = virtual_work_efforts(robot, motion), None, None
+        power = tau * kin.dq[..., robot.legs[0].actuated_coordinate]
+    results = {"q": kin.q, "dq": kin.dq, "ddq": kin.ddq, "tau": tau, "power": power}
+    if force is not None and moment is not None:
+        results |= {"force": force, "moment": moment}
+    require_finite(results, (len(motion),), "spatial inverse dynamics", motion.t)
     return SpatialSolution(robot, motion.t, kin, tau, power, force, moment, method)
 
 
