@@ -139,7 +139,8 @@ def test_bounds_are_validated(bad: dict[str, float]) -> None:
             "[payload]\nmass = 1.0\ncom = [1e200, 0]\n",
             "payload.com = [1e+200, 0.0] m with mass = 1.0",
         ),
-        ("[payload]\nmass = 1.0\ninertia = 1.7e308\n", "payload.inertia"),
+        # I + m·r² = 1.7e308 + 1e308 (1.7e308 alone is finite, and accepted)
+        ("[payload]\nmass = 1.0\ninertia = 1.7e308\ncom = [1e154, 0]\n", "payload.inertia"),
         ("[load]\nforce = [1e308, 1e308]\n", "load.force"),
         ("[spring.actuator]\nstiffness = 1e308\nrest = 1e10\n", "spring.actuator"),
         ("[friction.actuator]\nviscous = 1e308\n", "friction.actuator"),
@@ -252,7 +253,7 @@ def test_prp3_forward_of_a_family_robot_refuses_absurd_efforts(
     rows = [[0.0, push, push, push], [0.1, push, push, push]]
     status, line = _family_forward_cli(capsys, tmp_path, 'architecture = "3-RRR"\n', rows)
     assert status == 2
-    assert "efforts.csv: sample 0" in line and "beyond the bound 1e+06" in line
+    assert "efforts.csv:2: sample 0, t = 0 s" in line and "beyond the bound 1e+06" in line
     assert f"tau_A = {push!r}" in line and "3-RRR" in line
 
 

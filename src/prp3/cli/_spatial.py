@@ -80,10 +80,11 @@ def _located(
     """The error at its source: the file's line of its sample, or ``--motion NAME``; its time."""
     sample = error.sample
     time_ = float(motion.t[sample]) if sample is not None and sample < len(motion) else None
+    subject = None if error.subject == "spatial inverse dynamics" else error.subject  # the run's
     if trajectory is None:
-        return error.located(origin=source, time=time_)
+        return error.located(origin=source, time=time_, subject=subject)
     line = int(trajectory.lines[sample]) if sample is not None and time_ is not None else None
-    return error.located(file=trajectory.path, line=line, time=time_)
+    return error.located(file=trajectory.path, line=line, time=time_, subject=subject)
 
 
 def _completed_note(

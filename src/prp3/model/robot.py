@@ -157,7 +157,8 @@ class Robot:
         Each effect's derived quantities as the kernel forms them, without a
         margin (:func:`prp3.model.parameters.refuse_overflow`): the payload's weight
         ``m·g``, its inertia about the far end of a leg ``I + m·(l0 + |c|)²`` and the
-        moment of its weight ``m·g·(l0 + |c|)``; the load's ``|F|·l0 + |M|``; the spring's force
+        moment of its weight ``m·g·(l0 + |c|)``; the load's ``|F|·l0 + |M|``; the three
+        legs' alike summed: the spring's force
         ``k·(|λ_rest| + l0)`` and damping ``b·l0``; the friction's viscous
         ``b·l0`` and ``μ``-scaled reactions ``μ·(1 + r)``.  A refusal names the key.
         """
@@ -281,16 +282,18 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
 
 
 def _spring_force(spring: SpringParameters, l0: np.float64) -> Callable[[], Any]:
-    """The spring's force and damping at the scale ``l0`` (an overflow check's quantity)."""
-    return lambda: (
+    """The spring's force and damping at the scale ``l0``, the three actuators' in one sum
+    (an overflow check's quantity)."""
+    return lambda: 3.0 * (
         np.float64(spring.stiffness) * (abs(np.float64(spring.rest)) + l0)
         + np.float64(spring.damping) * l0
     )
 
 
 def _friction_forces(joint: JointFriction, l0: np.float64) -> Callable[[], Any]:
-    """A joint's friction forces at the scale ``l0`` (an overflow check's quantity)."""
-    return lambda: (
+    """A joint's friction forces at the scale ``l0``, the three legs' in one sum (an overflow
+    check's quantity)."""
+    return lambda: 3.0 * (
         (np.float64(joint.viscous) * l0 + np.float64(joint.coulomb)) * 3.0
         + np.float64(joint.mu) * (1.0 + np.float64(joint.pin_radius)) * 3.0
     )
