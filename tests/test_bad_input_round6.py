@@ -192,7 +192,7 @@ def test_identify_refuses_a_huge_measured_value_naming_column_value_and_line(
 
 def test_identify_still_identifies_the_good_measurements(capsys, tmp_path, measurements):
     robot, good = measurements["6-UPS"]
-    status, out, err = cli(capsys, "identify", "--robot", robot, "--measurements", good,
+    status, _, err = cli(capsys, "identify", "--robot", robot, "--measurements", good,
                            "--output", tmp_path / "out")  # fmt: skip
     assert status == 0, err
     assert (tmp_path / "out" / "parameters.csv").is_file()
@@ -200,9 +200,7 @@ def test_identify_still_identifies_the_good_measurements(capsys, tmp_path, measu
 
 # ------------------------------------------- 3. the read bound: refused before a byte is read
 READERS = {
-    "read_measurements": (
-        "t,x,y,phi,f10_A,f10_B,f10_C\n0,0,0,0,1,2,3\n", prp3.read_measurements
-    ),
+    "read_measurements": ("t,x,y,phi,f10_A,f10_B,f10_C\n0,0,0,0,1,2,3\n", prp3.read_measurements),
     "read_spatial_measurements": (
         "t,x,y,z,qw,qx,qy,qz,tau_1\n0,0,0,0.08,1,0,0,0,1\n",
         lambda path: prp3.read_spatial_measurements(path, 1),

@@ -26,10 +26,16 @@ FAMILY_CASES = [
     ("payload.mass", {"payload": Payload(mass=1e308)}),
     ("payload.com", {"payload": Payload(mass=1.0, com=(1e200, 0.0))}),
     # one inertia of 1e308 is finite, and so is the robot's total: two whose sum is not
-    ("payload.inertia", {"payload": Payload(inertia=1.7e308), "platform": PlatformBody(3.0, 1e308)}),
+    (
+        "payload.inertia",
+        {"payload": Payload(inertia=1.7e308), "platform": PlatformBody(3.0, 1e308)},
+    ),
     ("link1.mass", {"link1": Body(1e308, (0.1, 0.0), 0.0, name="link1")}),
     ("link2.inertia", {"link2": Body(0.75, (0.1, 0.0), 1e308, name="link2")}),
-    ("platform.inertia", {"platform": PlatformBody(3.0, 1.7e308), "payload": Payload(inertia=1e308)}),
+    (
+        "platform.inertia",
+        {"platform": PlatformBody(3.0, 1.7e308), "payload": Payload(inertia=1e308)},
+    ),
     ("load.force", {"load": Load(force=(1.7e308, 1.7e308))}),  # |F| = 2.4e308
     ("gravity", {"gravity": (0.0, -1e308)}),
 ]

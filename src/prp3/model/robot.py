@@ -284,16 +284,22 @@ def robot_template(robot: Robot | None = None, *, comments: bool = True) -> str:
 def _spring_force(spring: SpringParameters, l0: np.float64) -> Callable[[], Any]:
     """The spring's force and damping at the scale ``l0``, the three actuators' in one sum
     (an overflow check's quantity)."""
-    return lambda: 3.0 * (
-        np.float64(spring.stiffness) * (abs(np.float64(spring.rest)) + l0)
-        + np.float64(spring.damping) * l0
+    return lambda: (
+        3.0
+        * (
+            np.float64(spring.stiffness) * (abs(np.float64(spring.rest)) + l0)
+            + np.float64(spring.damping) * l0
+        )
     )
 
 
 def _friction_forces(joint: JointFriction, l0: np.float64) -> Callable[[], Any]:
     """A joint's friction forces at the scale ``l0``, the three legs' in one sum (an overflow
     check's quantity)."""
-    return lambda: 3.0 * (
-        (np.float64(joint.viscous) * l0 + np.float64(joint.coulomb)) * 3.0
-        + np.float64(joint.mu) * (1.0 + np.float64(joint.pin_radius)) * 3.0
+    return lambda: (
+        3.0
+        * (
+            (np.float64(joint.viscous) * l0 + np.float64(joint.coulomb)) * 3.0
+            + np.float64(joint.mu) * (1.0 + np.float64(joint.pin_radius)) * 3.0
+        )
     )
