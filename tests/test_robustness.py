@@ -376,7 +376,8 @@ def test_forward_errors_name_where_the_initial_pose_comes_from(
         earlier_run,
     )
     line = error_line(status, err)  # |f10_A| = 31.96 N at t = 0 (the static load, > 10 N)
-    assert line.startswith(f"prp3 forward: error: {results}: forces: |f10_A| = ")
+    prefix = f"prp3 forward: error: {results}:2: forces: sample 0, t = 0 s, leg A: |f10_A| = "
+    assert line.startswith(prefix), line  # the row's line and time
     assert "exceeds limits.max_force = 10.0 N" in line
     assert listing(earlier_run) == before
 
@@ -389,7 +390,8 @@ def test_forward_forces_too_large_to_interpolate(tmp_path, capsys, earlier_run):
     status, _, err = cli(capsys, "forward", "--forces", huge, "-o", earlier_run)
     line = error_line(status, err)
     assert line.startswith(
-        f"prp3 forward: error: {huge}: forces: the force samples cannot be interpolated"
+        f"prp3 forward: error: {huge}:2: forces: sample 0, t = 0 s: the force samples cannot "
+        "be interpolated"
     )
     assert "between t[0] = 0.0 and t[1] = 1.0 s" in line
     assert listing(earlier_run) == before
