@@ -187,6 +187,7 @@ def test_identify_refuses_a_huge_measured_value_naming_column_value_and_line(
     assert status == 2 and out == "", message
     assert f"{spoiled}:{row + 2}: sample {row}, t = " in message, message
     assert f"{column} = {value!r}" in message and "overflow" in message, message
+    assert message.count(str(spoiled)) == 1, message  # the file named once
     assert not (tmp_path / "out").exists()
 
 

@@ -56,7 +56,10 @@ def run_spatial_identify(
         sample = error.sample
         line = int(trajectory.lines[sample]) if sample is not None else None
         when = float(trajectory.motion.t[sample]) if sample is not None else None
-        raise error.located(file=trajectory.path, line=line, time=when) from None
+        located = error.located(file=trajectory.path, line=line, time=when)
+        located.reason = error.reason.removeprefix(f"{args.measurements}: ")  # named once
+        located.args = (str(located),)
+        raise located from None
     try:
         identified: SpatialRobotFile | None = spatial_identified_robot(design, result)
         refusal = None
