@@ -429,3 +429,55 @@ def test_spatial_inverse_dynamics_refuses_results_that_overflow(method):
     assert caught.value.reason.startswith(OVERFLOW_REASON) and caught.value.sample == 0
     assert caught.value.time == 0.0
     assert np.isfinite(prp3.spatial_inverse_dynamics(robot, home, method).tau).all()
+
+
+# ------------------------------------------- the planar readers fed a spoiled file
+PLANAR = {
+    "read_measurements": (
+        "t,x,y,phi,f10_A,f10_B,f10_C\n"
+        + "".join(f"{k / 10!r},0,{k / 100!r},0,1,2,3\n" for k in range(8)),
+        prp3.read_measurements,
+    ),
+    "read_forces": (
+        "t,f10_A,f10_B,f10_C\n" + "".join(f"{k / 10!r},1,2,3\n" for k in range(8)),
+        prp3.read_forces,
+    ),
+}
+HOSTILE = ["nan", "inf", "-inf", "1e308", "-1e308", "1e999", "1e-320", "", "x", '"1"', "0x1"]
+
+
+@pytest.mark.parametrize("name", list(PLANAR))
+@settings(
+    max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(data=st.data())
+def test_a_planar_reader_fed_a_spoiled_file_names_a_line_it_has(tmp_path, name, data):
+    text, read = PLANAR[name]
+    lines = text.splitlines()
+    how = data.draw(st.sampled_from(["cell", "truncate", "drop", "junk"]))
+    if how == "cell":
+        k = data.draw(st.integers(1, len(lines) - 1))
+        cells = lines[k].split(",")
+        cells[data.draw(st.integers(0, len(cells) - 1))] = data.draw(st.sampled_from(HOSTILE))
+        lines[k] = ",".join(cells)
+        spoiled = "\n".join(lines) + "\n"
+    elif how == "truncate":
+        spoiled = text[: data.draw(st.integers(0, len(text) - 1))]
+    elif how == "drop":
+        k = data.draw(st.integers(0, len(lines) - 1))
+        spoiled = "\n".join(lines[:k] + lines[k + 1 :]) + "\n"
+    else:
+        spoiled = data.draw(st.text(max_size=40))
+    path = tmp_path / f"{data.draw(st.integers(0, 10**9))}.csv"
+    path.write_text(spoiled, encoding="utf-8", errors="surrogateescape")
+    try:
+        result = read(path)
+    except Prp3Error as error:
+        assert "\n" not in str(error), str(error)
+        if error.line is not None:  # a line of the file, 1-based
+            assert 1 <= error.line <= max(len(spoiled.splitlines()), 1), (error.line, spoiled)
+        return
+    finally:
+        path.unlink(missing_ok=True)
+    values = result.f10 if name == "read_measurements" else result.forces.f10
+    assert np.isfinite(values).all() and values.shape[1] == 3
