@@ -481,3 +481,37 @@ def test_a_planar_reader_fed_a_spoiled_file_names_a_line_it_has(tmp_path, name, 
         path.unlink(missing_ok=True)
     values = result.f10 if name == "read_measurements" else result.forces.f10
     assert np.isfinite(values).all() and values.shape[1] == 3
+
+
+# ------------------------------------------- forward dynamics of a heavy robot: named, not "singular"
+@pytest.mark.parametrize(
+    ("mass", "words"),
+    [
+        (1e3, None),
+        (1e12, "ill-conditioned at the initial state (condition number "),
+        (1.8e307, "the mass matrix of the 6-UPS overflows float64 at the initial state"),
+    ],
+)
+def test_spatial_forward_of_a_heavy_platform_names_why(mass, words):
+    robot = _robot("6-UPS", mass)
+    if words is None:
+        result = prp3.spatial_forward_dynamics(robot, prp3.hold_efforts(robot), None, 0.01)
+        assert np.isfinite(result.motion.position).all()
+        return
+    with pytest.raises(ParameterError) as caught:
+        prp3.spatial_forward_dynamics(robot, prp3.hold_efforts(robot), None, 0.01)
+    assert words in str(caught.value) and repr(mass) in str(caught.value), str(caught.value)
+    assert "condition number inf" not in str(caught.value)  # 1e12 kg: about 5e14, computed
+
+
+def test_family_forward_of_a_heavy_payload_names_the_robot_file(capsys, tmp_path):
+    robot = tmp_path / "heavy.toml"
+    robot.write_text('architecture = "3-RRR"\nactuated = 1\n[payload]\nmass = 1.8e307\n')
+    efforts = tmp_path / "zero.csv"
+    efforts.write_text("t,tau_A,tau_B,tau_C\n0,0,0,0\n0.1,0,0,0\n", encoding="utf-8")
+    status, _, err = cli(capsys, "forward", "--robot", robot, "--forces", efforts,
+                         "--output", tmp_path / "out")  # fmt: skip
+    message = one_line(err)
+    assert status == 2 and f"{robot}: robot at the initial pose: the results overflow" in message
+    assert "sample" not in message and str(efforts) not in message, message
+    assert not (tmp_path / "out").exists()

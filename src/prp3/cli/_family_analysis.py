@@ -34,7 +34,7 @@ from prp3.io.tables import Table, read_table, write_table_csv
 from prp3.io.trajectory import trajectory_table
 from prp3.model.motion import Motion
 from prp3.staged_files import StagedOutput, staged_output
-from prp3.validation import LEGS
+from prp3.validation import LEGS, OVERFLOW_REASON
 
 __all__ = [
     "family_spec_of",
@@ -261,6 +261,8 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
             robot, t, tau, times, pose, velocity, rtol=args.rtol, atol=args.atol
         )
     except Prp3Error as error:
+        if error.subject == "initial pose" and error.reason.startswith(OVERFLOW_REASON):
+            raise error.located(file=args.robot, subject="robot at the initial pose") from None
         if error.subject == "initial pose":  # say where the initial pose came from
             if args.initial_pose is not None:
                 origin = "--initial-pose " + " ".join(repr(v) for v in args.initial_pose)

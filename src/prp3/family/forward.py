@@ -476,14 +476,16 @@ def family_forward_dynamics(
     try:  # refuses a singular or unreachable initial pose
         with np.errstate(all="ignore"):  # an overflow: the results' own refusal, located
             a0, b0 = _dynamics(robot, x0, v0)
-    except Prp3Error as error:
-        raise error.located(subject="initial pose") from None
+    except Prp3Error as error:  # its samples are the probes of _dynamics, not the user's
+        raise error.located(subject="initial pose", sample=None, time=None) from None
     _check_load(robot, x0, v0, b0)
-    if not np.linalg.cond(a0) < 1e12:
+    scale = float(np.abs(a0).max())  # cond(A/scale) is cond(A), without overflow
+    if not (scale > 0.0 and np.linalg.cond(a0 / scale) < 1e12):
         raise ParameterError(
-            f"the equations of motion of this {robot.architecture} are singular at the initial "
-            "pose (condition number of A >= 1e12): its masses and inertias leave a motion "
-            "without inertia (a massless platform?)",
+            f"the equations of motion of this {robot.architecture} are singular or "
+            "ill-conditioned at the initial pose (condition number of A >= 1e12): its masses "
+            "and inertias leave a motion without inertia (a massless platform?), or differ "
+            "too much in scale",
             subject="robot",
         )
     _check_accelerations(robot, a0, b0, effort, times, samples)

@@ -643,12 +643,22 @@ def spatial_forward_dynamics(
             dyn0 = _evaluate(robot, first).dynamics
     except Prp3Error as error:
         raise error.located(subject="initial state", sample=None, time=t0) from None
-    condition = float(np.linalg.cond(dyn0.mass[0])) if np.isfinite(dyn0.mass).all() else math.inf
+    mass = dyn0.mass[0]
+    if not np.isfinite(mass).all():
+        raise ParameterError(
+            f"the mass matrix of the {robot.name} overflows float64 at the initial state: its "
+            f"bodies' masses and inertias are too large (the largest mass "
+            f"{max(body.mass for body in robot.bodies)!r} kg)",
+            subject="robot",
+        )
+    scale = float(np.abs(mass).max())  # the condition number of M/scale is M's, without overflow
+    condition = float(np.linalg.cond(mass / scale)) if scale > 0.0 else math.inf
     if not condition < MAX_CONDITION:
         raise ParameterError(
-            f"the mass matrix of the {robot.name} is singular at the initial state (condition "
-            f"number {condition:.3g} >= {MAX_CONDITION:g}): its masses and inertias leave a "
-            "motion without inertia",
+            f"the mass matrix of the {robot.name} is singular or ill-conditioned at the initial "
+            f"state (condition number {condition:.3g} >= {MAX_CONDITION:g}): its masses and "
+            "inertias leave a motion without inertia, or differ too much in scale (the "
+            f"largest mass {max(body.mass for body in robot.bodies)!r} kg)",
             subject="robot",
         )
     effort_of(t0)  # a function of the wrong kind is refused before the integration
