@@ -515,3 +515,16 @@ def test_family_forward_of_a_heavy_payload_names_the_robot_file(capsys, tmp_path
     assert status == 2 and f"{robot}: robot at the initial pose: the results overflow" in message
     assert "sample" not in message and str(efforts) not in message, message
     assert not (tmp_path / "out").exists()
+
+
+def test_prp3_forward_of_a_heavy_payload_names_the_robot_file_and_the_payload(capsys, tmp_path):
+    robot = tmp_path / "heavy.toml"
+    robot.write_text("[payload]\nmass = 1.8e307\n", encoding="utf-8")
+    forces = tmp_path / "zero.csv"
+    forces.write_text("t,f10_A,f10_B,f10_C\n0,0,0,0\n0.1,0,0,0\n", encoding="utf-8")
+    status, _, err = cli(capsys, "forward", "--robot", robot, "--forces", forces,
+                         "--output", tmp_path / "out")  # fmt: skip
+    message = one_line(err)
+    assert status == 2 and message.startswith(f"prp3 forward: error: {robot}: "), message
+    assert "[payload] mass = 1.8e+307 kg" in message, message
+    assert not (tmp_path / "out").exists()

@@ -266,7 +266,9 @@ def forward_dynamics(
             _lost_meaning(robot, lost[-1], force_of, load_of), subject="forward dynamics"
         )
     if stop.status == "failed" and stop.t_stop <= float(times[0]):
-        raise TrajectoryError(_failed_start(stop, force_of, q0, v0, load_of))
+        raise TrajectoryError(  # subject: the command line names the file of the cause
+            _failed_start(robot, stop, force_of, q0, v0, load_of), subject="forward dynamics"
+        )
     return _result(free, force_of, stop, int(solution.nfev), load_of)
 
 
@@ -369,6 +371,7 @@ def _bound_message(
 
 
 def _failed_start(
+    robot: Robot,
     stop: _Stop,
     force_of: Callable[[float], FloatArray],
     q0: FloatArray,
@@ -384,7 +387,7 @@ def _failed_start(
         f"{stop.message.split(': ', 1)[-1].rstrip('.')}; nothing was integrated: with the forces f10(t0) = {forces!r} N{loads}, the initial pose "
         f"{q0.tolist()!r} and the initial velocity {v0.tolist()!r} the equations of motion "
         "leave double precision (or the step size vanishes); give forces and velocities of the "
-        "robot's size"
+        f"robot's size; the inputs there: {_inputs(robot, t0, force_of, load_of)}"
     )
 
 
