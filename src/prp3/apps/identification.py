@@ -65,7 +65,9 @@ __all__ = [
     "MIN_SAMPLES_PER_PARAMETER",
     "Identification",
     "IdentifiedRobot",
+    "check_samples",
     "excitation_refusal",
+    "fit_base_parameters",
     "identified_robot",
     "identify",
     "robot_from_standard",
@@ -218,24 +220,66 @@ def identify(
         )
     fixed = tuple(name for name in every if name not in names)
     if isinstance(robot, FamilyRobot):
-        base = base_parameters(robot, FAMILY_FORCES, names)
-        too_few = samples_refusal(base, samples)
-        if too_few is not None:
-            raise TrajectoryError(f"{where}: {too_few}")
-        Y = family_regressor(robot, motion, every, progress=progress).tau
-        columns = [every.index(name) for name in fixed]
-        known = family_known_forces(robot, motion)
-        if fixed:
-            known = known + Y[..., columns] @ family_standard_parameters(robot, fixed)
-        W = Y[..., [every.index(names[j]) for j in base.independent]]  # (N, 3, B)
+        base, W, known = _family_columns(robot, motion, every, names, fixed, where, progress)
     else:
         refuse_mu(robot)
         base = base_parameters(robot, ("f10",), names)
-        too_few = samples_refusal(base, samples)
-        if too_few is not None:
-            raise TrajectoryError(f"{where}: {too_few}")
+        check_samples(base, samples, where)
         known = known_forces(robot, motion, fixed)
         W = regressor(robot, motion, names, progress=progress).f10[..., list(base.independent)]
+    return fit_base_parameters(base, W, measured, motion.t, where, known=known, fixed=fixed)
+
+
+def _family_columns(
+    robot: FamilyRobot,
+    motion: Motion,
+    every: Sequence[str],
+    names: Sequence[str],
+    fixed: tuple[str, ...],
+    where: str,
+    progress: Callable[[int, int], None] | None,
+) -> tuple[BaseParameters, FloatArray, FloatArray]:
+    """The base parameters of a family robot, the base regressor ``W (N, 3, B)`` of its
+    efforts and the known efforts (its ``[load]``, the fixed parameters')."""
+    base = base_parameters(robot, FAMILY_FORCES, names)
+    check_samples(base, motion.samples, where)
+    Y = family_regressor(robot, motion, every, progress=progress).tau
+    columns = [every.index(name) for name in fixed]
+    known = family_known_forces(robot, motion)
+    if fixed:
+        known = known + Y[..., columns] @ family_standard_parameters(robot, fixed)
+    return base, Y[..., [every.index(names[j]) for j in base.independent]], known
+
+
+def check_samples(base: BaseParameters, samples: int, where: str) -> None:
+    """Raise the :class:`~prp3.errors.TrajectoryError` of :func:`samples_refusal` (naming
+    ``where``) when ``samples`` samples are too few for ``base``."""
+    too_few = samples_refusal(base, samples)
+    if too_few is not None:
+        raise TrajectoryError(f"{where}: {too_few}")
+
+
+def fit_base_parameters(
+    base: BaseParameters,
+    W: FloatArray,
+    measured: FloatArray,
+    t: FloatArray,
+    where: str,
+    *,
+    known: FloatArray | float = 0.0,
+    fixed: tuple[str, ...] = (),
+) -> Identification:
+    """Steps 2–4 of :func:`identify`, shared by every robot: the excitation refusal, the
+    two-pass weighted least squares of ``measured − known`` on the base regressor
+    ``W (N, legs, B)``, and the :class:`Identification` (``t``: the sample times, s).
+
+    Raises
+    ------
+    TrajectoryError
+        ``W`` does not excite a base parameter (naming ``where``).
+    ParameterError
+        Key ``measured``: values so large that the least squares overflow.
+    """
     target = measured - known
     stacked = W.reshape(-1, base.count)
     refused = excitation_refusal(base, stacked)
@@ -243,9 +287,7 @@ def identify(
         raise TrajectoryError(
             f"{where}: {refused}; move every coordinate, e.g. along a trajectory of prp3 excite"
         )
-    estimate, std, sigma = weighted_least_squares(
-        W, target, names=[base.label(b) for b in range(base.count)]
-    )
+    estimate, std, sigma = weighted_least_squares(W, target, names=base.labels)
     fitted = W @ estimate + known
     return Identification(
         base=base,
@@ -254,7 +296,7 @@ def identify(
         condition=float(np.linalg.cond(stacked)),
         sigma=sigma,
         residual_rms=np.sqrt(((measured - fitted) ** 2).mean(axis=0)),
-        t=np.asarray(motion.t, dtype=np.float64),
+        t=np.asarray(t, dtype=np.float64),
         measured=measured,
         fitted=fitted,
         fixed=fixed,

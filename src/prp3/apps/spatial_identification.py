@@ -64,9 +64,9 @@ from numpy.typing import NDArray
 from prp3.apps.base_parameters import BaseParameters, base_parameters_of
 from prp3.apps.identification import (
     Identification,
+    check_samples,
     excitation_refusal,
-    samples_refusal,
-    weighted_least_squares,
+    fit_base_parameters,
 )
 from prp3.errors import ParameterError, Prp3Error, TrajectoryError
 from prp3.io.spatial_robot import SpatialRobotFile, spatial_robot_from_mapping, spatial_robot_text
@@ -513,19 +513,10 @@ def spatial_identify(
         raise ParameterError(f"where must be a string, got {where!r}"[:200], key="where")
     per_leg = _check_flag(per_leg)
     base = spatial_base_parameters(robot, per_leg=per_leg)
-    too_few = samples_refusal(base, len(motion))
-    if too_few is not None:
-        raise TrajectoryError(f"{where}: {too_few}")
-    Y = spatial_regressor(robot, motion, per_leg=per_leg)
-    W = Y.tau[..., list(base.independent)]
-    stacked = W.reshape(-1, base.count)
-    refused = excitation_refusal(base, stacked)
-    if refused is not None:
-        raise TrajectoryError(
-            f"{where}: {refused}; move every coordinate, e.g. along a trajectory of prp3 excite"
-        )
+    check_samples(base, len(motion), where)
+    W = spatial_regressor(robot, motion, per_leg=per_leg).tau[..., list(base.independent)]
     try:
-        estimate, std, sigma = weighted_least_squares(W, measured, names=base.labels)
+        return fit_base_parameters(base, W, measured, motion.t, where)
     except ParameterError as error:
         if error.key != "measured":
             raise
@@ -536,19 +527,6 @@ def spatial_identify(
             sample=k,
             key=f"tau_{i + 1}",
         ) from None
-    fitted = W @ estimate
-    return Identification(
-        base=base,
-        estimate=estimate,
-        std=std,
-        condition=float(np.linalg.cond(stacked)),
-        sigma=sigma,
-        residual_rms=np.sqrt(((measured - fitted) ** 2).mean(axis=0)),
-        t=np.asarray(motion.t, dtype=np.float64),
-        measured=measured,
-        fitted=fitted,
-        fixed=(),
-    )
 
 
 def _body_of(name: str, values: FloatArray, default: Body) -> Body:

@@ -6,6 +6,8 @@ from __future__ import annotations
 import argparse
 import csv
 import sys
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -25,7 +27,7 @@ from prp3.io.tables import format_float, write_table_csv
 from prp3.spatial.kinematics import complete_motion
 from prp3.spatial.rotations import matrix_quaternion
 
-__all__ = ["run_spatial_excite", "run_spatial_identify"]
+__all__ = ["estimate_table", "run_spatial_excite", "run_spatial_identify", "write_parameters"]
 
 #: The candidates ``prp3 excite`` tries for a spatial robot when ``--iterations`` is not given.
 SPATIAL_CANDIDATES: int = 10
@@ -72,7 +74,7 @@ def run_spatial_identify(
                     f"from the base parameters,\n# every other parameter {args.robot}'s\n"
                     + spatial_robot_text(identified)
                 )
-        _write_parameters(staged.path(parameters_name), result)
+        write_parameters(staged.path(parameters_name), result)
         lines = _summary(result, design, args)
         if refusal is not None:
             lines.append(f"  {robot_name} not written: {refusal}")
@@ -80,8 +82,9 @@ def run_spatial_identify(
     return 0
 
 
-def _write_parameters(path: object, result: Identification) -> None:
-    with atomic_writer(path) as stream:  # type: ignore[arg-type]
+def write_parameters(path: Any, result: Identification) -> None:
+    """Write ``parameters.csv`` of ``prp3 identify``: ``name, combination, estimate, std``."""
+    with atomic_writer(path) as stream:
         writer = csv.writer(stream, lineterminator="\n")
         writer.writerow(("name", "combination", "estimate", "std"))
         for b in range(result.base.count):
@@ -95,22 +98,31 @@ def _write_parameters(path: object, result: Identification) -> None:
             )
 
 
+def estimate_table(result: Identification, unit: Callable[[str], str]) -> list[str]:
+    """The summary's table of the base parameters: a heading, then one line each (its
+    combination, estimate, std and ``unit(name)`` of its leading standard parameter)."""
+    base = result.base
+    width = max(len(label) for label in base.labels)
+    return [
+        f"  {'base parameter':<{width}}  {'estimate':>14}  {'std':>10}  unit",
+        *(
+            f"  {base.label(b):<{width}}  {result.estimate[b]:>14.6g}  {result.std[b]:>10.3g}  "
+            f"{unit(base.names[b])}"
+            for b in range(base.count)
+        ),
+    ]
+
+
 def _summary(
     result: Identification, design: SpatialRobotFile, args: argparse.Namespace
 ) -> list[str]:
     base, unit = result.base, _unit(design)
-    width = max(len(label) for label in base.labels)
     lines = [
         f"prp3 identify: {design.robot.name}, {args.measurements}, {result.t.size} samples, "
         f"{base.count} base parameters of tau (shared by the legs; weighted least squares, "
         "2 passes)",
-        f"  {'base parameter':<{width}}  {'estimate':>14}  {'std':>10}  unit",
+        *estimate_table(result, spatial_parameter_unit),
     ]
-    for b in range(base.count):
-        lines.append(
-            f"  {base.label(b):<{width}}  {result.estimate[b]:>14.6g}  {result.std[b]:>10.3g}  "
-            f"{spatial_parameter_unit(base.names[b])}"
-        )
     lines += [
         f"  condition number of the base regressor: {result.condition:.4g}",
         f"  residual RMS per actuator ({unit}): "

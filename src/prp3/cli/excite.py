@@ -145,14 +145,14 @@ def run(args: argparse.Namespace) -> int:
     loaded = load_robot_or_spatial(args)
     if isinstance(loaded, SpatialRobotFile):
         base = spatial_base_parameters(loaded.robot)
-        too_few = samples_refusal(base, args.samples)
-        if too_few is not None:
-            raise ParameterError(f"--samples {args.samples}: {too_few}, which prp3 identify needs")
-        return run_spatial_excite(args, loaded, TRAJECTORY_NAME)
-    robot = loaded
-    too_few = samples_refusal(base_parameters(robot), args.samples)
+    else:
+        base = base_parameters(loaded)
+    too_few = samples_refusal(base, args.samples)
     if too_few is not None:  # prp3 identify would refuse the trajectory written
         raise ParameterError(f"--samples {args.samples}: {too_few}, which prp3 identify needs")
+    if isinstance(loaded, SpatialRobotFile):
+        return run_spatial_excite(args, loaded, TRAJECTORY_NAME)
+    robot = loaded
     with progress_bar() as bar:
         result = exciting_trajectory(
             robot,
