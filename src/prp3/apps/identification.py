@@ -198,6 +198,29 @@ def identify(
     >>> bool(np.allclose(result.estimate, result.base.values(standard_parameters(robot))))
     True
     """
+    every, names, measured = _checked_inputs(robot, motion, f10, parameters, where)
+    samples = motion.samples
+    fixed = tuple(name for name in every if name not in names)
+    if isinstance(robot, FamilyRobot):
+        base, W, known = _family_columns(robot, motion, every, names, fixed, where, progress)
+    else:
+        refuse_mu(robot)
+        base = base_parameters(robot, ("f10",), names)
+        check_samples(base, samples, where)
+        known = known_forces(robot, motion, fixed)
+        W = regressor(robot, motion, names, progress=progress).f10[..., list(base.independent)]
+    return fit_base_parameters(base, W, measured, motion.t, where, known=known, fixed=fixed)
+
+
+def _checked_inputs(
+    robot: Robot | FamilyRobot,
+    motion: Motion,
+    f10: FloatArray,
+    parameters: Sequence[str] | None,
+    where: str,
+) -> tuple[tuple[str, ...], tuple[str, ...], FloatArray]:
+    """:func:`identify`'s arguments checked: every standard parameter of ``robot``, those
+    estimated, and the measured efforts ``(N, 3)``."""
     family = isinstance(robot, FamilyRobot)
     if family:
         every = FAMILY_PARAMETERS
@@ -212,22 +235,12 @@ def identify(
         raise TrajectoryError(f"{where}: the motion must be a batch prp3.Motion")
     effort = "tau" if family else "f10"
     measured = check_per_leg(effort, f10)
-    samples = motion.samples
-    if measured.shape != (samples, 3):
+    if measured.shape != (motion.samples, 3):
         raise TrajectoryError(
-            f"{where}: {effort} must have shape ({samples}, 3) to match the motion, got "
+            f"{where}: {effort} must have shape ({motion.samples}, 3) to match the motion, got "
             f"{measured.shape}"
         )
-    fixed = tuple(name for name in every if name not in names)
-    if isinstance(robot, FamilyRobot):
-        base, W, known = _family_columns(robot, motion, every, names, fixed, where, progress)
-    else:
-        refuse_mu(robot)
-        base = base_parameters(robot, ("f10",), names)
-        check_samples(base, samples, where)
-        known = known_forces(robot, motion, fixed)
-        W = regressor(robot, motion, names, progress=progress).f10[..., list(base.independent)]
-    return fit_base_parameters(base, W, measured, motion.t, where, known=known, fixed=fixed)
+    return tuple(every), tuple(names), measured
 
 
 def _family_columns(
