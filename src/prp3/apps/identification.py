@@ -199,16 +199,11 @@ def identify(
     True
     """
     every, names, measured = _checked_inputs(robot, motion, f10, parameters, where)
-    samples = motion.samples
     fixed = tuple(name for name in every if name not in names)
     if isinstance(robot, FamilyRobot):
         base, W, known = _family_columns(robot, motion, every, names, fixed, where, progress)
     else:
-        refuse_mu(robot)
-        base = base_parameters(robot, ("f10",), names)
-        check_samples(base, samples, where)
-        known = known_forces(robot, motion, fixed)
-        W = regressor(robot, motion, names, progress=progress).f10[..., list(base.independent)]
+        base, W, known = _prp_columns(robot, motion, every, names, fixed, where, progress)
     return fit_base_parameters(base, W, measured, motion.t, where, known=known, fixed=fixed)
 
 
@@ -241,6 +236,25 @@ def _checked_inputs(
             f"{measured.shape}"
         )
     return tuple(every), tuple(names), measured
+
+
+def _prp_columns(
+    robot: Robot,
+    motion: Motion,
+    every: Sequence[str],
+    names: Sequence[str],
+    fixed: tuple[str, ...],
+    where: str,
+    progress: Callable[[int, int], None] | None,
+) -> tuple[BaseParameters, FloatArray, FloatArray]:
+    """:func:`_family_columns` of the 3-PRP: the base regressor of ``f10`` and the known
+    forces (its elements', the fixed parameters')."""
+    refuse_mu(robot)
+    base = base_parameters(robot, ("f10",), names)
+    check_samples(base, motion.samples, where)
+    known = known_forces(robot, motion, fixed)
+    W = regressor(robot, motion, names, progress=progress).f10[..., list(base.independent)]
+    return base, W, known
 
 
 def _family_columns(
