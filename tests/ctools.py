@@ -6,7 +6,7 @@ from __future__ import annotations
 import ctypes
 import shutil
 import subprocess
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -43,9 +43,12 @@ def write_code(code: Any, folder: Path) -> Path:
 
 class InverseDynamicsLibrary:
     """``prp3_inverse_dynamics`` of a shared library: the pose, velocity and acceleration
-    (3 numbers each), then output vectors of the sizes ``outputs``, called with numpy."""
+    (3 numbers each), then output vectors of the sizes ``outputs``, called with numpy
+    vectors; ``join`` makes one array of the outputs (``np.stack``, ``np.concatenate``)."""
 
-    def __init__(self, library: Path, outputs: Sequence[int]) -> None:
+    def __init__(
+        self, library: Path, outputs: Sequence[int], join: Callable[[list[np.ndarray]], Any]
+    ) -> None:
         vector = [
             np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(n,), flags="C_CONTIGUOUS")
             for n in (3, 3, 3, *outputs)
@@ -55,13 +58,14 @@ class InverseDynamicsLibrary:
         self.function.argtypes = vector
         self.function.restype = ctypes.c_int
         self.outputs = tuple(outputs)
+        self.join = join
 
-    def call(self, pose: Any, velocity: Any, acceleration: Any) -> tuple[int, list[np.ndarray]]:
-        """The return code and the output vectors."""
+    def __call__(self, pose: Any, velocity: Any, acceleration: Any) -> tuple[int, np.ndarray]:
+        """The return code and the joined outputs."""
         inputs = [np.ascontiguousarray(v, dtype=np.float64) for v in (pose, velocity, acceleration)]
         outputs = [np.zeros(n) for n in self.outputs]
         code = self.function(*inputs, *outputs)
-        return int(code), outputs
+        return int(code), self.join(outputs)
 
 
 def check_strict_c99(code: Any, outputs: str) -> None:

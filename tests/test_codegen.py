@@ -51,15 +51,8 @@ pytest.importorskip("sympy")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
 
 
-class Compiled(InverseDynamicsLibrary):
-    """``prp3_inverse_dynamics`` of the 3-PRP's shared library: rows f10, f21y, f21z."""
-
-    def __init__(self, library: Path) -> None:
-        super().__init__(library, (3, 3, 3))
-
-    def __call__(self, pose, velocity, acceleration) -> tuple[int, np.ndarray]:
-        code, outputs = self.call(pose, velocity, acceleration)
-        return code, np.stack(outputs)
+#: ``prp3_inverse_dynamics`` of a shared library: the return code and rows f10, f21y, f21z.
+Compiled = InverseDynamicsLibrary
 
 
 def build(robot: Robot, folder: Path) -> Compiled:
@@ -67,7 +60,7 @@ def build(robot: Robot, folder: Path) -> Compiled:
 
 
 def build_from(folder: Path) -> Compiled:
-    return Compiled(shared_library(folder, "libprp3id.so"))
+    return Compiled(shared_library(folder, "libprp3id.so"), (3, 3, 3), np.stack)
 
 
 @pytest.fixture(scope="module")

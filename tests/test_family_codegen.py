@@ -53,15 +53,8 @@ pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
 CROSSING = {("3-PRR", 2, "rotation")}
 
 
-class Compiled(InverseDynamicsLibrary):
-    """``prp3_inverse_dynamics`` of a family robot's shared library: ``[tau (3), joint (27)]``."""
-
-    def __init__(self, library: Path) -> None:
-        super().__init__(library, (3, 27))
-
-    def __call__(self, pose, velocity, acceleration) -> tuple[int, np.ndarray]:
-        code, outputs = self.call(pose, velocity, acceleration)
-        return code, np.concatenate(outputs)
+#: ``prp3_inverse_dynamics`` of a shared library: the return code and ``[tau (3), joint (27)]``.
+Compiled = InverseDynamicsLibrary
 
 
 def build(robot: FamilyRobot, folder: Path) -> Compiled:
@@ -69,7 +62,7 @@ def build(robot: FamilyRobot, folder: Path) -> Compiled:
 
 
 def build_from(folder: Path) -> Compiled:
-    return Compiled(shared_library(folder, "libprp3family.so"))
+    return Compiled(shared_library(folder, "libprp3family.so"), (3, 27), np.concatenate)
 
 
 def expected(robot: FamilyRobot, motion: Motion) -> np.ndarray:

@@ -315,11 +315,7 @@ def test_the_private_import_check_catches_both_forms() -> None:
 LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "analysis/forward.py": ("forward_dynamics",),
     "apps/codegen.py": ("c_inverse_dynamics",),
-    "apps/control.py": ("track",),
-    "apps/excitation.py": ("exciting_trajectory",),
     "apps/spatial_mjcf.py": ("spatial_mjcf_model",),
-    "cli/control.py": ("run",),
-    "cli/simulate.py": ("_run",),
     "engines/trace.py": ("broadcast_function",),
     "explorer/app.py": ("explorer_document",),
     "explorer/family_scene.py": ("family_view",),

@@ -28,7 +28,7 @@ from prp3.errors import Prp3Error, TrajectoryError
 from prp3.files import atomic_writer
 from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.spatial_trajectory import SpatialTrajectory, read_spatial_trajectory
-from prp3.io.tables import parquet_available, write_table_csv, write_table_parquet
+from prp3.io.tables import write_table_csv, write_table_parquet
 from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from prp3.spatial.kinematics import complete_motion
 from prp3.spatial.model import SpatialRobot
@@ -184,12 +184,7 @@ def run_spatial(
         from prp3.explorer.spatial_page import require_plotly
 
         require_plotly("--html of a spatial robot (the 3-D explorer, docs/spatial.md §22)")
-    if args.format == "parquet" and not parquet_available():
-        raise Prp3Error(
-            "--format parquet needs pyarrow, which is not installed: "
-            "pip install 'prp3[parquet]' (or pyarrow), or leave --format out for CSV"
-        )
-    output: Path = args.output
+    output: Path = args.output  # --format parquet without pyarrow: refused by prp3 simulate
     given, source, heading, trajectory = _given_motion(args, design, default_samples)
     check_memory(
         f"{len(given)} samples", SPATIAL_BYTES_PER_RUN + SPATIAL_BYTES_PER_SAMPLE * len(given)
