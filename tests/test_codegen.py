@@ -20,13 +20,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ctools import (
-    COMPILER,
-    InverseDynamicsLibrary,
-    check_strict_c99,
-    shared_library,
-    write_code,
-)
+from ctools import COMPILER, InverseDynamicsLibrary, check_strict_c99, shared_library, write_code
 from prp3 import Limits, Motion, Robot, inverse_dynamics
 from prp3.apps.codegen import (
     C_NOT_FINITE,

@@ -24,13 +24,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from ctools import (
-    COMPILER,
-    InverseDynamicsLibrary,
-    check_strict_c99,
-    shared_library,
-    write_code,
-)
+from ctools import COMPILER, InverseDynamicsLibrary, check_strict_c99, shared_library, write_code
 from prp3.apps.codegen import (
     C_NOT_FINITE,
     C_OK,

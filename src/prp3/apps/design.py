@@ -46,10 +46,8 @@ __all__ = [
     "design_columns",
     "design_mapping",
     "design_robot",
-    "first_row",
     "nominal_design_row",
     "nominal_value",
-    "status_columns",
 ]
 
 R = TypeVar("R")

@@ -65,9 +65,7 @@ __all__ = [
     "MIN_SAMPLES_PER_PARAMETER",
     "Identification",
     "IdentifiedRobot",
-    "check_samples",
     "excitation_refusal",
-    "fit_base_parameters",
     "identified_robot",
     "identify",
     "robot_from_standard",
@@ -200,10 +198,7 @@ def identify(
     """
     every, names, measured = _checked_inputs(robot, motion, f10, parameters, where)
     fixed = tuple(name for name in every if name not in names)
-    if isinstance(robot, FamilyRobot):
-        base, W, known = _family_columns(robot, motion, every, names, fixed, where, progress)
-    else:
-        base, W, known = _prp_columns(robot, motion, every, names, fixed, where, progress)
+    base, W, known = _base_columns(robot, motion, every, names, fixed, where, progress)
     return fit_base_parameters(base, W, measured, motion.t, where, known=known, fixed=fixed)
 
 
@@ -238,8 +233,8 @@ def _checked_inputs(
     return tuple(every), tuple(names), measured
 
 
-def _prp_columns(
-    robot: Robot,
+def _base_columns(
+    robot: Robot | FamilyRobot,
     motion: Motion,
     every: Sequence[str],
     names: Sequence[str],
@@ -247,27 +242,16 @@ def _prp_columns(
     where: str,
     progress: Callable[[int, int], None] | None,
 ) -> tuple[BaseParameters, FloatArray, FloatArray]:
-    """:func:`_family_columns` of the 3-PRP: the base regressor of ``f10`` and the known
-    forces (its elements', the fixed parameters')."""
-    refuse_mu(robot)
-    base = base_parameters(robot, ("f10",), names)
-    check_samples(base, motion.samples, where)
-    known = known_forces(robot, motion, fixed)
-    W = regressor(robot, motion, names, progress=progress).f10[..., list(base.independent)]
-    return base, W, known
-
-
-def _family_columns(
-    robot: FamilyRobot,
-    motion: Motion,
-    every: Sequence[str],
-    names: Sequence[str],
-    fixed: tuple[str, ...],
-    where: str,
-    progress: Callable[[int, int], None] | None,
-) -> tuple[BaseParameters, FloatArray, FloatArray]:
-    """The base parameters of a family robot, the base regressor ``W (N, 3, B)`` of its
-    efforts and the known efforts (its ``[load]``, the fixed parameters')."""
+    """The base parameters, the base regressor ``W (N, 3, B)`` of the efforts and the known
+    efforts: of the 3-PRP its ``f10`` and its elements' and fixed parameters' forces; of a
+    family robot its ``tau``, its ``[load]``'s and the fixed parameters' efforts."""
+    if not isinstance(robot, FamilyRobot):
+        refuse_mu(robot)
+        base = base_parameters(robot, ("f10",), names)
+        check_samples(base, motion.samples, where)
+        known = known_forces(robot, motion, fixed)
+        W = regressor(robot, motion, names, progress=progress).f10[..., list(base.independent)]
+        return base, W, known
     base = base_parameters(robot, FAMILY_FORCES, names)
     check_samples(base, motion.samples, where)
     Y = family_regressor(robot, motion, every, progress=progress).tau

@@ -46,10 +46,8 @@ __all__ = [
     "SweepSpec",
     "design_values",
     "parameter_paths",
-    "read_spec_file",
     "read_sweep_spec",
     "sample_designs",
-    "spec_digest",
     "spec_number",
     "sweep_spec",
 ]

@@ -27,7 +27,14 @@ from prp3.io.tables import format_float, write_table_csv
 from prp3.spatial.kinematics import complete_motion
 from prp3.spatial.rotations import matrix_quaternion
 
-__all__ = ["estimate_table", "run_spatial_excite", "run_spatial_identify", "write_parameters"]
+__all__ = [
+    "SERIES_OPTIONS",
+    "estimate_table",
+    "run_spatial_excite",
+    "run_spatial_identify",
+    "series_options",
+    "write_parameters",
+]
 
 #: The candidates ``prp3 excite`` tries for a spatial robot when ``--iterations`` is not given.
 SPATIAL_CANDIDATES: int = 10
@@ -133,21 +140,23 @@ def _summary(
     return lines
 
 
+#: The options of ``prp3 excite`` that every robot's excitation takes as they are.
+SERIES_OPTIONS: tuple[str, ...] = (
+    "period", "harmonics", "reach", "rotation", "max_velocity", "max_force", "seed",
+)  # fmt: skip
+
+
+def series_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The options :data:`SERIES_OPTIONS` of ``prp3 excite``, by name."""
+    return {name: getattr(args, name) for name in SERIES_OPTIONS}
+
+
 def run_spatial_excite(args: argparse.Namespace, design: SpatialRobotFile, name: str) -> int:
     """``prp3 excite`` of a spatial robot file; return the exit status."""
     robot = design.robot
     candidates = args.iterations if args.iterations is not None else SPATIAL_CANDIDATES
     result = spatial_exciting_trajectory(
-        robot,
-        period=args.period,
-        harmonics=args.harmonics,
-        samples=args.samples,
-        reach=args.reach,
-        rotation=args.rotation,
-        max_velocity=args.max_velocity,
-        max_force=args.max_force,
-        candidates=candidates,
-        seed=args.seed,
+        robot, **series_options(args), samples=args.samples, candidates=candidates
     )
     m = result.motion
     q = matrix_quaternion(m.rotation)

@@ -33,7 +33,7 @@ from prp3.apps.excitation import ExcitingTrajectory, exciting_trajectory
 from prp3.apps.identification import samples_refusal
 from prp3.apps.spatial_identification import spatial_base_parameters
 from prp3.cli._progress import progress_bar
-from prp3.cli._spatial_identify import run_spatial_excite
+from prp3.cli._spatial_identify import run_spatial_excite, series_options
 from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
@@ -156,13 +156,7 @@ def run(args: argparse.Namespace) -> int:
     with progress_bar() as bar:
         result = exciting_trajectory(
             robot,
-            period=args.period,
-            harmonics=args.harmonics,
-            reach=args.reach,
-            rotation=args.rotation,
-            max_velocity=args.max_velocity,
-            max_force=args.max_force,
-            seed=args.seed,
+            **series_options(args),
             max_iterations=args.iterations if args.iterations is not None else 150,
             progress=bar.stage("optimising", "iterations"),
         )
