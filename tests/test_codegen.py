@@ -10,7 +10,6 @@ to the largest force of the sample.
 
 from __future__ import annotations
 
-import ctypes
 import math
 import re
 from dataclasses import replace
@@ -21,7 +20,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ctools import COMPILER, shared_library
+from ctools import COMPILER, InverseDynamicsLibrary, check_strict_c99, shared_library, write_code
 from prp3 import Limits, Motion, Robot, inverse_dynamics
 from prp3.apps.codegen import (
     C_NOT_FINITE,
@@ -45,36 +44,17 @@ from strategies import poses, robots
 pytest.importorskip("sympy")
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
 
-_Vector = np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(3,), flags="C_CONTIGUOUS")
 
-
-class Compiled:
-    """``prp3_inverse_dynamics`` of a shared library, called with numpy vectors."""
-
-    def __init__(self, library: Path) -> None:
-        self.library = ctypes.CDLL(str(library))
-        self.function = self.library.prp3_inverse_dynamics
-        self.function.argtypes = [_Vector] * 6
-        self.function.restype = ctypes.c_int
-
-    def __call__(self, pose, velocity, acceleration) -> tuple[int, np.ndarray]:
-        inputs = [np.ascontiguousarray(v, dtype=np.float64) for v in (pose, velocity, acceleration)]
-        outputs = [np.zeros(3) for _ in range(3)]
-        code = self.function(*inputs, *outputs)
-        return int(code), np.stack(outputs)  # rows f10, f21y, f21z
+#: ``prp3_inverse_dynamics`` of a shared library: the return code and rows f10, f21y, f21z.
+Compiled = InverseDynamicsLibrary
 
 
 def build(robot: Robot, folder: Path) -> Compiled:
-    code = c_inverse_dynamics(robot)
-    folder.mkdir(parents=True, exist_ok=True)
-    (folder / HEADER_NAME).write_text(code.header)
-    (folder / SOURCE_NAME).write_text(code.source)
-    return build_from(folder)
+    return build_from(write_code(c_inverse_dynamics(robot), folder))
 
 
 def build_from(folder: Path) -> Compiled:
-    library = shared_library(folder, "libprp3id.so")
-    return Compiled(library)
+    return Compiled(shared_library(folder, "libprp3id.so"), (3, 3, 3), np.stack)
 
 
 @pytest.fixture(scope="module")
@@ -264,15 +244,8 @@ def test_every_return_code_is_defined_and_explained_in_the_header() -> None:
 
 def test_source_is_strict_c99_with_only_math_h() -> None:
     code = c_inverse_dynamics(Robot(limits=Limits(stroke=(-0.1, 0.1))))
-    includes = [line for line in code.source.splitlines() if line.startswith("#include")]
-    assert includes == ["#include <math.h>", f'#include "{HEADER_NAME}"']
-    assert "#include" not in code.header
-    assert "M_PI" not in code.source and "0.3;" in code.source  # l0 as a constant
-    assert (
-        "int prp3_inverse_dynamics(const double pose[3], const double velocity[3],\n"
-        "                          const double acceleration[3],\n"
-        "                          double f10[3], double f21y[3], double f21z[3]);"
-    ) in code.header
+    check_strict_c99(code, "double f10[3], double f21y[3], double f21z[3]")
+    assert "0.3;" in code.source  # l0 as a constant
 
 
 def test_cli_export_c_with_a_robot_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -14,7 +14,6 @@ outputs then.
 
 from __future__ import annotations
 
-import ctypes
 import math
 import re
 from dataclasses import replace
@@ -25,7 +24,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from ctools import COMPILER, shared_library
+from ctools import COMPILER, InverseDynamicsLibrary, check_strict_c99, shared_library, write_code
 from prp3.apps.codegen import (
     C_NOT_FINITE,
     C_OK,
@@ -47,37 +46,17 @@ pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
 
 CROSSING = {("3-PRR", 2, "rotation")}
 
-_Vector3 = np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(3,), flags="C_CONTIGUOUS")
-_Vector27 = np.ctypeslib.ndpointer(dtype=np.float64, ndim=1, shape=(27,), flags="C_CONTIGUOUS")
 
-
-class Compiled:
-    """``prp3_inverse_dynamics`` of a shared library, called with numpy vectors."""
-
-    def __init__(self, library: Path) -> None:
-        self.library = ctypes.CDLL(str(library))
-        self.function = self.library.prp3_inverse_dynamics
-        self.function.argtypes = [_Vector3] * 4 + [_Vector27]
-        self.function.restype = ctypes.c_int
-
-    def __call__(self, pose, velocity, acceleration) -> tuple[int, np.ndarray]:
-        inputs = [np.ascontiguousarray(v, dtype=np.float64) for v in (pose, velocity, acceleration)]
-        tau, joint = np.zeros(3), np.zeros(27)
-        code = self.function(*inputs, tau, joint)
-        return int(code), np.concatenate([tau, joint])
+#: ``prp3_inverse_dynamics`` of a shared library: the return code and ``[tau (3), joint (27)]``.
+Compiled = InverseDynamicsLibrary
 
 
 def build(robot: FamilyRobot, folder: Path) -> Compiled:
-    code = family_c_inverse_dynamics(robot)
-    folder.mkdir(parents=True, exist_ok=True)
-    (folder / HEADER_NAME).write_text(code.header)
-    (folder / SOURCE_NAME).write_text(code.source)
-    return build_from(folder)
+    return build_from(write_code(family_c_inverse_dynamics(robot), folder))
 
 
 def build_from(folder: Path) -> Compiled:
-    library = shared_library(folder, "libprp3family.so")
-    return Compiled(library)
+    return Compiled(shared_library(folder, "libprp3family.so"), (3, 27), np.concatenate)
 
 
 def expected(robot: FamilyRobot, motion: Motion) -> np.ndarray:
@@ -307,15 +286,8 @@ def test_every_return_code_is_in_the_header_with_its_meaning() -> None:
 
 def test_source_is_strict_c99_with_only_math_h() -> None:
     code = family_c_inverse_dynamics(FamilyRobot.default("3-RPR"))
-    includes = [line for line in code.source.splitlines() if line.startswith("#include")]
-    assert includes == ["#include <math.h>", f'#include "{HEADER_NAME}"']
-    assert "#include" not in code.header and "M_PI" not in code.source
+    check_strict_c99(code, "double tau[3], double joint[27]")
     assert "#define PRP3_UNREACHABLE 4" in code.header and "#define PRP3_SINGULAR 2" in code.header
-    assert (
-        "int prp3_inverse_dynamics(const double pose[3], const double velocity[3],\n"
-        "                          const double acceleration[3],\n"
-        "                          double tau[3], double joint[27]);"
-    ) in code.header
 
 
 def test_cli_export_c(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -315,14 +315,7 @@ def test_the_private_import_check_catches_both_forms() -> None:
 LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "analysis/forward.py": ("forward_dynamics",),
     "apps/codegen.py": ("c_inverse_dynamics",),
-    "apps/control.py": ("track",),
-    "apps/excitation.py": ("exciting_trajectory",),
-    "apps/identification.py": ("identify",),
-    "apps/spatial_identification.py": ("spatial_exciting_trajectory", "spatial_identify"),
     "apps/spatial_mjcf.py": ("spatial_mjcf_model",),
-    "cli/_spatial.py": ("run_spatial",),
-    "cli/control.py": ("run",),
-    "cli/simulate.py": ("_run",),
     "engines/trace.py": ("broadcast_function",),
     "explorer/app.py": ("explorer_document",),
     "explorer/family_scene.py": ("family_view",),
@@ -342,9 +335,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "references/newton_euler.py": ("_solve",),
     "spatial/compiled.py": ("_geometry", "_sample"),
     "spatial/forward.py": ("spatial_forward_dynamics",),
-    "spatial/model.py": ("delta",),
-    "spatial/workspace.py": ("spatial_workspace",),
-    "staged_files.py": ("staged_output",),
 }
 
 

@@ -256,6 +256,36 @@ def staged_output(
     """
     directory = Path(directory)
     records = [_input_record(path) for path in inputs if path is not None]
+    staged, created = _start_staging(directory, command, command_line, records)
+    try:
+        try:
+            yield staged
+        except OutputFileError as error:  # name the output file, not its staging copy
+            if error.file is None:
+                raise
+            raise error.located(file=staged.final(error.file)) from None
+        except OSError as error:  # a writer's own failure (a full disk): the file being written
+            raise _write_failure(staged, error) from None
+        _move_in(staged)
+    except BaseException:
+        shutil.rmtree(staged.staging, ignore_errors=True)
+        _remove_empty(created)
+        raise
+    try:
+        shutil.rmtree(staged.staging, ignore_errors=True)
+    except BaseException:  # an interrupt after the files are in: finish the cleanup, then stop
+        shutil.rmtree(staged.staging, ignore_errors=True)
+        raise
+
+
+def _start_staging(
+    directory: Path,
+    command: str | None,
+    command_line: Sequence[str] | None,
+    records: list[dict[str, Any]],
+) -> tuple[StagedOutput, list[Path]]:
+    """The :class:`StagedOutput` of :func:`staged_output` (``directory`` made, a staging
+    folder in it) and the folders made for it, deepest first."""
     created: list[Path] = []
     missing = directory
     try:
@@ -275,32 +305,19 @@ def staged_output(
         command_line=[str(word) for word in command_line or ()],
         inputs=records,
     )
-    try:
-        try:
-            yield staged
-        except OutputFileError as error:  # name the output file, not its staging copy
-            if error.file is None:
-                raise
-            raise error.located(file=staged.final(error.file)) from None
-        except OSError as error:  # a writer's own failure (a full disk): the file being written
-            if error.filename is not None:
-                where = staged.final(os.fsdecode(error.filename))
-            elif staged.names:
-                where = staged.directory / staged.names[-1]
-            else:
-                where = directory
-            reason = error.strerror or str(error)
-            raise OutputFileError(f"cannot write ({reason})", file=where) from None
-        _move_in(staged)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        _remove_empty(created)
-        raise
-    try:
-        shutil.rmtree(staging, ignore_errors=True)
-    except BaseException:  # an interrupt after the files are in: finish the cleanup, then stop
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+    return staged, created
+
+
+def _write_failure(staged: StagedOutput, error: OSError) -> OutputFileError:
+    """A writer's ``error`` as the :class:`OutputFileError` of the file being written."""
+    if error.filename is not None:
+        where = staged.final(os.fsdecode(error.filename))
+    elif staged.names:
+        where = staged.directory / staged.names[-1]
+    else:
+        where = staged.directory
+    reason = error.strerror or str(error)
+    return OutputFileError(f"cannot write ({reason})", file=where)
 
 
 def _file_stamp(path: Path) -> dict[str, int] | None:

@@ -383,6 +383,123 @@ def _refusal(robot: Robot | FamilyRobot, pose: list[float]) -> tuple[Status, str
     return None
 
 
+def _checked_options(
+    robot: Robot | FamilyRobot,
+    model: Robot | FamilyRobot | None,
+    gains: Gains | None,
+    controller: str,
+    plant: str,
+) -> tuple[Robot | FamilyRobot, Gains]:
+    """The robot and the options of :func:`track` checked; the model and the gains."""
+    if not isinstance(robot, FamilyRobot):
+        check_robot(robot)
+    model = robot if model is None else model
+    check_model(robot, model)
+    gains = Gains() if gains is None else gains
+    if not isinstance(gains, Gains):
+        raise ParameterError(
+            f"gains must be prp3.apps.control_law.Gains, got {type(gains).__name__}"
+        )
+    if controller not in CONTROLLERS:
+        raise ParameterError(
+            f"controller must be one of {', '.join(CONTROLLERS)}, got {controller!r}"
+        )
+    if plant not in PLANTS:
+        raise ParameterError(f"plant must be one of {', '.join(PLANTS)}, got {plant!r}")
+    return model, gains
+
+
+def _checked_reference(
+    robot: Robot | FamilyRobot, model: Robot | FamilyRobot, reference: Motion
+) -> CompiledRobot | FamilyEffortModel:
+    """The reference of :func:`track` checked (the plant and the model can follow it, naming
+    the sample) and the model the controller evaluates."""
+    family = isinstance(robot, FamilyRobot)
+    if not isinstance(reference, Motion) or reference.t.ndim != 1 or reference.samples < 2:
+        raise TrajectoryError("reference must be a Motion of at least 2 samples")
+    if reference.load is not None:
+        raise TrajectoryError(LOAD_REFUSAL, subject="reference")
+    if not family:
+        check_path(reference.t, reference.pose, subject="reference")  # no singularity between
+    if reference.samples > MAX_STEPS + 1:
+        raise ParameterError(
+            f"reference: {reference.samples} control instants, more than {MAX_STEPS + 1}"
+        )
+    compiled: CompiledRobot | FamilyEffortModel
+    try:
+        if isinstance(robot, FamilyRobot) and isinstance(model, FamilyRobot):
+            compiled = FamilyEffortModel(model)
+            # both follow the reference from home, every step in between checked (§5, §6)
+            family_kinematics(robot, reference)
+            family_inverse_dynamics(model, reference, engine="numpy")
+        elif isinstance(robot, Robot) and isinstance(model, Robot):
+            compiled = compile_robot(without_limits(model))
+            inverse_geometry(robot, reference.pose)  # the plant must be able to follow it
+            # the model's inverse dynamics of the reference itself: validates it for the model
+            paper_forces(compiled, reference.pose, reference.velocity, reference.acceleration)
+    except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
+        index = error.sample
+        when = None if index is None else float(reference.t[index])
+        raise error.located(origin="reference", time=when) from None
+    return compiled
+
+
+def _closed_loop(
+    simulator: PlantProtocol,
+    robot: Robot | FamilyRobot,
+    compiled: CompiledRobot | FamilyEffortModel,
+    controller: Controller,
+    gains: Gains,
+    reference: Motion,
+    progress: Callable[[int, int], None] | None,
+) -> tuple[FloatArray, FloatArray, FloatArray, int, Status, str]:
+    """The loop of :func:`track`: the measured states ``(N, 6)``, the forces ``(N, 3)``, the
+    controller's step times (s), the instants done, the status and its message."""
+    times = reference.t.tolist()
+    rows = np.concatenate([reference.pose, reference.velocity, reference.acceleration], axis=1)
+    targets = rows.tolist()
+    count = len(times)
+    measured = np.empty((count, 6))
+    forces = np.empty((count, 3))
+    elapsed = np.empty(count)
+    clock = time.perf_counter_ns
+    status: Status = "completed"
+    message = f"completed: tracked to t = {times[-1]!r} s"
+    done = 0
+    for k in range(count):
+        state = simulator.measure()
+        if not all(math.isfinite(value) for value in state):
+            status, message = "failed", f"stopped at t = {times[k]!r} s: non-finite plant state"
+            break
+        refused = _refusal(robot, state[:3])  # the exact checks, before the timed step
+        if refused is None:
+            start = clock()
+            try:
+                f10 = control_force(controller, compiled, gains, targets[k], state)
+            except Prp3Error as error:  # the model's own refusal of the measured state
+                refused = ("singular", str(error))
+            stop = clock()
+        if refused is not None:
+            status, why = refused
+            message = f"stopped at t = {times[k]!r} s: the plant's pose is refused: {why}"
+            break
+        measured[k] = state
+        forces[k] = f10
+        elapsed[k] = (stop - start) * 1e-9
+        done = k + 1
+        if progress is not None:
+            progress(done, count)
+        if not math.isfinite(f10[0] + f10[1] + f10[2]):
+            status, message = "failed", f"stopped at t = {times[k]!r} s: non-finite forces"
+            break
+        if k + 1 < count:
+            stopped = simulator.advance(times[k], times[k + 1], f10)
+            if stopped is not None:
+                status, message = stopped
+                break
+    return measured, forces, elapsed, done, status, message
+
+
 def track(
     robot: Robot | FamilyRobot,
     reference: Motion,
@@ -433,94 +550,15 @@ def track(
     TrajectoryError, SingularPoseError, UnreachablePoseError
         A reference the robot or the model cannot follow (names the sample).
     """
-    family = isinstance(robot, FamilyRobot)
-    if not family:
-        check_robot(robot)
-    model = robot if model is None else model
-    check_model(robot, model)
-    gains = Gains() if gains is None else gains
-    if not isinstance(gains, Gains):
-        raise ParameterError(
-            f"gains must be prp3.apps.control_law.Gains, got {type(gains).__name__}"
-        )
-    if controller not in CONTROLLERS:
-        raise ParameterError(
-            f"controller must be one of {', '.join(CONTROLLERS)}, got {controller!r}"
-        )
-    if plant not in PLANTS:
-        raise ParameterError(f"plant must be one of {', '.join(PLANTS)}, got {plant!r}")
-    if not isinstance(reference, Motion) or reference.t.ndim != 1 or reference.samples < 2:
-        raise TrajectoryError("reference must be a Motion of at least 2 samples")
-    if reference.load is not None:
-        raise TrajectoryError(LOAD_REFUSAL, subject="reference")
-    if not family:
-        check_path(reference.t, reference.pose, subject="reference")  # no singularity between
-    if reference.samples > MAX_STEPS + 1:
-        raise ParameterError(
-            f"reference: {reference.samples} control instants, more than {MAX_STEPS + 1}"
-        )
-    compiled: CompiledRobot | FamilyEffortModel
-    try:
-        if isinstance(robot, FamilyRobot) and isinstance(model, FamilyRobot):
-            compiled = FamilyEffortModel(model)
-            # both follow the reference from home, every step in between checked (§5, §6)
-            family_kinematics(robot, reference)
-            family_inverse_dynamics(model, reference, engine="numpy")
-        elif isinstance(robot, Robot) and isinstance(model, Robot):
-            compiled = compile_robot(without_limits(model))
-            inverse_geometry(robot, reference.pose)  # the plant must be able to follow it
-            # the model's inverse dynamics of the reference itself: validates it for the model
-            paper_forces(compiled, reference.pose, reference.velocity, reference.acceleration)
-    except (SingularPoseError, UnreachablePoseError, TrajectoryError) as error:
-        index = error.sample
-        when = None if index is None else float(reference.t[index])
-        raise error.located(origin="reference", time=when) from None
+    model, gains = _checked_options(robot, model, gains, controller, plant)
+    compiled = _checked_reference(robot, model, reference)
     check_plant(robot, plant)
     simulator: PlantProtocol = (
         Prp3Plant(robot, reference) if plant == "prp3" else MujocoPlant(robot, reference)
     )
-    times = reference.t.tolist()
-    rows = np.concatenate([reference.pose, reference.velocity, reference.acceleration], axis=1)
-    targets = rows.tolist()
-    count = len(times)
-    measured = np.empty((count, 6))
-    forces = np.empty((count, 3))
-    elapsed = np.empty(count)
-    clock = time.perf_counter_ns
-    status: Status = "completed"
-    message = f"completed: tracked to t = {times[-1]!r} s"
-    done = 0
-    for k in range(count):
-        state = simulator.measure()
-        if not all(math.isfinite(value) for value in state):
-            status, message = "failed", f"stopped at t = {times[k]!r} s: non-finite plant state"
-            break
-        refused = _refusal(robot, state[:3])  # the exact checks, before the timed step
-        if refused is None:
-            start = clock()
-            try:
-                f10 = control_force(controller, compiled, gains, targets[k], state)
-            except Prp3Error as error:  # the model's own refusal of the measured state
-                refused = ("singular", str(error))
-            stop = clock()
-        if refused is not None:
-            status, why = refused
-            message = f"stopped at t = {times[k]!r} s: the plant's pose is refused: {why}"
-            break
-        measured[k] = state
-        forces[k] = f10
-        elapsed[k] = (stop - start) * 1e-9
-        done = k + 1
-        if progress is not None:
-            progress(done, count)
-        if not math.isfinite(f10[0] + f10[1] + f10[2]):
-            status, message = "failed", f"stopped at t = {times[k]!r} s: non-finite forces"
-            break
-        if k + 1 < count:
-            stopped = simulator.advance(times[k], times[k + 1], f10)
-            if stopped is not None:
-                status, message = stopped
-                break
+    measured, forces, elapsed, done, status, message = _closed_loop(
+        simulator, robot, compiled, controller, gains, reference, progress
+    )
     if done == 0:
         raise TrajectoryError(f"the plant could not start: {message}")
     return Tracking(

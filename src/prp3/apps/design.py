@@ -22,9 +22,9 @@ from __future__ import annotations
 import copy
 import itertools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, Protocol, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -49,6 +49,8 @@ __all__ = [
     "nominal_design_row",
     "nominal_value",
 ]
+
+R = TypeVar("R")
 
 FloatArray = NDArray[np.float64]
 
@@ -155,8 +157,50 @@ def nominal_design_row(
         except Prp3Error:  # not a 3-PRP mapping: no computed default
             value = None
         row[path] = math.nan if value is None else value
-    row |= {n: (str(v[0]) if n in text_columns else float(v[0])) for n, v in columns.items()}
-    return row
+    return row | first_row(columns, text_columns)
+
+
+def first_row(columns: Mapping[str, Any], text_columns: Sequence[str]) -> dict[str, Any]:
+    """The first row of evaluated ``columns``: ``str`` of the ``text_columns``, else ``float``.
+
+    >>> first_row({"status": ["ok"], "energy": [2.5]}, ["status"])
+    {'status': 'ok', 'energy': 2.5}
+    """
+    return {n: (str(v[0]) if n in text_columns else float(v[0])) for n, v in columns.items()}
+
+
+def status_columns(
+    builders: Sequence[Callable[[], R]],
+    row: Callable[[int, R], tuple[str, Sequence[float]]],
+    names: Sequence[str],
+) -> dict[str, FloatArray]:
+    """The ``status`` column and the result columns ``names`` of designs, for every robot.
+
+    Design ``i`` is the robot ``builders[i]()``: ``invalid`` (NaN results) when that raises
+    :class:`~prp3.errors.ParameterError`, else the status and the ``len(names)`` values of
+    ``row(i, robot)``.
+
+    >>> def build(): return 2.0
+    >>> def bad(): raise ParameterError("not a robot")
+    >>> columns = status_columns([build, bad], lambda i, r: ("ok", [r, 3 * r]), ["a", "b"])
+    >>> columns["status"].tolist(), columns["b"].tolist()
+    (['ok', 'invalid'], [6.0, nan])
+    """
+    status: list[str] = []
+    results = np.full((len(builders), len(names)), np.nan)
+    for i, build in enumerate(builders):
+        try:
+            robot = build()
+        except ParameterError:
+            status.append("invalid")
+            continue
+        state, numbers = row(i, robot)
+        status.append(state)
+        results[i] = numbers
+    columns: dict[str, Any] = {"status": np.array(status, dtype=str)}
+    for j, name in enumerate(names):
+        columns[name] = results[:, j].copy()
+    return columns
 
 
 def nominal_value(nominal: Mapping[str, Any], path: str) -> float | None:

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3.apps.base_parameters import base_parameters
+from prp3.apps.base_parameters import BaseParameters, base_parameters
 from prp3.apps.family_regressor import family_standard_parameters, unit_efforts
 from prp3.apps.identification import excitation_refusal
 from prp3.apps.regressor import regressor_rows, standard_parameters, state_rows, unit_parameters
@@ -241,8 +241,46 @@ def exciting_trajectory(
         limits within which no motion found excites every base parameter (names
         the limit that binds and the condition number).
     """
-    from scipy.optimize import minimize
+    family = isinstance(robot, FamilyRobot)
+    period, limits = _checked_limits(robot, period, reach, rotation, max_velocity, max_force)
+    harmonics = check_integer("harmonics", harmonics, 1, 20)
+    samples = check_integer("samples", samples, 2, 10**7)
+    seed = check_integer("seed", seed, 0, 2**63 - 1)
+    max_iterations = check_integer("max_iterations", max_iterations, 1, 10**6)
+    if max_force is not None:
+        limits = (*limits[:3], check_scalar("max_force", max_force, positive=True))
+    coarse = np.linspace(0.0, period, samples, endpoint=False)
+    problem = _Problem(robot, base_parameters(robot), period, harmonics, limits, coarse)
+    z0 = _initial_guess(problem, seed)
+    initial = math.exp(problem.objective(z0))
+    solution = _slsqp(problem, z0, max_iterations, progress)
+    z = np.asarray(solution.x, dtype=np.float64)
+    # (a family robot's: within 5 % of its limits, the smaller oscillation below repairs it)
+    worst = problem.constraints(z).min()
+    if worst < (-0.05 if family else -1e-6) or problem.objective(z) > problem.objective(z0):
+        z = z0  # the optimiser left the limits: keep the feasible guess
+    z, lam, dlam, effort = _checked_on_fine_instants(problem, z, z0)
+    return ExcitingTrajectory(
+        series=problem.unpack(z),
+        condition=math.exp(problem.objective(z)),
+        initial_condition=initial,
+        peak_lambda10=float(np.abs(lam).max()),
+        peak_dlambda10=float(np.abs(dlam).max()),
+        peak_f10=float(np.abs(effort).max()),
+        iterations=int(getattr(solution, "nit", 0)),
+    )
 
+
+def _checked_limits(
+    robot: Robot | FamilyRobot,
+    period: float,
+    reach: float,
+    rotation: float,
+    max_velocity: float,
+    max_force: float | None,
+) -> tuple[float, tuple[float, float, float, float | None]]:
+    """The robot, ``period`` and the limits of :func:`exciting_trajectory` checked (but
+    ``max_force``, checked after the counts)."""
     family = isinstance(robot, FamilyRobot)
     if not family:
         check_robot(robot)
@@ -255,76 +293,135 @@ def exciting_trajectory(
         raise ParameterError(f"rotation must be in (0, pi) rad, got {rotation!r}")
     if not family and not 0.0 < rotation < 1.0:
         raise ParameterError(f"rotation must be in (0, 1) rad (singular at pi/3), got {rotation!r}")
-    harmonics = check_integer("harmonics", harmonics, 1, 20)
-    samples = check_integer("samples", samples, 2, 10**7)
-    seed = check_integer("seed", seed, 0, 2**63 - 1)
-    max_iterations = check_integer("max_iterations", max_iterations, 1, 10**6)
-    if max_force is not None:
-        max_force = check_scalar("max_force", max_force, positive=True)
-    base = base_parameters(robot)
-    coarse = t = np.linspace(0.0, period, samples, endpoint=False)
-    L = harmonics
-    stroke: tuple[float, float] | None
-    if isinstance(robot, FamilyRobot):
-        force_limit = max_force
-        length = robot.leg.scale
-        centre = robot.home_poses.mean(axis=0)
-        stroke = None
-        nominal = base.values(family_standard_parameters(robot, base.parameters))
-        home_leg, home_par = robot.home_measures
-        floors = _MEASURE_FRACTION * np.abs(np.array([*home_leg, home_par]))
-        family_robot = robot
-        actuated = robot.actuated - 1
-    else:
-        force_limit = max_force if max_force is not None else robot.limits.max_force
-        length = robot.l0
-        centre = np.zeros(3)
-        stroke = robot.limits.stroke
-        free = replace(robot, limits=Limits())
-        units = unit_parameters(free, base.names)
-        nominal = base.values(standard_parameters(robot))
-    bounds = np.array([reach * length, reach * length, rotation])
+    return period, (reach, rotation, max_velocity, max_force)
 
-    def unpack(z: FloatArray) -> FourierSeries:
+
+def _slsqp(
+    problem: _Problem,
+    z0: FloatArray,
+    max_iterations: int,
+    progress: Callable[[int, int], None] | None,
+) -> Any:
+    """SLSQP's minimum of ``problem.objective`` from ``z0`` within the limits."""
+    from scipy.optimize import minimize
+
+    solution = minimize(
+        problem.objective,
+        z0,
+        method="SLSQP",
+        constraints=[{"type": "ineq", "fun": problem.constraints}],
+        bounds=[(-1.0, 1.0)] * (3 + 6 * problem.L),
+        options={"maxiter": max_iterations, "ftol": 1e-6},
+        callback=None if progress is None else _counter(progress, max_iterations),
+    )
+    if progress is not None:
+        progress(max_iterations, max_iterations)
+    return solution
+
+
+def _checked_on_fine_instants(
+    problem: _Problem, z: FloatArray, z0: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """``z`` within the limits between the samples too (:func:`_within_limits`), and its
+    actuated joints' values, rates and efforts there; refused when it does not excite every
+    base parameter (naming the limit that binds).  ``problem.t`` is left as it was."""
+    coarse = problem.t
+    problem.t = np.linspace(0.0, problem.period, _FINE_SAMPLES)
+    z = _within_limits(problem, z, z0)
+    # on the fine instants: the limit that binds, and identification's criterion
+    binding = min(problem.margins(z), key=lambda part: float(part[1].min()))[0]
+    W, _, lam, dlam, effort, _ = problem.evaluate(z)
+    problem.t = coarse
+    refused = excitation_refusal(problem.base, W)
+    if refused is not None:
+        raise ParameterError(
+            f"no motion found within the limits excites every base parameter: the limit that "
+            f"binds is {binding}, and {refused}; widen it"
+        )
+    return z, lam, dlam, effort
+
+
+_Evaluation = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
+
+
+class _Problem:
+    """The optimisation of :func:`exciting_trajectory`: the series of a vector ``z`` (the
+    offsets and coefficients relative to the bounds), its objective and its margins to the
+    limits at the instants ``t`` (an attribute: the coarse or the fine ones)."""
+
+    def __init__(
+        self,
+        robot: Robot | FamilyRobot,
+        base: BaseParameters,
+        period: float,
+        harmonics: int,
+        limits: tuple[float, float, float, float | None],
+        t: FloatArray,
+    ) -> None:
+        self.robot, self.base, self.period, self.L, self.t = robot, base, period, harmonics, t
+        self.reach, self.rotation, self.max_velocity, max_force = limits
+        self.family = isinstance(robot, FamilyRobot)
+        self.last: dict[bytes, _Evaluation] = {}
+        self.stroke: tuple[float, float] | None = None
+        self.force_limit = max_force
+        if isinstance(robot, FamilyRobot):
+            length = robot.leg.scale
+            self.centre = robot.home_poses.mean(axis=0)
+            self.nominal = base.values(family_standard_parameters(robot, base.parameters))
+            home_leg, home_par = robot.home_measures
+            self.floors = _MEASURE_FRACTION * np.abs(np.array([*home_leg, home_par]))
+        else:
+            self.force_limit = max_force if max_force is not None else robot.limits.max_force
+            length = robot.l0
+            self.centre = np.zeros(3)
+            self.stroke = robot.limits.stroke
+            self.units = unit_parameters(replace(robot, limits=Limits()), base.names)
+            self.nominal = base.values(standard_parameters(robot))
+        self.bounds = np.array([self.reach * length, self.reach * length, self.rotation])
+
+    def unpack(self, z: FloatArray) -> FourierSeries:
+        """The series of ``z``."""
+        L, bounds = self.L, self.bounds
         return FourierSeries(
-            period=period,
-            offset=centre + z[:3] * bounds,
+            period=self.period,
+            offset=self.centre + z[:3] * bounds,
             sine=z[3 : 3 + 3 * L].reshape(3, L) * bounds[:, None],
             cosine=z[3 + 3 * L :].reshape(3, L) * bounds[:, None],
         )
 
-    Evaluation = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
-    last: dict[bytes, Evaluation] = {}
-
-    def evaluate(z: FloatArray) -> Evaluation:
+    def evaluate(self, z: FloatArray) -> _Evaluation:
         """``W`` (3N, B), poses, actuated joints' values and rates, the nominal efforts and
         the margins to a family robot's singularities ``|μ|/floor − 1`` (N, 4; none for the
         3-PRP); the last one kept (SLSQP asks the objective and the constraints at each point).
         """
-        key = z.tobytes() + t.tobytes()
-        if key in last:
-            return last[key]
-        motion = unpack(z).motion(t)
-        if not family:
+        key = z.tobytes() + self.t.tobytes()
+        if key in self.last:
+            return self.last[key]
+        motion = self.unpack(z).motion(self.t)
+        count = self.base.count
+        robot = self.robot
+        if not isinstance(robot, FamilyRobot):
             with np.errstate(all="ignore"):
-                forces, lam, dlam = regressor_rows(units, state_rows(motion))
-            W = forces[0].reshape(-1, base.count)
-            result = (W, motion.pose, lam, dlam, W @ nominal, np.zeros((0,)))
+                forces, lam, dlam = regressor_rows(self.units, state_rows(motion))
+            W = forces[0].reshape(-1, count)
+            result = (W, motion.pose, lam, dlam, W @ self.nominal, np.zeros((0,)))
         else:
             with np.errstate(all="ignore"):
-                kin = family_kinematics(family_robot, motion)
-                W = unit_efforts(kin, base.names).reshape(-1, base.count)
+                kin = family_kinematics(robot, motion)
+                W = unit_efforts(kin, self.base.names).reshape(-1, count)
                 tau = fast_dynamics(kin).tau
             mu = np.concatenate([kin.mu_leg, kin.mu_par[:, None]], axis=-1)
-            margin = np.asarray(np.abs(mu) / floors - 1.0)
-            result = (W, motion.pose, kin.q[..., actuated], kin.dq[..., actuated], tau, margin)
-        last.clear()
-        last[key] = result
+            margin = np.asarray(np.abs(mu) / self.floors - 1.0)
+            a = robot.actuated - 1
+            result = (W, motion.pose, kin.q[..., a], kin.dq[..., a], tau, margin)
+        self.last.clear()
+        self.last[key] = result
         return result
 
-    def objective(z: FloatArray) -> float:
+    def objective(self, z: FloatArray) -> float:
+        """``log cond(W)`` (1e3 where it cannot be computed)."""
         try:
-            W = evaluate(z)[0]
+            W = self.evaluate(z)[0]
         except (SingularPoseError, UnreachablePoseError):
             return 1e3
         singular = np.linalg.svd(W, compute_uv=False)
@@ -332,20 +429,23 @@ def exciting_trajectory(
             return 1e3
         return float(np.log(singular[0] / singular[-1]))
 
-    def margins(z: FloatArray) -> list[tuple[str, FloatArray]]:
+    def margins(self, z: FloatArray) -> list[tuple[str, FloatArray]]:
         """Margins to each limit (>= 0 inside, relative), with the limit's name."""
-        _, pose, lam, dlam, effort, singular = evaluate(z)
-        offset = pose - centre
+        _, pose, lam, dlam, effort, singular = self.evaluate(z)
+        family, bounds, offset = self.family, self.bounds, pose - self.centre
         parts = [
             (
-                f"reach = {reach!r} {'leg.scale' if family else 'l0'} (--reach)",
+                f"reach = {self.reach!r} {'leg.scale' if family else 'l0'} (--reach)",
                 1.0 - np.abs(offset[:, :2] / bounds[:2]),
             ),
-            (f"rotation = {rotation!r} rad (--rotation)", 1.0 - np.abs(offset[:, 2] / bounds[2])),
             (
-                f"max_velocity = {max_velocity!r} {'(m or rad)/s' if family else 'm/s'} "
+                f"rotation = {self.rotation!r} rad (--rotation)",
+                1.0 - np.abs(offset[:, 2] / bounds[2]),
+            ),
+            (
+                f"max_velocity = {self.max_velocity!r} {'(m or rad)/s' if family else 'm/s'} "
                 "(--max-velocity)",
-                1.0 - np.abs(dlam) / max_velocity,
+                1.0 - np.abs(dlam) / self.max_velocity,
             ),
         ]
         if family:
@@ -355,83 +455,54 @@ def exciting_trajectory(
                     singular,
                 )
             )
-        if stroke is not None:
-            lower, upper = stroke
+        if self.stroke is not None:
+            lower, upper = self.stroke
             margin = np.minimum((upper - lam) / upper, (lam - lower) / -lower)
-            parts.append((f"the robot's [limits] stroke = {list(stroke)!r} m", margin))
-        if force_limit is not None:
+            parts.append((f"the robot's [limits] stroke = {list(self.stroke)!r} m", margin))
+        if self.force_limit is not None:
             parts.append(
                 (
-                    f"max_force = {force_limit!r} {'N or N m' if family else 'N'} (--max-force"
-                    + (")" if family else " or [limits] max_force)"),
-                    1.0 - np.abs(effort) / force_limit,
+                    f"max_force = {self.force_limit!r} {'N or N m' if family else 'N'} "
+                    "(--max-force" + (")" if family else " or [limits] max_force)"),
+                    1.0 - np.abs(effort) / self.force_limit,
                 )
             )
         return parts
 
-    def constraints(z: FloatArray) -> FloatArray:
+    def constraints(self, z: FloatArray) -> FloatArray:
         """Margins to the limits (>= 0 inside), 1 % kept for the instants between samples.
 
         A motion through a family robot's singularity or out of its reach: every margin -1.
         """
         try:
-            parts = margins(z)
+            parts = self.margins(z)
         except (SingularPoseError, UnreachablePoseError):
-            return np.full(width(), -1.0)
+            return np.full(self.width(), -1.0)
         return np.concatenate([part.reshape(-1) for _, part in parts]) - _LIMIT_MARGIN
 
-    def width() -> int:
+    def width(self) -> int:
         """The number of constraints at the current instants (the offset alone is regular)."""
-        return sum(part.size for _, part in margins(np.zeros(3 + 6 * L)))
+        return sum(part.size for _, part in self.margins(np.zeros(3 + 6 * self.L)))
 
+
+def _initial_guess(problem: _Problem, seed: int) -> FloatArray:
+    """A random series (``seed``) of small coefficients, halved until within the limits."""
+    L = problem.L
     rng = np.random.default_rng(seed)
     z0 = np.concatenate([np.zeros(3), rng.uniform(-1.0, 1.0, 6 * L) * 0.3 / L])
     for _ in range(30):  # shrink the guess into the limits
-        if constraints(z0).min() >= 0.0:
-            break
+        if problem.constraints(z0).min() >= 0.0:
+            return z0
         z0[3:] *= 0.5
-    else:
-        raise ParameterError("no motion within the limits found (limits too tight)")
-    initial = math.exp(objective(z0))
-    solution: Any = minimize(
-        objective,
-        z0,
-        method="SLSQP",
-        constraints=[{"type": "ineq", "fun": constraints}],
-        bounds=[(-1.0, 1.0)] * 3 + [(-1.0, 1.0)] * (6 * L),
-        options={"maxiter": max_iterations, "ftol": 1e-6},
-        callback=None if progress is None else _counter(progress, max_iterations),
-    )
-    if progress is not None:
-        progress(max_iterations, max_iterations)
-    z = np.asarray(solution.x, dtype=np.float64)
-    # (a family robot's: within 5 % of its limits, the smaller oscillation below repairs it)
-    if constraints(z).min() < (-0.05 if family else -1e-6) or objective(z) > objective(z0):
-        z = z0  # the optimiser left the limits: keep the feasible guess
-    t = np.linspace(0.0, period, _FINE_SAMPLES)  # the limits between the samples too
+    raise ParameterError("no motion within the limits found (limits too tight)")
+
+
+def _within_limits(problem: _Problem, z: FloatArray, z0: FloatArray) -> FloatArray:
+    """``z`` with a smaller oscillation about its offset until within the limits at
+    ``problem.t`` (else the guess ``z0``)."""
     for _ in range(40):
-        worst = float(constraints(z).min())
+        worst = float(problem.constraints(z).min())
         if worst >= 0.0:
-            break
+            return z
         z[3:] *= 1.0 - max(0.01, 2.0 * -worst)  # a smaller oscillation about the offset
-    else:  # pragma: no cover - the offset alone satisfies the limits
-        z = z0
-    # on the fine instants: the limit that binds, and identification's criterion
-    binding = min(margins(z), key=lambda part: float(part[1].min()))[0]
-    W, _, lam, dlam, effort, _ = evaluate(z)
-    t = coarse
-    refused = excitation_refusal(base, W)
-    if refused is not None:
-        raise ParameterError(
-            f"no motion found within the limits excites every base parameter: the limit that "
-            f"binds is {binding}, and {refused}; widen it"
-        )
-    return ExcitingTrajectory(
-        series=unpack(z),
-        condition=math.exp(objective(z)),
-        initial_condition=initial,
-        peak_lambda10=float(np.abs(lam).max()),
-        peak_dlambda10=float(np.abs(dlam).max()),
-        peak_f10=float(np.abs(effort).max()),
-        iterations=int(getattr(solution, "nit", 0)),
-    )
+    return z0  # pragma: no cover - the offset alone satisfies the limits

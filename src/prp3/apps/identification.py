@@ -197,6 +197,35 @@ def identify(
     >>> bool(np.allclose(result.estimate, result.base.values(standard_parameters(robot))))
     True
     """
+    every, names, measured = _checked_inputs(robot, motion, f10, parameters, where)
+    fixed = tuple(name for name in every if name not in names)
+    base, W, known = _base_columns(robot, motion, every, names, fixed, where, progress)
+    try:
+        return fit_base_parameters(base, W, measured, motion.t, where, known=known, fixed=fixed)
+    except ParameterError as error:  # name the measured value, by its column
+        with np.errstate(over="ignore"):
+            squares = float(np.sum(measured**2))
+        if error.key != "measured" or np.isfinite(squares):  # W too large: as it is
+            raise
+        effort = "f10" if isinstance(robot, Robot) else "tau"
+        k, j = (int(v) for v in np.unravel_index(np.argmax(np.abs(measured)), measured.shape))
+        raise ParameterError(
+            f"the least squares overflow double precision: {effort}_{LEGS[j]} = "
+            f"{float(measured[k, j])!r} is far beyond the efforts of the robot",
+            key="measured",
+            sample=k,
+        ) from None
+
+
+def _checked_inputs(
+    robot: Robot | FamilyRobot,
+    motion: Motion,
+    f10: FloatArray,
+    parameters: Sequence[str] | None,
+    where: str,
+) -> tuple[tuple[str, ...], tuple[str, ...], FloatArray]:
+    """:func:`identify`'s arguments checked: every standard parameter of ``robot``, those
+    estimated, and the measured efforts ``(N, 3)``."""
     family = isinstance(robot, FamilyRobot)
     if family:
         every = FAMILY_PARAMETERS
@@ -211,32 +240,72 @@ def identify(
         raise TrajectoryError(f"{where}: the motion must be a batch prp3.Motion")
     effort = "tau" if family else "f10"
     measured = check_per_leg(effort, f10)
-    samples = motion.samples
-    if measured.shape != (samples, 3):
+    if measured.shape != (motion.samples, 3):
         raise TrajectoryError(
-            f"{where}: {effort} must have shape ({samples}, 3) to match the motion, got "
+            f"{where}: {effort} must have shape ({motion.samples}, 3) to match the motion, got "
             f"{measured.shape}"
         )
-    fixed = tuple(name for name in every if name not in names)
-    if isinstance(robot, FamilyRobot):
-        base = base_parameters(robot, FAMILY_FORCES, names)
-        too_few = samples_refusal(base, samples)
-        if too_few is not None:
-            raise TrajectoryError(f"{where}: {too_few}")
-        Y = family_regressor(robot, motion, every, progress=progress).tau
-        columns = [every.index(name) for name in fixed]
-        known = family_known_forces(robot, motion)
-        if fixed:
-            known = known + Y[..., columns] @ family_standard_parameters(robot, fixed)
-        W = Y[..., [every.index(names[j]) for j in base.independent]]  # (N, 3, B)
-    else:
+    return tuple(every), tuple(names), measured
+
+
+def _base_columns(
+    robot: Robot | FamilyRobot,
+    motion: Motion,
+    every: Sequence[str],
+    names: Sequence[str],
+    fixed: tuple[str, ...],
+    where: str,
+    progress: Callable[[int, int], None] | None,
+) -> tuple[BaseParameters, FloatArray, FloatArray]:
+    """The base parameters, the base regressor ``W (N, 3, B)`` of the efforts and the known
+    efforts: of the 3-PRP its ``f10`` and its elements' and fixed parameters' forces; of a
+    family robot its ``tau``, its ``[load]``'s and the fixed parameters' efforts."""
+    if not isinstance(robot, FamilyRobot):
         refuse_mu(robot)
         base = base_parameters(robot, ("f10",), names)
-        too_few = samples_refusal(base, samples)
-        if too_few is not None:
-            raise TrajectoryError(f"{where}: {too_few}")
+        check_samples(base, motion.samples, where)
         known = known_forces(robot, motion, fixed)
         W = regressor(robot, motion, names, progress=progress).f10[..., list(base.independent)]
+        return base, W, known
+    base = base_parameters(robot, FAMILY_FORCES, names)
+    check_samples(base, motion.samples, where)
+    Y = family_regressor(robot, motion, every, progress=progress).tau
+    columns = [every.index(name) for name in fixed]
+    known = family_known_forces(robot, motion)
+    if fixed:
+        known = known + Y[..., columns] @ family_standard_parameters(robot, fixed)
+    return base, Y[..., [every.index(names[j]) for j in base.independent]], known
+
+
+def check_samples(base: BaseParameters, samples: int, where: str) -> None:
+    """Raise the :class:`~prp3.errors.TrajectoryError` of :func:`samples_refusal` (naming
+    ``where``) when ``samples`` samples are too few for ``base``."""
+    too_few = samples_refusal(base, samples)
+    if too_few is not None:
+        raise TrajectoryError(f"{where}: {too_few}")
+
+
+def fit_base_parameters(
+    base: BaseParameters,
+    W: FloatArray,
+    measured: FloatArray,
+    t: FloatArray,
+    where: str,
+    *,
+    known: FloatArray | float = 0.0,
+    fixed: tuple[str, ...] = (),
+) -> Identification:
+    """Steps 2–4 of :func:`identify`, shared by every robot: the excitation refusal, the
+    two-pass weighted least squares of ``measured − known`` on the base regressor
+    ``W (N, legs, B)``, and the :class:`Identification` (``t``: the sample times, s).
+
+    Raises
+    ------
+    TrajectoryError
+        ``W`` does not excite a base parameter (naming ``where``).
+    ParameterError
+        Key ``measured``: values so large that the least squares overflow.
+    """
     target = measured - known
     stacked = W.reshape(-1, base.count)
     refused = excitation_refusal(base, stacked)
@@ -244,22 +313,7 @@ def identify(
         raise TrajectoryError(
             f"{where}: {refused}; move every coordinate, e.g. along a trajectory of prp3 excite"
         )
-    try:
-        estimate, std, sigma = weighted_least_squares(
-            W, target, names=[base.label(b) for b in range(base.count)]
-        )
-    except ParameterError as error:  # name the measured value, by its column
-        with np.errstate(over="ignore"):
-            squares = float(np.sum(measured**2))
-        if error.key != "measured" or np.isfinite(squares):  # W too large: as it is
-            raise
-        k, j = (int(v) for v in np.unravel_index(np.argmax(np.abs(measured)), measured.shape))
-        raise ParameterError(
-            f"the least squares overflow double precision: {effort}_{LEGS[j]} = "
-            f"{float(measured[k, j])!r} is far beyond the efforts of the robot",
-            key="measured",
-            sample=k,
-        ) from None
+    estimate, std, sigma = weighted_least_squares(W, target, names=base.labels)
     fitted = W @ estimate + known
     return Identification(
         base=base,
@@ -268,7 +322,7 @@ def identify(
         condition=float(np.linalg.cond(stacked)),
         sigma=sigma,
         residual_rms=np.sqrt(((measured - fitted) ** 2).mean(axis=0)),
-        t=np.asarray(motion.t, dtype=np.float64),
+        t=np.asarray(t, dtype=np.float64),
         measured=measured,
         fitted=fitted,
         fixed=fixed,

@@ -61,27 +61,33 @@ singular).
 from __future__ import annotations
 
 import copy
-import hashlib
-import json
 import math
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3 import __version__
-from prp3.apps.design import design_mapping, nominal_design_row, nominal_value
+from prp3.apps.design import (
+    design_mapping,
+    first_row,
+    nominal_design_row,
+    nominal_value,
+    status_columns,
+)
 from prp3.apps.design_objective import OptimizeSpec
 from prp3.apps.sweep_spec import (
     MAX_DESIGNS,
     Parameter,
     parameter_paths,
+    read_spec_file,
     refuse_unknown_keys,
     sample_designs,
+    spec_digest,
     spec_integer,
     spec_number,
     spec_optimize,
@@ -91,6 +97,7 @@ from prp3.apps.sweep_spec import (
 from prp3.errors import ParameterError, Prp3Error, SingularPoseError
 from prp3.io.spatial_robot import (
     SPATIAL_ARCHITECTURES,
+    SpatialRobotFile,
     read_spatial_robot,
     spatial_robot_from_mapping,
     spatial_robot_text,
@@ -301,22 +308,18 @@ class SpatialEvaluator:
             "architecture": np.array([s.architecture for s in studies], dtype=str),
             **{path: xs[:, j].copy() for j, path in enumerate(self.paths)},
         }
-        status: list[str] = []
-        results = np.full((count, len(SPATIAL_DESIGN_COLUMNS)), np.nan)
-        for i, study in enumerate(studies):
-            given = [float(xs[i, self.paths.index(path)]) for path in study.paths]
-            try:
-                robot = spatial_design_file(study, given).robot
-            except ParameterError:
-                status.append("invalid")
-                continue
-            state, numbers = self.row(robot)
-            status.append(state)
-            results[i] = numbers
-        columns["status"] = np.array(status, dtype=str)
-        for j, name in enumerate(SPATIAL_DESIGN_COLUMNS):
-            columns[name] = results[:, j].copy()
-        return columns
+        builders = [
+            partial(_design_robot, study, [float(xs[i, self.paths.index(p)]) for p in study.paths])
+            for i, study in enumerate(studies)
+        ]
+        return columns | status_columns(
+            builders, lambda _, robot: self.row(robot), SPATIAL_DESIGN_COLUMNS
+        )
+
+
+def _design_robot(study: SpatialStudy, values: Sequence[float]) -> SpatialRobot:
+    design: SpatialRobotFile = spatial_design_file(study, values)
+    return design.robot
 
 
 @dataclass(frozen=True, eq=False)
@@ -434,22 +437,15 @@ class SpatialSweepSpec:
 
     def digest(self) -> str:
         """SHA-256 of everything the rows depend on (keys the staging folder of a resume)."""
-        hasher = hashlib.sha256()
         described = {
             "format": "spatial-1",
-            "prp3": __version__,
             "chunk": self.chunk,
             "nominal": [[s.name, s.nominal] for s in self.studies],
             **{k: v for k, v in self.described().items() if k != "source"},
         }
-        hasher.update(json.dumps(described, sort_keys=True).encode())
-        for motion in self.evaluator.trajectories:
-            if motion is not None:
-                for name in ("t", "position", "rotation", "omega", "velocity", "alpha",
-                             "acceleration"):  # fmt: skip
-                    array = np.ascontiguousarray(getattr(motion, name), dtype=np.float64)
-                    hasher.update(array.tobytes())
-        return hasher.hexdigest()
+        motions = [m for m in self.evaluator.trajectories if m is not None]
+        fields = ("t", "position", "rotation", "omega", "velocity", "alpha", "acceleration")
+        return spec_digest(described, motions, fields)
 
     def robot_spec(self, index: int) -> SpatialRobotSpec:
         """Robot ``index`` alone with its parameters, to optimise (seed ``seed + index``)."""
@@ -480,6 +476,11 @@ def _leaves(table: Mapping[str, Any], prefix: str = "") -> list[str]:
     return out
 
 
+def _robot_file(file: Path) -> tuple[SpatialRobotFile, dict[str, Any]]:
+    """A spatial robot file and its mapping as it gives it."""
+    return read_spatial_robot(file), dict(read_toml(file, "robot"))
+
+
 def _studies(source: str, base: Path, spatial: Any) -> tuple[list[SpatialStudy], list[Path]]:
     names = [spatial] if isinstance(spatial, str) else spatial
     if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
@@ -493,12 +494,7 @@ def _studies(source: str, base: Path, spatial: Any) -> tuple[list[SpatialStudy],
             given: dict[str, Any] = {"architecture": name}
             text = spatial_robot_text(name, comments=False)
         else:
-            file = Path(name) if Path(name).is_absolute() else base / name
-            try:
-                design = read_spatial_robot(file)
-                given = dict(read_toml(file, "robot"))
-            except Prp3Error as error:
-                raise type(error)(f"{source}: spatial {name!r}: {error}") from None
+            file, (design, given) = read_spec_file(source, "spatial", name, base, _robot_file)
             text = spatial_robot_text(design, comments=False)
             files.append(file)
         values = tomllib.loads(text)
@@ -592,11 +588,9 @@ def _task(
                     ) from None
             motions.append(None)
             continue
-        file = Path(name) if Path(name).is_absolute() else base / name
-        try:
-            trajectory = read_spatial_trajectory(file)
-        except Prp3Error as error:
-            raise type(error)(f"{source}: task.motions {name!r}: {error}") from None
+        file, trajectory = read_spec_file(
+            source, "task.motions", name, base, read_spatial_trajectory
+        )
         motions.append(trajectory.motion)
         files.append(file)
         if trajectory.note is not None:
@@ -694,8 +688,7 @@ def optimize_spatial(
             else:
                 columns = single.evaluator.evaluate(np.zeros((1, 0)))
                 value = float(penalized_objective(spec.optimize, columns)[0])
-                text = single.evaluator.text_columns
-                row = {n: (str(v[0]) if n in text else float(v[0])) for n, v in columns.items()}
+                row = first_row(columns, single.evaluator.text_columns)
                 feasible = value < INFEASIBLE
                 history = {
                     "generation": np.zeros(1),

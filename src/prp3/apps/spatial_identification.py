@@ -64,9 +64,9 @@ from numpy.typing import NDArray
 from prp3.apps.base_parameters import BaseParameters, base_parameters_of
 from prp3.apps.identification import (
     Identification,
+    check_samples,
     excitation_refusal,
-    samples_refusal,
-    weighted_least_squares,
+    fit_base_parameters,
 )
 from prp3.errors import ParameterError, Prp3Error, TrajectoryError
 from prp3.io.spatial_robot import SpatialRobotFile, spatial_robot_from_mapping, spatial_robot_text
@@ -513,19 +513,10 @@ def spatial_identify(
         raise ParameterError(f"where must be a string, got {where!r}"[:200], key="where")
     per_leg = _check_flag(per_leg)
     base = spatial_base_parameters(robot, per_leg=per_leg)
-    too_few = samples_refusal(base, len(motion))
-    if too_few is not None:
-        raise TrajectoryError(f"{where}: {too_few}")
-    Y = spatial_regressor(robot, motion, per_leg=per_leg)
-    W = Y.tau[..., list(base.independent)]
-    stacked = W.reshape(-1, base.count)
-    refused = excitation_refusal(base, stacked)
-    if refused is not None:
-        raise TrajectoryError(
-            f"{where}: {refused}; move every coordinate, e.g. along a trajectory of prp3 excite"
-        )
+    check_samples(base, len(motion), where)
+    W = spatial_regressor(robot, motion, per_leg=per_leg).tau[..., list(base.independent)]
     try:
-        estimate, std, sigma = weighted_least_squares(W, measured, names=base.labels)
+        return fit_base_parameters(base, W, measured, motion.t, where)
     except ParameterError as error:
         if error.key != "measured":
             raise
@@ -536,19 +527,6 @@ def spatial_identify(
             sample=k,
             key=f"tau_{i + 1}",
         ) from None
-    fitted = W @ estimate
-    return Identification(
-        base=base,
-        estimate=estimate,
-        std=std,
-        condition=float(np.linalg.cond(stacked)),
-        sigma=sigma,
-        residual_rms=np.sqrt(((measured - fitted) ** 2).mean(axis=0)),
-        t=np.asarray(motion.t, dtype=np.float64),
-        measured=measured,
-        fitted=fitted,
-        fixed=(),
-    )
 
 
 def _body_of(name: str, values: FloatArray, default: Body) -> Body:
@@ -720,72 +698,94 @@ def spatial_exciting_trajectory(
         max_force = check_scalar("max_force", max_force, positive=True)
     candidates = check_integer("candidates", candidates, 1, 10_000)
     seed = check_integer("seed", seed, 0, 2**63 - 1)
-    base = spatial_base_parameters(robot)
+    check = _SeriesCheck(robot, spatial_base_parameters(robot), period, max_velocity, max_force)
     mask = np.zeros(6)
     mask[_driven(robot)] = 1.0
     amplitude = np.array([reach * robot.scale] * 3 + [rotation] * 3) * mask
-    a = robot.legs[0].actuated_coordinate
-    columns = list(base.independent)
-    why = ["every series left the reach or the limits"]
-
-    def evaluate(
-        coefficients: tuple[FloatArray, FloatArray], t: FloatArray
-    ) -> tuple[PlatformMotion, float, float, float, float] | None:
-        """The motion, its condition number and peaks, or ``None`` (and ``why``)."""
-        try:
-            with np.errstate(all="ignore"):
-                motion = _pose_motion(robot, t, *_fourier(coefficients, period, t))
-                kin = spatial_kinematics(robot, motion)
-                tau = virtual_work_efforts(robot, motion)
-        except Prp3Error as error:
-            why[0] = error.reason
-            return None
-        peak_dq, peak_tau = float(np.abs(kin.dq[..., a]).max()), float(np.abs(tau).max())
-        if max_velocity is not None and peak_dq > max_velocity:
-            why[0] = f"the actuated joints' |dq| {peak_dq:.4g} > max_velocity {max_velocity:g}"
-            return None
-        if max_force is not None and peak_tau > max_force:
-            why[0] = f"|tau| {peak_tau:.4g} > max_force {max_force:g}"
-            return None
-        stacked = spatial_regressor(robot, motion).tau[..., columns].reshape(-1, base.count)
-        refused = excitation_refusal(base, stacked)
-        if refused is not None:
-            why[0] = refused
-            return None
-        condition = float(np.linalg.cond(stacked / np.linalg.norm(stacked, axis=0)))
-        return motion, condition, float(np.abs(kin.q[..., a]).max()), peak_dq, peak_tau
-
+    why = "every series left the reach or the limits"
     coarse = np.linspace(0.0, period, min(samples, 201))
     best: tuple[float, int, tuple[FloatArray, FloatArray]] | None = None
     for k in range(candidates):
-        rng = np.random.default_rng([seed, k])
-        weights = 1.0 / np.arange(1, harmonics + 1)
-        coefficients = (
-            rng.normal(size=(6, harmonics)) * weights,
-            rng.normal(size=(6, harmonics)) * weights,
+        found, coefficients = _first_passing(
+            check, _random_series(seed, k, harmonics, amplitude, period), coarse
         )
-        peak = np.abs(_fourier(coefficients, period, np.linspace(0.0, period, 401))[0]).max(axis=0)
-        factor = (amplitude / np.where(peak > 0.0, peak, 1.0))[:, None]
-        coefficients = (coefficients[0] * factor, coefficients[1] * factor)
-        for _ in range(12):
-            found = evaluate(coefficients, coarse)
-            if found is not None:
-                if best is None or found[1] < best[0]:
-                    best = (found[1], k, coefficients)
-                break
-            coefficients = (0.7 * coefficients[0], 0.7 * coefficients[1])
+        if isinstance(found, str):
+            why = found
+        elif best is None or found[1] < best[0]:
+            best = (found[1], k, coefficients)
     if best is not None:
         _, k, coefficients = best
-        t = np.linspace(0.0, period, samples)
-        for _ in range(12):
-            final = evaluate(coefficients, t)
-            if final is not None:
-                motion, condition, peak_q, peak_dq, peak_tau = final
-                return SpatialExcitation(
-                    motion, condition, candidates, k, peak_q, peak_dq, peak_tau
-                )
-            coefficients = (0.7 * coefficients[0], 0.7 * coefficients[1])
+        final, _ = _first_passing(check, coefficients, np.linspace(0.0, period, samples))
+        if not isinstance(final, str):
+            motion, condition, peak_q, peak_dq, peak_tau = final
+            return SpatialExcitation(motion, condition, candidates, k, peak_q, peak_dq, peak_tau)
+        why = final
     raise ParameterError(
         f"no exciting motion of the {robot.name} within the limits in {candidates} random "
-        f"series: {why[0]}"[:400]
+        f"series: {why}"[:400]
     )
+
+
+_Series = tuple[FloatArray, FloatArray]
+_Passed = tuple[PlatformMotion, float, float, float, float]
+
+
+@dataclass(frozen=True)
+class _SeriesCheck:
+    """Whether a Fourier series of :func:`spatial_exciting_trajectory` passes its limits."""
+
+    robot: SpatialRobot
+    base: BaseParameters
+    period: float
+    max_velocity: float | None
+    max_force: float | None
+
+    def __call__(self, coefficients: _Series, t: FloatArray) -> _Passed | str:
+        """The motion, its condition number and peaks; or why it is refused."""
+        robot, base, a = self.robot, self.base, self.robot.legs[0].actuated_coordinate
+        try:
+            with np.errstate(all="ignore"):
+                motion = _pose_motion(robot, t, *_fourier(coefficients, self.period, t))
+                kin = spatial_kinematics(robot, motion)
+                tau = virtual_work_efforts(robot, motion)
+        except Prp3Error as error:
+            return error.reason
+        peak_dq, peak_tau = float(np.abs(kin.dq[..., a]).max()), float(np.abs(tau).max())
+        if self.max_velocity is not None and peak_dq > self.max_velocity:
+            return f"the actuated joints' |dq| {peak_dq:.4g} > max_velocity {self.max_velocity:g}"
+        if self.max_force is not None and peak_tau > self.max_force:
+            return f"|tau| {peak_tau:.4g} > max_force {self.max_force:g}"
+        columns = list(base.independent)
+        stacked = spatial_regressor(robot, motion).tau[..., columns].reshape(-1, base.count)
+        refused = excitation_refusal(base, stacked)
+        if refused is not None:
+            return refused
+        condition = float(np.linalg.cond(stacked / np.linalg.norm(stacked, axis=0)))
+        return motion, condition, float(np.abs(kin.q[..., a]).max()), peak_dq, peak_tau
+
+
+def _random_series(
+    seed: int, k: int, harmonics: int, amplitude: FloatArray, period: float
+) -> _Series:
+    """Random series ``k`` (:func:`numpy.random.default_rng` of ``[seed, k]``), scaled to peak
+    at ``amplitude`` in each coordinate."""
+    rng = np.random.default_rng([seed, k])
+    weights = 1.0 / np.arange(1, harmonics + 1)
+    a = rng.normal(size=(6, harmonics)) * weights
+    b = rng.normal(size=(6, harmonics)) * weights
+    peak = np.abs(_fourier((a, b), period, np.linspace(0.0, period, 401))[0]).max(axis=0)
+    factor = (amplitude / np.where(peak > 0.0, peak, 1.0))[:, None]
+    return a * factor, b * factor
+
+
+def _first_passing(
+    check: _SeriesCheck, coefficients: _Series, t: FloatArray
+) -> tuple[_Passed | str, _Series]:
+    """The series shrunk (×0.7, up to 12 times) until it passes ``check`` on ``t``: what
+    passes and its coefficients, or the last refusal."""
+    for _ in range(12):
+        found = check(coefficients, t)
+        if not isinstance(found, str):
+            return found, coefficients
+        coefficients = (0.7 * coefficients[0], 0.7 * coefficients[1])
+    return found, coefficients

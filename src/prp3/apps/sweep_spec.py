@@ -16,16 +16,16 @@ import json
 import math
 import re
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from prp3 import __version__
-from prp3.apps.design import AGGREGATES, DesignEvaluator, design_robot, nominal_value
+from prp3.apps.design import AGGREGATES, DesignEvaluator, design_robot, nominal_design_row
 from prp3.apps.design_evaluation import evaluate_designs
 from prp3.apps.design_objective import OptimizeSpec
 from prp3.errors import (
@@ -53,6 +53,7 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+T = TypeVar("T")
 
 #: How designs are drawn: full factorial grid (ends included), Latin hypercube, uniform random.
 SAMPLINGS: tuple[str, ...] = ("grid", "lhs", "random")
@@ -170,12 +171,7 @@ class SweepSpec:
             workspace=evaluator.workspace,
         )
         columns = evaluate_designs(alone, np.zeros((1, 0)))
-        row: dict[str, Any] = {}
-        for path in self.paths:
-            value = nominal_value(evaluator.nominal, path)
-            row[path] = math.nan if value is None else value
-        row |= {n: (str(v[0]) if n == "status" else float(v[0])) for n, v in columns.items()}
-        return row
+        return nominal_design_row(evaluator.nominal, self.paths, columns, ("status",))
 
     def described(self) -> dict[str, Any]:
         """The spec as ``designs.parquet``'s metadata records it (``prp3.spec``)."""
@@ -191,10 +187,8 @@ class SweepSpec:
 
     def digest(self) -> str:
         """SHA-256 of everything the rows depend on (keys the staging folder of a resume)."""
-        hasher = hashlib.sha256()
         described = {
             "format": 1,
-            "prp3": __version__,
             "chunk": self.chunk,
             "nominal": self.evaluator.nominal,
             "parameters": [[p.path, p.low, p.high] for p in self.parameters],
@@ -203,11 +197,37 @@ class SweepSpec:
             "seed": self.seed,
             "workspace": self.evaluator.workspace,
         }
-        hasher.update(json.dumps(described, sort_keys=True).encode())
-        for motion in self.evaluator.motions:
-            for array in (motion.t, motion.pose, motion.velocity, motion.acceleration):
-                hasher.update(np.ascontiguousarray(array, dtype=np.float64).tobytes())
-        return hasher.hexdigest()
+        fields = ("t", "pose", "velocity", "acceleration")
+        return spec_digest(described, self.evaluator.motions, fields)
+
+
+def spec_digest(described: Mapping[str, Any], motions: Sequence[Any], fields: Sequence[str]) -> str:
+    """SHA-256 of a sweep spec: the JSON of ``described`` (with prp3's version), then the
+    float64 bytes of the arrays ``fields`` of every motion, in order.
+
+    >>> len(spec_digest({"designs": 2}, [], ()))
+    64
+    """
+    hasher = hashlib.sha256()
+    hasher.update(
+        json.dumps({"prp3": __version__, **described}, sort_keys=True, default=repr).encode()
+    )
+    for motion in motions:
+        for name in fields:
+            hasher.update(np.ascontiguousarray(getattr(motion, name), dtype=np.float64).tobytes())
+    return hasher.hexdigest()
+
+
+def read_spec_file(
+    source: str, key: str, name: str, base: Path, read: Callable[[Path], T]
+) -> tuple[Path, T]:
+    """File ``name`` of a spec (relative to ``base``) and what ``read`` makes of it; its error
+    names ``source``, ``key`` and ``name`` (``SWEEP.toml: robot 'r.toml': ...``)."""
+    file = Path(name) if Path(name).is_absolute() else base / name
+    try:
+        return file, read(file)
+    except Prp3Error as error:
+        raise type(error)(f"{source}: {key} {name!r}: {error}") from None
 
 
 def read_sweep_spec(path: str | Path) -> SweepSpec:
@@ -369,11 +389,7 @@ def spec_motions(
         if name in PAPER_MOTIONS:
             motions.append(paper_motion(name, samples))
         else:
-            file = Path(name) if Path(name).is_absolute() else base / name
-            try:
-                trajectory = read_trajectory(file)
-            except Prp3Error as error:
-                raise type(error)(f"{source}: task.motions {name!r}: {error}") from None
+            _, trajectory = read_spec_file(source, "task.motions", name, base, read_trajectory)
             motions.append(trajectory.motion)
             if trajectory.note is not None:
                 notes.append(trajectory.note)
@@ -506,11 +522,7 @@ def _nominal(data: Mapping[str, Any], base: Path, source: str) -> dict[str, Any]
     if robot_file is None:
         robot = Robot()
     elif isinstance(robot_file, str) and robot_file:
-        file = Path(robot_file) if Path(robot_file).is_absolute() else base / robot_file
-        try:
-            robot = Robot.from_toml(file)
-        except Prp3Error as error:
-            raise type(error)(f"{source}: robot {robot_file!r}: {error}") from None
+        _, robot = read_spec_file(source, "robot", robot_file, base, Robot.from_toml)
     else:
         raise ParameterError(
             f"{source}: robot must be the path of a ROBOT.toml, got {robot_file!r}"

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import TextIO
+from typing import Any, TextIO
 
 import numpy as np
 
@@ -28,11 +28,13 @@ from prp3.errors import Prp3Error, TrajectoryError
 from prp3.files import atomic_writer
 from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.spatial_trajectory import SpatialTrajectory, read_spatial_trajectory
-from prp3.io.tables import parquet_available, write_table_csv, write_table_parquet
+from prp3.io.tables import write_table_csv, write_table_parquet
 from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from prp3.spatial.kinematics import complete_motion
+from prp3.spatial.model import SpatialRobot
 from prp3.spatial.motion import SPATIAL_MOTIONS, PlatformMotion, spatial_motion
 from prp3.spatial.outputs import spatial_inverse_dynamics, spatial_results_table
+from prp3.staged_files import StagedOutput
 
 __all__ = ["ANIMATION_NAME", "SPATIAL_BYTES_PER_RUN", "SPATIAL_BYTES_PER_SAMPLE", "run_spatial"]
 
@@ -183,32 +185,8 @@ def run_spatial(
         from prp3.explorer.spatial_page import require_plotly
 
         require_plotly("--html of a spatial robot (the 3-D explorer, docs/spatial.md §22)")
-    if args.format == "parquet" and not parquet_available():
-        raise Prp3Error(
-            "--format parquet needs pyarrow, which is not installed: "
-            "pip install 'prp3[parquet]' (or pyarrow), or leave --format out for CSV"
-        )
-    output: Path = args.output
-    trajectory: SpatialTrajectory | None = None
-    if args.trajectory is not None:
-        trajectory = read_spatial_trajectory(args.trajectory)
-        given = trajectory.motion
-        source = str(trajectory.path)
-        heading = f"prp3 simulate: {robot.name} ({design.path}), trajectory {trajectory.path}"
-    else:
-        samples = args.samples or default_samples
-        check_memory(
-            f"--samples {samples}", SPATIAL_BYTES_PER_RUN + SPATIAL_BYTES_PER_SAMPLE * samples
-        )
-        source = f"--motion {args.motion}"
-        try:
-            given = spatial_motion(robot, args.motion, samples)
-        except Prp3Error as error:
-            raise error.located(origin=source, subject=None) from None
-        heading = (
-            f"prp3 simulate: {robot.name} ({design.path}), {args.motion} motion "
-            f"({SPATIAL_MOTIONS[args.motion]})"
-        )
+    output: Path = args.output  # --format parquet without pyarrow: refused by prp3 simulate
+    given, source, heading, trajectory = _given_motion(args, design, default_samples)
     check_memory(
         f"{len(given)} samples", SPATIAL_BYTES_PER_RUN + SPATIAL_BYTES_PER_SAMPLE * len(given)
     )
@@ -225,17 +203,8 @@ def run_spatial(
     except Prp3Error as error:
         raise _located(error, given, source, trajectory) from None
     table = spatial_results_table(solution)
-    values = np.stack(list(table.values()), axis=1)
-    bad = ~np.isfinite(values)
-    if bad.any():
-        k, c = (int(v) for v in np.argwhere(bad)[0])
-        name = list(table)[c]
-        overflow = TrajectoryError(
-            f"the results overflow: {name} is not finite ({float(values[k, c])!r}); the "
-            "motion's rates or the robot's parameters are out of range",
-            sample=k,
-            key=name,
-        )
+    overflow = _overflow(table)
+    if overflow is not None:
         raise _located(overflow, given, source, trajectory)
     progress.update("computing", 1, 1)
     if trajectory is not None and trajectory.note is not None:
@@ -259,31 +228,7 @@ def run_spatial(
             write_table_parquet(staged.path(results_name), table)
         else:
             write_table_csv(staged.path(results_name), table, progress=progress.stage(results_name))
-        if args.plots:
-            from prp3.plotting.figures import save_figure
-            from prp3.plotting.spatial import spatial_figures
-
-            figures = spatial_figures(table, robot, what=what)
-            for done, (name, figure) in enumerate(figures.items(), start=1):
-                save_figure(figure, staged.path(name))
-                progress.update("figures", done, len(figures))
-        if args.animate:
-            from prp3.plotting.animation import frame_schedule
-            from prp3.plotting.spatial_animation import save_spatial_animation
-
-            frames = args.frames if args.frames is not None else MAX_FRAMES
-            indices, _ = frame_schedule(table["t"], frames)
-            if args.frames is not None and len(indices) < args.frames:
-                note = _fewer_frames(args.frames, table["t"], len(indices))
-                print(f"{args.program}: warning: {note}", file=stderr)
-            save_spatial_animation(
-                robot,
-                table,
-                staged.path(ANIMATION_NAME),
-                max_frames=frames,
-                title=f"{robot.name}: {what}",
-                progress=progress.stage("animation"),
-            )
+        _write_figures(args, staged, robot, table, what, progress, stderr)
         progress.close()
         emit(_summary(heading, table, len(robot.legs), unit, files_report(staged)))
     if html is not None and page is not None:  # as the planar robots' page: after the folder
@@ -291,3 +236,80 @@ def run_spatial(
             stream.write(page)
         emit(f"html file written: {html}")
     return 0
+
+
+def _given_motion(
+    args: argparse.Namespace, design: SpatialRobotFile, default_samples: int
+) -> tuple[PlatformMotion, str, str, SpatialTrajectory | None]:
+    """The motion ``prp3 simulate`` is given (``--trajectory`` or ``--motion``), what names it
+    in messages, the summary's heading and the trajectory file read (or ``None``)."""
+    robot = design.robot
+    if args.trajectory is not None:
+        trajectory = read_spatial_trajectory(args.trajectory)
+        heading = f"prp3 simulate: {robot.name} ({design.path}), trajectory {trajectory.path}"
+        return trajectory.motion, str(trajectory.path), heading, trajectory
+    samples = args.samples or default_samples
+    check_memory(f"--samples {samples}", SPATIAL_BYTES_PER_RUN + SPATIAL_BYTES_PER_SAMPLE * samples)
+    source = f"--motion {args.motion}"
+    try:
+        given = spatial_motion(robot, args.motion, samples)
+    except Prp3Error as error:
+        raise error.located(origin=source, subject=None) from None
+    heading = (
+        f"prp3 simulate: {robot.name} ({design.path}), {args.motion} motion "
+        f"({SPATIAL_MOTIONS[args.motion]})"
+    )
+    return given, source, heading, None
+
+
+def _overflow(table: dict[str, Any]) -> TrajectoryError | None:
+    """The refusal of results that are not finite (naming the first column and sample)."""
+    values = np.stack(list(table.values()), axis=1)
+    bad = ~np.isfinite(values)
+    if not bad.any():
+        return None
+    k, c = (int(v) for v in np.argwhere(bad)[0])
+    name = list(table)[c]
+    return TrajectoryError(
+        f"the results overflow: {name} is not finite ({float(values[k, c])!r}); the "
+        "motion's rates or the robot's parameters are out of range",
+        sample=k,
+        key=name,
+    )
+
+
+def _write_figures(
+    args: argparse.Namespace,
+    staged: StagedOutput,
+    robot: SpatialRobot,
+    table: dict[str, Any],
+    what: str,
+    progress: Progress,
+    stderr: TextIO,
+) -> None:
+    """The figures (``--plots``) and the animation (``--animate``) of ``prp3 simulate``."""
+    if args.plots:
+        from prp3.plotting.figures import save_figure
+        from prp3.plotting.spatial import spatial_figures
+
+        figures = spatial_figures(table, robot, what=what)
+        for done, (name, figure) in enumerate(figures.items(), start=1):
+            save_figure(figure, staged.path(name))
+            progress.update("figures", done, len(figures))
+    if args.animate:
+        from prp3.plotting.animation import frame_schedule
+        from prp3.plotting.spatial_animation import save_spatial_animation
+
+        frames = args.frames if args.frames is not None else MAX_FRAMES
+        indices, _ = frame_schedule(table["t"], frames)
+        if args.frames is not None and len(indices) < args.frames:
+            note = _fewer_frames(args.frames, table["t"], len(indices))
+            print(f"{args.program}: warning: {note}", file=stderr)
+        save_spatial_animation(
+            robot,
+            table,
+            staged.path(ANIMATION_NAME),
+            max_frames=frames,
+            title=f"{robot.name}: {what}",
+            progress=progress.stage("animation"),
+        )

@@ -6,6 +6,8 @@ from __future__ import annotations
 import argparse
 import csv
 import sys
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -25,7 +27,14 @@ from prp3.io.tables import format_float, write_table_csv
 from prp3.spatial.kinematics import complete_motion
 from prp3.spatial.rotations import matrix_quaternion
 
-__all__ = ["run_spatial_excite", "run_spatial_identify"]
+__all__ = [
+    "SERIES_OPTIONS",
+    "estimate_table",
+    "run_spatial_excite",
+    "run_spatial_identify",
+    "series_options",
+    "write_parameters",
+]
 
 #: The candidates ``prp3 excite`` tries for a spatial robot when ``--iterations`` is not given.
 SPATIAL_CANDIDATES: int = 10
@@ -75,7 +84,7 @@ def run_spatial_identify(
                     f"from the base parameters,\n# every other parameter {args.robot}'s\n"
                     + spatial_robot_text(identified)
                 )
-        _write_parameters(staged.path(parameters_name), result)
+        write_parameters(staged.path(parameters_name), result)
         lines = _summary(result, design, args)
         if refusal is not None:
             lines.append(f"  {robot_name} not written: {refusal}")
@@ -83,8 +92,9 @@ def run_spatial_identify(
     return 0
 
 
-def _write_parameters(path: object, result: Identification) -> None:
-    with atomic_writer(path) as stream:  # type: ignore[arg-type]
+def write_parameters(path: Any, result: Identification) -> None:
+    """Write ``parameters.csv`` of ``prp3 identify``: ``name, combination, estimate, std``."""
+    with atomic_writer(path) as stream:
         writer = csv.writer(stream, lineterminator="\n")
         writer.writerow(("name", "combination", "estimate", "std"))
         for b in range(result.base.count):
@@ -98,22 +108,31 @@ def _write_parameters(path: object, result: Identification) -> None:
             )
 
 
+def estimate_table(result: Identification, unit: Callable[[str], str]) -> list[str]:
+    """The summary's table of the base parameters: a heading, then one line each (its
+    combination, estimate, std and ``unit(name)`` of its leading standard parameter)."""
+    base = result.base
+    width = max(len(label) for label in base.labels)
+    return [
+        f"  {'base parameter':<{width}}  {'estimate':>14}  {'std':>10}  unit",
+        *(
+            f"  {base.label(b):<{width}}  {result.estimate[b]:>14.6g}  {result.std[b]:>10.3g}  "
+            f"{unit(base.names[b])}"
+            for b in range(base.count)
+        ),
+    ]
+
+
 def _summary(
     result: Identification, design: SpatialRobotFile, args: argparse.Namespace
 ) -> list[str]:
     base, unit = result.base, _unit(design)
-    width = max(len(label) for label in base.labels)
     lines = [
         f"prp3 identify: {design.robot.name}, {args.measurements}, {result.t.size} samples, "
         f"{base.count} base parameters of tau (shared by the legs; weighted least squares, "
         "2 passes)",
-        f"  {'base parameter':<{width}}  {'estimate':>14}  {'std':>10}  unit",
+        *estimate_table(result, spatial_parameter_unit),
     ]
-    for b in range(base.count):
-        lines.append(
-            f"  {base.label(b):<{width}}  {result.estimate[b]:>14.6g}  {result.std[b]:>10.3g}  "
-            f"{spatial_parameter_unit(base.names[b])}"
-        )
     lines += [
         f"  condition number of the base regressor: {result.condition:.4g}",
         f"  residual RMS per actuator ({unit}): "
@@ -124,21 +143,23 @@ def _summary(
     return lines
 
 
+#: The options of ``prp3 excite`` that every robot's excitation takes as they are.
+SERIES_OPTIONS: tuple[str, ...] = (
+    "period", "harmonics", "reach", "rotation", "max_velocity", "max_force", "seed",
+)  # fmt: skip
+
+
+def series_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The options :data:`SERIES_OPTIONS` of ``prp3 excite``, by name."""
+    return {name: getattr(args, name) for name in SERIES_OPTIONS}
+
+
 def run_spatial_excite(args: argparse.Namespace, design: SpatialRobotFile, name: str) -> int:
     """``prp3 excite`` of a spatial robot file; return the exit status."""
     robot = design.robot
     candidates = args.iterations if args.iterations is not None else SPATIAL_CANDIDATES
     result = spatial_exciting_trajectory(
-        robot,
-        period=args.period,
-        harmonics=args.harmonics,
-        samples=args.samples,
-        reach=args.reach,
-        rotation=args.rotation,
-        max_velocity=args.max_velocity,
-        max_force=args.max_force,
-        candidates=candidates,
-        seed=args.seed,
+        robot, **series_options(args), samples=args.samples, candidates=candidates
     )
     m = result.motion
     q = matrix_quaternion(m.rotation)

@@ -55,7 +55,7 @@ from prp3.io.spatial_robot import SpatialRobotFile
 from prp3.io.tables import write_table_csv
 from prp3.io.trajectory import read_trajectory
 from prp3.mechanics.geometry import inverse_geometry
-from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, law_at
+from prp3.model.motion import PAPER_DURATION, PAPER_MOTIONS, Motion, law_at
 from prp3.model.robot import Robot
 from prp3.plotting.control import TRACKING_FIGURE  # a constant: matplotlib is not imported
 from prp3.spatial.motion import SPATIAL_MOTIONS
@@ -257,16 +257,7 @@ def run(args: argparse.Namespace) -> int:
             f"the planar robots take --motion {' | '.join(PAPER_MOTIONS)} or --trajectory"
         )
     robot = load_any_robot(args)  # either form: docs/family.md for the other architectures
-    model: Robot | FamilyRobot = robot
-    if args.model is not None:
-        try:
-            model = read_robot_file(args.model)
-        except ParameterError as error:
-            raise error.located(file=args.model) from None
-    try:
-        check_model(robot, model)
-    except ParameterError as error:
-        raise error.located(file=args.model) from None
+    model = _checked_model(args, robot)
     family = isinstance(robot, FamilyRobot)
     effort, unit = ("tau", "N") if family else ("f10", "N")
     if isinstance(robot, FamilyRobot) and robot.types[robot.actuated - 1] == "R":
@@ -275,31 +266,7 @@ def run(args: argparse.Namespace) -> int:
         model_text = f"model {args.model}"
     else:
         model_text = "model = the plant's robot"
-    if args.trajectory is not None:
-        trajectory = read_trajectory(args.trajectory, crossing=not family)
-        if trajectory.motion.load is not None:
-            raise TrajectoryError(
-                f"prp3 control does not use the load columns: {LOAD_REFUSAL}",
-                file=trajectory.path,
-            )
-        note = trajectory.note
-        motion = trajectory.motion
-        try:
-            if isinstance(robot, Robot):  # a family robot's: checked along its path by track
-                inverse_geometry(robot, motion.pose)
-        except (SingularPoseError, UnreachablePoseError) as error:
-            sample = error.sample
-            line = int(trajectory.lines[sample]) if sample is not None else None
-            when = float(motion.t[sample]) if sample is not None else None
-            raise error.located(file=trajectory.path, line=line, time=when, subject=None) from None
-        times = control_times(float(motion.t[0]), float(motion.t[-1]), args.rate)
-        reference = hermite_reference(motion, times, crossing=not family)
-        what = f"trajectory {args.trajectory} (quintic Hermite reference)"
-    else:
-        note = None
-        times = control_times(0.0, PAPER_DURATION, args.rate)
-        reference = law_at(PAPER_MOTIONS[args.motion], times)
-        what = f"{args.motion} motion (paper eq. 4)"
+    reference, what, note = _reference(args, robot)
     with progress_bar() as bar:
         result = track(
             robot,
@@ -339,22 +306,76 @@ def run(args: argparse.Namespace) -> int:
             )
         # printed before the files are moved in: a failing standard output keeps older results
         emit(_summary(result, title, what, model_text, args, files_report(staged), effort, unit))
-    limit = None if isinstance(robot, FamilyRobot) else robot.limits.max_force
+    if isinstance(robot, Robot):
+        _force_warnings(args.program, robot, result)
+    if result.status != "completed":
+        print(f"{args.program}: warning: {result.message}", file=sys.stderr)
+        return EXIT_STOPPED
+    return 0
+
+
+def _checked_model(args: argparse.Namespace, robot: Robot | FamilyRobot) -> Robot | FamilyRobot:
+    """The controller's model: ``--model`` (else the plant's robot), checked against it."""
+    model: Robot | FamilyRobot = robot
+    if args.model is not None:
+        try:
+            model = read_robot_file(args.model)
+        except ParameterError as error:
+            raise error.located(file=args.model) from None
+    try:
+        check_model(robot, model)
+    except ParameterError as error:
+        raise error.located(file=args.model) from None
+    return model
+
+
+def _reference(
+    args: argparse.Namespace, robot: Robot | FamilyRobot
+) -> tuple[Motion, str, str | None]:
+    """The reference at the control times (``--trajectory`` or ``--motion``), what the summary
+    calls it and the trajectory file's note (or ``None``)."""
+    if args.trajectory is None:
+        times = control_times(0.0, PAPER_DURATION, args.rate)
+        return (
+            law_at(PAPER_MOTIONS[args.motion], times),
+            f"{args.motion} motion (paper eq. 4)",
+            None,
+        )
+    family = isinstance(robot, FamilyRobot)
+    trajectory = read_trajectory(args.trajectory, crossing=not family)
+    if trajectory.motion.load is not None:
+        raise TrajectoryError(
+            f"prp3 control does not use the load columns: {LOAD_REFUSAL}",
+            file=trajectory.path,
+        )
+    motion = trajectory.motion
+    try:
+        if isinstance(robot, Robot):  # a family robot's: checked along its path by track
+            inverse_geometry(robot, motion.pose)
+    except (SingularPoseError, UnreachablePoseError) as error:
+        sample = error.sample
+        line = int(trajectory.lines[sample]) if sample is not None else None
+        when = float(motion.t[sample]) if sample is not None else None
+        raise error.located(file=trajectory.path, line=line, time=when, subject=None) from None
+    times = control_times(float(motion.t[0]), float(motion.t[-1]), args.rate)
+    reference = hermite_reference(motion, times, crossing=not family)
+    return reference, f"trajectory {args.trajectory} (quintic Hermite reference)", trajectory.note
+
+
+def _force_warnings(program: str, robot: Robot, result: Tracking) -> None:
+    """A warning for each actuator whose force the controller asks above ``limits.max_force``."""
+    limit = robot.limits.max_force
     if limit is not None:  # the plant's actuators: the controller asked for more than they give
         peak = np.abs(result.f10).max(axis=0)
         for j, leg in enumerate(LEGS):
             if peak[j] > limit:
                 when = float(result.t[int(np.abs(result.f10[:, j]).argmax())])
                 print(
-                    f"{args.program}: warning: the controller asks |f10_{leg}| = {peak[j]:.6g} N "
+                    f"{program}: warning: the controller asks |f10_{leg}| = {peak[j]:.6g} N "
                     f"at t = {when:.6g} s, above limits.max_force = {limit:g} N (the plant does "
                     "not saturate)",
                     file=sys.stderr,
                 )
-    if result.status != "completed":
-        print(f"{args.program}: warning: {result.message}", file=sys.stderr)
-        return EXIT_STOPPED
-    return 0
 
 
 def _summary(

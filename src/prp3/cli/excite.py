@@ -33,7 +33,7 @@ from prp3.apps.excitation import ExcitingTrajectory, exciting_trajectory
 from prp3.apps.identification import samples_refusal
 from prp3.apps.spatial_identification import spatial_base_parameters
 from prp3.cli._progress import progress_bar
-from prp3.cli._spatial_identify import run_spatial_excite
+from prp3.cli._spatial_identify import run_spatial_excite, series_options
 from prp3.cli._types import (
     add_output_directory,
     add_robot_option,
@@ -145,24 +145,18 @@ def run(args: argparse.Namespace) -> int:
     loaded = load_robot_or_spatial(args)
     if isinstance(loaded, SpatialRobotFile):
         base = spatial_base_parameters(loaded.robot)
-        too_few = samples_refusal(base, args.samples)
-        if too_few is not None:
-            raise ParameterError(f"--samples {args.samples}: {too_few}, which prp3 identify needs")
-        return run_spatial_excite(args, loaded, TRAJECTORY_NAME)
-    robot = loaded
-    too_few = samples_refusal(base_parameters(robot), args.samples)
+    else:
+        base = base_parameters(loaded)
+    too_few = samples_refusal(base, args.samples)
     if too_few is not None:  # prp3 identify would refuse the trajectory written
         raise ParameterError(f"--samples {args.samples}: {too_few}, which prp3 identify needs")
+    if isinstance(loaded, SpatialRobotFile):
+        return run_spatial_excite(args, loaded, TRAJECTORY_NAME)
+    robot = loaded
     with progress_bar() as bar:
         result = exciting_trajectory(
             robot,
-            period=args.period,
-            harmonics=args.harmonics,
-            reach=args.reach,
-            rotation=args.rotation,
-            max_velocity=args.max_velocity,
-            max_force=args.max_force,
-            seed=args.seed,
+            **series_options(args),
             max_iterations=args.iterations if args.iterations is not None else 150,
             progress=bar.stage("optimising", "iterations"),
         )

@@ -24,7 +24,6 @@ The computation is :mod:`prp3.apps.identification`; this module only parses and 
 from __future__ import annotations
 
 import argparse
-import csv
 import sys
 from typing import Any
 
@@ -50,7 +49,7 @@ from prp3.apps.regressor import (
     standard_parameters,
 )
 from prp3.cli._progress import progress_bar
-from prp3.cli._spatial_identify import run_spatial_identify
+from prp3.cli._spatial_identify import estimate_table, run_spatial_identify, write_parameters
 from prp3.cli._types import (
     add_output_directory,
     emit,
@@ -70,7 +69,6 @@ from prp3.family.model import FamilyRobot
 from prp3.files import atomic_writer, check_inputs_kept, check_output_directory
 from prp3.io.measurements import MEASURED_EFFORT_COLUMNS, read_measurements
 from prp3.io.spatial_robot import SpatialRobotFile
-from prp3.io.tables import format_float
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.model.elements import FRICTIONS
 from prp3.model.robot import Robot
@@ -238,7 +236,7 @@ def run(args: argparse.Namespace) -> int:
     with output_folder(args, args.output) as staged:
         with atomic_writer(staged.path(ROBOT_NAME)) as stream:
             stream.write(_robot_text(robot, args))
-        _write_parameters(staged.path(PARAMETERS_NAME), result)
+        write_parameters(staged.path(PARAMETERS_NAME), result)
         save_figure(figure, staged.path(IDENTIFICATION_FIGURE))
         # printed before the files are moved in: a failing standard output keeps older results
         emit(_summary(result, robot, nominal, args, files_report(staged)))
@@ -265,21 +263,6 @@ def _robot_text(robot: IdentifiedRobot, args: argparse.Namespace) -> str:
     )
 
 
-def _write_parameters(path: Any, result: Identification) -> None:
-    with atomic_writer(path) as stream:
-        writer = csv.writer(stream, lineterminator="\n")
-        writer.writerow(("name", "combination", "estimate", "std"))
-        for b in range(result.base.count):
-            writer.writerow(
-                (
-                    result.base.names[b],
-                    result.base.label(b),
-                    format_float(float(result.estimate[b])),
-                    format_float(float(result.std[b])),
-                )
-            )
-
-
 def _summary(
     result: Identification,
     robot: IdentifiedRobot,
@@ -290,18 +273,11 @@ def _summary(
     if isinstance(nominal, FamilyRobot):
         return _family_summary(result, robot, nominal, args, files)
     base = result.base
-    width = max(len(label) for label in base.labels)
     lines = [
         f"prp3 identify: {args.measurements}, {result.t.size} samples, "
         f"{base.count} base parameters of f10 (weighted least squares, 2 passes)",
-        f"  {'base parameter':<{width}}  {'estimate':>14}  {'std':>10}  unit",
+        *estimate_table(result, PARAMETER_UNITS.__getitem__),
     ]
-    for b in range(base.count):
-        unit = PARAMETER_UNITS[base.names[b]]
-        lines.append(
-            f"  {base.label(b):<{width}}  {result.estimate[b]:>14.6g}  {result.std[b]:>10.3g}  "
-            f"{unit}"
-        )
     lines += [
         f"  condition number of the base regressor: {result.condition:.4g}",
         "  residual RMS per actuator (N): "
@@ -367,18 +343,12 @@ def _family_summary(
     """:func:`_summary` of a family robot: its efforts ``tau``, no friction, no joint forces."""
     base = result.base
     unit = _effort_unit(nominal)
-    width = max(len(label) for label in base.labels)
     lines = [
         f"prp3 identify: {nominal.architecture} (actuated joint {nominal.actuated}), "
         f"{args.measurements}, {result.t.size} samples, {base.count} base parameters of tau "
         "(weighted least squares, 2 passes)",
-        f"  {'base parameter':<{width}}  {'estimate':>14}  {'std':>10}  unit",
+        *estimate_table(result, FAMILY_PARAMETER_UNITS.__getitem__),
     ]
-    for b in range(base.count):
-        lines.append(
-            f"  {base.label(b):<{width}}  {result.estimate[b]:>14.6g}  {result.std[b]:>10.3g}  "
-            f"{FAMILY_PARAMETER_UNITS[base.names[b]]}"
-        )
     lines += [
         f"  condition number of the base regressor: {result.condition:.4g}",
         f"  residual RMS per actuator ({unit}): "

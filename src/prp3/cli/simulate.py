@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from prp3.analysis.inverse_dynamics import METHODS
 from prp3.apps.runs import (
+    RunSummary,
     check_memory,
     simulate_table,
     summarize,
@@ -58,8 +59,10 @@ from prp3.io.trajectory import Trajectory, read_trajectory
 from prp3.mechanics.implicit_friction import NEAR_LOCK_MU
 from prp3.mechanics.kinematics import inverse_kinematics
 from prp3.model.motion import PAPER_MOTIONS, Motion, paper_motion
+from prp3.model.robot import Robot
 from prp3.plotting.animation import MAX_FRAMES  # a constant: matplotlib is not imported
 from prp3.spatial.motion import SPATIAL_MOTIONS
+from prp3.staged_files import StagedOutput
 from prp3.validation import LEGS
 
 __all__ = [
@@ -284,7 +287,6 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
             f"--frames {args.frames} applies to the animation only: add --animate, or leave "
             "--frames out"
         )
-    frames: int = args.frames if args.frames is not None else MAX_FRAMES
     results_name = f"results.{args.format}"
     if args.format == "parquet" and not parquet_available():
         raise Prp3Error(
@@ -311,23 +313,8 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
             f"--motion {args.motion} is a motion of the spatial robots (docs/spatial.md §15); "
             f"the planar robots take --motion {' | '.join(PAPER_MOTIONS)} or --trajectory"
         )
-    trajectory: Trajectory | None = None
-    if args.trajectory is not None:
-        if args.samples is not None:
-            raise Prp3Error(
-                "--samples applies to --motion only (a trajectory file has its own samples), "
-                f"got --samples {args.samples} with --trajectory {args.trajectory}"
-            )
-        # a family robot refuses its own crossings as its legs follow the path
-        trajectory = read_trajectory(args.trajectory, crossing=not isinstance(loaded, FamilyRobot))
-        motion = trajectory.motion
-        heading = f"prp3 simulate: trajectory {trajectory.path}"
-    else:
-        samples = args.samples or DEFAULT_SAMPLES
-        check_memory(f"--samples {samples}", BYTES_PER_RUN + BYTES_PER_SAMPLE * samples)
-        motion = paper_motion(args.motion, samples)
-        heading = f"prp3 simulate: {args.motion} motion (paper eq. 4)"
     family = isinstance(loaded, FamilyRobot)
+    motion, heading, trajectory = _planar_motion(args, family)
     args.engine = run_engine(args.engine, motion.samples, "family" if family else "3-PRP")
     heading += (
         f", {motion.samples} samples over t = {float(motion.t[0]):g} .. "
@@ -352,7 +339,23 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
             progress=progress,
             note=note,
         )
-    robot = loaded
+    return _run_prp(args, loaded, motion, heading, trajectory, source, progress, stderr)
+
+
+def _run_prp(
+    args: argparse.Namespace,
+    robot: Robot,
+    motion: Motion,
+    heading: str,
+    trajectory: Trajectory | None,
+    source: str,
+    progress: Progress,
+    stderr: TextIO,
+) -> int:
+    """``prp3 simulate`` of the 3-PRP along ``motion`` (``source`` names it in messages)."""
+    output: Path = args.output
+    results_name = f"results.{args.format}"
+    html: Path | None = getattr(args, "html", None)
     near_lock: list[int] = []
     try:
         table = simulate_table(
@@ -386,40 +389,7 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
             write_table_parquet(staged.path(results_name), table)
         else:
             write_table_csv(staged.path(results_name), table, progress=progress.stage(results_name))
-        if args.plots:
-            from prp3.plotting.figures import results_figures, save_figure
-
-            figures = results_figures(table, motion=args.motion, source=trajectory_file)
-            for done, (name, figure) in enumerate(figures.items(), start=1):
-                save_figure(figure, staged.path(name))
-                progress.update("figures", done, len(figures))
-        if args.animate:
-            from prp3.plotting.animation import frame_schedule, save_animation
-
-            indices, durations = frame_schedule(motion.t, frames)
-            if args.frames is not None and len(indices) < args.frames:
-                print(f"{args.program}: warning: {_fewer_frames(args.frames, motion, len(indices))}",
-                      file=stderr)  # fmt: skip
-            shown = Motion(
-                t=motion.t[indices],
-                pose=motion.pose[indices],
-                velocity=motion.velocity[indices],
-                acceleration=motion.acceleration[indices],
-            )
-            title = (
-                f"3-PRP robot: {args.motion} motion"
-                if args.motion
-                else f"3-PRP robot: {trajectory_file}"
-            )
-            save_animation(
-                robot,
-                inverse_kinematics(robot, shown),
-                staged.path(ANIMATION_NAME),
-                max_frames=frames,
-                durations=durations,
-                title=title,
-                progress=progress.stage("animation"),
-            )
+        _write_figures(args, staged, robot, table, motion, trajectory_file, progress, stderr)
         progress.close()
         # the summary goes out before the files are moved in: a failing standard
         # output then leaves the earlier results in place
@@ -430,13 +400,87 @@ def _run(args: argparse.Namespace, progress: Progress, stderr: TextIO) -> int:
         with atomic_writer(html) as stream:
             stream.write(page)
         emit(f"html file written: {html}")
+    _force_warnings(args.program, robot, summary, stderr)
+    return 0
+
+
+def _planar_motion(args: argparse.Namespace, family: bool) -> tuple[Motion, str, Trajectory | None]:
+    """The motion of ``prp3 simulate`` of a planar robot (``--trajectory`` or ``--motion``),
+    the summary's heading and the trajectory file read (or ``None``)."""
+    if args.trajectory is None:
+        samples = args.samples or DEFAULT_SAMPLES
+        check_memory(f"--samples {samples}", BYTES_PER_RUN + BYTES_PER_SAMPLE * samples)
+        return (
+            paper_motion(args.motion, samples),
+            f"prp3 simulate: {args.motion} motion (paper eq. 4)",
+            None,
+        )
+    if args.samples is not None:
+        raise Prp3Error(
+            "--samples applies to --motion only (a trajectory file has its own samples), "
+            f"got --samples {args.samples} with --trajectory {args.trajectory}"
+        )
+    # a family robot refuses its own crossings as its legs follow the path
+    trajectory = read_trajectory(args.trajectory, crossing=not family)
+    return trajectory.motion, f"prp3 simulate: trajectory {trajectory.path}", trajectory
+
+
+def _write_figures(
+    args: argparse.Namespace,
+    staged: StagedOutput,
+    robot: Robot,
+    table: dict[str, FloatArray],
+    motion: Motion,
+    trajectory_file: str | None,
+    progress: Progress,
+    stderr: TextIO,
+) -> None:
+    """The figures (``--plots``) and the animation (``--animate``) of a 3-PRP run."""
+    frames: int = args.frames if args.frames is not None else MAX_FRAMES
+    if args.plots:
+        from prp3.plotting.figures import results_figures, save_figure
+
+        figures = results_figures(table, motion=args.motion, source=trajectory_file)
+        for done, (name, figure) in enumerate(figures.items(), start=1):
+            save_figure(figure, staged.path(name))
+            progress.update("figures", done, len(figures))
+    if args.animate:
+        from prp3.plotting.animation import frame_schedule, save_animation
+
+        indices, durations = frame_schedule(motion.t, frames)
+        if args.frames is not None and len(indices) < args.frames:
+            print(f"{args.program}: warning: {_fewer_frames(args.frames, motion, len(indices))}",
+                  file=stderr)  # fmt: skip
+        shown = Motion(
+            t=motion.t[indices],
+            pose=motion.pose[indices],
+            velocity=motion.velocity[indices],
+            acceleration=motion.acceleration[indices],
+        )
+        title = (
+            f"3-PRP robot: {args.motion} motion"
+            if args.motion
+            else f"3-PRP robot: {trajectory_file}"
+        )
+        save_animation(
+            robot,
+            inverse_kinematics(robot, shown),
+            staged.path(ANIMATION_NAME),
+            max_frames=frames,
+            durations=durations,
+            title=title,
+            progress=progress.stage("animation"),
+        )
+
+
+def _force_warnings(program: str, robot: Robot, summary: RunSummary, stderr: TextIO) -> None:
+    """A warning for each leg whose peak ``|f10|`` is above the robot's ``limits.max_force``."""
     limit = robot.limits.max_force
     if limit is not None:
         for j, leg in enumerate(LEGS):
             if summary.peak_f10[j] > limit:
                 print(
-                    f"{args.program}: warning: |f10_{leg}| reaches {summary.peak_f10[j]:.6g} N at "
+                    f"{program}: warning: |f10_{leg}| reaches {summary.peak_f10[j]:.6g} N at "
                     f"t = {summary.peak_f10_time[j]:.6g} s, above limits.max_force = {limit:g} N",
                     file=stderr,
                 )
-    return 0

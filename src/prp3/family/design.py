@@ -43,33 +43,33 @@ before them):
 
 from __future__ import annotations
 
-import hashlib
-import json
 import math
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from prp3 import __version__
-from prp3.apps.design import design_mapping, nominal_design_row
+from prp3.apps.design import design_mapping, first_row, nominal_design_row, status_columns
 from prp3.apps.design_objective import OptimizeSpec, penalized_objective
 from prp3.apps.sweep import SweepRun, run_sweep
 from prp3.apps.sweep_spec import (
     Parameter,
     parameter_paths,
+    read_spec_file,
     refuse_unknown_keys,
     sample_designs,
+    spec_digest,
     spec_integer,
     spec_motions,
     spec_sampling,
     spec_table,
 )
-from prp3.errors import ParameterError, Prp3Error, SingularPoseError, UnreachablePoseError
+from prp3.errors import ParameterError, SingularPoseError, UnreachablePoseError
 from prp3.family.model import ARCHITECTURES, FamilyRobot
 from prp3.family.outputs import family_inverse_dynamics
 from prp3.model.motion import Motion
@@ -230,25 +230,16 @@ def evaluate_family_designs(
         "actuated": np.full(count, np.nan),
         **{path: np.full(count, np.nan) for path in evaluator.paths},
     }
-    status: list[str] = []
-    results = np.full((count, len(FAMILY_DESIGN_COLUMNS)), np.nan)
     for i, (index, values) in enumerate(rows):
-        study = evaluator.studies[index]
-        for path, value in zip(study.paths, values, strict=True):
+        for path, value in zip(evaluator.studies[index].paths, values, strict=True):
             columns[path][i] = value
-        try:
-            robot = family_design_robot(study, values)
-        except ParameterError:
-            status.append("invalid")
-            continue
+
+    def row(i: int, robot: FamilyRobot) -> tuple[str, list[float]]:
         columns["actuated"][i] = float(robot.actuated)
-        state, numbers = _row(evaluator, robot)
-        status.append(state)
-        results[i] = numbers
-    columns["status"] = np.array(status, dtype=str)
-    for j, name in enumerate(FAMILY_DESIGN_COLUMNS):
-        columns[name] = results[:, j].copy()
-    return columns
+        return _row(evaluator, robot)
+
+    builders = [partial(family_design_robot, evaluator.studies[s], v) for s, v in rows]
+    return columns | status_columns(builders, row, FAMILY_DESIGN_COLUMNS)
 
 
 @dataclass(frozen=True, eq=False)
@@ -356,20 +347,14 @@ class FamilySweepSpec:
 
     def digest(self) -> str:
         """SHA-256 of everything the rows depend on (keys the staging folder of a resume)."""
-        hasher = hashlib.sha256()
         described = {
             "format": "family-1",
-            "prp3": __version__,
             "chunk": self.chunk,
             "nominal": [study.nominal for study in self.studies],
             **{k: v for k, v in self.described().items() if k != "source"},
         }
-        hasher.update(json.dumps(described, sort_keys=True, default=repr).encode())
-        for motion in self.evaluator.motions:
-            for name in ("t", "pose", "velocity", "acceleration"):
-                array = np.ascontiguousarray(getattr(motion, name), dtype=np.float64)
-                hasher.update(array.tobytes())
-        return hasher.hexdigest()
+        fields = ("t", "pose", "velocity", "acceleration")
+        return spec_digest(described, self.evaluator.motions, fields)
 
 
 def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, Any]) -> Study:
@@ -377,12 +362,10 @@ def _study(source: str, base: Path, index: int, table: Any, shared: dict[str, An
     table = spec_table(source, where, table)
     refuse_unknown_keys(source, f"{where}.", table, _STUDY_KEYS)
     if "robot" in table:
-        file = Path(str(table["robot"]))
-        file = file if file.is_absolute() else base / file
-        try:
-            nominal_robot = FamilyRobot.from_toml(file)
-        except Prp3Error as error:
-            raise type(error)(f"{source}: {where}.robot {str(table['robot'])!r}: {error}") from None
+        name = str(table["robot"])
+        _, nominal_robot = read_spec_file(
+            source, f"{where}.robot", name, base, FamilyRobot.from_toml
+        )
         architecture = table.get("architecture", nominal_robot.architecture)
         if architecture != nominal_robot.architecture:
             raise ParameterError(
@@ -597,10 +580,7 @@ def optimize_family(
             evaluations = 1
             records = [(0, x, float(objective.many(x[None, :])[0]))]
         columns = evaluate_family_designs(spec.evaluator, [(index, x.tolist())])
-        row = {
-            k: (str(v[0]) if k in ("architecture", "status") else float(v[0]))
-            for k, v in columns.items()
-        }
+        row = first_row(columns, spec.evaluator.text_columns)
         value = float(penalized_objective(settings, columns)[0])
         optima.append(
             FamilyOptimum(index, study.architecture, x, value, value < INFEASIBLE, row, evaluations)

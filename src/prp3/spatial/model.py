@@ -674,6 +674,59 @@ def three_rps(
     )  # fmt: skip
 
 
+def _delta_leg(
+    i: int,
+    lengths: tuple[float, float, float, float, float],
+    r_limit: float,
+    u_limit: float,
+    arm_body: Body,
+    forearm_body: Body,
+) -> Leg:
+    """Leg ``i`` of :func:`delta` (at ``−90° + 120°·i``); ``lengths``: ``base_radius, arm,
+    forearm, platform_radius, home_height`` (m)."""
+    r_b, l_a, l_f, r_p, h = lengths
+    angle = -math.pi / 2 + 2.0 * math.pi * i / 3.0
+    radial = np.array([math.cos(angle), math.sin(angle), 0.0])
+    tangent = np.array([-math.sin(angle), math.cos(angle), 0.0])
+    r_rotation = check_rotation(
+        "joint rotation", np.stack([radial, cross(tangent, radial), tangent], axis=1)
+    )
+    # home: the arm's angle solves |c2 − c_R − l_a·u(θ)| = l_f in the leg's plane
+    d_x, d_z = r_p - r_b, -h  # c2 − c_R: radial and vertical parts
+    k = (d_x * d_x + d_z * d_z + l_a * l_a - l_f * l_f) / (2.0 * l_a)
+    a, b = d_x, -d_z  # D·u(θ) = a cos θ + b sin θ (u = cos θ·radial − sin θ·e_z)
+    if not abs(k) < math.hypot(a, b):
+        raise ParameterError(
+            f"the home pose (0, 0, -{h:g}) m is out of reach of an arm of {l_a:g} m and a "
+            f"forearm of {l_f:g} m from the base radius {r_b:g} m",
+            subject="robot",
+            key="home_height",
+        )
+    theta = math.atan2(b, a) - math.acos(k / math.hypot(a, b))
+    elbow = r_b * radial + l_a * (
+        math.cos(theta) * radial - math.sin(theta) * np.array([0, 0, 1.0])
+    )
+    f = (np.array([0.0, 0.0, -h]) + r_p * radial - elbow) / l_f
+    arm_x = math.cos(theta) * radial - math.sin(theta) * np.array([0.0, 0.0, 1.0])
+    gamma = math.atan2(float(f @ cross(tangent, arm_x)), float(f @ arm_x))
+    fore_x = f
+    fore_y = cross(tangent, fore_x)
+    # the second U's joint frame at home: the forearm's frame turned by Rot_x(−π/2)
+    forearm_frame = np.stack([fore_x, fore_y, tangent], axis=1)
+    attach_rotation = check_rotation("attachment rotation", forearm_frame @ np.array(_Z_TO_Y))
+    joints = (
+        Joint("R", tuple(r_b * radial), r_rotation, ((-r_limit, r_limit),)),
+        Joint(
+            "U",
+            (l_a, 0.0, 0.0),
+            check_rotation("joint rotation", axis_rotation(2, gamma)),
+            ((-u_limit, u_limit), (-u_limit, u_limit)),
+        ),
+        Joint("U", (l_f, 0.0, 0.0), _Z_TO_Y, ((-u_limit, u_limit), (-u_limit, u_limit))),
+    )
+    return Leg(joints, (arm_body, forearm_body), tuple(r_p * radial), attach_rotation, 0)
+
+
 def delta(
     *,
     base_radius: float = 0.1,
@@ -718,48 +771,8 @@ def delta(
                                         ((1e-6, 0, 0), (0, 3.1e-4, 0), (0, 0, 3.1e-4)), "forearm"))  # fmt: skip
     platform = _body("platform", platform, Body(0.2, (0.0, 0.0, 0.0),
                                 ((4.5e-5, 0, 0), (0, 4.5e-5, 0), (0, 0, 9e-5)), "platform"))  # fmt: skip
-    legs = []
-    for i in range(3):
-        angle = -math.pi / 2 + 2.0 * math.pi * i / 3.0
-        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
-        tangent = np.array([-math.sin(angle), math.cos(angle), 0.0])
-        r_rotation = check_rotation(
-            "joint rotation", np.stack([radial, cross(tangent, radial), tangent], axis=1)
-        )
-        # home: the arm's angle solves |c2 − c_R − l_a·u(θ)| = l_f in the leg's plane
-        d_x, d_z = r_p - r_b, -h  # c2 − c_R: radial and vertical parts
-        k = (d_x * d_x + d_z * d_z + l_a * l_a - l_f * l_f) / (2.0 * l_a)
-        a, b = d_x, -d_z  # D·u(θ) = a cos θ + b sin θ (u = cos θ·radial − sin θ·e_z)
-        if not abs(k) < math.hypot(a, b):
-            raise ParameterError(
-                f"the home pose (0, 0, -{h:g}) m is out of reach of an arm of {l_a:g} m and a "
-                f"forearm of {l_f:g} m from the base radius {r_b:g} m",
-                subject="robot",
-                key="home_height",
-            )
-        theta = math.atan2(b, a) - math.acos(k / math.hypot(a, b))
-        elbow = r_b * radial + l_a * (
-            math.cos(theta) * radial - math.sin(theta) * np.array([0, 0, 1.0])
-        )
-        f = (np.array([0.0, 0.0, -h]) + r_p * radial - elbow) / l_f
-        arm_x = math.cos(theta) * radial - math.sin(theta) * np.array([0.0, 0.0, 1.0])
-        gamma = math.atan2(float(f @ cross(tangent, arm_x)), float(f @ arm_x))
-        fore_x = f
-        fore_y = cross(tangent, fore_x)
-        # the second U's joint frame at home: the forearm's frame turned by Rot_x(−π/2)
-        forearm_frame = np.stack([fore_x, fore_y, tangent], axis=1)
-        attach_rotation = check_rotation("attachment rotation", forearm_frame @ np.array(_Z_TO_Y))
-        joints = (
-            Joint("R", tuple(r_b * radial), r_rotation, ((-r_limit, r_limit),)),
-            Joint(
-                "U",
-                (l_a, 0.0, 0.0),
-                check_rotation("joint rotation", axis_rotation(2, gamma)),
-                ((-u_limit, u_limit), (-u_limit, u_limit)),
-            ),
-            Joint("U", (l_f, 0.0, 0.0), _Z_TO_Y, ((-u_limit, u_limit), (-u_limit, u_limit))),
-        )
-        legs.append(Leg(joints, (arm_body, forearm_body), tuple(r_p * radial), attach_rotation, 0))
+    lengths = (r_b, l_a, l_f, r_p, h)
+    legs = [_delta_leg(i, lengths, r_limit, u_limit, arm_body, forearm_body) for i in range(3)]
     return SpatialRobot(
         "3-RUU", tuple(legs), platform, gravity, (0.0, 0.0, -h), _IDENTITY, scale,
         ("wx", "wy", "wz"),

@@ -527,9 +527,20 @@ def spatial_workspace(
         no reachable point in the default window.
     """
     check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
+    plane = _checked_plane(robot, plane)
+    offset = _checked_offset(robot, plane, offset)
+    angles = _checked_rpy(robot, plane, rpy)
+    points = check_integer("points", points, 2, MAX_POINTS)
+    if not isinstance(statics, bool):
+        raise ParameterError(f"statics must be True or False, got {statics!r}"[:200], key="statics")
+    window = _checked_window(robot, plane, offset, angles, extent, points)
+    return _evaluate(robot, plane, offset, angles, window, points, statics)
+
+
+def _checked_plane(robot: SpatialRobot, plane: str | None) -> str:
+    """``plane`` of :func:`spatial_workspace` checked: one of the robot's planes."""
     planes = spatial_planes(robot)
     plane = planes[0] if plane is None else check_choice("plane", plane, tuple(SPATIAL_PLANES))
-    first, second, third = SPATIAL_PLANES[plane]
     if plane not in planes:
         raise ParameterError(
             f"plane {plane!r} moves {', '.join(_parasitic(robot, SPATIAL_PLANES[plane]))}, which "
@@ -537,17 +548,26 @@ def spatial_workspace(
             f"§11): its planes are {', '.join(repr(p) for p in planes)}",
             key="plane",
         )
-    span = POSITION_SPAN * robot.scale
+    return plane
+
+
+def _checked_offset(robot: SpatialRobot, plane: str, offset: float | None) -> float:
+    """``offset`` of :func:`spatial_workspace` checked (default: the home pose's)."""
     if offset is None:
-        offset = float(robot.home_position[_POSITION[third]])
-    else:
-        offset = check_scalar("offset", offset, unit="m")
-        if abs(offset) > span:
-            raise ParameterError(
-                f"offset = {offset!r} m is beyond +-{span:.6g} m ({POSITION_SPAN:g} times the "
-                f"robot's scale {robot.scale:g} m)",
-                key="offset",
-            )
+        return float(robot.home_position[_POSITION[SPATIAL_PLANES[plane][2]]])
+    span = POSITION_SPAN * robot.scale
+    offset = check_scalar("offset", offset, unit="m")
+    if abs(offset) > span:
+        raise ParameterError(
+            f"offset = {offset!r} m is beyond +-{span:.6g} m ({POSITION_SPAN:g} times the "
+            f"robot's scale {robot.scale:g} m)",
+            key="offset",
+        )
+    return offset
+
+
+def _checked_rpy(robot: SpatialRobot, plane: str, rpy: ArrayLike | None) -> FloatArray:
+    """``rpy`` of :func:`spatial_workspace` checked (default 0): no parasitic component."""
     angles = np.zeros(3) if rpy is None else _vector("rpy", rpy, 3, 2.0 * math.pi, "rad")
     fixed = ["roll", "pitch", "yaw"] if plane != "rp" else ["yaw"]
     if plane == "rp" and (angles[:2] != 0.0).any():
@@ -564,13 +584,23 @@ def spatial_workspace(
             "give 0",
             key="rpy",
         )
-    points = check_integer("points", points, 2, MAX_POINTS)
-    if not isinstance(statics, bool):
-        raise ParameterError(f"statics must be True or False, got {statics!r}"[:200], key="statics")
+    return angles
+
+
+def _checked_window(
+    robot: SpatialRobot,
+    plane: str,
+    offset: float,
+    angles: FloatArray,
+    extent: ArrayLike | None,
+    points: int,
+) -> tuple[float, float, float, float]:
+    """The window of :func:`spatial_workspace`: ``extent`` checked, or the default one."""
+    first, second, _ = SPATIAL_PLANES[plane]
     if extent is None:
         window = _default_window(robot, plane, offset, angles)
     else:
-        bound = math.pi if plane == "rp" else span
+        bound = math.pi if plane == "rp" else POSITION_SPAN * robot.scale
         unit = "rad" if plane == "rp" else "m"
         box = _vector("extent", extent, 4, bound, unit)
         if not (box[0] < box[1] and box[2] < box[3]):
@@ -587,7 +617,7 @@ def spatial_workspace(
                 "neighbouring grid values are equal",
                 key="extent",
             )
-    return _evaluate(robot, plane, offset, angles, window, points, statics)
+    return window
 
 
 def _pose_columns(ws: SpatialWorkspace) -> dict[str, FloatArray]:
