@@ -202,19 +202,27 @@ def identify(
     base, W, known = _base_columns(robot, motion, every, names, fixed, where, progress)
     try:
         return fit_base_parameters(base, W, measured, motion.t, where, known=known, fixed=fixed)
-    except ParameterError as error:  # name the measured value, by its column
-        with np.errstate(over="ignore"):
-            squares = float(np.sum(measured**2))
-        if error.key != "measured" or np.isfinite(squares):  # W too large: as it is
-            raise
-        effort = "f10" if isinstance(robot, Robot) else "tau"
-        k, j = (int(v) for v in np.unravel_index(np.argmax(np.abs(measured)), measured.shape))
-        raise ParameterError(
-            f"the least squares overflow double precision: {effort}_{LEGS[j]} = "
-            f"{float(measured[k, j])!r} is far beyond the efforts of the robot",
-            key="measured",
-            sample=k,
-        ) from None
+    except ParameterError as error:
+        raise _named_overflow(error, robot, measured) from None
+
+
+def _named_overflow(
+    error: ParameterError, robot: Robot | FamilyRobot, measured: FloatArray
+) -> ParameterError:
+    """``error`` itself, or, when the measured efforts overflow the least squares, the
+    error naming the largest measured value by its column and sample."""
+    with np.errstate(over="ignore"):
+        squares = float(np.sum(measured**2))
+    if error.key != "measured" or np.isfinite(squares):  # W too large: as it is
+        return error
+    effort = "f10" if isinstance(robot, Robot) else "tau"
+    k, j = (int(v) for v in np.unravel_index(np.argmax(np.abs(measured)), measured.shape))
+    return ParameterError(
+        f"the least squares overflow double precision: {effort}_{LEGS[j]} = "
+        f"{float(measured[k, j])!r} is far beyond the efforts of the robot",
+        key="measured",
+        sample=k,
+    )
 
 
 def _checked_inputs(
