@@ -1110,14 +1110,17 @@ def _add_accelerations(i: int, dof: int, kinds: IntArray, owner: IntArray, fo: F
                     oacc[i, k, 2] += h2
 
 
-
-
 @_jit
 def _scratch() -> tuple:  # type: ignore[type-arg]
     """The work arrays of :func:`_sample`: ``work``, ``frames`` and its scratch tuple."""
     work = (np.zeros((3, 3)), np.zeros((3, 3)))  # R·R_a of the leg's end, jr_Sᵀ·(…)
-    frames = (np.zeros((_L, _J, 3)), np.zeros((_L, _J, 3)), np.zeros((_L, _J, 3, 3)),
-              np.zeros((_L, _J, 3, 3)), np.zeros((_L, 6, 3)))  # jo, fo, jr, fr, axes
+    frames = (
+        np.zeros((_L, _J, 3)),
+        np.zeros((_L, _J, 3)),
+        np.zeros((_L, _J, 3, 3)),
+        np.zeros((_L, _J, 3, 3)),
+        np.zeros((_L, 6, 3)),
+    )  # jo, fo, jr, fr, axes
     m6, v6, l6, lj3 = (6, 6), 6, (_L, 6), (_L, _J, 3)
     scr = (np.zeros(6, dtype=np.int64), np.zeros(6, dtype=np.int64), np.zeros(m6), np.zeros(m6),
            np.zeros(6, dtype=np.int64), np.zeros(v6), np.zeros(l6), np.zeros(l6), np.zeros(m6),
