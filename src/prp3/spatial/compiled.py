@@ -225,52 +225,7 @@ def _lu_solve(a: FloatArray, n: int, piv: IntArray, b: FloatArray) -> None:
 
 
 @_jit
-def _rot_z(m: FloatArray, angle: float, out: FloatArray) -> None:
-    """``out = m·Rot_z(angle)`` (3 × 3)."""
-    c, s = math.cos(angle), math.sin(angle)
-    for r in range(3):
-        x, y = m[r, 0], m[r, 1]
-        out[r, 0] = x * c + y * s
-        out[r, 1] = -x * s + y * c
-        out[r, 2] = m[r, 2]
-
-
-@_jit
-def _rot_y(m: FloatArray, angle: float, out: FloatArray) -> None:
-    """``out = m·Rot_y(angle)``."""
-    c, s = math.cos(angle), math.sin(angle)
-    for r in range(3):
-        x, z = m[r, 0], m[r, 2]
-        out[r, 0] = x * c - z * s
-        out[r, 1] = m[r, 1]
-        out[r, 2] = x * s + z * c
-
-
-@_jit
-def _exp(phi: FloatArray, out: FloatArray) -> None:
-    """``exp([φ]×)`` (Rodrigues, the series below ``|φ|² < 1e-12``), as rotations.exp_rotation."""
-    t2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
-    if t2 < 1e-12:
-        a = 1.0 - t2 / 6.0
-        b = 0.5 - t2 / 24.0
-    else:
-        t = math.sqrt(t2)
-        a = math.sin(t) / t
-        b = (1.0 - math.cos(t)) / t2
-    x, y, z = phi[0], phi[1], phi[2]
-    out[0, 0] = 1.0 + b * (-y * y - z * z)
-    out[1, 1] = 1.0 + b * (-x * x - z * z)
-    out[2, 2] = 1.0 + b * (-x * x - y * y)
-    out[0, 1] = -a * z + b * x * y
-    out[1, 0] = a * z + b * x * y
-    out[0, 2] = a * y + b * x * z
-    out[2, 0] = -a * y + b * x * z
-    out[1, 2] = -a * x + b * y * z
-    out[2, 1] = a * x + b * y * z
-
-
-@_jit
-def _log(r: FloatArray, out: FloatArray) -> None:
+def _log(r: FloatArray) -> tuple[float, float, float]:
     """The principal rotation vector of ``r`` through its quaternion (Shepperd), as log_rotation."""
     trace = r[0, 0] + r[1, 1] + r[2, 2]
     d0, d1, d2, d3 = trace, r[0, 0], r[1, 1], r[2, 2]
@@ -323,7 +278,7 @@ def _log(r: FloatArray, out: FloatArray) -> None:
         scale = 2.0 / (1.0 if w == 0.0 else w)
     else:
         scale = 2.0 * math.atan2(sv, w) / sv
-    out[0], out[1], out[2] = scale * x, scale * y, scale * z
+    return scale * x, scale * y, scale * z
 
 
 @_jit
@@ -334,32 +289,36 @@ def _cross(a0: float, a1: float, a2: float, b0: float, b1: float, b2: float
 
 @_jit
 def _chain(ints: IntArray, par: FloatArray, i: int, q: FloatArray, jo: FloatArray, jr: FloatArray,
-           fo: FloatArray, fr: FloatArray, axes: FloatArray, work: FloatArray) -> None:  # fmt: skip
-    """The frames of leg ``i`` for its joint values ``q[i]`` (geometry.chain_frames)."""
-    o0, o1, o2 = 0.0, 0.0, 0.0
-    rot = work[0]
-    cross_frame = work[1]
-    for r in range(3):
-        for c in range(3):
-            rot[r, c] = 1.0 if r == c else 0.0
+           fo: FloatArray, fr: FloatArray, axes: FloatArray) -> None:  # fmt: skip
+    """The frames of leg ``i`` for its joint values ``q[i]`` (geometry.chain_frames); the
+    proximal frame of joint ``k`` is ``fr[i, k − 1]`` (the base's for ``k = 0``), indexed, no
+    view of an array made (numba counts a view's references, atomically)."""
     col = 0
     for k in range(_J):
         kind = ints[4 + k]
         base = JPOS + 3 * (_J * i + k)
         pr = JROT + 9 * (_J * i + k)
         x, y, z = par[base], par[base + 1], par[base + 2]
-        jo[i, k, 0] = o0 + rot[0, 0] * x + rot[0, 1] * y + rot[0, 2] * z
-        jo[i, k, 1] = o1 + rot[1, 0] * x + rot[1, 1] * y + rot[1, 2] * z
-        jo[i, k, 2] = o2 + rot[2, 0] * x + rot[2, 1] * y + rot[2, 2] * z
-        for r in range(3):
-            for c in range(3):
-                jr[i, k, r, c] = (rot[r, 0] * par[pr + c] + rot[r, 1] * par[pr + 3 + c]
-                                  + rot[r, 2] * par[pr + 6 + c])  # fmt: skip
-        if kind == 0:  # R
+        if k == 0:
+            jo[i, k, 0], jo[i, k, 1], jo[i, k, 2] = x, y, z
             for r in range(3):
+                for c in range(3):
+                    jr[i, k, r, c] = par[pr + 3 * r + c]
+        else:
+            o0, o1, o2 = fo[i, k - 1, 0], fo[i, k - 1, 1], fo[i, k - 1, 2]
+            for r in range(3):
+                m0, m1, m2 = fr[i, k - 1, r, 0], fr[i, k - 1, r, 1], fr[i, k - 1, r, 2]
+                jo[i, k, r] = (o0 if r == 0 else (o1 if r == 1 else o2)) + m0 * x + m1 * y + m2 * z
+                for c in range(3):
+                    jr[i, k, r, c] = m0 * par[pr + c] + m1 * par[pr + 3 + c] + m2 * par[pr + 6 + c]
+        if kind == 0:  # R: fr = jr·Rot_z(q)
+            cz, sz = math.cos(q[i, col]), math.sin(q[i, col])
+            for r in range(3):
+                u0, u1 = jr[i, k, r, 0], jr[i, k, r, 1]
                 axes[i, col, r] = jr[i, k, r, 2]
-            _rot_z(jr[i, k], q[i, col], fr[i, k])
-            for r in range(3):
+                fr[i, k, r, 0] = u0 * cz + u1 * sz
+                fr[i, k, r, 1] = -u0 * sz + u1 * cz
+                fr[i, k, r, 2] = jr[i, k, r, 2]
                 fo[i, k, r] = jo[i, k, r]
         elif kind == 1:  # P
             for r in range(3):
@@ -367,28 +326,27 @@ def _chain(ints: IntArray, par: FloatArray, i: int, q: FloatArray, jo: FloatArra
                 fo[i, k, r] = jo[i, k, r] + q[i, col] * jr[i, k, r, 0]
                 for c in range(3):
                     fr[i, k, r, c] = jr[i, k, r, c]
-        elif kind == 2:  # U
-            _rot_z(jr[i, k], q[i, col], cross_frame)
+        elif kind == 2:  # U: the cross frame jr·Rot_z(a), then fr = (…)·Rot_y(b)
+            cz, sz = math.cos(q[i, col]), math.sin(q[i, col])
+            cy, sy = math.cos(q[i, col + 1]), math.sin(q[i, col + 1])
             for r in range(3):
-                axes[i, col, r] = jr[i, k, r, 2]
-                axes[i, col + 1, r] = cross_frame[r, 1]
+                u0, u1, u2 = jr[i, k, r, 0], jr[i, k, r, 1], jr[i, k, r, 2]
+                x0 = u0 * cz + u1 * sz
+                x1 = -u0 * sz + u1 * cz
+                axes[i, col, r] = u2
+                axes[i, col + 1, r] = x1
                 fo[i, k, r] = jo[i, k, r]
-            _rot_y(cross_frame, q[i, col + 1], fr[i, k])
-        else:  # S
+                fr[i, k, r, 0] = x0 * cy - u2 * sy
+                fr[i, k, r, 1] = x1
+                fr[i, k, r, 2] = x0 * sy + u2 * cy
+        else:  # S, the last joint: world axes; its distal frame (the platform's) is not needed
             for a in range(3):
                 for r in range(3):
                     axes[i, col + a, r] = 1.0 if a == r else 0.0
-            _exp(q[i, col : col + 3], work[2])
             for r in range(3):
                 fo[i, k, r] = jo[i, k, r]
-                for c in range(3):
-                    fr[i, k, r, c] = (jr[i, k, r, 0] * work[2][0, c] + jr[i, k, r, 1] * work[2][1, c]
-                                      + jr[i, k, r, 2] * work[2][2, c])  # fmt: skip
+            return
         col += _DOF[kind]
-        o0, o1, o2 = fo[i, k, 0], fo[i, k, 1], fo[i, k, 2]
-        for r in range(3):
-            for c in range(3):
-                rot[r, c] = fr[i, k, r, c]
 
 
 @_jit
@@ -400,13 +358,13 @@ def _angles(x: float, y: float, z: float) -> tuple[float, float]:
 @_jit
 def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q: FloatArray,
               jo: FloatArray, jr: FloatArray, fo: FloatArray, fr: FloatArray, axes: FloatArray,
-              work: FloatArray, ce: FloatArray, f: FloatArray) -> int:  # fmt: skip
+              work: tuple, ce: FloatArray, f: FloatArray) -> int:  # type: ignore[type-arg]  # fmt: skip
     """Every leg's closed-form inverse geometry (geometry.leg_coordinates), limits checked."""
     legs, pattern = ints[1], ints[0]
     status = _OK
     for i in range(legs):
         ap, ar = APOS + 3 * i, AROT + 9 * i
-        re_ = work[3]
+        re_ = work[0]
         for r in range(3):
             ce[r] = p[r] + rm[r, 0] * par[ap] + rm[r, 1] * par[ap + 1] + rm[r, 2] * par[ap + 2]
             for c in range(3):
@@ -428,13 +386,13 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
             if not abs(kk) <= rho:
                 return _UNREACHABLE
             q[i, 0] = math.atan2(d1, d0) - math.acos(kk / rho)
-            _chain(ints, par, i, q, jo, jr, fo, fr, axes, work)
+            _chain(ints, par, i, q, jo, jr, fo, fr, axes)
             for r in range(3):
                 f[r] = ((ce[0] - jo[i, 1, 0]) * jr[i, 1, 0, r] + (ce[1] - jo[i, 1, 1]) * jr[i, 1, 1, r]
                         + (ce[2] - jo[i, 1, 2]) * jr[i, 1, 2, r])  # fmt: skip
             q[i, 1], q[i, 2] = _angles(f[0], f[1], f[2])
-            _chain(ints, par, i, q, jo, jr, fo, fr, axes, work)
-            m = work[4]
+            _chain(ints, par, i, q, jo, jr, fo, fr, axes)
+            m = work[1]
             for r in range(3):
                 for c in range(3):
                     m[r, c] = (
@@ -461,8 +419,8 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
                 slide = 1
                 off = d2
             q[i, slide] = rho - arm - fore
-            _chain(ints, par, i, q, jo, jr, fo, fr, axes, work)
-            m = work[4]
+            _chain(ints, par, i, q, jo, jr, fo, fr, axes)
+            m = work[1]
             for r in range(3):
                 for c in range(3):
                     m[r, c] = (
@@ -470,16 +428,17 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
                         + jr[i, 2, 1, r] * re_[1, c]
                         + jr[i, 2, 2, r] * re_[2, c]
                     )
-            _log(m, q[i, slide + 1 : slide + 4])
-        _chain(ints, par, i, q, jo, jr, fo, fr, axes, work)
+            q[i, slide + 1], q[i, slide + 2], q[i, slide + 3] = _log(m)
+        if pattern == 2:  # the second U's cross axis (the S joint's frames need no q_S)
+            _chain(ints, par, i, q, jo, jr, fo, fr, axes)
         # limits (check_reach) and the closure (plane_offsets)
         col = 0
         for k in range(_J):
             kind = ints[4 + k]
             lim = LIMITS + 2 * 3 * (_J * i + k)
             if kind == 3:
-                s = q[i, col : col + 3]
-                angle = math.sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2])
+                s0, s1, s2 = q[i, col], q[i, col + 1], q[i, col + 2]
+                angle = math.sqrt(s0 * s0 + s1 * s1 + s2 * s2)
                 if angle < par[lim] or angle > par[lim + 1]:
                     status = _LIMIT if status == _OK else status
             else:
@@ -498,7 +457,7 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
 def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
             v: FloatArray, al: FloatArray, a: FloatArray, q: FloatArray, dq: FloatArray,
             ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
-            measures: FloatArray, work: FloatArray, frames: FloatArray, scr: tuple) -> int:  # type: ignore[type-arg]  # fmt: skip
+            measures: FloatArray, work: tuple, frames: tuple, scr: tuple) -> int:  # type: ignore[type-arg]  # fmt: skip
     """One state: ``q, dq, ddq (legs, dof)``, ``tau (legs,)``, ``force, moment (legs, 3, 3)``,
     ``measures (legs + 1,)`` (``μ_leg``, then ``μ_par``); returns the status."""
     legs, dof, act = ints[1], ints[2], ints[3]
@@ -521,11 +480,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
            + rm[0, 2] * (rm[1, 0] * rm[2, 1] - rm[1, 1] * rm[2, 0]))  # fmt: skip
     if err > ORTHONORMAL_TOLERANCE or abs(det - 1.0) > ORTHONORMAL_TOLERANCE:
         return _NOT_ROTATION
-    jo = frames[0:54].reshape((_L, _J, 3))
-    fo = frames[54:108].reshape((_L, _J, 3))
-    jr = frames[108:270].reshape((_L, _J, 3, 3))
-    fr = frames[270:432].reshape((_L, _J, 3, 3))
-    axes = frames[432:540].reshape((_L, 6, 3))
+    jo, fo, jr, fr, axes = frames
     (
         kinds,
         owner,
@@ -720,7 +675,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
         else:  # the chain again with q̈ (the reference)
             _chain_motion(ints, i, jo, fo, axes, dq, ddq, bw, ba, bo)
     # inertial wrenches and the particular wrenches (W_n = 0) from the platform inwards
-    g = par[GRAV : GRAV + 3]
+    g = (par[GRAV], par[GRAV + 1], par[GRAV + 2])
     for r in range(6):
         rhs[r] = 0.0
     for i in range(legs):
@@ -731,13 +686,16 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
             bc = BCEN + 3 * (2 * i + k)
             bi = BINE + 9 * (2 * i + k)
             mass = par[BMASS + 2 * i + k]
-            rot = fr[i, k]
-            rc0 = rot[0, 0] * par[bc] + rot[0, 1] * par[bc + 1] + rot[0, 2] * par[bc + 2]
-            rc1 = rot[1, 0] * par[bc] + rot[1, 1] * par[bc + 1] + rot[1, 2] * par[bc + 2]
-            rc2 = rot[2, 0] * par[bc] + rot[2, 1] * par[bc + 1] + rot[2, 2] * par[bc + 2]
+            rot = (fr[i, k, 0, 0], fr[i, k, 0, 1], fr[i, k, 0, 2], fr[i, k, 1, 0], fr[i, k, 1, 1],
+                   fr[i, k, 1, 2], fr[i, k, 2, 0], fr[i, k, 2, 1], fr[i, k, 2, 2])  # fmt: skip
+            rc0 = rot[0] * par[bc] + rot[1] * par[bc + 1] + rot[2] * par[bc + 2]
+            rc1 = rot[3] * par[bc] + rot[4] * par[bc + 1] + rot[5] * par[bc + 2]
+            rc2 = rot[6] * par[bc] + rot[7] * par[bc + 1] + rot[8] * par[bc + 2]
             gx, gy, gz = fo[i, k, 0] + rc0, fo[i, k, 1] + rc1, fo[i, k, 2] + rc2
-            fx, fy, fz, mx, my, mz = _inertial(par, bi, mass, rot, bw[i, k], ba[i, k], bo[i, k],
-                                               rc0, rc1, rc2, g)  # fmt: skip
+            fx, fy, fz, mx, my, mz = _inertial(
+                par, bi, mass, rot, (bw[i, k, 0], bw[i, k, 1], bw[i, k, 2]),
+                (ba[i, k, 0], ba[i, k, 1], ba[i, k, 2]), (bo[i, k, 0], bo[i, k, 1], bo[i, k, 2]),
+                rc0, rc1, rc2, g)  # fmt: skip
             # F_k = F_{k+1} + force; M_k = M_{k+1} + (o_{k+1} − G) × F_{k+1} − (o_k − G) × F_k + moment
             n0, n1, n2 = fk[k + 1, 0], fk[k + 1, 1], fk[k + 1, 2]
             fk[k, 0], fk[k, 1], fk[k, 2] = n0 + fx, n1 + fy, n2 + fz
@@ -783,7 +741,10 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     rp0 = rm[0, 0] * par[PCEN] + rm[0, 1] * par[PCEN + 1] + rm[0, 2] * par[PCEN + 2]
     rp1 = rm[1, 0] * par[PCEN] + rm[1, 1] * par[PCEN + 1] + rm[1, 2] * par[PCEN + 2]
     rp2 = rm[2, 0] * par[PCEN] + rm[2, 1] * par[PCEN + 1] + rm[2, 2] * par[PCEN + 2]
-    fx, fy, fz, mx, my, mz = _inertial(par, PINE, par[PMASS], rm, w, al, a, rp0, rp1, rp2, g)
+    fx, fy, fz, mx, my, mz = _inertial(
+        par, PINE, par[PMASS], (rm[0, 0], rm[0, 1], rm[0, 2], rm[1, 0], rm[1, 1], rm[1, 2],
+                                rm[2, 0], rm[2, 1], rm[2, 2]),
+        (w[0], w[1], w[2]), (al[0], al[1], al[2]), (a[0], a[1], a[2]), rp0, rp1, rp2, g)  # fmt: skip
     c0, c1, c2 = _cross(rp0, rp1, rp2, fx, fy, fz)
     rhs[0] += mx + c0
     rhs[1] += my + c1
@@ -938,12 +899,13 @@ def _s_transpose5(normal: FloatArray, i: int, y: FloatArray
 
 
 @_jit
-def _inertial(par: FloatArray, at: int, mass: float, rot: FloatArray, om: FloatArray,
-              alpha: FloatArray, acc: FloatArray, rc0: float, rc1: float, rc2: float,
-              g: FloatArray) -> tuple[float, float, float, float, float, float]:  # fmt: skip
+def _inertial(par: FloatArray, at: int, mass: float, rot: tuple, om: tuple, alpha: tuple,  # type: ignore[type-arg]
+              acc: tuple, rc0: float, rc1: float, rc2: float, g: tuple  # type: ignore[type-arg]
+              ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """``(m(a_G − g), I·α + ω × I·ω)`` of a body whose origin accelerates by ``acc``, mass
-    centre ``rc`` from it (world), ``I = R·I_body·Rᵀ``."""
-    w0, w1, w2 = om[0], om[1], om[2]
+    centre ``rc`` from it (world), ``I = R·I_body·Rᵀ``; ``rot`` the 9 entries of ``R`` row by
+    row, ``om, alpha, acc, g`` 3 each (scalars: no view of an array)."""
+    w0, w1, w2 = om
     k0, k1, k2 = _cross(w0, w1, w2, rc0, rc1, rc2)
     h0, h1, h2 = _cross(w0, w1, w2, k0, k1, k2)
     s0, s1, s2 = _cross(alpha[0], alpha[1], alpha[2], rc0, rc1, rc2)
@@ -958,17 +920,18 @@ def _inertial(par: FloatArray, at: int, mass: float, rot: FloatArray, om: FloatA
 
 
 @_jit
-def _apply(par: FloatArray, at: int, rot: FloatArray, u0: float, u1: float, u2: float
+def _apply(par: FloatArray, at: int, rot: tuple, u0: float, u1: float, u2: float  # type: ignore[type-arg]
            ) -> tuple[float, float, float]:  # fmt: skip
-    l0 = rot[0, 0] * u0 + rot[1, 0] * u1 + rot[2, 0] * u2
-    l1 = rot[0, 1] * u0 + rot[1, 1] * u1 + rot[2, 1] * u2
-    l2 = rot[0, 2] * u0 + rot[1, 2] * u1 + rot[2, 2] * u2
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
+    l0 = r00 * u0 + r10 * u1 + r20 * u2
+    l1 = r01 * u0 + r11 * u1 + r21 * u2
+    l2 = r02 * u0 + r12 * u1 + r22 * u2
     b0 = par[at] * l0 + par[at + 1] * l1 + par[at + 2] * l2
     b1 = par[at + 3] * l0 + par[at + 4] * l1 + par[at + 5] * l2
     b2 = par[at + 6] * l0 + par[at + 7] * l1 + par[at + 8] * l2
-    return (rot[0, 0] * b0 + rot[0, 1] * b1 + rot[0, 2] * b2,
-            rot[1, 0] * b0 + rot[1, 1] * b1 + rot[1, 2] * b2,
-            rot[2, 0] * b0 + rot[2, 1] * b1 + rot[2, 2] * b2)  # fmt: skip
+    return (r00 * b0 + r01 * b1 + r02 * b2,
+            r10 * b0 + r11 * b1 + r12 * b2,
+            r20 * b0 + r21 * b1 + r22 * b2)  # fmt: skip
 
 
 @_jit
@@ -1147,15 +1110,17 @@ def _add_accelerations(i: int, dof: int, kinds: IntArray, owner: IntArray, fo: F
                     oacc[i, k, 2] += h2
 
 
-_FRAMES = 540
-_WORK = 5
-
-
 @_jit
 def _scratch() -> tuple:  # type: ignore[type-arg]
     """The work arrays of :func:`_sample`: ``work``, ``frames`` and its scratch tuple."""
-    work = np.zeros((_WORK, 3, 3))
-    frames = np.zeros(_FRAMES)
+    work = (np.zeros((3, 3)), np.zeros((3, 3)))  # R·R_a of the leg's end, jr_Sᵀ·(…)
+    frames = (
+        np.zeros((_L, _J, 3)),
+        np.zeros((_L, _J, 3)),
+        np.zeros((_L, _J, 3, 3)),
+        np.zeros((_L, _J, 3, 3)),
+        np.zeros((_L, 6, 3)),
+    )  # jo, fo, jr, fr, axes
     m6, v6, l6, lj3 = (6, 6), 6, (_L, 6), (_L, _J, 3)
     scr = (np.zeros(6, dtype=np.int64), np.zeros(6, dtype=np.int64), np.zeros(m6), np.zeros(m6),
            np.zeros(6, dtype=np.int64), np.zeros(v6), np.zeros(l6), np.zeros(l6), np.zeros(m6),
@@ -1173,9 +1138,30 @@ def _loop(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: Flo
           ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
           measures: FloatArray, status: IntArray, start: int, stop: int) -> None:  # fmt: skip
     work, frames, scr = _scratch()
+    # one sample's inputs and outputs staged in arrays of the loop (no view of the batch's
+    # arrays per sample: each would count references, atomically)
+    xp, xr, xw, xv, xal, xa = (np.zeros(3), np.zeros((3, 3)), np.zeros(3), np.zeros(3),
+                               np.zeros(3), np.zeros(3))  # fmt: skip
+    legs, dof = ints[1], ints[2]
+    yq, ydq, yddq = np.zeros((legs, dof)), np.zeros((legs, dof)), np.zeros((legs, dof))
+    ytau, ymeas = np.zeros(legs), np.zeros(legs + 1)
+    yf, ym = np.zeros((legs, _J, 3)), np.zeros((legs, _J, 3))
     for n in range(start, stop):
-        status[n] = _sample(ints, par, p[n], rm[n], w[n], v[n], al[n], a[n], q[n], dq[n], ddq[n],
-                            tau[n], force[n], moment[n], measures[n], work, frames, scr)  # fmt: skip
+        for r in range(3):
+            xp[r], xw[r], xv[r], xal[r], xa[r] = p[n, r], w[n, r], v[n, r], al[n, r], a[n, r]
+            for c in range(3):
+                xr[r, c] = rm[n, r, c]
+        status[n] = _sample(ints, par, xp, xr, xw, xv, xal, xa, yq, ydq, yddq, ytau, yf, ym,
+                            ymeas, work, frames, scr)  # fmt: skip
+        for i in range(legs):
+            tau[n, i] = ytau[i]
+            measures[n, i] = ymeas[i]
+            for c in range(dof):
+                q[n, i, c], dq[n, i, c], ddq[n, i, c] = yq[i, c], ydq[i, c], yddq[i, c]
+            for k in range(_J):
+                for r in range(3):
+                    force[n, i, k, r], moment[n, i, k, r] = yf[i, k, r], ym[i, k, r]
+        measures[n, legs] = ymeas[legs]
 
 
 @_jit
