@@ -180,14 +180,18 @@ def test_the_refusals_are_the_pythons_steps() -> None:
         if code != STATUS_OK:
             assert np.isnan(out).all()
     assert {STATUS_UNREACHABLE, STATUS_OVERFLOW} <= codes
-    # a leg singularity: scan a line of poses until the Python steps say singular
-    found = False
-    for x in np.linspace(0.0, 0.6, 301):
-        want, _ = python_sample(robot, (x, 0.0, 0.0), (0.0,) * 3, (0.0,) * 3)
-        code, _ = one(robot, (x, 0.0, 0.0))
-        assert code == want
-        found = found or code == STATUS_SINGULAR
-    assert found
+    # a leg singularity: the 3-PRP's leg measure is sin(φ − π/3) up to sign (docs/family.md §6)
+    prp = FamilyRobot.default("3-PRP")
+    for phi in (math.pi / 3.0, math.pi / 3.0 - 5e-5, 2.0):
+        code, out = one(prp, (0.0, 0.0, phi))
+        assert code == STATUS_SINGULAR and np.isnan(out).all(), phi
+    assert one(prp, (0.0, 0.0, math.pi / 3.0 - 2e-4))[0] == STATUS_OK
+    # a parallel singularity: the 3-PRR actuated at joint 2 at φ = atan(1/2) (docs/family.md §3)
+    prr = FamilyRobot.default("3-PRR", 2)
+    code, out = one(prr, (0.0, 0.0, math.atan(0.5)))
+    assert code == STATUS_SINGULAR and np.isnan(out).all()
+    assert python_sample(prr, (0.0, 0.0, math.atan(0.5)), (0.0,) * 3, (0.0,) * 3)[0] == code
+    assert one(prr, (0.0, 0.0, 0.2))[0] == STATUS_OK
 
 
 def test_the_threads_give_the_numbers_of_one_thread() -> None:
@@ -203,11 +207,11 @@ def test_the_threads_give_the_numbers_of_one_thread() -> None:
 def test_the_module_goes_to_numba_cache_dir(tmp_path: Path) -> None:
     script = (
         "from prp3.family.compiled_kernel import structure_module\n"
-        "print(structure_module('PPR', 3).__file__)\n"
+        "print(structure_module('PPR', 1).__file__)\n"
     )
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
     done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
                           text=True, check=True)  # fmt: skip
     path = Path(done.stdout.strip())
     assert path.parent == tmp_path / "prp3_generated"
-    assert path.read_text() == structure_source("PPR", 3)
+    assert path.read_text() == structure_source("PPR", 1)
