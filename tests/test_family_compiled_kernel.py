@@ -29,10 +29,10 @@ from hypothesis import strategies as st
 
 pytest.importorskip("numba")
 
-from prp3.errors import SingularPoseError, UnreachablePoseError  # noqa: E402
-from prp3.family import FamilyRobot  # noqa: E402
-from prp3.family.codegen import python_sample  # noqa: E402
-from prp3.family.compiled_kernel import (  # noqa: E402
+from prp3.errors import SingularPoseError, UnreachablePoseError
+from prp3.family import FamilyRobot
+from prp3.family.codegen import python_sample
+from prp3.family.compiled_kernel import (
     OUTPUTS,
     STATUS_NOT_FINITE,
     STATUS_OK,
@@ -43,10 +43,10 @@ from prp3.family.compiled_kernel import (  # noqa: E402
     structure_module,
     structure_source,
 )
-from prp3.family.mechanics import family_kinematics, fast_dynamics  # noqa: E402
-from prp3.model.motion import Motion, paper_motion  # noqa: E402
-from prp3.model.parameters import Load, Payload  # noqa: E402
-from strategies import FAMILY_ALLOWED, family_designs, family_motions  # noqa: E402
+from prp3.family.mechanics import family_kinematics, fast_dynamics
+from prp3.model.motion import Motion, paper_motion
+from prp3.model.parameters import Load, Payload
+from strategies import FAMILY_ALLOWED, family_designs, family_motions
 
 CROSSING = {("3-PRR", 2, "rotation")}
 

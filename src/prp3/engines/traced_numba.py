@@ -142,17 +142,23 @@ def python_statements(
 def parallel_source(name: str, loop: str, arguments: Sequence[str], block: int) -> str:
     """Source of ``name(*arguments, start, stop)``: ``loop`` on blocks of ``block`` samples on every thread.
 
-    ``loop(*arguments, start, stop)`` is the sequential loop; each block is one
-    call of it (the same machine code per sample as on one thread).
+    ``loop(*arguments, start, stop)`` is the sequential loop, returning an
+    integer of flags; each block is one call of it (the same machine code per
+    sample as on one thread), and the result is the bitwise or of the blocks'.
     """
     args = ", ".join(arguments)
     return (
         '@numba.njit(cache=True, error_model="numpy", parallel=True)\n'
         f"def {name}({args}, start, stop):\n"
         f"    blocks = (stop - start + {block} - 1) // {block}\n"
+        "    flags = np.zeros(blocks, dtype=np.int64)\n"
         "    for b in numba.prange(blocks):\n"
         f"        first = start + b * {block}\n"
-        f"        {loop}({args}, first, min(stop, first + {block}))\n"
+        f"        flags[b] = {loop}({args}, first, min(stop, first + {block}))\n"
+        "    result = 0\n"
+        "    for b in range(blocks):\n"
+        "        result |= flags[b]\n"
+        "    return result\n"
     )
 
 

@@ -54,6 +54,7 @@ from prp3.family.model import FamilyRobot
 from prp3.family.sample_mechanics import (
     Design,
     Inertia,
+    chain_of,
     fixed_candidates,
     legs_of,
     sample_dynamics,
@@ -180,7 +181,7 @@ def structure_source(types: str, actuated: int) -> str:
     body += ["        status[k] = 0", f"        for i in range({len(values)}):",
              "            if not isfinite(out[k, i]):",
              f"                status[k] = {STATUS_OVERFLOW}", "                out[k, :] = nan",
-             "                break"]  # fmt: skip
+             "                break", "    return 0"]  # fmt: skip
     signature = "c, pose, velocity, acceleration, out, status"
     return (
         f"# prp3's family kernel of the joints {types}, actuated joint {actuated}: generated from\n"
@@ -188,11 +189,14 @@ def structure_source(types: str, actuated: int) -> str:
         + MODULE_HEADER + "\n\n"
         '@numba.njit(cache=True, error_model="numpy")\n'
         f"def run({signature}, start, stop):\n" + "\n".join(prelude + body) + "\n\n\n"
-        + parallel_source("run_parallel", "run", signature.split(", "), BLOCK)
-    )
+        + parallel_source("run_parallel", "run", signature.split(", "), BLOCK) + "\n\n"
+        + "\n".join(samples_source(types, actuated)) + "\n\n\n"
+        + parallel_source("samples_parallel", "samples",
+                          ("c", "pose", "velocity", "acceleration", "buffer", "n"), BLOCK)
+    )  # fmt: skip
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def structure_module(types: str, actuated: int) -> module_types.ModuleType:
     """The generated module of one structure (``run``, ``run_parallel``), loaded once per process."""
     return generated_module(structure_source(types, actuated), f"family_{types}_{actuated}")
@@ -220,3 +224,84 @@ def kernel_batch(
     run(constants(robot), *(np.ascontiguousarray(v, dtype=np.float64) for v in
                             (pose, velocity, acceleration)), out, status, 0, n)  # fmt: skip
     return status, out
+
+
+# ------------------------------------------------------------------ the compiled route's samples
+#: Offsets (in units of the samples ``n``) of the compiled route's buffer
+#: (:data:`prp3.family.compiled._GROUPS`): each output's first double is at ``offset·n``.
+_AT = {"q": 0, "dq": 9, "ddq": 18, "moment": 27, "mu_leg": 36, "tau": 39, "power": 42,
+       "force": 45, "mu_par": 63, "ja": 64, "fa": 73, "end": 82, "jo": 91, "fo": 109,
+       "ax": 127, "jac": 145, "inv": 172}  # fmt: skip
+#: Doubles per sample of each output (its stride in the buffer).
+_SIZE = {"q": 9, "dq": 9, "ddq": 9, "moment": 9, "tau": 3, "power": 3, "force": 18, "ja": 9,
+         "fa": 9, "end": 9, "jo": 18, "fo": 18, "ax": 18, "jac": 27, "inv": 27}  # fmt: skip
+#: Bits of the samples' result: a kinematic (``q̇``, ``q̈``), a dynamic output not finite.
+NOT_FINITE_KIN, NOT_FINITE_DYN = 1, 2
+
+
+def _targets() -> list[str]:
+    """Where each output of :func:`_path_dynamics` goes: ``(name, index within the sample)``."""
+    frames = [("jo", 2), ("ja", 1), ("fo", 2), ("fa", 1), ("ax", 2)]
+    out = []
+    for j in range(3):
+        for name, width in frames:
+            out += [f"{name}:{j * 3 * width + i}" for i in range(3 * width)]
+        out += [f"end:{3 * j + i}" for i in range(3)]
+    out += [f"tau:{j}" for j in range(3)]
+    for j in range(3):
+        for c in range(3):
+            out += [f"force:{6 * j + 2 * c}", f"force:{6 * j + 2 * c + 1}", f"moment:{3 * j + c}"]
+    out += [f"dq:{i}" for i in range(9)] + [f"ddq:{i}" for i in range(9)]
+    out += [f"power:{j}" for j in range(3)]
+    out += [f"jac:{i}" for i in range(27)] + [f"inv:{i}" for i in range(27)]
+    return out
+
+
+def _path_dynamics(types: str, actuated: int) -> Any:
+    """The traced function of the route's samples: ``q`` known, the frames and the dynamics."""
+
+    def function(ops: Ops, *values: Any) -> list[Any]:
+        design = Design.from_values(types, values[:_DESIGN])
+        inertia = Inertia.from_values(values[_DESIGN : _DESIGN + _INERTIA], actuated)
+        x, y, phi, *rest = values[_DESIGN + _INERTIA : _DESIGN + _INERTIA + 9]
+        q = values[_DESIGN + _INERTIA + 9 :]
+        frames, legs = [], []
+        for j in range(3):
+            values_j, origins, rotations = chain_of(ops, design, float(SIGMA[j]), q[3 * j : 3 * j + 3])
+            frames += values_j
+            legs.append((origins, rotations))
+        state = (x, y, ops.cos(phi), ops.sin(phi), *rest)
+        out = sample_dynamics(ops, types, inertia, design.scale, state, legs, extended=True)
+        return frames + out[1:]  # μ_par: the path's
+
+    return function
+
+
+def samples_source(types: str, actuated: int) -> list[str]:
+    """Source of ``samples(c, pose, velocity, acceleration, buffer, n, start, stop)``: the route's samples."""
+    names = [f"c{i}" for i in range(_DESIGN + _INERTIA)]
+    inputs = ("x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
+    qs = [f"q{i}" for i in range(9)]
+    code = python_statements(_path_dynamics(types, actuated - 1), (*names, *inputs, *qs), "d", names)
+    arrays = ("pose", "velocity", "acceleration")
+    lines = [f"    {name} = c[{i}]" for i, name in enumerate(names)]
+    lines += [f"    at_{name} = {at} * n" for name, at in _AT.items()]
+    lines += ["    " + s for s in code.prelude]
+    lines += ["    result = 0", "    for k in range(start, stop):"]
+    lines += [f"        {v} = {arrays[i // 3]}[k, {i % 3}]" for i, v in enumerate(inputs)]
+    lines += [f"        q{i} = buffer[at_q + 9 * k + {i}]" for i in range(9)]
+    lines += ["        " + s for s in code.body]
+    kin, dyn = [], []
+    for target, value in zip(_targets(), code.outputs, strict=True):
+        name, index = target.split(":")
+        lines.append(f"        buffer[at_{name} + {_SIZE[name]} * k + {index}] = {value}")
+        if name in ("dq", "ddq"):
+            kin.append(value)
+        elif name in ("tau", "power", "force", "moment"):
+            dyn.append(value)
+    for bit, values in ((NOT_FINITE_KIN, kin), (NOT_FINITE_DYN, dyn)):
+        test = " and ".join(f"isfinite({v})" for v in values)
+        lines += [f"        if not ({test}):", f"            result |= {bit}"]
+    lines.append("    return result")
+    return ['@numba.njit(cache=True, error_model="numpy")',
+            "def samples(c, pose, velocity, acceleration, buffer, n, start, stop):", *lines]  # fmt: skip

@@ -484,3 +484,39 @@ def legs_of(values: Sequence[Any]) -> list[tuple[list[Pair], list[Pair]]]:
              [(v[6 + 2 * k], v[7 + 2 * k]) for k in range(3)])
         )  # fmt: skip
     return legs
+
+
+def chain_of(
+    ops: Ops, design: Design, sigma: float, q: Sequence[Any]
+) -> tuple[list[Any], list[Pair], list[Pair]]:
+    """The chain of docs/family.md §2 at joint values ``q``, as :func:`prp3.family.chain.leg_chain`.
+
+    Returns ``(frames, origins, rotations)``: ``frames`` the 27 numbers
+    ``J_k`` origins (6), angles (3), ``F_k`` origins (6), angles (3), the axes
+    ``u_k`` (6), ``E``'s origin (2) and angle (1); ``origins`` the ``O_k`` and
+    ``rotations`` the ``(cos, sin)`` of the ``F_k`` (the ``legs`` of
+    :func:`sample_dynamics`).  ``σ`` is the leg's start angle.
+    """
+    theta: Any = sigma
+    p: Pair = (0.0, 0.0)
+    joint_o: list[Any] = []
+    joint_a, frame_o, frame_a, axes, rotations = [], [], [], [], []
+    for k in range(3):
+        pj = _add(p, turn(_unit(ops, theta), design.c[k]))
+        tj = theta + design.gamma[k]
+        u = _unit(ops, tj)
+        if design.types[k] == "R":
+            p, theta = pj, tj + q[k]
+        else:
+            p, theta = _add(pj, _scale(q[k], u)), tj
+        joint_o += pj
+        joint_a.append(tj)
+        frame_o.append(p)
+        frame_a.append(theta)
+        axes += u
+        rotations.append(_unit(ops, theta))
+    end = _add(p, turn(_unit(ops, theta), design.c[3]))
+    end_angle = theta + design.gamma[3]
+    frames = [*joint_o, *joint_a, *(v for o in frame_o for v in o), *frame_a, *axes, *end,
+              end_angle]  # fmt: skip
+    return frames, frame_o, rotations
