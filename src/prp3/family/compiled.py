@@ -1,16 +1,20 @@
 """The family's fast route compiled by numba: one loop over the samples (docs/family.md §5–§7).
 
 The same mechanics as :mod:`prp3.family.mechanics` (the ``"numpy"`` engine),
-written per sample in scalar code that numba compiles to machine code
-(``cache=True``: compiled once per machine, then loaded from ``__pycache__``);
-the scalar pieces per leg are :mod:`prp3.family.compiled_legs`:
+per sample in scalar code that numba compiles to machine code (``cache=True``:
+compiled once per machine, then loaded from the cache):
 
 1. the path of §5 from each leg's home pose through the samples
-   (:mod:`prp3.family.compiled_path`): the joint values ``q`` and the
+   (:mod:`prp3.family.compiled_path`, its scalar pieces in
+   :mod:`prp3.family.compiled_legs`): the joint values ``q`` and the
    measures ``μ_leg``, ``μ_par`` at the samples, checked at every point;
-2. here, at the samples: the chain frames, ``J``, ``K = J⁻¹``, ``q̇ = K·t``,
-   ``q̈ = K·(ṫ − J̇·q̇)``;
-3. the wrench each body needs, the actuator efforts by virtual work
+2. at the samples, by the kernel generated from the one source on ``Ops``
+   (:mod:`prp3.family.sample_mechanics`: :func:`~prp3.family.sample_mechanics.chain_of`
+   and :func:`~prp3.family.sample_mechanics.sample_dynamics`, traced with the
+   robot's numbers as inputs by :mod:`prp3.family.compiled_kernel`, one
+   compiled function per architecture × actuation): the chain frames, ``J``,
+   ``K = J⁻¹``, ``q̇ = K·t``, ``q̈ = K·(ṫ − J̇·q̇)``;
+3. in the same kernel, the wrench each body needs, the actuator efforts by virtual work
    ``Σ_L τ_L·K_L[a, :] = w_platform + Σ_L K_Lᵀ·B_L`` and every joint force
    ``W_3 = K_Lᵀ·(τ_L·e_a − B_L)``, ``W_2 = N_2 + W_3``, ``W_1 = N_1 + W_2``.
 
