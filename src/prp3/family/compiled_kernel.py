@@ -38,7 +38,7 @@ from __future__ import annotations
 import functools
 import math
 import types as module_types
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -94,11 +94,20 @@ _STATE = ("x", "y", "cphi", "sphi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
 
 
 def constants(robot: FamilyRobot) -> FloatArray:
-    """The kernel's inputs of ``robot``: ``(36,)`` float64 (see :data:`_CONSTANTS`)."""
+    """The kernel's inputs of ``robot``: ``(36,)`` float64 (see :data:`_CONSTANTS`), read-only.
+
+    Kept on the robot (it is immutable), as :func:`prp3.family.compiled_legs.pack` keeps its own.
+    """
+    cached = robot.__dict__.get("_kernel_constants")
+    if cached is not None:
+        return cast(FloatArray, cached)
     home_leg, home_par = robot.home_measures
     signs = [math.copysign(1.0, v) for v in (*home_leg, home_par)]
     values = (*Design.of(robot).values(), *Inertia.of(robot).values(), *signs)
-    return np.array(values, dtype=np.float64)
+    out = np.array(values, dtype=np.float64)
+    out.flags.writeable = False
+    robot.__dict__["_kernel_constants"] = out
+    return out
 
 
 def _leg_stage(types: str, j: int, names: list[str]) -> tuple[list[str], list[str], list[str]]:
