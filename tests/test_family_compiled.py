@@ -199,7 +199,6 @@ def test_any_memory_layout_of_the_motion() -> None:
     from prp3.family.compiled import family_path
     from prp3.family.compiled_kernel import structure_module
 
-
     base = paper_motion("vertical", 12)
     strided = Motion(
         t=base.t,

@@ -55,9 +55,7 @@ __all__ = [
 
 #: The imports of a generated module: math's functions by name, numba's compiler.
 MODULE_HEADER = (
-    "from math import cos, sin, sqrt, tanh, inf, nan, isfinite\n"
-    "import numpy as np\n"
-    "import numba\n"
+    "from math import cos, sin, sqrt, tanh, inf, nan, isfinite\nimport numpy as np\nimport numba\n"
 )
 
 _BINARY = {"+", "-", "*", "/"}
@@ -190,7 +188,8 @@ def _user_cache() -> Path:
         from numba.misc.appdirs import AppDirs
     except ImportError:  # pragma: no cover - numba missing: the caller does not compile
         return Path(tempfile.gettempdir()) / "prp3"
-    return Path(AppDirs(appname="numba", appauthor=False).user_cache_dir)
+    dirs: Any = AppDirs
+    return Path(dirs(appname="numba", appauthor=False).user_cache_dir)
 
 
 _LOADED: dict[str, types.ModuleType] = {}

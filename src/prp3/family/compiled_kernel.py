@@ -276,7 +276,9 @@ def _path_dynamics(types: str, actuated: int) -> Any:
         q = values[_DESIGN + _INERTIA + 9 :]
         frames, legs = [], []
         for j in range(3):
-            values_j, origins, rotations = chain_of(ops, design, float(SIGMA[j]), q[3 * j : 3 * j + 3])
+            values_j, origins, rotations = chain_of(
+                ops, design, float(SIGMA[j]), q[3 * j : 3 * j + 3]
+            )
             frames += values_j
             legs.append((origins, rotations))
         state = (x, y, ops.cos(phi), ops.sin(phi), *rest)
@@ -291,7 +293,9 @@ def samples_source(types: str, actuated: int) -> list[str]:
     names = [f"c{i}" for i in range(_DESIGN + _INERTIA)]
     inputs = ("x", "y", "phi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
     qs = [f"q{i}" for i in range(9)]
-    code = python_statements(_path_dynamics(types, actuated - 1), (*names, *inputs, *qs), "d", names)
+    code = python_statements(
+        _path_dynamics(types, actuated - 1), (*names, *inputs, *qs), "d", names
+    )
     arrays = ("pose", "velocity", "acceleration")
     lines = [f"    {name} = c[{i}]" for i, name in enumerate(names)]
     lines += [f"    at_{name} = {at} * n" for name, at in _AT.items()]

@@ -234,8 +234,6 @@ def scalar_leg_chain(ints: IntArray, par: FloatArray, c: float, s: float, theta:
     fr[FRAME_END + 2] = theta + par[PAR_PLACE + 11]
 
 
-
-
 @njit_inlined
 def _column(out: FloatArray, n: int, k: int, revolute: bool, x: float, y: float, gx: float, gy: float,
             scale: float) -> None:  # fmt: skip
@@ -268,12 +266,6 @@ def _det3n(m: FloatArray, n: int) -> float:
         - m[n, 0, 1] * (m[n, 1, 0] * m[n, 2, 2] - m[n, 1, 2] * m[n, 2, 0])
         + m[n, 0, 2] * (m[n, 1, 0] * m[n, 2, 1] - m[n, 1, 1] * m[n, 2, 0])
     )
-
-
-
-
-
-
 
 
 @njit_inlined

@@ -107,7 +107,9 @@ class Design:
         return cls(types=types, c=c, gamma=tuple(values[8:12]), scale=values[12])
 
 
-def _chain(ops: Ops, design: Design, rotations: Sequence[Pair], slides: dict[int, Any]) -> list[Pair]:
+def _chain(
+    ops: Ops, design: Design, rotations: Sequence[Pair], slides: dict[int, Any]
+) -> list[Pair]:
     """Joint origins ``O_k`` from the frame rotations ``R_{F_k}`` and the P values (§2)."""
     prev_r: Pair = (1.0, 0.0)
     prev_o: Pair = (0.0, 0.0)
@@ -500,7 +502,11 @@ def chain_of(
     theta: Any = sigma
     p: Pair = (0.0, 0.0)
     joint_o: list[Any] = []
-    joint_a, frame_o, frame_a, axes, rotations = [], [], [], [], []
+    axes: list[Any] = []
+    joint_a: list[Any] = []
+    frame_a: list[Any] = []
+    frame_o: list[Pair] = []
+    rotations: list[Pair] = []
     for k in range(3):
         pj = _add(p, turn(_unit(ops, theta), design.c[k]))
         tj = theta + design.gamma[k]
