@@ -78,7 +78,15 @@ from prp3.apps.codegen import (
 from prp3.engines.trace import trace
 from prp3.family.chain import SIGMA, SINGULAR
 from prp3.family.model import FamilyRobot
-from prp3.family.sample_mechanics import Design, Inertia, leg_candidates, sample_dynamics, turn
+from prp3.family.sample_mechanics import (
+    Design,
+    Inertia,
+    fixed_candidates,
+    leg_candidates,
+    legs_of,
+    sample_dynamics,
+    turn,
+)
 from prp3.mechanics.ops import MATH, Ops
 from prp3.validation import LEGS, check_instance
 
@@ -176,15 +184,7 @@ def family_c_inverse_dynamics(robot: FamilyRobot) -> FamilyCSource:
         def geometry(
             ops: Ops, x: Any, y: Any, c: Any, s: Any, cs: float = cs, ss: float = ss
         ) -> list[Any]:
-            local = (cs * x + ss * y, cs * y - ss * x)
-            out: list[Any] = []
-            for origins, rotations, mu in leg_candidates(ops, design, local, (c, s)):
-                for o in origins:  # back to the fixed frame: Rot(σ_j)
-                    out += turn((cs, ss), o)
-                for r in rotations:
-                    out += turn((cs, ss), r)
-                out.append(mu)
-            return out
+            return fixed_candidates(ops, design, (cs, ss), x, y, c, s)
 
         lines, outs, n = _c_lines(geometry, ("x", "y", "cos_phi", "sin_phi"), f"g{leg}", ind)
         operations += n
@@ -225,14 +225,7 @@ def family_c_inverse_dynamics(robot: FamilyRobot) -> FamilyCSource:
     leg_names = tuple(f"state_{leg}[{i}]" for leg in LEGS for i in range(12))
 
     def dynamics(ops: Ops, *values: Any) -> list[Any]:
-        state, rest = values[:10], values[10:]
-        legs = []
-        for j in range(3):
-            v = rest[12 * j : 12 * j + 12]
-            legs.append(
-                ([(v[2 * k], v[2 * k + 1]) for k in range(3)],
-                 [(v[6 + 2 * k], v[7 + 2 * k]) for k in range(3)])
-            )  # fmt: skip
+        state, legs = values[:10], legs_of(values[10:])
         return sample_dynamics(ops, design.types, inertia, design.scale, state, legs)
 
     lines, outs, n = _c_lines(dynamics, (*state_names, *leg_names), "d", ind)

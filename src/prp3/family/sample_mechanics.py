@@ -23,7 +23,6 @@ the C of :mod:`prp3.family.codegen`, on Python floats it is
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -66,8 +65,9 @@ def turn(r: Pair, v: Pair) -> Pair:
     return (r[0] * v[0] - r[1] * v[1], r[1] * v[0] + r[0] * v[1])
 
 
-def _unit(angle: float) -> Pair:
-    return (math.cos(angle), math.sin(angle))
+def _unit(ops: Ops, angle: Any) -> Pair:
+    """``(cos, sin)`` of a design angle (traced when the design is: one kernel for every robot)."""
+    return (ops.cos(angle), ops.sin(angle))
 
 
 def _over(v: Pair, c: tuple[float, float]) -> Pair:
@@ -96,8 +96,20 @@ class Design:
             scale=robot.leg.scale,
         )
 
+    def values(self) -> tuple[float, ...]:
+        """The 13 numbers ``c_1 … c_P`` (8), ``γ_1 … γ_P`` (4), ``scale``: the inputs of a traced design."""
+        return (*(v for pair in self.c for v in pair), *self.gamma, self.scale)
 
-def _chain(design: Design, rotations: Sequence[Pair], slides: dict[int, Any]) -> list[Pair]:
+    @classmethod
+    def from_values(cls, types: str, values: Sequence[Any]) -> Design:
+        """The design of :meth:`values` (floats or traced values) for the joints ``types``."""
+        c = tuple((values[2 * k], values[2 * k + 1]) for k in range(4))
+        return cls(types=types, c=c, gamma=tuple(values[8:12]), scale=values[12])
+
+
+def _chain(
+    ops: Ops, design: Design, rotations: Sequence[Pair], slides: dict[int, Any]
+) -> list[Pair]:
     """Joint origins ``O_k`` from the frame rotations ``R_{F_k}`` and the P values (§2)."""
     prev_r: Pair = (1.0, 0.0)
     prev_o: Pair = (0.0, 0.0)
@@ -105,7 +117,7 @@ def _chain(design: Design, rotations: Sequence[Pair], slides: dict[int, Any]) ->
     for k in range(3):
         origin = _add(prev_o, turn(prev_r, design.c[k]))
         if design.types[k] == "P":
-            origin = _add(origin, _scale(slides[k], turn(prev_r, _unit(design.gamma[k]))))
+            origin = _add(origin, _scale(slides[k], turn(prev_r, _unit(ops, design.gamma[k]))))
         origins.append(origin)
         prev_r, prev_o = rotations[k], origin
     return origins
@@ -154,7 +166,7 @@ def leg_candidates(
     pair, ...) instead of from angles.
     """
     types, c, gamma = design.types, design.c, design.gamma
-    r3 = turn(rphi, _unit(-gamma[3]))  # R_{F_3}: the attachment frame's angle is φ
+    r3 = turn(rphi, _unit(ops, -gamma[3]))  # R_{F_3}: the attachment frame's angle is φ
     wrist = _sub(g, turn(r3, c[3]))  # O_3 = origin of F_3
     solutions: list[tuple[list[Pair], dict[int, Any]]] = []
     if types.count("R") == 1:
@@ -162,11 +174,11 @@ def leg_candidates(
         rotations: list[Pair] = []
         for k in range(3):
             if k < r:
-                rotations.append(_unit(sum(gamma[: k + 1])))
+                rotations.append(_unit(ops, sum(gamma[: k + 1])))
             else:
-                rotations.append(turn(r3, _unit(-sum(gamma[k + 1 : 3]))))
+                rotations.append(turn(r3, _unit(ops, -sum(gamma[k + 1 : 3]))))
         a, b = (k for k in range(3) if types[k] == "P")
-        zero = _chain(design, rotations, {a: 0.0, b: 0.0})
+        zero = _chain(ops, design, rotations, {a: 0.0, b: 0.0})
         rhs = _sub(g, _add(zero[2], turn(r3, c[3])))
         ua, ub = rotations[a], rotations[b]
         det = _cross(ua, ub)
@@ -183,7 +195,7 @@ def leg_candidates(
             solutions.append(([_over(_sub(o2, o1), c[1]), _over(_sub(wrist, o2), c[2]), r3], {}))
     elif types == "RPR":
         d = _sub(wrist, c[0])
-        v = _unit(gamma[1])
+        v = _unit(ops, gamma[1])
         w0 = _add(c[1], turn(v, c[2]))
         b = _dot(w0, v)
         for q2 in _roots(ops, b, _dot(w0, w0) - _dot(d, d)):
@@ -192,13 +204,13 @@ def leg_candidates(
             r1 = ((d[0] * w[0] + d[1] * w[1]) / n, (d[1] * w[0] - d[0] * w[1]) / n)
             solutions.append(([r1, turn(r1, v), r3], {1: q2}))
     elif types == "PRR":
-        u1 = _unit(gamma[0])
+        u1 = _unit(ops, gamma[0])
         d = _sub(_sub(wrist, c[0]), turn(u1, c[1]))
         b = -_dot(d, u1)
         for q1 in _roots(ops, b, _dot(d, d) - _dot(c[2], c[2])):
             solutions.append(([u1, _over(_sub(d, _scale(q1, u1)), c[2]), r3], {0: q1}))
     elif types == "RRP":
-        r2 = turn(r3, _unit(-gamma[2]))
+        r2 = turn(r3, _unit(ops, -gamma[2]))
         reach = _sub(_sub(_sub(g, c[0]), turn(r2, c[2])), turn(r3, c[3]))
         b = -_dot(reach, r3)
         for q3 in _roots(ops, b, _dot(reach, reach) - _dot(c[1], c[1])):
@@ -207,7 +219,7 @@ def leg_candidates(
         raise AssertionError(types)
     out = []
     for rotations, slides in solutions:
-        origins = _chain(design, rotations, slides)
+        origins = _chain(ops, design, rotations, slides)
         out.append((origins, list(rotations), _measure(design, g, origins, rotations)))
     return out
 
@@ -233,6 +245,25 @@ class Inertia:
             load=(*robot.load.force, robot.load.moment),
             gravity=robot.gravity,
             actuated=robot.actuated - 1,
+        )
+
+    def values(self) -> tuple[float, ...]:
+        """The 19 numbers: links (mass, com, I) ×2 (8), platform (2), payload (4), load (3), gravity (2)."""
+        links = [v for mass, com, izz in self.links for v in (mass, *com, izz)]
+        mass, com, izz = self.payload
+        return (*links, *self.platform, mass, *com, izz, *self.load, *self.gravity)
+
+    @classmethod
+    def from_values(cls, values: Sequence[Any], actuated: int) -> Inertia:
+        """The inertia of :meth:`values` (floats or traced values); ``actuated`` 0-based."""
+        v = values
+        return cls(
+            links=((v[0], (v[1], v[2]), v[3]), (v[4], (v[5], v[6]), v[7])),
+            platform=(v[8], v[9]),
+            payload=(v[10], (v[11], v[12]), v[13]),
+            load=(v[14], v[15], v[16]),
+            gravity=(v[17], v[18]),
+            actuated=actuated,
         )
 
 
@@ -316,6 +347,7 @@ def sample_dynamics(
     scale: float,
     state: Sequence[Any],
     legs: Sequence[tuple[Sequence[Pair], Sequence[Pair]]],
+    extended: bool = False,
 ) -> list[Any]:
     """``[μ_par, tau_A, tau_B, tau_C, joint (27)]`` of one sample (docs/family.md §6, §7).
 
@@ -325,6 +357,9 @@ def sample_dynamics(
     ``K = J⁻¹``; the bodies' wrenches about ``G``; virtual work
     ``Σ_L τ_L·K_L[a, :] = w_platform + Σ_L K_Lᵀ·B_L``; ``w_L = K_Lᵀ·(τ_L·e_a − B_L)``,
     ``W_3 = w_L``, ``W_2 = N_2 + W_3``, ``W_1 = N_1 + W_2``.
+
+    ``extended``: after those, per leg ``q̇`` (9), ``q̈`` (9), the power
+    ``τ_L·q̇_a`` (3), ``J`` (27, row-major per leg) and ``K = J⁻¹`` (27).
     """
     x, y, cphi, sphi, dx, dy, dphi, ddx, ddy, ddphi = state
     g: Pair = (x, y)
@@ -333,6 +368,7 @@ def sample_dynamics(
     a_idx = inertia.actuated
     per_leg = []
     wrench_rows = []
+    rates: list[tuple[list[Any], list[Any], list[tuple[Any, Any, Any]]]] = []
     for origins, rotations in legs:
         cols = []
         for k in range(3):
@@ -376,6 +412,7 @@ def sample_dynamics(
         ]
         powers = [_dot(cols[k][:2], distal[k][:2]) + cols[k][2] * distal[k][2] for k in range(3)]
         per_leg.append((origins, kinv, links, powers))
+        rates.append((dq, ddq, cols))
         wrench_rows.append(_apply_transposed(kinv, powers))
     # the platform's need (with the payload) minus the load, docs/family.md §4
     mp, ip = inertia.platform
@@ -409,4 +446,83 @@ def sample_dynamics(
         )
     norms = [_dot(row[:2], row[:2]) + row[2] * row[2] for row in rows]
     mu_par = _det(rows) / ops.sqrt(norms[0] * norms[1] * norms[2])
-    return [mu_par, *tau, *joints]
+    if not extended:
+        return [mu_par, *tau, *joints]
+    extra = [v for dq, _, _ in rates for v in dq] + [v for _, ddq, _ in rates for v in ddq]
+    extra += [t * dq[a_idx] for t, (dq, _, _) in zip(tau, rates, strict=True)]
+    extra += [cols[c][i] for _, _, cols in rates for i in range(3) for c in range(3)]
+    extra += [v for _, kinv, _, _ in per_leg for row in kinv for v in row]
+    return [mu_par, *tau, *joints, *extra]
+
+
+# ------------------------------------------------------------------ the stages as traced
+def fixed_candidates(
+    ops: Ops, design: Design, sigma: Pair, x: Any, y: Any, c: Any, s: Any
+) -> list[Any]:
+    """:func:`leg_candidates` of the leg turned by ``sigma = (cos σ_j, sin σ_j)``, flat, in the fixed frame.
+
+    13 numbers per candidate: the origins ``O_1 … O_3`` (6), the rotations of
+    ``F_1 … F_3`` (6), ``μ_leg``; ``(x, y)`` is ``G`` and ``(c, s) = (cos φ, sin φ)``.
+    """
+    cs, ss = sigma
+    local = (cs * x + ss * y, cs * y - ss * x)
+    out: list[Any] = []
+    for origins, rotations, mu in leg_candidates(ops, design, local, (c, s)):
+        for o in origins:  # back to the fixed frame: Rot(σ_j)
+            out += turn((cs, ss), o)
+        for r in rotations:
+            out += turn((cs, ss), r)
+        out.append(mu)
+    return out
+
+
+def legs_of(values: Sequence[Any]) -> list[tuple[list[Pair], list[Pair]]]:
+    """The ``legs`` argument of :func:`sample_dynamics` from 12 numbers per leg (origins, rotations)."""
+    legs = []
+    for j in range(3):
+        v = values[12 * j : 12 * j + 12]
+        legs.append(
+            ([(v[2 * k], v[2 * k + 1]) for k in range(3)],
+             [(v[6 + 2 * k], v[7 + 2 * k]) for k in range(3)])
+        )  # fmt: skip
+    return legs
+
+
+def chain_of(
+    ops: Ops, design: Design, sigma: float, q: Sequence[Any]
+) -> tuple[list[Any], list[Pair], list[Pair]]:
+    """The chain of docs/family.md §2 at joint values ``q``, as :func:`prp3.family.chain.leg_chain`.
+
+    Returns ``(frames, origins, rotations)``: ``frames`` the 27 numbers
+    ``J_k`` origins (6), angles (3), ``F_k`` origins (6), angles (3), the axes
+    ``u_k`` (6), ``E``'s origin (2) and angle (1); ``origins`` the ``O_k`` and
+    ``rotations`` the ``(cos, sin)`` of the ``F_k`` (the ``legs`` of
+    :func:`sample_dynamics`).  ``σ`` is the leg's start angle.
+    """
+    theta: Any = sigma
+    p: Pair = (0.0, 0.0)
+    joint_o: list[Any] = []
+    axes: list[Any] = []
+    joint_a: list[Any] = []
+    frame_a: list[Any] = []
+    frame_o: list[Pair] = []
+    rotations: list[Pair] = []
+    for k in range(3):
+        pj = _add(p, turn(_unit(ops, theta), design.c[k]))
+        tj = theta + design.gamma[k]
+        u = _unit(ops, tj)
+        if design.types[k] == "R":
+            p, theta = pj, tj + q[k]
+        else:
+            p, theta = _add(pj, _scale(q[k], u)), tj
+        joint_o += pj
+        joint_a.append(tj)
+        frame_o.append(p)
+        frame_a.append(theta)
+        axes += u
+        rotations.append(_unit(ops, theta))
+    end = _add(p, turn(_unit(ops, theta), design.c[3]))
+    end_angle = theta + design.gamma[3]
+    frames = [*joint_o, *joint_a, *(v for o in frame_o for v in o), *frame_a, *axes, *end,
+              end_angle]  # fmt: skip
+    return frames, frame_o, rotations
