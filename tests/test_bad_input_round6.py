@@ -528,3 +528,17 @@ def test_prp3_forward_of_a_heavy_payload_names_the_robot_file_and_the_payload(ca
     assert status == 2 and message.startswith(f"prp3 forward: error: {robot}: "), message
     assert "[payload] mass = 1.8e+307 kg" in message, message
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("method", ["fast", "paper", "newton-euler"])
+def test_results_that_overflow_with_moderate_inputs_blame_the_robot_not_a_column(method):
+    # A payload of 1.83e307 kg is accepted (its weight 1.795e308 N is finite, the checks
+    # above), but with the rest of the robot's weight f10 overflows at home on the vertical
+    # motion, whose inputs are all below 1 in SI units: no input can be the cause.
+    motion = prp3.paper_motion("vertical", samples=11)
+    with pytest.raises(TrajectoryError) as caught:
+        prp3.inverse_dynamics(_robot("3-PRP", 1.83e307), motion, method=method)
+    assert caught.value.key is None, caught.value
+    assert "the sample's inputs are moderate" in str(caught.value)
+    assert "the robot's masses, inertias or loads are too large" in str(caught.value)
+    assert "the largest input of the sample is" not in str(caught.value)

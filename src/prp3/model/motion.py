@@ -173,6 +173,12 @@ INPUT_COLUMNS: tuple[str, ...] = (
 )  # fmt: skip
 
 
+#: Below this magnitude no input of a sample makes results overflow with a robot of
+#: ordinary size (the dynamics forms at most the square of a rate times a mass and an
+#: arm): an overflow of results is then the robot's, not the sample's.
+MODERATE_INPUT = 1e100
+
+
 def name_overflow_input(error: Prp3Error, motion: Motion) -> Prp3Error:
     """``error`` naming the largest input of its sample when it is an overflow of results.
 
@@ -181,8 +187,10 @@ def name_overflow_input(error: Prp3Error, motion: Motion) -> Prp3Error:
     float64: a rate of ``1e200`` m/s gives ``p10 = f10·λ̇10`` or ``λ̈10``
     (``φ̇²`` terms) beyond it.  The sample's input of largest magnitude among
     :data:`INPUT_COLUMNS` (pose, rates, accelerations, load) is named in the
-    reason and in the ``key`` field (the ``TRAJ.csv`` column); other errors,
-    and errors that name one already, are returned as they are.
+    reason and in the ``key`` field (the ``TRAJ.csv`` column); when even that input
+    is below :data:`MODERATE_INPUT`, the reason says the robot's values caused it
+    and no column is named.  Other errors, and errors that name one already, are
+    returned as they are.
 
     >>> from prp3.validation import require_finite
     >>> motion = Motion(t=[0.0, 1.0], pose=np.zeros((2, 3)),
@@ -193,6 +201,14 @@ def name_overflow_input(error: Prp3Error, motion: Motion) -> Prp3Error:
     ...     named = name_overflow_input(error, motion)
     >>> named.key, named.reason.split("; ")[-1]
     ('dphi', 'the largest input of the sample is dphi = 1e+200 (column dphi)')
+    >>> calm = Motion(t=[0.0, 1.0], pose=np.zeros((2, 3)), velocity=np.zeros((2, 3)),
+    ...               acceleration=[[0.0, 0.0, 0.0], [0.0, 0.0, 0.25]])
+    >>> try:
+    ...     require_finite({"f10": np.array([[0.0], [np.inf]])}, (2,), "motion")
+    ... except TrajectoryError as error:
+    ...     named = name_overflow_input(error, calm)
+    >>> named.key is None, named.reason.split("; ")[-1]
+    (True, "the sample's inputs are moderate (the largest is ddphi = 0.25): the robot's masses, inertias or loads are too large for float64")
     """
     overflow = isinstance(error, TrajectoryError) and error.reason.startswith(OVERFLOW_REASON)
     single = motion.t.ndim == 0
@@ -208,6 +224,14 @@ def name_overflow_input(error: Prp3Error, motion: Motion) -> Prp3Error:
     index = int(np.argmax(np.abs(values)))
     column = INPUT_COLUMNS[index]
     named = error.located()
+    if abs(float(values[index])) < MODERATE_INPUT:  # no input can be the cause: the robot is
+        named.reason = (
+            f"{error.reason}; the sample's inputs are moderate (the largest is {column} = "
+            f"{float(values[index]):.6g}): the robot's masses, inertias or loads are too "
+            "large for float64"
+        )
+        named.args = (str(named),)
+        return named
     named.reason = (
         f"{error.reason}; the largest input of the sample is {column} = "
         f"{float(values[index]):.6g} (column {column})"
