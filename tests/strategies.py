@@ -438,6 +438,15 @@ FAMILY_ALLOWED = [
 ]
 
 
+def loaded_family_robot(arch: str, act: int) -> FamilyRobot:
+    """The default robot of ``arch`` actuated at ``act`` with a payload off centre and a load."""
+    return replace(
+        FamilyRobot.default(arch, act),
+        payload=Payload(0.5, (0.02, -0.01), 1e-3),
+        load=Load((3.0, -2.0), 0.4),
+    )
+
+
 def _family_float(low: float, high: float) -> st.SearchStrategy[float]:
     return st.floats(low, high, allow_nan=False, allow_infinity=False)
 

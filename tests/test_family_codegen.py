@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -39,8 +38,7 @@ from prp3.errors import SingularPoseError, TrajectoryError, UnreachablePoseError
 from prp3.family import ARCHITECTURES, FamilyRobot, family_inverse_dynamics
 from prp3.family.codegen import C_UNREACHABLE, family_c_inverse_dynamics, python_sample
 from prp3.model.motion import Motion, paper_motion
-from prp3.model.parameters import Load, Payload
-from strategies import FAMILY_ALLOWED, family_designs, family_motions
+from strategies import FAMILY_ALLOWED, family_designs, family_motions, loaded_family_robot
 
 pytestmark = pytest.mark.skipif(COMPILER is None, reason="no C compiler")
 
@@ -77,19 +75,11 @@ def worst_error(compiled: Compiled, robot: FamilyRobot, motion: Motion) -> float
     return worst
 
 
-def loaded(arch: str, act: int) -> FamilyRobot:
-    return replace(
-        FamilyRobot.default(arch, act),
-        payload=Payload(0.5, (0.02, -0.01), 1e-3),
-        load=Load((3.0, -2.0), 0.4),
-    )
-
-
 @pytest.mark.parametrize(("arch", "act"), FAMILY_ALLOWED)
 def test_every_actuation_matches_the_family_route(
     tmp_path_factory: pytest.TempPathFactory, arch: str, act: int
 ) -> None:
-    robot = loaded(arch, act)
+    robot = loaded_family_robot(arch, act)
     compiled = build(robot, tmp_path_factory.mktemp(f"{arch}-{act}"))
     for name in ("vertical", "rotation"):
         if (arch, act, name) in CROSSING:
@@ -100,7 +90,7 @@ def test_every_actuation_matches_the_family_route(
 def test_python_steps_match_the_family_route() -> None:
     """The generated steps on Python floats (no compiler), the same check."""
     for arch, act in FAMILY_ALLOWED:
-        robot = loaded(arch, act)
+        robot = loaded_family_robot(arch, act)
         motion = paper_motion("vertical", 9)
         want = expected(robot, motion)
         for k in range(motion.samples):

@@ -45,8 +45,7 @@ from prp3.family.compiled_kernel import (
 )
 from prp3.family.mechanics import family_kinematics, fast_dynamics
 from prp3.model.motion import Motion, paper_motion
-from prp3.model.parameters import Load, Payload
-from strategies import FAMILY_ALLOWED, family_designs, family_motions
+from strategies import FAMILY_ALLOWED, family_designs, family_motions, loaded_family_robot
 
 CROSSING = {("3-PRR", 2, "rotation")}
 
@@ -91,17 +90,9 @@ def worst(robot: FamilyRobot, motion: Motion) -> dict[str, float]:
     return errors
 
 
-def loaded(arch: str, act: int) -> FamilyRobot:
-    return replace(
-        FamilyRobot.default(arch, act),
-        payload=Payload(0.5, (0.02, -0.01), 1e-3),
-        load=Load((3.0, -2.0), 0.4),
-    )
-
-
 @pytest.mark.parametrize(("arch", "act"), FAMILY_ALLOWED)
 def test_every_actuation_matches_the_numpy_engine(arch: str, act: int) -> None:
-    robot = loaded(arch, act)
+    robot = loaded_family_robot(arch, act)
     for name in ("vertical", "rotation"):
         if (arch, act, name) in CROSSING:
             continue
@@ -123,7 +114,7 @@ def test_random_robots_and_motions_match_the_numpy_engine(data: st.DataObject) -
 
 
 def test_one_compiled_function_serves_every_robot_of_a_structure() -> None:
-    a = loaded("3-RPR", 1)
+    a = loaded_family_robot("3-RPR", 1)
     b = replace(FamilyRobot.default("3-RPR", 1), gravity=(0.0, 0.0))
     assert structure_module(a.types, a.actuated) is structure_module(b.types, b.actuated)
     motion = paper_motion("vertical", 11)
@@ -134,7 +125,7 @@ def test_one_compiled_function_serves_every_robot_of_a_structure() -> None:
 
 def test_the_legs_and_tau_are_the_python_steps() -> None:
     """The same trace on Python floats (``python_sample``, the C's steps): the same numbers."""
-    robot = loaded("3-RRP", 3)
+    robot = loaded_family_robot("3-RRP", 3)
     motion = paper_motion("rotation", 7)
     status, out = kernel_batch(robot, motion.pose, motion.velocity, motion.acceleration)
     got = split(out)
@@ -195,7 +186,7 @@ def test_the_refusals_are_the_pythons_steps() -> None:
 
 
 def test_the_threads_give_the_numbers_of_one_thread() -> None:
-    robot = loaded("3-PRR", 1)
+    robot = loaded_family_robot("3-PRR", 1)
     motion = paper_motion("vertical", 5000)
     args = (robot, motion.pose, motion.velocity, motion.acceleration)
     s1, o1 = kernel_batch(*args, threads=False)
