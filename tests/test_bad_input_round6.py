@@ -542,3 +542,48 @@ def test_results_that_overflow_with_moderate_inputs_blame_the_robot_not_a_column
     assert "the sample's inputs are moderate" in str(caught.value)
     assert "the robot's masses, inertias or loads are too large" in str(caught.value)
     assert "the largest input of the sample is" not in str(caught.value)
+
+
+@pytest.mark.parametrize(
+    ("architecture", "mass"), [("3-RRR", 1e12), ("3-RRR", 1e300), ("3-RPR", 1e300)]
+)
+def test_family_forward_of_an_ill_scaled_robot_names_the_file_and_the_bodies(
+    capsys, tmp_path, architecture, mass
+):
+    # a platform of `mass` kg beside an inertia of 0.1 kg·m²: the equations of motion
+    # mix kg and kg·m², so A's condition number is about mass / 0.1 ≥ 1e13 > 1e12
+    robot = tmp_path / "heavy.toml"
+    robot.write_text(
+        f'architecture = "{architecture}"\nactuated = 1\n'
+        f"[platform]\nmass = {mass!r}\ninertia = 0.1\n",
+        encoding="utf-8",
+    )
+    efforts = tmp_path / "zero.csv"
+    efforts.write_text("t,tau_A,tau_B,tau_C\n0,0,0,0\n0.1,0,0,0\n", encoding="utf-8")
+    status, _, err = cli(capsys, "forward", "--robot", robot, "--forces", efforts,
+                         "--output", tmp_path / "out")  # fmt: skip
+    message = one_line(err)
+    assert status == 2 and message.startswith(f"prp3 forward: error: {robot}: robot: "), message
+    assert "ill-conditioned" in message and "the bound 1e12" in message, message
+    assert f"the largest: platform.mass = {mass!r} kg" in message, message
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    ("bound", "words"),
+    [({"max_evaluations": 300}, "max_evaluations = 300"),
+     ({"max_seconds": 0.2}, "max_seconds = 0.2 s (wall time)")],
+)  # fmt: skip
+def test_family_forward_of_a_stiff_robot_is_stopped_by_its_bound(bound, words):
+    # a 3-RPR platform of 3e11 kg on legs of about 1 kg passes the start's condition
+    # check but is stiff: DOP853 crawls (it ran for more than 300 s unbounded)
+    robot = replace(FamilyRobot.default("3-RPR"), platform=replace(
+        FamilyRobot.default("3-RPR").platform, mass=3e11))  # fmt: skip
+    t = np.linspace(0.0, 1.0, 3)
+    started = time.monotonic()
+    with pytest.raises(TrajectoryError) as caught:
+        prp3.family_forward_dynamics(robot, t, np.zeros((3, 3)), t, np.zeros(3), np.zeros(3),
+                                     **bound)  # fmt: skip
+    assert time.monotonic() - started < 60.0  # bounded (no timing asserted finer than a hang)
+    message = str(caught.value)
+    assert f"stopped by its bound {words}" in message and "at t = " in message, message

@@ -269,6 +269,8 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
                 raise error.located(origin=origin) from None
             where = "the first row of the results" if results else "the home pose"
             raise error.located(file=args.forces, subject=f"initial pose ({where})") from None
+        if error.subject == "robot" and args.robot is not None:  # its masses: the file's
+            raise error.located(file=args.robot) from None
         if error.key in ("load.force", "load.moment") and args.robot is not None:
             raise _robot_key(Path(args.robot), error) from None  # the robot file's [load]
         if error.key == "efforts" and error.sample is not None:  # a row: its line and time

@@ -30,12 +30,14 @@ bodies (with the payload), for the energy balance
 from __future__ import annotations
 
 import math
+import time as time_module
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from prp3.analysis.forward import MAX_EVALUATIONS, MAX_SECONDS
 from prp3.errors import ParameterError, Prp3Error, TrajectoryError
 from prp3.family.chain import (
     SIGMA,
@@ -60,7 +62,9 @@ from prp3.model.motion import Motion
 from prp3.validation import (
     check_finite,
     check_instance,
+    check_integer,
     check_real,
+    check_scalar,
     check_times,
     check_tolerances,
     checked_spline,
@@ -340,6 +344,36 @@ def _effort_of(
         return _effort_function(te, tau), (te, tau)
 
 
+def _inertia_extremes(robot: FamilyRobot) -> str:
+    """The robot's largest and smallest nonzero mass and inertia, named by key (for a refusal).
+
+    >>> for part in _inertia_extremes(FamilyRobot.default("3-RRR")).split("; "):
+    ...     print(part)
+    the largest: platform.mass = 3.0 kg, platform.inertia = 0.0675 kg·m²
+    the smallest: link2.mass = 0.75 kg, link2.inertia = 0.0025 kg·m²
+    """
+    bodies = {"link1": robot.link1, "link2": robot.link2, "platform": robot.platform,
+              "payload": robot.payload}  # fmt: skip
+    named = {
+        unit: [
+            (float(getattr(body, key)), f"{name}.{key}")
+            for name, body in bodies.items()
+            if float(getattr(body, key)) > 0.0
+        ]
+        for key, unit in (("mass", "kg"), ("inertia", "kg·m²"))
+    }
+
+    def pick(choose: Callable[..., tuple[float, str]]) -> str:
+        return ", ".join(
+            f"{key} = {value!r} {unit}"
+            for unit, values in named.items()
+            if values
+            for value, key in [choose(values)]
+        )
+
+    return f"the largest: {pick(max)}; the smallest: {pick(min)}"
+
+
 def _check_load(robot: FamilyRobot, x0: FloatArray, v0: FloatArray, b0: FloatArray) -> None:
     """Refuse a robot file's ``[load]`` that alone (zero efforts) asks for an absurd ``|ẍ|``.
 
@@ -417,6 +451,10 @@ def _check_accelerations(
     )
 
 
+class _BoundReachedError(Exception):
+    """Raised inside the right-hand side when a bound of the run is reached."""
+
+
 def _absurd_refusal(
     robot: FamilyRobot, effort: Callable[[float], FloatArray], time: float, size: float
 ) -> TrajectoryError:
@@ -442,6 +480,8 @@ def family_forward_dynamics(
     *,
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    max_evaluations: int = MAX_EVALUATIONS,
+    max_seconds: float = MAX_SECONDS,
 ) -> FamilyForward:
     """Integrate the platform motion driven by the actuator efforts ``τ_L(t)``.
 
@@ -460,11 +500,18 @@ def family_forward_dynamics(
         ``(x, y, φ)`` and ``(ẋ, ẏ, φ̇)`` at ``t[0]``.
     rtol, atol : float
         Tolerances of ``solve_ivp``.
+    max_evaluations, max_seconds : int, float
+        Bounds on the evaluations of the equations of motion and on the wall time (s)
+        (defaults :data:`~prp3.analysis.forward.MAX_EVALUATIONS`,
+        :data:`~prp3.analysis.forward.MAX_SECONDS`): a stiff motion the explicit
+        integrator would crawl through (a platform 1e12 times heavier than its legs)
+        is stopped, and said so.
 
     Raises
     ------
     TrajectoryError, ParameterError
-        Bad times, efforts or initial state (named).
+        Bad times, efforts or initial state (named); a bound stopped the integration
+        (the message names the bound and the time reached).
     SingularPoseError, UnreachablePoseError
         The initial pose is singular or out of reach.
     """
@@ -472,6 +519,10 @@ def family_forward_dynamics(
     times = check_times("t", t, minimum=2)
     effort, samples = _effort_of(t_efforts, efforts, times)
     rtol, atol = check_tolerances(rtol, atol)
+    bounds = (
+        check_integer("max_evaluations", max_evaluations, 1, 10**12),
+        check_scalar("max_seconds", max_seconds, positive=True, unit="s"),
+    )
     x0, v0 = _vector("initial_pose", initial_pose), _vector("initial_velocity", initial_velocity)
     try:  # refuses a singular or unreachable initial pose
         with np.errstate(all="ignore"):  # an overflow: the results' own refusal, located
@@ -480,19 +531,27 @@ def family_forward_dynamics(
         raise error.located(subject="initial pose", sample=None, time=None) from None
     _check_load(robot, x0, v0, b0)
     scale = float(np.abs(a0).max())  # cond(A/scale) is cond(A), without overflow
-    if not (scale > 0.0 and np.linalg.cond(a0 / scale) < 1e12):
+    condition = float(np.linalg.cond(a0 / scale)) if scale > 0.0 else math.inf
+    if not condition < 1e12:
         raise ParameterError(
             f"the equations of motion of this {robot.architecture} are singular or "
-            "ill-conditioned at the initial pose (condition number of A >= 1e12): its masses "
+            f"ill-conditioned at the initial pose (condition number of A: {condition:.3g}, the "
+            "bound 1e12): its masses "
             "and inertias leave a motion without inertia (a massless platform?), or differ "
-            "too much in scale",
+            f"too much in scale ({_inertia_extremes(robot)})",
             subject="robot",
         )
     _check_accelerations(robot, a0, b0, effort, times, samples)
-    count = [0]
+    # furthest: [the latest time evaluated, 1.0 once the integration is over (unbounded)]
+    count, furthest, clock = [0], [float(times[0]), 0.0], time_module.monotonic()
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
         count[0] += 1
+        if count[0] > bounds[0] and furthest[1] == 0.0:
+            raise _BoundReachedError(f"max_evaluations = {bounds[0]}")
+        if count[0] % 64 == 0 and time_module.monotonic() - clock > bounds[1] and not furthest[1]:
+            raise _BoundReachedError(f"max_seconds = {bounds[1]!r} s (wall time)")
+        furthest[0] = max(furthest[0], time) if not furthest[1] else furthest[0]
         try:
             a, b = _dynamics(robot, state[:3], state[3:])
             acceleration = np.linalg.solve(a, effort(time) - b)
@@ -521,8 +580,18 @@ def family_forward_dynamics(
                 rtol=rtol,
                 atol=atol,
             )
+    except _BoundReachedError as bound:
+        raise TrajectoryError(
+            f"the integration was stopped by its bound {bound} after {count[0] - 1} "
+            f"evaluations of the equations of motion, at t = {furthest[0]!r} s of "
+            f"[{float(times[0])!r}, {float(times[-1])!r}] s (a stiff motion: masses or "
+            "inertias far apart in scale?)",
+            subject="forward dynamics",
+            time=furthest[0],
+        ) from None
     except _AbsurdDerivativeError as absurd:
         raise _absurd_refusal(robot, effort, *absurd.args) from None
+    furthest[1] = 1.0  # the integration is over: what follows evaluates its states
     states = np.asarray(solution.y, dtype=np.float64).reshape(x0.size + v0.size, -1).T
     reached = np.asarray(solution.t, dtype=np.float64)
     if solution.status == 1:
