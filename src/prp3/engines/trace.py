@@ -51,7 +51,7 @@ __all__ = [
 ]
 
 # operation -> (scalar template, numpy ufunc name)
-_BINARY = {"+": "add", "-": "subtract", "*": "multiply", "/": "divide"}
+_BINARY = {"+": "add", "-": "subtract", "*": "multiply", "/": "divide", "atan2": "arctan2"}
 _UNARY = {"neg": "negative", "cos": "cos", "sin": "sin", "sqrt": "sqrt", "tanh": "tanh",
           "abs": "absolute", "sign": "sign"}  # fmt: skip
 
@@ -139,6 +139,15 @@ def _function(name: str, plain: Callable[[float], float]) -> Callable[[Any], Any
     return call
 
 
+def _atan2(y: Any, x: Any) -> Any:
+    """``atan2(y, x)`` recorded when either is traced (no identity: signed zeros matter)."""
+    if isinstance(y, Traced):
+        return y.tape.record("atan2", y, x)
+    if isinstance(x, Traced):
+        return x.tape.record("atan2", y, x)
+    return math.atan2(y, x)
+
+
 #: The kernel's functions on traced values (floats stay floats).
 TRACE = Ops(
     "trace",
@@ -148,6 +157,7 @@ TRACE = Ops(
     _function("tanh", math.tanh),
     _function("abs", abs),
     _function("sign", lambda v: float((v > 0.0) - (v < 0.0))),
+    _atan2,
 )
 
 

@@ -55,7 +55,8 @@ __all__ = [
 
 #: The imports of a generated module: math's functions by name, numba's compiler.
 MODULE_HEADER = (
-    "from math import cos, sin, sqrt, tanh, inf, nan, isfinite\nimport numpy as np\nimport numba\n"
+    "from math import atan2, cos, sin, sqrt, tanh, inf, nan, isfinite\n"
+    "import numpy as np\nimport numba\n"
 )
 
 _BINARY = {"+", "-", "*", "/"}
@@ -99,6 +100,8 @@ def _expression(operation: str, a: Sequence[str]) -> str:
         return f"-{a[0]}"
     if operation in _CALLS:
         return f"{operation}({a[0]})"
+    if operation == "atan2":
+        return f"atan2({a[0]}, {a[1]})"
     if operation == "sign":
         return f"float(({a[0]} > 0.0) - ({a[0]} < 0.0))"
     raise AssertionError(operation)  # pragma: no cover - trace records no other operation

@@ -122,7 +122,7 @@ class FamilyCSource:
 _C_BINARY = {"+", "-", "*", "/"}
 
 
-def _c_lines(
+def c_statements(
     function: Callable[..., Sequence[Any]],
     arguments: Sequence[str],
     prefix: str,
@@ -145,6 +145,8 @@ def _c_lines(
             text = f"-{a[0]}"
         elif operation in ("cos", "sin", "sqrt"):
             text = f"{operation}({a[0]})"
+        elif operation == "atan2":
+            text = f"atan2({a[0]}, {a[1]})"
         else:  # pragma: no cover - the mechanics uses no other function
             raise AssertionError(operation)
         body.append(f"{indent}const double {prefix}{index} = {text};")
@@ -186,7 +188,7 @@ def family_c_inverse_dynamics(robot: FamilyRobot) -> FamilyCSource:
         ) -> list[Any]:
             return fixed_candidates(ops, design, (cs, ss), x, y, c, s)
 
-        lines, outs, n = _c_lines(geometry, ("x", "y", "cos_phi", "sin_phi"), f"g{leg}", ind)
+        lines, outs, n = c_statements(geometry, ("x", "y", "cos_phi", "sin_phi"), f"g{leg}", ind)
         operations += n
         count = len(outs) // 13
         sign = math.copysign(1.0, home_leg[j])
@@ -228,7 +230,7 @@ def family_c_inverse_dynamics(robot: FamilyRobot) -> FamilyCSource:
         state, legs = values[:10], legs_of(values[10:])
         return sample_dynamics(ops, design.types, inertia, design.scale, state, legs)
 
-    lines, outs, n = _c_lines(dynamics, (*state_names, *leg_names), "d", ind)
+    lines, outs, n = c_statements(dynamics, (*state_names, *leg_names), "d", ind)
     operations += n
     body.append(
         f"{ind}/* the dynamics: rates, accelerations, body wrenches, virtual work, joints */"
@@ -375,4 +377,4 @@ def _safe_sqrt(value: float) -> float:
 
 
 #: Plain floats, with C's ``sqrt`` of a negative number (NaN, not an exception).
-_SAFE = Ops("math", MATH.cos, MATH.sin, _safe_sqrt, MATH.tanh, MATH.abs, MATH.sign)
+_SAFE = Ops("math", MATH.cos, MATH.sin, _safe_sqrt, MATH.tanh, MATH.abs, MATH.sign, MATH.atan2)

@@ -11,8 +11,8 @@ The stages of the kernel (:mod:`prp3.mechanics.joint_motion`,
 * machine code: :mod:`prp3.engines.numba` gives numba an ``Ops`` of
   :mod:`math`'s functions of its own.
 
->>> MATH.sqrt(4.0), float(NUMPY.tanh(0.0))
-(2.0, 0.0)
+>>> MATH.sqrt(4.0), float(NUMPY.tanh(0.0)), MATH.atan2(0.0, -1.0)
+(2.0, 0.0, 3.141592653589793)
 """
 
 from __future__ import annotations
@@ -43,6 +43,8 @@ class Ops:
     tanh: Callable[[Value], Value]
     abs: Callable[[Value], Value]
     sign: Callable[[Value], Value]
+    #: ``atan2(y, x)``: the angle of ``(x, y)`` in ``[−π, π]``, signed zeros as C's ``atan2``.
+    atan2: Callable[[Value, Value], Value]
 
 
 def _sign_float(value: float) -> float:
@@ -50,13 +52,15 @@ def _sign_float(value: float) -> float:
 
 
 #: Plain Python floats (:mod:`math`).
-MATH = Ops("math", math.cos, math.sin, math.sqrt, math.tanh, abs, _sign_float)
+MATH = Ops("math", math.cos, math.sin, math.sqrt, math.tanh, abs, _sign_float, math.atan2)
 #: 1-D float64 arrays (numpy ufuncs).
-NUMPY = Ops("numpy", np.cos, np.sin, np.sqrt, np.tanh, np.abs, np.sign)
+NUMPY = Ops("numpy", np.cos, np.sin, np.sqrt, np.tanh, np.abs, np.sign, np.arctan2)
 
 
 def sympy_ops() -> Ops:
     """The kernel's functions for sympy expressions (sympy imported on demand)."""
     import sympy
 
-    return Ops("sympy", sympy.cos, sympy.sin, sympy.sqrt, sympy.tanh, sympy.Abs, sympy.sign)
+    return Ops(
+        "sympy", sympy.cos, sympy.sin, sympy.sqrt, sympy.tanh, sympy.Abs, sympy.sign, sympy.atan2
+    )
