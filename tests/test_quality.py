@@ -325,7 +325,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "family/compiled_path.py": ("follow_path",),
     "family/forward.py": ("family_forward_dynamics",),
     "family/mechanics.py": ("inverse_geometry",),
-    "family/newton_euler.py": ("newton_euler_dynamics",),
     "family/paper.py": ("paper_steps",),
     "family/sample_mechanics.py": ("sample_dynamics",),
     "mechanics/implicit_friction.py": ("solve_mu",),
