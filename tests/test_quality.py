@@ -324,7 +324,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "family/compiled_legs.py": ("closure_branch",),
     "family/compiled_path.py": ("follow_path",),
     "family/forward.py": ("family_forward_dynamics",),
-    "family/mechanics.py": ("inverse_geometry",),
     "family/paper.py": ("paper_steps",),
     "family/sample_mechanics.py": ("sample_dynamics",),
     "mechanics/implicit_friction.py": ("solve_mu",),
