@@ -326,7 +326,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "family/forward.py": ("family_forward_dynamics",),
     "family/paper.py": ("paper_steps",),
     "family/sample_mechanics.py": ("sample_dynamics",),
-    "mechanics/implicit_friction.py": ("solve_mu",),
     "mechanics/wrenches.py": ("body_wrenches",),
     "plotting/spatial_animation.py": ("spatial_robot_figure",),
     "references/newton_euler.py": ("_solve",),
