@@ -48,7 +48,7 @@ from prp3.family.chain import (
     rotate,
     transmitted_wrench,
 )
-from prp3.family.legs import LEG_GEOMETRY
+from prp3.family.legs import LEG_GEOMETRY, LegGeometry
 from prp3.family.model import FamilyRobot
 from prp3.model.motion import Motion
 from prp3.pose_validation import MAX_ORIENTATION, POSE_BOUND
@@ -224,6 +224,52 @@ def check_poses(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> None:
         raise pose_bound_error(robot, pose, t, int(np.argmax(bad)))
 
 
+def _best_branch(
+    robot: FamilyRobot, geometry: LegGeometry, local_g: FloatArray, phi: FloatArray, sign: float
+) -> tuple[FloatArray, FloatArray]:
+    """The closure solution of one leg that keeps the home branch, at every path point.
+
+    Among the candidates of docs/family.md §5 at the leg-frame points ``local_g``
+    ``(M, 2)`` [m] and angles ``phi`` ``(M,)`` [rad], picks the one with the largest
+    finite ``sign·μ_leg``; returns the joint values ``(M, 3)`` and its scaled
+    ``Ĵ`` ``(M, 3, 3)`` in the leg frame (NaN rows where no candidate is finite).
+    """
+    types, placements, scale = robot.types, robot.leg.placements, robot.leg.scale
+    best = np.full(phi.shape[0], -np.inf)
+    chosen = np.full((phi.shape[0], 3), np.nan)
+    hat = np.full((phi.shape[0], 3, 3), np.nan)  # Ĵ of the chosen solution, leg frame
+    with np.errstate(invalid="ignore", over="ignore"):
+        for candidate in geometry.candidates(local_g, phi):
+            frames = leg_chain(types, placements, 0.0, candidate)
+            scaled = leg_jacobian(types, frames, local_g, scale)
+            value = sign * leg_measure(scaled)
+            better = np.isfinite(value) & (value > best)
+            best = np.where(better, value, best)
+            chosen[better] = candidate[better]
+            hat[better] = scaled[better]
+    return chosen, hat
+
+
+def _unwrap_revolute(
+    robot: FamilyRobot, geometry: LegGeometry, j: int, chosen: FloatArray, phi: FloatArray
+) -> None:
+    """Make leg ``j``'s R angles in ``chosen`` ``(M, 3)`` continuous from home, in place.
+
+    All R angles but the last are unwrapped along the path from their home values;
+    the last one closes ``Σ angles = φ − total`` (docs/family.md §5) with the whole
+    turns the leg has at home.
+    """
+    types, home = robot.types, np.asarray(robot.leg.home)
+    revolute = [k for k in range(3) if types[k] == "R"]
+    turns = home[revolute].sum() - (robot.home_poses[j, 2] - geometry.total)
+    offset = 2.0 * math.pi * round(turns / (2.0 * math.pi))
+    for k in revolute[:-1]:
+        chosen[:, k] = np.unwrap(np.concatenate([[home[k]], chosen[:, k]]))[1:]
+    last = revolute[-1]
+    others = chosen[:, revolute[:-1]].sum(axis=1) if len(revolute) > 1 else 0.0
+    chosen[:, last] = phi - geometry.total + offset - others
+
+
 def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geometry:
     """Closure solutions of docs/family.md §5 at poses ``(N, 3)`` and the refusals of §6.
 
@@ -245,7 +291,6 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
     types, placements, scale = robot.types, robot.leg.placements, robot.leg.scale
     geometry = LEG_GEOMETRY[types](placements)
     home_leg, home_par = robot.home_measures
-    home = np.asarray(robot.leg.home)
     revolute = [k for k in range(3) if types[k] == "R"]
     length = robot_length(robot)
     n = pose.shape[0]
@@ -260,18 +305,7 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
         local_g = rotate(-SIGMA[j], path[:, :2])
         phi = path[:, 2]
         sign = math.copysign(1.0, home_leg[j])
-        best = np.full(path.shape[0], -np.inf)
-        chosen = np.full((path.shape[0], 3), np.nan)
-        hat = np.full((path.shape[0], 3, 3), np.nan)  # Ĵ of the chosen solution, leg frame
-        with np.errstate(invalid="ignore", over="ignore"):
-            for candidate in geometry.candidates(local_g, phi):
-                frames = leg_chain(types, placements, 0.0, candidate)
-                scaled = leg_jacobian(types, frames, local_g, scale)
-                value = sign * leg_measure(scaled)
-                better = np.isfinite(value) & (value > best)
-                best = np.where(better, value, best)
-                chosen[better] = candidate[better]
-                hat[better] = scaled[better]
+        chosen, hat = _best_branch(robot, geometry, local_g, phi, sign)
         lost = ~np.isfinite(chosen).all(axis=1)
         if lost.any():
             i = int(np.argmax(lost))
@@ -279,13 +313,7 @@ def inverse_geometry(robot: FamilyRobot, pose: FloatArray, t: FloatArray) -> Geo
             note = "" if i in at else on_the_way(t, k)
             raise unreachable_error(robot, j, path[i], note, k, t)
         if revolute:  # R angles: continuous from home along the path (docs/family.md §5)
-            turns = home[revolute].sum() - (robot.home_poses[j, 2] - geometry.total)
-            offset = 2.0 * math.pi * round(turns / (2.0 * math.pi))
-            for k in revolute[:-1]:
-                chosen[:, k] = np.unwrap(np.concatenate([[home[k]], chosen[:, k]]))[1:]
-            last = revolute[-1]
-            others = chosen[:, revolute[:-1]].sum(axis=1) if len(revolute) > 1 else 0.0
-            chosen[:, last] = phi - geometry.total + offset - others
+            _unwrap_revolute(robot, geometry, j, chosen, phi)
         q[:, j, :] = chosen[at[1:]]
         mu = leg_measure(hat)  # det Ĵ does not change when the leg is turned by σ_j
         bad = ~(sign * mu >= SINGULAR)

@@ -22,6 +22,8 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -74,6 +76,47 @@ def link_accelerations(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray, F
             accs.append(p_acc + alpha[..., None] * perp(rc) - (omega**2)[..., None] * rc)
             alphas.append(alpha)
     return np.stack(centres, 2), np.stack(accs, 2), np.stack(alphas, 2)
+
+
+def _platform_rhs(
+    kin: FamilyKinematics, pose: FloatArray, acceleration: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Right-hand side of the platform's balance (payload welded on, load added).
+
+    Returns ``ΣF`` ``(N, 2)`` [N] and ``ΣM_C`` ``(N,)`` [N·m] the three legs' joint
+    wrenches must supply: ``m(a_C − g)`` of platform and payload less the load force,
+    and ``I·θ̈`` plus the payload's moment about ``C`` less the load moment.
+    """
+    robot = kin.robot
+    g = np.asarray(robot.gravity)
+    omega, alpha = kin.motion.velocity.reshape(-1, 3)[:, 2], acceleration[:, 2]
+    payload = robot.payload
+    r = rotate(pose[:, 2], payload.com)
+    a_pl = acceleration[:, :2] + alpha[:, None] * perp(r) - (omega**2)[:, None] * r
+    f_pl = payload.mass * (a_pl - g)
+    force = robot.platform.mass * (acceleration[:, :2] - g) + f_pl - np.asarray(robot.load.force)
+    moment = (robot.platform.inertia + payload.inertia) * alpha + cross(r, f_pl) - robot.load.moment
+    return force, moment
+
+
+def _joint_wrenches(
+    joint_wrench: Callable[[int, int], tuple[FloatArray, FloatArray, FloatArray]],
+    x: FloatArray,
+) -> tuple[FloatArray, FloatArray]:
+    """Every joint's force ``(N, 3, 3, 2)`` [N] and moment ``(N, 3, 3)`` [N·m] from the solved unknowns ``x``.
+
+    ``joint_wrench(leg, k)`` gives the linear maps unknowns → ``(F_x, F_y, m)`` of joint k.
+    """
+    n = x.shape[0]
+    force = np.empty((n, 3, 3, 2))
+    moment = np.empty((n, 3, 3))
+    for leg in range(3):
+        for k in range(3):
+            fx, fy, m = joint_wrench(leg, k)
+            force[:, leg, k, 0] = np.einsum("ni,ni->n", fx, x)
+            force[:, leg, k, 1] = np.einsum("ni,ni->n", fy, x)
+            moment[:, leg, k] = np.einsum("ni,ni->n", m, x)
+    return force, moment
 
 
 def newton_euler_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
@@ -136,25 +179,8 @@ def newton_euler_dynamics(robot: FamilyRobot, motion: Motion) -> FamilySolution:
         f3, m3 = moment_about(centre, leg, 2)
         matrix[:, row : row + 2] += f3
         matrix[:, row + 2] += m3
-    omega, alpha = kin.motion.velocity.reshape(-1, 3)[:, 2], acceleration[:, 2]
-    payload = robot.payload
-    r = rotate(pose[:, 2], payload.com)
-    a_pl = acceleration[:, :2] + alpha[:, None] * perp(r) - (omega**2)[:, None] * r
-    f_pl = payload.mass * (a_pl - g)
-    rhs[:, row : row + 2] = (
-        robot.platform.mass * (acceleration[:, :2] - g) + f_pl - np.asarray(robot.load.force)
-    )
-    rhs[:, row + 2] = (
-        (robot.platform.inertia + payload.inertia) * alpha + cross(r, f_pl) - robot.load.moment
-    )
+    rhs[:, row : row + 2], rhs[:, row + 2] = _platform_rhs(kin, pose, acceleration)
     x = np.asarray(np.linalg.solve(matrix, rhs[..., None])[..., 0], dtype=np.float64)
-    force = np.empty((n, 3, 3, 2))
-    moment = np.empty((n, 3, 3))
-    for leg in range(3):
-        for k in range(3):
-            fx, fy, m = joint_wrench(leg, k)
-            force[:, leg, k, 0] = np.einsum("ni,ni->n", fx, x)
-            force[:, leg, k, 1] = np.einsum("ni,ni->n", fy, x)
-            moment[:, leg, k] = np.einsum("ni,ni->n", m, x)
+    force, moment = _joint_wrenches(joint_wrench, x)
     tau = x[:, 6::7]
     return joint_solution(kin, kin.dq, kin.ddq, tau, force, moment, "newton-euler")

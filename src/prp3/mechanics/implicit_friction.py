@@ -41,6 +41,51 @@ MU_MAX_ITERATIONS: int = 40
 NEAR_LOCK_MU: float = 1.2
 
 
+def _arr(value: Value) -> FloatArray:
+    """``value`` (a float or an array) as a float array of at least one axis."""
+    return np.atleast_1d(np.asarray(value, dtype=np.float64))
+
+
+def _unit_friction_reactions(
+    k: KernelParameters, kin: KernelKinematics, samples: int
+) -> FloatArray:
+    """``R`` ``(N, 12, 9)``: the reactions of unit friction forces.
+
+    Column ``q`` holds ``(n10, F21y, F21z, n32)`` of the three legs (12 rows) when
+    friction force ``q`` (fric10_A..C, fric21_A..C, fric32_A..C) is 1 and nothing
+    else loads the robot (no inertia, no gravity, no actuation).
+    """
+    R = np.empty((samples, 12, 9))
+    for q in range(9):
+        unit = [0.0] * 9
+        unit[q] = 1.0
+        fr = KernelFriction(
+            (unit[0], unit[1], unit[2]), (unit[3], unit[4], unit[5]), (unit[6], unit[7], unit[8])
+        )
+        w = body_wrenches(k, kin, 0.0, 0.0, 0.0, 0.0, friction=fr, inertia=False)
+        _, fy, fz, rest = joint_forces(k, kin, w, True)
+        assert rest is not None
+        columns = [*rest[0], *fy, *fz, *rest[2]]
+        for row, value in enumerate(columns):
+            R[:, row, q] = _arr(value) if not isinstance(value, float) else value
+    return R
+
+
+def _mu_coefficients(
+    k: KernelParameters, kin: KernelKinematics, dphi: Value, samples: int
+) -> FloatArray:
+    """The diagonal of ``C = diag(−μ·s(v))`` of the 9 friction forces, ``(N, 9)``."""
+    mus = tuple(element.mu(k) for element in FRICTIONS)
+    smooth = tuple(element.smoothing(k) for element in FRICTIONS)
+    rates = tuple(element.rates(kin, dphi) for element in FRICTIONS)
+    coefficient = np.empty((samples, 9))
+    for a in range(3):
+        for j in range(3):
+            sv = _arr(rate_sign(NUMPY, _arr(rates[a][j]), smooth[a]))
+            coefficient[:, 3 * a + j] = -float(mus[a]) * sv
+    return coefficient
+
+
 def solve_mu(
     ops: Ops,
     k: KernelParameters,
@@ -82,36 +127,12 @@ def solve_mu(
         :data:`~prp3.mechanics.ops.MATH`, arrays for :data:`~prp3.mechanics.ops.NUMPY`).
     """
     single = ops.name == "math"
-
-    def arr(value: Value) -> FloatArray:
-        return np.atleast_1d(np.asarray(value, dtype=np.float64))
-
+    arr = _arr
     n10, f21y, f21z, n32 = (np.stack([arr(v) for v in legs], axis=-1) for legs in reactions)
     samples = n10.shape[0]
     r0 = np.concatenate([n10, f21y, f21z, n32], axis=-1)  # (N, 12)
-    # R: the reactions of unit friction forces (fric10_A..C, fric21_A..C, fric32_A..C)
-    R = np.empty((samples, 12, 9))
-    for q in range(9):
-        unit = [0.0] * 9
-        unit[q] = 1.0
-        fr = KernelFriction(
-            (unit[0], unit[1], unit[2]), (unit[3], unit[4], unit[5]), (unit[6], unit[7], unit[8])
-        )
-        w = body_wrenches(k, kin, 0.0, 0.0, 0.0, 0.0, friction=fr, inertia=False)
-        _, fy, fz, rest = joint_forces(k, kin, w, True)
-        assert rest is not None
-        columns = [*rest[0], *fy, *fz, *rest[2]]
-        for row, value in enumerate(columns):
-            R[:, row, q] = arr(value) if not isinstance(value, float) else value
-    # C = diag(−μ·s(v)) of the 9 friction forces
-    mus = tuple(element.mu(k) for element in FRICTIONS)
-    smooth = tuple(element.smoothing(k) for element in FRICTIONS)
-    rates = tuple(element.rates(kin, dphi) for element in FRICTIONS)
-    coefficient = np.empty((samples, 9))
-    for a in range(3):
-        for j in range(3):
-            sv = arr(rate_sign(NUMPY, arr(rates[a][j]), smooth[a]))
-            coefficient[:, 3 * a + j] = -float(mus[a]) * sv
+    R = _unit_friction_reactions(k, kin, samples)
+    coefficient = _mu_coefficients(k, kin, dphi, samples)
     scale = np.abs(r0).max(axis=-1) + 1.0
     u = _magnitudes(r0)[0]
     iterations = np.zeros(samples)
