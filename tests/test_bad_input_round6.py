@@ -504,27 +504,36 @@ def test_spatial_forward_of_a_heavy_platform_names_why(mass, words):
     assert "condition number inf" not in str(caught.value)  # 1e12 kg: about 5e14, computed
 
 
-def test_family_forward_of_a_heavy_payload_names_the_robot_file(capsys, tmp_path):
+def _forward_at_rest(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, robot_text: str, efforts: str
+) -> tuple[int, str, Path, Path]:
+    """``prp3 forward`` of the robot file ``robot_text`` under zero efforts (header
+    ``t,<efforts>``) over 0.1 s: (exit status, its one error line, robot file, efforts file)."""
     robot = tmp_path / "heavy.toml"
-    robot.write_text('architecture = "3-RRR"\nactuated = 1\n[payload]\nmass = 1.8e307\n')
-    efforts = tmp_path / "zero.csv"
-    efforts.write_text("t,tau_A,tau_B,tau_C\n0,0,0,0\n0.1,0,0,0\n", encoding="utf-8")
-    status, _, err = cli(capsys, "forward", "--robot", robot, "--forces", efforts,
+    robot.write_text(robot_text, encoding="utf-8")
+    forces = tmp_path / "zero.csv"
+    forces.write_text(f"t,{efforts}\n0,0,0,0\n0.1,0,0,0\n", encoding="utf-8")
+    status, _, err = cli(capsys, "forward", "--robot", robot, "--forces", forces,
                          "--output", tmp_path / "out")  # fmt: skip
-    message = one_line(err)
+    return status, one_line(err), robot, forces
+
+
+def test_family_forward_of_a_heavy_payload_names_the_robot_file(capsys, tmp_path):
+    status, message, robot, efforts = _forward_at_rest(
+        capsys,
+        tmp_path,
+        'architecture = "3-RRR"\nactuated = 1\n[payload]\nmass = 1.8e307\n',
+        "tau_A,tau_B,tau_C",
+    )
     assert status == 2 and f"{robot}: robot at the initial pose: the results overflow" in message
     assert "sample" not in message and str(efforts) not in message, message
     assert not (tmp_path / "out").exists()
 
 
 def test_prp3_forward_of_a_heavy_payload_names_the_robot_file_and_the_payload(capsys, tmp_path):
-    robot = tmp_path / "heavy.toml"
-    robot.write_text("[payload]\nmass = 1.8e307\n", encoding="utf-8")
-    forces = tmp_path / "zero.csv"
-    forces.write_text("t,f10_A,f10_B,f10_C\n0,0,0,0\n0.1,0,0,0\n", encoding="utf-8")
-    status, _, err = cli(capsys, "forward", "--robot", robot, "--forces", forces,
-                         "--output", tmp_path / "out")  # fmt: skip
-    message = one_line(err)
+    status, message, robot, _ = _forward_at_rest(
+        capsys, tmp_path, "[payload]\nmass = 1.8e307\n", "f10_A,f10_B,f10_C"
+    )
     assert status == 2 and message.startswith(f"prp3 forward: error: {robot}: "), message
     assert "[payload] mass = 1.8e+307 kg" in message, message
     assert not (tmp_path / "out").exists()
@@ -552,17 +561,10 @@ def test_family_forward_of_an_ill_scaled_robot_names_the_file_and_the_bodies(
 ):
     # a platform of `mass` kg beside an inertia of 0.1 kg·m²: the equations of motion
     # mix kg and kg·m², so A's condition number is about mass / 0.1 ≥ 1e13 > 1e12
-    robot = tmp_path / "heavy.toml"
-    robot.write_text(
-        f'architecture = "{architecture}"\nactuated = 1\n'
-        f"[platform]\nmass = {mass!r}\ninertia = 0.1\n",
-        encoding="utf-8",
+    text = f'architecture = "{architecture}"\nactuated = 1\n[platform]\nmass = {mass!r}\n'
+    status, message, robot, _ = _forward_at_rest(
+        capsys, tmp_path, text + "inertia = 0.1\n", "tau_A,tau_B,tau_C"
     )
-    efforts = tmp_path / "zero.csv"
-    efforts.write_text("t,tau_A,tau_B,tau_C\n0,0,0,0\n0.1,0,0,0\n", encoding="utf-8")
-    status, _, err = cli(capsys, "forward", "--robot", robot, "--forces", efforts,
-                         "--output", tmp_path / "out")  # fmt: skip
-    message = one_line(err)
     assert status == 2 and message.startswith(f"prp3 forward: error: {robot}: robot: "), message
     assert "ill-conditioned" in message and "the bound 1e12" in message, message
     assert f"the largest: platform.mass = {mass!r} kg" in message, message
@@ -576,14 +578,14 @@ def test_family_forward_of_an_ill_scaled_robot_names_the_file_and_the_bodies(
 )  # fmt: skip
 def test_family_forward_of_a_stiff_robot_is_stopped_by_its_bound(bound, words):
     # a 3-RPR platform of 3e11 kg on legs of about 1 kg passes the start's condition
-    # check but is stiff: DOP853 crawls (it ran for more than 300 s unbounded)
+    # check (cond(A) ≈ 5e11 < 1e12) but is stiff: DOP853 crawls (a heavier platform, still
+    # accepted, ran for more than 300 s before the bound), so both bounds are reached
     robot = replace(FamilyRobot.default("3-RPR"), platform=replace(
         FamilyRobot.default("3-RPR").platform, mass=3e11))  # fmt: skip
     t = np.linspace(0.0, 1.0, 3)
-    started = time.monotonic()
     with pytest.raises(TrajectoryError) as caught:
         prp3.family_forward_dynamics(robot, t, np.zeros((3, 3)), t, np.zeros(3), np.zeros(3),
                                      **bound)  # fmt: skip
-    assert time.monotonic() - started < 60.0  # bounded (no timing asserted finer than a hang)
     message = str(caught.value)
     assert f"stopped by its bound {words}" in message and "at t = " in message, message
+    assert caught.value.time is not None and 0.0 <= caught.value.time < 1.0, message

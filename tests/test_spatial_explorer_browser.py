@@ -129,7 +129,7 @@ def test_the_page_opens_offline_and_the_slider_draws_the_sample_s_frame(
                 "(k) => document.querySelector('.js-plotly-plot')._fullLayout.sliders[0]"
                 ".active !== k",
                 arg=before,
-                timeout=20_000,
+                timeout=60_000,
             )
             time.sleep(0.3)
             state = page.evaluate(_READ)
@@ -144,7 +144,7 @@ def test_the_page_opens_offline_and_the_slider_draws_the_sample_s_frame(
             "(k) => document.querySelector('.js-plotly-plot')._fullLayout.sliders[0].active"
             " >= k + 3",
             arg=start,
-            timeout=30_000,
+            timeout=90_000,
         )
         page.get_by_text("❚❚ pause").click()
         time.sleep(0.6)

@@ -542,16 +542,19 @@ def family_forward_dynamics(
             subject="robot",
         )
     _check_accelerations(robot, a0, b0, effort, times, samples)
-    # furthest: [the latest time evaluated, 1.0 once the integration is over (unbounded)]
-    count, furthest, clock = [0], [float(times[0]), 0.0], time_module.monotonic()
+    count, furthest, clock = [0], [float(times[0])], time_module.monotonic()
+
+    def bounded(time: float, state: FloatArray) -> FloatArray:
+        """``rhs`` as the integrator calls it: stopped by ``max_evaluations``, ``max_seconds``."""
+        if count[0] >= bounds[0]:
+            raise _BoundReachedError(f"max_evaluations = {bounds[0]}")
+        if count[0] % 64 == 63 and time_module.monotonic() - clock > bounds[1]:
+            raise _BoundReachedError(f"max_seconds = {bounds[1]!r} s (wall time)")
+        furthest[0] = max(furthest[0], time)
+        return rhs(time, state)
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
         count[0] += 1
-        if count[0] > bounds[0] and furthest[1] == 0.0:
-            raise _BoundReachedError(f"max_evaluations = {bounds[0]}")
-        if count[0] % 64 == 0 and time_module.monotonic() - clock > bounds[1] and not furthest[1]:
-            raise _BoundReachedError(f"max_seconds = {bounds[1]!r} s (wall time)")
-        furthest[0] = max(furthest[0], time) if not furthest[1] else furthest[0]
         try:
             a, b = _dynamics(robot, state[:3], state[3:])
             acceleration = np.linalg.solve(a, effort(time) - b)
@@ -571,7 +574,7 @@ def family_forward_dynamics(
     try:
         with np.errstate(all="ignore"):
             solution = solve_ivp(
-                rhs,
+                bounded,
                 (float(times[0]), float(times[-1])),
                 np.concatenate([x0, v0]),
                 method="DOP853",
@@ -582,7 +585,7 @@ def family_forward_dynamics(
             )
     except _BoundReachedError as bound:
         raise TrajectoryError(
-            f"the integration was stopped by its bound {bound} after {count[0] - 1} "
+            f"the integration was stopped by its bound {bound} after {count[0]} "
             f"evaluations of the equations of motion, at t = {furthest[0]!r} s of "
             f"[{float(times[0])!r}, {float(times[-1])!r}] s (a stiff motion: masses or "
             "inertias far apart in scale?)",
@@ -591,7 +594,6 @@ def family_forward_dynamics(
         ) from None
     except _AbsurdDerivativeError as absurd:
         raise _absurd_refusal(robot, effort, *absurd.args) from None
-    furthest[1] = 1.0  # the integration is over: what follows evaluates its states
     states = np.asarray(solution.y, dtype=np.float64).reshape(x0.size + v0.size, -1).T
     reached = np.asarray(solution.t, dtype=np.float64)
     if solution.status == 1:
