@@ -16,35 +16,34 @@ a fixed geometry, actuation and gravity:
 (the family has no friction, docs/family.md §1: no friction columns).  The constant
 ``[load]`` adds a term that depends on no parameter (:func:`family_known_forces`).
 
-The columns are taken from the family's own kernel, not a second model: the
-kinematics of the motion once (:func:`prp3.family.mechanics.family_kinematics`,
-the branch followed from home), then the fast route's body wrenches and virtual
-work (:func:`prp3.family.mechanics.fast_dynamics`, what
-``family_inverse_dynamics(method="fast")`` runs) once per *representable* robot of
-unit parameters: a link of mass 1 at ``c = 0`` (column ``m``), of mass 0 and
-inertia 1 (column ``J``), of mass 1 at ``c = (1, 0)`` or ``(0, 1)`` (``m + h + J``:
-the ``h`` columns by difference); the platform's ``h3`` columns likewise from a
-unit payload at ``c_p = (1, 0)`` or ``(0, 1)``.  Every other body is massless in
-each, and every one of them is a valid :class:`FamilyRobot`.  The base parameters
-of a family robot are :func:`prp3.apps.base_parameters.base_parameters` of it, the
-fit :func:`prp3.apps.identification.identify` of it (docs/identification.md,
+The columns are the family's own kernel, not a second model: the kinematics of
+the motion once (:func:`prp3.family.mechanics.family_kinematics`, the branch
+followed from home), then the exact derivatives ``Y = ∂τ/∂π`` of the actuator
+efforts of :func:`prp3.family.sample_mechanics.sample_dynamics` (the kernel the
+numba route and the generated C run), recorded by forward differentiation of its
+traced operations and emitted as numpy code once per architecture × actuated
+joint (:mod:`prp3.family.regressor_kernel`: the chain rule from the file's
+``m, c, I`` to ``π``); ``τ_known`` is the same kernel with every body massless.
+The base parameters of a family robot are
+:func:`prp3.apps.base_parameters.base_parameters` of it, the fit
+:func:`prp3.apps.identification.identify` of it (docs/identification.md,
 "Family robots").
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
 from prp3.errors import ParameterError
-from prp3.family.mechanics import FamilyKinematics, family_kinematics, fast_dynamics
-from prp3.family.model import Body, FamilyRobot, PlatformBody
+from prp3.family.mechanics import FamilyKinematics, family_kinematics, motion_batch
+from prp3.family.model import FamilyRobot
+from prp3.family.regressor_kernel import COLUMNS, regressor_batch
 from prp3.model.motion import Motion
-from prp3.model.parameters import Load, Payload
-from prp3.validation import check_instance, check_integer, check_names
+from prp3.validation import check_instance, check_integer, check_names, require_finite
 
 __all__ = [
     "FAMILY_PARAMETERS",
@@ -160,64 +159,30 @@ class FamilyRegressor:
     mu_par: FloatArray
 
 
-def _massless(robot: FamilyRobot) -> FamilyRobot:
-    """``robot`` with every body massless and without inertia, no payload and no load."""
-    return replace(
-        robot,
-        link1=Body(0.0, (0.0, 0.0), 0.0, name="link1"),
-        link2=Body(0.0, (0.0, 0.0), 0.0, name="link2"),
-        platform=PlatformBody(0.0, 0.0),
-        payload=Payload(),
-        load=Load(),
-    )
+def _kernel(kin: FamilyKinematics) -> tuple[FloatArray, FloatArray]:
+    """``Y (N, 3, 12)`` (:data:`~prp3.family.regressor_kernel.COLUMNS`) and ``τ_known (N, 3)`` on ``kin``.
 
-
-def _unit_robot(
-    zero: FamilyRobot, body: str, mass: float, com: tuple[float, float], inertia: float
-) -> FamilyRobot:
-    if body == "platform":
-        if com == (0.0, 0.0):
-            return replace(zero, platform=PlatformBody(mass, inertia))
-        return replace(zero, payload=Payload(mass, com, inertia))
-    link = Body(mass, com, inertia, name=body)
-    return replace(zero, link1=link) if body == "link1" else replace(zero, link2=link)
+    Refused (:class:`~prp3.errors.TrajectoryError`, naming the sample) when a
+    result is not finite, as the inverse dynamics refuses its efforts.
+    """
+    t, pose, velocity, acceleration = motion_batch(kin.motion)
+    state = np.concatenate([pose, velocity, acceleration], axis=1)
+    with np.errstate(all="ignore"):  # an overflow is refused below, named
+        Y, known = regressor_batch(kin.robot, state, kin.q.reshape(-1, 9))
+    require_finite({"tau": Y.reshape(-1, 36), "tau_known": known}, (t.size,), "motion", t)
+    return Y, known
 
 
 def unit_efforts(kin: FamilyKinematics, parameters: Sequence[str]) -> FloatArray:
     """The columns of the regressor on known kinematics ``kin``: shape ``(N, 3, P)``.
 
-    ``kin`` is :func:`~prp3.family.mechanics.family_kinematics` of the motion for
-    any robot of the same geometry; the fast route runs on it with the unit
-    robots of the module docstring (their geometry, actuation and gravity
-    ``kin.robot``'s).
+    ``kin`` is :func:`~prp3.family.mechanics.family_kinematics` of the motion
+    for any robot of the same geometry, actuation and gravity (``kin.robot``'s);
+    the columns are :func:`prp3.family.regressor_kernel.regressor_batch`'s.
     """
     names = _check_names(parameters)
-    zero = _massless(kin.robot)
-    cache: dict[tuple[str, float, tuple[float, float], float], FloatArray] = {}
-
-    def tau(body: str, mass: float, com: tuple[float, float], inertia: float) -> FloatArray:
-        key = (body, mass, com, inertia)
-        if key not in cache:
-            unit = replace(kin, robot=_unit_robot(zero, body, mass, com, inertia))
-            cache[key] = fast_dynamics(unit).tau.reshape(-1, 3)
-        return cache[key]
-
-    columns = []
-    for name in names:
-        body, kind = name.split("_", 1)
-        if kind == "mass":
-            columns.append(tau(body, 1.0, (0.0, 0.0), 0.0))
-        elif kind == "inertia":
-            columns.append(tau(body, 0.0, (0.0, 0.0), 1.0))
-        else:  # m = 1 at c = e: the column of m + h + J (|e| = 1)
-            com = (1.0, 0.0) if kind == "moment_x" else (0.0, 1.0)
-            both = tau(body, 1.0, com, 0.0)
-            columns.append(both - tau(body, 1.0, (0.0, 0.0), 0.0) - tau(body, 0.0, (0.0, 0.0), 1.0))
-    return (
-        np.stack(columns, axis=-1)
-        if columns
-        else np.empty((kin.q.reshape(-1, 3, 3).shape[0], 3, 0))
-    )
+    Y = _kernel(kin)[0]
+    return Y[..., [COLUMNS.index(name) for name in names]]
 
 
 def family_regressor(
@@ -291,16 +256,15 @@ def family_regressor(
 def family_known_forces(robot: FamilyRobot, motion: Motion) -> FloatArray:
     """The actuator efforts that depend on no parameter: those of the robot's ``[load]``.
 
-    The fast route with every body massless and the robot's load; ``(N, 3)``.
+    The family kernel with every body massless and the robot's load; ``(N, 3)``
+    (``(3,)`` for one sample).
 
     >>> from prp3.model.motion import paper_motion
     >>> family_known_forces(FamilyRobot.default("3-RRR"), paper_motion("vertical", 2)).tolist()
     [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
     """
     check_instance("robot", robot, FamilyRobot, "a prp3.family.FamilyRobot")
-    kin = family_kinematics(robot, motion)
-    loaded = replace(_massless(robot), load=robot.load)
-    return np.asarray(fast_dynamics(replace(kin, robot=loaded)).tau)
+    return _kernel(family_kinematics(robot, motion))[1].reshape(*motion.t.shape, 3)
 
 
 def family_random_motion(robot: FamilyRobot, samples: int, seed: int) -> Motion:
