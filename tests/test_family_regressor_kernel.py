@@ -220,9 +220,7 @@ def _sympy_columns(robot: FamilyRobot, kin: FamilyKinematics, sample: int) -> Fl
     tau = sample_dynamics(ops, robot.types, inertia, design.scale, state, legs)[1:4]
     point = dict(zip(symbols, map(sympy.Float, (0.7, 0.05, -0.02, 0.01, 1.1, -0.03, 0.04, 0.02,
                                2.5, 0.1, 0.05, 0.03)), strict=True))  # fmt: skip
-    return np.array(
-        [[float(sympy.diff(t, v).xreplace(point)) for v in symbols] for t in tau]
-    )
+    return np.array([[float(sympy.diff(t, v).xreplace(point)) for v in symbols] for t in tau])
 
 
 @settings(max_examples=8, deadline=None)
@@ -250,8 +248,12 @@ def test_dual_rules(a: float, b: float, da: float, db: float) -> None:
     def f(u: object, v: object, ops: object) -> object:
         return (
             (u * v - v / u + 2.0 - u) / (1.0 + u * u)  # type: ignore[operator]
-            + ops.sqrt(u) * ops.cos(v) - ops.sin(u * v) + ops.tanh(v) - 3.0 / u  # type: ignore[attr-defined]
-            + (-v) * 0.5 - (1.0 - v)  # type: ignore[operator]
+            + ops.sqrt(u) * ops.cos(v)
+            - ops.sin(u * v)
+            + ops.tanh(v)
+            - 3.0 / u  # type: ignore[attr-defined]
+            + (-v) * 0.5
+            - (1.0 - v)  # type: ignore[operator]
         )
 
     out = f(x, y, DUAL)

@@ -56,8 +56,8 @@ from prp3.mechanics.ops import Ops
 __all__ = [
     "COLUMNS",
     "CONSTANTS",
-    "Dual",
     "DUAL",
+    "Dual",
     "regressor_batch",
     "regressor_constants",
     "regressor_function",
@@ -200,8 +200,8 @@ def _unit_inertia(load: Sequence[Any], gravity: Sequence[Any], actuated: int) ->
         links=links,  # type: ignore[arg-type]
         platform=(unit(8, 0.0), unit(11, 0.0)),  # type: ignore[arg-type]
         payload=(1.0, (unit(9, 0.0), unit(10, 0.0)), 0.0),  # type: ignore[arg-type]
-        load=tuple(load),  # type: ignore[arg-type]
-        gravity=tuple(gravity),  # type: ignore[arg-type]
+        load=tuple(load),
+        gravity=tuple(gravity),
         actuated=actuated,
     )
 
@@ -283,4 +283,3 @@ def regressor_batch(
         columns += [np.ascontiguousarray(q[start:stop, i]) for i in range(9)]
         fn(*constants, *columns, out=out[:, start:stop], work=work)
     return out[:36].T.reshape(n, 3, 12), np.ascontiguousarray(out[36:].T)
-
