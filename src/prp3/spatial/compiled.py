@@ -116,6 +116,12 @@ S_CLOSED: int = 4 + 3
 #: ``q̈ = 0`` (the bias) and adds the ``q̈`` terms by the Jacobian's columns (the
 #: acceleration is linear in ``q̈``), 0 runs it a second time with ``q̈`` (the reference).
 ONE_PASS: int = 4 + 4
+#: The index of the flag of the U-P leg in closed form (6-UPS: U at the base, P along the U's
+#: distal x axis, S at its end): 1 takes the U's cosines and sines straight from the leg's
+#: direction (:func:`_u_frames`, no sine or cosine of the angles) and ``B⁻¹`` from the U's
+#: frame (:func:`_u_closed`: ``l̇ = X·v``, no adjugate); 0 the chain of frames of
+#: :func:`_chain` and the adjugate of :func:`_s_closed` (the reference).
+U_CLOSED: int = 4 + 5
 _PATTERNS = {"UPS": 0, "RPS": 1, "RUU": 2}
 _KINDS = {"R": 0, "P": 1, "U": 2, "S": 3}
 _DOF = (1, 1, 2, 3)
@@ -131,7 +137,7 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
     legs = robot.legs
     if len(legs) > _L or len(legs[0].joints) != _J:  # pragma: no cover - the patterns have 3
         raise Prp3Error(f"the compiled kernel takes up to {_L} legs of {_J} joints")
-    ints = np.zeros(6 + _J, dtype=np.int64)
+    ints = np.zeros(7 + _J, dtype=np.int64)
     ints[0] = _PATTERNS[legs[0].pattern]
     ints[1] = len(legs)
     ints[2] = legs[0].dof
@@ -140,6 +146,7 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
         ints[4 + k] = _KINDS[joint.kind]
     ints[S_CLOSED] = int(legs[0].dof >= 5 and legs[0].joints[-1].kind == "S")
     ints[ONE_PASS] = 1
+    ints[U_CLOSED] = int(ints[S_CLOSED] == 1 and legs[0].pattern == "UPS" and u_p_leg(robot))
     par = np.zeros(SIZE)
     for i, leg in enumerate(legs):
         for k, joint in enumerate(leg.joints):
@@ -167,6 +174,19 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
 
     par[PLANE] = PLANE_TOLERANCE * robot.scale
     return ints, par
+
+
+def u_p_leg(robot: SpatialRobot) -> bool:
+    """Whether every leg's P and S joints sit on the distal x axis of the joint before, with
+    the identity rotation (the U-P leg of :func:`_u_frames`: the leg's direction is the U's
+    distal x axis and the P's axis)."""
+    for leg in robot.legs:
+        for joint in leg.joints[1:]:
+            if joint.position[1] != 0.0 or joint.position[2] != 0.0:
+                return False
+            if not np.array_equal(np.asarray(joint.rotation), np.eye(3)):
+                return False
+    return True
 
 
 # ------------------------------------------------------------------ scalar pieces
@@ -350,6 +370,68 @@ def _chain(ints: IntArray, par: FloatArray, i: int, q: FloatArray, jo: FloatArra
 
 
 @_jit
+def _u_frames(par: FloatArray, i: int, q: FloatArray, d0: float, d1: float, d2: float,
+              rho: float, jo: FloatArray, jr: FloatArray, fo: FloatArray, fr: FloatArray,
+              axes: FloatArray) -> None:  # fmt: skip
+    """The frames of the U-P leg ``i`` (:data:`U_CLOSED`) as :func:`_chain` gives them, the U's
+    ``cos a = d₀/h, sin a = d₁/h, cos b = h/ρ, sin b = −d₂/ρ`` (``h = √(d₀² + d₁²)``) straight
+    from the leg's vector ``d`` in the U's frame (``a = atan2(d₁, d₀)``, ``b = atan2(−d₂, h)``
+    of :func:`_geometry`); the P and the S on the distal x axes, unrotated (:func:`u_p_leg`)."""
+    h = math.hypot(d0, d1)
+    if h > 0.0:
+        cz, sz = d0 / h, d1 / h
+    else:  # along the U's first axis: a = atan2(±0, ±0)
+        cz, sz = math.cos(q[i, 0]), math.sin(q[i, 0])
+    cy, sy = h / rho, -d2 / rho
+    base, pr = JPOS + 3 * _J * i, JROT + 9 * _J * i
+    arm, fore, slide = par[base + 3], par[base + 6], q[i, 2]
+    for r in range(3):
+        u0, u1, u2 = par[pr + 3 * r], par[pr + 3 * r + 1], par[pr + 3 * r + 2]
+        x0 = u0 * cz + u1 * sz
+        x1 = -u0 * sz + u1 * cz
+        o = par[base + r]
+        ex = x0 * cy - u2 * sy
+        jo[i, 0, r] = fo[i, 0, r] = o
+        jr[i, 0, r, 0], jr[i, 0, r, 1], jr[i, 0, r, 2] = u0, u1, u2
+        fr[i, 0, r, 0], fr[i, 0, r, 1], fr[i, 0, r, 2] = ex, x1, x0 * sy + u2 * cy
+        axes[i, 0, r], axes[i, 1, r], axes[i, 2, r] = u2, x1, ex
+        p1 = o + ex * arm
+        jo[i, 1, r] = p1
+        fo[i, 1, r] = p1 + slide * ex
+        jo[i, 2, r] = fo[i, 2, r] = p1 + slide * ex + ex * fore
+        for c in range(3):  # the P's and the S's frames: the U's distal frame
+            jr[i, 1, r, c] = fr[i, 1, r, c] = jr[i, 2, r, c] = fr[i, 0, r, c]
+        for a in range(3):
+            axes[i, 3 + a, r] = 1.0 if a == r else 0.0
+
+
+@_jit
+def _u_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray, i: int,
+              fo: FloatArray, fr: FloatArray) -> float:  # fmt: skip
+    """:func:`_s_closed` for the U-P leg (:data:`U_CLOSED`): ``B = [a × ρX, Y × ρX, X] =
+    [ρ a × X, −ρZ, X]`` (``X, Y, Z`` the U's distal frame, ``a`` its first axis, ``ρX`` the leg
+    from the U's centre to the S's), so ``det B = −ρ² a·Z`` and the rows of ``B⁻¹`` are
+    ``Y/(ρ a·Z)``, ``−Z/ρ``, ``X``: ``ȧ = Y·t_v/(ρ a·Z)``, ``ḃ = −Z·t_v/ρ``, ``l̇ = X·t_v``.
+    Keeps ``A`` and ``B⁻¹`` in ``normal[i]`` as :func:`_s_closed`; returns the leg measure."""
+    x0, x1, x2 = fr[i, 0, 0, 0], fr[i, 0, 1, 0], fr[i, 0, 2, 0]
+    rho = (x0 * (fo[i, 2, 0] - fo[i, 0, 0]) + x1 * (fo[i, 2, 1] - fo[i, 0, 1])
+           + x2 * (fo[i, 2, 2] - fo[i, 0, 2]))  # fmt: skip
+    cz = jac[0, 0] * fr[i, 0, 0, 2] + jac[1, 0] * fr[i, 0, 1, 2] + jac[2, 0] * fr[i, 0, 2, 2]
+    f = 1.0 / (rho * cz)
+    for c in range(3):
+        normal[i, 3, c] = fr[i, 0, c, 1] * f
+        normal[i, 4, c] = -fr[i, 0, c, 2] / rho
+        normal[i, 5, c] = fr[i, 0, c, 0]
+    factor = -1.0 / (scale * scale * scale)
+    for c in range(3):
+        if kinds[c] == 1:
+            factor *= scale
+        for r in range(3):
+            normal[i, r, c] = jac[r, c]
+    return float(-rho * rho * cz * factor)
+
+
+@_jit
 def _angles(x: float, y: float, z: float) -> tuple[float, float]:
     """The U angles ``(a, b)`` of the direction ``(x, y, z)`` (``cos b > 0``)."""
     return math.atan2(y, x), math.atan2(-z, math.hypot(x, y))
@@ -419,7 +501,10 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
                 slide = 1
                 off = d2
             q[i, slide] = rho - arm - fore
-            _chain(ints, par, i, q, jo, jr, fo, fr, axes)
+            if pattern == 0 and ints[U_CLOSED] == 1:
+                _u_frames(par, i, q, d0, d1, d2, rho, jo, jr, fo, fr, axes)
+            else:
+                _chain(ints, par, i, q, jo, jr, fo, fr, axes)
             m = work[1]
             for r in range(3):
                 for c in range(3):
@@ -558,7 +643,9 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                     value *= scale
                 fac[r, c] = value
         if fast:  # J = [[A, 1], [B, 0]]: A and B⁻¹ (or B(BᵀB)⁻¹) kept, x_i by blocks
-            if dof == 6:
+            if ints[U_CLOSED] == 1:
+                measures[i] = _u_closed(jac, kinds, scale, normal, i, fo, fr)
+            elif dof == 6:
                 measures[i] = _s_closed(jac, kinds, scale, normal, i)
             else:
                 measures[i] = _s_closed5(jac, kinds, scale, normal, nw, i)
