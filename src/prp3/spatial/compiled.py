@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
@@ -191,9 +192,15 @@ def u_p_leg(robot: SpatialRobot) -> bool:
 
 # ------------------------------------------------------------------ scalar pieces
 _jit = numba.njit(cache=True, error_model="numpy")
+#: The steps of one sample, which allocate nothing: without numba's reference counts (each
+#: array an argument counted in and out, atomically, per call; ~25 % of the sample's time).
+if TYPE_CHECKING:  # numba's stubs omit its option _nrt
+    _step = _jit
+else:
+    _step = numba.njit(cache=True, error_model="numpy", _nrt=False)
 
 
-@_jit
+@_step
 def _lu(a: FloatArray, n: int, piv: IntArray) -> float:
     """LU with partial pivoting of ``a[:n, :n]`` in place; returns the determinant."""
     det = 1.0
@@ -223,7 +230,7 @@ def _lu(a: FloatArray, n: int, piv: IntArray) -> float:
     return det
 
 
-@_jit
+@_step
 def _lu_solve(a: FloatArray, n: int, piv: IntArray, b: FloatArray) -> None:
     """Solve ``A·x = b`` in place with the factors of :func:`_lu`."""
     for k in range(n):
@@ -244,7 +251,7 @@ def _lu_solve(a: FloatArray, n: int, piv: IntArray, b: FloatArray) -> None:
         b[r] = s / a[r, r]
 
 
-@_jit
+@_step
 def _log(r: FloatArray) -> tuple[float, float, float]:
     """The principal rotation vector of ``r`` through its quaternion (Shepperd), as log_rotation."""
     trace = r[0, 0] + r[1, 1] + r[2, 2]
@@ -301,13 +308,13 @@ def _log(r: FloatArray) -> tuple[float, float, float]:
     return scale * x, scale * y, scale * z
 
 
-@_jit
+@_step
 def _cross(a0: float, a1: float, a2: float, b0: float, b1: float, b2: float
            ) -> tuple[float, float, float]:  # fmt: skip
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
-@_jit
+@_step
 def _chain(ints: IntArray, par: FloatArray, i: int, q: FloatArray, jo: FloatArray, jr: FloatArray,
            fo: FloatArray, fr: FloatArray, axes: FloatArray) -> None:  # fmt: skip
     """The frames of leg ``i`` for its joint values ``q[i]`` (geometry.chain_frames); the
@@ -369,7 +376,7 @@ def _chain(ints: IntArray, par: FloatArray, i: int, q: FloatArray, jo: FloatArra
         col += _DOF[kind]
 
 
-@_jit
+@_step
 def _u_frames(par: FloatArray, i: int, q: FloatArray, d0: float, d1: float, d2: float,
               rho: float, jo: FloatArray, jr: FloatArray, fo: FloatArray, fr: FloatArray,
               axes: FloatArray) -> None:  # fmt: skip
@@ -405,7 +412,7 @@ def _u_frames(par: FloatArray, i: int, q: FloatArray, d0: float, d1: float, d2: 
             axes[i, 3 + a, r] = 1.0 if a == r else 0.0
 
 
-@_jit
+@_step
 def _u_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray, i: int,
               fo: FloatArray, fr: FloatArray) -> float:  # fmt: skip
     """:func:`_s_closed` for the U-P leg (:data:`U_CLOSED`): ``B = [a × ρX, Y × ρX, X] =
@@ -431,13 +438,13 @@ def _u_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray
     return float(-rho * rho * cz * factor)
 
 
-@_jit
+@_step
 def _angles(x: float, y: float, z: float) -> tuple[float, float]:
     """The U angles ``(a, b)`` of the direction ``(x, y, z)`` (``cos b > 0``)."""
     return math.atan2(y, x), math.atan2(-z, math.hypot(x, y))
 
 
-@_jit
+@_step
 def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q: FloatArray,
               jo: FloatArray, jr: FloatArray, fo: FloatArray, fr: FloatArray, axes: FloatArray,
               work: tuple, ce: FloatArray, f: FloatArray) -> int:  # type: ignore[type-arg]  # fmt: skip
@@ -538,7 +545,7 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
     return status
 
 
-@_jit
+@_step
 def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
             v: FloatArray, al: FloatArray, a: FloatArray, q: FloatArray, dq: FloatArray,
             ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
@@ -877,7 +884,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     return _OK
 
 
-@_jit
+@_step
 def _s_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray, i: int) -> float:
     """A leg of 6 coordinates closed by an S joint: its Jacobian is ``[[A, 1], [B, 0]]``
     (the S's columns are the identity in ω and zero in v, the S's centre being the leg's
@@ -907,7 +914,7 @@ def _s_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray
     return float(det * factor)
 
 
-@_jit
+@_step
 def _s_rates(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None:
     """``J⁻¹·t`` for a leg closed by S (:func:`_s_closed`): ``B⁻¹·t_v``, then ``t_ω − A·(…)``."""
     for r in range(3):
@@ -919,7 +926,7 @@ def _s_rates(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None
                              + normal[i, r, 2] * out[2])  # fmt: skip
 
 
-@_jit
+@_step
 def _s_transpose(normal: FloatArray, i: int, y: FloatArray
                  ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """``J⁻ᵀ·y`` for a leg closed by S as ``(M, F)``: ``M = y_S``, ``F = B⁻ᵀ(y_a − Aᵀ·y_S)``."""
@@ -932,7 +939,7 @@ def _s_transpose(normal: FloatArray, i: int, y: FloatArray
             normal[i, 3, 2] * u0 + normal[i, 4, 2] * u1 + normal[i, 5, 2] * u2)  # fmt: skip
 
 
-@_jit
+@_step
 def _s_closed5(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray,
                nw: FloatArray, i: int) -> float:  # fmt: skip
     """A leg of 5 coordinates closed by an S joint (3-RPS): ``J = [[A, 1], [B, 0]]`` with
@@ -962,7 +969,7 @@ def _s_closed5(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArra
     return math.sqrt(c0 * c0 + c1 * c1 + c2 * c2) * abs(f)
 
 
-@_jit
+@_step
 def _s_rates5(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None:
     """``(JᵀJ)⁻¹Jᵀ·t`` for a leg of 5 closed by S (:func:`_s_closed5`): ``(BᵀB)⁻¹Bᵀ·t_v``,
     then ``t_ω − A·(…)`` (the least-squares solution: ``x_S`` zeroes the ``ω`` rows)."""
@@ -972,7 +979,7 @@ def _s_rates5(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> Non
         out[2 + r] = t[r] - (normal[i, r, 0] * out[0] + normal[i, r, 1] * out[1])
 
 
-@_jit
+@_step
 def _s_transpose5(normal: FloatArray, i: int, y: FloatArray
                   ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """``J(JᵀJ)⁻¹·y`` for a leg of 5 closed by S as ``(M, F)``, the least-norm solution of
@@ -985,7 +992,7 @@ def _s_transpose5(normal: FloatArray, i: int, y: FloatArray
             normal[i, 5, 0] * u0 + normal[i, 5, 1] * u1)  # fmt: skip
 
 
-@_jit
+@_step
 def _inertial(par: FloatArray, at: int, mass: float, rot: tuple, om: tuple, alpha: tuple,  # type: ignore[type-arg]
               acc: tuple, rc0: float, rc1: float, rc2: float, g: tuple  # type: ignore[type-arg]
               ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
@@ -1006,7 +1013,7 @@ def _inertial(par: FloatArray, at: int, mass: float, rot: tuple, om: tuple, alph
     return fx, fy, fz, ia[0] + c0, ia[1] + c1, ia[2] + c2
 
 
-@_jit
+@_step
 def _apply(par: FloatArray, at: int, rot: tuple, u0: float, u1: float, u2: float  # type: ignore[type-arg]
            ) -> tuple[float, float, float]:  # fmt: skip
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
@@ -1021,7 +1028,7 @@ def _apply(par: FloatArray, at: int, rot: tuple, u0: float, u1: float, u2: float
             r20 * b0 + r21 * b1 + r22 * b2)  # fmt: skip
 
 
-@_jit
+@_step
 def _compatible(nw: FloatArray, target: FloatArray, reference: FloatArray, scale: float) -> bool:
     """kinematics._check_compatible for one leg: ``|w̃·t̃| ≤ 1e-8·6·max|w̃|·max(|t̃|, |r̃|)``."""
     off = 0.0
@@ -1038,7 +1045,7 @@ def _compatible(nw: FloatArray, target: FloatArray, reference: FloatArray, scale
     return abs(off) <= COMPATIBILITY * max(size, 2.2250738585072014e-308)
 
 
-@_jit
+@_step
 def _solve_rates(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, t: FloatArray,
                  out: FloatArray) -> None:  # fmt: skip
     """``J⁻¹·t`` (dof 6) or ``(JᵀJ)⁻¹Jᵀ·t`` (dof 5) with the leg's factors."""
@@ -1054,7 +1061,7 @@ def _solve_rates(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, t: F
     _lu_solve(fac, dof, piv, out)
 
 
-@_jit
+@_step
 def _lu_solve_transposed(a: FloatArray, n: int, piv: IntArray, b: FloatArray) -> None:
     """Solve ``Aᵀ·x = b`` in place with the factors ``P·A = L·U`` of :func:`_lu`."""
     # Aᵀ = Uᵀ·Lᵀ·P: Uᵀ y = b, Lᵀ z = y, x = Pᵀ z
@@ -1076,7 +1083,7 @@ def _lu_solve_transposed(a: FloatArray, n: int, piv: IntArray, b: FloatArray) ->
             b[p] = t
 
 
-@_jit
+@_step
 def _transpose_solve_vector(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int,
                             y: FloatArray, work: FloatArray, out: FloatArray) -> None:  # fmt: skip
     """``J⁻ᵀ·y`` (dof 6) or ``J(JᵀJ)⁻¹·y`` (dof 5), ``(6,)`` as ``(M, F)``."""
@@ -1095,7 +1102,7 @@ def _transpose_solve_vector(fac: FloatArray, jac: FloatArray, piv: IntArray, dof
             out[r] = s
 
 
-@_jit
+@_step
 def _transpose_solve(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, act: int,
                      work: FloatArray, out: FloatArray, y: FloatArray) -> None:  # fmt: skip
     """``x = J⁻ᵀ·e_act`` (or ``J(JᵀJ)⁻¹·e_act``)."""
@@ -1105,7 +1112,7 @@ def _transpose_solve(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, 
     _transpose_solve_vector(fac, jac, piv, dof, y, work, out)
 
 
-@_jit
+@_step
 def _chain_motion(ints: IntArray, i: int, jo: FloatArray, fo: FloatArray, axes: FloatArray,
                   dq: FloatArray, ddq: FloatArray, ow: FloatArray, oa: FloatArray,
                   oacc: FloatArray) -> None:  # fmt: skip
@@ -1165,7 +1172,7 @@ def _chain_motion(ints: IntArray, i: int, jo: FloatArray, fo: FloatArray, axes: 
         oacc[i, k, 0], oacc[i, k, 1], oacc[i, k, 2] = c0, c1, c2
 
 
-@_jit
+@_step
 def _add_accelerations(i: int, dof: int, kinds: IntArray, owner: IntArray, fo: FloatArray,
                        axes: FloatArray, ddq: FloatArray, oa: FloatArray, oacc: FloatArray
                        ) -> None:  # fmt: skip
