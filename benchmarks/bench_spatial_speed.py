@@ -34,7 +34,7 @@ import time
 import numpy as np
 
 import prp3
-from prp3.spatial.compiled import ONE_PASS, S_CLOSED
+from prp3.spatial.compiled import ONE_PASS, S_CLOSED, U_CLOSED
 from prp3.spatial.newton_euler import newton_euler_dynamics, recursive_newton_euler
 
 
@@ -213,7 +213,8 @@ def main() -> None:
 
 def _variants(samples: int = 5000, rounds: int = 15) -> None:
     """Each architecture's kernel in one thread on random regular states, as compiled, with
-    the chain's motion in two passes (``ONE_PASS = 0``) and generic (``S_CLOSED = 0`` too),
+    the U-P leg through the chain of frames (``U_CLOSED = 0``, the 6-UPS only), with the chain's
+    motion in two passes too (``ONE_PASS = 0``) and generic (``S_CLOSED = 0`` too),
     timed in turn ``rounds`` times (the best of each: the load of a shared machine hits the
     three alike)."""
     print(f"one thread, {samples} random regular states, the variants timed in turn "
@@ -224,21 +225,21 @@ def _variants(samples: int = 5000, rounds: int = 15) -> None:
         arrays = [np.ascontiguousarray(x) for x in (motion.position, motion.rotation,
                   motion.omega, motion.velocity, motion.alpha, motion.acceleration)]  # fmt: skip
         kernels = []
-        for flags in ((), (ONE_PASS,), (ONE_PASS, S_CLOSED)):
+        for flags in ((), (U_CLOSED,), (U_CLOSED, ONE_PASS), (U_CLOSED, ONE_PASS, S_CLOSED)):
             kernel = prp3.compile_spatial(robot)
             kernel.ints = kernel.ints.copy()
             kernel.ints[list(flags)] = 0
             kernel.raw(*arrays, threads=False)
             kernels.append(kernel)
-        best = [np.inf] * 3
+        best = [np.inf] * 4
         for _ in range(rounds):
             for k, kernel in enumerate(kernels):
                 start = time.perf_counter()
                 kernel.raw(*arrays, threads=False)
                 best[k] = min(best[k], time.perf_counter() - start)
-        one, two, generic = (b / samples * 1e6 for b in best)
-        print(f"  {robot.name:6s} one pass {one:6.2f} us, two passes {two:6.2f} us, "
-              f"generic {generic:6.2f} us")  # fmt: skip
+        one, chain, two, generic = (b / samples * 1e6 for b in best)
+        print(f"  {robot.name:6s} as compiled {one:6.2f} us, U-P by the chain {chain:6.2f} us, "
+              f"two passes {two:6.2f} us, generic {generic:6.2f} us")  # fmt: skip
 
 
 def numba_threads() -> int:

@@ -22,7 +22,7 @@ from scipy.spatial.transform import Rotation
 
 import prp3
 from prp3.errors import Prp3Error
-from prp3.spatial.compiled import ONE_PASS, S_CLOSED
+from prp3.spatial.compiled import ONE_PASS, S_CLOSED, U_CLOSED
 from prp3.spatial.model import SpatialRobot
 from spatial_strategies import deltas, hexapods, rps_robots
 from test_spatial_compiled import states
@@ -32,7 +32,7 @@ NAMES = ("q", "dq", "ddq", "tau", "power", "force", "moment", "leg_measure", "pa
 
 
 def _both(robot: SpatialRobot, arrays: list[np.ndarray], flags: tuple[int, ...] = (S_CLOSED,
-          ONE_PASS)) -> tuple[prp3.SpatialSamples, ...]:  # fmt: skip
+          ONE_PASS, U_CLOSED)) -> tuple[prp3.SpatialSamples, ...]:  # fmt: skip
     """The kernel as compiled, and with the ``flags`` set to 0 (the reference paths)."""
     fast = prp3.compile_spatial(robot)
     generic = prp3.compile_spatial(robot)
@@ -157,3 +157,29 @@ def test_the_single_calls_refusals_are_the_batchs() -> None:
         with pytest.raises(type(batch.value)) as single:
             kernel.solve(state[0], state[1], zero, zero, zero, zero)
         assert str(single.value) == str(batch.value)
+
+
+def test_the_u_p_leg_in_closed_form_is_the_hexapods_only() -> None:
+    assert prp3.compile_spatial(prp3.hexapod()).ints[U_CLOSED] == 1
+    for make in (prp3.three_rps, prp3.delta):
+        assert prp3.compile_spatial(make()).ints[U_CLOSED] == 0
+
+
+@settings(max_examples=30, deadline=None)
+@given(hexapods(), st.data(), st.integers(0, 2**32 - 1))
+def test_the_u_p_leg_in_closed_form_equals_the_chain(robot: SpatialRobot, data: st.DataObject,
+                                                     seed: int) -> None:  # fmt: skip
+    """The U's cosines and sines from the leg's vector and ``B⁻¹`` from the U's frame
+    (``U_CLOSED``) against the chain of frames and the adjugate (the flag at 0, the S-closed
+    block path kept): every output and status, near home (1e-12) and far from it (1e-10)."""
+    motion = data.draw(states(robot, 8))
+    closed, chain = _both(robot, _arrays(motion), (U_CLOSED,))
+    _agree(closed, chain)
+    rng = np.random.default_rng(seed)
+    n = 200
+    position = np.array(robot.home_position) + rng.normal(0.0, 0.15 * robot.scale, (n, 3))
+    rotation = Rotation.from_rotvec(rng.normal(0.0, 0.25, (n, 3))).as_matrix()
+    rates = [rng.normal(0.0, 1.0, (n, 3)) for _ in range(4)]
+    closed, chain = _both(robot, [np.ascontiguousarray(x) for x in (position, rotation, *rates)],
+                          (U_CLOSED,))  # fmt: skip
+    _agree(closed, chain, FAR_TOLERANCE)

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
@@ -116,6 +117,12 @@ S_CLOSED: int = 4 + 3
 #: ``q̈ = 0`` (the bias) and adds the ``q̈`` terms by the Jacobian's columns (the
 #: acceleration is linear in ``q̈``), 0 runs it a second time with ``q̈`` (the reference).
 ONE_PASS: int = 4 + 4
+#: The index of the flag of the U-P leg in closed form (6-UPS: U at the base, P along the U's
+#: distal x axis, S at its end): 1 takes the U's cosines and sines straight from the leg's
+#: direction (:func:`_u_frames`, no sine or cosine of the angles) and ``B⁻¹`` from the U's
+#: frame (:func:`_u_closed`: ``l̇ = X·v``, no adjugate); 0 the chain of frames of
+#: :func:`_chain` and the adjugate of :func:`_s_closed` (the reference).
+U_CLOSED: int = 4 + 5
 _PATTERNS = {"UPS": 0, "RPS": 1, "RUU": 2}
 _KINDS = {"R": 0, "P": 1, "U": 2, "S": 3}
 _DOF = (1, 1, 2, 3)
@@ -131,7 +138,7 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
     legs = robot.legs
     if len(legs) > _L or len(legs[0].joints) != _J:  # pragma: no cover - the patterns have 3
         raise Prp3Error(f"the compiled kernel takes up to {_L} legs of {_J} joints")
-    ints = np.zeros(6 + _J, dtype=np.int64)
+    ints = np.zeros(7 + _J, dtype=np.int64)
     ints[0] = _PATTERNS[legs[0].pattern]
     ints[1] = len(legs)
     ints[2] = legs[0].dof
@@ -140,6 +147,7 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
         ints[4 + k] = _KINDS[joint.kind]
     ints[S_CLOSED] = int(legs[0].dof >= 5 and legs[0].joints[-1].kind == "S")
     ints[ONE_PASS] = 1
+    ints[U_CLOSED] = int(ints[S_CLOSED] == 1 and legs[0].pattern == "UPS" and u_p_leg(robot))
     par = np.zeros(SIZE)
     for i, leg in enumerate(legs):
         for k, joint in enumerate(leg.joints):
@@ -169,11 +177,30 @@ def pack(robot: SpatialRobot) -> tuple[IntArray, FloatArray]:
     return ints, par
 
 
+def u_p_leg(robot: SpatialRobot) -> bool:
+    """Whether every leg's P and S joints sit on the distal x axis of the joint before, with
+    the identity rotation (the U-P leg of :func:`_u_frames`: the leg's direction is the U's
+    distal x axis and the P's axis)."""
+    for leg in robot.legs:
+        for joint in leg.joints[1:]:
+            if joint.position[1] != 0.0 or joint.position[2] != 0.0:
+                return False
+            if not np.array_equal(np.asarray(joint.rotation), np.eye(3)):
+                return False
+    return True
+
+
 # ------------------------------------------------------------------ scalar pieces
 _jit = numba.njit(cache=True, error_model="numpy")
+#: The steps of one sample, which allocate nothing: without numba's reference counts (each
+#: array an argument counted in and out, atomically, per call; ~25 % of the sample's time).
+if TYPE_CHECKING:  # numba's stubs omit its option _nrt
+    _step = _jit
+else:
+    _step = numba.njit(cache=True, error_model="numpy", _nrt=False)
 
 
-@_jit
+@_step
 def _lu(a: FloatArray, n: int, piv: IntArray) -> float:
     """LU with partial pivoting of ``a[:n, :n]`` in place; returns the determinant."""
     det = 1.0
@@ -203,7 +230,7 @@ def _lu(a: FloatArray, n: int, piv: IntArray) -> float:
     return det
 
 
-@_jit
+@_step
 def _lu_solve(a: FloatArray, n: int, piv: IntArray, b: FloatArray) -> None:
     """Solve ``A·x = b`` in place with the factors of :func:`_lu`."""
     for k in range(n):
@@ -224,7 +251,7 @@ def _lu_solve(a: FloatArray, n: int, piv: IntArray, b: FloatArray) -> None:
         b[r] = s / a[r, r]
 
 
-@_jit
+@_step
 def _log(r: FloatArray) -> tuple[float, float, float]:
     """The principal rotation vector of ``r`` through its quaternion (Shepperd), as log_rotation."""
     trace = r[0, 0] + r[1, 1] + r[2, 2]
@@ -281,13 +308,13 @@ def _log(r: FloatArray) -> tuple[float, float, float]:
     return scale * x, scale * y, scale * z
 
 
-@_jit
+@_step
 def _cross(a0: float, a1: float, a2: float, b0: float, b1: float, b2: float
            ) -> tuple[float, float, float]:  # fmt: skip
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
-@_jit
+@_step
 def _chain(ints: IntArray, par: FloatArray, i: int, q: FloatArray, jo: FloatArray, jr: FloatArray,
            fo: FloatArray, fr: FloatArray, axes: FloatArray) -> None:  # fmt: skip
     """The frames of leg ``i`` for its joint values ``q[i]`` (geometry.chain_frames); the
@@ -349,13 +376,75 @@ def _chain(ints: IntArray, par: FloatArray, i: int, q: FloatArray, jo: FloatArra
         col += _DOF[kind]
 
 
-@_jit
+@_step
+def _u_frames(par: FloatArray, i: int, q: FloatArray, d0: float, d1: float, d2: float,
+              rho: float, jo: FloatArray, jr: FloatArray, fo: FloatArray, fr: FloatArray,
+              axes: FloatArray) -> None:  # fmt: skip
+    """The frames of the U-P leg ``i`` (:data:`U_CLOSED`) as :func:`_chain` gives them, the U's
+    ``cos a = d₀/h, sin a = d₁/h, cos b = h/ρ, sin b = −d₂/ρ`` (``h = √(d₀² + d₁²)``) straight
+    from the leg's vector ``d`` in the U's frame (``a = atan2(d₁, d₀)``, ``b = atan2(−d₂, h)``
+    of :func:`_geometry`); the P and the S on the distal x axes, unrotated (:func:`u_p_leg`)."""
+    h = math.hypot(d0, d1)
+    if h > 0.0:
+        cz, sz = d0 / h, d1 / h
+    else:  # along the U's first axis: a = atan2(±0, ±0)
+        cz, sz = math.cos(q[i, 0]), math.sin(q[i, 0])
+    cy, sy = h / rho, -d2 / rho
+    base, pr = JPOS + 3 * _J * i, JROT + 9 * _J * i
+    arm, fore, slide = par[base + 3], par[base + 6], q[i, 2]
+    for r in range(3):
+        u0, u1, u2 = par[pr + 3 * r], par[pr + 3 * r + 1], par[pr + 3 * r + 2]
+        x0 = u0 * cz + u1 * sz
+        x1 = -u0 * sz + u1 * cz
+        o = par[base + r]
+        ex = x0 * cy - u2 * sy
+        jo[i, 0, r] = fo[i, 0, r] = o
+        jr[i, 0, r, 0], jr[i, 0, r, 1], jr[i, 0, r, 2] = u0, u1, u2
+        fr[i, 0, r, 0], fr[i, 0, r, 1], fr[i, 0, r, 2] = ex, x1, x0 * sy + u2 * cy
+        axes[i, 0, r], axes[i, 1, r], axes[i, 2, r] = u2, x1, ex
+        p1 = o + ex * arm
+        jo[i, 1, r] = p1
+        fo[i, 1, r] = p1 + slide * ex
+        jo[i, 2, r] = fo[i, 2, r] = p1 + slide * ex + ex * fore
+        for c in range(3):  # the P's and the S's frames: the U's distal frame
+            jr[i, 1, r, c] = fr[i, 1, r, c] = jr[i, 2, r, c] = fr[i, 0, r, c]
+        for a in range(3):
+            axes[i, 3 + a, r] = 1.0 if a == r else 0.0
+
+
+@_step
+def _u_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray, i: int,
+              fo: FloatArray, fr: FloatArray) -> float:  # fmt: skip
+    """:func:`_s_closed` for the U-P leg (:data:`U_CLOSED`): ``B = [a × ρX, Y × ρX, X] =
+    [ρ a × X, −ρZ, X]`` (``X, Y, Z`` the U's distal frame, ``a`` its first axis, ``ρX`` the leg
+    from the U's centre to the S's), so ``det B = −ρ² a·Z`` and the rows of ``B⁻¹`` are
+    ``Y/(ρ a·Z)``, ``−Z/ρ``, ``X``: ``ȧ = Y·t_v/(ρ a·Z)``, ``ḃ = −Z·t_v/ρ``, ``l̇ = X·t_v``.
+    Keeps ``A`` and ``B⁻¹`` in ``normal[i]`` as :func:`_s_closed`; returns the leg measure."""
+    x0, x1, x2 = fr[i, 0, 0, 0], fr[i, 0, 1, 0], fr[i, 0, 2, 0]
+    rho = (x0 * (fo[i, 2, 0] - fo[i, 0, 0]) + x1 * (fo[i, 2, 1] - fo[i, 0, 1])
+           + x2 * (fo[i, 2, 2] - fo[i, 0, 2]))  # fmt: skip
+    cz = jac[0, 0] * fr[i, 0, 0, 2] + jac[1, 0] * fr[i, 0, 1, 2] + jac[2, 0] * fr[i, 0, 2, 2]
+    f = 1.0 / (rho * cz)
+    for c in range(3):
+        normal[i, 3, c] = fr[i, 0, c, 1] * f
+        normal[i, 4, c] = -fr[i, 0, c, 2] / rho
+        normal[i, 5, c] = fr[i, 0, c, 0]
+    factor = -1.0 / (scale * scale * scale)
+    for c in range(3):
+        if kinds[c] == 1:
+            factor *= scale
+        for r in range(3):
+            normal[i, r, c] = jac[r, c]
+    return float(-rho * rho * cz * factor)
+
+
+@_step
 def _angles(x: float, y: float, z: float) -> tuple[float, float]:
     """The U angles ``(a, b)`` of the direction ``(x, y, z)`` (``cos b > 0``)."""
     return math.atan2(y, x), math.atan2(-z, math.hypot(x, y))
 
 
-@_jit
+@_step
 def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q: FloatArray,
               jo: FloatArray, jr: FloatArray, fo: FloatArray, fr: FloatArray, axes: FloatArray,
               work: tuple, ce: FloatArray, f: FloatArray) -> int:  # type: ignore[type-arg]  # fmt: skip
@@ -419,7 +508,10 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
                 slide = 1
                 off = d2
             q[i, slide] = rho - arm - fore
-            _chain(ints, par, i, q, jo, jr, fo, fr, axes)
+            if pattern == 0 and ints[U_CLOSED] == 1:
+                _u_frames(par, i, q, d0, d1, d2, rho, jo, jr, fo, fr, axes)
+            else:
+                _chain(ints, par, i, q, jo, jr, fo, fr, axes)
             m = work[1]
             for r in range(3):
                 for c in range(3):
@@ -453,7 +545,7 @@ def _geometry(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, q:
     return status
 
 
-@_jit
+@_step
 def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: FloatArray,
             v: FloatArray, al: FloatArray, a: FloatArray, q: FloatArray, dq: FloatArray,
             ddq: FloatArray, tau: FloatArray, force: FloatArray, moment: FloatArray,
@@ -558,7 +650,9 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
                     value *= scale
                 fac[r, c] = value
         if fast:  # J = [[A, 1], [B, 0]]: A and B⁻¹ (or B(BᵀB)⁻¹) kept, x_i by blocks
-            if dof == 6:
+            if ints[U_CLOSED] == 1:
+                measures[i] = _u_closed(jac, kinds, scale, normal, i, fo, fr)
+            elif dof == 6:
                 measures[i] = _s_closed(jac, kinds, scale, normal, i)
             else:
                 measures[i] = _s_closed5(jac, kinds, scale, normal, nw, i)
@@ -790,7 +884,7 @@ def _sample(ints: IntArray, par: FloatArray, p: FloatArray, rm: FloatArray, w: F
     return _OK
 
 
-@_jit
+@_step
 def _s_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray, i: int) -> float:
     """A leg of 6 coordinates closed by an S joint: its Jacobian is ``[[A, 1], [B, 0]]``
     (the S's columns are the identity in ω and zero in v, the S's centre being the leg's
@@ -820,7 +914,7 @@ def _s_closed(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray
     return float(det * factor)
 
 
-@_jit
+@_step
 def _s_rates(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None:
     """``J⁻¹·t`` for a leg closed by S (:func:`_s_closed`): ``B⁻¹·t_v``, then ``t_ω − A·(…)``."""
     for r in range(3):
@@ -832,7 +926,7 @@ def _s_rates(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None
                              + normal[i, r, 2] * out[2])  # fmt: skip
 
 
-@_jit
+@_step
 def _s_transpose(normal: FloatArray, i: int, y: FloatArray
                  ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """``J⁻ᵀ·y`` for a leg closed by S as ``(M, F)``: ``M = y_S``, ``F = B⁻ᵀ(y_a − Aᵀ·y_S)``."""
@@ -845,7 +939,7 @@ def _s_transpose(normal: FloatArray, i: int, y: FloatArray
             normal[i, 3, 2] * u0 + normal[i, 4, 2] * u1 + normal[i, 5, 2] * u2)  # fmt: skip
 
 
-@_jit
+@_step
 def _s_closed5(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArray,
                nw: FloatArray, i: int) -> float:  # fmt: skip
     """A leg of 5 coordinates closed by an S joint (3-RPS): ``J = [[A, 1], [B, 0]]`` with
@@ -875,7 +969,7 @@ def _s_closed5(jac: FloatArray, kinds: IntArray, scale: float, normal: FloatArra
     return math.sqrt(c0 * c0 + c1 * c1 + c2 * c2) * abs(f)
 
 
-@_jit
+@_step
 def _s_rates5(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> None:
     """``(JᵀJ)⁻¹Jᵀ·t`` for a leg of 5 closed by S (:func:`_s_closed5`): ``(BᵀB)⁻¹Bᵀ·t_v``,
     then ``t_ω − A·(…)`` (the least-squares solution: ``x_S`` zeroes the ``ω`` rows)."""
@@ -885,7 +979,7 @@ def _s_rates5(normal: FloatArray, i: int, t: FloatArray, out: FloatArray) -> Non
         out[2 + r] = t[r] - (normal[i, r, 0] * out[0] + normal[i, r, 1] * out[1])
 
 
-@_jit
+@_step
 def _s_transpose5(normal: FloatArray, i: int, y: FloatArray
                   ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
     """``J(JᵀJ)⁻¹·y`` for a leg of 5 closed by S as ``(M, F)``, the least-norm solution of
@@ -898,7 +992,7 @@ def _s_transpose5(normal: FloatArray, i: int, y: FloatArray
             normal[i, 5, 0] * u0 + normal[i, 5, 1] * u1)  # fmt: skip
 
 
-@_jit
+@_step
 def _inertial(par: FloatArray, at: int, mass: float, rot: tuple, om: tuple, alpha: tuple,  # type: ignore[type-arg]
               acc: tuple, rc0: float, rc1: float, rc2: float, g: tuple  # type: ignore[type-arg]
               ) -> tuple[float, float, float, float, float, float]:  # fmt: skip
@@ -919,7 +1013,7 @@ def _inertial(par: FloatArray, at: int, mass: float, rot: tuple, om: tuple, alph
     return fx, fy, fz, ia[0] + c0, ia[1] + c1, ia[2] + c2
 
 
-@_jit
+@_step
 def _apply(par: FloatArray, at: int, rot: tuple, u0: float, u1: float, u2: float  # type: ignore[type-arg]
            ) -> tuple[float, float, float]:  # fmt: skip
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
@@ -934,7 +1028,7 @@ def _apply(par: FloatArray, at: int, rot: tuple, u0: float, u1: float, u2: float
             r20 * b0 + r21 * b1 + r22 * b2)  # fmt: skip
 
 
-@_jit
+@_step
 def _compatible(nw: FloatArray, target: FloatArray, reference: FloatArray, scale: float) -> bool:
     """kinematics._check_compatible for one leg: ``|w̃·t̃| ≤ 1e-8·6·max|w̃|·max(|t̃|, |r̃|)``."""
     off = 0.0
@@ -951,7 +1045,7 @@ def _compatible(nw: FloatArray, target: FloatArray, reference: FloatArray, scale
     return abs(off) <= COMPATIBILITY * max(size, 2.2250738585072014e-308)
 
 
-@_jit
+@_step
 def _solve_rates(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, t: FloatArray,
                  out: FloatArray) -> None:  # fmt: skip
     """``J⁻¹·t`` (dof 6) or ``(JᵀJ)⁻¹Jᵀ·t`` (dof 5) with the leg's factors."""
@@ -967,7 +1061,7 @@ def _solve_rates(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, t: F
     _lu_solve(fac, dof, piv, out)
 
 
-@_jit
+@_step
 def _lu_solve_transposed(a: FloatArray, n: int, piv: IntArray, b: FloatArray) -> None:
     """Solve ``Aᵀ·x = b`` in place with the factors ``P·A = L·U`` of :func:`_lu`."""
     # Aᵀ = Uᵀ·Lᵀ·P: Uᵀ y = b, Lᵀ z = y, x = Pᵀ z
@@ -989,7 +1083,7 @@ def _lu_solve_transposed(a: FloatArray, n: int, piv: IntArray, b: FloatArray) ->
             b[p] = t
 
 
-@_jit
+@_step
 def _transpose_solve_vector(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int,
                             y: FloatArray, work: FloatArray, out: FloatArray) -> None:  # fmt: skip
     """``J⁻ᵀ·y`` (dof 6) or ``J(JᵀJ)⁻¹·y`` (dof 5), ``(6,)`` as ``(M, F)``."""
@@ -1008,7 +1102,7 @@ def _transpose_solve_vector(fac: FloatArray, jac: FloatArray, piv: IntArray, dof
             out[r] = s
 
 
-@_jit
+@_step
 def _transpose_solve(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, act: int,
                      work: FloatArray, out: FloatArray, y: FloatArray) -> None:  # fmt: skip
     """``x = J⁻ᵀ·e_act`` (or ``J(JᵀJ)⁻¹·e_act``)."""
@@ -1018,7 +1112,7 @@ def _transpose_solve(fac: FloatArray, jac: FloatArray, piv: IntArray, dof: int, 
     _transpose_solve_vector(fac, jac, piv, dof, y, work, out)
 
 
-@_jit
+@_step
 def _chain_motion(ints: IntArray, i: int, jo: FloatArray, fo: FloatArray, axes: FloatArray,
                   dq: FloatArray, ddq: FloatArray, ow: FloatArray, oa: FloatArray,
                   oacc: FloatArray) -> None:  # fmt: skip
@@ -1078,7 +1172,7 @@ def _chain_motion(ints: IntArray, i: int, jo: FloatArray, fo: FloatArray, axes: 
         oacc[i, k, 0], oacc[i, k, 1], oacc[i, k, 2] = c0, c1, c2
 
 
-@_jit
+@_step
 def _add_accelerations(i: int, dof: int, kinds: IntArray, owner: IntArray, fo: FloatArray,
                        axes: FloatArray, ddq: FloatArray, oa: FloatArray, oacc: FloatArray
                        ) -> None:  # fmt: skip
