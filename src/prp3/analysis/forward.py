@@ -15,7 +15,6 @@ equations of motion cannot take is refused
 from __future__ import annotations
 
 import math
-import time as time_module
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -43,6 +42,7 @@ from prp3.errors import (
     SingularPoseError,
     TrajectoryError,
 )
+from prp3.integration_bounds import BoundReachedError, IntegrationBounds
 from prp3.mechanics.forces import InverseDynamics
 from prp3.mechanics.geometry import inverse_geometry
 from prp3.mechanics.kinematics import Kinematics, inverse_kinematics
@@ -93,10 +93,6 @@ MAX_SECONDS: float = 600.0
 #: may ask for at the initial state: beyond it (forces of 1e20 N) the explicit integrator
 #: would crawl to :data:`MAX_SECONDS`, so the run is refused before it starts.
 MAX_ACCELERATION: float = 1e6
-
-
-class _BoundReachedError(Exception):
-    """Raised inside the integrator's right-hand side when a bound of the run is reached."""
 
 
 @dataclass(frozen=True)
@@ -352,19 +348,15 @@ def _lost_meaning(
     )
 
 
-def _bound_message(
-    what: str,
+def _bound_detail(
     time: float,
-    times: FloatArray,
-    evaluations: int,
     robot: Robot,
     force_of: Callable[[float], FloatArray],
     load_of: Callable[[float], FloatArray] | None,
 ) -> str:
+    """What follows the bound's message: why the run is stiff, and the inputs at ``time``."""
     return (
-        f"the integration was stopped by its bound {what} after {evaluations} evaluations "
-        f"of the equations of motion, at t = {time!r} s of [{float(times[0])!r}, "
-        f"{float(times[-1])!r}] s: the motion is too stiff for the explicit integrator "
+        ": the motion is too stiff for the explicit integrator "
         "(friction smoothed over a tiny velocity, forces or springs far beyond the robot's "
         f"size); the inputs there: {_inputs(robot, time, force_of, load_of)}"
     )
@@ -440,7 +432,7 @@ def _integrate(
 ) -> Any:
     """Step 3: ``solve_ivp`` (DOP853) of the state ``(q, q̇)``, with the terminal events.
 
-    Stopped by :class:`_BoundReachedError` (a ``TrajectoryError`` naming the bound) when
+    Stopped by :class:`~prp3.integration_bounds.BoundReachedError` (a ``TrajectoryError`` naming the bound) when
     ``bounds = (max_evaluations, max_seconds)`` is reached; the states where the
     equations of motion lost their meaning are appended to ``lost``.
     """
@@ -448,15 +440,9 @@ def _integrate(
 
     compiled = compile_robot(robot)
     reached = [0]
-    evaluations = [0]
-    start = time_module.monotonic()
+    limit = IntegrationBounds(bounds[0], bounds[1], float(times[0]))
 
     def rhs(time: float, state: FloatArray) -> FloatArray:
-        evaluations[0] += 1
-        if evaluations[0] > bounds[0]:
-            raise _BoundReachedError(f"max_evaluations = {bounds[0]}", time)
-        if evaluations[0] % 64 == 0 and time_module.monotonic() - start > bounds[1]:
-            raise _BoundReachedError(f"max_seconds = {bounds[1]!r} s (wall time)", time)
         if progress is not None:
             done = int(np.searchsorted(times, time, side="right"))
             if done > reached[0]:
@@ -476,7 +462,7 @@ def _integrate(
     try:
         with np.errstate(all="ignore"):  # trial states may overflow: NaN rejects the step
             return solve_ivp(
-                rhs,
+                limit.bounded(rhs),
                 (float(times[0]), float(times[-1])),
                 np.concatenate([q0, v0]),
                 method="DOP853",
@@ -485,14 +471,9 @@ def _integrate(
                 rtol=tolerances[0],
                 atol=tolerances[1],
             )
-    except _BoundReachedError as bounded:
-        what, at = bounded.args
-        raise TrajectoryError(
-            _bound_message(
-                what, float(at), times, evaluations[0] - 1, compiled.robot, force_of, load_of
-            ),
-            subject="forward dynamics",
-        ) from None
+    except BoundReachedError as stop:
+        detail = _bound_detail(limit.furthest, compiled.robot, force_of, load_of)
+        raise limit.refusal(stop, (float(times[0]), float(times[-1])), detail) from None
 
 
 @dataclass(frozen=True)
