@@ -196,7 +196,6 @@ def test_engine_is_refused_by_name() -> None:
 
 def test_any_memory_layout_of_the_motion() -> None:
     """Fortran-ordered or strided motion arrays give the same results (one compiled signature)."""
-    from prp3.family.compiled import family_path
     from prp3.family.compiled_kernel import structure_module
 
     base = paper_motion("vertical", 12)
@@ -207,11 +206,11 @@ def test_any_memory_layout_of_the_motion() -> None:
         acceleration=np.asfortranarray(base.acceleration),
     )
     robot = FamilyRobot.default("3-RPR")
-    samples = structure_module(robot.types, robot.actuated).samples
+    module = structure_module(robot.types, robot.actuated)
     family_inverse_dynamics(robot, base)
-    signatures = len(family_path.signatures), len(samples.signatures)
+    signatures = len(module.path.signatures), len(module.samples.signatures)
     same_solution(family_inverse_dynamics(robot, strided), family_inverse_dynamics(robot, base))
-    assert (len(family_path.signatures), len(samples.signatures)) == signatures == (1, 1)
+    assert (len(module.path.signatures), len(module.samples.signatures)) == signatures == (1, 1)
 
 
 @pytest.mark.parametrize("arch", sorted({arch for arch, _ in ALLOWED}))

@@ -5,9 +5,10 @@ per sample in scalar code that numba compiles to machine code (``cache=True``:
 compiled once per machine, then loaded from the cache):
 
 1. the path of §5 from each leg's home pose through the samples
-   (:mod:`prp3.family.compiled_path`, its scalar pieces in
-   :mod:`prp3.family.compiled_legs`): the joint values ``q`` and the
-   measures ``μ_leg``, ``μ_par`` at the samples, checked at every point;
+   (:mod:`prp3.family.compiled_path`: its closed forms the trace of
+   :func:`~prp3.family.sample_mechanics.path_candidates`, in the same generated
+   module): the joint values ``q`` and the measures ``μ_leg``, ``μ_par`` at the
+   samples, checked at every point;
 2. at the samples, by the kernel generated from the one source on ``Ops``
    (:mod:`prp3.family.sample_mechanics`: :func:`~prp3.family.sample_mechanics.chain_of`
    and :func:`~prp3.family.sample_mechanics.sample_dynamics`, traced with the
@@ -50,7 +51,7 @@ from prp3.family.compiled_kernel import (
     constants,
     structure_module,
 )
-from prp3.family.compiled_legs import (
+from prp3.family.compiled_path import (
     STATUS_NOT_FINITE_DYN,
     STATUS_NOT_FINITE_KIN,
     STATUS_OK,
@@ -58,11 +59,9 @@ from prp3.family.compiled_legs import (
     STATUS_SINGULAR_LEG,
     STATUS_SINGULAR_PAR,
     STATUS_UNREACHABLE,
-    njit_compiled,
     numba,
     pack,
 )
-from prp3.family.compiled_path import follow_path
 from prp3.family.mechanics import (
     FamilyKinematics,
     FamilySolution,
@@ -101,42 +100,25 @@ _WIDTH = sum(size * count for size, count in _GROUPS)
 _TAIL = 8
 
 
-@njit_compiled
-def family_path(ints: IntArray, par: FloatArray, pose: FloatArray, buffer: FloatArray) -> int:
-    """Step 1 into ``buffer`` (``n·_WIDTH + _TAIL``, from numpy): ``q``, ``μ_leg``, ``μ_par``; the status."""
-    n = pose.shape[0]
-    q = buffer[: 9 * n].reshape((n, 3, 3))
-    mu_leg = buffer[36 * n : 39 * n].reshape((n, 3))
-    mu_par = buffer[63 * n : 64 * n]
-    at = _WIDTH * n
-    status = np.zeros(4, dtype=np.int64)
-    info = np.zeros(4)
-    follow_path(ints, par, pose, q, mu_leg, mu_par, status, info)
-    for i in range(4):
-        buffer[at + i] = status[i]
-        buffer[at + 4 + i] = info[i]
-    return int(status[0])
-
-
 def family_kernel(
     robot: FamilyRobot, pose: FloatArray, velocity: FloatArray, acceleration: FloatArray,
     buffer: FloatArray, threads: bool,
 ) -> int:  # fmt: skip
     """Every output at the samples into ``buffer``; the status.
 
-    Step 1, the path, by :func:`family_path` (sequential); steps 2 and 3 by the
-    kernel generated from :mod:`prp3.family.sample_mechanics`
-    (:func:`prp3.family.compiled_kernel.structure_module`: ``samples``, or
-    ``samples_parallel`` on every thread when ``threads``).
+    The structure's generated module (:func:`prp3.family.compiled_kernel.structure_module`)
+    runs step 1, the path, by ``path`` (sequential; :mod:`prp3.family.compiled_path`),
+    steps 2 and 3 by ``samples``, or ``samples_parallel`` on every thread when ``threads``.
     """
     ints, par = pack(robot)
-    status = family_path(ints, par, pose, buffer)
+    module = structure_module(robot.types, robot.actuated)
+    c = constants(robot)
+    status = int(module.path(ints, par, c, pose, buffer, _WIDTH))
     if status != STATUS_OK:
         return status
-    module = structure_module(robot.types, robot.actuated)
     run = module.samples_parallel if threads else module.samples
     n = pose.shape[0]
-    flags = run(constants(robot), pose, velocity, acceleration, buffer, n, 0, n)
+    flags = run(c, pose, velocity, acceleration, buffer, n, 0, n)
     if flags & NOT_FINITE_KIN:
         return STATUS_NOT_FINITE_KIN
     return STATUS_NOT_FINITE_DYN if flags & NOT_FINITE_DYN else STATUS_OK

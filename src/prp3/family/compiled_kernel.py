@@ -50,6 +50,7 @@ from prp3.engines.traced_numba import (
     python_statements,
 )
 from prp3.family.chain import SIGMA, SINGULAR
+from prp3.family.compiled_path import path_source
 from prp3.family.model import FamilyRobot
 from prp3.family.sample_mechanics import (
     Design,
@@ -96,7 +97,7 @@ _STATE = ("x", "y", "cphi", "sphi", "dx", "dy", "dphi", "ddx", "ddy", "ddphi")
 def constants(robot: FamilyRobot) -> FloatArray:
     """The kernel's inputs of ``robot``: ``(36,)`` float64 (see :data:`_CONSTANTS`), read-only.
 
-    Kept on the robot (it is immutable), as :func:`prp3.family.compiled_legs.pack` keeps its own.
+    Kept on the robot (it is immutable), as :func:`prp3.family.compiled_path.pack` keeps its own.
     """
     cached = robot.__dict__.get("_kernel_constants")
     if cached is not None:
@@ -202,6 +203,7 @@ def structure_source(types: str, actuated: int) -> str:
         + "\n".join(samples_source(types, actuated)) + "\n\n\n"
         + parallel_source("samples_parallel", "samples",
                           ("c", "pose", "velocity", "acceleration", "buffer", "n"), BLOCK)
+        + "\n\n" + path_source(types, actuated)
     )  # fmt: skip
 
 

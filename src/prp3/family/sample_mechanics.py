@@ -77,6 +77,10 @@ def _over(v: Pair, c: tuple[float, float]) -> Pair:
 
 
 # ------------------------------------------------------------------ stage 1: geometry
+#: The numbers of a traced design (:meth:`Design.values`).
+DESIGN_VALUES = 13
+
+
 @dataclass(frozen=True)
 class Design:
     """Leg A's constants as plain floats."""
@@ -163,7 +167,17 @@ def leg_candidates(
     ``g`` is ``G`` in the leg frame, ``rphi = (cos φ, sin φ)``; the closed forms
     are those of :mod:`prp3.family.legs`, each frame's rotation obtained from
     the vector it turns (``R_{F_1} = (O_2 − O_1)·conj(c_2)/|c_2|²`` for an R-R
-    pair, ...) instead of from angles.
+    pair, ...) instead of from angles.  :func:`leg_solutions` with the slides.
+    """
+    return [(o, r, mu) for o, r, _, mu in leg_solutions(ops, design, g, rphi)]
+
+
+def leg_solutions(
+    ops: Ops, design: Design, g: Pair, rphi: Pair
+) -> list[tuple[list[Pair], list[Pair], dict[int, Any], Any]]:
+    """:func:`leg_candidates` with each solution's P values: ``(origins, rotations, slides, μ_leg)``.
+
+    ``slides`` maps each P joint (0-based) to its value (m).
     """
     types, c, gamma = design.types, design.c, design.gamma
     r3 = turn(rphi, _unit(ops, -gamma[3]))  # R_{F_3}: the attachment frame's angle is φ
@@ -220,7 +234,7 @@ def leg_candidates(
     out = []
     for rotations, slides in solutions:
         origins = _chain(ops, design, rotations, slides)
-        out.append((origins, list(rotations), _measure(design, g, origins, rotations)))
+        out.append((origins, list(rotations), slides, _measure(design, g, origins, rotations)))
     return out
 
 
@@ -473,6 +487,38 @@ def fixed_candidates(
         for r in rotations:
             out += turn((cs, ss), r)
         out.append(mu)
+    return out
+
+
+def path_candidates(
+    ops: Ops, design: Design, sigma: Pair, actuated: int, x: Any, y: Any, c: Any, s: Any
+) -> list[Any]:
+    """What the path of docs/family.md §5 needs of each candidate of :func:`leg_solutions`, flat.
+
+    7 numbers per candidate of the leg turned by ``sigma = (cos σ_j, sin σ_j)``
+    at ``G = (x, y)``, ``(c, s) = (cos φ, sin φ)`` (fixed frame): the joint
+    values ``q_1 … q_3`` — an R angle as ``atan2`` of its relative rotation
+    ``R_{F_k}·conj(R_{F_{k−1}}·Rot(γ_k))`` (rad, in ``[−π, π]``, to be unwrapped
+    along the path), a P value as solved (m) —, ``μ_leg`` and the wrench the
+    leg transmits, ``Ĵ[:, p] × Ĵ[:, r]`` of its passive joints (``actuated``
+    0-based) turned into the fixed frame (:func:`prp3.family.chain.transmitted_wrench`).
+    """
+    cs, ss = sigma
+    local = (cs * x + ss * y, cs * y - ss * x)
+    out: list[Any] = []
+    for origins, rotations, slides, mu in leg_solutions(ops, design, local, (c, s)):
+        before: Pair = (1.0, 0.0)
+        for k in range(3):
+            if design.types[k] == "R":
+                joint, r = turn(before, _unit(ops, design.gamma[k])), rotations[k]
+                out.append(ops.atan2(_cross(joint, r), _dot(joint, r)))
+            else:
+                out.append(slides[k])
+            before = rotations[k]
+        cols = _scaled_columns(design, local, origins, rotations)
+        p, r3 = (cols[k] for k in range(3) if k != actuated)
+        w = (p[1] * r3[2] - p[2] * r3[1], p[2] * r3[0] - p[0] * r3[2], p[0] * r3[1] - p[1] * r3[0])
+        out += [mu, cs * w[0] - ss * w[1], ss * w[0] + cs * w[1], w[2]]
     return out
 
 
