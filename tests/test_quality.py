@@ -314,7 +314,6 @@ def test_the_private_import_check_catches_both_forms() -> None:
 #: the rest are not split yet (issue 31, item 6).
 LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "analysis/forward.py": ("forward_dynamics",),
-    "apps/spatial_mjcf.py": ("spatial_mjcf_model",),
     "engines/trace.py": ("broadcast_function",),
     "explorer/app.py": ("explorer_document",),
     "explorer/family_scene.py": ("family_view",),
