@@ -325,7 +325,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "family/paper.py": ("paper_steps",),
     "family/sample_mechanics.py": ("sample_dynamics",),
     "mechanics/wrenches.py": ("body_wrenches",),
-    "plotting/spatial_animation.py": ("spatial_robot_figure",),
     "references/newton_euler.py": ("_solve",),
     "spatial/compiled.py": ("_geometry", "_sample"),
     "spatial/forward.py": ("spatial_forward_dynamics",),
