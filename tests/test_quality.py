@@ -317,7 +317,6 @@ LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "engines/trace.py": ("broadcast_function",),
     "explorer/app.py": ("explorer_document",),
     "explorer/family_scene.py": ("family_view",),
-    "explorer/spatial_page.py": ("spatial_page_figure",),
     "family/codegen.py": ("family_c_inverse_dynamics",),
     "family/compiled_legs.py": ("closure_branch",),
     "family/compiled_path.py": ("follow_path",),
