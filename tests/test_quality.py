@@ -314,18 +314,15 @@ def test_the_private_import_check_catches_both_forms() -> None:
 #: the rest are not split yet (issue 31, item 6).
 LONG_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "analysis/forward.py": ("forward_dynamics",),
-    "apps/spatial_mjcf.py": ("spatial_mjcf_model",),
     "engines/trace.py": ("broadcast_function",),
     "explorer/app.py": ("explorer_document",),
     "explorer/family_scene.py": ("family_view",),
-    "explorer/spatial_page.py": ("spatial_page_figure",),
     "family/codegen.py": ("family_c_inverse_dynamics",),
     "family/compiled_path.py": ("follow_path",),
     "family/forward.py": ("family_forward_dynamics",),
     "family/paper.py": ("paper_steps",),
     "family/sample_mechanics.py": ("sample_dynamics",),
     "mechanics/wrenches.py": ("body_wrenches",),
-    "plotting/spatial_animation.py": ("spatial_robot_figure",),
     "references/newton_euler.py": ("_solve",),
     "spatial/compiled.py": ("_geometry", "_sample"),
     "spatial/forward.py": ("spatial_forward_dynamics",),

@@ -221,6 +221,34 @@ def spatial_mjcf_model(robot: SpatialRobot) -> str:
         body); an S that is not a leg's last joint.
     """
     check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
+    _check_mjcf_robot(robot)
+    texts, numerics = _robot_customs(robot)
+    lines = _preamble(robot)
+    equalities: list[str] = []
+    for i, leg in enumerate(robot.legs, 1):
+        chain, closure = _leg_elements(robot, i, leg, texts, numerics)
+        lines += chain
+        equalities.append(closure)
+    lines += _platform_elements(robot, texts)
+    lines += ["  <equality>", *equalities, "  </equality>"]
+    lines += _actuators(robot)
+    lines += ["  <custom>", *texts, *numerics, "  </custom>"]
+    home = _home_qpos(robot)
+    if home is not None:
+        lines += ["  <keyframe>", f'    <key name="home" qpos="{vec(*home)}"/>', "  </keyframe>"]
+    lines += [
+        "  <sensor>",
+        '    <framepos name="platform_position" objtype="body" objname="platform"/>',
+        '    <framequat name="platform_orientation" objtype="body" objname="platform"/>',
+        "  </sensor>",
+        "</mujoco>",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def _check_mjcf_robot(robot: SpatialRobot) -> None:
+    """Refuse what the model cannot carry: a body below MuJoCo's bounds (:func:`_check_body`),
+    an S joint before a leg's last."""
     for i, leg in enumerate(robot.legs, 1):
         for k, body in enumerate(leg.bodies, 1):
             _check_body(f"leg {i} body {k} ({body.name})", body)
@@ -232,19 +260,29 @@ def spatial_mjcf_model(robot: SpatialRobot) -> str:
                 key="legs",
             )
     _check_body("platform", robot.platform)
-    size = robot.scale / 20.0
-    numerics: list[str] = []
-    texts: list[str] = [
+
+
+def _robot_customs(robot: SpatialRobot) -> tuple[list[str], list[str]]:
+    """The ``<custom>`` lines of the robot as a whole: the texts (the mark, the name, the
+    parasitic coordinates) and the numerics (the home pose, the scale); the legs' and the
+    platform's lines are appended to these lists as their elements are written."""
+    texts = [
         f'    <text name="{SPATIAL_MJCF_MARK}" data="prp3 spatial robot, docs/spatial.md 16"/>',
         f'    <text name="prp3_name" data={quoteattr(robot.name or " ")}/>',
         f'    <text name="prp3_parasitic" data={quoteattr(" ".join(robot.parasitic) or "none")}/>',
     ]
-    numerics.append(
+    numerics = [
         f'    <numeric name="prp3_home" '
-        f'data="{vec(*robot.home_position, *np.asarray(robot.home_rotation).reshape(9))}"/>'
-    )
-    numerics.append(f'    <numeric name="prp3_scale" data="{num(robot.scale)}"/>')
-    lines = [
+        f'data="{vec(*robot.home_position, *np.asarray(robot.home_rotation).reshape(9))}"/>',
+        f'    <numeric name="prp3_scale" data="{num(robot.scale)}"/>',
+    ]
+    return texts, numerics
+
+
+def _preamble(robot: SpatialRobot) -> list[str]:
+    """The lines up to the legs: the comment, compiler, option (gravity, no contact), the
+    defaults and the opening of the worldbody with its light."""
+    return [
         '<mujoco model="prp3_spatial">',
         f"  <!-- {robot.name} spatial parallel robot written by prp3 (docs/spatial.md §16).",
         "       Legs leg{i}: open chains of bodies leg{i}_body{k}, joints leg{i}_<coordinate>",
@@ -262,92 +300,100 @@ def spatial_mjcf_model(robot: SpatialRobot) -> str:
         "  <worldbody>",
         '    <light pos="0 0 3" dir="0 0 -1"/>',
     ]
-    equalities: list[str] = []
-    for i, leg in enumerate(robot.legs, 1):
-        n = len(leg.joints)
-        opened: list[str] = []
-        for k in range(n - 1):
-            joint, label, body = leg.joints[k], leg.labels[k], leg.bodies[k]
-            ind = "    " + "  " * k
-            texts.append(
-                f'    <text name="prp3_body_leg{i}_{k + 1}" data={quoteattr(body.name or " ")}/>'
-            )
-            lines.append(
-                f'{ind}<body name="leg{i}_body{k + 1}" pos="{vec(*joint.position)}"'
-                f"{_orientation(joint.rotation)}>"
-            )
-            lines += _joint_elements(joint, label, i, ind + "  ", numerics)
-            lines += [
-                f"{ind}  " + _inertial(body),
-                f'{ind}  <geom type="sphere" size="{num(size)}" rgba="0.2 0.4 0.8 1"/>',
-            ]
-            opened.append(f"{ind}</body>")
-        last, label = leg.joints[-1], leg.labels[-1]
-        ind = "    " + "  " * (n - 1)
-        if last.kind == "S":
-            lines.append(
-                f'{ind}<site name="leg{i}_{label}" pos="{vec(*last.position)}"'
-                f"{_orientation(last.rotation)}/>"
-            )
-            equalities.append(
-                f'    <connect name="leg{i}_{label}" site1="leg{i}_{label}" site2="platform_leg{i}"/>'
-            )
-            low, high = last.limits[0]
-            numerics.append(
-                f'    <numeric name="prp3_range_leg{i}_{label}" data="{_limit(low, high)}"/>'
-            )
-        else:
-            mass = END_MASS_FRACTION * robot.platform.mass
-            inertia = max(mass * robot.scale**2, 10.0 * MUJOCO_MIN_VALUE)
-            lines.append(
-                f'{ind}<body name="leg{i}_end" pos="{vec(*last.position)}"'
-                f"{_orientation(last.rotation)}>"
-            )
-            lines += _joint_elements(last, label, i, ind + "  ", numerics)
-            lines += [
-                f'{ind}  <inertial pos="0 0 0" mass="{num(max(mass, 10.0 * MUJOCO_MIN_VALUE))}" '
-                f'diaginertia="{vec(inertia, inertia, inertia)}"/>',
-                f'{ind}  <site name="leg{i}_end"/>',
-                f"{ind}</body>",
-            ]
-            equalities.append(
-                f'    <weld name="leg{i}_{label}" site1="leg{i}_end" site2="platform_leg{i}"/>'
-            )
-        lines += opened[::-1]
+
+
+def _leg_elements(
+    robot: SpatialRobot, i: int, leg: Leg, texts: list[str], numerics: list[str]
+) -> tuple[list[str], str]:
+    """Leg ``i``'s nested bodies ``leg{i}_body{k}`` (joints, inertial, a sphere) with its
+    closing joint inside the last, and the equality that closes its loop; the bodies' names
+    are appended to ``texts``, the joints' custom ranges to ``numerics``."""
+    n = len(leg.joints)
+    size = robot.scale / 20.0
+    lines: list[str] = []
+    opened: list[str] = []
+    for k in range(n - 1):
+        joint, label, body = leg.joints[k], leg.labels[k], leg.bodies[k]
+        ind = "    " + "  " * k
+        texts.append(
+            f'    <text name="prp3_body_leg{i}_{k + 1}" data={quoteattr(body.name or " ")}/>'
+        )
+        lines.append(
+            f'{ind}<body name="leg{i}_body{k + 1}" pos="{vec(*joint.position)}"'
+            f"{_orientation(joint.rotation)}>"
+        )
+        lines += _joint_elements(joint, label, i, ind + "  ", numerics)
+        lines += [
+            f"{ind}  " + _inertial(body),
+            f'{ind}  <geom type="sphere" size="{num(size)}" rgba="0.2 0.4 0.8 1"/>',
+        ]
+        opened.append(f"{ind}</body>")
+    closing, equality = _closing_elements(robot, i, leg, "    " + "  " * (n - 1), numerics)
+    return [*lines, *closing, *opened[::-1]], equality
+
+
+def _closing_elements(
+    robot: SpatialRobot, i: int, leg: Leg, ind: str, numerics: list[str]
+) -> tuple[list[str], str]:
+    """Leg ``i``'s closing joint, indented ``ind``, and its equality: an S as the site
+    ``leg{i}_S{n}`` and a ``connect`` (its rotation limit a custom numeric), any other joint
+    as the body ``leg{i}_end`` (the small mass of :data:`END_MASS_FRACTION`) and a ``weld``."""
+    last, label = leg.joints[-1], leg.labels[-1]
+    if last.kind == "S":
+        low, high = last.limits[0]
+        numerics.append(
+            f'    <numeric name="prp3_range_leg{i}_{label}" data="{_limit(low, high)}"/>'
+        )
+        site = (
+            f'{ind}<site name="leg{i}_{label}" pos="{vec(*last.position)}"'
+            f"{_orientation(last.rotation)}/>"
+        )
+        return [site], (
+            f'    <connect name="leg{i}_{label}" site1="leg{i}_{label}" site2="platform_leg{i}"/>'
+        )
+    mass = END_MASS_FRACTION * robot.platform.mass
+    inertia = max(mass * robot.scale**2, 10.0 * MUJOCO_MIN_VALUE)
+    lines = [
+        f'{ind}<body name="leg{i}_end" pos="{vec(*last.position)}"{_orientation(last.rotation)}>',
+        *_joint_elements(last, label, i, ind + "  ", numerics),
+        f'{ind}  <inertial pos="0 0 0" mass="{num(max(mass, 10.0 * MUJOCO_MIN_VALUE))}" '
+        f'diaginertia="{vec(inertia, inertia, inertia)}"/>',
+        f'{ind}  <site name="leg{i}_end"/>',
+        f"{ind}</body>",
+    ]
+    return lines, f'    <weld name="leg{i}_{label}" site1="leg{i}_end" site2="platform_leg{i}"/>'
+
+
+def _platform_elements(robot: SpatialRobot, texts: list[str]) -> list[str]:
+    """The free body ``platform`` (inertial, a sphere, the legs' attachment sites
+    ``platform_leg{i}``) and the end of the worldbody; its name is appended to ``texts``."""
     texts.append(
         f'    <text name="prp3_body_platform" data={quoteattr(robot.platform.name or " ")}/>'
     )
-    lines += [
+    lines = [
         '    <body name="platform">',
         '      <freejoint name="platform"/>',
         "      " + _inertial(robot.platform),
-        f'      <geom type="sphere" size="{num(2 * size)}" rgba="0.3 0.7 0.3 1"/>',
+        f'      <geom type="sphere" size="{num(2 * (robot.scale / 20.0))}" rgba="0.3 0.7 0.3 1"/>',
     ]
     for i, leg in enumerate(robot.legs, 1):
         lines.append(
             f'      <site name="platform_leg{i}" pos="{vec(*leg.attachment_position)}"'
             f"{_orientation(leg.attachment_rotation)}/>"
         )
-    lines += ["    </body>", "  </worldbody>", "  <equality>", *equalities, "  </equality>"]
-    lines.append("  <actuator>")
+    return [*lines, "    </body>", "  </worldbody>"]
+
+
+def _actuators(robot: SpatialRobot) -> list[str]:
+    """The ``<actuator>`` section: a motor ``actuator_{i}`` on each leg's actuated joint."""
+    lines = ["  <actuator>"]
     for i, leg in enumerate(robot.legs, 1):
         coordinate = leg.coordinates[leg.actuated_coordinate]
         lines.append(
             f'    <motor name="actuator_{i}" joint="leg{i}_{coordinate}" gear="1" '
             'ctrllimited="false"/>'
         )
-    lines += ["  </actuator>", "  <custom>", *texts, *numerics, "  </custom>"]
-    home = _home_qpos(robot)
-    if home is not None:
-        lines += ["  <keyframe>", f'    <key name="home" qpos="{vec(*home)}"/>', "  </keyframe>"]
-    lines += [
-        "  <sensor>",
-        '    <framepos name="platform_position" objtype="body" objname="platform"/>',
-        '    <framequat name="platform_orientation" objtype="body" objname="platform"/>',
-        "  </sensor>",
-        "</mujoco>",
-    ]
-    return "\n".join(lines) + "\n"
+    return [*lines, "  </actuator>"]
 
 
 # ---------------------------------------------------------------- reading back

@@ -36,6 +36,7 @@ from prp3.errors import Prp3Error
 from prp3.explorer.scrubber import MAX_HTML_FRAMES
 from prp3.files import atomic_writer
 from prp3.plotting.animation import frame_indices  # a pure function: matplotlib is not imported
+from prp3.plotting.spatial_animation import run_frames, scale_heading  # nor here
 from prp3.spatial.drawing import (
     AXIS_HALF,
     JOINT_COLOURS,
@@ -44,11 +45,7 @@ from prp3.spatial.drawing import (
     VIEW,
     SpatialFrame,
     axis_segments,
-    force_scale,
     platform_path,
-    robot_size,
-    sleeve_lengths,
-    spatial_frame,
     spatial_samples,
     view_direction,
 )
@@ -267,10 +264,6 @@ def _cube(
     return 0.5 * (low + high), 0.55 * float((high - low).max())
 
 
-def _format_scale(scale: float) -> str:
-    return f"{scale:.0f}" if scale >= 1.0 else f"{scale:.3g}"
-
-
 def spatial_page_figure(
     robot: SpatialRobot, table: Mapping[str, NDArray[Any]], title: str = ""
 ) -> dict[str, Any]:
@@ -305,13 +298,9 @@ def spatial_page_figure(
     """
     t, q, force = spatial_samples(robot, table)
     indices = [int(k) for k in frame_indices(int(t.size), MAX_HTML_FRAMES)]
-    sleeve = sleeve_lengths(robot, q)
-    frames = [spatial_frame(robot, q[k], force[k], t=float(t[k]), sleeve=sleeve) for k in indices]
-    size = robot_size(frames)
-    scale = force_scale(force, size)
+    frames, size, scale = run_frames(robot, t, q, force, indices)
     path = platform_path(robot, q)
-    legs = len(robot.legs)
-    styles = _styles(frames[0], legs)
+    styles = _styles(frames[0], len(robot.legs))
     plotted = [_frame_traces(frame, scale, size) for frame in frames]
     data = [{**trace, **style} for trace, style in zip(plotted[0], styles, strict=True)]
     middle, half = _cube(frames, scale, size, path)
@@ -320,23 +309,63 @@ def spatial_page_figure(
          "name": "platform origin's path (+: now)", "line": {"color": "#d62728", "width": 3},
          "hoverinfo": "skip"}
     )  # fmt: skip
+    heading = scale_heading(scale)
+    layout: dict[str, Any] = {
+        "title": {"text": f"{html.escape(title or robot.name)}<br><sup>{heading}; "
+                          f"{_largest_force(robot, t, force)}</sup>",
+                  "x": 0.02, "xanchor": "left"},
+        "meta": {"scale": scale, "samples": indices, "times": [float(t[k]) for k in indices],
+                 "size": size, "view": list(VIEW)},
+        "scene": _scene(middle, half),
+        "legend": {"title": {"text": heading}, "groupclick": "toggleitem", "tracegroupgap": 4,
+                   "x": 1.0, "xanchor": "right", "y": 0.98, "bgcolor": "rgba(255,255,255,0.85)"},
+        "margin": {"l": 0, "r": 0, "t": 70, "b": 0},
+        "uirevision": "keep",
+        "sliders": [_slider(t, indices)],
+        "updatemenus": [_play_buttons(t, indices)],
+    }  # fmt: skip
+    return {
+        "data": data,
+        "layout": layout,
+        "frames": [
+            {"name": str(k), "data": traces, "traces": list(range(len(traces)))}
+            for k, traces in zip(indices, plotted, strict=True)
+        ],
+    }
+
+
+def _largest_force(robot: SpatialRobot, t: FloatArray, force: FloatArray) -> str:
+    """The title's note of the run's largest joint force: its size, joint, leg and time."""
     magnitude = np.linalg.norm(force, axis=-1)  # (N, legs, joints)
     # symmetric motions tie to round-off (the tilt's legs 3 and 6): the first of the forces
     # equal to 1e-9 of the largest is named, the same on every machine
     tied = np.round(magnitude / max(float(magnitude.max(initial=0.0)), np.finfo(float).tiny), 9)
     n, i, j = (int(v) for v in np.unravel_index(int(np.argmax(tied)), tied.shape))
     labels = robot.legs[0].labels
-    heading = (
-        f"force arrows: {_format_scale(scale)} N per m (1 cm: {scale / 100:.3g} N)"
-        if scale > 0.0
-        else "force arrows: every joint force is zero"
-    )
-    largest = (
+    return (
         f"the run's largest joint force: {float(magnitude[n, i, j]):.3g} N at {labels[j]} of "
         f"leg {i + 1}, t = {float(t[n]):.3g} s"
     )
+
+
+def _scene(middle: FloatArray, half: float) -> dict[str, Any]:
+    """The layout's 3-D scene: the cube of half side ``half`` about ``middle`` (m, axes fixed),
+    the camera looking from :func:`~prp3.spatial.drawing.view_direction`."""
     eye = 1.55 * view_direction()
     axis = {"showspikes": False, "backgroundcolor": "#f4f4f4", "autorange": False}
+    return {
+        **{
+            f"{name}axis": {**axis, "title": {"text": f"{name} (m)"},
+                            "range": [middle[c] - half, middle[c] + half]}
+            for c, name in enumerate("xyz")
+        },
+        "aspectmode": "cube",
+        "camera": {"eye": {"x": float(eye[0]), "y": float(eye[1]), "z": float(eye[2])}},
+    }  # fmt: skip
+
+
+def _slider(t: FloatArray, indices: list[int]) -> dict[str, Any]:
+    """The slider through the frames: one step per sample shown, labelled by its time."""
     steps = [
         {
             "method": "animate",
@@ -352,52 +381,30 @@ def spatial_page_figure(
         }
         for k in indices
     ]
+    return {
+        "active": 0, "steps": steps, "x": 0.17, "len": 0.81, "y": 0.05, "yanchor": "top",
+        "pad": {"t": 0}, "ticklen": 2, "font": {"color": "rgba(0,0,0,0)"},
+        "currentvalue": {"prefix": "t = ", "font": {"size": 14, "color": "black"}},
+    }  # fmt: skip
+
+
+def _play_buttons(t: FloatArray, indices: list[int]) -> dict[str, Any]:
+    """The play and pause buttons; play shows the frames in about real time (40 ms at least
+    per frame)."""
     span = float(t[indices[-1]] - t[indices[0]])
     duration = max(40, round(1000.0 * span / max(len(indices) - 1, 1)))
-    layout: dict[str, Any] = {
-        "title": {"text": f"{html.escape(title or robot.name)}<br><sup>{heading}; {largest}</sup>",
-                  "x": 0.02, "xanchor": "left"},
-        "meta": {"scale": scale, "samples": indices, "times": [float(t[k]) for k in indices],
-                 "size": size, "view": list(VIEW)},
-        "scene": {
-            **{
-                f"{name}axis": {**axis, "title": {"text": f"{name} (m)"},
-                                "range": [middle[c] - half, middle[c] + half]}
-                for c, name in enumerate("xyz")
-            },
-            "aspectmode": "cube",
-            "camera": {"eye": {"x": float(eye[0]), "y": float(eye[1]), "z": float(eye[2])}},
-        },
-        "legend": {"title": {"text": heading}, "groupclick": "toggleitem", "tracegroupgap": 4,
-                   "x": 1.0, "xanchor": "right", "y": 0.98, "bgcolor": "rgba(255,255,255,0.85)"},
-        "margin": {"l": 0, "r": 0, "t": 70, "b": 0},
-        "uirevision": "keep",
-        "sliders": [{
-            "active": 0, "steps": steps, "x": 0.17, "len": 0.81, "y": 0.05, "yanchor": "top",
-            "pad": {"t": 0}, "ticklen": 2, "font": {"color": "rgba(0,0,0,0)"},
-            "currentvalue": {"prefix": "t = ", "font": {"size": 14, "color": "black"}},
-        }],
-        "updatemenus": [{
-            "type": "buttons", "direction": "left", "x": 0.0, "y": 0.05, "xanchor": "left",
-            "yanchor": "top", "showactive": False, "pad": {"t": 20},
-            "buttons": [
-                {"label": "▶ play", "method": "animate",
-                 "args": [None, {"frame": {"duration": duration, "redraw": True},
-                                 "fromcurrent": True, "transition": {"duration": 0}}]},
-                {"label": "❚❚ pause", "method": "animate",
-                 "args": [[None], {"mode": "immediate", "frame": {"duration": 0, "redraw": False},
-                                   "transition": {"duration": 0}}]},
-            ],
-        }],
-    }  # fmt: skip
     return {
-        "data": data,
-        "layout": layout,
-        "frames": [
-            {"name": str(k), "data": traces, "traces": list(range(len(traces)))}
-            for k, traces in zip(indices, plotted, strict=True)
+        "type": "buttons", "direction": "left", "x": 0.0, "y": 0.05, "xanchor": "left",
+        "yanchor": "top", "showactive": False, "pad": {"t": 20},
+        "buttons": [
+            {"label": "▶ play", "method": "animate",
+             "args": [None, {"frame": {"duration": duration, "redraw": True},
+                             "fromcurrent": True, "transition": {"duration": 0}}]},
+            {"label": "❚❚ pause", "method": "animate",
+             "args": [[None], {"mode": "immediate", "frame": {"duration": 0, "redraw": False},
+                               "transition": {"duration": 0}}]},
         ],
-    }
+    }  # fmt: skip
 
 
 def spatial_run_html(

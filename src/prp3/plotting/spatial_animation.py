@@ -172,6 +172,52 @@ def _head(tail: FloatArray, tip: FloatArray, size: float) -> FloatArray:
     return np.stack([back + 0.45 * h * side, tip, back - 0.45 * h * side])
 
 
+def scale_heading(scale: float) -> str:
+    """The legend's title of the arrows' scale ``scale`` (N per m; 0: every force is zero),
+    the same in the animation and in the 3-D explorer's page.
+
+    >>> scale_heading(200.0)
+    'force arrows: 200 N per m (1 cm: 2 N)'
+    >>> scale_heading(0.0)
+    'force arrows: every joint force is zero'
+    """
+    if scale > 0.0:
+        return f"force arrows: {_format_scale(scale)} N per m (1 cm: {scale / 100:.3g} N)"
+    return "force arrows: every joint force is zero"
+
+
+def run_frames(
+    robot: SpatialRobot, t: FloatArray, q: FloatArray, force: FloatArray, indices: list[int]
+) -> tuple[list[SpatialFrame], float, float]:
+    """The frames of the samples ``indices`` of a run, the robot's size over them and the
+    run's arrow scale, as the animation and the 3-D explorer's page draw them.
+
+    Parameters
+    ----------
+    robot : SpatialRobot
+        The robot of the run.
+    t, q, force : ndarray
+        The run's samples, ``(N,)``, ``(N, legs, dof)``, ``(N, legs, joints, 3)``
+        (:func:`~prp3.spatial.drawing.spatial_samples`).
+    indices : list of int
+        The samples drawn.
+
+    Returns
+    -------
+    frames : list of SpatialFrame
+        One per index (:func:`~prp3.spatial.drawing.spatial_frame`, a P's sleeve of one
+        length over the run: :func:`~prp3.spatial.drawing.sleeve_lengths`).
+    size : float
+        :func:`robot_size` of ``frames`` (m).
+    scale : float
+        :func:`force_scale` of every sample's forces (N per m).
+    """
+    sleeve = sleeve_lengths(robot, q)
+    frames = [spatial_frame(robot, q[k], force[k], t=float(t[k]), sleeve=sleeve) for k in indices]
+    size = robot_size(frames)
+    return frames, size, force_scale(force, size)
+
+
 def spatial_robot_figure(
     robot: SpatialRobot,
     frames: list[SpatialFrame],
@@ -190,8 +236,6 @@ def spatial_robot_figure(
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
-    from matplotlib.lines import Line2D
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
 
     check_instance("robot", robot, SpatialRobot, "a SpatialRobot")
     if not frames:
@@ -199,9 +243,43 @@ def spatial_robot_figure(
     size = robot_size(frames)
     if scale is None:
         scale = force_scale(np.stack([f.forces for f in frames]), size)
-    middle, half = scene_extent(frames, scale)
     figure = Figure(figsize=(7.2, 7.2), dpi=dpi)
     canvas = FigureCanvasAgg(figure)
+    ax = _scene_axes(figure, *scene_extent(frames, scale))
+    first = frames[0]
+    base, platform = _polygons(ax, first)
+    links, sleeves, axis_lines, joints = _leg_artists(ax, first)
+    arrows, heads = _arrow_artists(ax, first)
+    (trace_line,) = ax.plot([], [], [], color="tab:red", linewidth=1.0, zorder=8)
+    (centre,) = ax.plot([], [], [], linestyle="", marker="+", color="black", markersize=9,
+                        zorder=8)  # fmt: skip
+    clock = figure.text(0.02, 0.9, "", family="monospace", fontsize=10)
+    _legend(figure, frames, joints, trace_line, scale)
+    figure.suptitle(title or robot.name, fontsize=11, y=0.985)
+    artists = SpatialArtists(
+        figure=figure,
+        canvas=canvas,
+        joints=joints,
+        axes=axis_lines,
+        links=links,
+        sleeves=sleeves,
+        arrows=arrows,
+        heads=heads,
+        base=base,
+        platform=platform,
+        trace=trace_line,
+        centre=centre,
+        clock=clock,
+        scale=scale,
+        size=size,
+    )
+    draw_spatial_frame(artists, first, trace=trace)
+    return artists
+
+
+def _scene_axes(figure: Figure, middle: FloatArray, half: float) -> Any:
+    """The figure's 3-D axes: seen from :data:`VIEW`, the cube of half side ``half`` about
+    ``middle`` (m), the three axes scaled alike, labelled in metres, light panes."""
     ax: Any = figure.add_axes((-0.07, -0.01, 1.1, 0.96), projection="3d", computed_zorder=False)
     ax.view_init(elev=VIEW[0], azim=VIEW[1])
     for k, setter in enumerate((ax.set_xlim, ax.set_ylim, ax.set_zlim)):
@@ -213,8 +291,13 @@ def spatial_robot_figure(
     ax.tick_params(labelsize=8)
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.pane.set_alpha(0.35)
-    first = frames[0]
-    legs, n = first.points.shape[:2]
+    return ax
+
+
+def _polygons(ax: Any, first: SpatialFrame) -> tuple[Poly3DCollection, Poly3DCollection]:
+    """The base polygon (grey) and the platform polygon (purple), drawn under the legs."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # type: ignore[import-untyped]
+
     base = Poly3DCollection([first.base], facecolor="0.82", edgecolor="0.45", alpha=0.6, zorder=1)
     platform = Poly3DCollection(
         [first.platform], facecolor=(0.58, 0.40, 0.74, 0.35), edgecolor="indigo", linewidth=1.5,
@@ -222,53 +305,48 @@ def spatial_robot_figure(
     )  # fmt: skip
     ax.add_collection3d(base)
     ax.add_collection3d(platform)
+    return base, platform
+
+
+def _leg_artists(
+    ax: Any, first: SpatialFrame
+) -> tuple[tuple[Line3D, ...], tuple[Line3D, ...], tuple[Line3D, ...], tuple[Line3D, ...]]:
+    """The legs' lines (one per leg, its colour) and, per joint of a leg, the sleeves, the axis
+    segments and the joint markers (R a circle, U a square, S a ball; the actuated in black)."""
+    legs, n = first.points.shape[:2]
     links = tuple(
         ax.plot([], [], [], color=LEG_COLOURS[i % len(LEG_COLOURS)], linewidth=2.0, zorder=3)[0]
         for i in range(legs)
     )
     sleeves = tuple(
-        ax.plot(
-            [],
-            [],
-            [],
-            color="black" if k == first.actuated else "0.5",
-            linewidth=7.0,
-            solid_capstyle="butt",
-            alpha=0.85,
-            zorder=4,
-        )[0]
+        ax.plot([], [], [], color="black" if k == first.actuated else "0.5", linewidth=7.0,
+                solid_capstyle="butt", alpha=0.85, zorder=4)[0]
         for k in range(n)
-    )
+    )  # fmt: skip
     axis_lines = tuple(
-        ax.plot(
-            [],
-            [],
-            [],
-            color="black" if k == first.actuated else "0.25",
-            linewidth=2.2 if k == first.actuated else 1.2,
-            zorder=5,
-        )[0]
+        ax.plot([], [], [], color="black" if k == first.actuated else "0.25",
+                linewidth=2.2 if k == first.actuated else 1.2, zorder=5)[0]
         for k in range(n)
-    )
+    )  # fmt: skip
     style = {"R": ("o", 7.0), "U": ("s", 6.5), "S": ("o", 9.0), "P": ("|", 0.0)}
     joints = []
     for k, kind in enumerate(first.kinds):
-        marker, size_ = style[kind]
+        marker, size = style[kind]
         driven = k == first.actuated
         joints.append(
-            ax.plot(
-                [],
-                [],
-                [],
-                linestyle="",
-                marker=marker,
-                markersize=size_,
-                markerfacecolor="0.3" if kind == "S" else ("black" if driven else "white"),
-                markeredgecolor="black",
-                markeredgewidth=2.0 if driven else 1.0,
-                zorder=6,
-            )[0]
-        )
+            ax.plot([], [], [], linestyle="", marker=marker, markersize=size,
+                    markerfacecolor="0.3" if kind == "S" else ("black" if driven else "white"),
+                    markeredgecolor="black", markeredgewidth=2.0 if driven else 1.0, zorder=6)[0]
+        )  # fmt: skip
+    return links, sleeves, axis_lines, tuple(joints)
+
+
+def _arrow_artists(
+    ax: Any, first: SpatialFrame
+) -> tuple[tuple[tuple[Line3D, ...], ...], tuple[tuple[Line3D, ...], ...]]:
+    """The force arrows' shafts and heads, ``[leg][joint]``, in joint ``k``'s colour and
+    :func:`_arrow_width`, over everything but the path."""
+    legs, n = first.points.shape[:2]
     arrows, heads = [], []
     for _ in range(legs):
         arrows.append(tuple(
@@ -281,10 +359,22 @@ def spatial_robot_figure(
                     linewidth=_arrow_width(k), zorder=7)[0]
             for k in range(n)
         ))  # fmt: skip
-    (trace_line,) = ax.plot([], [], [], color="tab:red", linewidth=1.0, zorder=8)
-    (centre,) = ax.plot([], [], [], linestyle="", marker="+", color="black", markersize=9,
-                        zorder=8)  # fmt: skip
-    clock = figure.text(0.02, 0.9, "", family="monospace", fontsize=10)
+    return tuple(arrows), tuple(heads)
+
+
+def _legend(
+    figure: Figure,
+    frames: list[SpatialFrame],
+    joints: tuple[Line3D, ...],
+    trace_line: Line3D,
+    scale: float,
+) -> None:
+    """The legend, top right: each joint of a leg (its marker or sleeve), each joint's force
+    arrow, the platform origin's path; titled by :func:`scale_heading` and the largest force
+    over ``frames``."""
+    from matplotlib.lines import Line2D
+
+    first = frames[0]
     handles: list[Any] = []
     labels: list[str] = []
     for k, (label, kind) in enumerate(zip(first.labels, first.kinds, strict=True)):
@@ -304,34 +394,11 @@ def spatial_robot_figure(
     handles.append(trace_line)
     labels.append("platform origin (+) and its path")
     largest = float(np.linalg.norm(np.stack([f.forces for f in frames]), axis=-1).max())
-    heading = (
-        f"force arrows: {_format_scale(scale)} N per m (1 cm: {scale / 100:.3g} N)\n"
-        f"the largest force shown: {largest:.3g} N"
-        if scale > 0.0
-        else "force arrows: every joint force is zero"
+    heading = scale_heading(scale) + (
+        f"\nthe largest force shown: {largest:.3g} N" if scale > 0.0 else ""
     )
     figure.legend(handles, labels, loc="upper right", bbox_to_anchor=(0.995, 0.93), fontsize=8,
                   title=heading, title_fontsize=8.5, framealpha=0.9, ncol=1)  # fmt: skip
-    figure.suptitle(title or robot.name, fontsize=11, y=0.985)
-    artists = SpatialArtists(
-        figure=figure,
-        canvas=canvas,
-        joints=tuple(joints),
-        axes=axis_lines,
-        links=links,
-        sleeves=sleeves,
-        arrows=tuple(arrows),
-        heads=tuple(heads),
-        base=base,
-        platform=platform,
-        trace=trace_line,
-        centre=centre,
-        clock=clock,
-        scale=scale,
-        size=size,
-    )
-    draw_spatial_frame(artists, first, trace=trace)
-    return artists
 
 
 def _set(line: Line3D | Line2D, points: FloatArray) -> None:
@@ -374,12 +441,10 @@ def spatial_pose_figure(
     """
     t, q, force = spatial_samples(robot, table)
     k = check_integer("index", index, 0, t.size - 1)
-    sleeve = sleeve_lengths(robot, q)
-    frame = spatial_frame(robot, q[k], force[k], t=float(t[k]), sleeve=sleeve)
-    size = robot_size([frame])
+    frames, _, scale = run_frames(robot, t, q, force, [k])
     title = f"{robot.name} at t = {t[k]:g} s" + (f", {what}" if what else "")
     artists = spatial_robot_figure(
-        robot, [frame], scale=force_scale(force, size), title=title + "\njoint reaction forces"
+        robot, frames, scale=scale, title=title + "\njoint reaction forces"
     )
     return artists.figure
 
@@ -459,16 +524,12 @@ def save_spatial_animation(
     t, q, force = spatial_samples(robot, table)
     limit = check_integer("max_frames", max_frames, 2, 10**6)
     indices, durations = frame_schedule(t, limit)
-    sleeve = sleeve_lengths(robot, q)
-    frames = [
-        spatial_frame(robot, q[i], force[i], t=float(t[i]), sleeve=sleeve) for i in indices.tolist()
-    ]
+    frames, _, scale = run_frames(robot, t, q, force, indices.tolist())
     trace = platform_path(robot, q)
-    size = robot_size(frames)
     artists = spatial_robot_figure(
         robot,
         frames,
-        scale=force_scale(force, size),
+        scale=scale,
         title=(title or robot.name)
         + f"\njoint reaction forces; plays in real time, then holds the end "
         f"{END_HOLD_MS / 1000:g} s",
