@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from prp3.apps.runs import check_memory
-from prp3.cli._types import check_extent, emit, files_report
+from prp3.cli._types import bound_stopped, check_extent, emit, files_report, forward_bounds
 from prp3.errors import ParameterError, Prp3Error
 from prp3.family import FamilyRobot, family_results_table
 from prp3.files import check_inputs_kept, check_output_directory
@@ -258,9 +258,13 @@ def run_family_forward(args: argparse.Namespace, robot: FamilyRobot) -> int:
     times = np.linspace(float(t[0]), float(t[-1]), samples) if args.samples else t
     try:
         result = family_forward_dynamics(
-            robot, t, tau, times, pose, velocity, rtol=args.rtol, atol=args.atol
-        )
+            robot, t, tau, times, pose, velocity, rtol=args.rtol, atol=args.atol,
+            **forward_bounds(args),
+        )  # fmt: skip
     except Prp3Error as error:
+        stopped = bound_stopped(error, args)
+        if stopped is not None:  # --max-evaluations or --max-seconds
+            raise stopped from None
         if error.subject == "initial pose" and error.reason.startswith(OVERFLOW_REASON):
             raise error.located(file=args.robot, subject="robot at the initial pose") from None
         if error.subject == "initial pose":  # say where the initial pose came from

@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from prp3.apps.runs import check_memory
 from prp3.cli._progress import progress_bar
-from prp3.cli._types import emit, files_report, output_folder
+from prp3.cli._types import bound_stopped, emit, files_report, forward_bounds, output_folder
 from prp3.errors import Prp3Error
 from prp3.files import check_inputs_kept
 from prp3.io.spatial_efforts import SpatialEfforts, read_spatial_efforts
@@ -158,8 +158,12 @@ def run_spatial_forward(args: argparse.Namespace, design: SpatialRobotFile) -> i
             result = spatial_forward_dynamics(
                 robot, efforts, initial, duration, t_efforts=t_efforts, samples=samples,
                 rtol=args.rtol, atol=args.atol, progress=bar.stage("integrating", "samples"),
+                **forward_bounds(args),
             )  # fmt: skip
     except Prp3Error as error:
+        stopped = bound_stopped(error, args)
+        if stopped is not None:  # --max-evaluations or --max-seconds
+            raise stopped from None
         if error.key == "duration" and args.duration is not None:
             raise error.located(origin=f"--duration {args.duration!r}", subject=None) from None
         if error.subject == "initial state" and given is not None and given.planned is not None:

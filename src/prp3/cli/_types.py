@@ -17,9 +17,10 @@ import math
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypedDict
 
-from prp3.errors import OutputFileError, ParameterError
+from prp3.analysis.forward import MAX_EVALUATIONS, MAX_SECONDS
+from prp3.errors import OutputFileError, ParameterError, Prp3Error
 from prp3.model.robot import Robot
 from prp3.staged_files import MANIFEST_NAME, StagedOutput, staged_output
 
@@ -28,11 +29,15 @@ if TYPE_CHECKING:
     from prp3.io.spatial_robot import SpatialRobotFile
 
 __all__ = [
+    "ForwardBounds",
+    "add_forward_bounds",
     "add_output_directory",
     "add_robot_option",
+    "bound_stopped",
     "emit",
     "files_report",
     "finite_float",
+    "forward_bounds",
     "input_paths",
     "integer_at_least",
     "load_any_robot",
@@ -89,6 +94,66 @@ def integer_at_least(minimum: int, maximum: int = 10**9) -> Callable[[str], int]
         return value
 
     return parse
+
+
+def add_forward_bounds(parser: argparse.ArgumentParser) -> None:
+    """Add ``--max-evaluations N`` and ``--max-seconds S``: the bounds of a forward integration
+    (``max_evaluations``, ``max_seconds`` of :func:`prp3.forward_dynamics`,
+    :func:`prp3.family_forward_dynamics` and :func:`prp3.spatial_forward_dynamics`)."""
+    parser.add_argument(
+        "--max-evaluations",
+        metavar="N",
+        type=integer_at_least(1, 10**12),
+        help=f"stop the integration after N evaluations of the equations of motion, an "
+        f"integer from 1 to 10^12 (default {MAX_EVALUATIONS}): one line, exit 2, nothing written",
+    )
+    parser.add_argument(
+        "--max-seconds",
+        metavar="S",
+        type=positive_float,
+        help=f"stop the integration after S seconds of wall time, a positive number "
+        f"(default {MAX_SECONDS:g}): one line, exit 2, nothing written",
+    )
+
+
+class ForwardBounds(TypedDict):
+    """The bounds of a forward integration, as keyword arguments."""
+
+    max_evaluations: int
+    max_seconds: float
+
+
+def forward_bounds(args: argparse.Namespace) -> ForwardBounds:
+    """The keyword arguments ``max_evaluations``, ``max_seconds`` of ``--max-evaluations`` and
+    ``--max-seconds`` (their defaults when not given).
+
+    >>> forward_bounds(argparse.Namespace(max_evaluations=300, max_seconds=None))
+    {'max_evaluations': 300, 'max_seconds': 600.0}
+    """
+    evaluations = MAX_EVALUATIONS if args.max_evaluations is None else args.max_evaluations
+    seconds = MAX_SECONDS if args.max_seconds is None else args.max_seconds
+    return ForwardBounds(max_evaluations=evaluations, max_seconds=seconds)
+
+
+def bound_stopped(error: Prp3Error, args: argparse.Namespace) -> Prp3Error | None:
+    """A forward integration's ``error`` laid to the option of the bound that stopped it
+    (``--max-evaluations N`` or ``--max-seconds S``, ``(the default)`` when not given); None
+    for another error.
+
+    >>> from prp3.errors import TrajectoryError
+    >>> stop = TrajectoryError("the integration was stopped by its bound max_evaluations = 300",
+    ...                        file="f.csv", subject="forward dynamics")
+    >>> print(bound_stopped(stop, argparse.Namespace(max_evaluations=300, max_seconds=None)))
+    --max-evaluations 300: forward dynamics: the integration was stopped by its bound max_evaluations = 300
+    """
+    bounds = forward_bounds(args)
+    for name in ("max_evaluations", "max_seconds"):
+        if f"stopped by its bound {name} = " in error.reason:
+            option = "--" + name.replace("_", "-")
+            default = " (the default)" if getattr(args, name) is None else ""
+            origin = f"{option} {bounds[name]!r}{default}"
+            return error.located(file=None, line=None, origin=origin)
+    return None
 
 
 def path_name(text: str) -> Path:

@@ -4,7 +4,8 @@
 
     prp3 forward [--robot ROBOT.toml] --forces FORCES.csv
                  [--initial-pose X Y PHI] [--initial-velocity VX VY OMEGA]
-                 [--samples N] [--rtol R] [--atol A] --output DIR
+                 [--samples N] [--rtol R] [--atol A]
+                 [--max-evaluations N] [--max-seconds S] --output DIR
 
 ``FORCES.csv`` is either a table ``t,f10_A,f10_B,f10_C`` or the
 ``results.csv`` of a previous ``prp3 simulate`` (all 46 contract columns; the
@@ -35,11 +36,14 @@ from prp3.analysis.forward_kinematics import forward_velocity
 from prp3.apps.runs import check_memory
 from prp3.cli._progress import progress_bar
 from prp3.cli._types import (
+    add_forward_bounds,
     add_output_directory,
     add_robot_option,
+    bound_stopped,
     emit,
     files_report,
     finite_float,
+    forward_bounds,
     integer_at_least,
     load_robot_or_spatial,
     output_folder,
@@ -99,6 +103,10 @@ DIR/trajectory.csv (readable by prp3 simulate --trajectory), --plots the figures
 reaching a singularity or a joint limit, or a bound of the integration, is
 refused (exit 2, nothing written):
   prp3 forward --robot hexapod.toml --efforts hold --duration 0.5 --output still
+--max-evaluations N and --max-seconds S bound the integration of every robot kind
+(default 1000000 evaluations of the equations of motion, 600 s of wall time): a
+run stopped by one is refused naming the option (exit 2, nothing written):
+  prp3 forward --robot stiff.toml --forces zero.csv --max-seconds 10 --output run
 Exit status 0 when the motion reached the last time; 1 when it stopped early at a
 singularity (|sin(phi - pi/3)| = 2e-4) or at a stroke limit, or the integrator gave
 up (the files hold the motion up to the stop; the reason is on stderr); 2 on bad
@@ -190,6 +198,7 @@ def register(subparsers: Any) -> None:
         action="store_true",
         help="a spatial robot file: also write platform.png, efforts.png, joint_reactions.png",
     )
+    add_forward_bounds(parser)
     add_output_directory(parser)
     parser.set_defaults(handler=run)
 
@@ -240,10 +249,10 @@ def run(args: argparse.Namespace) -> int:
         with progress_bar() as bar:
             result = forward_dynamics(
                 robot, forces, times, pose, velocity, rtol=args.rtol, atol=args.atol,
-                progress=bar.stage("integrating", "samples"),
+                progress=bar.stage("integrating", "samples"), **forward_bounds(args),
             )  # fmt: skip
     except Prp3Error as error:
-        located = _located(error, args, robot, given)
+        located = bound_stopped(error, args) or _located(error, args, robot, given)
         if located is None:
             raise
         raise located from None
