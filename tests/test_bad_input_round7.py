@@ -106,11 +106,6 @@ def test_bad_forward_bounds_are_refused_by_name(capsys, tmp_path, kind, option, 
     assert not out.exists()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="prp3.family.forward keeps the furthest time as the integrator's np.float64 and "
-    "prints its repr 'np.float64(...)' (src/prp3/family/forward.py is being split by long8a)",
-)
 def test_a_family_run_stopped_by_its_bound_prints_plain_times(capsys, tmp_path):
     argv, _ = _robot_file(tmp_path, "3-RPR")
     status, _, err = cli(capsys, "forward", *argv, "--max-evaluations", "300",

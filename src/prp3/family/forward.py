@@ -550,7 +550,7 @@ def family_forward_dynamics(
             raise _BoundReachedError(f"max_evaluations = {bounds[0]}")
         if count[0] % 64 == 63 and time_module.monotonic() - clock > bounds[1]:
             raise _BoundReachedError(f"max_seconds = {bounds[1]!r} s (wall time)")
-        furthest[0] = max(furthest[0], time)
+        furthest[0] = max(furthest[0], float(time))
         return rhs(time, state)
 
     def rhs(time: float, state: FloatArray) -> FloatArray:

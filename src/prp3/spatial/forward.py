@@ -728,7 +728,7 @@ def spatial_forward_dynamics(
         if np.isfinite(y).all() and not size < MAX_DERIVATIVE:
             raise _AbsurdDerivativeError(time, size, effort_of(time))
         if time > furthest[0]:
-            furthest[0] = time
+            furthest[0] = float(time)
             if progress is not None:
                 progress(int(np.searchsorted(times, time, side="right")), times.size)
         q = y[3:7]
